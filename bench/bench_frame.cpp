@@ -1,0 +1,62 @@
+// Time per stage of one frame (features, visibility by ray tests) on the sample meshes with the
+// default camera. Usage: bench_frame [--benchmark_filter=...]; meshes come from INKLINE_DATA_DIR.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "pipeline.hpp"
+
+namespace {
+
+const char* kMeshes[] = {"fandisk", "bunny00", "armadillo", "elephant", "ChineseDragon-10kv", "knot1"};
+
+const inkline::Model* model(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<inkline::Model>> cache;
+    auto& m = cache[name];
+    if (!m) {
+        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off";
+        if (!std::filesystem::exists(path)) return nullptr;
+        m = std::make_unique<inkline::Model>(inkline::Model::load(path));
+        m->rays();
+    }
+    return m.get();
+}
+
+void BM_Features(benchmark::State& state, const char* name) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    for (auto _ : state) benchmark::DoNotOptimize(inkline::extract_features(m->topology(), cam));
+    state.counters["triangles"] = double(m->topology().face_count());
+}
+
+void BM_FrameRays(benchmark::State& state, const char* name) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    std::size_t sil = 0, rays = 0;
+    for (auto _ : state) {
+        auto v = inkline::render_view(*m, cam);
+        sil = v.drawing.stats.silhouette_edges;
+        rays = v.drawing.stats.ray_tests;
+        benchmark::DoNotOptimize(v);
+    }
+    state.counters["silhouette_edges"] = double(sil);
+    state.counters["ray_tests"] = double(rays);
+    state.counters["sil_edges_per_s"] = benchmark::Counter(double(sil), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+int reg = [] {
+    for (const char* n : kMeshes) {
+        benchmark::RegisterBenchmark((std::string("features/") + n).c_str(), BM_Features, n)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("frame_rays/") + n).c_str(), BM_FrameRays, n)->Unit(benchmark::kMillisecond);
+    }
+    return 0;
+}();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,208 @@
+#include "app/cli.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "output/writers.hpp"
+#include "pipeline.hpp"
+
+namespace inkline {
+namespace {
+
+const char* kUsage =
+    "usage: inkline render MODEL [-o OUT.{svg,pdf,png,json}] [--format=svg|pdf|png|json]\n"
+    "                      [--eye=x,y,z] [--target=x,y,z] [--up=x,y,z] [--fov=DEG] [--size=WxH]\n"
+    "                      [--ortho=H] [--near=D] [--crease=DEG] [--hidden]\n"
+    "                      [--lines=silhouette,crease,border] [--quiet]\n"
+    "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
+    "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n";
+
+struct Usage : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+double parse_number(const std::string& flag, const std::string& s) {
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || *end != '\0' || !std::isfinite(v)) throw Error(flag, "expected a number, got '" + s + "'");
+    return v;
+}
+
+glm::dvec3 parse_vec3(const std::string& flag, const std::string& s) {
+    std::vector<std::string> parts;
+    std::stringstream ss(s);
+    for (std::string p; std::getline(ss, p, ',');) parts.push_back(p);
+    if (parts.size() != 3) throw Error(flag, "expected x,y,z, got '" + s + "'");
+    return {parse_number(flag, parts[0]), parse_number(flag, parts[1]), parse_number(flag, parts[2])};
+}
+
+struct RenderArgs {
+    std::string model, output, format;
+    std::map<std::string, std::string> camera;  // flag -> value
+    double crease = 40.0;
+    bool hidden = false, quiet = false;
+    FeatureOptions features;
+};
+
+RenderArgs parse_render(int argc, char** argv) {
+    RenderArgs a;
+    for (int i = 2; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg == "-o" || arg == "--output") {
+            if (i + 1 >= argc) throw Usage(arg + " needs a file name");
+            a.output = argv[++i];
+            continue;
+        }
+        if (arg == "--hidden") { a.hidden = true; continue; }
+        if (arg == "--quiet") { a.quiet = true; continue; }
+        if (arg.rfind("--", 0) != 0) {
+            if (!a.model.empty()) throw Usage("more than one model given ('" + a.model + "', '" + arg + "')");
+            a.model = arg;
+            continue;
+        }
+        const auto eq = arg.find('=');
+        if (eq == std::string::npos) throw Usage("unknown option '" + arg + "'");
+        const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
+        if (key == "--output") a.output = value;
+        else if (key == "--format") a.format = value;
+        else if (key == "--eye" || key == "--target" || key == "--up" || key == "--fov" || key == "--size" ||
+                 key == "--ortho" || key == "--near")
+            a.camera[key] = value;
+        else if (key == "--crease") {
+            a.crease = parse_number(key, value);
+            if (a.crease < 0.0 || a.crease > 180.0) throw Error(key, "expected an angle in [0, 180] degrees");
+        } else if (key == "--lines") {
+            for (auto& k : a.features.kinds) k = false;
+            std::stringstream ss(value);
+            for (std::string name; std::getline(ss, name, ',');) {
+                LineKind kind;
+                if (!parse_line_kind(name, kind))
+                    throw Error(key, "unknown line kind '" + name + "' (expected silhouette, crease, border)");
+                a.features.kinds[int(kind)] = true;
+            }
+        } else
+            throw Usage("unknown option '" + key + "'");
+    }
+    if (a.model.empty()) throw Usage("no model given");
+    return a;
+}
+
+Camera make_camera(const RenderArgs& a, const MeshTopology& mesh) {
+    int w = 1024, h = 1024;
+    if (auto it = a.camera.find("--size"); it != a.camera.end()) {
+        const auto x = it->second.find('x');
+        if (x == std::string::npos) throw Error("--size", "expected WxH, got '" + it->second + "'");
+        const double ww = parse_number("--size", it->second.substr(0, x));
+        const double hh = parse_number("--size", it->second.substr(x + 1));
+        if (ww < 1 || hh < 1 || ww > 32768 || hh > 32768 || ww != std::floor(ww) || hh != std::floor(hh))
+            throw Error("--size", "expected integer sizes between 1 and 32768, got '" + it->second + "'");
+        w = int(ww);
+        h = int(hh);
+    }
+    const double fov = a.camera.count("--fov") ? parse_number("--fov", a.camera.at("--fov")) : 30.0;
+    const Camera framed = Camera::framing(mesh.bounds, w, h, (fov > 0.0 && fov < 180.0) ? fov : 30.0);
+    const glm::dvec3 target = a.camera.count("--target") ? parse_vec3("--target", a.camera.at("--target")) : framed.target();
+    const glm::dvec3 eye = a.camera.count("--eye") ? parse_vec3("--eye", a.camera.at("--eye")) : framed.eye();
+    const glm::dvec3 up = a.camera.count("--up") ? parse_vec3("--up", a.camera.at("--up")) : glm::dvec3(0, 1, 0);
+    Camera cam;
+    try {
+        if (a.camera.count("--ortho"))
+            cam = Camera::orthographic(eye, target, up, parse_number("--ortho", a.camera.at("--ortho")), w, h);
+        else
+            cam = Camera::perspective(eye, target, up, fov, w, h);
+    } catch (const std::invalid_argument& e) {
+        throw Error("camera", e.what());
+    }
+    if (a.camera.count("--near")) {
+        const double n = parse_number("--near", a.camera.at("--near"));
+        if (!(n > 0.0)) throw Error("--near", "expected a positive distance");
+        cam.set_near(n);
+    }
+    return cam;
+}
+
+std::string default_output(const std::string& model) {
+    const auto slash = model.find_last_of('/');
+    std::string stem = slash == std::string::npos ? model : model.substr(slash + 1);
+    const auto dot = stem.find_last_of('.');
+    if (dot != std::string::npos && dot > 0) stem = stem.substr(0, dot);
+    return stem + ".svg";
+}
+
+std::string fmt3(const glm::dvec3& v) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", v.x, v.y, v.z);
+    return buf;
+}
+
+int render(int argc, char** argv) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderArgs a = parse_render(argc, argv);
+    const std::string out = a.output.empty() ? default_output(a.model) : a.output;
+    const Format format = output_format(out, a.format);  // refuse a bad format before any work
+    Model model = Model::load(a.model, a.crease);
+    const Camera cam = make_camera(a, model.topology());
+    ViewOptions opt;
+    opt.features = a.features;
+    View view = render_view(model, cam, opt);
+    OutputOptions oo;
+    oo.hidden = a.hidden;
+    const auto t_out = std::chrono::steady_clock::now();
+    view.drawing.stats.seconds_output = 0.0;
+    view.drawing.stats.seconds_total =
+        std::chrono::duration<double>(t_out - t0).count();  // load + features + visibility
+    write_drawing(view.drawing, out, format, oo);
+    const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
+    if (!a.quiet) {
+        const auto& s = view.drawing.stats;
+        std::printf("%s: %zu triangles, %zu silhouette edges, %zu crease, %zu border, %zu curves, %zu cusps, "
+                    "%zu crossings, %zu pieces, %zu ray tests\n",
+                    out.c_str(), s.triangles, s.silhouette_edges, s.crease_edges, s.border_edges, s.curves, s.cusps,
+                    s.crossings, s.pieces, s.ray_tests);
+        std::printf("seconds: load %.4f, features %.4f, visibility %.4f, output %.4f\n", s.seconds_load,
+                    s.seconds_features, s.seconds_visibility, t_write);
+        std::printf("camera: --eye=%s --target=%s --up=%s %s --size=%dx%d\n", fmt3(cam.eye()).c_str(),
+                    fmt3(cam.target()).c_str(), fmt3(cam.up()).c_str(),
+                    cam.is_ortho() ? ("--ortho=" + std::to_string(cam.ortho_height())).c_str()
+                                   : ("--fov=" + std::to_string(cam.fov_deg())).c_str(),
+                    cam.width(), cam.height());
+    }
+    return 0;
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+    try {
+        if (argc < 2) throw Usage("no command given");
+        const std::string cmd = argv[1];
+        if (cmd == "-h" || cmd == "--help" || cmd == "help") {
+            std::fputs(kUsage, stdout);
+            return 0;
+        }
+        if (cmd == "render") return render(argc, argv);
+        throw Usage("unknown command '" + cmd + "'");
+    } catch (const Usage& e) {
+        std::fprintf(stderr, "inkline: %s\n%s", e.what(), kUsage);
+        return 2;
+    } catch (const Error& e) {
+        std::fprintf(stderr, "inkline: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "inkline: out of memory\n");
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "inkline: internal error: %s\n", e.what());
+        return 1;
+    }
+}
+
+}  // namespace inkline

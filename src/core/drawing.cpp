@@ -1,0 +1,24 @@
+#include "core/drawing.hpp"
+
+namespace inkline {
+
+const char* to_string(LineKind k) {
+    switch (k) {
+        case LineKind::Silhouette: return "silhouette";
+        case LineKind::Border: return "border";
+        case LineKind::Crease: return "crease";
+    }
+    return "unknown";
+}
+
+bool parse_line_kind(const std::string& s, LineKind& out) {
+    for (int i = 0; i < kLineKindCount; ++i) {
+        if (s == to_string(LineKind(i))) {
+            out = LineKind(i);
+            return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace inkline

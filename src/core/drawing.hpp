@@ -1,0 +1,52 @@
+// The result of one view: every curve piece with its QI, in pixels, plus statistics.
+// This is what output/ writes (SVG, PDF, PNG, JSON) and what tests compare.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "core/camera.hpp"
+
+namespace inkline {
+
+enum class LineKind : std::uint8_t { Silhouette = 0, Border = 1, Crease = 2 };
+inline constexpr int kLineKindCount = 3;
+const char* to_string(LineKind k);
+// Parses "silhouette", "border", "crease"; returns false for anything else.
+bool parse_line_kind(const std::string& s, LineKind& out);
+
+struct Piece {
+    LineKind kind = LineKind::Silhouette;
+    int qi = 0;                       // quantitative invisibility: 0 is visible
+    std::uint32_t curve = 0;          // index of the feature curve it came from
+    std::vector<glm::dvec2> points;   // pixels, DESIGN.md convention
+};
+
+struct DrawingStats {
+    std::size_t triangles = 0;
+    std::size_t silhouette_edges = 0;
+    std::size_t border_edges = 0;
+    std::size_t crease_edges = 0;
+    std::size_t curves = 0;
+    std::size_t cusps = 0;
+    std::size_t crossings = 0;  // image-space crossings of curves with silhouette/border edges
+    std::size_t pieces = 0;
+    std::size_t ray_tests = 0;
+    double seconds_load = 0.0;        // model loading and topology (0 when reused)
+    double seconds_features = 0.0;
+    double seconds_visibility = 0.0;
+    double seconds_output = 0.0;
+    double seconds_total = 0.0;
+};
+
+struct Drawing {
+    Camera camera;
+    DrawingStats stats;
+    std::vector<Piece> pieces;  // visible and hidden pieces; writers filter by QI
+};
+
+}  // namespace inkline

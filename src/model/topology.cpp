@@ -1,0 +1,108 @@
+#include "model/topology.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace inkline {
+namespace {
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+}  // namespace
+
+void MeshTopology::set_crease_angle(double degrees) {
+    crease_degrees = degrees;
+    const float threshold = float(degrees * M_PI / 180.0);
+    for (std::size_t e = 0; e < edge_flags.size(); ++e) {
+        edge_flags[e] &= std::uint8_t(~kEdgeCrease);
+        if (!(edge_flags[e] & kEdgeBorder) && edge_normal_angle[e] > threshold)
+            edge_flags[e] |= kEdgeCrease;
+    }
+}
+
+MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
+    MeshTopology t;
+    t.positions = mesh.positions;
+    t.faces = mesh.triangles;
+    const std::size_t nv = t.positions.size(), nf = t.faces.size();
+
+    t.bounds.lo = t.bounds.hi = t.positions.empty() ? glm::dvec3(0.0) : t.positions[0];
+    for (const auto& p : t.positions) {
+        t.bounds.lo = glm::min(t.bounds.lo, p);
+        t.bounds.hi = glm::max(t.bounds.hi, p);
+    }
+
+    t.face_normals.resize(nf);
+    t.face_offsets.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+        const auto& v = t.faces[f];
+        const glm::dvec3 n = glm::cross(t.positions[v[1]] - t.positions[v[0]],
+                                        t.positions[v[2]] - t.positions[v[0]]);
+        const double len = glm::length(n);
+        t.face_normals[f] = len > 0.0 ? n / len : glm::dvec3(0.0);
+        t.face_offsets[f] = glm::dot(t.face_normals[f], t.positions[v[0]]);
+    }
+
+    // Edges: first traversal a->b creates the edge with face 0; the opposite traversal fills face 1.
+    std::unordered_map<std::uint64_t, std::uint32_t> index;
+    index.reserve(nf * 2);
+    t.face_edges.resize(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t.faces[f][k], b = t.faces[f][(k + 1) % 3];
+            const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+            auto [it, inserted] = index.try_emplace(key, std::uint32_t(t.edge_vertex.size()));
+            if (inserted) {
+                t.edge_vertex.push_back({a, b});
+                t.edge_face.push_back({f, kNoFace});
+            } else {
+                t.edge_face[it->second][1] = f;
+            }
+            t.face_edges[f][k] = it->second;
+        }
+    }
+    const std::size_t ne = t.edge_vertex.size();
+    t.edge_normal_angle.assign(ne, 0.0f);
+    t.edge_flags.assign(ne, 0);
+    t.closed = true;
+    for (std::size_t e = 0; e < ne; ++e) {
+        const auto [f0, f1] = t.edge_face[e];
+        if (f1 == kNoFace) {
+            t.edge_flags[e] = kEdgeBorder;
+            t.closed = false;
+            continue;
+        }
+        const double c = std::clamp(glm::dot(t.face_normals[f0], t.face_normals[f1]), -1.0, 1.0);
+        t.edge_normal_angle[e] = float(std::acos(c));
+        // Convexity: the far corner of face 1 below the oriented plane of face 0 (exact predicate).
+        std::uint32_t opp = 0;
+        for (auto v : t.faces[f1])
+            if (v != t.edge_vertex[e][0] && v != t.edge_vertex[e][1]) opp = v;
+        const auto& v0 = t.faces[f0];
+        const auto o = CGAL::orientation(cgal(t.positions[v0[0]]), cgal(t.positions[v0[1]]),
+                                         cgal(t.positions[v0[2]]), cgal(t.positions[opp]));
+        if (o == CGAL::NEGATIVE) t.edge_flags[e] |= kEdgeConvex;
+        if (o == CGAL::POSITIVE) t.edge_flags[e] |= kEdgeConcave;
+    }
+    t.set_crease_angle(crease_degrees);
+
+    t.vertex_edge_begin.assign(nv + 1, 0);
+    for (const auto& ev : t.edge_vertex) {
+        ++t.vertex_edge_begin[ev[0] + 1];
+        ++t.vertex_edge_begin[ev[1] + 1];
+    }
+    for (std::size_t v = 0; v < nv; ++v) t.vertex_edge_begin[v + 1] += t.vertex_edge_begin[v];
+    t.vertex_edges.resize(t.vertex_edge_begin[nv]);
+    std::vector<std::uint32_t> fill(t.vertex_edge_begin.begin(), t.vertex_edge_begin.end() - 1);
+    for (std::uint32_t e = 0; e < ne; ++e) {
+        t.vertex_edges[fill[t.edge_vertex[e][0]]++] = e;
+        t.vertex_edges[fill[t.edge_vertex[e][1]]++] = e;
+    }
+    return t;
+}
+
+}  // namespace inkline

@@ -1,0 +1,63 @@
+// MeshTopology: the flat, read-only arrays that every per-view stage reads (DESIGN.md step 1).
+// Takes a validated TriangleMesh; gives vertices, faces, edges with both faces, face planes,
+// the angle between face normals, convexity, crease and border flags, vertex->edge adjacency.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/camera.hpp"
+#include "model/mesh_io.hpp"
+
+namespace inkline {
+
+inline constexpr std::uint32_t kNoFace = UINT32_MAX;
+
+enum EdgeFlag : std::uint8_t {
+    kEdgeBorder = 1,   // one incident face
+    kEdgeCrease = 2,   // normal angle above the crease threshold
+    kEdgeConvex = 4,   // surface convex along the edge (exact orientation test): a silhouette
+                       // here is front-facing in the Markosian et al. sense (footnote 4)
+    kEdgeConcave = 8,  // strictly concave; neither flag: coplanar faces
+};
+
+struct MeshTopology {
+    // Vertices and faces (faces consistently oriented, closed parts outward).
+    std::vector<glm::dvec3> positions;
+    std::vector<std::array<std::uint32_t, 3>> faces;
+    std::vector<std::array<std::uint32_t, 3>> face_edges;  // edge of corner k: (faces[k], faces[k+1])
+    std::vector<glm::dvec3> face_normals;                  // unit (zero for degenerate faces)
+    std::vector<double> face_offsets;                      // plane: dot(normal, x) = offset
+
+    // Edges (structure of arrays). edge_face[e][0] traverses edge_vertex[e][0] -> [1].
+    std::vector<std::array<std::uint32_t, 2>> edge_vertex;
+    std::vector<std::array<std::uint32_t, 2>> edge_face;  // [1] == kNoFace on borders
+    std::vector<float> edge_normal_angle;  // angle between the two face normals, radians;
+                                           // also the randomized sampling weight (pi - dihedral)
+    std::vector<std::uint8_t> edge_flags;  // EdgeFlag bits
+
+    // Vertex -> incident edges, compressed rows.
+    std::vector<std::uint32_t> vertex_edge_begin;  // size V+1
+    std::vector<std::uint32_t> vertex_edges;
+
+    Bounds3 bounds;
+    bool closed = false;        // no border edge
+    double crease_degrees = 40.0;
+
+    std::size_t vertex_count() const { return positions.size(); }
+    std::size_t face_count() const { return faces.size(); }
+    std::size_t edge_count() const { return edge_vertex.size(); }
+    bool is_border(std::uint32_t e) const { return edge_flags[e] & kEdgeBorder; }
+    bool is_crease(std::uint32_t e) const { return edge_flags[e] & kEdgeCrease; }
+    bool is_convex(std::uint32_t e) const { return edge_flags[e] & kEdgeConvex; }
+
+    // Re-flags creases for another threshold (angle between face normals, degrees).
+    void set_crease_angle(double degrees);
+};
+
+MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees = 40.0);
+
+}  // namespace inkline

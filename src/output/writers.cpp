@@ -1,0 +1,351 @@
+#include "output/writers.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <cairo-pdf.h>
+#include <cairo.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+
+namespace inkline {
+namespace {
+
+// ---- What is drawn, and how: one table shared by SVG and Cairo ----------------------------
+
+struct LineStyle {
+    const char* name;          // layer id suffix: "<kind>-<name>"
+    std::uint32_t rgb;         // 0xRRGGBB
+    double dash_on, dash_off;  // 0, 0: solid
+    double width_scale;        // times the visible line width
+};
+
+constexpr std::array<LineStyle, 4> kStyles{{
+    {"visible", 0x000000, 0, 0, 1.0},         // QI 0
+    {"hidden-qi1", 0x7f7f7f, 6, 4, 0.6},      // QI 1
+    {"hidden-qi2", 0xa8a8a8, 2, 3, 0.5},      // QI 2
+    {"hidden-qi3plus", 0xcccccc, 1, 4, 0.4},  // QI >= 3
+}};
+
+double line_width(const Drawing& d, const OutputOptions& o) {
+    return o.line_width > 0 ? o.line_width : std::max(1.0, 1.5 * d.camera.height() / 1024.0);
+}
+
+bool is_written(const Piece& p, const OutputOptions& o) {
+    if (p.points.size() < 2 || p.qi < 0 || (p.qi > 0 && !o.hidden)) return false;
+    return std::all_of(p.points.begin(), p.points.end(), [](const glm::dvec2& q) {
+        return std::isfinite(q.x) && std::isfinite(q.y);
+    });
+}
+
+struct Group {
+    const LineStyle& style;
+    LineKind kind;
+    std::vector<const Piece*> pieces;
+};
+
+// Non-empty groups in drawing order: deepest hidden level first, visible last; kinds in enum order.
+std::vector<Group> groups(const Drawing& d, const OutputOptions& o) {
+    std::vector<Group> out;
+    for (int level = int(kStyles.size()) - 1; level >= 0; --level) {
+        for (int k = 0; k < kLineKindCount; ++k) {
+            Group g{kStyles[level], LineKind(k), {}};
+            for (const Piece& p : d.pieces)
+                if (p.kind == g.kind && std::min<int>(p.qi, kStyles.size() - 1) == level &&
+                    is_written(p, o))
+                    g.pieces.push_back(&p);
+            if (!g.pieces.empty()) out.push_back(std::move(g));
+        }
+    }
+    return out;
+}
+
+// Liang-Barsky: clips segment a-b to the box [lo, hi]; false when nothing is left (or the
+// arithmetic overflowed). An endpoint inside the box is kept bit-exact.
+bool clip(glm::dvec2& a, glm::dvec2& b, const glm::dvec2& lo, const glm::dvec2& hi) {
+    const glm::dvec2 d = b - a;
+    double t0 = 0, t1 = 1;
+    for (int i = 0; i < 2; ++i) {
+        const double p[2] = {-d[i], d[i]}, q[2] = {a[i] - lo[i], hi[i] - a[i]};
+        for (int k = 0; k < 2; ++k) {
+            if (p[k] == 0 && q[k] < 0) return false;
+            if (p[k] < 0) t0 = std::max(t0, q[k] / p[k]);
+            if (p[k] > 0) t1 = std::min(t1, q[k] / p[k]);
+        }
+    }
+    if (!(t0 <= t1)) return false;
+    const glm::dvec2 a0 = a;
+    if (t0 > 0) a = a0 + t0 * d;
+    if (t1 < 1) b = a0 + t1 * d;
+    const auto inside = [&](const glm::dvec2& v) {
+        return v.x >= lo.x - 1 && v.x <= hi.x + 1 && v.y >= lo.y - 1 && v.y <= hi.y + 1;
+    };
+    return inside(a) && inside(b);
+}
+
+// The parts of a piece inside the image grown by an image-sized margin, as polylines. Cairo's
+// 24.8 fixed point wraps beyond about 8e6 px (and so do SVG renderers built on it), which
+// projections of points near the eye plane easily reach.
+std::vector<std::vector<glm::dvec2>> clipped_runs(const Piece& p, const Camera& cam) {
+    const double m = std::max(cam.width(), cam.height());
+    const glm::dvec2 lo(-m, -m), hi(cam.width() + m, cam.height() + m);
+    std::vector<std::vector<glm::dvec2>> runs;
+    bool open = false;  // the last run ends at points[i - 1]
+    for (std::size_t i = 1; i < p.points.size(); ++i) {
+        glm::dvec2 a = p.points[i - 1], b = p.points[i];
+        if (!clip(a, b, lo, hi)) {
+            open = false;
+            continue;
+        }
+        if (!open) runs.push_back({a});
+        runs.back().push_back(b);
+        open = b == p.points[i];
+    }
+    return runs;
+}
+
+// ---- Atomic file: "<target>.tmp-XXXXXX" renamed onto the target by commit() ----------------
+
+mode_t process_umask() {  // without the race of umask(umask(0))
+    std::ifstream in("/proc/self/status");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("Umask:", 0) == 0) return mode_t(std::stoul(line.substr(6), nullptr, 8));
+    return 022;
+}
+
+class TempFile {
+public:
+    explicit TempFile(std::string target)
+        : target_(std::move(target)), path_(target_ + ".tmp-XXXXXX") {
+        fd_ = ::mkstemp(path_.data());
+        if (fd_ < 0) fail(errno);
+        ::fchmod(fd_, 0666 & ~process_umask());  // mkstemp's 0600 is wrong for an output file
+    }
+    ~TempFile() {
+        if (fd_ >= 0) ::close(fd_);
+        if (!committed_) ::unlink(path_.c_str());
+    }
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+
+    // Appends; on failure remembers errno and returns false.
+    bool write(const void* data, std::size_t n) {
+        for (auto* p = static_cast<const char*>(data); n > 0;) {
+            const ssize_t k = ::write(fd_, p, n);
+            if (k < 0 && errno == EINTR) continue;
+            if (k < 0) return error_ = errno, false;
+            p += k;
+            n -= std::size_t(k);
+        }
+        return true;
+    }
+    void write_all(std::string_view s) {
+        if (!write(s.data(), s.size())) fail(error_);
+    }
+    void commit() {
+        if (::fsync(fd_) != 0) fail(errno);  // the destructor closes and unlinks
+        if (::close(std::exchange(fd_, -1)) != 0) fail(errno);
+        if (std::rename(path_.c_str(), target_.c_str()) != 0) fail(errno);
+        committed_ = true;
+    }
+    int error() const { return error_; }
+    [[noreturn]] void fail(int err) const {
+        throw Error(target_, std::string("cannot write: ") + std::strerror(err));
+    }
+    [[noreturn]] void fail(const std::string& reason) const { throw Error(target_, reason); }
+
+private:
+    std::string target_, path_;
+    int fd_ = -1;
+    int error_ = 0;
+    bool committed_ = false;
+};
+
+// ---- SVG ---------------------------------------------------------------------------------
+
+// Locale-independent: 6 significant digits by default, fixed `decimals` for coordinates.
+std::string num(double v, int decimals = -1) {
+    char buf[400];  // fixed notation of any double fits
+    char* end = buf + sizeof buf;
+    const auto r = decimals < 0 ? std::to_chars(buf, end, v, std::chars_format::general, 6)
+                                : std::to_chars(buf, end, v, std::chars_format::fixed, decimals);
+    return std::string(buf, r.ptr);
+}
+
+// ---- Cairo -------------------------------------------------------------------------------
+
+using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+using ContextPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
+
+cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const OutputOptions& o,
+                          bool background) {
+    ContextPtr cr(cairo_create(surface), cairo_destroy);
+    cairo_t* c = cr.get();
+    if (background) {
+        cairo_set_source_rgb(c, 1, 1, 1);
+        cairo_paint(c);
+    }
+    cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+    const double width = line_width(d, o);
+    for (const Group& g : groups(d, o)) {
+        const auto channel = [&](int shift) { return ((g.style.rgb >> shift) & 0xff) / 255.0; };
+        cairo_set_source_rgb(c, channel(16), channel(8), channel(0));
+        cairo_set_line_width(c, width * g.style.width_scale);
+        const double dash[2] = {g.style.dash_on, g.style.dash_off};
+        cairo_set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
+        for (const Piece* p : g.pieces) {
+            for (const auto& run : clipped_runs(*p, d.camera)) {
+                cairo_move_to(c, run[0].x, run[0].y);
+                for (std::size_t i = 1; i < run.size(); ++i) cairo_line_to(c, run[i].x, run[i].y);
+            }
+        }
+        cairo_stroke(c);
+    }
+    return cairo_status(c);
+}
+
+cairo_status_t to_temp(void* closure, const unsigned char* data, unsigned int length) {
+    return static_cast<TempFile*>(closure)->write(data, length) ? CAIRO_STATUS_SUCCESS
+                                                                : CAIRO_STATUS_WRITE_ERROR;
+}
+
+// Streams through TempFile rather than letting Cairo open the file: one write path, and a
+// failed write reports the real errno instead of Cairo's generic WRITE_ERROR.
+void write_cairo(const Drawing& d, Format f, const OutputOptions& o, TempFile& file) {
+    const int w = d.camera.width(), h = d.camera.height();
+    SurfacePtr surface(f == Format::Pdf
+                           ? cairo_pdf_surface_create_for_stream(to_temp, &file, w, h)
+                           : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h),
+                       cairo_surface_destroy);
+    cairo_surface_t* s = surface.get();
+    cairo_status_t st = cairo_surface_status(s);
+    if (st == CAIRO_STATUS_SUCCESS) st = draw_cairo(s, d, o, f == Format::Png);
+    if (st == CAIRO_STATUS_SUCCESS && f == Format::Png) {
+        st = cairo_surface_write_to_png_stream(s, to_temp, &file);
+    } else if (st == CAIRO_STATUS_SUCCESS) {
+        cairo_surface_finish(s);
+        st = cairo_surface_status(s);
+    }
+    if (file.error() != 0) file.fail(file.error());
+    if (st != CAIRO_STATUS_SUCCESS) file.fail(std::string("cairo: ") + cairo_status_to_string(st));
+}
+
+}  // namespace
+
+Format output_format(const std::string& path, const std::string& explicit_format) {
+    std::string name = explicit_format;
+    if (name.empty()) {
+        name = std::filesystem::path(path).extension().string();
+        if (!name.empty()) name.erase(0, 1);
+    }
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char ch) { return char(std::tolower(ch)); });
+    constexpr std::pair<std::string_view, Format> kNames[] = {
+        {"svg", Format::Svg}, {"pdf", Format::Pdf}, {"png", Format::Png}, {"json", Format::Json}};
+    for (const auto& [n, f] : kNames)
+        if (name == n) return f;
+    throw Error(explicit_format.empty() ? path : "--format",
+                "unknown output format '" + name + "' (expected svg, pdf, png or json)");
+}
+
+std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
+    using json = nlohmann::ordered_json;
+    const auto vec3 = [](const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); };
+    const Camera& cam = d.camera;
+    json camera = {{"eye", vec3(cam.eye())}, {"target", vec3(cam.target())},
+                   {"up", vec3(cam.up())}, {"fov", cam.fov_deg()}};
+    if (cam.is_ortho()) camera["ortho"] = cam.ortho_height();
+    const DrawingStats& s = d.stats;
+    json stats = {{"triangles", s.triangles},
+                  {"silhouette_edges", s.silhouette_edges},
+                  {"border_edges", s.border_edges},
+                  {"crease_edges", s.crease_edges},
+                  {"curves", s.curves},
+                  {"cusps", s.cusps},
+                  {"crossings", s.crossings},
+                  {"pieces", s.pieces},
+                  {"ray_tests", s.ray_tests},
+                  {"seconds",
+                   {{"load", s.seconds_load},
+                    {"features", s.seconds_features},
+                    {"visibility", s.seconds_visibility},
+                    {"output", s.seconds_output},
+                    {"total", s.seconds_total}}}};
+    json polylines = json::array();
+    for (const Piece& p : d.pieces) {
+        if (!is_written(p, o)) continue;
+        json points = json::array();
+        for (const glm::dvec2& q : p.points) points.push_back({q.x, q.y});
+        polylines.push_back(
+            {{"kind", to_string(p.kind)}, {"qi", p.qi}, {"points", std::move(points)}});
+    }
+    json root = {{"width", cam.width()}, {"height", cam.height()}, {"camera", std::move(camera)},
+                 {"stats", std::move(stats)}, {"polylines", std::move(polylines)}};
+    return root.dump() + "\n";
+}
+
+std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
+    const std::string w = std::to_string(d.camera.width()), h = std::to_string(d.camera.height());
+    std::string out =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" "
+        "xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" version=\"1.1\" width=\"" +
+        w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w + " " + h + "\">\n" +
+        "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h +
+        "\" fill=\"#ffffff\"/>\n";
+    const double width = line_width(d, o);
+    for (const Group& g : groups(d, o)) {
+        const std::string id = std::string(to_string(g.kind)) + "-" + g.style.name;
+        char color[8];
+        std::snprintf(color, sizeof color, "#%06x", unsigned(g.style.rgb));
+        out += "<g id=\"" + id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + id +
+               "\" fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" +
+               num(width * g.style.width_scale) + "\"";
+        if (g.style.dash_on > 0)
+            out += " stroke-dasharray=\"" + num(g.style.dash_on) + "," + num(g.style.dash_off) +
+                   "\"";
+        out += " stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
+        for (const Piece* p : g.pieces) {
+            for (const auto& run : clipped_runs(*p, d.camera)) {
+                out += "<polyline points=\"";
+                for (const glm::dvec2& q : run) out += num(q.x, 3) + "," + num(q.y, 3) + " ";
+                out.back() = '"';
+                out += "/>\n";
+            }
+        }
+        out += "</g>\n";
+    }
+    return out + "</svg>\n";
+}
+
+void write_drawing(const Drawing& d, const std::string& path, Format f, const OutputOptions& o) {
+    TempFile file(path);
+    switch (f) {
+        case Format::Json: file.write_all(drawing_to_json(d, o)); break;
+        case Format::Svg: file.write_all(drawing_to_svg(d, o)); break;
+        case Format::Pdf:
+        case Format::Png: write_cairo(d, f, o, file); break;
+    }
+    file.commit();
+}
+
+}  // namespace inkline

@@ -1,0 +1,33 @@
+// Output stage: takes a finished Drawing (pieces with QI, in pixels) and gives SVG, PDF, PNG or
+// JSON (schema of DESIGN.md). Files are written atomically: a temporary in the same directory,
+// renamed onto the target only when complete.
+#pragma once
+
+#include <string>
+
+#include "core/drawing.hpp"
+
+namespace inkline {
+
+enum class Format { Svg, Pdf, Png, Json };
+
+// From `explicit_format` ("svg", "pdf", "png", "json") when non-empty, else from the extension of
+// `path` (case-insensitive). Unknown: throws inkline::Error naming "--format" or the path.
+Format output_format(const std::string& path, const std::string& explicit_format);
+
+struct OutputOptions {
+    bool hidden = false;      // draw hidden pieces (qi > 0) too
+    double line_width = 0.0;  // visible line width in px; <= 0: max(1, 1.5 * height / 1024)
+};
+
+// Pieces with fewer than two points or a non-finite point are never written. JSON keeps points
+// exactly; SVG, PDF and PNG clip them to the image grown by an image-sized margin on each side.
+std::string drawing_to_json(const Drawing& drawing, const OutputOptions& options);
+// One layer (<g>) per line kind and QI level, hidden layers first, visible last.
+std::string drawing_to_svg(const Drawing& drawing, const OutputOptions& options);
+
+// Throws inkline::Error(path, reason) on failure; the target is then left untouched.
+void write_drawing(const Drawing& drawing, const std::string& path, Format format,
+                   const OutputOptions& options);
+
+}  // namespace inkline

@@ -1,0 +1,48 @@
+// The library's front door: a model loaded once, drawn from any number of cameras.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/camera.hpp"
+#include "core/drawing.hpp"
+#include "features/features.hpp"
+#include "model/topology.hpp"
+#include "visibility/ray_caster.hpp"
+#include "visibility/visibility.hpp"
+
+namespace inkline {
+
+class Model {
+public:
+    // Loads and validates a mesh file (throws inkline::Error naming the file).
+    static Model load(const std::string& path, double crease_degrees = 40.0);
+    explicit Model(const TriangleMesh& mesh, double crease_degrees = 40.0);
+
+    const MeshTopology& topology() const { return topo_; }
+    MeshTopology& topology() { return topo_; }
+    // The ray-test index, built on first use only (views that need no ray test never pay for it).
+    const RayCaster& rays() const;
+    double load_seconds() const { return load_seconds_; }
+
+private:
+    MeshTopology topo_;
+    mutable std::unique_ptr<RayCaster> rays_;
+    double load_seconds_ = 0.0;
+};
+
+struct ViewOptions {
+    FeatureOptions features;
+};
+
+struct View {
+    Features features;
+    Drawing drawing;                           // pieces with QI, in pixels, and statistics
+    std::vector<std::vector<EdgeSpan>> spans;  // where each piece of the drawing lies on the mesh
+};
+
+// Features -> visibility for one camera. The camera's near plane, when unset (0), is
+// default_near(model) for this call.
+View render_view(const Model& model, Camera camera, const ViewOptions& options = {});
+
+}  // namespace inkline

@@ -1,0 +1,89 @@
+#include "visibility/crossings.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace inkline {
+namespace {
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+K::Point_2 cgal(const glm::dvec2& p) { return {p.x, p.y}; }
+double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+}  // namespace
+
+int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
+    if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
+    if (q.a == q.b || o.a == o.b) return 0;
+    const K::Point_2 qa = cgal(q.a), qb = cgal(q.b), oa = cgal(o.a), ob = cgal(o.b);
+    const auto s0 = CGAL::orientation(qa, qb, oa), s1 = CGAL::orientation(qa, qb, ob);
+    if (s0 != CGAL::COLLINEAR && s0 == s1) return 0;
+    const auto s2 = CGAL::orientation(oa, ob, qa), s3 = CGAL::orientation(oa, ob, qb);
+    if (s2 != CGAL::COLLINEAR && s2 == s3) return 0;
+    const glm::dvec2 d = q.b - q.a;
+    if (s0 == CGAL::COLLINEAR && s1 == CGAL::COLLINEAR) {
+        // Collinear: the exact test above only says the lines agree; the overlap must be checked.
+        if (!CGAL::do_intersect(K::Segment_2(qa, qb), K::Segment_2(oa, ob))) return 0;
+        const double dd = glm::dot(d, d);
+        double u0 = glm::dot(o.a - q.a, d) / dd, u1 = glm::dot(o.b - q.a, d) / dd;
+        if (u0 > u1) std::swap(u0, u1);
+        t[0] = std::clamp(u0, 0.0, 1.0);
+        t[1] = std::clamp(u1, 0.0, 1.0);
+        return t[0] == t[1] ? 1 : 2;
+    }
+    // Proper crossing or touch: the exact predicates said they meet; the parameter is a
+    // construction, computed in double and clamped to the segment.
+    const glm::dvec2 e = o.b - o.a;
+    const double den = cross(d, e);
+    double u;
+    if (s0 == CGAL::COLLINEAR) u = glm::dot(o.a - q.a, d) / glm::dot(d, d);
+    else if (s1 == CGAL::COLLINEAR) u = glm::dot(o.b - q.a, d) / glm::dot(d, d);
+    else if (s2 == CGAL::COLLINEAR) u = 0.0;
+    else if (s3 == CGAL::COLLINEAR) u = 1.0;
+    else u = cross(o.a - q.a, e) / den;
+    t[0] = std::clamp(u, 0.0, 1.0);
+    return 1;
+}
+
+SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, double height) {
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    for (const auto& s : segments) {
+        lo = glm::min(lo, glm::min(s.a, s.b));
+        hi = glm::max(hi, glm::max(s.a, s.b));
+    }
+    lo = glm::max(lo, glm::dvec2(-width, -height));
+    hi = glm::min(hi, glm::dvec2(2.0 * width, 2.0 * height));
+    if (!(lo.x < hi.x) || !(lo.y < hi.y)) {
+        lo = glm::dvec2(0.0);
+        hi = glm::dvec2(width, height);
+    }
+    const glm::dvec2 ext = hi - lo;
+    const double n = std::max<double>(1.0, double(segments.size()));
+    const double side = std::sqrt(ext.x * ext.y / n);
+    nx_ = std::clamp(int(std::ceil(ext.x / side)), 1, 2048);
+    ny_ = std::clamp(int(std::ceil(ext.y / side)), 1, 2048);
+    lo_ = lo;
+    cell_ = glm::dvec2(ext.x / nx_, ext.y / ny_);
+
+    std::vector<std::uint32_t> count(cells() + 1, 0);
+    for (const auto& s : segments) visit_cells(s.a, s.b, [&](std::size_t c) { ++count[c + 1]; });
+    for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
+    cell_begin_ = count;
+    items_.resize(count.back());
+    for (std::uint32_t i = 0; i < segments.size(); ++i)
+        visit_cells(segments[i].a, segments[i].b, [&](std::size_t c) { items_[count[c]++] = i; });
+    mark_.assign(segments.size(), 0);
+}
+
+int SegmentGrid::cell_x(double x) const {
+    const double c = std::floor((x - lo_.x) / cell_.x);
+    return c < 0.0 ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
+}
+int SegmentGrid::cell_y(double y) const {
+    const double c = std::floor((y - lo_.y) / cell_.y);
+    return c < 0.0 ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
+}
+
+}  // namespace inkline

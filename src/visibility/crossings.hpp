@@ -1,0 +1,83 @@
+// Image-space crossings: a uniform grid over the projected occluding edges (silhouettes and
+// borders) and exact 2D predicates (CGAL) deciding whether two projected segments meet.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/vec2.hpp>
+
+namespace inkline {
+
+struct Segment2 {
+    glm::dvec2 a, b;
+    std::uint32_t v0, v1;  // mesh vertices of the edge; segments sharing one never "cross"
+    std::uint32_t edge;    // mesh edge
+};
+
+// Parameters t in [0,1] along `q` (q.a + t (q.b - q.a)) where `o` meets it, decided exactly on
+// the double coordinates: none if they do not meet; one for a proper crossing or a touch
+// (an end point on the other segment); two, the ends of the shared part, if collinear and
+// overlapping. Degenerate (zero-length) segments and segments sharing a mesh vertex give none.
+int segment_crossings(const Segment2& q, const Segment2& o, double t[2]);
+
+class SegmentGrid {
+public:
+    // Indexes `segments` in a uniform grid over their bounding box, limited to the image
+    // rectangle widened by one image size on each side; cells on the grid's rim also hold
+    // whatever lies beyond it, so queries stay exact anywhere.
+    SegmentGrid(const std::vector<Segment2>& segments, double width, double height);
+
+    // Calls fn(index) once for every indexed segment whose cells overlap q's cells (a superset of
+    // the segments that can meet q; the caller decides with segment_crossings).
+    template <class Fn>
+    void candidates(const Segment2& q, Fn&& fn) const {
+        stamp_ = stamp_ + 1 == 0 ? (mark_.assign(mark_.size(), 0), 1u) : stamp_ + 1;
+        visit_cells(q.a, q.b, [&](std::size_t cell) {
+            for (std::uint32_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
+                const std::uint32_t s = items_[k];
+                if (mark_[s] == stamp_) continue;
+                mark_[s] = stamp_;
+                fn(s);
+            }
+        });
+    }
+    std::size_t cells() const { return std::size_t(nx_) * ny_; }
+
+private:
+    template <class Fn>
+    void visit_cells(glm::dvec2 a, glm::dvec2 b, Fn&& fn) const;
+    int cell_x(double x) const;
+    int cell_y(double y) const;
+
+    glm::dvec2 lo_{0.0}, cell_{1.0};
+    int nx_ = 1, ny_ = 1;
+    std::vector<std::uint32_t> cell_begin_, items_;
+    mutable std::vector<std::uint32_t> mark_;
+    mutable std::uint32_t stamp_ = 0;
+};
+
+template <class Fn>
+void SegmentGrid::visit_cells(glm::dvec2 a, glm::dvec2 b, Fn&& fn) const {
+    const int x0 = cell_x(std::min(a.x, b.x)), x1 = cell_x(std::max(a.x, b.x));
+    const int y0 = cell_y(std::min(a.y, b.y)), y1 = cell_y(std::max(a.y, b.y));
+    const bool many = std::size_t(x1 - x0 + 1) * std::size_t(y1 - y0 + 1) > 8;
+    const glm::dvec2 d = b - a;
+    for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+            // For long segments skip interior cells that the segment's line clearly misses
+            // (a conservative test: the margin is a quarter of a cell).
+            if (many && x > 0 && y > 0 && x + 1 < nx_ && y + 1 < ny_) {
+                const glm::dvec2 c = lo_ + (glm::dvec2(x, y) + 0.5) * cell_;
+                const double side = d.x * (c.y - a.y) - d.y * (c.x - a.x);
+                const double reach = (std::abs(d.x) * cell_.y + std::abs(d.y) * cell_.x) * 0.75;
+                if (std::abs(side) > reach) continue;
+            }
+            fn(std::size_t(y) * nx_ + x);
+        }
+}
+
+}  // namespace inkline

@@ -1,0 +1,223 @@
+#include "visibility/visibility.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "visibility/crossings.hpp"
+
+namespace inkline {
+namespace {
+
+// A curve edge after near-plane clipping, in 3D and in the image.
+struct ClipSeg {
+    glm::dvec3 A, B;
+    glm::dvec2 a, b;
+    double zA, zB;  // depths of A and B
+    double sA, sB;  // parameters of A and B along the mesh edge
+    std::uint32_t edge;
+    bool run_start;  // the curve is interrupted (clipped) before this segment
+};
+
+// Clips edge (P,Q) to depth >= near; returns false when nothing is left.
+bool clip_edge(const Camera& cam, glm::dvec3 P, glm::dvec3 Q, double sP, double sQ, ClipSeg& out) {
+    const double n = cam.near_distance();
+    double zP = cam.depth(P), zQ = cam.depth(Q);
+    if (!(zP >= n) && !(zQ >= n)) return false;
+    if (zP < n) {
+        const double u = (n - zP) / (zQ - zP);
+        P = P + u * (Q - P);
+        sP = sP + u * (sQ - sP);
+        zP = n;
+    } else if (zQ < n) {
+        const double u = (n - zQ) / (zP - zQ);
+        Q = Q + u * (P - Q);
+        sQ = sQ + u * (sP - sQ);
+        zQ = n;
+    }
+    out.A = P;
+    out.B = Q;
+    out.zA = zP;
+    out.zB = zQ;
+    out.sA = sP;
+    out.sB = sQ;
+    out.a = cam.project(P);
+    out.b = cam.project(Q);
+    return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
+}
+
+// Parameter along the 3D segment of the point seen at image parameter t (perspective-correct).
+double to_3d(const Camera& cam, const ClipSeg& s, double t) {
+    if (cam.is_ortho()) return t;
+    const double den = (1.0 - t) * s.zB + t * s.zA;
+    return den > 0.0 ? t * s.zA / den : t;
+}
+
+struct Split {
+    std::uint32_t seg;
+    double t;
+    bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
+    bool operator==(const Split& o) const { return seg == o.seg && t == o.t; }
+};
+
+}  // namespace
+
+double default_near(const MeshTopology& mesh) {
+    const double r = mesh.bounds.half_diagonal();
+    return 1e-6 * (r > 0.0 ? r : 1.0);
+}
+
+VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                                 const RayCaster& rays) {
+    VisibleCurves out;
+
+    // Occluding edges in the image: silhouettes and borders.
+    std::vector<Segment2> occluders;
+    occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
+    for (const auto* list : {&features.silhouette_edges, &features.border_edges})
+        for (std::uint32_t e : *list) {
+            const auto [v0, v1] = mesh.edge_vertex[e];
+            ClipSeg s;
+            if (clip_edge(camera, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s))
+                occluders.push_back({s.a, s.b, v0, v1, e});
+        }
+    const SegmentGrid grid(occluders, camera.width(), camera.height());
+
+    std::vector<std::uint8_t> in_curves(mesh.edge_count(), 0);
+    for (const auto& c : features.curves)
+        for (std::uint32_t e : c.edges) in_curves[e] = 1;
+
+    std::vector<ClipSeg> segs;
+    std::vector<Split> splits;
+    for (std::uint32_t ci = 0; ci < features.curves.size(); ++ci) {
+        const FeatureCurve& curve = features.curves[ci];
+        segs.clear();
+        bool interrupted = false;
+        for (std::size_t i = 0; i < curve.edges.size(); ++i) {
+            const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
+            const bool forward = mesh.edge_vertex[e][0] == va;
+            ClipSeg s;
+            if (!clip_edge(camera, mesh.positions[va], mesh.positions[vb], forward ? 0.0 : 1.0, forward ? 1.0 : 0.0, s)) {
+                interrupted = true;
+                continue;
+            }
+            s.edge = e;
+            // A clipped start also interrupts the curve.
+            s.run_start = segs.empty() || interrupted || s.A != mesh.positions[va] || segs.back().B != mesh.positions[va];
+            interrupted = s.B != mesh.positions[vb];
+            segs.push_back(s);
+        }
+        if (segs.empty()) continue;
+
+        // Crossings with occluding edges, split parameters per segment.
+        splits.clear();
+        for (std::uint32_t j = 0; j < segs.size(); ++j) {
+            const ClipSeg& s = segs[j];
+            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge};
+            grid.candidates(q, [&](std::uint32_t k) {
+                double t[2];
+                const int n = segment_crossings(q, occluders[k], t);
+                if (n == 0) return;
+                if (!in_curves[occluders[k].edge] || s.edge < occluders[k].edge) ++out.crossings;
+                for (int i = 0; i < n; ++i) splits.push_back({j, t[i]});
+            });
+        }
+        for (auto& sp : splits)  // a split at a segment's end is the next segment's start
+            if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0};
+        std::sort(splits.begin(), splits.end());
+        splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+
+        // Walk the segments, cutting pieces at splits and interruptions.
+        const std::size_t first_piece = out.pieces.size();
+        Piece cur;
+        std::vector<EdgeSpan> cur_spans;
+        auto emit = [&]() {
+            if (!cur_spans.empty() && cur.points.size() >= 2) {
+                out.pieces.push_back(cur);
+                out.spans.push_back(cur_spans);
+            }
+            cur.points.clear();
+            cur_spans.clear();
+        };
+        cur.kind = curve.kind;
+        cur.curve = ci;
+        std::size_t k = 0;
+        bool split_at_start = false;
+        for (std::uint32_t j = 0; j < segs.size(); ++j) {
+            const ClipSeg& s = segs[j];
+            if (s.run_start) {
+                emit();
+                cur.points.push_back(s.a);
+            }
+            double t0 = 0.0;
+            auto add_span = [&](double t1) {
+                const double u0 = to_3d(camera, s, t0), u1 = to_3d(camera, s, t1);
+                cur_spans.push_back({s.edge, s.sA + u0 * (s.sB - s.sA), s.sA + u1 * (s.sB - s.sA)});
+                cur.points.push_back(s.a + t1 * (s.b - s.a));
+            };
+            for (; k < splits.size() && splits[k].seg == j; ++k) {
+                const double t = splits[k].t;
+                if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) split_at_start = true;
+                if (t >= 1.0) continue;  // the end of the run: nothing follows
+                if (t > t0) add_span(t);
+                if (cur_spans.empty()) continue;  // nothing to cut yet (split at the run start)
+                emit();
+                cur.points.push_back(s.a + t * (s.b - s.a));
+                t0 = t;
+            }
+            add_span(1.0);
+        }
+        emit();
+
+        // A closed curve that was not cut at its start vertex: the last piece continues the first.
+        const std::size_t np = out.pieces.size() - first_piece;
+        const bool unbroken = segs.size() == curve.edges.size() &&
+                              std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
+                              segs.back().B == segs.front().A;
+        if (curve.closed && unbroken && np >= 2 && !split_at_start) {
+            Piece& first = out.pieces[first_piece];
+            Piece last = std::move(out.pieces.back());
+            auto last_spans = std::move(out.spans.back());
+            out.pieces.pop_back();
+            out.spans.pop_back();
+            last.points.insert(last.points.end(), first.points.begin() + 1, first.points.end());
+            last_spans.insert(last_spans.end(), out.spans[first_piece].begin(), out.spans[first_piece].end());
+            first.points = std::move(last.points);
+            out.spans[first_piece] = std::move(last_spans);
+        }
+    }
+
+    // One ray test per piece, at the middle of its longest stretch in the image.
+    out.pieces.shrink_to_fit();
+    for (std::size_t p = 0; p < out.pieces.size(); ++p) {
+        const auto& spans = out.spans[p];
+        const auto& pts = out.pieces[p].points;
+        std::size_t best = 0;
+        double best_len = -1.0;
+        for (std::size_t i = 0; i < spans.size(); ++i) {
+            const double len = glm::length(pts[i + 1] - pts[i]);
+            if (len > best_len) {
+                best_len = len;
+                best = i;
+            }
+        }
+        // The image midpoint of that stretch, found on the mesh edge (perspective-correct).
+        const EdgeSpan& sp = spans[best];
+        const auto [v0, v1] = mesh.edge_vertex[sp.edge];
+        const glm::dvec3 E0 = mesh.positions[v0], E1 = mesh.positions[v1];
+        const glm::dvec3 P0 = E0 + sp.s0 * (E1 - E0), P1 = E0 + sp.s1 * (E1 - E0);
+        double u = 0.5;
+        if (!camera.is_ortho()) {
+            const double z0 = camera.depth(P0), z1 = camera.depth(P1);
+            u = 0.5 * z0 / (0.5 * z1 + 0.5 * z0);
+        }
+        const glm::dvec3 P = P0 + u * (P1 - P0);
+        const auto [f0, f1] = mesh.edge_face[sp.edge];
+        out.pieces[p].qi = rays.count_layers(camera.ray_origin(P), P, f0, f1);
+        ++out.ray_tests;
+    }
+    return out;
+}
+
+}  // namespace inkline
