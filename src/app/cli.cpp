@@ -169,11 +169,9 @@ int render(int argc, char** argv) {
                     s.crossings, s.pieces, s.ray_tests);
         std::printf("seconds: load %.4f, features %.4f, visibility %.4f, output %.4f\n", s.seconds_load,
                     s.seconds_features, s.seconds_visibility, t_write);
-        std::printf("camera: --eye=%s --target=%s --up=%s %s --size=%dx%d\n", fmt3(cam.eye()).c_str(),
-                    fmt3(cam.target()).c_str(), fmt3(cam.up()).c_str(),
-                    cam.is_ortho() ? ("--ortho=" + std::to_string(cam.ortho_height())).c_str()
-                                   : ("--fov=" + std::to_string(cam.fov_deg())).c_str(),
-                    cam.width(), cam.height());
+        std::printf("camera: --eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d\n", fmt3(cam.eye()).c_str(),
+                    fmt3(cam.target()).c_str(), fmt3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
+                    cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());
     }
     return 0;
 }
