@@ -108,7 +108,8 @@ Camera make_camera(const RenderArgs& a, const MeshTopology& mesh) {
         h = int(hh);
     }
     const double fov = a.camera.count("--fov") ? parse_number("--fov", a.camera.at("--fov")) : 30.0;
-    const Camera framed = Camera::framing(mesh.bounds, w, h, (fov > 0.0 && fov < 180.0) ? fov : 30.0);
+    if (!(fov > 0.0 && fov < 180.0)) throw Error("--fov", "expected an angle in (0, 180) degrees");
+    const Camera framed = Camera::framing(mesh.bounds, w, h, fov);
     const glm::dvec3 target = a.camera.count("--target") ? parse_vec3("--target", a.camera.at("--target")) : framed.target();
     const glm::dvec3 eye = a.camera.count("--eye") ? parse_vec3("--eye", a.camera.at("--eye")) : framed.eye();
     const glm::dvec3 up = a.camera.count("--up") ? parse_vec3("--up", a.camera.at("--up")) : glm::dvec3(0, 1, 0);

@@ -1,9 +1,14 @@
 #include "model/mesh_io.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <string_view>
 #include <unordered_map>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
@@ -68,18 +73,369 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
     return (std::uint64_t(a) << 32) | b;
 }
 
-}  // namespace
 
-TriangleMesh load_mesh(const std::string& path) {
-    const std::string ext = lower_extension(path);
-    if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
-        throw Error(path, "unsupported mesh format '" + ext + "' (expected .obj, .off, .ply or .stl)");
-    {
-        std::ifstream probe(path, std::ios::binary);
-        if (!probe) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-        if (probe.peek() == std::ifstream::traits_type::eof()) throw Error(path, "file is empty");
+// Vertex positions and raw polygons (0-based indices, unchecked) as read from a file.
+struct Soup {
+    std::vector<glm::dvec3> positions;
+    std::vector<std::vector<std::int64_t>> polygons;
+};
+
+// The text readers below are strict: OpenMesh's ASCII readers do not report malformed input
+// (a failed number leaves the stream failed and later indices uninitialized, NaN/inf coordinates
+// and truncated files come out as unrelated errors or silently corrupted meshes, OBJ faces with
+// repeated or unparsable indices are dropped), so OFF, OBJ, ASCII PLY and STL are parsed here
+// with line numbers in every message; OpenMesh still reads binary OFF and PLY.
+class Lines {
+public:
+    Lines(const std::string& text, bool hash_comments) : text_(text), comments_(hash_comments) {}
+    // Next line with at least one token (comments removed); false at the end of the text.
+    bool next(std::vector<std::string_view>& tokens) {
+        while (pos_ < text_.size()) {
+            std::size_t end = text_.find('\n', pos_);
+            if (end == std::string::npos) end = text_.size();
+            std::string_view line(text_.data() + pos_, end - pos_);
+            pos_ = end + 1;
+            ++line_;
+            if (comments_) line = line.substr(0, line.find('#'));
+            split(line, tokens);
+            if (!tokens.empty()) return true;
+        }
+        return false;
+    }
+    std::size_t line() const { return line_; }
+    std::string at() const { return "line " + std::to_string(line_) + ": "; }
+
+    static void split(std::string_view line, std::vector<std::string_view>& tokens) {
+        tokens.clear();
+        std::size_t i = 0;
+        while (i < line.size()) {
+            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+            std::size_t j = i;
+            while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+            if (j > i) tokens.push_back(line.substr(i, j - i));
+            i = j;
+        }
     }
 
+private:
+    const std::string& text_;
+    bool comments_;
+    std::size_t pos_ = 0, line_ = 0;
+};
+
+// A whole token as a double (strtod: accepts nan and inf, which validation refuses with its own
+// message; out-of-range values become infinite).
+bool parse_double(std::string_view tok, double& out) {
+    if (tok.empty()) return false;
+    const std::string copy(tok);
+    char* end = nullptr;
+    out = std::strtod(copy.c_str(), &end);
+    return end == copy.c_str() + copy.size();
+}
+
+bool parse_int(std::string_view tok, std::int64_t& out) {
+    if (!tok.empty() && tok[0] == '+') tok.remove_prefix(1);
+    const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+    return r.ec == std::errc() && r.ptr == tok.data() + tok.size();
+}
+
+std::string quoted(std::string_view tok) { return "'" + std::string(tok.substr(0, 40)) + "'"; }
+
+std::string lower(std::string_view s) {
+    std::string r(s);
+    std::transform(r.begin(), r.end(), r.begin(), [](unsigned char c) { return std::tolower(c); });
+    return r;
+}
+
+// OFF (Geomview): [ST][C][N][4][n]OFF header, optional dimension, counts, one vertex per line
+// (further values on the line: normals, colours, texture coordinates), one face per line
+// ("n i0 .. i(n-1)" then an optional colour).
+void read_off(const std::string& text, const std::string& path, Soup& soup) {
+    Lines lines(text, true);
+    std::vector<std::string_view> tok;
+    if (!lines.next(tok)) throw Error(path, "no OFF header");
+    const std::string key(tok[0]);
+    const auto off_at = key.rfind("OFF");
+    if (off_at == std::string::npos || off_at + 3 != key.size())
+        throw Error(path, lines.at() + "expected an OFF header, found " + quoted(tok[0]));
+    const std::string prefix = key.substr(0, off_at);
+    if (prefix.find_first_not_of("STCN4n") != std::string::npos)
+        throw Error(path, lines.at() + "expected an OFF header, found " + quoted(tok[0]));
+    const bool homogeneous = prefix.find('4') != std::string::npos;
+    std::size_t k = 1;
+    auto need = [&](const char* what) {
+        while (k >= tok.size()) {
+            if (!lines.next(tok)) throw Error(path, std::string("file ends before the ") + what + " (truncated)");
+            k = 0;
+        }
+        return tok[k++];
+    };
+    std::int64_t dim = 3;
+    if (prefix.find('n') != std::string::npos) {
+        const auto t = need("vertex dimension");
+        if (!parse_int(t, dim) || dim < 1 || dim > 16)
+            throw Error(path, lines.at() + "bad vertex dimension " + quoted(t));
+    }
+    if (homogeneous) ++dim;
+    std::int64_t nv = 0, nf = 0;
+    {
+        const auto t = need("vertex count");
+        if (!parse_int(t, nv) || nv < 0) throw Error(path, lines.at() + "bad vertex count " + quoted(t));
+        const auto u = need("face count");
+        if (!parse_int(u, nf) || nf < 0) throw Error(path, lines.at() + "bad face count " + quoted(u));
+        // The edge count, if present, is not used.
+    }
+    soup.positions.reserve(std::size_t(std::min<std::int64_t>(nv, std::int64_t(text.size() / 6 + 1))));
+    for (std::int64_t i = 0; i < nv; ++i) {
+        if (!lines.next(tok))
+            throw Error(path, "file ends after " + std::to_string(i) + " of " + std::to_string(nv) +
+                                  " vertices (truncated)");
+        if (std::int64_t(tok.size()) < dim)
+            throw Error(path, lines.at() + "vertex " + std::to_string(i) + " has " + std::to_string(tok.size()) +
+                                  " coordinates, expected " + std::to_string(dim));
+        double c[4] = {0.0, 0.0, 0.0, 1.0};
+        for (std::int64_t j = 0; j < dim; ++j) {
+            double x;
+            if (!parse_double(tok[j], x))
+                throw Error(path, lines.at() + "vertex " + std::to_string(i) + ": " + quoted(tok[j]) +
+                                      " is not a number");
+            if (j < 3) c[j] = x;
+            if (homogeneous && j == dim - 1) c[3] = x;
+        }
+        if (homogeneous) c[0] /= c[3], c[1] /= c[3], c[2] /= c[3];
+        soup.positions.emplace_back(c[0], c[1], c[2]);
+    }
+    for (std::int64_t f = 0; f < nf; ++f) {
+        if (!lines.next(tok))
+            throw Error(path, "file ends after " + std::to_string(f) + " of " + std::to_string(nf) +
+                                  " faces (truncated)");
+        std::int64_t n = 0;
+        if (!parse_int(tok[0], n) || n < 0)
+            throw Error(path, lines.at() + "face " + std::to_string(f) + ": bad vertex count " + quoted(tok[0]));
+        if (std::int64_t(tok.size()) < n + 1)
+            throw Error(path, lines.at() + "face " + std::to_string(f) + " lists " +
+                                  std::to_string(tok.size() - 1) + " of its " + std::to_string(n) +
+                                  " vertex indices");
+        std::vector<std::int64_t> poly(std::size_t(n), 0);
+        for (std::int64_t j = 0; j < n; ++j)
+            if (!parse_int(tok[j + 1], poly[j]))
+                throw Error(path, lines.at() + "face " + std::to_string(f) + ": " + quoted(tok[j + 1]) +
+                                      " is not a vertex index");
+        soup.polygons.push_back(std::move(poly));
+    }
+}
+
+// OBJ: "v x y z [...]" and "f a b c ..." with a, b, c of the forms v, v/vt, v//vn, v/vt/vn (1-based,
+// negative: relative to the end); every other statement is ignored.
+void read_obj(const std::string& text, const std::string& path, Soup& soup) {
+    Lines lines(text, true);
+    std::vector<std::string_view> tok;
+    while (lines.next(tok)) {
+        if (tok[0] == "v") {
+            if (tok.size() < 4)
+                throw Error(path, lines.at() + "vertex " + std::to_string(soup.positions.size()) + " has " +
+                                      std::to_string(tok.size() - 1) + " coordinates, expected 3");
+            double c[3];
+            for (int j = 0; j < 3; ++j)
+                if (!parse_double(tok[j + 1], c[j]))
+                    throw Error(path, lines.at() + "vertex " + std::to_string(soup.positions.size()) + ": " +
+                                          quoted(tok[j + 1]) + " is not a number");
+            soup.positions.emplace_back(c[0], c[1], c[2]);
+        } else if (tok[0] == "f") {
+            std::vector<std::int64_t> poly;
+            for (std::size_t j = 1; j < tok.size(); ++j) {
+                const std::string_view t = tok[j].substr(0, tok[j].find('/'));
+                std::int64_t i = 0;
+                if (!parse_int(t, i) || i == 0)
+                    throw Error(path, lines.at() + "face " + std::to_string(soup.polygons.size()) + ": " +
+                                          quoted(tok[j]) + " is not a vertex index");
+                poly.push_back(i > 0 ? i - 1 : std::int64_t(soup.positions.size()) + i);
+            }
+            soup.polygons.push_back(std::move(poly));
+        }
+    }
+}
+
+// ASCII STL: solid / facet normal / outer loop / 3 x vertex / endloop / endfacet / endsolid.
+// Corners with identical coordinates become one vertex (as OpenMesh's reader does).
+struct PointKey {
+    std::size_t operator()(const glm::dvec3& p) const {
+        std::size_t h = 0;
+        for (int i = 0; i < 3; ++i) {
+            std::uint64_t b;
+            const double v = p[i] == 0.0 ? 0.0 : p[i];  // -0 == +0
+            std::memcpy(&b, &v, sizeof b);
+            h = h * 1000003u ^ std::hash<std::uint64_t>()(b);
+        }
+        return h;
+    }
+};
+struct PointEq {
+    bool operator()(const glm::dvec3& a, const glm::dvec3& b) const {
+        return a.x == b.x && a.y == b.y && a.z == b.z;
+    }
+};
+struct Welder {
+    Soup& soup;
+    std::unordered_map<glm::dvec3, std::int64_t, PointKey, PointEq> index;
+    std::int64_t operator()(const glm::dvec3& p) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {  // refused later
+            soup.positions.push_back(p);
+            return std::int64_t(soup.positions.size() - 1);
+        }
+        auto [it, inserted] = index.try_emplace(p, std::int64_t(soup.positions.size()));
+        if (inserted) soup.positions.push_back(p);
+        return it->second;
+    }
+};
+
+void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup) {
+    Lines lines(text, false);
+    std::vector<std::string_view> tok;
+    Welder weld{soup, {}};
+    auto expect = [&](const char* word) {
+        if (!lines.next(tok)) throw Error(path, std::string("file ends before '") + word + "' (truncated)");
+        if (lower(tok[0]) != word)
+            throw Error(path, lines.at() + "expected '" + word + "', found " + quoted(tok[0]));
+    };
+    expect("solid");
+    while (true) {
+        if (!lines.next(tok)) throw Error(path, "file ends before 'endsolid' (truncated)");
+        const std::string w = lower(tok[0]);
+        if (w == "endsolid") break;
+        if (w != "facet") throw Error(path, lines.at() + "expected 'facet' or 'endsolid', found " + quoted(tok[0]));
+        expect("outer");
+        std::vector<std::int64_t> poly;
+        for (int c = 0; c < 3; ++c) {
+            expect("vertex");
+            if (tok.size() != 4)
+                throw Error(path, lines.at() + "facet " + std::to_string(soup.polygons.size()) +
+                                      ": a vertex needs 3 coordinates");
+            glm::dvec3 p;
+            for (int j = 0; j < 3; ++j)
+                if (!parse_double(tok[j + 1], p[j]))
+                    throw Error(path, lines.at() + quoted(tok[j + 1]) + " is not a number");
+            poly.push_back(weld(p));
+        }
+        expect("endloop");
+        expect("endfacet");
+        soup.polygons.push_back(std::move(poly));
+    }
+}
+
+void read_stl_binary(const std::string& data, const std::string& path, Soup& soup) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, data.data() + 80, 4);  // little-endian files on little-endian hosts
+    Welder weld{soup, {}};
+    for (std::uint32_t f = 0; f < n; ++f) {
+        const char* rec = data.data() + 84 + std::size_t(f) * 50;
+        std::vector<std::int64_t> poly;
+        for (int c = 0; c < 3; ++c) {
+            float v[3];
+            std::memcpy(v, rec + 12 + 12 * c, 12);
+            poly.push_back(weld(glm::dvec3(v[0], v[1], v[2])));
+        }
+        soup.polygons.push_back(std::move(poly));
+    }
+    (void)path;
+}
+
+// ASCII PLY: header of elements and (scalar or list) properties; the "vertex" element gives x, y,
+// z and the "face" element its "vertex_indices" (or "vertex_index") list; others are skipped.
+void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup) {
+    struct Property {
+        std::string name;
+        bool list = false;
+    };
+    struct Element {
+        std::string name;
+        std::int64_t count = 0;
+        std::vector<Property> props;
+    };
+    Lines lines(text, false);
+    std::vector<std::string_view> tok;
+    std::vector<Element> elements;
+    lines.next(tok);  // "ply", checked by the caller
+    while (true) {
+        if (!lines.next(tok)) throw Error(path, "file ends inside the PLY header (no end_header)");
+        if (tok[0] == "end_header") break;
+        if (tok[0] == "format" || tok[0] == "comment" || tok[0] == "obj_info") continue;
+        if (tok[0] == "element") {
+            Element e;
+            if (tok.size() != 3 || !parse_int(tok[2], e.count) || e.count < 0)
+                throw Error(path, lines.at() + "malformed element line");
+            e.name = std::string(tok[1]);
+            elements.push_back(std::move(e));
+        } else if (tok[0] == "property") {
+            if (elements.empty()) throw Error(path, lines.at() + "property before any element");
+            Property p;
+            p.list = tok.size() >= 2 && tok[1] == "list";
+            if (tok.size() != (p.list ? 5u : 3u)) throw Error(path, lines.at() + "malformed property line");
+            p.name = std::string(tok.back());
+            elements.back().props.push_back(std::move(p));
+        } else {
+            throw Error(path, lines.at() + "unknown PLY header line " + quoted(tok[0]));
+        }
+    }
+    // The body as one token stream (an element instance is conventionally one line).
+    std::size_t k = 0;
+    tok.clear();
+    for (const auto& e : elements) {
+        const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+        int xyz[3] = {-1, -1, -1}, indices = -1;
+        for (int j = 0; j < int(e.props.size()); ++j) {
+            const auto& p = e.props[j];
+            if (is_vertex && !p.list && (p.name == "x" || p.name == "y" || p.name == "z")) xyz[p.name[0] - 'x'] = j;
+            if (is_face && p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = j;
+        }
+        if (is_vertex && (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0))
+            throw Error(path, "PLY vertex element lacks an x, y or z property");
+        if (is_face && indices < 0) throw Error(path, "PLY face element lacks a vertex_indices list");
+        for (std::int64_t i = 0; i < e.count; ++i) {
+            glm::dvec3 p(0.0);
+            std::vector<std::int64_t> poly;
+            for (int j = 0; j < int(e.props.size()); ++j) {
+                auto next = [&]() {
+                    while (k >= tok.size()) {
+                        if (!lines.next(tok))
+                            throw Error(path, "file ends inside " + e.name + " " + std::to_string(i) + " of " +
+                                                  std::to_string(e.count) + " (truncated)");
+                        k = 0;
+                    }
+                    return tok[k++];
+                };
+                if (e.props[j].list) {
+                    const auto t = next();
+                    std::int64_t n = 0;
+                    if (!parse_int(t, n) || n < 0)
+                        throw Error(path, e.name + " " + std::to_string(i) + ": bad list length " + quoted(t));
+                    for (std::int64_t m = 0; m < n; ++m) {
+                        const auto u = next();
+                        if (j == indices) {
+                            std::int64_t v = 0;
+                            if (!parse_int(u, v))
+                                throw Error(path, "face " + std::to_string(i) + ": " + quoted(u) +
+                                                      " is not a vertex index");
+                            poly.push_back(v);
+                        }
+                    }
+                } else {
+                    const auto t = next();
+                    double x;
+                    if (!parse_double(t, x))
+                        throw Error(path, e.name + " " + std::to_string(i) + ": " + quoted(t) + " is not a number");
+                    for (int c = 0; c < 3; ++c)
+                        if (is_vertex && j == xyz[c]) p[c] = x;
+                }
+            }
+            if (is_vertex) soup.positions.push_back(p);
+            if (is_face) soup.polygons.push_back(std::move(poly));
+        }
+    }
+}
+
+// Binary OFF and PLY: OpenMesh's readers, through the importer that records the raw polygons.
+void read_with_openmesh(const std::string& path, const std::string& ext, Soup& soup) {
     SoupMesh om;
     SoupImporter importer(om);
     OpenMesh::IO::Options opt;
@@ -89,22 +445,76 @@ TriangleMesh load_mesh(const std::string& path) {
         ok = OpenMesh::IO::IOManager().read(path, importer, opt);
     }
     if (!ok) throw Error(path, "cannot parse as " + ext + " (malformed or truncated file)");
-
-    TriangleMesh mesh;
-    mesh.positions.reserve(om.n_vertices());
+    soup.positions.reserve(om.n_vertices());
     for (auto v : om.vertices()) {
         const auto& p = om.point(v);
-        mesh.positions.emplace_back(p[0], p[1], p[2]);
+        soup.positions.emplace_back(p[0], p[1], p[2]);
     }
+    soup.polygons = std::move(importer.polygons);
+}
+
+}  // namespace
+
+TriangleMesh load_mesh(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
+        throw Error(path, "unsupported mesh format '" + ext + "' (expected .obj, .off, .ply or .stl)");
+    std::string data;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
+        data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        if (in.bad()) throw Error(path, "read error");
+    }
+    if (data.empty()) throw Error(path, "file is empty");
+
+    Soup soup;
+    std::vector<std::string_view> first;
+    Lines::split(std::string_view(data).substr(0, data.find('\n')), first);
+    if (ext == "off") {
+        if (first.size() >= 2 && first[1] == "BINARY") read_with_openmesh(path, ext, soup);
+        else read_off(data, path, soup);
+    } else if (ext == "obj") {
+        read_obj(data, path, soup);
+    } else if (ext == "ply") {
+        if (first.empty() || first[0] != "ply") throw Error(path, "not a PLY file (no 'ply' magic line)");
+        Lines header(data, false);
+        std::vector<std::string_view> tok;
+        bool ascii = false;
+        while (header.next(tok) && tok[0] != "end_header")
+            if (tok[0] == "format") ascii = tok.size() >= 2 && tok[1] == "ascii";
+        if (ascii) read_ply_ascii(data, path, soup);
+        else read_with_openmesh(path, ext, soup);
+    } else {
+        // ASCII if it starts with "solid" and holds no NUL byte (binary headers may start with
+        // "solid" too, but the records' attribute words are practically always zero).
+        const bool ascii = !first.empty() && lower(first[0]) == "solid" && data.find('\0') == std::string::npos;
+        std::uint32_t n = 0;
+        if (data.size() >= 84) std::memcpy(&n, data.data() + 80, 4);
+        if (ascii) read_stl_ascii(data, path, soup);
+        else if (data.size() >= 84 && data.size() == 84 + 50 * std::uint64_t(n)) read_stl_binary(data, path, soup);
+        else
+            throw Error(path, "not ASCII STL, and " + std::to_string(data.size()) +
+                                  " bytes is not the size of a binary STL (84 + 50 x " + std::to_string(n) +
+                                  " facets): truncated or malformed");
+    }
+
+    TriangleMesh mesh;
+    mesh.positions = std::move(soup.positions);
     const std::int64_t nv = std::int64_t(mesh.positions.size());
-    for (std::size_t fi = 0; fi < importer.polygons.size(); ++fi) {
-        const auto& poly = importer.polygons[fi];
+    for (std::size_t fi = 0; fi < soup.polygons.size(); ++fi) {
+        const auto& poly = soup.polygons[fi];
         if (poly.size() < 3)
             throw Error(path, "face " + std::to_string(fi) + " has fewer than 3 vertices");
-        for (auto i : poly)
-            if (i < 0 || i >= nv)
+        for (std::size_t a = 0; a < poly.size(); ++a) {
+            if (poly[a] < 0 || poly[a] >= nv)
                 throw Error(path, "face " + std::to_string(fi) + " refers to vertex " +
-                                      std::to_string(i) + " of " + std::to_string(nv));
+                                      std::to_string(poly[a]) + " of " + std::to_string(nv));
+            for (std::size_t b = 0; b < a; ++b)
+                if (poly[a] == poly[b])
+                    throw Error(path, "face " + std::to_string(fi) + " repeats vertex index " +
+                                          std::to_string(poly[a]));
+        }
         if (poly.size() > 3) ++mesh.polygons_triangulated;
         // Fan triangulation, as OpenMesh's own triangulate() does for convex polygons.
         for (std::size_t k = 1; k + 1 < poly.size(); ++k)
@@ -201,14 +611,10 @@ void validate_mesh(TriangleMesh& mesh, const std::string& where) {
         }
         ++ncomp;
     }
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (state[f] < 0) {
-            std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
-            ++mesh.faces_reoriented;
-        }
-
     // Closed components are turned outward (positive signed volume), so that front-facing
     // silhouette edges are the convex ones, as the Markosian et al. parity rule assumes.
+    // The volume is that of the consistent orientation; each face is then flipped at most once
+    // and faces_reoriented counts the faces whose final orientation differs from the input.
     std::vector<double> volume(ncomp, 0.0);
     std::vector<char> closed(ncomp, 1);
     for (const auto& [key, ef] : edge_faces)
@@ -218,14 +624,17 @@ void validate_mesh(TriangleMesh& mesh, const std::string& where) {
         const auto& t = mesh.triangles[f];
         const glm::dvec3 a = mesh.positions[t[0]] - c, b = mesh.positions[t[1]] - c,
                          d = mesh.positions[t[2]] - c;
-        volume[component[f]] += a.x * (b.y * d.z - b.z * d.y) - a.y * (b.x * d.z - b.z * d.x) +
-                                a.z * (b.x * d.y - b.y * d.x);
+        const double v = a.x * (b.y * d.z - b.z * d.y) - a.y * (b.x * d.z - b.z * d.x) +
+                         a.z * (b.x * d.y - b.y * d.x);
+        volume[component[f]] += state[f] < 0 ? -v : v;
     }
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (closed[component[f]] && volume[component[f]] < 0.0) {
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        const bool outward_flip = closed[component[f]] && volume[component[f]] < 0.0;
+        if ((state[f] < 0) != outward_flip) {
             std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
             ++mesh.faces_reoriented;
         }
+    }
 }
 
 }  // namespace inkline

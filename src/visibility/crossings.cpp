@@ -1,17 +1,37 @@
 #include "visibility/crossings.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 namespace inkline {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Q = CGAL::Exact_rational;
 K::Point_2 cgal(const glm::dvec2& p) { return {p.x, p.y}; }
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+
+// num / den in double, unless the operands left the normal range (a subnormal or zero
+// denominator from underflow, an infinite value from overflow): then the quotient of the exact
+// values, given as functions, rounded once. Only for coordinates far outside any image.
+template <class Num, class Den>
+double quotient(double num, double den, Num exact_num, Den exact_den) {
+    if (std::abs(den) >= DBL_MIN && std::isfinite(den) && std::isfinite(num)) return num / den;
+    const Q d = exact_den();
+    if (CGAL::sign(d) == CGAL::ZERO) return 0.0;  // not reached for inputs the predicates accepted
+    return CGAL::to_double(Q(exact_num() / d));
+}
+Q qdot(glm::dvec2 p, glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) {  // (p - o) . (b - a)
+    return (Q(p.x) - Q(o.x)) * (Q(b.x) - Q(a.x)) + (Q(p.y) - Q(o.y)) * (Q(b.y) - Q(a.y));
+}
+Q qcross(glm::dvec2 p, glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) {  // (p - o) x (b - a)
+    return (Q(p.x) - Q(o.x)) * (Q(b.y) - Q(a.y)) - (Q(p.y) - Q(o.y)) * (Q(b.x) - Q(a.x));
+}
 }  // namespace
 
 int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
@@ -27,22 +47,29 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
         // Collinear: the exact test above only says the lines agree; the overlap must be checked.
         if (!CGAL::do_intersect(K::Segment_2(qa, qb), K::Segment_2(oa, ob))) return 0;
         const double dd = glm::dot(d, d);
-        double u0 = glm::dot(o.a - q.a, d) / dd, u1 = glm::dot(o.b - q.a, d) / dd;
+        auto qdd = [&] { return qdot(q.b, q.a, q.a, q.b); };
+        double u0 = quotient(glm::dot(o.a - q.a, d), dd, [&] { return qdot(o.a, q.a, q.a, q.b); }, qdd);
+        double u1 = quotient(glm::dot(o.b - q.a, d), dd, [&] { return qdot(o.b, q.a, q.a, q.b); }, qdd);
         if (u0 > u1) std::swap(u0, u1);
         t[0] = std::clamp(u0, 0.0, 1.0);
         t[1] = std::clamp(u1, 0.0, 1.0);
         return t[0] == t[1] ? 1 : 2;
     }
     // Proper crossing or touch: the exact predicates said they meet; the parameter is a
-    // construction, computed in double and clamped to the segment.
+    // construction, computed in double (exactly, then rounded, if that under- or overflows) and
+    // clamped to the segment.
     const glm::dvec2 e = o.b - o.a;
     const double den = cross(d, e);
+    auto qdd = [&] { return qdot(q.b, q.a, q.a, q.b); };
     double u;
-    if (s0 == CGAL::COLLINEAR) u = glm::dot(o.a - q.a, d) / glm::dot(d, d);
-    else if (s1 == CGAL::COLLINEAR) u = glm::dot(o.b - q.a, d) / glm::dot(d, d);
+    if (s0 == CGAL::COLLINEAR)
+        u = quotient(glm::dot(o.a - q.a, d), glm::dot(d, d), [&] { return qdot(o.a, q.a, q.a, q.b); }, qdd);
+    else if (s1 == CGAL::COLLINEAR)
+        u = quotient(glm::dot(o.b - q.a, d), glm::dot(d, d), [&] { return qdot(o.b, q.a, q.a, q.b); }, qdd);
     else if (s2 == CGAL::COLLINEAR) u = 0.0;
     else if (s3 == CGAL::COLLINEAR) u = 1.0;
-    else u = cross(o.a - q.a, e) / den;
+    else u = quotient(cross(o.a - q.a, e), den, [&] { return qcross(o.a, q.a, o.a, o.b); },
+                      [&] { return qcross(q.b, q.a, o.a, o.b); });
     t[0] = std::clamp(u, 0.0, 1.0);
     return 1;
 }

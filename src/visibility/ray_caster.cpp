@@ -1,47 +1,49 @@
 #include "visibility/ray_caster.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
 
 namespace inkline {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
-// Hits whose parameter along the segment lies within this fraction of either end are re-decided
-// exactly: single-precision coordinates (relative error ~6e-8 of the model size) cannot tell a
-// face touching the end point from one just in front of or behind it.
-constexpr float kExactBand = 1e-4f;
+// Embree's ray runs this fraction of the segment past its end, so that a face just in front of
+// the end point that single precision (relative error ~6e-8 of the model size) puts behind it is
+// still proposed; every proposal is decided exactly anyway.
+constexpr float kPastEnd = 1e-4f;
 
 struct HitCollector {
     RTCIntersectContext ctx;  // must be first: Embree hands this pointer back to the filter
     std::uint32_t skip0, skip1;
-    std::vector<std::pair<float, std::uint32_t>>* hits;
+    std::vector<std::uint32_t>* hits;
 };
 
 void collect(const RTCFilterFunctionNArguments* args) {
     auto* c = reinterpret_cast<HitCollector*>(args->context);
     const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, 0);
-    const float t = RTCRayN_tfar(args->ray, args->N, 0);
     args->valid[0] = 0;  // reject, so that traversal goes on and reports every face
     if (prim == c->skip0 || prim == c->skip1) return;
-    for (const auto& h : *c->hits)
-        if (h.second == prim) return;
-    c->hits->emplace_back(t, prim);
+    c->hits->push_back(prim);
 }
 }  // namespace
 
 struct RayCaster::Impl {
     const MeshTopology& mesh;
     glm::dvec3 origin;
+    double radius;
+    std::vector<std::uint32_t> vertex_face_begin, vertex_faces;  // vertex -> incident faces
+    std::vector<std::uint8_t> degenerate;                        // per face: zero area (never crossed)
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    explicit Impl(const MeshTopology& m) : mesh(m), origin(m.bounds.center()) {}
+    explicit Impl(const MeshTopology& m) : mesh(m), origin(m.bounds.center()), radius(m.bounds.half_diagonal()) {}
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
@@ -71,23 +73,61 @@ RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(me
     rtcAttachGeometry(m.scene, geom);
     rtcReleaseGeometry(geom);
     rtcCommitScene(m.scene);
+
+    m.vertex_face_begin.assign(mesh.vertex_count() + 1, 0);
+    for (const auto& f : mesh.faces)
+        for (std::uint32_t w : f) ++m.vertex_face_begin[w + 1];
+    for (std::size_t w = 0; w < mesh.vertex_count(); ++w) m.vertex_face_begin[w + 1] += m.vertex_face_begin[w];
+    m.vertex_faces.resize(m.vertex_face_begin.back());
+    std::vector<std::uint32_t> fill(m.vertex_face_begin.begin(), m.vertex_face_begin.end() - 1);
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
+        for (std::uint32_t w : mesh.faces[f]) m.vertex_faces[fill[w]++] = f;
+    m.degenerate.resize(mesh.face_count());
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        const auto& t = mesh.faces[f];
+        m.degenerate[f] = CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
+    }
 }
 
 RayCaster::~RayCaster() = default;
 
+// Embree only proposes faces; every face counted is decided by CGAL's exact segment/triangle
+// predicate. Single precision can put the line of sight on the wrong side of a face's edge or
+// corner, so the faces looked at are: every face Embree reports, the faces around the vertices
+// of a reported face that turns out not to be crossed, the neighbours folding back over a crossed
+// face's edges (a silhouette between them), and the faces around the curve edge's vertices
+// (those shared by skip0 and skip1): these reach the segment's end and, seen from the eye, can
+// lie arbitrarily close to the line of sight, e.g. with an edge nearly in line with the curve
+// edge, which image-space crossings ignore because it shares a vertex with the curve.
 int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::uint32_t skip0,
                             std::uint32_t skip1) const {
     const Impl& m = *impl_;
-    thread_local std::vector<std::pair<float, std::uint32_t>> hits;
-    hits.clear();
+    const MeshTopology& mesh = m.mesh;
+    thread_local std::vector<std::uint32_t> cand;
+    cand.clear();
     HitCollector c;
     rtcInitIntersectContext(&c.ctx);
     c.ctx.filter = collect;
     c.skip0 = skip0;
     c.skip1 = skip1;
-    c.hits = &hits;
+    c.hits = &cand;
 
-    const glm::dvec3 o = from - m.origin, d = to - from;
+    // Embree's errors grow with the distance of the ray origin from the model (single precision,
+    // coordinates relative to the centre): from a far eye they exceed 1e-4 of the model size. The
+    // ray given to Embree therefore starts where the segment enters the sphere of twice the
+    // model's half diagonal (all geometry lies within one); nothing is lost before that point.
+    glm::dvec3 o = from - m.origin, d = to - from;
+    bool cast = true;
+    const double rho = 2.0 * m.radius, oo = glm::dot(o, o);
+    if (oo > rho * rho) {
+        const double dd = glm::dot(d, d), od = glm::dot(o, d), disc = od * od - dd * (oo - rho * rho);
+        const double t0 = disc >= 0.0 && dd > 0.0 ? (-od - std::sqrt(disc)) / dd : 2.0;
+        if (t0 > 1.0) cast = false;  // the segment never comes near the model
+        else if (t0 > 0.0) {
+            o += t0 * d;
+            d *= 1.0 - t0;
+        }
+    }
     RTCRayHit rh{};
     rh.ray.org_x = float(o.x);
     rh.ray.org_y = float(o.y);
@@ -96,23 +136,126 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
     rh.ray.dir_y = float(d.y);
     rh.ray.dir_z = float(d.z);
     rh.ray.tnear = 0.0f;
-    rh.ray.tfar = 1.0f + kExactBand;
+    rh.ray.tfar = 1.0f + kPastEnd;
     rh.ray.mask = 0xffffffffu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(m.scene, &c.ctx, &rh);
+    if (cast) rtcIntersect1(m.scene, &c.ctx, &rh);
 
-    int layers = 0;
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+
+    // Every face looked at is decided once, exactly; its facing is found when needed.
+    struct Decided {
+        std::uint32_t face;
+        bool crossed;
+        int facing;  // orientation of the segment's start against the face; 2 until computed
+    };
+    thread_local std::vector<Decided> seen;
+    seen.clear();
     const K::Segment_3 seg(cgal(from), cgal(to));
-    for (const auto& [t, prim] : hits) {
-        if (t > kExactBand && t < 1.0f - kExactBand) {
-            ++layers;
+    const K::Point_3 start = cgal(from);
+    auto decide = [&](std::uint32_t face) -> std::size_t {
+        for (std::size_t i = 0; i < seen.size(); ++i)
+            if (seen[i].face == face) return i;
+        bool x = false;
+        if (!m.degenerate[face]) {
+            const auto& f = mesh.faces[face];
+            x = CGAL::do_intersect(seg, K::Triangle_3(cgal(mesh.positions[f[0]]), cgal(mesh.positions[f[1]]),
+                                                      cgal(mesh.positions[f[2]])));
+        }
+        seen.push_back({face, x, 2});
+        return seen.size() - 1;
+    };
+    auto facing = [&](std::size_t i) {
+        if (seen[i].facing == 2) {
+            const auto& f = mesh.faces[seen[i].face];
+            seen[i].facing = int(CGAL::orientation(cgal(mesh.positions[f[0]]), cgal(mesh.positions[f[1]]),
+                                                   cgal(mesh.positions[f[2]]), start));
+        }
+        return seen[i].facing;
+    };
+
+    // Crossed faces whose neighbours are still to be looked at: the reported ones, and those
+    // around the curve edge's vertices.
+    thread_local std::vector<std::uint32_t> queue;
+    queue.assign(cand.begin(), cand.end());
+    if (skip0 != kNoFace)
+        for (std::uint32_t w : mesh.faces[skip0]) {
+            // Around the curve edge's vertices: those skip0 shares with skip1 (all, on a border).
+            if (skip1 != kNoFace && std::find(mesh.faces[skip1].begin(), mesh.faces[skip1].end(), w) == mesh.faces[skip1].end())
+                continue;
+            for (std::uint32_t k = m.vertex_face_begin[w]; k < m.vertex_face_begin[w + 1]; ++k) {
+                const std::uint32_t g = m.vertex_faces[k];
+                if (g == skip0 || g == skip1) continue;
+                const std::size_t n = seen.size(), j = decide(g);
+                if (j == n && seen[j].crossed) queue.push_back(g);
+            }
+        }
+
+    // A reported face that is not crossed: single precision put the line of sight on the wrong
+    // side of one of its edges or corners, and the exact segment may cross a face around one of
+    // its vertices instead. A crossed face: a neighbour facing the same way cannot be crossed too
+    // (see below), one folding back over their shared edge can, and so on across the fold.
+    while (!queue.empty()) {
+        const std::uint32_t face = queue.back();
+        queue.pop_back();
+        const std::size_t i = decide(face);
+        if (!seen[i].crossed) {
+            if (!std::binary_search(cand.begin(), cand.end(), face)) continue;
+            for (std::uint32_t w : mesh.faces[face])
+                for (std::uint32_t k = m.vertex_face_begin[w]; k < m.vertex_face_begin[w + 1]; ++k) {
+                    const std::uint32_t g = m.vertex_faces[k];
+                    if (g == skip0 || g == skip1) continue;
+                    const std::size_t n = seen.size(), j = decide(g);
+                    if (j == n && seen[j].crossed) queue.push_back(g);
+                }
             continue;
         }
-        const auto& f = m.mesh.faces[prim];
-        const K::Triangle_3 tri(cgal(m.mesh.positions[f[0]]), cgal(m.mesh.positions[f[1]]),
-                                cgal(m.mesh.positions[f[2]]));
-        if (!tri.is_degenerate() && CGAL::do_intersect(seg, tri)) ++layers;
+        for (std::uint32_t e : mesh.face_edges[face])
+            for (std::uint32_t g : mesh.edge_face[e]) {
+                if (g == face || g == kNoFace || g == skip0 || g == skip1) continue;
+                const auto& gv = mesh.faces[g];
+                const int fg = int(CGAL::orientation(cgal(mesh.positions[gv[0]]), cgal(mesh.positions[gv[1]]),
+                                                     cgal(mesh.positions[gv[2]]), start));
+                if (fg == facing(i)) continue;
+                const std::size_t n = seen.size(), j = decide(g);
+                seen[j].facing = fg;
+                if (j == n && seen[j].crossed) queue.push_back(g);
+            }
     }
+    // Two crossed faces that share an edge and face the segment's start the same way are one
+    // layer: seen from there they lie on opposite sides of the plane through the start and the
+    // shared edge, so a line of sight meets both only on that edge. Faces folding over a shared
+    // silhouette edge can both be crossed and stay apart.
+    thread_local std::vector<std::size_t> crossed;
+    crossed.clear();
+    for (std::size_t i = 0; i < seen.size(); ++i)
+        if (seen[i].crossed) crossed.push_back(i);
+    auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
+        for (std::uint32_t e : mesh.face_edges[a])
+            for (std::uint32_t g : mesh.face_edges[b])
+                if (e == g) return true;
+        return false;
+    };
+    int layers = int(crossed.size());
+    thread_local std::vector<std::uint32_t> parent;
+    parent.resize(crossed.size());
+    for (std::uint32_t i = 0; i < crossed.size(); ++i) parent[i] = i;
+    auto root = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (std::uint32_t i = 0; i < crossed.size(); ++i)
+        for (std::uint32_t j = i + 1; j < crossed.size(); ++j) {
+            if (!share_edge(seen[crossed[i]].face, seen[crossed[j]].face)) continue;
+            const int si = facing(crossed[i]);
+            if (si == int(CGAL::COPLANAR) || si != facing(crossed[j])) continue;
+            const std::uint32_t ri = root(i), rj = root(j);
+            if (ri != rj) {
+                parent[ri] = rj;
+                --layers;
+            }
+        }
     return layers;
 }
 

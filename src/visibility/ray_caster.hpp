@@ -1,8 +1,9 @@
 // Ray-test service: counts the layers of surface crossed by a segment (Appel's QI).
 // Built once per mesh, lazily, only when a view needs ray tests. Embree (single precision,
-// coordinates relative to the model's centre) finds candidate hits; hits close to either end
-// of the segment, where single precision cannot decide, are re-decided by CGAL's exact
-// segment/triangle predicate in double coordinates.
+// coordinates relative to the model's centre, the ray started near the model) proposes faces;
+// each is decided by CGAL's exact segment/triangle predicate in double coordinates, together
+// with the faces next to it that single precision may have confused with it and the faces around
+// the segment's end edge (see count_layers in ray_caster.cpp).
 #pragma once
 
 #include <cstdint>
@@ -21,8 +22,9 @@ public:
     RayCaster(const RayCaster&) = delete;
     RayCaster& operator=(const RayCaster&) = delete;
 
-    // Number of distinct faces, other than skip0/skip1 (kNoFace to skip none), that the open
-    // segment from `from` to `to` crosses. Thread-safe.
+    // Number of layers of surface, other than faces skip0/skip1 (kNoFace to skip none), that the
+    // segment from `from` to `to` crosses: the faces it meets, where two that share an edge and
+    // face `from` the same way count once (it passes through their edge). Thread-safe.
     int count_layers(const glm::dvec3& from, const glm::dvec3& to, std::uint32_t skip0,
                      std::uint32_t skip1) const;
 

@@ -1,0 +1,218 @@
+// The `inkline` command as users run it: exit codes, one-line errors naming the file, no partial
+// output files, valid SVG/PDF/PNG/JSON that follows DESIGN.md.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+fs::path scratch() {
+    const fs::path d = fs::path(::testing::TempDir()) /
+                       ("inkline_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+Result run(const std::string& args, const fs::path& dir) {
+    const std::string cmd = std::string(INKLINE_BINARY) + " " + args + " >" + (dir / "stdout").string() + " 2>" +
+                            (dir / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir / "stdout");
+    r.err = slurp(dir / "stderr");
+    return r;
+}
+
+std::string mesh(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name; }
+
+std::size_t lines(const std::string& s) {
+    std::size_t n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+// Drawings (or their temporaries) left in dir.
+std::vector<std::string> outputs(const fs::path& dir) {
+    std::vector<std::string> v;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().find(".svg") != std::string::npos) v.push_back(e.path().filename().string());
+    return v;
+}
+
+TEST(Cli, WritesValidJsonFollowingTheDesign) {
+    const fs::path d = scratch();
+    const Result r = run(mesh("fandisk.off") + " -o " + (d / "f.json").string() + " --hidden", d);
+    // (the command word is required)
+    EXPECT_EQ(r.code, 2);
+    const Result ok = run("render " + mesh("fandisk.off") + " -o " + (d / "f.json").string() + " --hidden", d);
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    const auto j = nlohmann::json::parse(slurp(d / "f.json"));
+    EXPECT_EQ(j["width"], 1024);
+    EXPECT_EQ(j["height"], 1024);
+    EXPECT_EQ(j["camera"]["fov"], 30.0);
+    EXPECT_EQ(j["camera"]["eye"].size(), 3u);
+    EXPECT_EQ(j["stats"]["triangles"], 12946);
+    EXPECT_GT(j["stats"]["silhouette_edges"].get<int>(), 100);
+    EXPECT_GT(j["stats"]["ray_tests"].get<int>(), 0);
+    for (const char* k : {"features", "visibility", "total"}) EXPECT_TRUE(j["stats"]["seconds"].contains(k)) << k;
+    int visible = 0, hidden = 0;
+    for (const auto& p : j["polylines"]) {
+        const std::string kind = p["kind"];
+        EXPECT_TRUE(kind == "silhouette" || kind == "crease" || kind == "border") << kind;
+        EXPECT_GE(p["points"].size(), 2u);
+        (p["qi"].get<int>() == 0 ? visible : hidden)++;
+        for (const auto& q : p["points"]) {
+            EXPECT_EQ(q.size(), 2u);
+            // fandisk is framed by the default camera: well inside the image
+            EXPECT_GT(q[0].get<double>(), 0.0);
+            EXPECT_LT(q[0].get<double>(), 1024.0);
+        }
+    }
+    EXPECT_GT(visible, 10);
+    EXPECT_GT(hidden, 10);
+    // The camera flags printed reproduce the same drawing.
+    const auto pos = ok.out.find("camera: ");
+    ASSERT_NE(pos, std::string::npos) << ok.out;
+    const std::string flags = ok.out.substr(pos + 8, ok.out.find('\n', pos) - pos - 8);
+    const Result again = run("render " + mesh("fandisk.off") + " -o " + (d / "g.json").string() + " --hidden " + flags, d);
+    ASSERT_EQ(again.code, 0) << again.err;
+    const auto g = nlohmann::json::parse(slurp(d / "g.json"));
+    EXPECT_EQ(g["polylines"], j["polylines"]);
+}
+
+TEST(Cli, SvgPdfPngAreValid) {
+    const fs::path d = scratch();
+    for (const char* ext : {"svg", "pdf", "png"}) {
+        const fs::path out = d / (std::string("a.") + ext);
+        const Result r = run("render " + mesh("fandisk.off") + " --quiet --hidden -o " + out.string(), d);
+        ASSERT_EQ(r.code, 0) << ext << ": " << r.err;
+        EXPECT_TRUE(r.out.empty()) << "--quiet printed: " << r.out;
+        ASSERT_TRUE(fs::exists(out)) << out;
+    }
+    const std::string svg = slurp(d / "a.svg");
+    EXPECT_NE(svg.find("silhouette-visible"), std::string::npos);
+    EXPECT_NE(svg.find("hidden-qi1"), std::string::npos);
+    EXPECT_EQ(std::system(("rsvg-convert " + (d / "a.svg").string() + " -o " + (d / "check.png").string()).c_str()), 0);
+    EXPECT_EQ(std::system(("pdfinfo " + (d / "a.pdf").string() + " >/dev/null").c_str()), 0);
+    const std::string png = slurp(d / "a.png");
+    ASSERT_GT(png.size(), 8u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    // --format overrides an extension-less name
+    const Result r = run("render " + mesh("fandisk.off") + " --quiet --format=json -o " + (d / "noext").string(), d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(nlohmann::json::accept(slurp(d / "noext")));
+}
+
+// Each bad input: exit code 1, a single line on stderr naming the file and the problem, no output.
+TEST(Cli, BadMeshesGiveOneLineErrorsAndNoOutput) {
+    const fs::path d = scratch();
+    struct Case {
+        std::string name, content, expect;
+    };
+    const std::vector<Case> cases = {
+        {"empty.off", "", "empty.off"},
+        {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "NaN"},
+        {"truncated.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n", "truncated.off"},
+        {"noface.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
+        {"range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "range.off"},
+        {"nonmanifold.off",
+         "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n", "non-manifold"},
+        {"garbage.stl", std::string("solid x\n\x01\x02\x03 garbage \xff\xfe\n", 25), "garbage.stl"},
+        {"unknown.xyz", "1 2 3\n", "unknown.xyz"},
+    };
+    for (const Case& c : cases) {
+        {
+            std::ofstream f(d / c.name, std::ios::binary);
+            f << c.content;
+        }
+        const fs::path out = d / (c.name + ".svg");
+        const Result r = run("render " + (d / c.name).string() + " -o " + out.string(), d);
+        EXPECT_EQ(r.code, 1) << c.name << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << c.name << ": " << r.err;
+        EXPECT_NE(r.err.find(c.name), std::string::npos) << c.name << ": " << r.err;
+        EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": expected '" << c.expect << "' in " << r.err;
+        EXPECT_FALSE(fs::exists(out)) << c.name;
+    }
+    EXPECT_TRUE(outputs(d).empty());
+    const Result missing = run("render " + (d / "missing.off").string() + " -o " + (d / "m.svg").string(), d);
+    EXPECT_EQ(missing.code, 1);
+    EXPECT_NE(missing.err.find("missing.off"), std::string::npos) << missing.err;
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+    const fs::path d = scratch();
+    for (const std::string args : {"", "draw x.off", "render", "render a.off b.off", "render a.off --bogus=1",
+                                   "render a.off -o"}) {
+        const Result r = run(args, d);
+        EXPECT_EQ(r.code, 2) << "'" << args << "': " << r.err;
+        EXPECT_NE(r.err.find("usage:"), std::string::npos) << r.err;
+    }
+}
+
+TEST(Cli, BadOptionsAndUnwritableOutput) {
+    const fs::path d = scratch();
+    const std::string m = mesh("fandisk.off");
+    const std::vector<std::array<std::string, 2>> cases = {
+        {"--format=gif", "gif"},
+        {"--eye=1,2", "--eye"},
+        {"--fov=200", "--fov"},
+        {"--size=0x10", "--size"},
+        {"--crease=abc", "--crease"},
+        {"--lines=silhouette,hatch", "hatch"},
+        {"--eye=0,0,0 --target=0,0,0", "camera"},
+        {"--near=-1", "--near"},
+    };
+    for (const auto& [flag, expect] : cases) {
+        const fs::path out = d / "x.svg";
+        const Result r = run("render " + m + " " + flag + " -o " + out.string(), d);
+        EXPECT_EQ(r.code, 1) << flag << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << flag << ": " << r.err;
+        EXPECT_NE(r.err.find(expect), std::string::npos) << flag << ": " << r.err;
+        EXPECT_FALSE(fs::exists(out)) << flag;
+    }
+    const Result r = run("render " + m + " -o " + (d / "no" / "such" / "dir" / "x.svg").string(), d);
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("x.svg"), std::string::npos) << r.err;
+    // A failed write leaves the previous file intact and no temporary beside it.
+    {
+        std::ofstream f(d / "keep.svg");
+        f << "previous";
+    }
+    fs::permissions(d, fs::perms::owner_read | fs::perms::owner_exec);
+    const Result ro = run("render " + m + " -o " + (d / "keep.svg").string(), d / "..");
+    fs::permissions(d, fs::perms::owner_all);
+    if (::geteuid() != 0) {  // root writes through permissions
+        EXPECT_EQ(ro.code, 1) << ro.err;
+        EXPECT_EQ(slurp(d / "keep.svg"), "previous");
+    }
+    std::size_t files = 0;
+    for (const auto& e : fs::directory_iterator(d)) files += e.path().filename().string().find("keep.svg") != std::string::npos;
+    EXPECT_EQ(files, 1u);
+}
+
+}  // namespace

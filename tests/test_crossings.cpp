@@ -1,0 +1,510 @@
+// Image-space crossings: segment_crossings (proper crossings, touches, collinear overlaps,
+// degenerate input, exactness near the last bit) and SegmentGrid (candidates are a superset of the
+// segments that meet a query, each reported once, for segments anywhere).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
+
+#include "visibility/crossings.hpp"
+
+using inkline::Segment2;
+
+namespace {
+
+// Segments with their own mesh vertices (never shared unless a test says so).
+Segment2 seg(double ax, double ay, double bx, double by, std::uint32_t id = 0) {
+    return Segment2{{ax, ay}, {bx, by}, 1000 + 2 * id, 1001 + 2 * id, id};
+}
+Segment2 seg(glm::dvec2 a, glm::dvec2 b, std::uint32_t id = 0) { return seg(a.x, a.y, b.x, b.y, id); }
+
+struct Result {
+    int n = 0;
+    double t[2] = {NAN, NAN};
+};
+Result cross(const Segment2& q, const Segment2& o) {
+    Result r;
+    r.n = inkline::segment_crossings(q, o, r.t);
+    return r;
+}
+
+double up_next(double x) { return std::nextafter(x, std::numeric_limits<double>::infinity()); }
+double down_next(double x) { return std::nextafter(x, -std::numeric_limits<double>::infinity()); }
+
+// Exact reference in rationals: the parameters along q where o meets it (see crossings.hpp).
+using Q = CGAL::Exact_rational;
+struct ExactResult {
+    int n = 0;
+    Q t[2];
+};
+int sign_of(const Q& x) { return CGAL::sign(x); }
+Q orient(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return (Q(b.x) - Q(a.x)) * (Q(c.y) - Q(a.y)) - (Q(b.y) - Q(a.y)) * (Q(c.x) - Q(a.x));
+}
+ExactResult exact_crossings(const Segment2& q, const Segment2& o) {
+    ExactResult r;
+    if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return r;
+    if ((q.a.x == q.b.x && q.a.y == q.b.y) || (o.a.x == o.b.x && o.a.y == o.b.y)) return r;
+    const int s0 = sign_of(orient(q.a, q.b, o.a)), s1 = sign_of(orient(q.a, q.b, o.b));
+    const int s2 = sign_of(orient(o.a, o.b, q.a)), s3 = sign_of(orient(o.a, o.b, q.b));
+    const Q dx = Q(q.b.x) - Q(q.a.x), dy = Q(q.b.y) - Q(q.a.y);
+    auto param = [&](glm::dvec2 p) -> Q {  // of a point on q's line
+        return ((Q(p.x) - Q(q.a.x)) * dx + (Q(p.y) - Q(q.a.y)) * dy) / (dx * dx + dy * dy);
+    };
+    if (s0 == 0 && s1 == 0) {
+        Q u0 = param(o.a), u1 = param(o.b);
+        if (u1 < u0) std::swap(u0, u1);
+        const Q lo = u0 > Q(0) ? u0 : Q(0), hi = u1 < Q(1) ? u1 : Q(1);
+        if (lo > hi) return r;
+        r.t[0] = lo;
+        r.t[1] = hi;
+        r.n = lo == hi ? 1 : 2;
+        return r;
+    }
+    if (s0 * s1 > 0 || s2 * s3 > 0) return r;
+    const Q ex = Q(o.b.x) - Q(o.a.x), ey = Q(o.b.y) - Q(o.a.y);
+    r.t[0] = Q(((Q(o.a.x) - Q(q.a.x)) * ey - (Q(o.a.y) - Q(q.a.y)) * ex) / (dx * ey - dy * ex));
+    r.n = 1;
+    return r;
+}
+
+void expect_matches_exact(const Segment2& q, const Segment2& o, const std::string& what, int* wrong) {
+    const Result got = cross(q, o);
+    const ExactResult want = exact_crossings(q, o);
+    bool ok = got.n == want.n;
+    for (int i = 0; ok && i < got.n; ++i) {
+        const double w = CGAL::to_double(want.t[i]);
+        ok = got.t[i] >= 0.0 && got.t[i] <= 1.0 && std::abs(got.t[i] - w) <= 1e-9;
+    }
+    if (!ok && ++*wrong <= 10)
+        ADD_FAILURE() << what << ": q (" << q.a.x << "," << q.a.y << ")-(" << q.b.x << "," << q.b.y << ") o ("
+                      << o.a.x << "," << o.a.y << ")-(" << o.b.x << "," << o.b.y << "): got " << got.n << " ["
+                      << got.t[0] << ", " << got.t[1] << "], exact " << want.n << " ["
+                      << (want.n > 0 ? CGAL::to_double(want.t[0]) : NAN) << ", "
+                      << (want.n > 1 ? CGAL::to_double(want.t[1]) : NAN) << "]";
+}
+
+}  // namespace
+
+// =============================================================================================
+// segment_crossings
+
+TEST(SegmentCrossings, ProperCrossing) {
+    Result r = cross(seg(0, 0, 4, 0), seg(1, -1, 1, 3, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.25);
+    r = cross(seg(0, 0, 2, 2), seg(0, 2, 2, 0, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.5);
+    // The parameter is along q, whatever the direction of o.
+    r = cross(seg(8, 0, 0, 0), seg(6, 5, 6, -1, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.25);
+    r = cross(seg(0, 0, 0, 10), seg(-3, 7.5, 1, 7.5, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.75);
+    // Roles swapped: the parameter along the other segment.
+    r = cross(seg(1, -1, 1, 3, 1), seg(0, 0, 4, 0));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.25);
+}
+
+TEST(SegmentCrossings, NoCrossing) {
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(5, -1, 5, 3, 1)).n, 0);      // beyond the end of q
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(1, 0.5, 3, 2, 1)).n, 0);     // above
+    EXPECT_EQ(cross(seg(0, 0, 4, 4), seg(3, 0, 4, 1, 1)).n, 0);       // parallel, below
+    EXPECT_EQ(cross(seg(0, 0, 4, 4), seg(0, 4, 1.5, 2.5, 1)).n, 0);   // o stops short of q
+    EXPECT_EQ(cross(seg(0, 0, 1, 0), seg(2, -1, 2, 1, 1)).n, 0);      // q's line would meet it
+}
+
+TEST(SegmentCrossings, TouchingAtAnEndPoint) {
+    // T junction: the end of o on the interior of q.
+    Result r = cross(seg(0, 0, 4, 0), seg(1, 0, 1, 3, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.25);
+    r = cross(seg(0, 0, 4, 0), seg(3, 5, 3, 0, 1));  // its other end
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.75);
+    // The end of q on the interior of o: t is 0 or 1.
+    r = cross(seg(1, 0, 1, 3), seg(0, 0, 4, 0, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.0);
+    r = cross(seg(1, 3, 1, 0), seg(0, 0, 4, 0, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 1.0);
+    // End to end at a point that is not a shared mesh vertex.
+    r = cross(seg(0, 0, 2, 1), seg(2, 1, 5, -3, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 1.0);
+    r = cross(seg(0, 0, 2, 1), seg(7, 7, 0, 0, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.0);
+    // Touching at a skew angle: o ends on q at (3, 1.5), a quarter... (q from (1, .5) to (9, 4.5)).
+    r = cross(seg(1, 0.5, 9, 4.5), seg(3, 1.5, 2, 6, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.25);
+}
+
+TEST(SegmentCrossings, CollinearOverlap) {
+    const Segment2 q = seg(0, 0, 4, 0);
+    Result r = cross(q, seg(1, 0, 3, 0, 1));  // inside
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.25);
+    EXPECT_EQ(r.t[1], 0.75);
+    r = cross(q, seg(3, 0, 1, 0, 1));  // reversed: still in increasing order
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.25);
+    EXPECT_EQ(r.t[1], 0.75);
+    r = cross(q, seg(-1, 0, 2, 0, 1));  // overlapping the start
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.0);
+    EXPECT_EQ(r.t[1], 0.5);
+    r = cross(q, seg(6, 0, 3, 0, 1));  // overlapping the end
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.75);
+    EXPECT_EQ(r.t[1], 1.0);
+    r = cross(q, seg(-5, 0, 9, 0, 1));  // containing q
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.0);
+    EXPECT_EQ(r.t[1], 1.0);
+    r = cross(q, seg(4, 0, 0, 0, 1));  // the same segment, other mesh vertices
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.0);
+    EXPECT_EQ(r.t[1], 1.0);
+    // Diagonal.
+    r = cross(seg(0, 0, 8, 8), seg(10, 10, 6, 6, 1));
+    ASSERT_EQ(r.n, 2);
+    EXPECT_EQ(r.t[0], 0.75);
+    EXPECT_EQ(r.t[1], 1.0);
+    // Collinear and touching end to end: one point.
+    r = cross(q, seg(4, 0, 7, 0, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 1.0);
+    r = cross(q, seg(-2, 0, 0, 0, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.0);
+}
+
+TEST(SegmentCrossings, CollinearDisjointAndParallel) {
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(5, 0, 7, 0, 1)).n, 0);
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(-3, 0, -0.5, 0, 1)).n, 0);
+    EXPECT_EQ(cross(seg(0, 0, 1, 1), seg(2, 2, 3, 3, 1)).n, 0);
+    EXPECT_EQ(cross(seg(3, 3, 2, 2), seg(1, 1, 0, 0, 1)).n, 0);
+    // Parallel, not collinear, overlapping in projection.
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(0, 1, 4, 1, 1)).n, 0);
+    EXPECT_EQ(cross(seg(0, 0, 4, 4), seg(1, 0, 5, 4, 1)).n, 0);
+    // Parallel one unit in the last place apart.
+    EXPECT_EQ(cross(seg(0, 1, 4, 1), seg(1, up_next(1.0), 3, up_next(1.0), 1)).n, 0);
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(1, std::numeric_limits<double>::denorm_min(), 3,
+                                         std::numeric_limits<double>::denorm_min(), 1)).n,
+              0);
+}
+
+TEST(SegmentCrossings, SharedMeshVertexGivesNothing) {
+    // Geometrically crossing (or touching), but one mesh vertex in common: adjacent edges.
+    Segment2 q = seg(0, 0, 4, 0, 0), o = seg(1, -1, 1, 3, 1);
+    for (int k = 0; k < 4; ++k) {
+        Segment2 a = q, b = o;
+        (k & 1 ? a.v1 : a.v0) = 7;
+        (k & 2 ? b.v1 : b.v0) = 7;
+        EXPECT_EQ(cross(a, b).n, 0) << k;
+        EXPECT_EQ(cross(b, a).n, 0) << k;
+    }
+    // Consecutive silhouette edges meeting at their common projected vertex.
+    Segment2 e1{{0, 0}, {2, 1}, 10, 11, 0}, e2{{2, 1}, {3, 5}, 11, 12, 1};
+    EXPECT_EQ(cross(e1, e2).n, 0);
+    EXPECT_EQ(cross(e2, e1).n, 0);
+    // Collinear overlapping with a shared vertex (a fold seen edge-on).
+    Segment2 f1{{0, 0}, {4, 0}, 20, 21, 0}, f2{{4, 0}, {1, 0}, 21, 22, 1};
+    EXPECT_EQ(cross(f1, f2).n, 0);
+}
+
+TEST(SegmentCrossings, ZeroLengthGivesNothing) {
+    EXPECT_EQ(cross(seg(1, 0, 1, 0), seg(0, 0, 4, 0, 1)).n, 0);   // q a point on o
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(1, 0, 1, 0, 1)).n, 0);   // o a point on q
+    EXPECT_EQ(cross(seg(2, 2, 2, 2), seg(2, 2, 2, 2, 1)).n, 0);   // both
+    EXPECT_EQ(cross(seg(0, 0, 4, 0), seg(1, 5, 1, 5, 1)).n, 0);
+}
+
+TEST(SegmentCrossings, DecidedByTheLastBit) {
+    // q on the line y = x from -1e15 to 1e15; o starts next to the line at (0.5, 0.5).
+    const Segment2 q = seg(-1e15, -1e15, 1e15, 1e15);
+    const double above = up_next(0.5), below = down_next(0.5);
+    // One unit in the last place above the line, going further above: no contact. (In doubles,
+    // the naive cross product of (2e15, 2e15) and (1e15 + 0.5, 1e15 + 0.5 + 2^-53) is zero.)
+    EXPECT_EQ(cross(q, seg(0.5, above, 3, 7, 1)).n, 0);
+    EXPECT_EQ(cross(q, seg(below, 0.5, 3, 7, 1)).n, 0);
+    // Exactly on the line: a touch, at t = (1e15 + 0.5) / 2e15.
+    Result r = cross(q, seg(0.5, 0.5, 3, 7, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_NEAR(r.t[0], 0.5, 1e-14);
+    // One unit below, going above: a proper crossing.
+    r = cross(q, seg(0.5, below, 3, 7, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_NEAR(r.t[0], 0.5, 1e-14);
+    // The same with q's roles swapped: o meets q exactly when q meets o.
+    EXPECT_EQ(cross(seg(0.5, above, 3, 7, 1), q).n, 0);
+    EXPECT_EQ(cross(seg(0.5, 0.5, 3, 7, 1), q).n, 1);
+    EXPECT_EQ(cross(seg(0.5, below, 3, 7, 1), q).n, 1);
+
+    // An end point one unit in the last place short of / on / past the other segment's line at
+    // large coordinates (ulp(1e15) = 0.125).
+    const Segment2 v = seg(1e15, -1e15, 1e15, 1e15);  // the vertical line x = 1e15
+    EXPECT_EQ(cross(v, seg(0, 3, down_next(1e15), 3, 1)).n, 0);
+    r = cross(v, seg(0, 3, 1e15, 3, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_NEAR(r.t[0], 0.5, 1e-14);
+    EXPECT_EQ(cross(v, seg(0, 3, up_next(1e15), 3, 1)).n, 1);
+    // Almost collinear: o is q's line turned by one unit in the last place about its start.
+    const Segment2 h = seg(0, 0, 1e15, 1);
+    EXPECT_EQ(cross(h, seg(2e15, 2, 3e15, 3, 1)).n, 0);  // collinear, disjoint
+    EXPECT_EQ(cross(h, seg(5e14, 0.5, 3e15, 3, 1)).n, 2);  // collinear, overlapping
+    // Turned about its far end by one unit in the last place at its start, above or below: the
+    // lines meet only at (3e15, 3), beyond q.
+    EXPECT_EQ(cross(h, seg(5e14, up_next(0.5), 3e15, 3, 1)).n, 0);
+    EXPECT_EQ(cross(h, seg(5e14, down_next(0.5), 3e15, 3, 1)).n, 0);
+    // Straddling q's line by one unit in the last place on each side: a crossing at t = 1/2.
+    r = cross(h, seg(5e14, down_next(0.5), 5e14, up_next(0.5), 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_NEAR(r.t[0], 0.5, 1e-14);
+    EXPECT_EQ(cross(h, seg(5e14, up_next(0.5), 5e14, 1, 1)).n, 0);
+    // Tiny coordinates (subnormal differences).
+    const double d = std::numeric_limits<double>::denorm_min();
+    r = cross(seg(0, 0, 4 * d, 0), seg(d, -d, d, d, 1));
+    ASSERT_EQ(r.n, 1);
+    EXPECT_EQ(r.t[0], 0.25);
+    EXPECT_EQ(cross(seg(0, 0, 4 * d, 0), seg(d, d, 3 * d, d, 1)).n, 0);
+}
+
+TEST(SegmentCrossings, MatchesExactArithmeticOnDegenerateLattices) {
+    // Small integer lattices make collinear, touching and parallel cases common; offset by 1e15
+    // (still exact) they also stress cancellation. Every answer must match rationals.
+    std::mt19937_64 rng(7);
+    int wrong = 0, touching = 0, collinear = 0, crossings = 0;
+    for (const double offset : {0.0, 1e15, -4503599627370496.0 /* -2^52 */}) {
+        for (const double unit : {1.0, 0.125, 1e-300}) {
+            std::uniform_int_distribution<int> L(0, 5);
+            auto p = [&] { return glm::dvec2(offset + unit * L(rng), offset + unit * L(rng)); };
+            for (int it = 0; it < 8000; ++it) {
+                const Segment2 q = seg(p(), p(), 0), o = seg(p(), p(), 1);
+                expect_matches_exact(q, o, "offset " + std::to_string(offset), &wrong);
+                const ExactResult e = exact_crossings(q, o);
+                crossings += e.n > 0;
+                collinear += e.n == 2;
+                touching += e.n == 1 && (e.t[0] == Q(0) || e.t[0] == Q(1));
+            }
+        }
+    }
+    EXPECT_EQ(wrong, 0);
+    // The lattices really produce the degenerate cases.
+    EXPECT_GT(collinear, 300) << collinear;
+    EXPECT_GT(touching, 300) << touching;
+    EXPECT_GT(crossings, 8000) << crossings;
+}
+
+TEST(SegmentCrossings, MatchesExactArithmeticNearLines) {
+    // End points computed to lie on the other segment (so within rounding of it), then nudged.
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    int wrong = 0;
+    for (const double scale : {1.0, 1e3, 1e12}) {
+        for (int it = 0; it < 20000; ++it) {
+            const glm::dvec2 a(U(rng) * scale, U(rng) * scale), b(U(rng) * scale, U(rng) * scale);
+            const double s = U(rng) * 0.5 + 0.5;
+            glm::dvec2 m = a + s * (b - a);
+            const int k = int(rng() % 2), steps = int(rng() % 5) - 2;
+            for (int i = 0; i < std::abs(steps); ++i) m[k] = steps > 0 ? up_next(m[k]) : down_next(m[k]);
+            const glm::dvec2 far(U(rng) * scale, U(rng) * scale);
+            const Segment2 q = seg(a, b, 0), o = seg(m, far, 1);
+            expect_matches_exact(q, o, "near", &wrong);
+            expect_matches_exact(o, q, "near, swapped", &wrong);
+        }
+    }
+    EXPECT_EQ(wrong, 0);
+}
+
+// =============================================================================================
+// SegmentGrid
+
+namespace {
+
+constexpr double kW = 800, kH = 600;
+
+// A mix of segment kinds: short ones in the image, long ones across it, ones leaving it, ones far
+// outside (beyond [-W, 2W]), enormous ones, axis-aligned ones on round coordinates, points.
+Segment2 random_segment(std::mt19937_64& rng, std::uint32_t id) {
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    auto in_image = [&] { return glm::dvec2(U(rng) * kW, U(rng) * kH); };
+    auto around = [&](double reach) {
+        return glm::dvec2((U(rng) * 2 - 1) * reach * kW + kW / 2, (U(rng) * 2 - 1) * reach * kH + kH / 2);
+    };
+    glm::dvec2 a, b;
+    switch (rng() % 10) {
+        case 0:
+        case 1:
+        case 2: {  // short, in the image
+            a = in_image();
+            b = a + glm::dvec2(U(rng) * 40 - 20, U(rng) * 40 - 20);
+            break;
+        }
+        case 3:  // long, across the image
+            a = in_image();
+            b = in_image();
+            break;
+        case 4:  // from the image to far outside
+            a = in_image();
+            b = around(std::pow(10.0, 1 + 11 * U(rng)));
+            break;
+        case 5:  // entirely far outside, possibly passing over the image
+            a = around(3 + 100 * U(rng));
+            b = around(3 + 1e6 * U(rng));
+            break;
+        case 6:  // enormous
+            a = around(1e12);
+            b = around(1e15);
+            break;
+        case 7: {  // axis-aligned on integer (cell-boundary-prone) coordinates
+            a = glm::dvec2(std::floor(U(rng) * 3 * kW - kW), std::floor(U(rng) * 3 * kH - kH));
+            b = a;
+            b[rng() % 2] += std::floor(U(rng) * 400 - 200);
+            break;
+        }
+        case 8:  // a point
+            a = b = in_image();
+            break;
+        default:  // outside the image on one side, short
+            a = glm::dvec2(-kW - 50 + U(rng) * 40, U(rng) * kH);
+            b = a + glm::dvec2(U(rng) * 30, U(rng) * 30);
+            break;
+    }
+    return seg(a, b, id);
+}
+
+bool meet(const Segment2& s, const Segment2& t) {
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    const K::Point_2 a(s.a.x, s.a.y), b(s.b.x, s.b.y), c(t.a.x, t.a.y), d(t.b.x, t.b.y);
+    if (a == b && c == d) return a == c;
+    if (a == b) return CGAL::do_intersect(a, K::Segment_2(c, d));
+    if (c == d) return CGAL::do_intersect(c, K::Segment_2(a, b));
+    return CGAL::do_intersect(K::Segment_2(a, b), K::Segment_2(c, d));
+}
+
+// For every query: candidates() reports each index at most once, and every indexed segment that
+// meets the query (brute force, exact) is among them.
+void expect_superset(const std::vector<Segment2>& segs, const std::vector<Segment2>& queries,
+                     const std::string& what) {
+    const inkline::SegmentGrid grid(segs, kW, kH);
+    EXPECT_GE(grid.cells(), 1u);
+    std::vector<int> count(segs.size(), 0);
+    int missed = 0, repeated = 0;
+    std::size_t candidates = 0, meeting = 0;
+    for (std::size_t qi = 0; qi < queries.size(); ++qi) {
+        const Segment2& q = queries[qi];
+        std::fill(count.begin(), count.end(), 0);
+        grid.candidates(q, [&](std::size_t i) {
+            ASSERT_LT(i, segs.size());
+            ++count[i];
+        });
+        for (std::size_t i = 0; i < segs.size(); ++i) {
+            candidates += count[i] > 0;
+            if (count[i] > 1 && ++repeated <= 5)
+                ADD_FAILURE() << what << ": query " << qi << " reported segment " << i << " " << count[i] << " times";
+            if (meet(q, segs[i])) {
+                ++meeting;
+                if (count[i] == 0 && ++missed <= 5)
+                    ADD_FAILURE() << what << ": query " << qi << " (" << q.a.x << "," << q.a.y << ")-(" << q.b.x
+                                  << "," << q.b.y << ") misses segment " << i << " (" << segs[i].a.x << ","
+                                  << segs[i].a.y << ")-(" << segs[i].b.x << "," << segs[i].b.y << ")";
+            }
+        }
+    }
+    EXPECT_EQ(missed, 0) << what;
+    EXPECT_EQ(repeated, 0) << what;
+    EXPECT_GE(candidates, meeting);
+}
+
+}  // namespace
+
+TEST(SegmentGrid, CandidatesAreASupersetForRandomSegments) {
+    std::mt19937_64 rng(2024);
+    std::vector<Segment2> segs;
+    for (std::uint32_t i = 0; i < 3000; ++i) segs.push_back(random_segment(rng, i));
+    std::vector<Segment2> queries;
+    for (std::uint32_t i = 0; i < 1500; ++i) queries.push_back(random_segment(rng, 10000 + i));
+    for (std::size_t i = 0; i < segs.size(); i += 2) queries.push_back(segs[i]);  // the indexed ones too
+    expect_superset(segs, queries, "mixed");
+
+    // The grid must actually prune: a short query in the image does not see everything.
+    const inkline::SegmentGrid grid(segs, kW, kH);
+    EXPECT_GT(grid.cells(), 100u);
+    std::size_t seen = 0;
+    grid.candidates(seg(400, 300, 401, 301, 99999), [&](std::size_t) { ++seen; });
+    EXPECT_LT(seen, segs.size() / 4);
+}
+
+TEST(SegmentGrid, DenseShortSegmentsInTheImage) {
+    // Many short segments (a fine grid) and queries that follow cell boundaries exactly.
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    std::vector<Segment2> segs;
+    for (std::uint32_t i = 0; i < 5000; ++i) {
+        const glm::dvec2 a(U(rng) * kW, U(rng) * kH);
+        segs.push_back(seg(a, a + glm::dvec2(U(rng) * 6 - 3, U(rng) * 6 - 3), i));
+    }
+    std::vector<Segment2> queries;
+    for (std::uint32_t i = 0; i < 600; ++i) {
+        const glm::dvec2 a(U(rng) * kW, U(rng) * kH);
+        queries.push_back(seg(a, a + glm::dvec2(U(rng) * 200 - 100, U(rng) * 200 - 100), 20000 + i));
+    }
+    for (int x = 0; x <= 800; x += 8) queries.push_back(seg(x, -10, x, 610, 30000 + x));  // vertical lines
+    for (int y = 0; y <= 600; y += 8) queries.push_back(seg(-10, y, 810, y, 40000 + y));  // horizontal lines
+    queries.push_back(seg(0, 0, kW, kH, 50000));  // the diagonal, long
+    queries.push_back(seg(-1e9, -0.75e9, 1e9, 0.75e9, 50001));  // the same line, enormous
+    queries.push_back(seg(-1e200, -0.75e200, 1e200, 0.75e200, 50002));  // (products overflow)
+    expect_superset(segs, queries, "dense");
+}
+
+TEST(SegmentGrid, SegmentsOnlyOutsideTheImage) {
+    // Nothing inside [-W, 2W] x [-H, 2H]: the grid still answers exactly for anything.
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    std::vector<Segment2> segs, queries;
+    for (std::uint32_t i = 0; i < 800; ++i) {
+        const double x = 3 * kW + U(rng) * 1e5, y = -2 * kH - U(rng) * 1e5;
+        segs.push_back(seg(x, y, x + U(rng) * 1e4 - 5e3, y - U(rng) * 1e4, i));
+    }
+    for (std::uint32_t i = 0; i < 400; ++i) {
+        const double x = 3 * kW + U(rng) * 1e5, y = -2 * kH - U(rng) * 1e5;
+        queries.push_back(seg(x, y, x + U(rng) * 3e4 - 1.5e4, y + U(rng) * 3e4 - 1.5e4, 10000 + i));
+    }
+    queries.push_back(seg(kW / 2, kH / 2, 4e5, -4e5, 20000));  // from the image out to them
+    expect_superset(segs, queries, "outside");
+}
+
+TEST(SegmentGrid, DegenerateSets) {
+    // One segment; all segments on one horizontal line (zero height); points only.
+    expect_superset({seg(10, 10, 20, 20, 0)}, {seg(10, 20, 20, 10, 1), seg(0, 0, 5, 5, 2), seg(15, 15, 15, 15, 3)},
+                    "single");
+    std::vector<Segment2> line;
+    for (std::uint32_t i = 0; i < 50; ++i) line.push_back(seg(20.0 * i, 100, 20.0 * i + 30, 100, i));
+    expect_superset(line, {seg(0, 100, 1000, 100, 100), seg(55, 0, 55, 200, 101), seg(-1e6, 100, -5e5, 100, 102)},
+                    "collinear");
+    std::vector<Segment2> points;
+    for (std::uint32_t i = 0; i < 50; ++i) points.push_back(seg(7.0 * i, 5.0 * i, 7.0 * i, 5.0 * i, i));
+    std::vector<Segment2> queries;
+    for (std::uint32_t i = 0; i < 50; ++i) queries.push_back(seg(7.0 * i - 1, 5.0 * i, 7.0 * i + 1, 5.0 * i, 100 + i));
+    expect_superset(points, queries, "points");
+    // No segments at all: nothing to report.
+    const inkline::SegmentGrid empty({}, kW, kH);
+    int n = 0;
+    empty.candidates(seg(0, 0, kW, kH), [&](std::size_t) { ++n; });
+    EXPECT_EQ(n, 0);
+}

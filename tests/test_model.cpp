@@ -1,0 +1,849 @@
+// Model stage: load_mesh (formats, refusals with "<file>: <problem>" messages, orientation) and
+// build_topology (edges, faces, flags, crease threshold, adjacency) on meshes with known answers.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "core/error.hpp"
+#include "model/mesh_io.hpp"
+#include "model/primitives.hpp"
+#include "model/topology.hpp"
+
+namespace fs = std::filesystem;
+using inkline::MeshTopology;
+using inkline::TriangleMesh;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Files in a private temporary directory, removed at the end.
+
+const fs::path& temp_dir() {
+    static const fs::path dir = [] {
+        fs::path d = fs::path(::testing::TempDir()) / ("inkline_test_model_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+class TempDirCleanup : public ::testing::Environment {
+public:
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(temp_dir(), ec);
+    }
+};
+[[maybe_unused]] ::testing::Environment* const kCleanup = ::testing::AddGlobalTestEnvironment(new TempDirCleanup);
+
+std::string write_file(const std::string& name, const std::string& content) {
+    const fs::path p = temp_dir() / name;
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.close();
+    EXPECT_TRUE(out.good()) << p;
+    return p.string();
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// The message of the inkline::Error that loading `path` must throw ("" and a failure if none).
+std::string load_error(const std::string& path) {
+    try {
+        const TriangleMesh m = inkline::load_mesh(path);
+        ADD_FAILURE() << path << " was accepted (" << m.positions.size() << " vertices, " << m.triangles.size()
+                      << " triangles)";
+    } catch (const inkline::Error& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << path << " threw a non-inkline exception: " << e.what();
+    }
+    return "";
+}
+
+// Loading must fail with "<path>: ..." and a message that contains every one of `parts`.
+void expect_refused(const std::string& path, const std::vector<std::string>& parts) {
+    const std::string msg = load_error(path);
+    EXPECT_EQ(msg.rfind(path + ": ", 0), 0u) << "message does not start with the file name: " << msg;
+    for (const auto& p : parts) EXPECT_TRUE(contains(msg, p)) << "message lacks '" << p << "': " << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
+}
+
+std::string off_file(const std::vector<glm::dvec3>& v, const std::vector<std::vector<int>>& f) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "OFF\n" << v.size() << ' ' << f.size() << " 0\n";
+    for (const auto& p : v) s << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    for (const auto& face : f) {
+        s << face.size();
+        for (int i : face) s << ' ' << i;
+        s << '\n';
+    }
+    return s.str();
+}
+
+// Unit right tetrahedron, outward orientation (signed volume +1/6).
+const std::vector<glm::dvec3> kTetV = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+const std::vector<std::vector<int>> kTetF = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+
+// Unit cube as quads, outward.
+const std::vector<glm::dvec3> kCubeV = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                        {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const std::vector<std::vector<int>> kCubeF = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                              {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+
+double signed_volume(const TriangleMesh& m) {
+    double v = 0.0;
+    for (const auto& t : m.triangles)
+        v += glm::dot(m.positions[t[0]], glm::cross(m.positions[t[1]], m.positions[t[2]]));
+    return v / 6.0;
+}
+
+// Every undirected edge of a consistently oriented mesh is traversed once in each direction
+// (or once, on a border).
+void expect_consistent(const TriangleMesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+    for (const auto& [e, n] : directed) EXPECT_EQ(n, 1) << "edge " << e.first << "->" << e.second;
+}
+
+}  // namespace
+
+// =============================================================================================
+// Refusals
+
+TEST(LoadMeshErrors, NonexistentFile) {
+    const std::string path = (temp_dir() / "does_not_exist.off").string();
+    expect_refused(path, {"cannot open"});
+}
+
+TEST(LoadMeshErrors, UnknownExtension) {
+    const std::string path = write_file("tet.xyz", off_file(kTetV, kTetF));
+    expect_refused(path, {"unsupported", "xyz"});
+    const std::string none = write_file("no_extension", off_file(kTetV, kTetF));
+    expect_refused(none, {"unsupported"});
+}
+
+TEST(LoadMeshErrors, EmptyFile) {
+    for (const char* name : {"empty.off", "empty.obj", "empty.ply", "empty.stl"})
+        expect_refused(write_file(name, ""), {"empty"});
+}
+
+TEST(LoadMeshErrors, MalformedOff) {
+    expect_refused(write_file("bad_header.off", "NOTOFF\n4 4 0\n0 0 0\n"), {"line 1", "OFF header"});
+    expect_refused(write_file("bad_count.off", "OFF\nfour 4 0\n"), {"line 2", "vertex count"});
+    expect_refused(write_file("bad_number.off",
+                              "OFF\n4 4 0\n0 0 0\n1 zero 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
+                   {"line 4", "'zero' is not a number"});
+    expect_refused(write_file("short_vertex.off",
+                              "OFF\n4 4 0\n0 0 0\n1 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"),
+                   {"line 4", "vertex 1", "coordinates"});
+    expect_refused(write_file("short_face.off",
+                              "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1\n3 0 3 2\n3 1 2 3\n"),
+                   {"line 8", "face 1", "indices"});
+    expect_refused(write_file("bad_index.off",
+                              "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3.5\n3 0 3 2\n3 1 2 3\n"),
+                   {"face 1", "not a vertex index"});
+    expect_refused(write_file("two_corners.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n2 0 1\n"),
+                   {"face 1", "fewer than 3"});
+}
+
+TEST(LoadMeshErrors, TruncatedOff) {
+    const std::string full = off_file(kTetV, kTetF);
+    // Cut inside the vertices, between vertices and faces, inside the faces, inside the counts.
+    expect_refused(write_file("trunc_v.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n"), {"truncated", "2 of 4 vertices"});
+    expect_refused(write_file("trunc_f0.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"),
+                   {"truncated", "0 of 4 faces"});
+    expect_refused(write_file("trunc_f.off", full.substr(0, full.rfind("3 0 3 2"))), {"truncated", "2 of 4 faces"});
+    expect_refused(write_file("trunc_hdr.off", "OFF\n4\n"), {"truncated"});
+    expect_refused(write_file("only_header.off", "OFF\n"), {"truncated"});
+}
+
+TEST(LoadMeshErrors, MalformedObj) {
+    const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    expect_refused(write_file("bad_index.obj", v + "f 1 3 2\nf 1 2 x\n"), {"line 6", "'x' is not a vertex index"});
+    expect_refused(write_file("zero_index.obj", v + "f 0 3 2\n"), {"line 5", "not a vertex index"});
+    expect_refused(write_file("short_vertex.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"),
+                   {"line 2", "vertex 1", "coordinates"});
+    expect_refused(write_file("bad_number.obj", "v 0 0 0\nv 1 0 0\nv 0 1 q\nf 1 2 3\n"),
+                   {"line 3", "'q' is not a number"});
+    expect_refused(write_file("two_corners.obj", v + "f 1 2\n"), {"face 0", "fewer than 3"});
+    // Truncated in the middle of a face line: the last face loses its third index.
+    expect_refused(write_file("trunc.obj", v + "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3"), {"face 3", "fewer than 3"});
+}
+
+TEST(LoadMeshErrors, MalformedPlyAndStl) {
+    const std::string hdr =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+    expect_refused(write_file("trunc.ply", hdr + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n"),
+                   {"truncated", "face 2 of 4"});
+    expect_refused(write_file("noheader.ply", "ply\nformat ascii 1.0\nelement vertex 4\n"), {"end_header"});
+    expect_refused(write_file("notply.ply", "hello\n"), {"PLY"});
+    const std::string facet =
+        " facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 0 1 0\n   vertex 1 0 0\n  endloop\n endfacet\n";
+    expect_refused(write_file("trunc.stl", "solid t\n" + facet + " facet normal 0 0 0\n  outer loop\n"),
+                   {"truncated"});
+    expect_refused(write_file("nosolid.stl", "hello\n"), {"STL"});
+}
+
+TEST(LoadMeshErrors, NanAndInfiniteCoordinates) {
+    for (const char* bad : {"nan", "NaN", "inf", "-inf", "infinity", "1e999", "-1e400"}) {
+        std::string off = off_file(kTetV, kTetF);
+        off.replace(off.find("1 0 0"), 5, std::string("1 ") + bad + " 0");
+        expect_refused(write_file(std::string("nan_") + bad + ".off", off), {"vertex 1", "NaN or infinite"});
+        const std::string obj = std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 ") + bad +
+                                "\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+        expect_refused(write_file(std::string("nan_") + bad + ".obj", obj), {"vertex 3", "NaN or infinite"});
+    }
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+        "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\nnan 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    expect_refused(write_file("nan.ply", ply), {"vertex 2", "NaN or infinite"});
+    auto facet = [](const std::string& a, const std::string& b, const std::string& c) {
+        return " facet normal 0 0 0\n  outer loop\n   vertex " + a + "\n   vertex " + b + "\n   vertex " + c +
+               "\n  endloop\n endfacet\n";
+    };
+    const std::string stl = "solid t\n" + facet("0 0 0", "0 1 0", "1 0 0") + facet("0 0 0", "1 0 0", "0 0 inf") +
+                            facet("0 0 0", "0 0 inf", "0 1 0") + facet("1 0 0", "0 1 0", "0 0 inf") + "endsolid t\n";
+    expect_refused(write_file("inf.stl", stl), {"NaN or infinite"});
+}
+
+TEST(LoadMeshErrors, NoFaces) {
+    expect_refused(write_file("nofaces.off", "OFF\n4 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"), {"no faces"});
+    expect_refused(write_file("nofaces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n# no f lines\n"), {"no faces"});
+    expect_refused(write_file("nothing.obj", "# only a comment\n\n"), {"no faces"});
+}
+
+TEST(LoadMeshErrors, OutOfRangeIndex) {
+    auto f = kTetF;
+    f[1] = {0, 1, 7};
+    expect_refused(write_file("oor.off", off_file(kTetV, f)), {"face 1", "refers to vertex 7 of 4"});
+    f[1] = {0, 1, -1};
+    expect_refused(write_file("negative.off", off_file(kTetV, f)), {"face 1", "refers to vertex -1 of 4"});
+    f[1] = {0, 1, 4};  // one past the end
+    expect_refused(write_file("past_end.off", off_file(kTetV, f)), {"face 1", "refers to vertex 4 of 4"});
+    const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    expect_refused(write_file("oor.obj", v + "f 1 3 2\nf 1 2 9\n"), {"face 1", "refers to vertex 8 of 4"});
+    // Relative index before the first vertex.
+    expect_refused(write_file("oor_rel.obj", v + "f 1 3 2\nf -1 -2 -5\n"), {"face 1", "refers to vertex -1 of 4"});
+}
+
+TEST(LoadMeshErrors, RepeatedIndex) {
+    auto f = kTetF;
+    f[2] = {0, 3, 3};
+    expect_refused(write_file("rep.off", off_file(kTetV, f)), {"face 2", "repeats vertex index 3"});
+    expect_refused(write_file("rep.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 2\n"),
+                   {"face 1", "repeats vertex index 1"});
+    // In a polygon: the repeat is reported for the input face, not a triangle of its fan.
+    auto q = kCubeF;
+    q[4] = {0, 4, 7, 4};
+    expect_refused(write_file("rep_quad.off", off_file(kCubeV, q)), {"face 4", "repeats vertex index 4"});
+    // In memory.
+    TriangleMesh m;
+    m.positions = kTetV;
+    m.triangles = {{0, 2, 1}, {1, 1, 3}};
+    try {
+        inkline::validate_mesh(m, "memory");
+        ADD_FAILURE() << "repeated index accepted";
+    } catch (const inkline::Error& e) {
+        EXPECT_TRUE(contains(e.what(), "memory: face 1 repeats a vertex index")) << e.what();
+    }
+}
+
+TEST(LoadMeshErrors, NonManifoldEdge) {
+    // A tetrahedron plus a fin on edge 0-1: three faces on that edge, one extra.
+    auto v = kTetV;
+    v.push_back({0.5, -1, 0.5});
+    auto f = kTetF;
+    f.push_back({0, 4, 1});
+    std::string msg = load_error(write_file("fin.off", off_file(v, f)));
+    EXPECT_TRUE(contains(msg, "fin.off: non-manifold: 1 extra face(s)")) << msg;
+    EXPECT_TRUE(contains(msg, "vertices 0-1")) << msg;
+    // Two fins on two different edges: two extra faces.
+    v.push_back({-1, 0.5, 0.5});
+    f.push_back({0, 2, 5});
+    msg = load_error(write_file("fins.off", off_file(v, f)));
+    EXPECT_TRUE(contains(msg, "fins.off: non-manifold: 2 extra face(s)")) << msg;
+    // Four faces on one edge (two tetrahedra glued along an edge only): two extra faces.
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {1, 0, 5}};
+    try {
+        inkline::validate_mesh(m, "bowtie");
+        ADD_FAILURE() << "four faces on one edge accepted";
+    } catch (const inkline::Error& e) {
+        EXPECT_TRUE(contains(e.what(), "bowtie: non-manifold: 2 extra face(s)")) << e.what();
+    }
+}
+
+namespace {
+// Moebius strip: n quads along a loop with a half twist, as OFF polygons.
+std::string moebius_off(int n) {
+    std::vector<glm::dvec3> v;
+    for (int i = 0; i < n; ++i) {
+        const double u = 2.0 * M_PI * i / n;
+        for (double s : {-0.3, 0.3}) {
+            const double r = 1.0 + s * std::cos(u / 2);
+            v.push_back({r * std::cos(u), r * std::sin(u), s * std::sin(u / 2)});
+        }
+    }
+    std::vector<std::vector<int>> f;
+    for (int i = 0; i < n; ++i) {
+        const int a = 2 * i, b = 2 * i + 1;
+        // Across the seam the strip comes back flipped: the inner edge joins the outer one.
+        const int c = i + 1 < n ? 2 * (i + 1) + 1 : 0, d = i + 1 < n ? 2 * (i + 1) : 1;
+        f.push_back({a, b, c, d});
+    }
+    return off_file(v, f);
+}
+}  // namespace
+
+TEST(LoadMeshErrors, MoebiusStripIsNonOrientable) {
+    expect_refused(write_file("moebius.off", moebius_off(12)), {"non-orientable"});
+    expect_refused(write_file("moebius5.off", moebius_off(5)), {"non-orientable"});
+}
+
+TEST(LoadMeshErrors, ClosedStripWithoutTwistIsFine) {
+    // The same band without the half twist (an annulus) is orientable and has two border loops.
+    std::vector<glm::dvec3> v;
+    const int n = 8;
+    for (int i = 0; i < n; ++i)
+        for (double s : {-0.3, 0.3}) v.push_back({(1 + s) * std::cos(2 * M_PI * i / n), (1 + s) * std::sin(2 * M_PI * i / n), 0});
+    std::vector<std::vector<int>> f;
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        // Every other quad written the wrong way round.
+        if (i % 2) f.push_back({2 * i, 2 * i + 1, 2 * j + 1, 2 * j});
+        else f.push_back({2 * i, 2 * j, 2 * j + 1, 2 * i + 1});
+    }
+    const TriangleMesh m = inkline::load_mesh(write_file("annulus.off", off_file(v, f)));
+    EXPECT_EQ(m.triangles.size(), 16u);
+    EXPECT_EQ(m.polygons_triangulated, 8u);
+    EXPECT_EQ(m.faces_reoriented, 8u);  // one of the two halves (open surface: no outward rule)
+    expect_consistent(m);
+    const MeshTopology t = inkline::build_topology(m);
+    EXPECT_FALSE(t.closed);
+    std::size_t border = 0;
+    for (std::size_t e = 0; e < t.edge_count(); ++e) border += t.is_border(std::uint32_t(e));
+    EXPECT_EQ(border, 16u);
+}
+
+// =============================================================================================
+// Successful loads
+
+TEST(LoadMesh, OffTetrahedron) {
+    const TriangleMesh m = inkline::load_mesh(write_file("tet.off", off_file(kTetV, kTetF)));
+    ASSERT_EQ(m.positions.size(), 4u);
+    EXPECT_EQ(m.triangles.size(), 4u);
+    EXPECT_EQ(m.polygons_triangulated, 0u);
+    EXPECT_EQ(m.faces_reoriented, 0u);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(m.positions[i], kTetV[i]);
+    EXPECT_DOUBLE_EQ(signed_volume(m), 1.0 / 6.0);
+}
+
+TEST(LoadMesh, OffVariantsAndComments) {
+    // Comments anywhere, counts on the header line, COFF colours, face colours, CRLF, blank lines,
+    // full double precision.
+    const std::string text =
+        "# a comment before the header\r\nCOFF 4 4 6 # counts on the header line\r\n\r\n"
+        "0 0 0 1 0 0 1\n1 0 0 0 1 0 1 # red\n0 1 0 0 0 1 1\n0.1000000000000000055511151231257827 0 1 1 1 1 1\n"
+        "# faces\n3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2 0.5 0.5 0.5 1\n3 1 2 3\n";
+    const TriangleMesh m = inkline::load_mesh(write_file("coff.off", text));
+    ASSERT_EQ(m.positions.size(), 4u);
+    EXPECT_EQ(m.triangles.size(), 4u);
+    EXPECT_EQ(m.positions[3], glm::dvec3(0.1, 0, 1));  // not rounded to float
+    EXPECT_GT(signed_volume(m), 0.0);
+    // 4OFF: homogeneous coordinates.
+    const TriangleMesh h = inkline::load_mesh(write_file(
+        "homog.off", "4OFF\n4 4 0\n0 0 0 2\n2 0 0 2\n0 4 0 4\n0 0 3 3\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(h.positions[i], kTetV[i]);
+}
+
+TEST(LoadMesh, ObjCubeOfQuads) {
+    std::ostringstream s;
+    s << "# cube\nmtllib none.mtl\no cube\n";
+    for (const auto& p : kCubeV) s << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    s << "vt 0 0\nvn 0 0 1\ng sides\nusemtl x\ns off\n";
+    for (std::size_t i = 0; i < kCubeF.size(); ++i) {
+        s << 'f';
+        for (int k : kCubeF[i]) {
+            // All index forms: v, v/vt, v//vn, v/vt/vn, and negative (relative) indices.
+            if (i == 1) s << ' ' << k + 1 << "/1";
+            else if (i == 2) s << ' ' << k + 1 << "//1";
+            else if (i == 3) s << ' ' << k + 1 << "/1/1";
+            else if (i == 4) s << ' ' << k - 8;
+            else s << ' ' << k + 1;
+        }
+        s << '\n';
+    }
+    const TriangleMesh m = inkline::load_mesh(write_file("cube.obj", s.str()));
+    EXPECT_EQ(m.positions.size(), 8u);
+    EXPECT_EQ(m.triangles.size(), 12u);
+    EXPECT_EQ(m.polygons_triangulated, 6u);
+    EXPECT_EQ(m.faces_reoriented, 0u);
+    EXPECT_DOUBLE_EQ(signed_volume(m), 1.0);
+    expect_consistent(m);
+}
+
+TEST(LoadMesh, OffQuadsAndPentagon) {
+    // A cube with its quads, and a pentagonal prism: polygons are counted and fanned.
+    const TriangleMesh cube = inkline::load_mesh(write_file("cube.off", off_file(kCubeV, kCubeF)));
+    EXPECT_EQ(cube.triangles.size(), 12u);
+    EXPECT_EQ(cube.polygons_triangulated, 6u);
+    EXPECT_DOUBLE_EQ(signed_volume(cube), 1.0);
+    std::vector<glm::dvec3> v;
+    for (int z = 0; z < 2; ++z)
+        for (int i = 0; i < 5; ++i) v.push_back({std::cos(2 * M_PI * i / 5), std::sin(2 * M_PI * i / 5), double(z)});
+    std::vector<std::vector<int>> f = {{4, 3, 2, 1, 0}, {5, 6, 7, 8, 9}};
+    for (int i = 0; i < 5; ++i) f.push_back({i, (i + 1) % 5, 5 + (i + 1) % 5, 5 + i});
+    const TriangleMesh prism = inkline::load_mesh(write_file("prism.off", off_file(v, f)));
+    EXPECT_EQ(prism.positions.size(), 10u);
+    EXPECT_EQ(prism.triangles.size(), 3u + 3u + 10u);
+    EXPECT_EQ(prism.polygons_triangulated, 7u);
+    EXPECT_GT(signed_volume(prism), 0.0);
+}
+
+TEST(LoadMesh, PlyAscii) {
+    // Extra vertex and face properties and an extra element are skipped.
+    const std::string ply =
+        "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty double x\nproperty float y\n"
+        "property float z\nproperty uchar red\nproperty list uchar float extra\n"
+        "element face 4\nproperty int flags\nproperty list uchar int vertex_indices\nproperty float quality\n"
+        "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+        "0 0 0 255 0\n1 0 0 1 2 0.5 0.25\n0 1 0 7 1 3\n0 0 1 8 0\n"
+        "9 3 0 2 1 0.5\n9 3 0 1 3 0.5\n9 3 0 3 2 0.5\n9 3 1 2 3 0.5\n0 1\n";
+    const TriangleMesh m = inkline::load_mesh(write_file("tet.ply", ply));
+    ASSERT_EQ(m.positions.size(), 4u);
+    EXPECT_EQ(m.triangles.size(), 4u);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(m.positions[i], kTetV[i]);
+    EXPECT_EQ(m.faces_reoriented, 0u);
+    EXPECT_DOUBLE_EQ(signed_volume(m), 1.0 / 6.0);
+}
+
+TEST(LoadMesh, PlyBinary) {
+    // Little-endian binary PLY (read by OpenMesh); a NaN in it is refused like any other.
+    auto make = [](float bad) {
+        std::string ply =
+            "ply\nformat binary_little_endian 1.0\ncomment binary\nelement vertex 4\nproperty float x\n"
+            "property float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+            "end_header\n";
+        for (std::size_t i = 0; i < kTetV.size(); ++i) {
+            float p[3] = {float(kTetV[i].x), float(kTetV[i].y), float(kTetV[i].z)};
+            if (i == 2) p[0] = bad;
+            ply.append(reinterpret_cast<const char*>(p), sizeof p);
+        }
+        for (const auto& f : kTetF) {
+            ply.push_back(char(3));
+            for (int k : f) {
+                const std::int32_t v = k;
+                ply.append(reinterpret_cast<const char*>(&v), 4);
+            }
+        }
+        return ply;
+    };
+    const TriangleMesh m = inkline::load_mesh(write_file("tet_bin.ply", make(0.0f)));
+    EXPECT_EQ(m.positions.size(), 4u);
+    EXPECT_EQ(m.triangles.size(), 4u);
+    EXPECT_DOUBLE_EQ(signed_volume(m), 1.0 / 6.0);
+    expect_refused(write_file("nan_bin.ply", make(std::nanf(""))), {"vertex 2", "NaN or infinite"});
+}
+
+TEST(LoadMesh, StlAsciiAndBinary) {
+    // Each facet repeats its corners; identical corners are welded into 4 vertices.
+    auto facet = [](int a, int b, int c) {
+        std::ostringstream s;
+        s << "  FACET NORMAL 0 0 0\n    outer loop\n";
+        for (int i : {a, b, c}) s << "      vertex " << kTetV[i].x << ' ' << kTetV[i].y << ' ' << kTetV[i].z << '\n';
+        s << "    endloop\n  endfacet\n";
+        return s.str();
+    };
+    std::string stl = "solid tet\n";
+    for (const auto& f : kTetF) stl += facet(f[0], f[1], f[2]);
+    stl += "endsolid tet\n";
+    const TriangleMesh a = inkline::load_mesh(write_file("tet.stl", stl));
+    EXPECT_EQ(a.positions.size(), 4u);
+    EXPECT_EQ(a.triangles.size(), 4u);
+    EXPECT_DOUBLE_EQ(signed_volume(a), 1.0 / 6.0);
+
+    // Binary: 80-byte header (starting with "solid", which must not fool the reader), count, records.
+    std::string bin(80, ' ');
+    bin.replace(0, 5, "solid");
+    const std::uint32_t n = 4;
+    bin.append(reinterpret_cast<const char*>(&n), 4);
+    for (const auto& f : kTetF) {
+        float rec[12] = {};
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) rec[3 + 3 * c + k] = float(kTetV[f[c]][k]);
+        bin.append(reinterpret_cast<const char*>(rec), sizeof rec);
+        bin.append(2, '\0');
+    }
+    ASSERT_EQ(bin.size(), 84u + 50u * 4u);
+    const TriangleMesh b = inkline::load_mesh(write_file("tet_bin.stl", bin));
+    EXPECT_EQ(b.positions.size(), 4u);
+    EXPECT_EQ(b.triangles.size(), 4u);
+    EXPECT_DOUBLE_EQ(signed_volume(b), 1.0 / 6.0);
+    // A binary file cut short is refused.
+    expect_refused(write_file("tet_cut.stl", bin.substr(0, bin.size() - 10)), {"truncated", "84 + 50"});
+}
+
+TEST(LoadMesh, InconsistentFacesAreReoriented) {
+    // One face of the tetrahedron written the wrong way round: exactly one face is flipped,
+    // whichever face the orientation search starts from.
+    for (std::size_t bad = 0; bad < kTetF.size(); ++bad) {
+        auto f = kTetF;
+        std::swap(f[bad][1], f[bad][2]);
+        const TriangleMesh m =
+            inkline::load_mesh(write_file("tet_bad" + std::to_string(bad) + ".off", off_file(kTetV, f)));
+        EXPECT_EQ(m.faces_reoriented, 1u) << "bad face " << bad;
+        EXPECT_DOUBLE_EQ(signed_volume(m), 1.0 / 6.0) << "bad face " << bad;
+        expect_consistent(m);
+    }
+    // One quad of the cube reversed: its two triangles are flipped.
+    for (std::size_t bad = 0; bad < kCubeF.size(); ++bad) {
+        auto f = kCubeF;
+        std::reverse(f[bad].begin(), f[bad].end());
+        const TriangleMesh m =
+            inkline::load_mesh(write_file("cube_bad" + std::to_string(bad) + ".off", off_file(kCubeV, f)));
+        EXPECT_EQ(m.faces_reoriented, 2u) << "bad face " << bad;
+        EXPECT_DOUBLE_EQ(signed_volume(m), 1.0) << "bad face " << bad;
+        expect_consistent(m);
+    }
+}
+
+TEST(LoadMesh, InwardClosedMeshIsTurnedOutward) {
+    auto f = kTetF;
+    for (auto& face : f) std::swap(face[1], face[2]);
+    const TriangleMesh m = inkline::load_mesh(write_file("tet_inward.off", off_file(kTetV, f)));
+    EXPECT_EQ(m.faces_reoriented, 4u);
+    EXPECT_DOUBLE_EQ(signed_volume(m), 1.0 / 6.0);
+    // Two closed components, one inward and one outward, far apart: each is turned outward.
+    TriangleMesh two;
+    two.positions = kTetV;
+    for (const auto& p : kTetV) two.positions.push_back(p + glm::dvec3(10, 0, 0));
+    for (const auto& t : kTetF) two.triangles.push_back({std::uint32_t(t[0]), std::uint32_t(t[2]), std::uint32_t(t[1])});
+    for (const auto& t : kTetF) two.triangles.push_back({std::uint32_t(t[0] + 4), std::uint32_t(t[1] + 4), std::uint32_t(t[2] + 4)});
+    inkline::validate_mesh(two, "two tetrahedra");
+    EXPECT_EQ(two.faces_reoriented, 4u);
+    for (int c = 0; c < 2; ++c) {
+        TriangleMesh part;
+        part.positions = two.positions;
+        part.triangles.assign(two.triangles.begin() + 4 * c, two.triangles.begin() + 4 * c + 4);
+        EXPECT_DOUBLE_EQ(signed_volume(part), 1.0 / 6.0) << "component " << c;
+    }
+}
+
+TEST(LoadMesh, PrimitivesAreValidAndOutward) {
+    const TriangleMesh box = inkline::make_box({-1, -2, -3}, {1, 2, 3});
+    EXPECT_DOUBLE_EQ(signed_volume(box), 2.0 * 4.0 * 6.0);
+    const TriangleMesh sphere = inkline::make_sphere({0, 0, 0}, 1.0, 24, 12);
+    EXPECT_GT(signed_volume(sphere), 0.9 * 4.0 / 3.0 * M_PI);
+    EXPECT_LT(signed_volume(sphere), 4.0 / 3.0 * M_PI);
+    const TriangleMesh torus = inkline::make_torus({0, 0, 0}, {0, 0, 1}, 2.0, 0.5, 32, 16);
+    EXPECT_GT(signed_volume(torus), 0.9 * 2 * M_PI * M_PI * 2.0 * 0.25);
+    for (const TriangleMesh* m : {&box, &sphere, &torus}) {
+        EXPECT_EQ(m->faces_reoriented, 0u);
+        expect_consistent(*m);
+    }
+}
+
+// =============================================================================================
+// Topology
+
+namespace {
+std::size_t count_flag(const MeshTopology& t, std::uint8_t flag) {
+    std::size_t n = 0;
+    for (auto f : t.edge_flags) n += (f & flag) ? 1 : 0;
+    return n;
+}
+
+// Structural invariants every topology must satisfy.
+void expect_well_formed(const MeshTopology& t) {
+    const std::size_t nv = t.vertex_count(), nf = t.face_count(), ne = t.edge_count();
+    ASSERT_EQ(t.face_edges.size(), nf);
+    ASSERT_EQ(t.face_normals.size(), nf);
+    ASSERT_EQ(t.face_offsets.size(), nf);
+    ASSERT_EQ(t.edge_face.size(), ne);
+    ASSERT_EQ(t.edge_flags.size(), ne);
+    ASSERT_EQ(t.edge_normal_angle.size(), ne);
+    // Euler: every face has 3 edges; every interior edge 2 faces, border edges 1.
+    std::size_t border = 0;
+    for (std::uint32_t e = 0; e < ne; ++e) border += t.edge_face[e][1] == inkline::kNoFace;
+    EXPECT_EQ(3 * nf, 2 * ne - border);
+    EXPECT_EQ(t.closed, border == 0);
+
+    for (std::uint32_t e = 0; e < ne; ++e) {
+        const auto [a, b] = t.edge_vertex[e];
+        ASSERT_NE(a, b);
+        // Face 0 traverses a -> b, face 1 (if any) b -> a.
+        auto traverses = [&](std::uint32_t f, std::uint32_t x, std::uint32_t y) {
+            for (int k = 0; k < 3; ++k)
+                if (t.faces[f][k] == x && t.faces[f][(k + 1) % 3] == y) return true;
+            return false;
+        };
+        EXPECT_TRUE(traverses(t.edge_face[e][0], a, b)) << "edge " << e;
+        if (t.edge_face[e][1] != inkline::kNoFace) {
+            EXPECT_TRUE(traverses(t.edge_face[e][1], b, a)) << "edge " << e;
+            EXPECT_FALSE(t.is_border(e));
+        } else {
+            EXPECT_TRUE(t.is_border(e));
+            EXPECT_FALSE(t.is_crease(e));
+            EXPECT_FALSE(t.edge_flags[e] & (inkline::kEdgeConvex | inkline::kEdgeConcave));
+        }
+        EXPECT_FALSE((t.edge_flags[e] & inkline::kEdgeConvex) && (t.edge_flags[e] & inkline::kEdgeConcave));
+    }
+    // Face -> edge: edge of corner k joins corners k and k+1.
+    for (std::uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const auto e = t.face_edges[f][k];
+            ASSERT_LT(e, ne);
+            const std::set<std::uint32_t> ends = {t.edge_vertex[e][0], t.edge_vertex[e][1]};
+            EXPECT_EQ(ends, (std::set<std::uint32_t>{t.faces[f][k], t.faces[f][(k + 1) % 3]}));
+            EXPECT_TRUE(t.edge_face[e][0] == f || t.edge_face[e][1] == f);
+            // Unit normal, plane through the corners.
+            EXPECT_NEAR(glm::length(t.face_normals[f]), 1.0, 1e-12);
+            EXPECT_NEAR(glm::dot(t.face_normals[f], t.positions[t.faces[f][k]]), t.face_offsets[f],
+                        1e-12 * (1.0 + glm::length(t.positions[t.faces[f][k]])));
+        }
+    // Vertex -> edge CSR: each edge listed exactly once under each of its two vertices.
+    ASSERT_EQ(t.vertex_edge_begin.size(), nv + 1);
+    EXPECT_EQ(t.vertex_edge_begin[0], 0u);
+    EXPECT_EQ(t.vertex_edge_begin[nv], 2 * ne);
+    EXPECT_EQ(t.vertex_edges.size(), 2 * ne);
+    std::vector<int> seen(ne, 0);
+    for (std::uint32_t v = 0; v < nv; ++v) {
+        ASSERT_LE(t.vertex_edge_begin[v], t.vertex_edge_begin[v + 1]);
+        std::set<std::uint32_t> here;
+        for (auto k = t.vertex_edge_begin[v]; k < t.vertex_edge_begin[v + 1]; ++k) {
+            const auto e = t.vertex_edges[k];
+            ASSERT_LT(e, ne);
+            EXPECT_TRUE(t.edge_vertex[e][0] == v || t.edge_vertex[e][1] == v) << "vertex " << v << " edge " << e;
+            EXPECT_TRUE(here.insert(e).second) << "edge " << e << " listed twice at vertex " << v;
+            ++seen[e];
+        }
+    }
+    for (std::uint32_t e = 0; e < ne; ++e) EXPECT_EQ(seen[e], 2) << "edge " << e;
+    // Bounds.
+    for (const auto& p : t.positions) {
+        EXPECT_LE(t.bounds.lo.x, p.x);
+        EXPECT_GE(t.bounds.hi.z, p.z);
+    }
+}
+}  // namespace
+
+TEST(Topology, Box) {
+    const MeshTopology t = inkline::build_topology(inkline::make_box({0, 0, 0}, {1, 2, 3}));
+    expect_well_formed(t);
+    EXPECT_EQ(t.vertex_count(), 8u);
+    EXPECT_EQ(t.face_count(), 12u);
+    EXPECT_EQ(t.edge_count(), 18u);
+    EXPECT_TRUE(t.closed);
+    EXPECT_DOUBLE_EQ(t.crease_degrees, 40.0);
+    EXPECT_EQ(t.bounds.lo, glm::dvec3(0, 0, 0));
+    EXPECT_EQ(t.bounds.hi, glm::dvec3(1, 2, 3));
+    std::size_t box_edges = 0, diagonals = 0;
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
+        const glm::dvec3 d = t.positions[t.edge_vertex[e][1]] - t.positions[t.edge_vertex[e][0]];
+        const int axes = (d.x != 0) + (d.y != 0) + (d.z != 0);
+        if (axes == 1) {  // an edge of the box
+            ++box_edges;
+            EXPECT_TRUE(t.is_crease(e)) << e;
+            EXPECT_TRUE(t.is_convex(e)) << e;
+            EXPECT_FALSE(t.edge_flags[e] & inkline::kEdgeConcave) << e;
+            EXPECT_NEAR(t.edge_normal_angle[e], M_PI / 2, 1e-6) << e;
+        } else {  // a diagonal of a side: coplanar faces
+            ++diagonals;
+            EXPECT_EQ(axes, 2);
+            EXPECT_EQ(t.edge_flags[e], 0) << e;
+            EXPECT_EQ(t.edge_normal_angle[e], 0.0f) << e;
+        }
+    }
+    EXPECT_EQ(box_edges, 12u);
+    EXPECT_EQ(diagonals, 6u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 12u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeConvex), 12u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeConcave), 0u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeBorder), 0u);
+    // Outward normals: each face normal points away from the centre.
+    for (std::uint32_t f = 0; f < t.face_count(); ++f) {
+        glm::dvec3 c(0.0);
+        for (auto v : t.faces[f]) c += t.positions[v] / 3.0;
+        EXPECT_GT(glm::dot(t.face_normals[f], c - glm::dvec3(0.5, 1, 1.5)), 0.0) << f;
+    }
+}
+
+TEST(Topology, CreaseThreshold) {
+    MeshTopology t = inkline::build_topology(inkline::make_box({0, 0, 0}, {1, 1, 1}));
+    t.set_crease_angle(100.0);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 0u);
+    EXPECT_DOUBLE_EQ(t.crease_degrees, 100.0);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeConvex), 12u);  // convexity does not depend on it
+    t.set_crease_angle(89.0);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 12u);
+    t.set_crease_angle(0.0);  // every non-flat edge
+    EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 12u);
+    const MeshTopology u = inkline::build_topology(inkline::make_box({0, 0, 0}, {1, 1, 1}), 95.0);
+    EXPECT_EQ(count_flag(u, inkline::kEdgeCrease), 0u);
+    // A sphere: neighbouring faces differ by a few degrees; a small threshold creases everything.
+    MeshTopology s = inkline::build_topology(inkline::make_sphere({0, 0, 0}, 1, 16, 8));
+    EXPECT_EQ(count_flag(s, inkline::kEdgeCrease), 0u);
+    // Convex, except the diagonals of the (planar, trapezoidal) quads, flat up to rounding.
+    for (std::uint32_t e = 0; e < s.edge_count(); ++e)
+        if (!s.is_convex(e)) {
+            EXPECT_LT(s.edge_normal_angle[e], 1e-6f) << e;
+        }
+    EXPECT_GE(count_flag(s, inkline::kEdgeConvex), s.edge_count() - 16 * 6);
+    s.set_crease_angle(1.0);
+    EXPECT_GT(count_flag(s, inkline::kEdgeCrease), s.edge_count() / 2);
+}
+
+TEST(Topology, SheetHasBorder) {
+    for (int n : {1, 2, 5}) {
+        const MeshTopology t = inkline::build_topology(inkline::make_sheet(1.0, 0.25, n));
+        expect_well_formed(t);
+        EXPECT_FALSE(t.closed);
+        EXPECT_EQ(t.vertex_count(), std::size_t((n + 1) * (n + 1)));
+        EXPECT_EQ(t.face_count(), std::size_t(2 * n * n));
+        EXPECT_EQ(t.edge_count(), std::size_t(2 * n * (n + 1) + n * n));
+        EXPECT_EQ(count_flag(t, inkline::kEdgeBorder), std::size_t(4 * n));
+        EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 0u);
+        // Flat: no edge is convex or concave (the exact test sees coplanar faces).
+        EXPECT_EQ(count_flag(t, inkline::kEdgeConvex | inkline::kEdgeConcave), 0u);
+        for (std::uint32_t e = 0; e < t.edge_count(); ++e)
+            if (t.is_border(e)) {
+                const auto p = t.positions[t.edge_vertex[e][0]], q = t.positions[t.edge_vertex[e][1]];
+                const bool on_rim = (std::abs(p.x) == 1.0 && p.x == q.x) || (std::abs(p.z) == 1.0 && p.z == q.z);
+                EXPECT_TRUE(on_rim) << "border edge " << e << " is not on the rim";
+            }
+    }
+}
+
+TEST(Topology, ValleyIsConcaveRidgeIsConvex) {
+    // Two faces on the edge A-B (along z), normals up (+y): a V-shaped valley, then with the
+    // outer corners lowered, a ridge.
+    for (const double side : {1.0, -1.0}) {
+        TriangleMesh m;
+        m.positions = {{0, 0, 0}, {0, 0, 1}, {-1, side, 0.5}, {1, side, 0.5}};
+        m.triangles = {{0, 2, 1}, {0, 1, 3}};
+        inkline::validate_mesh(m, "hinge");
+        const MeshTopology t = inkline::build_topology(m);
+        expect_well_formed(t);
+        std::uint32_t hinge = UINT32_MAX;
+        for (std::uint32_t e = 0; e < t.edge_count(); ++e)
+            if (!t.is_border(e)) hinge = e;
+        ASSERT_NE(hinge, UINT32_MAX);
+        EXPECT_NEAR(t.edge_normal_angle[hinge], M_PI / 2, 1e-6);
+        EXPECT_TRUE(t.is_crease(hinge));
+        EXPECT_EQ(t.face_normals[0].y > 0, true);
+        EXPECT_EQ(t.face_normals[1].y > 0, true);
+        if (side > 0) {  // normals (1,1,0) and (-1,1,0) point towards each other: valley
+            EXPECT_EQ(t.edge_flags[hinge], inkline::kEdgeCrease | inkline::kEdgeConcave);
+        } else {
+            EXPECT_EQ(t.edge_flags[hinge], inkline::kEdgeCrease | inkline::kEdgeConvex);
+        }
+    }
+}
+
+TEST(Topology, LShapedPrismHasOneConcaveEdge) {
+    // L-shaped cross-section extruded along z, written with caps as hexagons (fanned from the
+    // reflex corner) and every face oriented inward: the loader turns all 20 triangles outward.
+    const double L[6][2] = {{1, 1}, {1, 2}, {0, 2}, {0, 0}, {2, 0}, {2, 1}};  // counter-clockwise from the reflex corner
+    std::vector<glm::dvec3> v;
+    for (int z = 0; z < 2; ++z)
+        for (const auto& p : L) v.push_back({p[0], p[1], double(z)});
+    std::vector<std::vector<int>> f;
+    f.push_back({0, 1, 2, 3, 4, 5});  // bottom (z = 0) counter-clockwise seen from above: inward
+    f.push_back({6, 11, 10, 9, 8, 7});  // top clockwise seen from above: inward
+    for (int i = 0; i < 6; ++i) {
+        const int j = (i + 1) % 6;
+        f.push_back({i, 6 + i, 6 + j, j});  // inward
+    }
+    const TriangleMesh m = inkline::load_mesh(write_file("lprism.off", off_file(v, f)));
+    EXPECT_EQ(m.positions.size(), 12u);
+    EXPECT_EQ(m.triangles.size(), 20u);
+    EXPECT_EQ(m.polygons_triangulated, 8u);
+    EXPECT_EQ(m.faces_reoriented, 20u);
+    EXPECT_DOUBLE_EQ(signed_volume(m), 3.0);
+    const MeshTopology t = inkline::build_topology(m);
+    expect_well_formed(t);
+    EXPECT_TRUE(t.closed);
+    EXPECT_EQ(t.edge_count(), 30u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeConcave), 1u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeConvex), 17u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 18u);
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e)
+        if (t.edge_flags[e] & inkline::kEdgeConcave) {
+            // The vertical edge at the reflex corner (1, 1).
+            const auto p = t.positions[t.edge_vertex[e][0]], q = t.positions[t.edge_vertex[e][1]];
+            EXPECT_EQ(glm::dvec2(p.x, p.y), glm::dvec2(1, 1));
+            EXPECT_EQ(glm::dvec2(q.x, q.y), glm::dvec2(1, 1));
+            EXPECT_TRUE(t.is_crease(e));
+            EXPECT_FALSE(t.is_convex(e));
+        }
+}
+
+TEST(Topology, TorusHasConvexAndConcaveEdges) {
+    // The outer half of a torus is convex, the inner half saddle-shaped: both kinds appear, and
+    // every closed-surface invariant holds.
+    const MeshTopology t = inkline::build_topology(inkline::make_torus({0, 0, 0}, {0, 1, 0}, 2.0, 0.6, 24, 12));
+    expect_well_formed(t);
+    EXPECT_TRUE(t.closed);
+    EXPECT_EQ(t.vertex_count(), 24u * 12u);
+    EXPECT_EQ(t.edge_count(), 3u * 24u * 12u);  // Euler characteristic 0
+    EXPECT_GT(count_flag(t, inkline::kEdgeConcave), 0u);
+    EXPECT_GT(count_flag(t, inkline::kEdgeConvex), count_flag(t, inkline::kEdgeConcave));
+    // Concave edges only on the inner half (distance to the axis below R).
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e)
+        if ((t.edge_flags[e] & inkline::kEdgeConcave) && t.edge_normal_angle[e] > 1e-6f) {
+            // (Quad diagonals are flat up to rounding and may go either way.)
+            const glm::dvec3 m = 0.5 * (t.positions[t.edge_vertex[e][0]] + t.positions[t.edge_vertex[e][1]]);
+            EXPECT_LT(std::hypot(m.x, m.z), 2.0) << e;
+        }
+}
+
+TEST(Topology, FandiskFromDataDir) {
+    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off";
+    if (!fs::exists(path)) GTEST_SKIP() << path << " not found (run scripts/setup.sh)";
+    const TriangleMesh m = inkline::load_mesh(path);
+    // Header: "OFF / 6475 12946 0", all triangles, a closed genus-0 surface.
+    EXPECT_EQ(m.positions.size(), 6475u);
+    EXPECT_EQ(m.triangles.size(), 12946u);
+    EXPECT_EQ(m.polygons_triangulated, 0u);
+    EXPECT_GT(signed_volume(m), 0.0);
+    const MeshTopology t = inkline::build_topology(m);
+    expect_well_formed(t);
+    EXPECT_TRUE(t.closed);
+    EXPECT_EQ(t.edge_count(), 6475u + 12946u - 2u);
+    EXPECT_GT(count_flag(t, inkline::kEdgeCrease), 0u);   // the fan disk has sharp features
+    EXPECT_GT(count_flag(t, inkline::kEdgeConcave), 0u);  // and concave ones
+}
+
+TEST(Topology, MergedMeshesKeepComponentsApart) {
+    const TriangleMesh m = inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                 inkline::make_sheet(1.0, 5.0, 3));
+    const MeshTopology t = inkline::build_topology(m);
+    expect_well_formed(t);
+    EXPECT_FALSE(t.closed);
+    EXPECT_EQ(t.vertex_count(), 8u + 16u);
+    EXPECT_EQ(t.edge_count(), 18u + 33u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeBorder), 12u);
+    EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 12u);
+}
