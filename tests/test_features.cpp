@@ -179,7 +179,8 @@ void expect_chains(const MeshTopology& m, const Features& f, const inkline::Feat
             const std::set<std::uint32_t> ends = {m.edge_vertex[e][0], m.edge_vertex[e][1]};
             EXPECT_EQ(ends, (std::set<std::uint32_t>{cv.vertices[i], cv.vertices[i + 1]})) << "edge " << e;
         }
-        EXPECT_EQ(cv.closed, cv.vertices.front() == cv.vertices.back());
+        // closed: a loop whose start is an ordinary vertex; a loop from a junction back to it is open
+        EXPECT_EQ(cv.closed, cv.vertices.front() == cv.vertices.back() && !is_break(cv.vertices.front()));
         for (std::size_t i = 1; i + 1 < cv.vertices.size(); ++i)
             EXPECT_FALSE(is_break(cv.vertices[i])) << "curve runs through junction " << cv.vertices[i];
         if (!cv.closed) {

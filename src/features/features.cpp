@@ -122,8 +122,8 @@ Features extract_features(const MeshTopology& mesh, const Camera& camera, const 
             c.edges.push_back(e);
             v = mesh.edge_vertex[e][0] == v ? mesh.edge_vertex[e][1] : mesh.edge_vertex[e][0];
             c.vertices.push_back(v);
-            if (v == start_v) {
-                c.closed = true;
+            if (v == start_v) {  // a loop; closed only if it may continue through its start
+                c.closed = !is_break(v);
                 break;
             }
             if (is_break(v)) break;

@@ -31,7 +31,7 @@ struct FeatureCurve {
     LineKind kind = LineKind::Silhouette;
     std::vector<std::uint32_t> vertices;  // n+1 vertices for n edges (first == last if closed)
     std::vector<std::uint32_t> edges;
-    bool closed = false;
+    bool closed = false;  // a loop whose start is an ordinary vertex (a loop from a junction back to it is open)
 };
 
 struct Features {

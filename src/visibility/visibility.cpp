@@ -61,22 +61,6 @@ struct Split {
     bool operator==(const Split& o) const { return seg == o.seg && t == o.t; }
 };
 
-// A vertex where a curve passes through unchanged: exactly two feature edges, of one kind, and
-// no cusp. Feature curves stop at every other vertex, but a loop may start and end at one.
-bool ordinary_vertex(const MeshTopology& mesh, const Features& features, std::uint32_t v) {
-    if (std::find(features.cusp_vertices.begin(), features.cusp_vertices.end(), v) != features.cusp_vertices.end())
-        return false;
-    int degree = 0;
-    std::uint8_t kind = kNoKind;
-    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-        const std::uint8_t kk = features.edge_kind[mesh.vertex_edges[k]];
-        if (kk == kNoKind) continue;
-        if (degree++ > 0 && kk != kind) return false;
-        kind = kk;
-    }
-    return degree == 2;
-}
-
 }  // namespace
 
 double default_near(const MeshTopology& mesh) {
@@ -186,14 +170,13 @@ VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& featu
         }
         emit();
 
-        // A closed curve that was not cut at its start vertex: the last piece continues the first,
-        // unless that vertex is a junction or a cusp (a loop may start and end at one), where
-        // the QI can change.
+        // A closed curve that was not cut at its start vertex: the last piece continues the first
+        // (a loop from a junction or cusp back to it is not closed: the QI can change there).
         const std::size_t np = out.pieces.size() - first_piece;
         const bool unbroken = segs.size() == curve.edges.size() &&
                               std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
                               segs.back().B == segs.front().A;
-        if (curve.closed && unbroken && np >= 2 && !split_at_start && ordinary_vertex(mesh, features, curve.vertices[0])) {
+        if (curve.closed && unbroken && np >= 2 && !split_at_start) {
             Piece& first = out.pieces[first_piece];
             Piece last = std::move(out.pieces.back());
             auto last_spans = std::move(out.spans.back());
