@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "model/self_intersections.hpp"
+
 namespace inkline {
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -23,15 +25,50 @@ const RayCaster& Model::rays() const {
     return *rays_;
 }
 
+const std::vector<std::uint8_t>& Model::self_intersecting_faces() const {
+    if (!pierced_) pierced_ = std::make_unique<std::vector<std::uint8_t>>(inkline::self_intersecting_faces(topo_));
+    return *pierced_;
+}
+
 View render_view(const Model& model, Camera camera, const ViewOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     if (camera.near_distance() <= 0.0) camera.set_near(default_near(model.topology()));
     View v;
-    v.features = extract_features(model.topology(), camera, options.features);
+    const bool appel = options.visibility == VisibilityMethod::Appel;
+    // Propagation needs every occluding curve chained, drawn or not.
+    FeatureOptions fo = options.features;
+    if (appel) fo.kinds[int(LineKind::Silhouette)] = fo.kinds[int(LineKind::Border)] = true;
+    v.features = extract_features(model.topology(), camera, fo);
     const auto t_index = std::chrono::steady_clock::now();
-    const RayCaster& rays = model.rays();  // built once per model, timed apart from the view
+    double index_seconds = 0.0;  // building the ray-test index (once per model) is not the view's time
+    auto rays = [&]() -> const RayCaster& {
+        const auto tb = std::chrono::steady_clock::now();
+        const RayCaster& r = model.rays();
+        index_seconds += seconds_since(tb);
+        return r;
+    };
+    // Once per model, like the ray-test index: not the view's time.
+    const std::vector<std::uint8_t>* pierced = appel ? &model.self_intersecting_faces() : nullptr;
     const auto t1 = std::chrono::steady_clock::now();
-    VisibleCurves curves = compute_visibility(model.topology(), v.features, camera, rays);
+    VisibleCurves curves;
+    AppelStats as;
+    if (appel) {
+        PieceGraph g = build_pieces(model.topology(), v.features, camera);
+        as = assign_qi_appel(model.topology(), camera, rays, g, {options.exact_hidden, pierced});
+        curves = std::move(g.curves);
+        curves.ray_tests = as.ray_tests;
+        // Drop what was chained only to propagate QI.
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < curves.pieces.size(); ++i)
+            if (options.features.wants(curves.pieces[i].kind)) {
+                if (k != i) curves.pieces[k] = std::move(curves.pieces[i]), curves.spans[k] = std::move(curves.spans[i]);
+                ++k;
+            }
+        curves.pieces.resize(k);
+        curves.spans.resize(k);
+    } else {
+        curves = compute_visibility(model.topology(), v.features, camera, rays());
+    }
 
     Drawing& d = v.drawing;
     d.camera = camera;
@@ -47,9 +84,12 @@ View render_view(const Model& model, Camera camera, const ViewOptions& options) 
     s.crossings = curves.crossings;
     s.pieces = d.pieces.size();
     s.ray_tests = curves.ray_tests;
+    s.visibility = appel ? "appel" : "rays";
+    s.clusters = as.clusters;
+    s.walks = as.walks;
     s.seconds_load = model.load_seconds();
     s.seconds_features = std::chrono::duration<double>(t_index - t0).count();
-    s.seconds_visibility = seconds_since(t1);
+    s.seconds_visibility = seconds_since(t1) - index_seconds;
     s.seconds_total = s.seconds_features + s.seconds_visibility;
     return v;
 }

@@ -9,6 +9,7 @@
 #include "features/features.hpp"
 #include "model/topology.hpp"
 #include "visibility/ray_caster.hpp"
+#include "visibility/appel.hpp"
 #include "visibility/visibility.hpp"
 
 namespace inkline {
@@ -23,16 +24,25 @@ public:
     MeshTopology& topology() { return topo_; }
     // The ray-test index, built on first use only (views that need no ray test never pay for it).
     const RayCaster& rays() const;
+    // Per face: intersects another face; computed on first use (the fast visibility needs it).
+    const std::vector<std::uint8_t>& self_intersecting_faces() const;
     double load_seconds() const { return load_seconds_; }
 
 private:
     MeshTopology topo_;
     mutable std::unique_ptr<RayCaster> rays_;
+    mutable std::unique_ptr<std::vector<std::uint8_t>> pierced_;
     double load_seconds_ = 0.0;
 };
 
+enum class VisibilityMethod { Rays, Appel };
+
 struct ViewOptions {
     FeatureOptions features;
+    VisibilityMethod visibility = VisibilityMethod::Appel;
+    // Exact QI of hidden pieces is needed (hidden lines drawn); otherwise the fast method may
+    // leave a totally occluded cluster at a lower bound (> 0) without a ray test.
+    bool exact_hidden = true;
 };
 
 struct View {

@@ -77,7 +77,8 @@ TEST(Cli, WritesValidJsonFollowingTheDesign) {
     EXPECT_EQ(j["camera"]["eye"].size(), 3u);
     EXPECT_EQ(j["stats"]["triangles"], 12946);
     EXPECT_GT(j["stats"]["silhouette_edges"].get<int>(), 100);
-    EXPECT_GT(j["stats"]["ray_tests"].get<int>(), 0);
+    EXPECT_EQ(j["stats"]["visibility"], "appel");  // the default method
+    EXPECT_GE(j["stats"]["clusters"].get<int>(), 1);
     for (const char* k : {"features", "visibility", "total"}) EXPECT_TRUE(j["stats"]["seconds"].contains(k)) << k;
     int visible = 0, hidden = 0;
     for (const auto& p : j["polylines"]) {

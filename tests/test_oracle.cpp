@@ -209,22 +209,31 @@ inkline::Camera make_camera(const inkline::MeshTopology& mesh, int index) {
 
 // ---- cases -----------------------------------------------------------------------------
 
+// Both visibility methods are held to the oracle: the reference (a ray test per piece) and the
+// fast one (propagation along clusters).
 struct Case {
     std::string mesh;
     int camera;
+    inkline::VisibilityMethod method = inkline::VisibilityMethod::Rays;
 };
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.mesh << " / " << kCameras[c.camera]; }
+const char* method_name(inkline::VisibilityMethod m) { return m == inkline::VisibilityMethod::Rays ? "rays" : "appel"; }
+
+void PrintTo(const Case& c, std::ostream* os) {
+    *os << c.mesh << " / " << kCameras[c.camera] << " / " << method_name(c.method);
+}
 
 std::vector<Case> all_cases() {
     std::vector<Case> out;
     for (const char* m : {"armadillo", "bunny00", "fandisk", "elephant", "knot1", "ChineseDragon-10kv"})
-        for (int c = 0; c < kCameraCount; ++c) out.push_back({m, c});
+        for (int c = 0; c < kCameraCount; ++c)
+            for (auto method : {inkline::VisibilityMethod::Rays, inkline::VisibilityMethod::Appel})
+                out.push_back({m, c, method});
     return out;
 }
 
 std::string case_name(const testing::TestParamInfo<Case>& info) {
-    std::string s = info.param.mesh + "_" + kCameras[info.param.camera];
+    std::string s = info.param.mesh + "_" + kCameras[info.param.camera] + "_" + method_name(info.param.method);
     for (char& ch : s)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
     return s;
@@ -265,7 +274,9 @@ TEST_P(Oracle, PiecesAgreeWithBruteForceQI) {
     const Case& cs = GetParam();
     MeshOracle& O = oracle_for(cs.mesh);
     const inkline::MeshTopology& mesh = O.model.topology();
-    const inkline::View v = inkline::render_view(O.model, make_camera(mesh, cs.camera));
+    inkline::ViewOptions options;
+    options.visibility = cs.method;
+    const inkline::View v = inkline::render_view(O.model, make_camera(mesh, cs.camera), options);
     const inkline::Camera& cam = v.drawing.camera;  // with its near plane set
     ASSERT_EQ(v.spans.size(), v.drawing.pieces.size());
     const double W = cam.width(), H = cam.height();

@@ -132,7 +132,8 @@ TEST(OutputJson, SchemaAndValues) {
     const json& s = j["stats"];
     EXPECT_EQ(keys(s), (std::set<std::string>{"triangles", "silhouette_edges", "border_edges",
                                               "crease_edges", "curves", "cusps", "crossings",
-                                              "pieces", "ray_tests", "seconds"}));
+                                              "pieces", "ray_tests", "visibility", "clusters", "walks",
+                                              "seconds"}));
     EXPECT_EQ(s["triangles"], 1234);
     EXPECT_EQ(s["silhouette_edges"], 56);
     EXPECT_EQ(s["border_edges"], 7);

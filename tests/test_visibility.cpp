@@ -14,6 +14,19 @@
 namespace inkline {
 namespace {
 
+// Every scene is checked with both visibility methods (the fixture's parameter).
+VisibilityMethod g_method = VisibilityMethod::Rays;
+ViewOptions options() {
+    ViewOptions o;
+    o.visibility = g_method;
+    return o;
+}
+
+class Visibility : public testing::TestWithParam<VisibilityMethod> {
+protected:
+    void SetUp() override { g_method = GetParam(); }
+};
+
 using Sdf = std::function<double(const glm::dvec3&)>;
 // Robust number of crossings of a segment with a shape, or -1 when it depends on the tessellation.
 using Crossings = std::function<int(glm::dvec3, glm::dvec3)>;
@@ -97,7 +110,7 @@ struct Tally {
 Tally check_scene(const Scene& scene, const Camera& cam,
                   const std::function<int(int, const glm::dvec3&)>& self_layers = nullptr) {
     const Model model(scene.mesh);
-    const View view = render_view(model, cam);
+    const View view = render_view(model, cam, options());
     const MeshTopology& t = model.topology();
     Tally tally;
     for (std::size_t i = 0; i < view.drawing.pieces.size(); ++i) {
@@ -144,7 +157,7 @@ Scene sphere_before_torus() {
     return s;
 }
 
-TEST(Visibility, SphereInFrontOfTorusPerspective) {
+TEST_P(Visibility, SphereInFrontOfTorusPerspective) {
     const Camera cam = Camera::perspective({0, 0, 12}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
     const Tally t = check_scene(sphere_before_torus(), cam);
     EXPECT_GT(t.visible, 3);
@@ -152,7 +165,7 @@ TEST(Visibility, SphereInFrontOfTorusPerspective) {
     EXPECT_LT(t.ambiguous, t.checked / 4 + 2);
 }
 
-TEST(Visibility, SphereInFrontOfTorusOrthographic) {
+TEST_P(Visibility, SphereInFrontOfTorusOrthographic) {
     const Camera cam = Camera::orthographic({0, 0, 12}, {0, 0, 0}, {0, 1, 0}, 7.0, 800, 800);
     const Tally t = check_scene(sphere_before_torus(), cam);
     EXPECT_GT(t.visible, 3);
@@ -162,14 +175,14 @@ TEST(Visibility, SphereInFrontOfTorusOrthographic) {
 // Torus B passes through the hole of torus A; the camera looks along A's axis, so A hides none
 // of its own silhouettes. B's silhouettes can hide behind B itself: those pieces are checked by
 // parity only (closed surfaces: front-facing silhouettes have even QI, back-facing odd).
-TEST(Visibility, TwoLinkedTori) {
+TEST_P(Visibility, TwoLinkedTori) {
     Scene s;
     s.add(make_torus({0, 0, 0}, {0, 0, 1}, 2.0, 0.5, 192, 96), torus({0, 0, 0}, {0, 0, 1}, 2.0, 0.5));
     s.add(make_torus({2.0, 0, 0}, {0, 1, 0}, 2.0, 0.5, 192, 96), torus({2.0, 0, 0}, {0, 1, 0}, 2.0, 0.5));
     for (const glm::dvec3 eye : {glm::dvec3(0.0, 0.0, 14.0), glm::dvec3(0.0, 0.0, -14.0)}) {
         const Camera cam = Camera::perspective(eye, {1, 0, 0}, {0, 1, 0}, 40, 800, 800);
         const Model model(s.mesh);
-        const View view = render_view(model, cam);
+        const View view = render_view(model, cam, options());
         const MeshTopology& t = model.topology();
         int front = 0, back = 0;
         for (std::size_t i = 0; i < view.drawing.pieces.size(); ++i) {
@@ -195,7 +208,7 @@ TEST(Visibility, TwoLinkedTori) {
 
 // An open sheet over a sphere, seen from above at an angle: the sphere's silhouette under the sheet
 // has QI 1 (a sheet is one layer), the sheet's border is visible.
-TEST(Visibility, OpenSheetWithBorder) {
+TEST_P(Visibility, OpenSheetWithBorder) {
     Scene s;
     const double half = 1.5, h = 0.0;
     s.add(make_sheet(half, h, 24), sheet(half, h));
@@ -205,7 +218,7 @@ TEST(Visibility, OpenSheetWithBorder) {
     EXPECT_GT(t.visible, 0);
     EXPECT_GT(t.hidden, 0);
     const Model model(s.mesh);
-    const View view = render_view(model, cam);
+    const View view = render_view(model, cam, options());
     int border = 0;
     for (const Piece& p : view.drawing.pieces)
         if (p.kind == LineKind::Border) {
@@ -218,10 +231,10 @@ TEST(Visibility, OpenSheetWithBorder) {
 // A box seen from a generic direction: 6 silhouette edges (visible), the 3 creases at the near
 // corner visible, the 3 at the far corner behind one front face (QI 1: their own back faces do
 // not count); no other lines.
-TEST(Visibility, CubeCreasesOnly) {
+TEST_P(Visibility, CubeCreasesOnly) {
     const Model model(make_box({-1, -1, -1}, {1, 1, 1}));
     const Camera cam = Camera::perspective({4, 3, 5}, {0, 0, 0}, {0, 1, 0}, 40, 800, 800);
-    const View view = render_view(model, cam);
+    const View view = render_view(model, cam, options());
     const MeshTopology& t = model.topology();
     double len[3][4] = {};  // [kind][qi clamped to 3]: world length covered
     for (std::size_t i = 0; i < view.drawing.pieces.size(); ++i) {
@@ -243,7 +256,7 @@ TEST(Visibility, CubeCreasesOnly) {
 // The camera inside a closed box with a ball in front of it: every face is back-facing (no
 // silhouettes on the box), the walls' creases are seen from inside (QI 0) except behind the ball
 // (QI 2); creases behind the eye are clipped by the near plane.
-TEST(Visibility, CameraInsideBox) {
+TEST_P(Visibility, CameraInsideBox) {
     Scene s;
     // The eye and the ball are inside the box: the walls never lie between them.
     s.add(make_box({-2, -2, -2}, {2, 2, 2}), [](glm::dvec3, glm::dvec3) { return 0; });
@@ -253,7 +266,7 @@ TEST(Visibility, CameraInsideBox) {
     EXPECT_GT(t.visible, 3);
     EXPECT_GT(t.hidden, 0);
     const Model model(s.mesh);
-    const View view = render_view(model, cam);
+    const View view = render_view(model, cam, options());
     const MeshTopology& topo = model.topology();
     const Camera& used = view.drawing.camera;
     ASSERT_GT(used.near_distance(), 0.0);
@@ -272,6 +285,11 @@ TEST(Visibility, CameraInsideBox) {
         for (const glm::dvec2& q : view.drawing.pieces[i].points) EXPECT_TRUE(std::isfinite(q.x) && std::isfinite(q.y));
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Methods, Visibility, testing::Values(VisibilityMethod::Rays, VisibilityMethod::Appel),
+                         [](const testing::TestParamInfo<VisibilityMethod>& i) {
+                             return std::string(i.param == VisibilityMethod::Rays ? "rays" : "appel");
+                         });
 
 }  // namespace
 }  // namespace inkline

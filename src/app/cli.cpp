@@ -21,7 +21,7 @@ const char* kUsage =
     "usage: inkline render MODEL [-o OUT.{svg,pdf,png,json}] [--format=svg|pdf|png|json]\n"
     "                      [--eye=x,y,z] [--target=x,y,z] [--up=x,y,z] [--fov=DEG] [--size=WxH]\n"
     "                      [--ortho=H] [--near=D] [--crease=DEG] [--hidden]\n"
-    "                      [--lines=silhouette,crease,border] [--quiet]\n"
+    "                      [--lines=silhouette,crease,border] [--visibility=appel|rays] [--quiet]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n";
 
@@ -50,6 +50,7 @@ struct RenderArgs {
     double crease = 40.0;
     bool hidden = false, quiet = false;
     FeatureOptions features;
+    VisibilityMethod visibility = VisibilityMethod::Appel;
 };
 
 RenderArgs parse_render(int argc, char** argv) {
@@ -76,7 +77,11 @@ RenderArgs parse_render(int argc, char** argv) {
         else if (key == "--eye" || key == "--target" || key == "--up" || key == "--fov" || key == "--size" ||
                  key == "--ortho" || key == "--near")
             a.camera[key] = value;
-        else if (key == "--crease") {
+        else if (key == "--visibility") {
+            if (value == "appel") a.visibility = VisibilityMethod::Appel;
+            else if (value == "rays") a.visibility = VisibilityMethod::Rays;
+            else throw Error(key, "unknown method '" + value + "' (expected appel or rays)");
+        } else if (key == "--crease") {
             a.crease = parse_number(key, value);
             if (a.crease < 0.0 || a.crease > 180.0) throw Error(key, "expected an angle in [0, 180] degrees");
         } else if (key == "--lines") {
@@ -153,6 +158,8 @@ int render(int argc, char** argv) {
     const Camera cam = make_camera(a, model.topology());
     ViewOptions opt;
     opt.features = a.features;
+    opt.visibility = a.visibility;
+    opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
     View view = render_view(model, cam, opt);
     OutputOptions oo;
     oo.hidden = a.hidden;
@@ -165,9 +172,9 @@ int render(int argc, char** argv) {
     if (!a.quiet) {
         const auto& s = view.drawing.stats;
         std::printf("%s: %zu triangles, %zu silhouette edges, %zu crease, %zu border, %zu curves, %zu cusps, "
-                    "%zu crossings, %zu pieces, %zu ray tests\n",
+                    "%zu crossings, %zu pieces, %zu ray tests (%s, %zu clusters)\n",
                     out.c_str(), s.triangles, s.silhouette_edges, s.crease_edges, s.border_edges, s.curves, s.cusps,
-                    s.crossings, s.pieces, s.ray_tests);
+                    s.crossings, s.pieces, s.ray_tests, s.visibility.c_str(), s.clusters);
         std::printf("seconds: load %.4f, features %.4f, visibility %.4f, output %.4f\n", s.seconds_load,
                     s.seconds_features, s.seconds_visibility, t_write);
         std::printf("camera: --eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d\n", fmt3(cam.eye()).c_str(),

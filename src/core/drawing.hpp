@@ -36,6 +36,9 @@ struct DrawingStats {
     std::size_t crossings = 0;  // image-space crossings of curves with silhouette/border edges
     std::size_t pieces = 0;
     std::size_t ray_tests = 0;
+    std::string visibility = "rays";  // method: "rays" (reference) or "appel" (propagation)
+    std::size_t clusters = 0;         // appel: connected sets of curves sharing a base QI
+    std::size_t walks = 0;            // appel: surface walks (section 4.4)
     double seconds_load = 0.0;        // model loading and topology (0 when reused)
     double seconds_features = 0.0;
     double seconds_visibility = 0.0;

@@ -57,9 +57,21 @@ double to_3d(const Camera& cam, const ClipSeg& s, double t) {
 struct Split {
     std::uint32_t seg;
     double t;
+    std::uint32_t occluder;  // index into the occluders
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
-    bool operator==(const Split& o) const { return seg == o.seg && t == o.t; }
 };
+
+// True when some geometry lies at or behind the near plane (the camera is among the geometry).
+bool geometry_behind_near(const MeshTopology& mesh, const Camera& camera) {
+    const Bounds3& b = mesh.bounds;
+    double lo = 1e300;
+    for (int k = 0; k < 8; ++k)
+        lo = std::min(lo, camera.depth({k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z}));
+    if (lo > camera.near_distance()) return false;
+    for (const auto& p : mesh.positions)
+        if (!(camera.depth(p) > camera.near_distance())) return true;
+    return false;
+}
 
 }  // namespace
 
@@ -68,21 +80,40 @@ double default_near(const MeshTopology& mesh) {
     return 1e-6 * (r > 0.0 ? r : 1.0);
 }
 
-VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                                 const RayCaster& rays) {
-    VisibleCurves out;
+PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera) {
+    PieceGraph g;
+    VisibleCurves& out = g.curves;
+    g.immersive = geometry_behind_near(mesh, camera);
 
     // Occluding edges in the image: silhouettes and borders.
     std::vector<Segment2> occluders;
+    std::vector<ClipSeg> occ_clip;
     occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
+    occ_clip.reserve(occluders.capacity());
     for (const auto* list : {&features.silhouette_edges, &features.border_edges})
         for (std::uint32_t e : *list) {
             const auto [v0, v1] = mesh.edge_vertex[e];
             ClipSeg s;
-            if (clip_edge(camera, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s))
+            if (clip_edge(camera, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
                 occluders.push_back({s.a, s.b, v0, v1, e});
+                occ_clip.push_back(s);
+            }
         }
     const SegmentGrid grid(occluders, camera.width(), camera.height());
+
+    // The extreme points of the occluders' image (the bounding-box rule of the fast method).
+    g.extreme_vertices.fill(UINT32_MAX);
+    if (!g.immersive) {
+        double ext[4] = {1e300, -1e300, 1e300, -1e300};
+        for (const Segment2& o : occluders)
+            for (int end = 0; end < 2; ++end) {
+                const glm::dvec2 p = end ? o.b : o.a;
+                const std::uint32_t v = end ? o.v1 : o.v0;
+                const double val[4] = {p.x, p.x, p.y, p.y};
+                for (int k = 0; k < 4; ++k)
+                    if (k % 2 == 0 ? val[k] < ext[k] : val[k] > ext[k]) ext[k] = val[k], g.extreme_vertices[k] = v;
+            }
+    }
 
     std::vector<std::uint8_t> in_curves(mesh.edge_count(), 0);
     for (const auto& c : features.curves)
@@ -90,6 +121,11 @@ VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& featu
 
     std::vector<ClipSeg> segs;
     std::vector<Split> splits;
+    struct Pending {
+        std::uint32_t seg, occluder;
+        double t;
+    };
+    std::vector<Pending> pending, wrap;  // crossings at the cut being made / at a closed curve's start
     for (std::uint32_t ci = 0; ci < features.curves.size(); ++ci) {
         const FeatureCurve& curve = features.curves[ci];
         segs.clear();
@@ -120,28 +156,39 @@ VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& featu
                 const int n = segment_crossings(q, occluders[k], t);
                 if (n == 0) return;
                 if (!in_curves[occluders[k].edge] || s.edge < occluders[k].edge) ++out.crossings;
-                for (int i = 0; i < n; ++i) splits.push_back({j, t[i]});
+                for (int i = 0; i < n; ++i) splits.push_back({j, t[i], k});
             });
         }
         for (auto& sp : splits)  // a split at a segment's end is the next segment's start
-            if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0};
+            if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0, sp.occluder};
         std::sort(splits.begin(), splits.end());
-        splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
 
-        // Walk the segments, cutting pieces at splits and interruptions.
-        const std::size_t first_piece = out.pieces.size();
+        // Walk the segments, cutting pieces at splits and interruptions. Cuts between two pieces
+        // become links carrying the crossings made there.
+        const std::uint32_t first_piece = std::uint32_t(out.pieces.size());
+        const std::size_t first_link = g.links.size(), first_lc = g.link_crossings.size();
         Piece cur;
         std::vector<EdgeSpan> cur_spans;
+        bool linked = false;  // the next piece emitted continues the last one across `pending`
         auto emit = [&]() {
             if (!cur_spans.empty() && cur.points.size() >= 2) {
+                const std::uint32_t p = std::uint32_t(out.pieces.size());
+                if (linked) {
+                    const std::uint32_t l = std::uint32_t(g.links.size());
+                    g.links.push_back({p - 1, p});
+                    for (const Pending& c : pending) g.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                }
                 out.pieces.push_back(cur);
                 out.spans.push_back(cur_spans);
             }
+            pending.clear();
+            linked = false;
             cur.points.clear();
             cur_spans.clear();
         };
         cur.kind = curve.kind;
         cur.curve = ci;
+        wrap.clear();
         std::size_t k = 0;
         bool split_at_start = false;
         for (std::uint32_t j = 0; j < segs.size(); ++j) {
@@ -156,13 +203,20 @@ VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& featu
                 cur_spans.push_back({s.edge, s.sA + u0 * (s.sB - s.sA), s.sA + u1 * (s.sB - s.sA)});
                 cur.points.push_back(s.a + t1 * (s.b - s.a));
             };
-            for (; k < splits.size() && splits[k].seg == j; ++k) {
+            for (; k < splits.size() && splits[k].seg == j;) {
                 const double t = splits[k].t;
-                if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) split_at_start = true;
+                const std::size_t k0 = k;
+                while (k < splits.size() && splits[k].seg == j && splits[k].t == t) ++k;  // all crossings here
+                if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) {
+                    split_at_start = true;
+                    for (std::size_t i = k0; i < k; ++i) wrap.push_back({j, splits[i].occluder, t});
+                }
                 if (t >= 1.0) continue;  // the end of the run: nothing follows
                 if (t > t0) add_span(t);
                 if (cur_spans.empty()) continue;  // nothing to cut yet (split at the run start)
                 emit();
+                linked = true;
+                for (std::size_t i = k0; i < k; ++i) pending.push_back({j, splits[i].occluder, t});
                 cur.points.push_back(s.a + t * (s.b - s.a));
                 t0 = t;
             }
@@ -172,10 +226,11 @@ VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& featu
 
         // A closed curve that was not cut at its start vertex: the last piece continues the first
         // (a loop from a junction or cusp back to it is not closed: the QI can change there).
-        const std::size_t np = out.pieces.size() - first_piece;
+        const std::uint32_t np = std::uint32_t(out.pieces.size()) - first_piece;
         const bool unbroken = segs.size() == curve.edges.size() &&
                               std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
                               segs.back().B == segs.front().A;
+        const std::uint32_t last_piece = first_piece + np - 1;
         if (curve.closed && unbroken && np >= 2 && !split_at_start) {
             Piece& first = out.pieces[first_piece];
             Piece last = std::move(out.pieces.back());
@@ -186,39 +241,75 @@ VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& featu
             last_spans.insert(last_spans.end(), out.spans[first_piece].begin(), out.spans[first_piece].end());
             first.points = std::move(last.points);
             out.spans[first_piece] = std::move(last_spans);
+            for (std::size_t l = first_link; l < g.links.size(); ++l)
+                if (g.links[l].after == last_piece) g.links[l].after = first_piece;
+        } else if (np >= 1 && curve.closed && unbroken) {
+            // Cut at its start: the last piece goes on into the first across those crossings.
+            const std::uint32_t l = std::uint32_t(g.links.size());
+            g.links.push_back({last_piece, first_piece});
+            for (const Pending& c : wrap) g.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+        } else if (np >= 1) {
+            // Curve ends at vertices (junctions, cusps, ends of open lines), where not clipped.
+            if (segs.front().A == mesh.positions[curve.vertices.front()])
+                g.ends.push_back({first_piece, curve.vertices.front(), curve.edges.front()});
+            if (segs.back().B == mesh.positions[curve.vertices.back()])
+                g.ends.push_back({last_piece, curve.vertices.back(), curve.edges.back()});
+        }
+        // Crossings in 3D: the curve's segment in travel order, and the occluder's edge parameter.
+        for (std::size_t i = first_lc; i < g.link_crossings.size(); ++i) {
+            auto& c = g.link_crossings[i];
+            const ClipSeg& s = segs[c.seg];
+            const ClipSeg& o = occ_clip[c.occluder];
+            c.c1 = s.A;
+            c.c2 = s.B;
+            double to[2];
+            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge};
+            const double ot = segment_crossings(occluders[c.occluder], q, to) > 0 ? to[0] : 0.5;
+            c.occluder_s = o.sA + to_3d(camera, o, ot) * (o.sB - o.sA);
+            c.occluder_edge = occluders[c.occluder].edge;
         }
     }
-
-    // One ray test per piece, at the middle of its longest stretch in the image.
     out.pieces.shrink_to_fit();
+    return g;
+}
+
+int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& rays, const Piece& piece,
+              const std::vector<EdgeSpan>& spans) {
+    // At the middle of the piece's longest stretch in the image.
+    const auto& pts = piece.points;
+    std::size_t best = 0;
+    double best_len = -1.0;
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+        const double len = glm::length(pts[i + 1] - pts[i]);
+        if (len > best_len) {
+            best_len = len;
+            best = i;
+        }
+    }
+    // The image midpoint of that stretch, found on the mesh edge (perspective-correct).
+    const EdgeSpan& sp = spans[best];
+    const auto [v0, v1] = mesh.edge_vertex[sp.edge];
+    const glm::dvec3 E0 = mesh.positions[v0], E1 = mesh.positions[v1];
+    const glm::dvec3 P0 = E0 + sp.s0 * (E1 - E0), P1 = E0 + sp.s1 * (E1 - E0);
+    double u = 0.5;
+    if (!camera.is_ortho()) {
+        const double z0 = camera.depth(P0), z1 = camera.depth(P1);
+        u = 0.5 * z0 / (0.5 * z1 + 0.5 * z0);
+    }
+    const glm::dvec3 P = P0 + u * (P1 - P0);
+    const auto [f0, f1] = mesh.edge_face[sp.edge];
+    return rays.count_layers(camera.ray_origin(P), P, f0, f1);
+}
+
+VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                                 const RayCaster& rays) {
+    PieceGraph g = build_pieces(mesh, features, camera);
+    VisibleCurves& out = g.curves;  // the reference: one ray test per piece
     for (std::size_t p = 0; p < out.pieces.size(); ++p) {
-        const auto& spans = out.spans[p];
-        const auto& pts = out.pieces[p].points;
-        std::size_t best = 0;
-        double best_len = -1.0;
-        for (std::size_t i = 0; i < spans.size(); ++i) {
-            const double len = glm::length(pts[i + 1] - pts[i]);
-            if (len > best_len) {
-                best_len = len;
-                best = i;
-            }
-        }
-        // The image midpoint of that stretch, found on the mesh edge (perspective-correct).
-        const EdgeSpan& sp = spans[best];
-        const auto [v0, v1] = mesh.edge_vertex[sp.edge];
-        const glm::dvec3 E0 = mesh.positions[v0], E1 = mesh.positions[v1];
-        const glm::dvec3 P0 = E0 + sp.s0 * (E1 - E0), P1 = E0 + sp.s1 * (E1 - E0);
-        double u = 0.5;
-        if (!camera.is_ortho()) {
-            const double z0 = camera.depth(P0), z1 = camera.depth(P1);
-            u = 0.5 * z0 / (0.5 * z1 + 0.5 * z0);
-        }
-        const glm::dvec3 P = P0 + u * (P1 - P0);
-        const auto [f0, f1] = mesh.edge_face[sp.edge];
-        out.pieces[p].qi = rays.count_layers(camera.ray_origin(P), P, f0, f1);
+        out.pieces[p].qi = qi_by_ray(mesh, camera, rays, out.pieces[p], out.spans[p]);
         ++out.ray_tests;
     }
-    return out;
+    return std::move(g.curves);
 }
 
 }  // namespace inkline

@@ -4,6 +4,7 @@
 // gives pieces in pixels with QI, and where each piece lies on the mesh edges.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -28,10 +29,46 @@ struct VisibleCurves {
     std::size_t ray_tests = 0;
 };
 
+// The pieces of a view before they get their QI, and what the fast method needs to propagate QI
+// between them: links where a curve is cut at crossings, the vertices where curves end, whether
+// geometry surrounds the camera, and the extreme points of the occluders' image.
+struct PieceGraph {
+    VisibleCurves curves;  // pieces (qi unset), spans, crossing count
+    struct Link {
+        std::uint32_t before, after;  // consecutive pieces of one curve, in travel order
+    };
+    std::vector<Link> links;
+    struct LinkCrossing {
+        std::uint32_t link;
+        std::uint32_t occluder;  // index among the view's occluding segments
+        std::uint32_t seg;       // segment of the curve (internal)
+        double t;                // image parameter along it
+        glm::dvec3 c1{0.0}, c2{0.0};     // the curve's segment in 3D, in travel order
+        std::uint32_t occluder_edge = 0;  // mesh edge of the occluder
+        double occluder_s = 0.0;          // where on it (edge parameter)
+        int delta = 0;                    // change of QI across it (set by the fast method)
+    };
+    std::vector<LinkCrossing> link_crossings;
+    struct End {
+        std::uint32_t piece, vertex, edge;  // a piece ending at a curve's end vertex, on this edge
+    };
+    std::vector<End> ends;
+    bool immersive = false;  // geometry at or behind the near plane
+    std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
+};
+
+// Clips, projects and splits the curves at every crossing (no QI yet).
+PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera);
+
+// QI of one piece by a ray test at the image midpoint of its longest stretch.
+int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& rays, const Piece& piece,
+              const std::vector<EdgeSpan>& spans);
+
 // Default near plane of a camera for this model: 1e-6 of the model's half diagonal in front of
 // the eye plane (geometry closer than that is clipped, as in any graphics pipeline).
 double default_near(const MeshTopology& mesh);
 
+// The reference method: one ray test per piece.
 VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
                                  const RayCaster& rays);
 

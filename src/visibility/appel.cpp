@@ -1,0 +1,310 @@
+#include "visibility/appel.hpp"
+
+#include <algorithm>
+#include <glm/geometric.hpp>
+
+#include "core/predicates.hpp"
+
+namespace inkline {
+namespace {
+
+// Weighted union-find: value(x) = value(find(x)) + offset(x); unite(a, b, d) records
+// value(b) - value(a) = d and reports a contradiction with what is already known.
+class OffsetForest {
+public:
+    explicit OffsetForest(std::size_t n) : parent_(n), diff_(n, 0) {
+        for (std::size_t i = 0; i < n; ++i) parent_[i] = std::uint32_t(i);
+    }
+    std::uint32_t find(std::uint32_t x) {
+        std::uint32_t r = x;
+        int d = 0;
+        while (parent_[r] != r) d += diff_[r], r = parent_[r];
+        // path compression, keeping offsets relative to the root
+        while (parent_[x] != r) {
+            const std::uint32_t next = parent_[x];
+            const int dx = diff_[x];
+            parent_[x] = r;
+            diff_[x] = d;
+            d -= dx;
+            x = next;
+        }
+        return r;
+    }
+    int offset(std::uint32_t x) {
+        find(x);
+        return parent_[x] == x ? 0 : diff_[x];
+    }
+    bool unite(std::uint32_t a, std::uint32_t b, int d) {
+        const std::uint32_t ra = find(a), rb = find(b);
+        const int oa = offset(a), ob = offset(b);
+        if (ra == rb) return ob - oa == d;
+        // value(b) = value(a) + d  =>  value(rb) = value(ra) + oa + d - ob
+        parent_[rb] = ra;
+        diff_[rb] = oa + d - ob;
+        return true;
+    }
+
+private:
+    std::vector<std::uint32_t> parent_;
+    std::vector<int> diff_;
+};
+
+glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint32_t edge) {
+    const auto& f = mesh.faces[face];
+    const auto& ev = mesh.edge_vertex[edge];
+    for (std::uint32_t v : f)
+        if (v != ev[0] && v != ev[1]) return mesh.positions[v];
+    return mesh.positions[f[0]];
+}
+
+}  // namespace
+
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, std::uint32_t v, std::uint32_t edge) {
+    const auto& ev = mesh.edge_vertex[edge];
+    const glm::dvec3& V = mesh.positions[v];
+    const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
+    int count = 0;
+    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+        const std::uint32_t g = mesh.vertex_edges[k];
+        // each face around v once: the one traversing g away from v
+        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
+        if (f == kNoFace || f == mesh.edge_face[edge][0] || f == mesh.edge_face[edge][1]) continue;
+        const auto& c = mesh.faces[f];
+        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+        const glm::dvec3& A = mesh.positions[c[(i + 1) % 3]];
+        const glm::dvec3& B = mesh.positions[c[(i + 2) % 3]];
+        // The eye and the points of the edge near V on opposite sides of the face's plane ...
+        const int eye_side = orient_eye(camera, V, A, B), edge_side = orient3(V, A, B, W);
+        if (eye_side == 0 || edge_side == 0 || eye_side == edge_side) continue;
+        // ... and the line of sight through them inside the face's corner at V: W seen between
+        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each.
+        const int wa = orient_eye(camera, V, A, W), ba = orient_eye(camera, V, A, B);
+        const int wb = orient_eye(camera, V, B, W), ab = orient_eye(camera, V, B, A);
+        if (wa != 0 && wa == ba && wb != 0 && wb == ab) ++count;
+    }
+    return count;
+}
+
+int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t occluder, const glm::dvec3& c1,
+                   const glm::dvec3& c2) {
+    const glm::dvec3& O1 = mesh.positions[mesh.edge_vertex[occluder][0]];
+    const glm::dvec3& O2 = mesh.positions[mesh.edge_vertex[occluder][1]];
+    // The occluder's line meets the line of sight at O, the curve at C. With P a plane through the
+    // occluder and one curve end (not in the plane of the eye and the occluder), O lies between the
+    // eye and C exactly when the eye and C are on opposite sides of P.
+    int s1 = orient_eye(camera, O1, O2, c1), s2 = orient_eye(camera, O1, O2, c2);
+    bool in_front;
+    if (s1 != 0) {
+        const int c = orient3(O1, O2, c1, c2);
+        in_front = c != 0 && s1 == -c;
+    } else {
+        const int c = orient3(O1, O2, c2, c1);
+        in_front = c != 0 && s2 == -c;
+    }
+    if (!in_front) return 0;
+    // The curve enters the side of the occluder's image where its face(s) lie: more layers.
+    const std::uint32_t f0 = mesh.edge_face[occluder][0];
+    const int face_side = orient_eye(camera, O1, O2, third_vertex(mesh, f0, occluder));
+    const int after = s2 != 0 ? s2 : -s1;
+    const int k = mesh.edge_face[occluder][1] == kNoFace ? 1 : 2;
+    return after == face_side ? k : -k;
+}
+
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
+                           const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
+                           const AppelOptions& options) {
+    AppelStats st;
+    const RayCaster* rc = nullptr;
+    auto ray_qi = [&](std::uint32_t p) {
+        if (!rc) rc = &ray_index();
+        ++st.ray_tests;
+        return qi_by_ray(mesh, camera, *rc, graph.curves.pieces[p], graph.curves.spans[p]);
+    };
+    auto& pieces = graph.curves.pieces;
+    const auto& spans = graph.curves.spans;
+    const std::uint32_t np = std::uint32_t(pieces.size());
+    if (graph.immersive) {  // geometry around the camera: propagation has no base; reference method
+        for (std::uint32_t p = 0; p < np; ++p) pieces[p].qi = ray_qi(p);
+        return st;
+    }
+
+    // Nodes: pieces, then one per vertex where curves end.
+    std::vector<std::uint32_t> verts;
+    verts.reserve(graph.ends.size());
+    for (const auto& e : graph.ends) verts.push_back(e.vertex);
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    auto vnode = [&](std::uint32_t v) {
+        return np + std::uint32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin());
+    };
+    const std::uint32_t nn = np + std::uint32_t(verts.size());
+    OffsetForest forest(nn);
+    std::vector<std::uint8_t> bad(nn, 0);  // contradiction recorded at this node
+
+    // Along curves: the change behind occluders in front.
+    std::vector<int> link_delta(graph.links.size(), 0);
+    for (auto& c : graph.link_crossings) {
+        c.delta = crossing_delta(mesh, camera, c.occluder_edge, c.c1, c.c2);
+        link_delta[c.link] += c.delta;
+    }
+    for (std::size_t l = 0; l < graph.links.size(); ++l)
+        if (!forest.unite(graph.links[l].before, graph.links[l].after, link_delta[l])) bad[graph.links[l].after] = 1;
+    // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion.
+    for (const auto& e : graph.ends)
+        if (!forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, e.vertex, e.edge))) bad[e.piece] = 1;
+
+    // Clusters.
+    std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
+    std::vector<int> off(nn);
+    for (std::uint32_t x = 0; x < nn; ++x) {
+        const std::uint32_t r = forest.find(x);
+        if (root_comp[r] == UINT32_MAX) root_comp[r] = std::uint32_t(st.clusters++);
+        comp[x] = root_comp[r];
+        off[x] = forest.offset(x);
+    }
+    const std::size_t nc = st.clusters;
+    enum : std::uint8_t { kBound = 0, kFixed = 1, kInconsistent = 2 };
+    std::vector<std::uint8_t> state(nc, kBound);
+    std::vector<int> base(nc, 0), min_off(nc, 1 << 30);
+    for (std::uint32_t x = 0; x < nn; ++x) {
+        min_off[comp[x]] = std::min(min_off[comp[x]], off[x]);
+        if (bad[x]) state[comp[x]] = kInconsistent;
+    }
+    for (std::size_t c = 0; c < nc; ++c) base[c] = -min_off[c];  // lower bound: no QI below 0
+    if (options.pierced_faces) {
+        const auto& pf = *options.pierced_faces;
+        for (std::uint32_t p = 0; p < np; ++p)
+            for (const EdgeSpan& s : spans[p]) {
+                const auto [f0, f1] = mesh.edge_face[s.edge];
+                if (state[comp[p]] != kInconsistent && (pf[f0] || (f1 != kNoFace && pf[f1]))) {
+                    state[comp[p]] = kInconsistent;
+                    ++st.pierced;
+                }
+            }
+    }
+
+    // Bounding-box rule: the extreme points of all occluding edges are visible.
+    auto fix = [&](std::uint32_t node, int value) {
+        const std::uint32_t c = comp[node];
+        if (state[c] == kInconsistent) return;
+        if (state[c] == kFixed && base[c] != value - off[node]) {
+            state[c] = kInconsistent;
+            return;
+        }
+        if (state[c] != kFixed) ++st.clusters_bbox;
+        state[c] = kFixed;
+        base[c] = value - off[node];
+    };
+    for (std::uint32_t v : graph.extreme_vertices) {
+        if (v == UINT32_MAX) continue;
+        if (std::binary_search(verts.begin(), verts.end(), v)) {
+            fix(vnode(v), 0);
+            continue;
+        }
+        for (std::uint32_t p = 0; p < np; ++p)
+            for (const EdgeSpan& s : spans[p]) {
+                const auto& ev = mesh.edge_vertex[s.edge];
+                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+            }
+    }
+
+    // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd.
+    const bool parity = mesh.closed;
+    if (parity) {
+        std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
+        for (std::uint32_t p = 0; p < np; ++p) {
+            if (pieces[p].kind != LineKind::Silhouette) continue;
+            const std::uint32_t c = comp[p];
+            const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
+            const std::int8_t w = std::int8_t(((par - off[p]) % 2 + 2) % 2);
+            if (want[c] < 0) want[c] = w;
+            else if (want[c] != w) state[c] = kInconsistent;
+        }
+        for (std::size_t c = 0; c < nc; ++c)
+            if (want[c] >= 0 && ((base[c] % 2 + 2) % 2) != want[c]) {
+                if (state[c] == kFixed) state[c] = kInconsistent;
+                else if (state[c] == kBound) base[c] += 1;
+            }
+    }
+
+    // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both sides.
+    // Occluder pieces are found from the spans on the occluder's edge.
+    struct EdgePiece {
+        std::uint32_t edge, piece;
+        double s0, s1;
+    };
+    std::vector<EdgePiece> by_edge;
+    for (std::uint32_t p = 0; p < np; ++p)
+        for (const EdgeSpan& s : spans[p]) by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+    std::sort(by_edge.begin(), by_edge.end(), [](const EdgePiece& a, const EdgePiece& b) {
+        return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
+    });
+    auto piece_at = [&](std::uint32_t edge, double s) -> std::uint32_t {
+        auto it = std::lower_bound(by_edge.begin(), by_edge.end(), edge,
+                                   [](const EdgePiece& a, std::uint32_t e) { return a.edge < e; });
+        std::uint32_t best = UINT32_MAX;
+        double best_d = 1e300;
+        for (; it != by_edge.end() && it->edge == edge; ++it) {
+            const double d = s < it->s0 ? it->s0 - s : s > it->s1 ? s - it->s1 : 0.0;
+            if (d < best_d) best_d = d, best = it->piece;
+        }
+        return best;
+    };
+    auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
+    for (const auto& c : graph.link_crossings) {
+        if (c.delta == 0) continue;
+        const std::uint32_t op = piece_at(c.occluder_edge, c.occluder_s);
+        if (op == UINT32_MAX || comp[op] == comp[graph.links[c.link].before]) continue;
+        constraints.push_back({op, c.link});
+    }
+    // (Raises only go up and are bounded by consistent data; the round limit guards against
+    // contradictory input from non-generic views.)
+    for (std::size_t round = 0, changed = 1; changed && round < nc + 2; ++round) {
+        changed = 0;
+        for (const auto& [op, l] : constraints) {
+            const std::uint32_t c = comp[graph.links[l].before];
+            if (state[c] != kBound) continue;
+            const int n = value(op), m = std::min(value(graph.links[l].before), value(graph.links[l].after));
+            if (m >= n) continue;
+            int raise = n - m;
+            if (parity) raise += raise % 2;
+            base[c] += raise;
+            changed = 1;
+        }
+    }
+
+    // What is still unknown: a ray test at one piece of the cluster (the longest).
+    std::vector<std::uint32_t> rep(nc, UINT32_MAX);
+    std::vector<double> rep_len(nc, -1.0);
+    std::vector<int> min_piece(nc, 1 << 30);
+    for (std::uint32_t p = 0; p < np; ++p) {
+        const std::uint32_t c = comp[p];
+        min_piece[c] = std::min(min_piece[c], value(p));
+        double len = 0.0;
+        const auto& pts = pieces[p].points;
+        for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
+        if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
+    }
+    for (std::size_t c = 0; c < nc; ++c) {
+        if (state[c] != kBound || rep[c] == UINT32_MAX) continue;
+        if (min_piece[c] > 0) {
+            ++st.clusters_occluded;
+            if (!options.exact_hidden) continue;
+        }
+        const std::uint32_t p = rep[c];
+        base[c] = ray_qi(p) - off[p];
+        state[c] = kFixed;
+    }
+    for (std::uint32_t p = 0; p < np; ++p) {
+        if (state[comp[p]] == kInconsistent) {
+            pieces[p].qi = ray_qi(p);
+        } else {
+            pieces[p].qi = value(p);
+        }
+    }
+    for (std::size_t c = 0; c < nc; ++c) st.inconsistent += state[c] == kInconsistent;
+    return st;
+}
+
+}  // namespace inkline

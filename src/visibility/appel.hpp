@@ -1,0 +1,53 @@
+// QI by propagation (Markosian et al. 97, sections 4.2-4.5): the fast visibility.
+// Takes the pieces of the view with the links between them (where a curve crosses behind an
+// occluding edge, where curves meet at a vertex); gives every piece its QI from a base QI per
+// cluster, fixed by the bounding-box rule, lower bound and parity, constraints between clusters,
+// and ray tests only for what stays unknown (counted).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/camera.hpp"
+#include "features/features.hpp"
+#include "model/topology.hpp"
+#include "visibility/ray_caster.hpp"
+#include "visibility/visibility.hpp"
+
+namespace inkline {
+
+struct AppelOptions {
+    // Totally occluded clusters get their exact QI (a ray test each) only when hidden lines are
+    // drawn; otherwise their lower bound (> 0) is enough to leave them out.
+    bool exact_hidden = true;
+    // Per face: intersects another face (model/self_intersections.hpp). Clusters with a curve on
+    // such a face get a ray test per piece: passing through a face changes QI unseen.
+    const std::vector<std::uint8_t>* pierced_faces = nullptr;
+};
+
+struct AppelStats {
+    std::size_t clusters = 0;
+    std::size_t clusters_bbox = 0;      // fixed by the bounding-box rule
+    std::size_t clusters_occluded = 0;  // proved totally occluded by lower bound, parity, constraints
+    std::size_t ray_tests = 0;
+    std::size_t walks = 0;
+    std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
+    std::size_t pierced = 0;            // clusters on self-intersecting faces
+};
+
+// Local change of QI at a vertex: the number of faces around `vertex` (other than the faces of
+// `edge`) that hide the points of `edge` infinitesimally close to the vertex. Exact predicates.
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, std::uint32_t vertex, std::uint32_t edge);
+
+// Change of QI of a curve going from c1 to c2 (its segment, in 3D) behind occluding edge `occluder`
+// (silhouette: +-2, border: +-1), or 0 when the occluder is not in front of the curve there.
+int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t occluder, const glm::dvec3& c1,
+                   const glm::dvec3& c2);
+
+// Assigns pieces[i].qi for every piece of `graph`.
+// `rays` gives the ray-test index, called only if a ray test is needed (it may build it).
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
+                           const std::function<const RayCaster&()>& rays, PieceGraph& graph,
+                           const AppelOptions& options = {});
+
+}  // namespace inkline
