@@ -1,4 +1,4 @@
-// Time per stage of one frame (features, visibility by ray tests) on the sample meshes with the
+// Time per stage of one frame (features; features + visibility by ray tests or by propagation) on the sample meshes with the
 // default camera. Usage: bench_frame [--benchmark_filter=...]; meshes come from INKLINE_DATA_DIR.
 #include <benchmark/benchmark.h>
 
@@ -21,6 +21,7 @@ const inkline::Model* model(const std::string& name) {
         if (!std::filesystem::exists(path)) return nullptr;
         m = std::make_unique<inkline::Model>(inkline::Model::load(path));
         m->rays();
+        m->self_intersecting_faces();
     }
     return m.get();
 }
@@ -33,26 +34,34 @@ void BM_Features(benchmark::State& state, const char* name) {
     state.counters["triangles"] = double(m->topology().face_count());
 }
 
-void BM_FrameRays(benchmark::State& state, const char* name) {
+// A full frame (features + visibility, no drawing) with one visibility method.
+void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMethod method) {
     const auto* m = model(name);
     if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
     const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
-    std::size_t sil = 0, rays = 0;
+    inkline::ViewOptions opt;
+    opt.visibility = method;
+    std::size_t sil = 0, rays = 0, pieces = 0;
     for (auto _ : state) {
-        auto v = inkline::render_view(*m, cam);
+        auto v = inkline::render_view(*m, cam, opt);
+        pieces = v.drawing.stats.pieces;
         sil = v.drawing.stats.silhouette_edges;
         rays = v.drawing.stats.ray_tests;
         benchmark::DoNotOptimize(v);
     }
     state.counters["silhouette_edges"] = double(sil);
     state.counters["ray_tests"] = double(rays);
+    state.counters["pieces"] = double(pieces);
     state.counters["sil_edges_per_s"] = benchmark::Counter(double(sil), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 int reg = [] {
     for (const char* n : kMeshes) {
         benchmark::RegisterBenchmark((std::string("features/") + n).c_str(), BM_Features, n)->Unit(benchmark::kMillisecond);
-        benchmark::RegisterBenchmark((std::string("frame_rays/") + n).c_str(), BM_FrameRays, n)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("frame_rays/") + n).c_str(), BM_Frame, n,
+                                     inkline::VisibilityMethod::Rays)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("frame_appel/") + n).c_str(), BM_Frame, n,
+                                     inkline::VisibilityMethod::Appel)->Unit(benchmark::kMillisecond);
     }
     return 0;
 }();
