@@ -141,17 +141,32 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
     OffsetForest forest(nn);
     std::vector<std::uint8_t> bad(nn, 0);  // contradiction recorded at this node
 
+    // Pieces on faces that cut through other faces: the QI can change inside them unseen, so they
+    // take no part in propagation (each gets its own ray test).
+    std::vector<std::uint8_t> pierced(np, 0);
+    if (options.pierced_faces) {
+        const auto& pf = *options.pierced_faces;
+        for (std::uint32_t p = 0; p < np; ++p)
+            for (const EdgeSpan& s : spans[p]) {
+                const auto [f0, f1] = mesh.edge_face[s.edge];
+                if (pf[f0] || (f1 != kNoFace && pf[f1])) pierced[p] = 1;
+            }
+    }
+
     // Along curves: the change behind occluders in front.
     std::vector<int> link_delta(graph.links.size(), 0);
     for (auto& c : graph.link_crossings) {
         c.delta = crossing_delta(mesh, camera, c.occluder_edge, c.c1, c.c2);
         link_delta[c.link] += c.delta;
     }
-    for (std::size_t l = 0; l < graph.links.size(); ++l)
-        if (!forest.unite(graph.links[l].before, graph.links[l].after, link_delta[l])) bad[graph.links[l].after] = 1;
+    for (std::size_t l = 0; l < graph.links.size(); ++l) {
+        const auto [b, a] = graph.links[l];
+        if (pierced[b] || pierced[a]) continue;
+        if (!forest.unite(b, a, link_delta[l])) bad[a] = 1;
+    }
     // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion.
     for (const auto& e : graph.ends)
-        if (!forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, e.vertex, e.edge))) bad[e.piece] = 1;
+        if (!pierced[e.piece] && !forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, e.vertex, e.edge))) bad[e.piece] = 1;
 
     // Clusters.
     std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
@@ -171,17 +186,11 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
         if (bad[x]) state[comp[x]] = kInconsistent;
     }
     for (std::size_t c = 0; c < nc; ++c) base[c] = -min_off[c];  // lower bound: no QI below 0
-    if (options.pierced_faces) {
-        const auto& pf = *options.pierced_faces;
-        for (std::uint32_t p = 0; p < np; ++p)
-            for (const EdgeSpan& s : spans[p]) {
-                const auto [f0, f1] = mesh.edge_face[s.edge];
-                if (state[comp[p]] != kInconsistent && (pf[f0] || (f1 != kNoFace && pf[f1]))) {
-                    state[comp[p]] = kInconsistent;
-                    ++st.pierced;
-                }
-            }
-    }
+    for (std::uint32_t p = 0; p < np; ++p)
+        if (pierced[p]) {
+            state[comp[p]] = kInconsistent;
+            ++st.pierced;
+        }
 
     // Bounding-box rule: the extreme points of all occluding edges are visible.
     auto fix = [&](std::uint32_t node, int value) {

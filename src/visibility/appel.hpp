@@ -20,8 +20,8 @@ struct AppelOptions {
     // Totally occluded clusters get their exact QI (a ray test each) only when hidden lines are
     // drawn; otherwise their lower bound (> 0) is enough to leave them out.
     bool exact_hidden = true;
-    // Per face: intersects another face (model/self_intersections.hpp). Clusters with a curve on
-    // such a face get a ray test per piece: passing through a face changes QI unseen.
+    // Per face: intersects another face (model/self_intersections.hpp). Pieces on such a face get
+    // a ray test each and are kept out of propagation: passing through a face changes QI unseen.
     const std::vector<std::uint8_t>* pierced_faces = nullptr;
 };
 
@@ -32,7 +32,7 @@ struct AppelStats {
     std::size_t ray_tests = 0;
     std::size_t walks = 0;
     std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
-    std::size_t pierced = 0;            // clusters on self-intersecting faces
+    std::size_t pierced = 0;            // pieces on self-intersecting faces
 };
 
 // Local change of QI at a vertex: the number of faces around `vertex` (other than the faces of
