@@ -15,16 +15,20 @@ int orient3(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const
     return int(CGAL::orientation(cgal(a), cgal(b), cgal(c), cgal(d)));
 }
 
-// A floating-point evaluation decides when its value exceeds a forward error bound (36 units in
-// the last place of the permanent, several times the worst case of the 2 subtractions, 2 products
-// and 5 additions per term); otherwise the determinant is recomputed in exact rational arithmetic.
+// A floating-point evaluation decides
+// when its value exceeds a forward error bound (36 units in the last place of the permanent,
+// several times the worst case of the 2 subtractions, 2 products and 5 additions per term, plus
+// an absolute term for products that fall into the subnormal range, where the relative bound
+// fails: each of the 12 products then errs by up to 2^-1075, scaled by |w| for the first);
+// otherwise the determinant is recomputed in exact rational arithmetic.
 int orient3_dir(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& w) {
     const glm::dvec3 e = b - a, g = c - a;
     const double t0 = e.y * g.z * w.x, t1 = e.z * g.y * w.x, t2 = e.z * g.x * w.y, t3 = e.x * g.z * w.y,
                  t4 = e.x * g.y * w.z, t5 = e.y * g.x * w.z;
     const double det = (t0 - t1) + (t2 - t3) + (t4 - t5);
     const double perm = std::abs(t0) + std::abs(t1) + std::abs(t2) + std::abs(t3) + std::abs(t4) + std::abs(t5);
-    const double bound = 36.0 * 1.1102230246251565e-16 * perm;
+    const double underflow = 0x1p-1066 * (1.0 + std::abs(w.x) + std::abs(w.y) + std::abs(w.z));
+    const double bound = 36.0 * 1.1102230246251565e-16 * perm + underflow;
     if (det > bound) return 1;
     if (det < -bound) return -1;
     using Q = CGAL::Exact_rational;
