@@ -1,5 +1,10 @@
 #include "features/features.hpp"
 
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
 #include "core/predicates.hpp"
 
 namespace inkline {
@@ -14,7 +19,20 @@ Features extract_features(const MeshTopology& mesh, const Camera& camera, const 
     Features out;
     const std::size_t nf = mesh.face_count(), ne = mesh.edge_count(), nv = mesh.vertex_count();
     out.face_front.resize(nf);
-    for (std::uint32_t f = 0; f < nf; ++f) out.face_front[f] = face_is_front(mesh, f, camera) ? 1 : 0;
+    // Float filter: with n = cross(b - a, c - a) rounded (each component within 4 eps of its
+    // permanent p), dot(n, eye) - dot(n, a) errs by less than 16 eps (dot(p, |eye|) + dot(p, |a|)),
+    // plus an absolute term for products in the subnormal range; for an orthographic camera the
+    // eye term is dot(n, -forward) alone. Undecided faces go to the exact predicate.
+    constexpr double kEps = 1.1102230246251565e-16;
+    const bool ortho = camera.is_ortho();
+    const glm::dvec3 eye = ortho ? -camera.forward() : camera.eye();
+    const glm::dvec3 aeye = glm::abs(eye);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        const MeshTopology::FacePlane& q = mesh.face_planes[f];
+        const double det = glm::dot(q.n, eye) - (ortho ? 0.0 : q.k);
+        const double bound = 16.0 * kEps * (glm::dot(q.p, aeye) + (ortho ? 0.0 : q.pa)) + 0x1p-1060;
+        out.face_front[f] = det > bound ? 1 : det < -bound ? 0 : (face_is_front(mesh, f, camera) ? 1 : 0);
+    }
 
     out.edge_kind.assign(ne, kNoKind);
     for (std::uint32_t e = 0; e < ne; ++e) {

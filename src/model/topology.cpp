@@ -38,10 +38,15 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
 
     t.face_normals.resize(nf);
     t.face_offsets.resize(nf);
+    t.face_planes.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) {
         const auto& v = t.faces[f];
-        const glm::dvec3 n = glm::cross(t.positions[v[1]] - t.positions[v[0]],
-                                        t.positions[v[2]] - t.positions[v[0]]);
+        const glm::dvec3 e = t.positions[v[1]] - t.positions[v[0]], g = t.positions[v[2]] - t.positions[v[0]];
+        const glm::dvec3 n = glm::cross(e, g);
+        const glm::dvec3 a = t.positions[v[0]];
+        const glm::dvec3 p{std::abs(e.y * g.z) + std::abs(e.z * g.y), std::abs(e.z * g.x) + std::abs(e.x * g.z),
+                           std::abs(e.x * g.y) + std::abs(e.y * g.x)};
+        t.face_planes[f] = {n, glm::dot(n, a), p, glm::dot(p, glm::abs(a))};
         const double len = glm::length(n);
         t.face_normals[f] = len > 0.0 ? n / len : glm::dvec3(0.0);
         t.face_offsets[f] = glm::dot(t.face_normals[f], t.positions[v[0]]);

@@ -31,6 +31,17 @@ struct MeshTopology {
     std::vector<std::array<std::uint32_t, 3>> face_edges;  // edge of corner k: (faces[k], faces[k+1])
     std::vector<glm::dvec3> face_normals;                  // unit (zero for degenerate faces)
     std::vector<double> face_offsets;                      // plane: dot(normal, x) = offset
+    // Facing filter, contiguous per face: the plane (n, k) with n = cross(b - a, c - a) in double
+    // and k = dot(n, a), and the error scale (p, pa): p the permanent of n (per component, the sum
+    // of the absolute products), pa = dot(p, |a|). orientation(a, b, c, eye) has the sign of
+    // dot(n, eye) - k wherever that exceeds its forward error bound (features.cpp).
+    struct FacePlane {
+        glm::dvec3 n;
+        double k;
+        glm::dvec3 p;
+        double pa;
+    };
+    std::vector<FacePlane> face_planes;
 
     // Edges (structure of arrays). edge_face[e][0] traverses edge_vertex[e][0] -> [1].
     std::vector<std::array<std::uint32_t, 2>> edge_vertex;

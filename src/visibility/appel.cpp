@@ -59,7 +59,8 @@ glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint3
 
 }  // namespace
 
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, std::uint32_t v, std::uint32_t edge) {
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+                    std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
     const glm::dvec3& V = mesh.positions[v];
     const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
@@ -73,9 +74,11 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, std::uint32_
         const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
         const glm::dvec3& A = mesh.positions[c[(i + 1) % 3]];
         const glm::dvec3& B = mesh.positions[c[(i + 2) % 3]];
-        // The eye and the points of the edge near V on opposite sides of the face's plane ...
-        const int eye_side = orient_eye(camera, V, A, B), edge_side = orient3(V, A, B, W);
-        if (eye_side == 0 || edge_side == 0 || eye_side == edge_side) continue;
+        // The eye and the points of the edge near V on opposite sides of the face's plane (the
+        // eye's side is the face's facing, known; only "not front" needs the exact test for 0) ...
+        const int edge_side = orient3(V, A, B, W);
+        if (edge_side == 0 || (edge_side > 0) == bool(face_front[f])) continue;
+        if (edge_side > 0 && orient_eye(camera, V, A, B) == 0) continue;
         // ... and the line of sight through them inside the face's corner at V: W seen between
         // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each.
         const int wa = orient_eye(camera, V, A, W), ba = orient_eye(camera, V, A, B);
@@ -110,7 +113,7 @@ int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t
     return after == face_side ? k : -k;
 }
 
-AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
                            const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
                            const AppelOptions& options) {
     AppelStats st;
@@ -166,7 +169,9 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
     }
     // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion.
     for (const auto& e : graph.ends)
-        if (!pierced[e.piece] && !forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, e.vertex, e.edge))) bad[e.piece] = 1;
+        if (!pierced[e.piece] &&
+            !forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, face_front, e.vertex, e.edge)))
+            bad[e.piece] = 1;
 
     // Clusters.
     std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
@@ -242,9 +247,16 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
         std::uint32_t edge, piece;
         double s0, s1;
     };
+    std::vector<std::uint32_t> queried;  // occluder edges of crossings between clusters
+    for (const auto& c : graph.link_crossings)
+        if (c.delta != 0) queried.push_back(c.occluder_edge);
+    std::sort(queried.begin(), queried.end());
+    queried.erase(std::unique(queried.begin(), queried.end()), queried.end());
     std::vector<EdgePiece> by_edge;
     for (std::uint32_t p = 0; p < np; ++p)
-        for (const EdgeSpan& s : spans[p]) by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+        for (const EdgeSpan& s : spans[p])
+            if (std::binary_search(queried.begin(), queried.end(), s.edge))
+                by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
     std::sort(by_edge.begin(), by_edge.end(), [](const EdgePiece& a, const EdgePiece& b) {
         return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
     });

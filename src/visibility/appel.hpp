@@ -37,7 +37,9 @@ struct AppelStats {
 
 // Local change of QI at a vertex: the number of faces around `vertex` (other than the faces of
 // `edge`) that hide the points of `edge` infinitesimally close to the vertex. Exact predicates.
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, std::uint32_t vertex, std::uint32_t edge);
+// `face_front` is the view's facing (Features::face_front).
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+                    std::uint32_t vertex, std::uint32_t edge);
 
 // Change of QI of a curve going from c1 to c2 (its segment, in 3D) behind occluding edge `occluder`
 // (silhouette: +-2, border: +-1), or 0 when the occluder is not in front of the curve there.
@@ -46,7 +48,7 @@ int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t
 
 // Assigns pieces[i].qi for every piece of `graph`.
 // `rays` gives the ray-test index, called only if a ray test is needed (it may build it).
-AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera,
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
                            const std::function<const RayCaster&()>& rays, PieceGraph& graph,
                            const AppelOptions& options = {});
 

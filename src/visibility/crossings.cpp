@@ -37,6 +37,10 @@ Q qcross(glm::dvec2 p, glm::dvec2 o, glm::dvec2 a, glm::dvec2 b) {  // (p - o) x
 int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
     if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
     if (q.a == q.b || o.a == o.b) return 0;
+    // Disjoint bounding boxes (comparisons of the inputs: exact) cannot meet.
+    if (std::max(q.a.x, q.b.x) < std::min(o.a.x, o.b.x) || std::max(o.a.x, o.b.x) < std::min(q.a.x, q.b.x) ||
+        std::max(q.a.y, q.b.y) < std::min(o.a.y, o.b.y) || std::max(o.a.y, o.b.y) < std::min(q.a.y, q.b.y))
+        return 0;
     const K::Point_2 qa = cgal(q.a), qb = cgal(q.b), oa = cgal(o.a), ob = cgal(o.b);
     const auto s0 = CGAL::orientation(qa, qb, oa), s1 = CGAL::orientation(qa, qb, ob);
     if (s0 != CGAL::COLLINEAR && s0 == s1) return 0;
