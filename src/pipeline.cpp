@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "model/self_intersections.hpp"
+#include "model/subdivide.hpp"
 
 namespace inkline {
 namespace {
@@ -11,9 +12,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-Model Model::load(const std::string& path, double crease_degrees) {
+Model Model::load(const std::string& path, double crease_degrees, int subdivide) {
     const auto t0 = std::chrono::steady_clock::now();
-    Model m(load_mesh(path), crease_degrees);
+    Model m(subdivide_loop(load_mesh(path), subdivide), crease_degrees);
     m.load_seconds_ = seconds_since(t0);
     return m;
 }

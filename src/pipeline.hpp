@@ -17,7 +17,8 @@ namespace inkline {
 class Model {
 public:
     // Loads and validates a mesh file (throws inkline::Error naming the file).
-    static Model load(const std::string& path, double crease_degrees = 40.0);
+    // `subdivide` rounds of Loop subdivision are applied after loading.
+    static Model load(const std::string& path, double crease_degrees = 40.0, int subdivide = 0);
     explicit Model(const TriangleMesh& mesh, double crease_degrees = 40.0);
 
     const MeshTopology& topology() const { return topo_; }

@@ -186,6 +186,8 @@ TEST(Cli, BadOptionsAndUnwritableOutput) {
         {"--lines=silhouette,hatch", "hatch"},
         {"--eye=0,0,0 --target=0,0,0", "camera"},
         {"--near=-1", "--near"},
+        {"--subdivide=1.5", "--subdivide"},
+        {"--visibility=zbuffer", "zbuffer"},
     };
     for (const auto& [flag, expect] : cases) {
         const fs::path out = d / "x.svg";

@@ -23,6 +23,7 @@
 #include "core/error.hpp"
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
+#include "model/subdivide.hpp"
 #include "model/topology.hpp"
 
 namespace fs = std::filesystem;
@@ -846,4 +847,18 @@ TEST(Topology, MergedMeshesKeepComponentsApart) {
     EXPECT_EQ(t.edge_count(), 18u + 33u);
     EXPECT_EQ(count_flag(t, inkline::kEdgeBorder), 12u);
     EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 12u);
+}
+
+// Loop subdivision (OpenMesh): each level quadruples the triangles of a closed mesh, keeps it
+// closed and outward, and moves vertices toward a smooth limit (a subdivided box shrinks inside).
+TEST(Subdivide, LoopQuadruplesAndSmooths) {
+    const inkline::TriangleMesh box = inkline::make_box({-1, -1, -1}, {1, 1, 1});
+    const inkline::TriangleMesh s1 = inkline::subdivide_loop(box, 1), s2 = inkline::subdivide_loop(box, 2);
+    EXPECT_EQ(s1.triangles.size(), 4 * box.triangles.size());
+    EXPECT_EQ(s2.triangles.size(), 16 * box.triangles.size());
+    const inkline::MeshTopology t = inkline::build_topology(s2);
+    EXPECT_TRUE(t.closed);
+    EXPECT_EQ(t.vertex_count() - t.edge_count() + t.face_count(), 2u);  // still a sphere
+    for (const auto& p : s2.positions) EXPECT_LT(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}), 1.0);
+    EXPECT_EQ(inkline::subdivide_loop(box, 0).triangles.size(), box.triangles.size());
 }

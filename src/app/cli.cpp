@@ -21,7 +21,8 @@ const char* kUsage =
     "usage: inkline render MODEL [-o OUT.{svg,pdf,png,json}] [--format=svg|pdf|png|json]\n"
     "                      [--eye=x,y,z] [--target=x,y,z] [--up=x,y,z] [--fov=DEG] [--size=WxH]\n"
     "                      [--ortho=H] [--near=D] [--crease=DEG] [--hidden]\n"
-    "                      [--lines=silhouette,crease,border] [--visibility=appel|rays] [--quiet]\n"
+    "                      [--lines=silhouette,crease,border] [--visibility=appel|rays]\n"
+    "                      [--subdivide=N] [--quiet]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n";
 
@@ -48,6 +49,7 @@ struct RenderArgs {
     std::string model, output, format;
     std::map<std::string, std::string> camera;  // flag -> value
     double crease = 40.0;
+    int subdivide = 0;
     bool hidden = false, quiet = false;
     FeatureOptions features;
     VisibilityMethod visibility = VisibilityMethod::Appel;
@@ -77,7 +79,11 @@ RenderArgs parse_render(int argc, char** argv) {
         else if (key == "--eye" || key == "--target" || key == "--up" || key == "--fov" || key == "--size" ||
                  key == "--ortho" || key == "--near")
             a.camera[key] = value;
-        else if (key == "--visibility") {
+        else if (key == "--subdivide") {
+            const double n = parse_number(key, value);
+            if (n < 0 || n > 6 || n != std::floor(n)) throw Error(key, "expected a number of levels from 0 to 6");
+            a.subdivide = int(n);
+        } else if (key == "--visibility") {
             if (value == "appel") a.visibility = VisibilityMethod::Appel;
             else if (value == "rays") a.visibility = VisibilityMethod::Rays;
             else throw Error(key, "unknown method '" + value + "' (expected appel or rays)");
@@ -154,7 +160,7 @@ int render(int argc, char** argv) {
     RenderArgs a = parse_render(argc, argv);
     const std::string out = a.output.empty() ? default_output(a.model) : a.output;
     const Format format = output_format(out, a.format);  // refuse a bad format before any work
-    Model model = Model::load(a.model, a.crease);
+    Model model = Model::load(a.model, a.crease, a.subdivide);
     const Camera cam = make_camera(a, model.topology());
     ViewOptions opt;
     opt.features = a.features;

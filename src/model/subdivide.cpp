@@ -1,0 +1,45 @@
+#include "model/subdivide.hpp"
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
+
+#include "core/error.hpp"
+
+namespace inkline {
+
+TriangleMesh subdivide_loop(const TriangleMesh& mesh, int levels) {
+    if (levels <= 0) return mesh;
+    struct Traits : OpenMesh::DefaultTraits {
+        using Point = OpenMesh::Vec3d;
+        using Normal = OpenMesh::Vec3d;
+    };
+    using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
+    Mesh m;
+    std::vector<Mesh::VertexHandle> vh;
+    vh.reserve(mesh.positions.size());
+    for (const auto& p : mesh.positions) vh.push_back(m.add_vertex({p.x, p.y, p.z}));
+    for (const auto& t : mesh.triangles)
+        if (!m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid())
+            throw Error("subdivide", "OpenMesh refused a face of a validated mesh");
+    OpenMesh::Subdivider::Uniform::LoopT<Mesh, double> loop;
+    loop.attach(m);
+    loop(std::size_t(levels));
+    loop.detach();
+    TriangleMesh out;
+    out.positions.reserve(m.n_vertices());
+    for (const auto v : m.vertices()) {
+        const auto& p = m.point(v);
+        out.positions.emplace_back(p[0], p[1], p[2]);
+    }
+    out.triangles.reserve(m.n_faces());
+    for (const auto f : m.faces()) {
+        std::array<std::uint32_t, 3> tri{};
+        int k = 0;
+        for (const auto v : m.fv_range(f)) tri[k++] = std::uint32_t(v.idx());
+        out.triangles.push_back(tri);
+    }
+    validate_mesh(out, "subdivide");
+    return out;
+}
+
+}  // namespace inkline
