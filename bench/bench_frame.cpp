@@ -45,10 +45,12 @@ void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMeth
     const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
     inkline::ViewOptions opt;
     opt.visibility = method;
-    std::size_t sil = 0, rays = 0, pieces = 0;
+    opt.exact_hidden = false;  // as `inkline render` without --hidden: visible lines
+    std::size_t sil = 0, rays = 0, pieces = 0, walks = 0;
     for (auto _ : state) {
         auto v = inkline::render_view(*m, cam, opt);
         pieces = v.drawing.stats.pieces;
+        walks = v.drawing.stats.walks;
         sil = v.drawing.stats.silhouette_edges;
         rays = v.drawing.stats.ray_tests;
         benchmark::DoNotOptimize(v);
@@ -56,6 +58,7 @@ void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMeth
     state.counters["silhouette_edges"] = double(sil);
     state.counters["ray_tests"] = double(rays);
     state.counters["pieces"] = double(pieces);
+    state.counters["walks"] = double(walks);
     state.counters["sil_edges_per_s"] = benchmark::Counter(double(sil), benchmark::Counter::kIsIterationInvariantRate);
 }
 

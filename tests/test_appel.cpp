@@ -69,13 +69,17 @@ TEST_P(RandomCameras, AppelAgreesWithRays) {
     const Model model = Model::load(path);
     std::mt19937 rng(20261122u);
     double total = 0.0, wrong = 0.0;
-    std::size_t pieces = 0, rays_appel = 0;
+    std::size_t pieces = 0, rays_appel = 0, walk_rays = 0;
     for (int k = 0; k < 24; ++k) {
         Camera cam = random_camera(rng, model.topology().bounds);
         if (k >= 20)  // orthographic from the same directions
             cam = Camera::orthographic(cam.eye(), cam.target(), cam.up(), 2.2 * model.topology().bounds.half_diagonal(),
                                        1024, 1024);
         const Agreement g = compare(model, cam);
+        // Visible lines only: walking decides enclosed clusters; visibility must still agree.
+        const Agreement gv = compare(model, cam, /*exact_hidden=*/false);
+        EXPECT_LE(gv.wrong, 0.001 * gv.total) << GetParam() << " camera " << k << " (visible lines only)";
+        walk_rays += gv.ray_tests_appel;
         total += g.total;
         wrong += g.wrong;
         pieces += g.pieces;
@@ -86,8 +90,10 @@ TEST_P(RandomCameras, AppelAgreesWithRays) {
             std::printf("[appel] %s camera %d: %.2f of %.0f px differ (eye %g,%g,%g)\n", GetParam(), k, g.wrong, g.total,
                         cam.eye().x, cam.eye().y, cam.eye().z);
     }
-    std::printf("[appel] %s: 24 cameras, %.0f px, agreement %.6f, %zu pieces, %zu ray tests with appel\n", GetParam(),
-                total, 1.0 - wrong / total, pieces, rays_appel);
+    std::printf("[appel] %s: 24 cameras, %.0f px, agreement %.6f, %zu pieces, %zu ray tests with appel "
+                "(%zu when only visible lines are drawn)\n",
+                GetParam(), total, 1.0 - wrong / total, pieces, rays_appel, walk_rays);
+    EXPECT_LE(walk_rays, rays_appel);
     EXPECT_LT(rays_appel, pieces / 2) << "propagation should spare most ray tests";
 }
 
@@ -132,12 +138,20 @@ TEST(Figure2, BranchInRearIsProvedHiddenWithoutRayTests) {
     EXPECT_EQ(exact.wrong, 0.0);
 }
 
-// Figure 2 (c): the branch in front: its silhouette is partly visible; propagation still agrees.
+// Figure 2 (c): the branch in front: its silhouette is partly visible; propagation still agrees,
+// and walking (section 4.4) proves the enclosed cluster visible without a ray test.
 TEST(Figure2, BranchInFront) {
-    const Model model(bumped_sphere({1.0, 0.0, 1.0}, 0.4, 0.35));
+    const Model model(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
     const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
     const Agreement g = compare(model, cam);
     EXPECT_EQ(g.wrong, 0.0);
+    ViewOptions o;
+    o.exact_hidden = false;
+    const View a = render_view(model, cam, o);
+    EXPECT_GE(a.drawing.stats.clusters, 2u);
+    EXPECT_GE(a.drawing.stats.walks, 1u);
+    EXPECT_EQ(a.drawing.stats.ray_tests, 0u);
+    EXPECT_EQ(compare(model, cam, false).wrong, 0.0);
     ViewOptions rays;
     rays.visibility = VisibilityMethod::Rays;
     const View r = render_view(model, cam, rays);

@@ -57,6 +57,105 @@ glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint3
     return mesh.positions[f[0]];
 }
 
+double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+
+enum class Walk { Visible, Occluded, Failed };
+
+// Section 4.4: is the point U (P in 3D, u in the image) hidden by a layer of surface enclosing it?
+// Every layer over u, followed from u toward the left edge of the occluders' box, ends at a
+// silhouette or border crossing that path. From each such crossing V, walk the surface branches
+// of the occluder back along the path, face by face, in the image; a branch that reaches u is
+// depth-tested against U (exact orientation); a branch that folds (silhouette) or ends (border) on
+// the way is not the layer over u. Degenerate paths (through vertices) fail: the caller then
+// makes a ray test.
+Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, double left,
+             std::size_t& steps) {
+    const Segment2 path{u, {left, u.y}, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
+    Walk result = Walk::Visible;
+    auto proj = [&](std::uint32_t v) { return camera.project(mesh.positions[v]); };
+    g.grid->candidates(path, [&](std::uint32_t k) {
+        if (result != Walk::Visible) return;
+        const Segment2& o = g.occluders[k];
+        if (o.edge == own_edge) return;
+        double t[2];
+        const int n = segment_crossings(path, o, t);
+        if (n == 0) return;
+        if (n != 1 || t[0] <= 0.0) {
+            result = Walk::Failed;
+            return;
+        }
+        const glm::dvec2 vp = path.a + t[0] * (path.b - path.a);
+        for (std::uint32_t f : mesh.edge_face[o.edge]) {
+            if (f == kNoFace) continue;
+            // the branch must lie on u's side of the occluder's image
+            std::uint32_t third = mesh.faces[f][0];
+            for (std::uint32_t w : mesh.faces[f])
+                if (w != o.v0 && w != o.v1) third = w;
+            const double su = cross2(o.b - o.a, u - o.a), st = cross2(o.b - o.a, proj(third) - o.a);
+            if (su == 0.0 || st == 0.0) {
+                result = Walk::Failed;
+                return;
+            }
+            if ((su > 0) != (st > 0)) continue;
+            // Walk from vp toward u over the faces.
+            std::uint32_t face = f, entry = o.edge;
+            glm::dvec2 from = vp;
+            for (std::size_t guard = 0; guard < mesh.face_count(); ++guard, ++steps) {
+                const auto& c = mesh.faces[face];
+                const glm::dvec2 q[3] = {proj(c[0]), proj(c[1]), proj(c[2])};
+                // u inside the face's image (strictly): the depth test decides.
+                const double s0 = cross2(q[1] - q[0], u - q[0]), s1 = cross2(q[2] - q[1], u - q[1]),
+                             s2 = cross2(q[0] - q[2], u - q[2]);
+                if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) {
+                    // U's own faces are U's layer, not in front of it (P, rounded onto the edge,
+                    // cannot be tested against their planes).
+                    if (face == mesh.edge_face[own_edge][0] || face == mesh.edge_face[own_edge][1]) break;
+                    const glm::dvec3 &A = mesh.positions[c[0]], &B = mesh.positions[c[1]], &C = mesh.positions[c[2]];
+                    const int eye = orient_eye(camera, A, B, C), pt = orient3(A, B, C, P);
+                    if (eye == 0 || pt == 0) {
+                        result = Walk::Failed;
+                        return;
+                    }
+                    if (eye != pt) result = Walk::Occluded;
+                    break;
+                }
+                if (s0 == 0 || s1 == 0 || s2 == 0) {
+                    result = Walk::Failed;
+                    return;
+                }
+                // Leave by the edge the path crosses (not the one it came in by).
+                std::uint32_t exit = UINT32_MAX;
+                glm::dvec2 at{0.0};
+                for (int i = 0; i < 3 && exit == UINT32_MAX; ++i) {
+                    const std::uint32_t e = mesh.face_edges[face][i];
+                    if (e == entry) continue;
+                    const Segment2 side{q[i], q[(i + 1) % 3], UINT32_MAX - 1, UINT32_MAX - 2, e};
+                    const Segment2 leg{from, u, UINT32_MAX - 3, UINT32_MAX - 4, e};
+                    double tt[2];
+                    const int m = segment_crossings(leg, side, tt);
+                    if (m == 1 && tt[0] > 0.0) exit = e, at = from + tt[0] * (u - from);
+                    else if (m != 0) {
+                        result = Walk::Failed;
+                        return;
+                    }
+                }
+                if (exit == UINT32_MAX) {
+                    result = Walk::Failed;
+                    return;
+                }
+                const auto [f0, f1] = mesh.edge_face[exit];
+                if (f1 == kNoFace || face_front[f0] != face_front[f1])
+                    break;  // the layer ends or folds before u
+                face = f0 == face ? f1 : f0;
+                entry = exit;
+                from = at;
+            }
+        }
+    });
+    return result;
+}
+
 }  // namespace
 
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
@@ -307,6 +406,36 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
         if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
     }
+    // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
+    // the cluster; proved hidden raises its bound.
+    double left = 1e300;
+    for (const Segment2& o : graph.occluders) left = std::min({left, o.a.x, o.b.x});
+    left -= 1.0;
+    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0
+    std::vector<double> zero_len(nc, -1.0);
+    for (std::uint32_t p = 0; p < np; ++p) {
+        if (value(p) != 0) continue;
+        double len = 0.0;
+        const auto& pts = pieces[p].points;
+        for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
+        if (len > zero_len[comp[p]]) zero_len[comp[p]] = len, zero[comp[p]] = p;
+    }
+    std::size_t steps = 0;
+    for (std::size_t c = 0; c < nc && options.walk && graph.grid; ++c) {
+        if (state[c] != kBound || zero[c] == UINT32_MAX) continue;
+        const std::uint32_t p = zero[c];
+        const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
+        ++st.walks;
+        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, left, steps);
+        if (w == Walk::Visible) {
+            state[c] = kFixed;  // value(p) == 0 already
+        } else if (w == Walk::Occluded) {
+            const int raise = parity ? 2 : 1;  // QI(U) >= 1, parity kept
+            base[c] += raise;
+            min_piece[c] += raise;
+        }
+    }
+    st.walk_steps = steps;
     for (std::size_t c = 0; c < nc; ++c) {
         if (state[c] != kBound || rep[c] == UINT32_MAX) continue;
         if (min_piece[c] > 0) {

@@ -23,6 +23,8 @@ struct AppelOptions {
     // Per face: intersects another face (model/self_intersections.hpp). Pieces on such a face get
     // a ray test each and are kept out of propagation: passing through a face changes QI unseen.
     const std::vector<std::uint8_t>* pierced_faces = nullptr;
+    // Walk the surface (section 4.4) before falling back to a ray test.
+    bool walk = true;
 };
 
 struct AppelStats {
@@ -31,6 +33,7 @@ struct AppelStats {
     std::size_t clusters_occluded = 0;  // proved totally occluded by lower bound, parity, constraints
     std::size_t ray_tests = 0;
     std::size_t walks = 0;
+    std::size_t walk_steps = 0;         // faces crossed by all walks
     std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
     std::size_t pierced = 0;            // pieces on self-intersecting faces
 };

@@ -86,7 +86,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     g.immersive = geometry_behind_near(mesh, camera);
 
     // Occluding edges in the image: silhouettes and borders.
-    std::vector<Segment2> occluders;
+    std::vector<Segment2>& occluders = g.occluders;
     std::vector<ClipSeg> occ_clip;
     occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
     occ_clip.reserve(occluders.capacity());
@@ -99,7 +99,8 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
                 occ_clip.push_back(s);
             }
         }
-    const SegmentGrid grid(occluders, camera.width(), camera.height());
+    g.grid.emplace(occluders, camera.width(), camera.height());
+    const SegmentGrid& grid = *g.grid;
 
     // The extreme points of the occluders' image (the bounding-box rule of the fast method).
     g.extreme_vertices.fill(UINT32_MAX);
@@ -273,9 +274,9 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     return g;
 }
 
-int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& rays, const Piece& piece,
-              const std::vector<EdgeSpan>& spans) {
-    // At the middle of the piece's longest stretch in the image.
+PieceProbe probe_point(const MeshTopology& mesh, const Camera& camera, const Piece& piece,
+                       const std::vector<EdgeSpan>& spans) {
+    // The middle of the piece's longest stretch in the image.
     const auto& pts = piece.points;
     std::size_t best = 0;
     double best_len = -1.0;
@@ -296,9 +297,14 @@ int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& r
         const double z0 = camera.depth(P0), z1 = camera.depth(P1);
         u = 0.5 * z0 / (0.5 * z1 + 0.5 * z0);
     }
-    const glm::dvec3 P = P0 + u * (P1 - P0);
-    const auto [f0, f1] = mesh.edge_face[sp.edge];
-    return rays.count_layers(camera.ray_origin(P), P, f0, f1);
+    return {P0 + u * (P1 - P0), 0.5 * (pts[best] + pts[best + 1]), sp.edge};
+}
+
+int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& rays, const Piece& piece,
+              const std::vector<EdgeSpan>& spans) {
+    const PieceProbe q = probe_point(mesh, camera, piece, spans);
+    const auto [f0, f1] = mesh.edge_face[q.edge];
+    return rays.count_layers(camera.ray_origin(q.P), q.P, f0, f1);
 }
 
 VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,

@@ -6,12 +6,14 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
 #include "features/features.hpp"
 #include "model/topology.hpp"
+#include "visibility/crossings.hpp"
 #include "visibility/ray_caster.hpp"
 
 namespace inkline {
@@ -53,12 +55,23 @@ struct PieceGraph {
         std::uint32_t piece, vertex, edge;  // a piece ending at a curve's end vertex, on this edge
     };
     std::vector<End> ends;
+    std::vector<Segment2> occluders;   // silhouette and border edges in the image (clipped)
+    std::optional<SegmentGrid> grid;   // their grid index
     bool immersive = false;  // geometry at or behind the near plane
     std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet).
 PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera);
+
+// Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
+struct PieceProbe {
+    glm::dvec3 P;
+    glm::dvec2 p;
+    std::uint32_t edge;
+};
+PieceProbe probe_point(const MeshTopology& mesh, const Camera& camera, const Piece& piece,
+                       const std::vector<EdgeSpan>& spans);
 
 // QI of one piece by a ray test at the image midpoint of its longest stretch.
 int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& rays, const Piece& piece,
