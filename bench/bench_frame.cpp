@@ -39,13 +39,14 @@ void BM_Features(benchmark::State& state, const char* name) {
 }
 
 // A full frame (features + visibility, no drawing) with one visibility method.
-void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMethod method) {
+void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMethod method, bool walk) {
     const auto* m = model(name);
     if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
     const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
     inkline::ViewOptions opt;
     opt.visibility = method;
     opt.exact_hidden = false;  // as `inkline render` without --hidden: visible lines
+    opt.walk = walk;
     std::size_t sil = 0, rays = 0, pieces = 0, walks = 0;
     for (auto _ : state) {
         auto v = inkline::render_view(*m, cam, opt);
@@ -66,9 +67,11 @@ int reg = [] {
     for (const char* n : kMeshes) {
         benchmark::RegisterBenchmark((std::string("features/") + n).c_str(), BM_Features, n)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_rays/") + n).c_str(), BM_Frame, n,
-                                     inkline::VisibilityMethod::Rays)->Unit(benchmark::kMillisecond);
+                                     inkline::VisibilityMethod::Rays, true)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_appel/") + n).c_str(), BM_Frame, n,
-                                     inkline::VisibilityMethod::Appel)->Unit(benchmark::kMillisecond);
+                                     inkline::VisibilityMethod::Appel, true)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("frame_appel_nowalk/") + n).c_str(), BM_Frame, n,
+                                     inkline::VisibilityMethod::Appel, false)->Unit(benchmark::kMillisecond);
     }
     return 0;
 }();

@@ -55,7 +55,7 @@ View render_view(const Model& model, Camera camera, const ViewOptions& options) 
     AppelStats as;
     if (appel) {
         PieceGraph g = build_pieces(model.topology(), v.features, camera);
-        as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g, {options.exact_hidden, pierced});
+        as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g, {options.exact_hidden, pierced, options.walk});
         curves = std::move(g.curves);
         curves.ray_tests = as.ray_tests;
         // Drop what was chained only to propagate QI.

@@ -44,6 +44,8 @@ struct ViewOptions {
     // Exact QI of hidden pieces is needed (hidden lines drawn); otherwise the fast method may
     // leave a totally occluded cluster at a lower bound (> 0) without a ray test.
     bool exact_hidden = true;
+    // The fast method walks the surface (section 4.4) before it makes a ray test.
+    bool walk = true;
 };
 
 struct View {

@@ -22,7 +22,7 @@ const char* kUsage =
     "                      [--eye=x,y,z] [--target=x,y,z] [--up=x,y,z] [--fov=DEG] [--size=WxH]\n"
     "                      [--ortho=H] [--near=D] [--crease=DEG] [--hidden]\n"
     "                      [--lines=silhouette,crease,border] [--visibility=appel|rays]\n"
-    "                      [--subdivide=N] [--quiet]\n"
+    "                      [--no-walk] [--subdivide=N] [--quiet]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n";
 
@@ -50,6 +50,7 @@ struct RenderArgs {
     std::map<std::string, std::string> camera;  // flag -> value
     double crease = 40.0;
     int subdivide = 0;
+    bool walk = true;
     bool hidden = false, quiet = false;
     FeatureOptions features;
     VisibilityMethod visibility = VisibilityMethod::Appel;
@@ -66,6 +67,7 @@ RenderArgs parse_render(int argc, char** argv) {
         }
         if (arg == "--hidden") { a.hidden = true; continue; }
         if (arg == "--quiet") { a.quiet = true; continue; }
+        if (arg == "--no-walk") { a.walk = false; continue; }
         if (arg.rfind("--", 0) != 0) {
             if (!a.model.empty()) throw Usage("more than one model given ('" + a.model + "', '" + arg + "')");
             a.model = arg;
@@ -165,6 +167,7 @@ int render(int argc, char** argv) {
     ViewOptions opt;
     opt.features = a.features;
     opt.visibility = a.visibility;
+    opt.walk = a.walk;
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
     View view = render_view(model, cam, opt);
     OutputOptions oo;
