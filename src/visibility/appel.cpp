@@ -69,8 +69,7 @@ enum class Walk { Visible, Occluded, Failed };
 // the way is not the layer over u. Degenerate paths (through vertices) fail: the caller then
 // makes a ray test.
 Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
-             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, double left,
-             std::size_t& steps) {
+             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, double left) {
     const Segment2 path{u, {left, u.y}, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
     Walk result = Walk::Visible;
     auto proj = [&](std::uint32_t v) { return camera.project(mesh.positions[v]); };
@@ -89,10 +88,8 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
         for (std::uint32_t f : mesh.edge_face[o.edge]) {
             if (f == kNoFace) continue;
             // the branch must lie on u's side of the occluder's image
-            std::uint32_t third = mesh.faces[f][0];
-            for (std::uint32_t w : mesh.faces[f])
-                if (w != o.v0 && w != o.v1) third = w;
-            const double su = cross2(o.b - o.a, u - o.a), st = cross2(o.b - o.a, proj(third) - o.a);
+            const double su = cross2(o.b - o.a, u - o.a),
+                         st = cross2(o.b - o.a, camera.project(third_vertex(mesh, f, o.edge)) - o.a);
             if (su == 0.0 || st == 0.0) {
                 result = Walk::Failed;
                 return;
@@ -101,7 +98,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
             // Walk from vp toward u over the faces.
             std::uint32_t face = f, entry = o.edge;
             glm::dvec2 from = vp;
-            for (std::size_t guard = 0; guard < mesh.face_count(); ++guard, ++steps) {
+            for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
                 const auto& c = mesh.faces[face];
                 const glm::dvec2 q[3] = {proj(c[0]), proj(c[1]), proj(c[2])};
                 // u inside the face's image (strictly): the depth test decides.
@@ -398,6 +395,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     std::vector<std::uint32_t> rep(nc, UINT32_MAX);
     std::vector<double> rep_len(nc, -1.0);
     std::vector<int> min_piece(nc, 1 << 30);
+    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
+    std::vector<double> zero_len(nc, -1.0);
     for (std::uint32_t p = 0; p < np; ++p) {
         const std::uint32_t c = comp[p];
         min_piece[c] = std::min(min_piece[c], value(p));
@@ -405,28 +404,19 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         const auto& pts = pieces[p].points;
         for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
         if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
+        if (value(p) == 0 && len > zero_len[c]) zero_len[c] = len, zero[c] = p;
     }
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
     // the cluster; proved hidden raises its bound.
     double left = 1e300;
     for (const Segment2& o : graph.occluders) left = std::min({left, o.a.x, o.b.x});
     left -= 1.0;
-    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0
-    std::vector<double> zero_len(nc, -1.0);
-    for (std::uint32_t p = 0; p < np; ++p) {
-        if (value(p) != 0) continue;
-        double len = 0.0;
-        const auto& pts = pieces[p].points;
-        for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
-        if (len > zero_len[comp[p]]) zero_len[comp[p]] = len, zero[comp[p]] = p;
-    }
-    std::size_t steps = 0;
     for (std::size_t c = 0; c < nc && options.walk && graph.grid; ++c) {
         if (state[c] != kBound || zero[c] == UINT32_MAX) continue;
         const std::uint32_t p = zero[c];
         const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
         ++st.walks;
-        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, left, steps);
+        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, left);
         if (w == Walk::Visible) {
             state[c] = kFixed;  // value(p) == 0 already
         } else if (w == Walk::Occluded) {
@@ -435,7 +425,6 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             min_piece[c] += raise;
         }
     }
-    st.walk_steps = steps;
     for (std::size_t c = 0; c < nc; ++c) {
         if (state[c] != kBound || rep[c] == UINT32_MAX) continue;
         if (min_piece[c] > 0) {

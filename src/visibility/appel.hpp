@@ -33,7 +33,6 @@ struct AppelStats {
     std::size_t clusters_occluded = 0;  // proved totally occluded by lower bound, parity, constraints
     std::size_t ray_tests = 0;
     std::size_t walks = 0;
-    std::size_t walk_steps = 0;         // faces crossed by all walks
     std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
     std::size_t pierced = 0;            // pieces on self-intersecting faces
 };
