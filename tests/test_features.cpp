@@ -413,7 +413,7 @@ TEST(ExtractFeatures, SphereHasOneClosedSilhouette) {
                 EXPECT_NE(f.face_front[s.edge_face[e][0]], f.face_front[s.edge_face[e][1]]);
             }
             // Front faces are those facing the eye: roughly half the sphere.
-            const auto front = std::count(f.face_front.begin(), f.face_front.end(), 1);
+            const auto front = [&] { const auto all = f.face_front.all(); return std::count(all.begin(), all.end(), 1); }();
             EXPECT_GT(front, long(s.face_count()) / 4);
             EXPECT_LT(front, long(s.face_count()) * 3 / 4);
         }
@@ -428,7 +428,7 @@ TEST(ExtractFeatures, BoxFromACorner) {
     // Three sides face the eye; their outline is a hexagon of six box edges (creases, but
     // classified as silhouettes); the other six box edges are creases: three at the near corner
     // (1,1,1), three at the hidden far corner (-1,-1,-1).
-    EXPECT_EQ(std::count(f.face_front.begin(), f.face_front.end(), 1), 6);
+    EXPECT_EQ([&] { const auto all = f.face_front.all(); return std::count(all.begin(), all.end(), 1); }(), 6);
     ASSERT_EQ(f.silhouette_edges.size(), 6u);
     EXPECT_EQ(f.crease_edges.size(), 6u);
     EXPECT_TRUE(f.border_edges.empty());
@@ -484,7 +484,7 @@ TEST(ExtractFeatures, BoxSeenAlongAnAxisOrthographic) {
     const Camera cam = ortho({0, 0, 10});
     const Features f = extract_features(box, cam);
     expect_consistent(box, cam, f);
-    EXPECT_EQ(std::count(f.face_front.begin(), f.face_front.end(), 1), 2);
+    EXPECT_EQ([&] { const auto all = f.face_front.all(); return std::count(all.begin(), all.end(), 1); }(), 2);
     ASSERT_EQ(f.silhouette_edges.size(), 4u);
     for (auto e : f.silhouette_edges) {
         EXPECT_EQ(box.positions[box.edge_vertex[e][0]].z, 1.0);
@@ -502,7 +502,7 @@ TEST(ExtractFeatures, SheetBorderIsOneClosedCurve) {
             const Camera cam = persp(eye, {0, 0, 0}, eye.y == 0 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1));
             const Features f = extract_features(sheet, cam);
             expect_consistent(sheet, cam, f);
-            const auto front = std::count(f.face_front.begin(), f.face_front.end(), 1);
+            const auto front = [&] { const auto all = f.face_front.all(); return std::count(all.begin(), all.end(), 1); }();
             EXPECT_EQ(front, eye.y > 0 ? long(sheet.face_count()) : 0L);
             EXPECT_TRUE(f.silhouette_edges.empty());
             EXPECT_TRUE(f.crease_edges.empty());
@@ -665,7 +665,7 @@ TEST(Cusps, ManySilhouettesAtAMonkeySaddle) {
     for (const Camera& cam : {persp({10, 0, 1}, {0, 0, 0}, {0, 0, 1}), ortho({10, 0, 1}, {0, 0, 0}, {0, 0, 1})}) {
         const Features f = extract_features(s, cam);
         expect_consistent(s, cam, f);
-        EXPECT_EQ(std::vector<std::uint8_t>(f.face_front.begin(), f.face_front.end()),
+        EXPECT_EQ(f.face_front.all(),
                   (std::vector<std::uint8_t>{0, 1, 0, 0, 1, 0}));
         ASSERT_EQ(f.silhouette_edges.size(), 4u);
         EXPECT_EQ(f.border_edges.size(), 6u);

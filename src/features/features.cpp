@@ -1,13 +1,13 @@
 #include "features/features.hpp"
 
+#include <algorithm>
 #include <cmath>
-
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
 
 #include "core/predicates.hpp"
 
 namespace inkline {
+
+const char* finder_name(FinderKind k) { return k == FinderKind::Randomized ? "randomized" : "exhaustive"; }
 
 bool face_is_front(const MeshTopology& mesh, std::uint32_t face, const Camera& camera) {
     const auto& v = mesh.faces[face];
@@ -15,93 +15,87 @@ bool face_is_front(const MeshTopology& mesh, std::uint32_t face, const Camera& c
     return orient_eye(camera, a, b, c) > 0;
 }
 
-Features extract_features(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options) {
-    Features out;
-    const std::size_t nf = mesh.face_count(), ne = mesh.edge_count(), nv = mesh.vertex_count();
-    out.face_front.resize(nf);
-    // Float filter: with n = cross(b - a, c - a) rounded (each component within 4 eps of its
-    // permanent p), dot(n, eye) - dot(n, a) errs by less than 16 eps (dot(p, |eye|) + dot(p, |a|)),
-    // plus an absolute term for products in the subnormal range; for an orthographic camera the
-    // eye term is dot(n, -forward) alone. Undecided faces go to the exact predicate.
-    constexpr double kEps = 1.1102230246251565e-16;
-    const bool ortho = camera.is_ortho();
-    const glm::dvec3 eye = ortho ? -camera.forward() : camera.eye();
-    const glm::dvec3 aeye = glm::abs(eye);
-    for (std::uint32_t f = 0; f < nf; ++f) {
-        const MeshTopology::FacePlane& q = mesh.face_planes[f];
-        const double det = glm::dot(q.n, eye) - (ortho ? 0.0 : q.k);
-        const double bound = 16.0 * kEps * (glm::dot(q.p, aeye) + (ortho ? 0.0 : q.pa)) + 0x1p-1060;
-        out.face_front[f] = det > bound ? 1 : det < -bound ? 0 : (face_is_front(mesh, f, camera) ? 1 : 0);
-    }
+namespace {
 
-    out.edge_kind.assign(ne, kNoKind);
-    for (std::uint32_t e = 0; e < ne; ++e) {
-        const auto [f0, f1] = mesh.edge_face[e];
-        if (f1 == kNoFace) {
-            out.edge_kind[e] = std::uint8_t(LineKind::Border);
-            out.border_edges.push_back(e);
-        } else if (out.face_front[f0] != out.face_front[f1]) {
-            out.edge_kind[e] = std::uint8_t(LineKind::Silhouette);
-            out.silhouette_edges.push_back(e);
-        } else if (mesh.is_crease(e)) {
-            out.edge_kind[e] = std::uint8_t(LineKind::Crease);
+constexpr std::uint8_t kSil = std::uint8_t(LineKind::Silhouette);
+constexpr std::uint8_t kBorder = std::uint8_t(LineKind::Border);
+constexpr std::uint8_t kCrease = std::uint8_t(LineKind::Crease);
+using VertexScratch = Features::VertexScratch;
+
+bool is_silhouette(const MeshTopology& mesh, const Features& f, std::uint32_t e) {
+    const auto [f0, f1] = mesh.edge_face[e];
+    return f1 != kNoFace && f.face_front[f0] != f.face_front[f1];
+}
+
+// Static kinds: borders always, creases unless they are silhouettes. Returns crease edges that are
+// silhouettes through `on_silhouette` (the exhaustive scan has them already).
+template <class OnSilhouette>
+void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_silhouette) {
+    for (std::uint32_t e : mesh.border_list) {
+        out.edge_kind[e] = kBorder;
+        out.border_edges.push_back(e);
+    }
+    for (std::uint32_t e : mesh.crease_list) {
+        if (out.edge_kind[e] == kSil) continue;
+        if (is_silhouette(mesh, out, e)) {
+            on_silhouette(e);
+        } else {
+            out.edge_kind[e] = kCrease;
             out.crease_edges.push_back(e);
         }
     }
+}
 
-    // Cusps (Definition 3), over the vertices of silhouette edges.
-    std::vector<std::uint8_t> cusp(nv, 0);
+// Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
+// A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
+// two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
+// pass over the feature edges (counts, kinds, and the xor of its feature edges, which at a vertex
+// of degree two gives the other edge), so no vertex ring is scanned.
+void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, Features& out) {
+    auto& vs = out.vertex_scratch;
+    auto& used = out.edge_scratch;
+    const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
+    for (const auto* list : lists)
+        for (std::uint32_t e : *list) {
+            const std::uint8_t kind = out.edge_kind[e];
+            const bool sil = kind == kSil, front = sil && mesh.is_convex(e);
+            for (std::uint32_t v : mesh.edge_vertex[e]) {
+                VertexScratch& s = vs[v];
+                s.edge_xor ^= e;
+                if (s.degree < 255) ++s.degree;
+                if (sil && s.silhouettes < 255) ++s.silhouettes;
+                if (front && s.front < 255) ++s.front;
+                s.kinds |= std::uint8_t(1u << kind);
+            }
+        }
     for (std::uint32_t e : out.silhouette_edges) {
         for (std::uint32_t v : mesh.edge_vertex[e]) {
-            if (cusp[v]) continue;
-            int sil = 0, front = 0;
-            bool border = false;
-            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-                const std::uint32_t g = mesh.vertex_edges[k];
-                if (out.edge_kind[g] == std::uint8_t(LineKind::Silhouette)) {
-                    ++sil;
-                    front += mesh.is_convex(g) ? 1 : 0;
-                }
-                border |= mesh.is_border(g);
-            }
+            VertexScratch& s = vs[v];
+            if (s.cusp) continue;
             CuspCase c = CuspCase::None;
-            if (sil > 2) c = CuspCase::ManySilhouettes;
-            else if (border) c = CuspCase::BorderEdge;
-            else if (sil == 2 && front == 1) c = CuspCase::FrontBackMeet;
+            if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
+            else if (s.kinds & (1u << kBorder)) c = CuspCase::BorderEdge;
+            else if (s.silhouettes == 2 && s.front == 1) c = CuspCase::FrontBackMeet;
             if (c != CuspCase::None) {
-                cusp[v] = 1;
+                s.cusp = 1;
                 out.cusp_vertices.push_back(v);
                 out.cusp_cases.push_back(c);
             }
         }
     }
 
-    // Chaining. A vertex breaks chains where the number of feature edges (of every kind, drawn or
-    // not) is not two, where the two differ in kind, or at a cusp.
     auto is_break = [&](std::uint32_t v) {
-        if (cusp[v]) return true;
-        int deg = 0;
-        std::uint8_t kind = kNoKind;
-        bool mixed = false;
-        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-            const std::uint8_t kk = out.edge_kind[mesh.vertex_edges[k]];
-            if (kk == kNoKind) continue;
-            if (deg++ > 0 && kk != kind) mixed = true;
-            kind = kk;
-        }
-        return deg != 2 || mixed;
+        const VertexScratch& s = vs[v];
+        return s.cusp || s.degree != 2 || (s.kinds & (s.kinds - 1)) != 0;
     };
-    auto other_feature_edge = [&](std::uint32_t v, std::uint32_t e) {
-        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-            const std::uint32_t g = mesh.vertex_edges[k];
-            if (g != e && out.edge_kind[g] != kNoKind) return g;
-        }
-        return e;
-    };
-    std::vector<std::uint8_t> used(ne, 0);
+    std::size_t n_curves = 0;  // curves are reused from the previous view (their storage kept)
     auto walk = [&](std::uint32_t start_v, std::uint32_t start_e) {
-        FeatureCurve c;
+        if (n_curves == out.curves.size()) out.curves.emplace_back();
+        FeatureCurve& c = out.curves[n_curves++];
+        c.vertices.clear();
+        c.edges.clear();
         c.kind = LineKind(out.edge_kind[start_e]);
+        c.closed = false;
         c.vertices.push_back(start_v);
         std::uint32_t v = start_v, e = start_e;
         while (true) {
@@ -114,12 +108,10 @@ Features extract_features(const MeshTopology& mesh, const Camera& camera, const 
                 break;
             }
             if (is_break(v)) break;
-            e = other_feature_edge(v, e);
+            e = vs[v].edge_xor ^ e;  // the other of its two feature edges
             if (used[e]) break;
         }
-        out.curves.push_back(std::move(c));
     };
-    const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
     for (const auto* list : lists) {
         for (std::uint32_t e : *list) {
             if (used[e] || !options.wants(LineKind(out.edge_kind[e]))) continue;
@@ -130,7 +122,244 @@ Features extract_features(const MeshTopology& mesh, const Camera& camera, const 
     for (const auto* list : lists)  // what is left are closed loops without a break
         for (std::uint32_t e : *list)
             if (!used[e] && options.wants(LineKind(out.edge_kind[e]))) walk(mesh.edge_vertex[e][0], e);
+    out.curves.resize(n_curves);
+
+    // Leave the scratch all zero for the next view.
+    for (const auto* list : lists)
+        for (std::uint32_t e : *list) {
+            used[e] = 0;
+            for (std::uint32_t v : mesh.edge_vertex[e]) vs[v] = {};
+        }
+}
+
+}  // namespace
+
+Features extract_features(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options) {
+    Features out;
+    SilhouetteFinder(mesh).find(camera, options, out);
     return out;
+}
+
+SilhouetteFinder::SilhouetteFinder(const MeshTopology& mesh, const FinderOptions& options)
+    : mesh_(&mesh), opt_(options), rng_(options.seed) {}
+
+void SilhouetteFinder::reset() {
+    previous_.clear();
+    rng_.seed(opt_.seed);
+}
+
+void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options, Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t ne = mesh.edge_count(), nv = mesh.vertex_count();
+    // Recycle: reset what the previous view of `out` marked.
+    if (out.edge_kind.size() != ne) {
+        out.edge_kind.assign(ne, kNoKind);
+        out.edge_scratch.assign(ne, 0);
+    } else {
+        for (const auto* list : {&out.silhouette_edges, &out.border_edges, &out.crease_edges})
+            for (std::uint32_t e : *list) out.edge_kind[e] = kNoKind;
+    }
+    if (out.vertex_scratch.size() != nv) out.vertex_scratch.assign(nv, VertexScratch{});
+    out.silhouette_edges.clear();
+    out.border_edges.clear();
+    out.crease_edges.clear();
+    out.cusp_vertices.clear();
+    out.cusp_cases.clear();
+    out.stats = {};
+    out.stats.finder = opt_.kind;
+
+    if (opt_.kind == FinderKind::Exhaustive) {
+        out.face_front.begin_full(mesh, camera);
+        scan_exhaustive(out);
+    } else {
+        out.face_front.begin_lazy(mesh, camera);
+        search_randomized(out);
+    }
+    cusps_and_curves(mesh, options, out);
+    out.stats.faces_decided = out.face_front.faces_decided();
+    out.stats.exact_facing_tests = out.face_front.exact_tests();
+}
+
+void SilhouetteFinder::scan_exhaustive(Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::uint32_t ne = std::uint32_t(mesh.edge_count()), nf = std::uint32_t(mesh.face_count());
+    // Branchless pass: every edge whose two face states differ (or are both undecided; borders
+    // meet the sentinel) is written as a candidate; the few candidates are then decided exactly.
+    if (out.candidates.size() < ne) out.candidates.resize(ne);
+    const auto* __restrict ef = mesh.edge_face.data();
+    const std::uint8_t* __restrict st = out.face_front.states();
+    std::uint32_t* __restrict cand = out.candidates.data();
+    std::uint32_t n = 0;
+    for (std::uint32_t e = 0; e < ne; ++e) {
+        const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
+        cand[n] = e;
+        n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const std::uint32_t e = cand[i];
+        if (is_silhouette(mesh, out, e)) {
+            out.edge_kind[e] = kSil;
+            out.silhouette_edges.push_back(e);
+        }
+    }
+    classify_static(mesh, out, [](std::uint32_t) {});  // crease silhouettes were scanned already
+    out.stats.fraction = 1.0;
+    out.stats.edges_examined = ne;
+}
+
+// Vose's alias method: O(edges) once, O(1) per draw.
+void SilhouetteFinder::build_table() {
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t ne = mesh.edge_count();
+    alias_prob_.assign(ne, 0.0f);
+    alias_.assign(ne, 0);
+    double total = 0.0;
+    for (std::size_t e = 0; e < ne; ++e) total += mesh.edge_normal_angle[e];
+    if (!(total > 0.0)) {  // all flat: uniform
+        std::fill(alias_prob_.begin(), alias_prob_.end(), 1.0f);
+        return;
+    }
+    std::vector<double> scaled(ne);
+    std::vector<std::uint32_t> small, large;
+    for (std::uint32_t e = 0; e < ne; ++e) {
+        scaled[e] = mesh.edge_normal_angle[e] * double(ne) / total;
+        (scaled[e] < 1.0 ? small : large).push_back(e);
+    }
+    while (!small.empty() && !large.empty()) {
+        const std::uint32_t s = small.back(), l = large.back();
+        small.pop_back();
+        alias_prob_[s] = float(scaled[s]);
+        alias_[s] = l;
+        scaled[l] -= 1.0 - scaled[s];
+        if (scaled[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    for (std::uint32_t e : large) alias_prob_[e] = 1.0f, alias_[e] = e;
+    for (std::uint32_t e : small) alias_prob_[e] = 1.0f, alias_[e] = e;  // rounding leftovers
+}
+
+// Marks e and every silhouette edge connected to it through vertices (the whole curve, and the
+// curves it meets at junctions).
+void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    out.edge_kind[e] = kSil;
+    out.silhouette_edges.push_back(e);
+    stack_.clear();
+    stack_.push_back(e);
+    while (!stack_.empty()) {
+        const std::uint32_t g = stack_.back();
+        stack_.pop_back();
+        for (std::uint32_t v : mesh.edge_vertex[g]) {
+            if (out.vertex_scratch[v].traced) continue;
+            out.vertex_scratch[v].traced = 1;
+            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+                const std::uint32_t h = mesh.vertex_edges[k];
+                if (out.edge_kind[h] != kNoKind) continue;  // found, or a border or (non-silhouette) crease
+                ++out.stats.edges_examined;
+                if (is_silhouette(mesh, out, h)) {
+                    out.edge_kind[h] = kSil;
+                    out.silhouette_edges.push_back(h);
+                    stack_.push_back(h);
+                }
+            }
+        }
+    }
+}
+
+// Bounded walk over faces from `face` toward the silhouette: from a back-facing face toward the
+// camera (the neighbour whose plane passes closest behind the eye), from a front-facing one away
+// from it, until a neighbour of the other facing is met (their edge is a silhouette edge: traced)
+// or the step bound or a local extremum is reached. The float distances only steer the walk;
+// facing is decided exactly.
+void SilhouetteFinder::seek(std::uint32_t face, Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    ++out.stats.seeks;
+    std::uint32_t c = face;
+    const std::uint8_t side = out.face_front[c];
+    // Score to maximise: signed distance on the back side, its negation on the front side.
+    auto score = [&](std::uint32_t f) {
+        const float d = out.face_front.signed_distance(f);
+        return std::isnan(d) ? -INFINITY : (side ? -d : d);
+    };
+    float best_here = score(c);
+    for (int step = 0; step < opt_.step_bound; ++step) {
+        ++out.stats.seek_steps;
+        std::uint32_t next = kNoFace;
+        float best = best_here;
+        for (std::uint32_t e : mesh.face_edges[c]) {
+            const auto [f0, f1] = mesh.edge_face[e];
+            const std::uint32_t nb = f0 == c ? f1 : f0;
+            if (nb == kNoFace) continue;
+            if (out.face_front[nb] != side) {
+                if (out.edge_kind[e] != kSil) {
+                    ++out.stats.seek_hits;
+                    trace(e, out);
+                }
+                return;
+            }
+            const float s = score(nb);
+            if (s > best) best = s, next = nb;
+        }
+        if (next == kNoFace) return;  // a local extremum of the facing: nothing to follow
+        c = next;
+        best_here = best;
+    }
+}
+
+void SilhouetteFinder::search_randomized(Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t ne = mesh.edge_count();
+    out.stats.fraction = opt_.fraction;
+    auto coin = [&](double p) { return p >= 1.0 || double(rng_() >> 11) * 0x1p-53 < p; };
+
+    // Creases and borders are view-independent: classified every view (creases that are
+    // silhouettes are traced from).
+    classify_static(mesh, out, [&](std::uint32_t e) {
+        if (out.edge_kind[e] != kSil) trace(e, out);
+    });
+
+    // Frame coherence: every silhouette edge of the previous view is checked; from a share of the
+    // lost ones a seek starts on each side.
+    if (opt_.coherence) {
+        for (std::uint32_t e : previous_) {
+            if (e >= ne || out.edge_kind[e] == kSil) continue;
+            ++out.stats.edges_examined;
+            if (is_silhouette(mesh, out, e)) {
+                trace(e, out);
+            } else if (coin(opt_.seed_fraction)) {
+                seek(mesh.edge_face[e][0], out);
+                if (mesh.edge_face[e][1] != kNoFace) seek(mesh.edge_face[e][1], out);
+            }
+        }
+        // Seeds on creases and borders: silhouettes often run beside them (cylinders).
+        for (const auto* list : {&mesh.crease_list, &mesh.border_list})
+            for (std::uint32_t e : *list)
+                if (coin(opt_.seed_fraction)) seek(mesh.edge_face[e][0], out);
+    }
+
+    // Random edges, weighted by pi - dihedral angle.
+    if (opt_.fraction >= 1.0) {
+        for (std::uint32_t e = 0; e < ne; ++e) {
+            if (out.edge_kind[e] == kSil) continue;
+            ++out.stats.edges_examined;
+            if (is_silhouette(mesh, out, e)) trace(e, out);
+        }
+    } else if (opt_.fraction > 0.0 && ne > 0) {
+        if (alias_.size() != ne) build_table();
+        const auto draws = std::size_t(std::llround(opt_.fraction * double(ne)));
+        for (std::size_t i = 0; i < draws; ++i) {
+            const std::uint64_t r = rng_();
+            const std::uint32_t k = std::uint32_t((std::uint64_t(std::uint32_t(r)) * ne) >> 32);
+            const float u = float(r >> 40) * 0x1p-24f;
+            const std::uint32_t e = u < alias_prob_[k] ? k : alias_[k];
+            if (out.edge_kind[e] == kSil) continue;
+            ++out.stats.edges_examined;
+            if (is_silhouette(mesh, out, e)) trace(e, out);
+        }
+    }
+    previous_ = out.silhouette_edges;
 }
 
 }  // namespace inkline

@@ -1,14 +1,17 @@
-// Feature lines for one view, found exhaustively (the reference finder).
-// Takes MeshTopology + Camera; gives per-face facing, the silhouette/border/crease edges,
-// the cusp vertices (three cases of Markosian et al. 97, Definition 3), and the edges chained
-// into curves that stop at junctions and cusps.
+// Feature lines for one view. Takes MeshTopology + Camera; gives per-face facing, the
+// silhouette/border/crease edges, the cusp vertices (three cases of Markosian et al. 97,
+// Definition 3), and the edges chained into curves that stop at junctions and cusps.
+// Two silhouette finders behind one interface (SilhouetteFinder): the exhaustive scan (the
+// reference) and the randomized seed-and-seek search with frame coherence (section 4.1).
 #pragma once
 
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
+#include "features/facing.hpp"
 #include "model/topology.hpp"
 
 namespace inkline {
@@ -34,15 +37,51 @@ struct FeatureCurve {
     bool closed = false;  // a loop whose start is an ordinary vertex (a loop from a junction back to it is open)
 };
 
+enum class FinderKind : std::uint8_t { Exhaustive, Randomized };
+const char* finder_name(FinderKind k);
+
+struct FinderOptions {
+    FinderKind kind = FinderKind::Exhaustive;
+    // Randomized: edges drawn per view as a share of all edges, with probability proportional to
+    // the angle between their face normals (pi - dihedral); >= 1 examines every edge once.
+    double fraction = 0.02;
+    bool coherence = true;        // check every silhouette edge of the previous view
+    double seed_fraction = 0.25;  // share of lost previous silhouette edges, and of crease and
+                                  // border edges, that start a seek per view
+    int step_bound = 24;          // faces a seek may cross
+    std::uint64_t seed = 1;       // random seed (runs are deterministic)
+};
+
+struct FinderStats {
+    FinderKind finder = FinderKind::Exhaustive;
+    double fraction = 1.0;
+    std::size_t edges_examined = 0;  // edges whose facing was compared (scan, draws, trace rings)
+    std::size_t seeks = 0, seek_steps = 0, seek_hits = 0;
+    std::size_t faces_decided = 0, exact_facing_tests = 0;
+};
+
 struct Features {
-    std::vector<std::uint8_t> face_front;       // 1: eye strictly on the front side of the face
-    std::vector<std::uint8_t> edge_kind;        // LineKind or kNoKind, per mesh edge
+    FaceFacing face_front;                      // [f]: 1 if the eye is strictly in front of face f
+    std::vector<std::uint8_t> edge_kind;        // LineKind or kNoKind, per mesh edge (randomized
+                                                // finder: kNoKind also for edges it did not find)
     std::vector<std::uint32_t> silhouette_edges;
     std::vector<std::uint32_t> border_edges;
     std::vector<std::uint32_t> crease_edges;    // creases that are not silhouettes
     std::vector<std::uint32_t> cusp_vertices;
     std::vector<CuspCase> cusp_cases;           // parallel to cusp_vertices
     std::vector<FeatureCurve> curves;           // only the requested kinds
+    FinderStats stats;
+
+    // Scratch per edge and per vertex, all zero between views (reset through the lists above).
+    struct VertexScratch {
+        std::uint32_t edge_xor = 0;  // xor of the vertex's feature edges
+        std::uint8_t degree = 0, silhouettes = 0, front = 0;
+        std::uint8_t kinds = 0;  // bit per LineKind of its feature edges
+        std::uint8_t cusp = 0, traced = 0;
+    };
+    std::vector<std::uint8_t> edge_scratch;
+    std::vector<std::uint32_t> candidates;  // exhaustive scan: room for every edge
+    std::vector<VertexScratch> vertex_scratch;
 };
 
 // Exact facing of one face: orientation of the eye against the face's oriented plane (CGAL's
@@ -50,6 +89,33 @@ struct Features {
 // A face whose plane contains the eye (or the view direction) counts as not front-facing.
 bool face_is_front(const MeshTopology& mesh, std::uint32_t face, const Camera& camera);
 
+// One view with the exhaustive finder.
 Features extract_features(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options = {});
+
+// A finder that lives across the views of a camera path: it keeps the previous view's silhouette
+// edges (frame coherence), its random generator and, built on first use, the sampling table.
+// find() reuses the storage of `out` from the previous view, so a randomized view costs what it
+// touches, not the mesh size.
+class SilhouetteFinder {
+public:
+    SilhouetteFinder(const MeshTopology& mesh, const FinderOptions& options = {});
+    void find(const Camera& camera, const FeatureOptions& options, Features& out);
+    const FinderOptions& options() const { return opt_; }
+    void reset();  // forget the previous view
+
+private:
+    void scan_exhaustive(Features& out);
+    void search_randomized(Features& out);
+    void trace(std::uint32_t e, Features& out);
+    void seek(std::uint32_t face, Features& out);
+    void build_table();
+
+    const MeshTopology* mesh_;
+    FinderOptions opt_;
+    std::mt19937_64 rng_;
+    std::vector<float> alias_prob_;  // Vose's alias table over edges, weights pi - dihedral
+    std::vector<std::uint32_t> alias_;
+    std::vector<std::uint32_t> previous_, stack_;
+};
 
 }  // namespace inkline

@@ -17,10 +17,13 @@ K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 void MeshTopology::set_crease_angle(double degrees) {
     crease_degrees = degrees;
     const float threshold = float(degrees * M_PI / 180.0);
-    for (std::size_t e = 0; e < edge_flags.size(); ++e) {
+    crease_list.clear();
+    for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
         edge_flags[e] &= std::uint8_t(~kEdgeCrease);
-        if (!(edge_flags[e] & kEdgeBorder) && edge_normal_angle[e] > threshold)
+        if (!(edge_flags[e] & kEdgeBorder) && edge_normal_angle[e] > threshold) {
             edge_flags[e] |= kEdgeCrease;
+            crease_list.push_back(e);
+        }
     }
 }
 
@@ -52,6 +55,38 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
         t.face_offsets[f] = glm::dot(t.face_normals[f], t.positions[v[0]]);
     }
 
+    // Float facing planes. The double normal n errs by at most 8 eps |p| per component (p its
+    // permanent), so the unit normal's direction by at most 16 sqrt(3) eps |p|_inf / |n|; with the
+    // rounding to float (2^-24) that must stay below 2^-21 per component, else the face is NaN and
+    // always goes to the exact predicate. facing.cpp derives the per-view bound from this.
+    t.facing_origin = t.bounds.center();
+    t.facing_radius = 0.0;
+    for (const auto& p : t.positions) {
+        const glm::dvec3 q = glm::abs(p - t.facing_origin);
+        t.facing_radius = std::max(t.facing_radius, q.x + q.y + q.z);
+    }
+    t.facing_nx.resize(nf);
+    t.facing_ny.resize(nf);
+    t.facing_nz.resize(nf);
+    t.facing_d.resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+        const auto& q = t.face_planes[f];
+        const double len = glm::length(q.n);
+        const double pmax = std::max({q.p.x, q.p.y, q.p.z});
+        constexpr double kEps = 1.1102230246251565e-16;
+        const bool trusted = len > 0.0 && std::isfinite(len) && 16.0 * 1.7320508075688772 * kEps * pmax / len +
+                                                                        0x1p-24 + 8.0 * kEps <= 0x1p-21;
+        if (!trusted) {
+            t.facing_nx[f] = t.facing_ny[f] = t.facing_nz[f] = t.facing_d[f] = std::nanf("");
+            continue;
+        }
+        const glm::dvec3 n = q.n / len;
+        t.facing_nx[f] = float(n.x);
+        t.facing_ny[f] = float(n.y);
+        t.facing_nz[f] = float(n.z);
+        t.facing_d[f] = float(glm::dot(n, t.positions[t.faces[f][0]] - t.facing_origin));
+    }
+
     // Edges: first traversal a->b creates the edge with face 0; the opposite traversal fills face 1.
     std::unordered_map<std::uint64_t, std::uint32_t> index;
     index.reserve(nf * 2);
@@ -78,6 +113,7 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
         const auto [f0, f1] = t.edge_face[e];
         if (f1 == kNoFace) {
             t.edge_flags[e] = kEdgeBorder;
+            t.border_list.push_back(std::uint32_t(e));
             t.closed = false;
             continue;
         }

@@ -42,6 +42,15 @@ struct MeshTopology {
         double pa;
     };
     std::vector<FacePlane> face_planes;
+    // Float facing planes, structure of arrays, for the exhaustive scan and the per-face test
+    // (features/facing.hpp): unit normal and offset d = dot(n, a - facing_origin), so that
+    // dot(n, eye - facing_origin) - d is the eye's signed distance to the plane. A face whose float
+    // plane is not within 2^-21 (per normal component) of its exact one (slivers, zero area) holds
+    // NaN and always takes the exact test.
+    std::vector<float> facing_nx, facing_ny, facing_nz, facing_d;
+    glm::dvec3 facing_origin{0.0};  // centre of the bounding box
+    double facing_radius = 0.0;     // max over vertices of |v - facing_origin|_1
+
 
     // Edges (structure of arrays). edge_face[e][0] traverses edge_vertex[e][0] -> [1].
     std::vector<std::array<std::uint32_t, 2>> edge_vertex;
@@ -49,6 +58,8 @@ struct MeshTopology {
     std::vector<float> edge_normal_angle;  // angle between the two face normals, radians;
                                            // also the randomized sampling weight (pi - dihedral)
     std::vector<std::uint8_t> edge_flags;  // EdgeFlag bits
+    std::vector<std::uint32_t> border_list;  // border edges, in order
+    std::vector<std::uint32_t> crease_list;  // crease edges (set_crease_angle), in order
 
     // Vertex -> incident edges, compressed rows.
     std::vector<std::uint32_t> vertex_edge_begin;  // size V+1

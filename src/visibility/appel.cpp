@@ -68,7 +68,7 @@ enum class Walk { Visible, Occluded, Failed };
 // depth-tested against U (exact orientation); a branch that folds (silhouette) or ends (border) on
 // the way is not the layer over u. Degenerate paths (through vertices) fail: the caller then
 // makes a ray test.
-Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
              const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, double left) {
     const Segment2 path{u, {left, u.y}, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
     Walk result = Walk::Visible;
@@ -155,7 +155,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
 
 }  // namespace
 
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                     std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
     const glm::dvec3& V = mesh.positions[v];
@@ -209,7 +209,7 @@ int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t
     return after == face_side ? k : -k;
 }
 
-AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                            const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
                            const AppelOptions& options) {
     AppelStats st;

@@ -40,7 +40,7 @@ struct AppelStats {
 // Local change of QI at a vertex: the number of faces around `vertex` (other than the faces of
 // `edge`) that hide the points of `edge` infinitesimally close to the vertex. Exact predicates.
 // `face_front` is the view's facing (Features::face_front).
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                     std::uint32_t vertex, std::uint32_t edge);
 
 // Change of QI of a curve going from c1 to c2 (its segment, in 3D) behind occluding edge `occluder`
@@ -50,7 +50,7 @@ int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t
 
 // Assigns pieces[i].qi for every piece of `graph`.
 // `rays` gives the ray-test index, called only if a ray test is needed (it may build it).
-AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                            const std::function<const RayCaster&()>& rays, PieceGraph& graph,
                            const AppelOptions& options = {});
 

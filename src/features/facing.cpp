@@ -1,0 +1,98 @@
+#include "features/facing.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "core/predicates.hpp"
+
+namespace inkline {
+
+// The view's bound. With E = eye - origin, R = facing_radius, the trusted unit normal n' within
+// 2^-21 of the exact unit normal n* per component, d' within 2^-20 R of dot(n*, a - origin):
+//   |dot(n', float(E)) - dot(n*, E)| <= 2^-21 |E|_1 + (2^-24 + eps)|E|_1 <= 2^-20 |E|_1,
+//   float evaluation (3 products, 3 sums) <= 5 * 2^-24 (|E|_1 + R) < 2^-21 (|E|_1 + R),
+// so the float distance errs by less than 2^-19 (|E|_1 + R); the bound takes twice that, plus an
+// absolute floor for the subnormal range. Orthographic: E = -forward and no offset term (w = 0).
+// Outside the bound the float sign is the exact sign; inside, the exact predicate decides.
+void FaceFacing::bind(const MeshTopology& mesh, const Camera& camera) {
+    mesh_ = &mesh;
+    camera_ = camera;
+    exact_ = 0;
+    const bool ortho = camera.is_ortho();
+    const glm::dvec3 e = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
+    ex_ = float(e.x);
+    ey_ = float(e.y);
+    ez_ = float(e.z);
+    w_ = ortho ? 0.0f : 1.0f;
+    const double l1 = std::abs(e.x) + std::abs(e.y) + std::abs(e.z);
+    bound_ = float(0x1p-18 * (l1 + (ortho ? 0.0 : mesh.facing_radius)) + 1e-36);
+    if (!std::isfinite(ex_) || !std::isfinite(ey_) || !std::isfinite(ez_) || !std::isfinite(bound_))
+        bound_ = INFINITY;  // out of float range: every face goes to the exact test
+}
+
+void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
+    const std::size_t nf = mesh.face_count();
+    if (full_ || state_.size() != nf + 1 || mesh_ != &mesh) {
+        state_.assign(nf + 1, kUnknown);
+        state_[nf] = kSentinel;
+    } else {
+        for (std::uint32_t f : touched_) state_[f] = kUnknown;
+    }
+    touched_.clear();
+    full_ = false;
+    bind(mesh, camera);
+}
+
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera) {
+    bind(mesh, camera);
+    const std::size_t nf = mesh.face_count();
+    state_.resize(nf + 1);
+    state_[nf] = kSentinel;
+    touched_.clear();
+    full_ = true;
+    const float* __restrict nx = mesh.facing_nx.data();
+    const float* __restrict ny = mesh.facing_ny.data();
+    const float* __restrict nz = mesh.facing_nz.data();
+    const float* __restrict nd = mesh.facing_d.data();
+    std::uint8_t* __restrict out = state_.data();
+    const float ex = ex_, ey = ey_, ez = ez_, w = w_, b = bound_;
+    // Front 2, back 0, undecided (or NaN plane) 1: resolved exactly when first read.
+    for (std::size_t f = 0; f < nf; ++f) {
+        const float det = nx[f] * ex + ny[f] * ey + nz[f] * ez - w * nd[f];
+        out[f] = std::uint8_t(std::uint8_t(det > b) + std::uint8_t(!(det < -b)));
+    }
+}
+
+float FaceFacing::signed_distance(std::uint32_t f) const {
+    const MeshTopology& m = *mesh_;
+    return m.facing_nx[f] * ex_ + m.facing_ny[f] * ey_ + m.facing_nz[f] * ez_ - w_ * m.facing_d[f];
+}
+
+std::uint8_t FaceFacing::filter(std::uint32_t f) const {
+    const float det = signed_distance(f);
+    return std::uint8_t(std::uint8_t(det > bound_) + std::uint8_t(!(det < -bound_)));
+}
+
+std::uint8_t FaceFacing::resolve(std::uint32_t f) const {
+    std::uint8_t s = full_ ? kUnknown : filter(f);
+    if (s == kUnknown) {
+        const MeshTopology& m = *mesh_;
+        const auto& v = m.faces[f];
+        ++exact_;
+        s = orient_eye(camera_, m.positions[v[0]], m.positions[v[1]], m.positions[v[2]]) > 0 ? kFront : kBack;
+    }
+    state_[f] = s;
+    if (!full_) touched_.push_back(f);
+    return s;
+}
+
+std::vector<std::uint8_t> FaceFacing::all() const {
+    std::vector<std::uint8_t> out(size());
+    for (std::uint32_t f = 0; f < out.size(); ++f) out[f] = (*this)[f];
+    return out;
+}
+
+}  // namespace inkline

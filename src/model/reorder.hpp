@@ -1,0 +1,14 @@
+// Memory order of a mesh: vertices and faces along a Hilbert curve (CGAL's hilbert_sort), so that
+// neighbours on the surface are neighbours in memory. Per-view passes that follow the surface
+// (silhouette tracing, chaining, walks) then touch a few cache lines instead of the whole mesh.
+// Takes a TriangleMesh; gives the same mesh (same orientation, same corners order per face)
+// with renumbered vertices and faces.
+#pragma once
+
+#include "model/mesh_io.hpp"
+
+namespace inkline {
+
+TriangleMesh hilbert_ordered(const TriangleMesh& mesh);
+
+}  // namespace inkline
