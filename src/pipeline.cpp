@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <glm/geometric.hpp>
+
 #include "model/self_intersections.hpp"
 #include "model/reorder.hpp"
 #include "model/subdivide.hpp"
@@ -33,16 +35,50 @@ const std::vector<std::uint8_t>& Model::self_intersecting_faces() const {
     return *pierced_;
 }
 
-View render_view(const Model& model, Camera camera, const ViewOptions& options) {
-    const auto t0 = std::chrono::steady_clock::now();
-    if (camera.near_distance() <= 0.0) camera.set_near(default_near(model.topology()));
-    View v;
-    const bool appel = options.visibility == VisibilityMethod::Appel;
+namespace {
+FeatureOptions chained_kinds(const ViewOptions& options) {
     // Propagation needs every occluding curve chained, drawn or not.
     FeatureOptions fo = options.features;
-    if (appel) fo.kinds[int(LineKind::Silhouette)] = fo.kinds[int(LineKind::Border)] = true;
-    v.features = extract_features(model.topology(), camera, fo);
-    const auto t_index = std::chrono::steady_clock::now();
+    if (options.visibility == VisibilityMethod::Appel)
+        fo.kinds[int(LineKind::Silhouette)] = fo.kinds[int(LineKind::Border)] = true;
+    return fo;
+}
+}  // namespace
+
+View render_view(const Model& model, Camera camera, const ViewOptions& options) {
+    ViewSession session(model, options);
+    return std::move(session.render(camera));
+}
+
+ViewSession::ViewSession(const Model& model, const ViewOptions& options)
+    : model_(&model), options_(options), finder_(model.topology(), options.finder) {}
+
+const Features& ViewSession::find(Camera camera) {
+    if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));
+    const auto t0 = std::chrono::steady_clock::now();
+    finder_.find(camera, chained_kinds(options_), view_.features);
+    features_seconds_ = seconds_since(t0);
+    return view_.features;
+}
+
+View& ViewSession::visibility(Camera camera) {
+    if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));
+    finish(camera);
+    return view_;
+}
+
+View& ViewSession::render(Camera camera) {
+    if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));
+    find(camera);
+    finish(camera);
+    return view_;
+}
+
+void ViewSession::finish(const Camera& camera) {
+    const Model& model = *model_;
+    const ViewOptions& options = options_;
+    View& v = view_;
+    const bool appel = options.visibility == VisibilityMethod::Appel;
     double index_seconds = 0.0;  // building the ray-test index (once per model) is not the view's time
     auto rays = [&]() -> const RayCaster& {
         const auto tb = std::chrono::steady_clock::now();
@@ -91,10 +127,19 @@ View render_view(const Model& model, Camera camera, const ViewOptions& options) 
     s.clusters = as.clusters;
     s.walks = as.walks;
     s.seconds_load = model.load_seconds();
-    s.seconds_features = std::chrono::duration<double>(t_index - t0).count();
+    s.finder = finder_name(v.features.stats.finder);
+    s.fraction = v.features.stats.fraction;
+    s.recall = -1.0;
+    s.seconds_features = features_seconds_;
     s.seconds_visibility = seconds_since(t1) - index_seconds;
     s.seconds_total = s.seconds_features + s.seconds_visibility;
-    return v;
+}
+
+double edges_length(const MeshTopology& mesh, const std::vector<std::uint32_t>& edges) {
+    double l = 0.0;
+    for (std::uint32_t e : edges)
+        l += glm::length(mesh.positions[mesh.edge_vertex[e][1]] - mesh.positions[mesh.edge_vertex[e][0]]);
+    return l;
 }
 
 }  // namespace inkline

@@ -40,6 +40,7 @@ enum class VisibilityMethod { Rays, Appel };
 
 struct ViewOptions {
     FeatureOptions features;
+    FinderOptions finder;  // exhaustive (default) or randomized seed-and-seek
     VisibilityMethod visibility = VisibilityMethod::Appel;
     // Exact QI of hidden pieces is needed (hidden lines drawn); otherwise the fast method may
     // leave a totally occluded cluster at a lower bound (> 0) without a ray test.
@@ -57,5 +58,31 @@ struct View {
 // Features -> visibility for one camera. The camera's near plane, when unset (0), is
 // default_near(model) for this call.
 View render_view(const Model& model, Camera camera, const ViewOptions& options = {});
+
+// Views along a camera path: one finder across them (frame coherence for the randomized finder),
+// and the storage of the previous view reused, so a view costs what it touches.
+class ViewSession {
+public:
+    ViewSession(const Model& model, const ViewOptions& options = {});
+    // Features only (the silhouette finder, cusps, chaining); timed in seconds_features().
+    const Features& find(Camera camera);
+    // Features, then visibility; the returned view lives until the next call.
+    View& render(Camera camera);
+    // Visibility of the features found last by find(camera) (same camera).
+    View& visibility(Camera camera);
+    double seconds_features() const { return features_seconds_; }
+    SilhouetteFinder& finder() { return finder_; }
+
+private:
+    void finish(const Camera& camera);
+    const Model* model_;
+    ViewOptions options_;
+    SilhouetteFinder finder_;
+    View view_;
+    double features_seconds_ = 0.0;
+};
+
+// Total world length of mesh edges (recall of silhouette length compares two of these).
+double edges_length(const MeshTopology& mesh, const std::vector<std::uint32_t>& edges);
 
 }  // namespace inkline

@@ -219,3 +219,78 @@ TEST(Cli, BadOptionsAndUnwritableOutput) {
 }
 
 }  // namespace
+
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string p; std::getline(ss, p, sep);) out.push_back(p);
+    return out;
+}
+
+TEST(Cli, RandomizedFinderAndRecallInJson) {
+    const fs::path d = scratch();
+    const Result r = run("render " + mesh("fandisk.off") + " --finder=randomized --fraction=0.05 --seed=3 --recall -o " +
+                             (d / "f.json").string(),
+                         d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(d / "f.json"));
+    EXPECT_EQ(j["stats"]["finder"], "randomized");
+    EXPECT_EQ(j["stats"]["fraction"], 0.05);
+    const double recall = j["stats"]["recall_length"];
+    EXPECT_GE(recall, 0.95);
+    EXPECT_LE(recall, 1.0);
+    EXPECT_NE(r.out.find("finder: randomized"), std::string::npos) << r.out;
+    // Bad settings are one-line errors naming the flag.
+    const Result bad = run("render " + mesh("fandisk.off") + " --finder=lucky -o " + (d / "g.svg").string(), d);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("--finder: unknown finder 'lucky'"), std::string::npos) << bad.err;
+    const Result zero = run("render " + mesh("fandisk.off") + " --fraction=0 -o " + (d / "g.svg").string(), d);
+    EXPECT_EQ(zero.code, 1);
+    EXPECT_NE(zero.err.find("--fraction"), std::string::npos) << zero.err;
+    EXPECT_FALSE(fs::exists(d / "g.svg"));
+}
+
+TEST(Cli, BenchWritesCsvTableAndPlot) {
+    const fs::path d = scratch();
+    const Result r = run("bench tori:32 --frames=4 --fractions=0.01,0.1 --csv=" + (d / "b.csv").string() +
+                             " --plot=" + (d / "b.svg").string() + " --markdown=" + (d / "b.md").string(),
+                         d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto rows = split(slurp(d / "b.csv"), '\n');
+    ASSERT_EQ(rows.size(), 1u + 1u + 2u * 2u);  // header, exhaustive, 2 fractions x coherence off/on
+    EXPECT_EQ(rows[0],
+              "model,triangles,finder,fraction,coherence,frames,ms_per_frame,silhouette_edges_per_frame,"
+              "silhouette_edges_per_second,recall_length,wrong_visible_length_px");
+    const auto ex = split(rows[1], ',');
+    ASSERT_EQ(ex.size(), 11u);
+    EXPECT_EQ(ex[0], "tori:32");
+    EXPECT_EQ(ex[1], "2048");  // two tori of 32 x 16 quads, two triangles each
+    EXPECT_EQ(ex[2], "exhaustive");
+    EXPECT_EQ(ex[5], "4");
+    EXPECT_EQ(std::stod(ex[9]), 1.0);  // the reference against itself
+    EXPECT_EQ(std::stod(ex[10]), 0.0);
+    for (std::size_t i = 2; i < rows.size(); ++i) {
+        const auto c = split(rows[i], ',');
+        ASSERT_EQ(c.size(), 11u) << rows[i];
+        EXPECT_EQ(c[2], "randomized");
+        EXPECT_EQ(c[4], i < 4 ? "0" : "1") << rows[i];
+        EXPECT_GT(std::stod(c[9]), 0.0);
+        EXPECT_LE(std::stod(c[9]), 1.0);
+        EXPECT_GE(std::stod(c[10]), 0.0);
+        EXPECT_GT(std::stod(c[7]), 0.0);
+    }
+    EXPECT_NE(r.out.find("| finder | fraction | coherence | ms/frame |"), std::string::npos) << r.out;
+    EXPECT_EQ(slurp(d / "b.md"), r.out);
+    const std::string svg = slurp(d / "b.svg");
+    EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+    EXPECT_NE(svg.find("<svg"), std::string::npos);
+    // Unknown path: an error naming the flag, nothing written.
+    const Result bad = run("bench tori:32 --path=spiral --csv=" + (d / "c.csv").string(), d);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("--path: unknown path 'spiral'"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(d / "c.csv"));
+}
+
+}  // namespace

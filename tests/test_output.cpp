@@ -133,7 +133,9 @@ TEST(OutputJson, SchemaAndValues) {
     EXPECT_EQ(keys(s), (std::set<std::string>{"triangles", "silhouette_edges", "border_edges",
                                               "crease_edges", "curves", "cusps", "crossings",
                                               "pieces", "ray_tests", "visibility", "clusters", "walks",
-                                              "seconds"}));
+                                              "finder", "fraction", "seconds"}));
+    EXPECT_EQ(s["finder"], "exhaustive");
+    EXPECT_EQ(s["fraction"], 1.0);
     EXPECT_EQ(s["triangles"], 1234);
     EXPECT_EQ(s["silhouette_edges"], 56);
     EXPECT_EQ(s["border_edges"], 7);

@@ -15,6 +15,14 @@
 #include "pipeline.hpp"
 
 namespace inkline {
+
+double parse_number(const std::string& flag, const std::string& s) {
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || *end != '\0' || !std::isfinite(v)) throw Error(flag, "expected a number, got '" + s + "'");
+    return v;
+}
+
 namespace {
 
 const char* kUsage =
@@ -23,19 +31,16 @@ const char* kUsage =
     "                      [--ortho=H] [--near=D] [--crease=DEG] [--hidden]\n"
     "                      [--lines=silhouette,crease,border] [--visibility=appel|rays]\n"
     "                      [--no-walk] [--subdivide=N] [--quiet]\n"
+    "                      [--finder=exhaustive|randomized] [--fraction=F] [--seed=S] [--recall]\n"
+    "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--seed=S] [--subdivide=N]\n"
+    "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
+    "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
-    "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n";
+    "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
+    "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
+    "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
+    "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n";
 
-struct Usage : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-double parse_number(const std::string& flag, const std::string& s) {
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (s.empty() || *end != '\0' || !std::isfinite(v)) throw Error(flag, "expected a number, got '" + s + "'");
-    return v;
-}
 
 glm::dvec3 parse_vec3(const std::string& flag, const std::string& s) {
     std::vector<std::string> parts;
@@ -51,8 +56,9 @@ struct RenderArgs {
     double crease = 40.0;
     int subdivide = 0;
     bool walk = true;
-    bool hidden = false, quiet = false;
+    bool hidden = false, quiet = false, recall = false;
     FeatureOptions features;
+    FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
 };
 
@@ -68,6 +74,7 @@ RenderArgs parse_render(int argc, char** argv) {
         if (arg == "--hidden") { a.hidden = true; continue; }
         if (arg == "--quiet") { a.quiet = true; continue; }
         if (arg == "--no-walk") { a.walk = false; continue; }
+        if (arg == "--recall") { a.recall = true; continue; }
         if (arg.rfind("--", 0) != 0) {
             if (!a.model.empty()) throw Usage("more than one model given ('" + a.model + "', '" + arg + "')");
             a.model = arg;
@@ -89,6 +96,17 @@ RenderArgs parse_render(int argc, char** argv) {
             if (value == "appel") a.visibility = VisibilityMethod::Appel;
             else if (value == "rays") a.visibility = VisibilityMethod::Rays;
             else throw Error(key, "unknown method '" + value + "' (expected appel or rays)");
+        } else if (key == "--finder") {
+            if (value == "exhaustive") a.finder.kind = FinderKind::Exhaustive;
+            else if (value == "randomized") a.finder.kind = FinderKind::Randomized;
+            else throw Error(key, "unknown finder '" + value + "' (expected exhaustive or randomized)");
+        } else if (key == "--fraction") {
+            a.finder.fraction = parse_number(key, value);
+            if (!(a.finder.fraction > 0.0 && a.finder.fraction <= 1.0)) throw Error(key, "expected a share in (0, 1]");
+        } else if (key == "--seed") {
+            const double n = parse_number(key, value);
+            if (n < 0 || n != std::floor(n) || n > 9007199254740992.0) throw Error(key, "expected a non-negative integer");
+            a.finder.seed = std::uint64_t(n);
         } else if (key == "--crease") {
             a.crease = parse_number(key, value);
             if (a.crease < 0.0 || a.crease > 180.0) throw Error(key, "expected an angle in [0, 180] degrees");
@@ -169,7 +187,14 @@ int render(int argc, char** argv) {
     opt.visibility = a.visibility;
     opt.walk = a.walk;
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
+    opt.finder = a.finder;
     View view = render_view(model, cam, opt);
+    if (a.recall) {
+        const Features reference = extract_features(model.topology(), cam);
+        const double total = edges_length(model.topology(), reference.silhouette_edges);
+        view.drawing.stats.recall =
+            total > 0.0 ? edges_length(model.topology(), view.features.silhouette_edges) / total : 1.0;
+    }
     OutputOptions oo;
     oo.hidden = a.hidden;
     const auto t_out = std::chrono::steady_clock::now();
@@ -184,6 +209,9 @@ int render(int argc, char** argv) {
                     "%zu crossings, %zu pieces, %zu ray tests (%s, %zu clusters)\n",
                     out.c_str(), s.triangles, s.silhouette_edges, s.crease_edges, s.border_edges, s.curves, s.cusps,
                     s.crossings, s.pieces, s.ray_tests, s.visibility.c_str(), s.clusters);
+        std::printf("finder: %s (fraction %g)", s.finder.c_str(), s.fraction);
+        if (s.recall >= 0.0) std::printf(", recall of silhouette length %.4f", s.recall);
+        std::printf("\n");
         std::printf("seconds: load %.4f, features %.4f, visibility %.4f, output %.4f\n", s.seconds_load,
                     s.seconds_features, s.seconds_visibility, t_write);
         std::printf("camera: --eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d\n", fmt3(cam.eye()).c_str(),
@@ -204,6 +232,7 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
         if (cmd == "render") return render(argc, argv);
+        if (cmd == "bench") return run_bench(argc, argv);
         throw Usage("unknown command '" + cmd + "'");
     } catch (const Usage& e) {
         std::fprintf(stderr, "inkline: %s\n%s", e.what(), kUsage);

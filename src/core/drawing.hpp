@@ -39,6 +39,9 @@ struct DrawingStats {
     std::string visibility = "rays";  // method: "rays" (reference) or "appel" (propagation)
     std::size_t clusters = 0;         // appel: connected sets of curves sharing a base QI
     std::size_t walks = 0;            // appel: surface walks (section 4.4)
+    std::string finder = "exhaustive";  // silhouette finder: "exhaustive" or "randomized"
+    double fraction = 1.0;            // randomized: share of edges drawn
+    double recall = -1.0;             // silhouette length found / exhaustive's (< 0: not measured)
     double seconds_load = 0.0;        // model loading and topology (0 when reused)
     double seconds_features = 0.0;
     double seconds_visibility = 0.0;

@@ -53,22 +53,19 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera) {
     state_[nf] = kSentinel;
     touched_.clear();
     full_ = true;
-    const float* __restrict nx = mesh.facing_nx.data();
-    const float* __restrict ny = mesh.facing_ny.data();
-    const float* __restrict nz = mesh.facing_nz.data();
-    const float* __restrict nd = mesh.facing_d.data();
+    const MeshTopology::FacingPlane* __restrict p = mesh.facing.data();
     std::uint8_t* __restrict out = state_.data();
     const float ex = ex_, ey = ey_, ez = ez_, w = w_, b = bound_;
     // Front 2, back 0, undecided (or NaN plane) 1: resolved exactly when first read.
     for (std::size_t f = 0; f < nf; ++f) {
-        const float det = nx[f] * ex + ny[f] * ey + nz[f] * ez - w * nd[f];
+        const float det = p[f].nx * ex + p[f].ny * ey + p[f].nz * ez - w * p[f].d;
         out[f] = std::uint8_t(std::uint8_t(det > b) + std::uint8_t(!(det < -b)));
     }
 }
 
 float FaceFacing::signed_distance(std::uint32_t f) const {
-    const MeshTopology& m = *mesh_;
-    return m.facing_nx[f] * ex_ + m.facing_ny[f] * ey_ + m.facing_nz[f] * ez_ - w_ * m.facing_d[f];
+    const MeshTopology::FacingPlane& p = mesh_->facing[f];
+    return p.nx * ex_ + p.ny * ey_ + p.nz * ez_ - w_ * p.d;
 }
 
 std::uint8_t FaceFacing::filter(std::uint32_t f) const {

@@ -173,7 +173,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         scan_exhaustive(out);
     } else {
         out.face_front.begin_lazy(mesh, camera);
-        search_randomized(out);
+        search_randomized(camera, out);
     }
     cusps_and_curves(mesh, options, out);
     out.stats.faces_decided = out.face_front.faces_decided();
@@ -268,47 +268,40 @@ void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
     }
 }
 
-// Bounded walk over faces from `face` toward the silhouette: from a back-facing face toward the
-// camera (the neighbour whose plane passes closest behind the eye), from a front-facing one away
-// from it, until a neighbour of the other facing is met (their edge is a silhouette edge: traced)
-// or the step bound or a local extremum is reached. The float distances only steer the walk;
-// facing is decided exactly.
-void SilhouetteFinder::seek(std::uint32_t face, Features& out) {
+// Bounded seek (section 4.1) from vertex v on a region of one facing (`front`): from a
+// back-facing region toward the camera (to the neighbour of least depth), from a front-facing one
+// away from it (greatest depth), until a vertex with a silhouette edge is reached (traced), or
+// the step bound, or a vertex with no neighbour further along. Depth only steers the walk;
+// silhouettes are decided by the exact facing.
+void SilhouetteFinder::seek(std::uint32_t v, bool front, const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     ++out.stats.seeks;
-    std::uint32_t c = face;
-    const std::uint8_t side = out.face_front[c];
-    // Score to maximise: signed distance on the back side, its negation on the front side.
-    auto score = [&](std::uint32_t f) {
-        const float d = out.face_front.signed_distance(f);
-        return std::isnan(d) ? -INFINITY : (side ? -d : d);
-    };
-    float best_here = score(c);
+    const double sign = front ? 1.0 : -1.0;  // maximise sign * depth
+    double here = sign * camera.depth(mesh.positions[v]);
     for (int step = 0; step < opt_.step_bound; ++step) {
         ++out.stats.seek_steps;
-        std::uint32_t next = kNoFace;
-        float best = best_here;
-        for (std::uint32_t e : mesh.face_edges[c]) {
-            const auto [f0, f1] = mesh.edge_face[e];
-            const std::uint32_t nb = f0 == c ? f1 : f0;
-            if (nb == kNoFace) continue;
-            if (out.face_front[nb] != side) {
-                if (out.edge_kind[e] != kSil) {
-                    ++out.stats.seek_hits;
-                    trace(e, out);
-                }
+        std::uint32_t next = UINT32_MAX;
+        double best = here;
+        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+            const std::uint32_t h = mesh.vertex_edges[k];
+            if (out.edge_kind[h] == kSil) return;  // reached a silhouette found already
+            ++out.stats.edges_examined;
+            if (out.edge_kind[h] != kBorder && is_silhouette(mesh, out, h)) {
+                ++out.stats.seek_hits;
+                trace(h, out);
                 return;
             }
-            const float s = score(nb);
-            if (s > best) best = s, next = nb;
+            const std::uint32_t u = mesh.edge_vertex[h][0] == v ? mesh.edge_vertex[h][1] : mesh.edge_vertex[h][0];
+            const double d = sign * camera.depth(mesh.positions[u]);
+            if (d > best) best = d, next = u;
         }
-        if (next == kNoFace) return;  // a local extremum of the facing: nothing to follow
-        c = next;
-        best_here = best;
+        if (next == UINT32_MAX) return;
+        v = next;
+        here = best;
     }
 }
 
-void SilhouetteFinder::search_randomized(Features& out) {
+void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count();
     out.stats.fraction = opt_.fraction;
@@ -329,14 +322,14 @@ void SilhouetteFinder::search_randomized(Features& out) {
             if (is_silhouette(mesh, out, e)) {
                 trace(e, out);
             } else if (coin(opt_.seed_fraction)) {
-                seek(mesh.edge_face[e][0], out);
-                if (mesh.edge_face[e][1] != kNoFace) seek(mesh.edge_face[e][1], out);
+                seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
             }
         }
         // Seeds on creases and borders: silhouettes often run beside them (cylinders).
         for (const auto* list : {&mesh.crease_list, &mesh.border_list})
             for (std::uint32_t e : *list)
-                if (coin(opt_.seed_fraction)) seek(mesh.edge_face[e][0], out);
+                if (coin(opt_.seed_fraction))
+                    seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
     }
 
     // Random edges, weighted by pi - dihedral angle.
@@ -357,6 +350,7 @@ void SilhouetteFinder::search_randomized(Features& out) {
             if (out.edge_kind[e] == kSil) continue;
             ++out.stats.edges_examined;
             if (is_silhouette(mesh, out, e)) trace(e, out);
+            else if (opt_.seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
         }
     }
     previous_ = out.silhouette_edges;

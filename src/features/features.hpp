@@ -44,11 +44,12 @@ struct FinderOptions {
     FinderKind kind = FinderKind::Exhaustive;
     // Randomized: edges drawn per view as a share of all edges, with probability proportional to
     // the angle between their face normals (pi - dihedral); >= 1 examines every edge once.
-    double fraction = 0.02;
+    double fraction = 0.05;
     bool coherence = true;        // check every silhouette edge of the previous view
     double seed_fraction = 0.25;  // share of lost previous silhouette edges, and of crease and
                                   // border edges, that start a seek per view
-    int step_bound = 24;          // faces a seek may cross
+    int step_bound = 24;          // edges a seek may follow
+    bool seek_draws = true;       // a drawn edge that is not a silhouette starts a seek too
     std::uint64_t seed = 1;       // random seed (runs are deterministic)
 };
 
@@ -102,12 +103,13 @@ public:
     void find(const Camera& camera, const FeatureOptions& options, Features& out);
     const FinderOptions& options() const { return opt_; }
     void reset();  // forget the previous view
+    void set_fraction(double f) { opt_.fraction = f; }  // e.g. a viewer's slider, keeping coherence
 
 private:
     void scan_exhaustive(Features& out);
-    void search_randomized(Features& out);
+    void search_randomized(const Camera& camera, Features& out);
     void trace(std::uint32_t e, Features& out);
-    void seek(std::uint32_t face, Features& out);
+    void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
 
     const MeshTopology* mesh_;

@@ -65,10 +65,7 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
         const glm::dvec3 q = glm::abs(p - t.facing_origin);
         t.facing_radius = std::max(t.facing_radius, q.x + q.y + q.z);
     }
-    t.facing_nx.resize(nf);
-    t.facing_ny.resize(nf);
-    t.facing_nz.resize(nf);
-    t.facing_d.resize(nf);
+    t.facing.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) {
         const auto& q = t.face_planes[f];
         const double len = glm::length(q.n);
@@ -77,14 +74,13 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
         const bool trusted = len > 0.0 && std::isfinite(len) && 16.0 * 1.7320508075688772 * kEps * pmax / len +
                                                                         0x1p-24 + 8.0 * kEps <= 0x1p-21;
         if (!trusted) {
-            t.facing_nx[f] = t.facing_ny[f] = t.facing_nz[f] = t.facing_d[f] = std::nanf("");
+            const float nan = std::nanf("");
+            t.facing[f] = {nan, nan, nan, nan};
             continue;
         }
         const glm::dvec3 n = q.n / len;
-        t.facing_nx[f] = float(n.x);
-        t.facing_ny[f] = float(n.y);
-        t.facing_nz[f] = float(n.z);
-        t.facing_d[f] = float(glm::dot(n, t.positions[t.faces[f][0]] - t.facing_origin));
+        t.facing[f] = {float(n.x), float(n.y), float(n.z),
+                       float(glm::dot(n, t.positions[t.faces[f][0]] - t.facing_origin))};
     }
 
     // Edges: first traversal a->b creates the edge with face 0; the opposite traversal fills face 1.

@@ -42,12 +42,16 @@ struct MeshTopology {
         double pa;
     };
     std::vector<FacePlane> face_planes;
-    // Float facing planes, structure of arrays, for the exhaustive scan and the per-face test
+    // Float facing planes, 16 bytes per face (one load for a lazy test; the full scan measured
+    // 2x faster than with four separate arrays), for the exhaustive scan and the per-face test
     // (features/facing.hpp): unit normal and offset d = dot(n, a - facing_origin), so that
     // dot(n, eye - facing_origin) - d is the eye's signed distance to the plane. A face whose float
     // plane is not within 2^-21 (per normal component) of its exact one (slivers, zero area) holds
     // NaN and always takes the exact test.
-    std::vector<float> facing_nx, facing_ny, facing_nz, facing_d;
+    struct alignas(16) FacingPlane {
+        float nx, ny, nz, d;
+    };
+    std::vector<FacingPlane> facing;
     glm::dvec3 facing_origin{0.0};  // centre of the bounding box
     double facing_radius = 0.0;     // max over vertices of |v - facing_origin|_1
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <cairo-pdf.h>
+#include <cairo-svg.h>
 #include <cairo.h>
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -287,12 +288,15 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                   {"visibility", s.visibility},
                   {"clusters", s.clusters},
                   {"walks", s.walks},
+                  {"finder", s.finder},
+                  {"fraction", s.fraction},
                   {"seconds",
                    {{"load", s.seconds_load},
                     {"features", s.seconds_features},
                     {"visibility", s.seconds_visibility},
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
+    if (s.recall >= 0.0) stats["recall_length"] = s.recall;
     json polylines = json::array();
     for (const Piece& p : d.pieces) {
         if (!is_written(p, o)) continue;
@@ -349,6 +353,117 @@ void write_drawing(const Drawing& d, const std::string& path, Format f, const Ou
         case Format::Png: write_cairo(d, f, o, file); break;
     }
     file.commit();
+}
+
+void write_text_file(const std::string& path, const std::string& content) {
+    TempFile file(path);
+    file.write_all(content);
+    file.commit();
+}
+
+namespace {
+cairo_status_t append_to_string(void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+}
+
+// Round tick step: 1, 2 or 5 times a power of ten, about `count` steps over the span.
+double tick_step(double span, int count) {
+    const double raw = span / count, p = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0})
+        if (m * p >= raw) return m * p;
+    return 10.0 * p;
+}
+}  // namespace
+
+std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::string& title,
+                             const std::string& x_label, const std::string& y_label,
+                             const std::vector<std::string>& series_names) {
+    constexpr double W = 720, H = 480, L = 80, R = 200, T = 50, B = 60;
+    double x0 = 1e300, x1 = -1e300, y1 = 0.0;
+    for (const auto& p : points) {
+        x0 = std::min(x0, p.x);
+        x1 = std::max(x1, p.x);
+        y1 = std::max(y1, p.y);
+    }
+    if (points.empty()) x0 = 0.0, x1 = 1.0, y1 = 1.0;
+    if (x1 - x0 < 1e-3) x0 -= 5e-4, x1 += 5e-4;
+    const double xpad = 0.05 * (x1 - x0);
+    x0 -= xpad;
+    x1 += xpad;
+    y1 = y1 > 0.0 ? y1 * 1.1 : 1.0;
+    const double y0 = 0.0;
+    auto X = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
+    auto Y = [&](double y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); };
+
+    std::string svg;
+    cairo_surface_t* surface = cairo_svg_surface_create_for_stream(append_to_string, &svg, W, H);
+    cairo_t* cr = cairo_create(surface);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    auto text = [&](double x, double y, const std::string& s, double size, double align) {
+        cairo_set_font_size(cr, size);
+        cairo_text_extents_t ext;
+        cairo_text_extents(cr, s.c_str(), &ext);
+        cairo_move_to(cr, x - align * ext.width, y);
+        cairo_show_text(cr, s.c_str());
+    };
+    // Axes and ticks.
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.0);
+    cairo_move_to(cr, L, T);
+    cairo_line_to(cr, L, H - B);
+    cairo_line_to(cr, W - R, H - B);
+    cairo_stroke(cr);
+    const double xs = tick_step(x1 - x0, 6), ys = tick_step(y1 - y0, 6);
+    char buf[64];
+    for (double x = std::ceil(x0 / xs) * xs; x <= x1 + 1e-12; x += xs) {
+        cairo_move_to(cr, X(x), H - B);
+        cairo_line_to(cr, X(x), H - B + 5);
+        cairo_stroke(cr);
+        std::snprintf(buf, sizeof buf, "%g", std::round(x / xs) * xs);
+        text(X(x), H - B + 18, buf, 11, 0.5);
+    }
+    for (double y = 0.0; y <= y1 + 1e-12; y += ys) {
+        cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
+        cairo_move_to(cr, L, Y(y));
+        cairo_line_to(cr, W - R, Y(y));
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        std::snprintf(buf, sizeof buf, "%g", std::round(y / ys) * ys);
+        text(L - 8, Y(y) + 4, buf, 11, 1.0);
+    }
+    text((L + W - R) / 2, H - 15, x_label, 13, 0.5);
+    text(W / 2, 28, title, 15, 0.5);
+    cairo_save(cr);
+    cairo_translate(cr, 22, (T + H - B) / 2);
+    cairo_rotate(cr, -M_PI / 2);
+    text(0, 0, y_label, 13, 0.5);
+    cairo_restore(cr);
+    // Points, labelled, coloured by series.
+    static const double colours[][3] = {{0.1, 0.1, 0.1}, {0.85, 0.35, 0.1}, {0.1, 0.45, 0.8}, {0.2, 0.6, 0.2}};
+    for (const auto& p : points) {
+        const auto& c = colours[std::size_t(p.series) % 4];
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_arc(cr, X(p.x), Y(p.y), 4.0, 0, 2 * M_PI);
+        cairo_fill(cr);
+        text(X(p.x) + 6, Y(p.y) - 6, p.label, 10, 0.0);
+    }
+    for (std::size_t i = 0; i < series_names.size(); ++i) {
+        const auto& c = colours[i % 4];
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_arc(cr, W - R + 20, T + 20 + 20 * double(i), 4.0, 0, 2 * M_PI);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(W - R + 30, T + 24 + 20 * double(i), series_names[i], 11, 0.0);
+    }
+    cairo_destroy(cr);
+    cairo_surface_finish(surface);
+    const cairo_status_t status = cairo_surface_status(surface);
+    cairo_surface_destroy(surface);
+    if (status != CAIRO_STATUS_SUCCESS) throw Error("plot", cairo_status_to_string(status));
+    return svg;
 }
 
 }  // namespace inkline

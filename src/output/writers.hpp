@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/drawing.hpp"
 
@@ -29,5 +30,18 @@ std::string drawing_to_svg(const Drawing& drawing, const OutputOptions& options)
 // Throws inkline::Error(path, reason) on failure; the target is then left untouched.
 void write_drawing(const Drawing& drawing, const std::string& path, Format format,
                    const OutputOptions& options);
+
+// Writes `content` to `path` atomically (same rules as write_drawing).
+void write_text_file(const std::string& path, const std::string& content);
+
+// A scatter plot as SVG (drawn with Cairo): one labelled point per entry, x and y axes with ticks.
+struct PlotPoint {
+    double x = 0.0, y = 0.0;
+    std::string label;
+    int series = 0;  // colour
+};
+std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::string& title,
+                             const std::string& x_label, const std::string& y_label,
+                             const std::vector<std::string>& series_names);
 
 }  // namespace inkline

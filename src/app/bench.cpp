@@ -1,0 +1,297 @@
+// `inkline bench`: the speed/accuracy trade of the silhouette finders along a camera path.
+// For every setting (exhaustive; randomized at several sample fractions, with and without frame
+// coherence) the model is drawn frame by frame along the path; the finder stage (silhouette
+// search, cusps, chaining) is timed, and its result is compared with the exhaustive finder's on
+// the same frame: recall of silhouette length, and the length of visible line (after visibility,
+// every line kind) that is missing or extra, in pixels.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "app/cli.hpp"
+#include "core/error.hpp"
+#include "model/primitives.hpp"
+#include "model/reorder.hpp"
+#include "model/subdivide.hpp"
+#include "output/writers.hpp"
+#include "pipeline.hpp"
+
+namespace inkline {
+namespace {
+
+struct BenchArgs {
+    std::string model, path = "orbit", csv, markdown, plot;
+    int frames = 60, subdivide = 0, width = 1024, height = 1024;
+    std::uint64_t seed = 1;
+    double crease = 40.0;
+    std::vector<double> fractions{0.002, 0.005, 0.01, 0.02, 0.05};
+    VisibilityMethod visibility = VisibilityMethod::Appel;
+};
+
+int parse_int(const std::string& flag, const std::string& v, int lo, int hi) {
+    const double n = parse_number(flag, v);
+    if (n < lo || n > hi || n != std::floor(n))
+        throw Error(flag, "expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return int(n);
+}
+
+BenchArgs parse_bench(int argc, char** argv) {
+    BenchArgs a;
+    for (int i = 2; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg.rfind("--", 0) != 0) {
+            if (!a.model.empty()) throw Usage("more than one model given ('" + a.model + "', '" + arg + "')");
+            a.model = arg;
+            continue;
+        }
+        const auto eq = arg.find('=');
+        if (eq == std::string::npos) throw Usage("unknown option '" + arg + "'");
+        const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
+        if (key == "--path") {
+            if (value != "orbit" && value != "dolly" && value != "walk")
+                throw Error(key, "unknown path '" + value + "' (expected orbit, dolly or walk)");
+            a.path = value;
+        } else if (key == "--frames") a.frames = parse_int(key, value, 1, 100000);
+        else if (key == "--subdivide") a.subdivide = parse_int(key, value, 0, 6);
+        else if (key == "--seed") a.seed = std::uint64_t(parse_int(key, value, 0, 2147483647));
+        else if (key == "--csv") a.csv = value;
+        else if (key == "--markdown") a.markdown = value;
+        else if (key == "--plot") a.plot = value;
+        else if (key == "--crease") a.crease = parse_number(key, value);
+        else if (key == "--size") {
+            const auto x = value.find('x');
+            if (x == std::string::npos) throw Error(key, "expected WxH, got '" + value + "'");
+            a.width = parse_int(key, value.substr(0, x), 1, 32768);
+            a.height = parse_int(key, value.substr(x + 1), 1, 32768);
+        } else if (key == "--visibility") {
+            if (value == "appel") a.visibility = VisibilityMethod::Appel;
+            else if (value == "rays") a.visibility = VisibilityMethod::Rays;
+            else throw Error(key, "unknown method '" + value + "' (expected appel or rays)");
+        } else if (key == "--fractions") {
+            a.fractions.clear();
+            std::stringstream ss(value);
+            for (std::string f; std::getline(ss, f, ',');) {
+                const double v = parse_number(key, f);
+                if (!(v > 0.0 && v <= 1.0)) throw Error(key, "expected shares in (0, 1], got '" + f + "'");
+                a.fractions.push_back(v);
+            }
+        } else
+            throw Usage("unknown option '" + key + "'");
+    }
+    if (a.model.empty()) throw Usage("no model given");
+    return a;
+}
+
+// "tori:N": two linked tori, N x N/2 segments each (the paper's Tables 1 and 2 model).
+Model load_model(const BenchArgs& a) {
+    if (a.model.rfind("tori:", 0) == 0) {
+        const int n = parse_int("MODEL", a.model.substr(5), 8, 4096);
+        const TriangleMesh t = merge_meshes(make_torus({0, 0, 0}, {0, 0, 1}, 1.0, 0.3, n, n / 2),
+                                            make_torus({1, 0, 0}, {0, 1, 0}, 1.0, 0.3, n, n / 2));
+        return Model(hilbert_ordered(subdivide_loop(t, a.subdivide)), a.crease);
+    }
+    return Model::load(a.model, a.crease, a.subdivide);
+}
+
+// Smooth camera paths around the model's bounding box (R: half diagonal, D: framing distance).
+Camera path_camera(const std::string& path, int i, int frames, const Bounds3& box, int w, int h) {
+    const double fov = 30.0, R = box.half_diagonal(), D = R / std::sin(fov * M_PI / 360.0);
+    const glm::dvec3 c = box.center();
+    const double t = frames > 1 ? double(i) / double(frames - 1) : 0.0;
+    if (path == "orbit") {  // once around, 20 degrees above the equator
+        const double az = 2.0 * M_PI * double(i) / double(frames), el = 20.0 * M_PI / 180.0;
+        const glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+        return Camera::perspective(c + D * dir, c, {0, 1, 0}, fov, w, h);
+    }
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, 0.6, 1.4));
+    if (path == "dolly") {  // from 1.5 D in to 0.6 D along the default view direction
+        return Camera::perspective(c + (1.5 - 0.9 * t) * D * dir, c, {0, 1, 0}, fov, w, h);
+    }
+    // walk: a camera passing the model sideways at 0.8 D, looking ahead of itself, slight bob.
+    const glm::dvec3 side = glm::normalize(glm::cross(dir, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 eye = c + 0.8 * D * dir + (t - 0.5) * 1.6 * R * side + 0.05 * R * std::sin(12.0 * t) * glm::dvec3(0, 1, 0);
+    const glm::dvec3 target = c + (t - 0.5) * 0.8 * R * side;
+    return Camera::perspective(eye, target, {0, 1, 0}, fov, w, h);
+}
+
+struct Interval {
+    std::uint32_t edge;
+    double s0, s1;
+};
+
+std::vector<Interval> visible_intervals(const View& v) {
+    std::vector<Interval> out;
+    for (std::size_t i = 0; i < v.drawing.pieces.size(); ++i) {
+        if (v.drawing.pieces[i].qi != 0) continue;
+        for (const EdgeSpan& s : v.spans[i]) out.push_back({s.edge, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+    }
+    std::sort(out.begin(), out.end(), [](const Interval& a, const Interval& b) {
+        return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
+    });
+    return out;
+}
+
+// Pixel length of the symmetric difference of two sets of visible edge intervals.
+double wrong_length_px(const MeshTopology& mesh, const Camera& cam, const std::vector<Interval>& a,
+                       const std::vector<Interval>& b) {
+    double wrong = 0.0;
+    std::size_t i = 0, j = 0;
+    std::vector<double> cuts;
+    while (i < a.size() || j < b.size()) {
+        const std::uint32_t e = std::min(i < a.size() ? a[i].edge : UINT32_MAX, j < b.size() ? b[j].edge : UINT32_MAX);
+        const std::size_t i0 = i, j0 = j;
+        while (i < a.size() && a[i].edge == e) ++i;
+        while (j < b.size() && b[j].edge == e) ++j;
+        cuts.clear();
+        for (std::size_t k = i0; k < i; ++k) cuts.insert(cuts.end(), {a[k].s0, a[k].s1});
+        for (std::size_t k = j0; k < j; ++k) cuts.insert(cuts.end(), {b[k].s0, b[k].s1});
+        std::sort(cuts.begin(), cuts.end());
+        const glm::dvec3 p0 = mesh.positions[mesh.edge_vertex[e][0]], p1 = mesh.positions[mesh.edge_vertex[e][1]];
+        auto inside = [](const std::vector<Interval>& v, std::size_t lo, std::size_t hi, double s) {
+            for (std::size_t k = lo; k < hi; ++k)
+                if (v[k].s0 <= s && s <= v[k].s1) return true;
+            return false;
+        };
+        for (std::size_t k = 1; k < cuts.size(); ++k) {
+            if (cuts[k] <= cuts[k - 1]) continue;
+            const double m = 0.5 * (cuts[k] + cuts[k - 1]);
+            if (inside(a, i0, i, m) == inside(b, j0, j, m)) continue;
+            wrong += glm::length(cam.project(p0 + cuts[k] * (p1 - p0)) - cam.project(p0 + cuts[k - 1] * (p1 - p0)));
+        }
+    }
+    return wrong;
+}
+
+struct Row {
+    std::string finder;
+    double fraction = 1.0;
+    bool coherence = false;
+    double features_s = 0.0, visibility_s = 0.0;
+    double silhouette_edges = 0.0, found_length = 0.0, wrong_px = 0.0;
+};
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+}  // namespace
+
+int run_bench(int argc, char** argv) {
+    const BenchArgs a = parse_bench(argc, argv);
+    const Model model = load_model(a);
+    const MeshTopology& mesh = model.topology();
+    const std::size_t nf = mesh.face_count();
+    std::string name = a.model.substr(a.model.find_last_of('/') + 1);
+    name = name.substr(0, name.rfind(".") == std::string::npos || name.rfind(".") == 0 ? name.size() : name.rfind("."));
+    if (a.subdivide > 0) name += "@" + std::to_string(a.subdivide);
+    std::vector<Camera> cams;
+    for (int i = 0; i < a.frames; ++i) {
+        cams.push_back(path_camera(a.path, i, a.frames, mesh.bounds, a.width, a.height));
+        cams.back().set_near(default_near(mesh));
+    }
+    std::fprintf(stderr, "bench: %s, %zu triangles, %s path, %d frames\n", name.c_str(), nf, a.path.c_str(), a.frames);
+
+    ViewOptions base;
+    base.visibility = a.visibility;
+    base.exact_hidden = false;
+
+    // The reference: the exhaustive finder on every frame.
+    std::vector<double> ref_length(cams.size());
+    std::vector<std::vector<Interval>> ref_visible(cams.size());
+    {
+        ViewSession ref(model, base);
+        for (std::size_t i = 0; i < cams.size(); ++i) {
+            View& v = ref.render(cams[i]);
+            ref_length[i] = edges_length(mesh, v.features.silhouette_edges);
+            ref_visible[i] = visible_intervals(v);
+        }
+    }
+    double ref_total = 0.0;
+    for (double l : ref_length) ref_total += l;
+
+    std::vector<FinderOptions> settings;
+    settings.push_back({});
+    for (bool coherence : {false, true})
+        for (double f : a.fractions) {
+            FinderOptions o;
+            o.kind = FinderKind::Randomized;
+            o.fraction = f;
+            o.coherence = coherence;
+            o.seed = a.seed;
+            settings.push_back(o);
+        }
+
+    std::vector<Row> rows;
+    for (const FinderOptions& fo : settings) {
+        ViewOptions opt = base;
+        opt.finder = fo;
+        ViewSession session(model, opt);
+        Row r;
+        r.finder = finder_name(fo.kind);
+        r.fraction = fo.kind == FinderKind::Exhaustive ? 1.0 : fo.fraction;
+        r.coherence = fo.kind == FinderKind::Randomized && fo.coherence;
+        for (std::size_t i = 0; i < cams.size(); ++i) {
+            const Features& f = session.find(cams[i]);
+            r.features_s += session.seconds_features();
+            r.silhouette_edges += double(f.silhouette_edges.size());
+            r.found_length += edges_length(mesh, f.silhouette_edges);
+            View& v = session.visibility(cams[i]);
+            r.visibility_s += v.drawing.stats.seconds_visibility;
+            r.wrong_px += wrong_length_px(mesh, cams[i], ref_visible[i], visible_intervals(v));
+        }
+        rows.push_back(r);
+        std::fprintf(stderr, "  %s %g%s: %.3f ms/frame, recall %.4f\n", r.finder.c_str(), r.fraction,
+                     r.coherence ? " +coherence" : "", 1e3 * r.features_s / double(cams.size()),
+                     ref_total > 0.0 ? r.found_length / ref_total : 1.0);
+    }
+
+    const double n = double(cams.size());
+    const double exhaustive_ms = 1e3 * rows[0].features_s / n;
+    std::string csv =
+        "model,triangles,finder,fraction,coherence,frames,ms_per_frame,silhouette_edges_per_frame,"
+        "silhouette_edges_per_second,recall_length,wrong_visible_length_px\n";
+    std::string md = "### " + name + " (" + std::to_string(nf) + " triangles, " + a.path + " path, " +
+                     std::to_string(a.frames) + " frames)\n\n"
+                     "| finder | fraction | coherence | ms/frame | frames/s | triangles/s | silhouette edges/frame | "
+                     "silhouette edges/s | recall (length) | wrong visible px/frame | slowdown of exhaustive | "
+                     "visibility ms/frame |\n"
+                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::vector<PlotPoint> points;
+    for (const Row& r : rows) {
+        const double ms = 1e3 * r.features_s / n, fps = ms > 0.0 ? 1e3 / ms : 0.0;
+        const double sil = r.silhouette_edges / n, sil_s = r.features_s > 0.0 ? r.silhouette_edges / r.features_s : 0.0;
+        const double recall = ref_total > 0.0 ? r.found_length / ref_total : 1.0;
+        const double wrong = r.wrong_px / n;
+        csv += name + "," + std::to_string(nf) + "," + r.finder + "," + fmt("%g", r.fraction) + "," +
+               (r.coherence ? "1" : "0") + "," + std::to_string(a.frames) + "," + fmt("%.6f", ms) + "," +
+               fmt("%.1f", sil) + "," + fmt("%.0f", sil_s) + "," + fmt("%.6f", recall) + "," + fmt("%.3f", wrong) + "\n";
+        md += "| " + r.finder + " | " + fmt("%g", r.fraction) + " | " + (r.coherence ? "yes" : "no") + " | " +
+              fmt("%.3f", ms) + " | " + fmt("%.0f", fps) + " | " + fmt("%.3g", fps * double(nf)) + " | " +
+              fmt("%.0f", sil) + " | " + fmt("%.3g", sil_s) + " | " + fmt("%.4f", recall) + " | " +
+              fmt("%.1f", wrong) + " | " + fmt("%.2f", ms > 0.0 ? exhaustive_ms / ms : 0.0) + " | " +
+              fmt("%.2f", 1e3 * r.visibility_s / n) + " |\n";
+        PlotPoint p;
+        p.x = recall;
+        p.y = ms;
+        p.series = r.finder == "exhaustive" ? 0 : r.coherence ? 2 : 1;
+        p.label = r.finder == "exhaustive" ? "exhaustive" : fmt("%g", r.fraction);
+        points.push_back(p);
+    }
+    std::fputs(md.c_str(), stdout);
+    if (!a.csv.empty()) write_text_file(a.csv, csv);
+    if (!a.markdown.empty()) write_text_file(a.markdown, md);
+    if (!a.plot.empty())
+        write_text_file(a.plot, scatter_plot_svg(points, name + ": finder time against recall (" + a.path + ")",
+                                                 "recall of silhouette length", "ms per frame (finder, cusps, chaining)",
+                                                 {"exhaustive", "randomized", "randomized + coherence"}));
+    return 0;
+}
+
+}  // namespace inkline

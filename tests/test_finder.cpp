@@ -1,0 +1,256 @@
+// The randomized seed-and-seek finder (Markosian et al. 97, section 4.1) against the exhaustive
+// one: identical at fraction 1, only true silhouettes ever, whole curves traced, frame coherence
+// on a static camera, deterministic runs, and a floor on the recall of silhouette length.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <tuple>
+
+#include "model/primitives.hpp"
+#include "pipeline.hpp"
+
+namespace inkline {
+namespace {
+
+const char* kMeshes[] = {"fandisk", "bunny00", "armadillo", "elephant", "ChineseDragon-10kv", "knot1"};
+
+const Model& mesh_model(const std::string& name) {
+    static std::map<std::string, Model> cache;
+    auto it = cache.find(name);
+    if (it == cache.end()) {
+        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off";
+        if (!std::filesystem::exists(path)) throw std::runtime_error(path + " missing: run scripts/setup.sh");
+        it = cache.emplace(name, Model::load(path)).first;
+    }
+    return it->second;
+}
+
+std::vector<Camera> cameras(const Bounds3& box) {
+    std::vector<Camera> out{Camera::framing(box, 1024, 1024)};
+    const glm::dvec3 c = box.center();
+    const double d = 3.0 * box.half_diagonal();
+    out.push_back(Camera::perspective(c + glm::dvec3(-d, 0.3 * d, -0.5 * d), c, {0, 1, 0}, 35, 800, 600));
+    out.push_back(Camera::orthographic(c + glm::dvec3(0.2 * d, d, 0.4 * d), c, {0, 0, 1}, 2.2 * box.half_diagonal(), 640, 640));
+    return out;
+}
+
+std::vector<std::uint32_t> sorted(std::vector<std::uint32_t> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+// Curves as sorted edge lists with their kind and closedness, in sorted order (start vertices and
+// list order depend on the order edges were found in).
+std::vector<std::tuple<int, bool, std::vector<std::uint32_t>>> canonical_curves(const Features& f) {
+    std::vector<std::tuple<int, bool, std::vector<std::uint32_t>>> out;
+    for (const auto& c : f.curves) out.emplace_back(int(c.kind), c.closed, sorted(c.edges));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::vector<std::pair<std::uint32_t, int>> canonical_cusps(const Features& f) {
+    std::vector<std::pair<std::uint32_t, int>> out;
+    for (std::size_t i = 0; i < f.cusp_vertices.size(); ++i) out.emplace_back(f.cusp_vertices[i], int(f.cusp_cases[i]));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+void expect_same(const Features& a, const Features& b) {
+    EXPECT_EQ(sorted(a.silhouette_edges), sorted(b.silhouette_edges));
+    EXPECT_EQ(a.border_edges, b.border_edges);
+    EXPECT_EQ(a.crease_edges, b.crease_edges);
+    EXPECT_EQ(canonical_cusps(a), canonical_cusps(b));
+    EXPECT_EQ(canonical_curves(a), canonical_curves(b));
+}
+
+FinderOptions randomized(double fraction, bool coherence = false, std::uint64_t seed = 7) {
+    FinderOptions o;
+    o.kind = FinderKind::Randomized;
+    o.fraction = fraction;
+    o.coherence = coherence;
+    o.seed = seed;
+    return o;
+}
+
+TEST(Finder, FractionOneEqualsExhaustive) {
+    for (const char* name : kMeshes) {
+        const Model& m = mesh_model(name);
+        for (const Camera& cam : cameras(m.topology().bounds)) {
+            SCOPED_TRACE(name);
+            const Features ex = extract_features(m.topology(), cam);
+            Features rf;
+            SilhouetteFinder(m.topology(), randomized(1.0)).find(cam, {}, rf);
+            expect_same(ex, rf);
+            EXPECT_FALSE(ex.silhouette_edges.empty());
+        }
+    }
+}
+
+// Everything the randomized finder reports is a silhouette edge, and what it finds is closed
+// under adjacency: every silhouette edge at a vertex of a found one is found.
+TEST(Finder, OnlyTrueSilhouettesAndWholeCurves) {
+    for (const char* name : kMeshes) {
+        const Model& m = mesh_model(name);
+        const MeshTopology& t = m.topology();
+        for (const Camera& cam : cameras(t.bounds)) {
+            SCOPED_TRACE(name);
+            const Features ex = extract_features(t, cam);
+            std::vector<std::uint8_t> is_sil(t.edge_count(), 0);
+            for (auto e : ex.silhouette_edges) is_sil[e] = 1;
+            Features rf;
+            SilhouetteFinder(t, randomized(0.01)).find(cam, {}, rf);
+            std::vector<std::uint8_t> found(t.edge_count(), 0);
+            for (auto e : rf.silhouette_edges) {
+                EXPECT_TRUE(is_sil[e]) << "edge " << e;
+                EXPECT_FALSE(found[e]) << "edge " << e << " reported twice";
+                found[e] = 1;
+            }
+            for (auto e : rf.silhouette_edges)
+                for (auto v : t.edge_vertex[e])
+                    for (auto k = t.vertex_edge_begin[v]; k < t.vertex_edge_begin[v + 1]; ++k)
+                        EXPECT_EQ(found[t.vertex_edges[k]], is_sil[t.vertex_edges[k]]) << "edge " << t.vertex_edges[k];
+            // Facing agrees with the exact predicate on every face the finder decided.
+            for (std::uint32_t f = 0; f < t.face_count(); f += 97)
+                EXPECT_EQ(rf.face_front[f], face_is_front(t, f, cam) ? 1 : 0) << "face " << f;
+        }
+    }
+}
+
+TEST(Finder, StaticCameraCoherence) {
+    // A second frame from the same camera keeps every silhouette edge of the first; on a torus,
+    // where the first frame finds everything, the two frames are equal.
+    const Model torus(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 96, 48));
+    for (const Model* m : {&torus, &mesh_model("armadillo"), &mesh_model("bunny00")}) {
+        const Camera cam = Camera::framing(m->topology().bounds, 1024, 1024);
+        SilhouetteFinder finder(m->topology(), randomized(0.01, true));
+        Features a, b;
+        finder.find(cam, {}, a);
+        const auto first = sorted(a.silhouette_edges);
+        finder.find(cam, {}, b);
+        const auto second = sorted(b.silhouette_edges);
+        EXPECT_TRUE(std::includes(second.begin(), second.end(), first.begin(), first.end()));
+        if (m == &torus) {
+            EXPECT_EQ(first, sorted(extract_features(m->topology(), cam).silhouette_edges));
+            expect_same(a, b);
+        }
+        // Storage reused across views gives the same answer as a fresh one.
+        Features fresh;
+        SilhouetteFinder again(m->topology(), randomized(0.01, true));
+        again.find(cam, {}, fresh);
+        again.find(cam, {}, fresh);
+        expect_same(b, fresh);
+    }
+}
+
+TEST(Finder, DeterministicSeed) {
+    const Model& m = mesh_model("armadillo");
+    const Bounds3 box = m.topology().bounds;
+    std::vector<std::vector<std::uint32_t>> runs[2];
+    for (auto& run : runs) {
+        SilhouetteFinder finder(m.topology(), randomized(0.005, true, 42));
+        Features f;
+        for (int i = 0; i < 4; ++i) {
+            const double az = 0.1 * i;
+            const glm::dvec3 dir(std::sin(az), 0.3, std::cos(az));
+            finder.find(Camera::perspective(box.center() + 3.0 * box.half_diagonal() * dir, box.center(), {0, 1, 0}, 30, 512, 512), {}, f);
+            run.push_back(f.silhouette_edges);  // in the order found
+        }
+    }
+    EXPECT_EQ(runs[0], runs[1]);
+    // Another seed draws other edges.
+    SilhouetteFinder other(m.topology(), randomized(0.005, true, 43));
+    Features f;
+    const glm::dvec3 dir(0, 0.3, 1);
+    other.find(Camera::perspective(box.center() + 3.0 * box.half_diagonal() * dir, box.center(), {0, 1, 0}, 30, 512, 512), {}, f);
+    EXPECT_NE(f.silhouette_edges, runs[0][0]);
+}
+
+// A correctness floor, not a speed test: one frame, no previous view, default fraction.
+TEST(Finder, RecallFloorOnDefaultViews) {
+    for (const char* name : kMeshes) {
+        const Model& m = mesh_model(name);
+        const Camera cam = Camera::framing(m.topology().bounds, 1024, 1024);
+        const Features ex = extract_features(m.topology(), cam);
+        FinderOptions o;
+        o.kind = FinderKind::Randomized;
+        Features rf;
+        SilhouetteFinder(m.topology(), o).find(cam, {}, rf);
+        const double recall = edges_length(m.topology(), rf.silhouette_edges) / edges_length(m.topology(), ex.silhouette_edges);
+        EXPECT_GE(recall, 0.95) << name;
+        std::printf("%s: recall %.4f at fraction %g (%zu of %zu silhouette edges)\n", name, recall, o.fraction,
+                    rf.silhouette_edges.size(), ex.silhouette_edges.size());
+    }
+}
+
+// Along a slow orbit with coherence and no random draws at all, silhouettes are followed from
+// frame to frame by checking the previous edges and seeking from the lost ones.
+TEST(Finder, CoherenceAloneFollowsAnOrbit) {
+    const Model torus(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 96, 48));
+    const Bounds3 box = torus.topology().bounds;
+    auto cam = [&](int i) {
+        const double az = 0.02 * i;
+        const glm::dvec3 dir(std::sin(az), 0.5, std::cos(az));
+        return Camera::perspective(box.center() + 3.0 * box.half_diagonal() * dir, box.center(), {0, 1, 0}, 30, 512, 512);
+    };
+    // Without draws and without a previous view nothing is found: what follows is coherence's work.
+    Features g;
+    SilhouetteFinder(torus.topology(), randomized(0.0, true)).find(cam(0), {}, g);
+    EXPECT_TRUE(g.silhouette_edges.empty());
+    SilhouetteFinder cont(torus.topology(), randomized(1.0, true));
+    Features h;
+    cont.find(cam(0), {}, h);  // the first frame with every edge examined
+    cont.set_fraction(0.0);    // then no draws at all
+    double worst = 1.0;
+    for (int i = 1; i <= 20; ++i) {
+        cont.find(cam(i), {}, h);
+        const Features ex = extract_features(torus.topology(), cam(i));
+        worst = std::min(worst, edges_length(torus.topology(), h.silhouette_edges) /
+                                    edges_length(torus.topology(), ex.silhouette_edges));
+    }
+    EXPECT_GE(worst, 0.999);
+}
+
+}  // namespace
+}  // namespace inkline
+
+namespace inkline {
+namespace {
+
+// The float filter in front of the exact facing predicate: full and lazy views agree with the
+// exact predicate on every face, at extreme scales and offsets, and with the eye exactly in the
+// plane of faces (where only the exact predicate can decide).
+TEST(Facing, FloatFilterAgreesWithExactPredicate) {
+    for (double scale : {1e-6, 1.0, 1e6})
+        for (double offset : {0.0, 1e6}) {
+            TriangleMesh s = make_sphere({0, 0, 0}, 1.0, 24, 12);
+            for (auto& p : s.positions) p = p * scale + glm::dvec3(offset, -offset, 0.5 * offset);
+            const Model m(s);
+            const MeshTopology& t = m.topology();
+            std::vector<Camera> cams = cameras(t.bounds);
+            // The eye in the plane of face 5 up to rounding (on the line through two of its corners).
+            const auto& f5 = t.faces[5];
+            const glm::dvec3 a = t.positions[f5[0]], b = t.positions[f5[1]];
+            cams.push_back(Camera::perspective(a + 3.0 * (a - b), t.bounds.center(), {0, 1, 0}, 40, 256, 256));
+            for (const Camera& cam : cams) {
+                SCOPED_TRACE(testing::Message() << "scale " << scale << " offset " << offset);
+                FaceFacing full, lazy;
+                full.begin_full(t, cam);
+                lazy.begin_lazy(t, cam);
+                for (std::uint32_t f = 0; f < t.face_count(); ++f) {
+                    const std::uint8_t want = face_is_front(t, f, cam) ? 1 : 0;
+                    EXPECT_EQ(full[f], want) << "face " << f;
+                    EXPECT_EQ(lazy[f], want) << "face " << f;
+                }
+                // The grazing camera leaves faces to the exact predicate (the filter said "undecided").
+                if (&cam == &cams.back()) {
+                    EXPECT_GT(lazy.exact_tests(), 0u);
+                }
+            }
+        }
+}
+
+}  // namespace
+}  // namespace inkline
