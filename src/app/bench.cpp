@@ -27,9 +27,10 @@ namespace {
 struct BenchArgs {
     std::string model, path = "orbit", csv, markdown, plot;
     int frames = 60, subdivide = 0, width = 1024, height = 1024;
+    double arc = 360.0;  // orbit: degrees covered by the frames
     std::uint64_t seed = 1;
     double crease = 40.0;
-    std::vector<double> fractions{0.002, 0.005, 0.01, 0.02, 0.05};
+    std::vector<double> fractions{0.0005, 0.002, 0.01, 0.05};
     VisibilityMethod visibility = VisibilityMethod::Appel;
 };
 
@@ -63,6 +64,10 @@ BenchArgs parse_bench(int argc, char** argv) {
         else if (key == "--markdown") a.markdown = value;
         else if (key == "--plot") a.plot = value;
         else if (key == "--crease") a.crease = parse_number(key, value);
+        else if (key == "--arc") {
+            a.arc = parse_number(key, value);
+            if (!(a.arc > 0.0 && a.arc <= 3600.0)) throw Error(key, "expected degrees in (0, 3600]");
+        }
         else if (key == "--size") {
             const auto x = value.find('x');
             if (x == std::string::npos) throw Error(key, "expected WxH, got '" + value + "'");
@@ -99,12 +104,12 @@ Model load_model(const BenchArgs& a) {
 }
 
 // Smooth camera paths around the model's bounding box (R: half diagonal, D: framing distance).
-Camera path_camera(const std::string& path, int i, int frames, const Bounds3& box, int w, int h) {
+Camera path_camera(const std::string& path, int i, int frames, double arc, const Bounds3& box, int w, int h) {
     const double fov = 30.0, R = box.half_diagonal(), D = R / std::sin(fov * M_PI / 360.0);
     const glm::dvec3 c = box.center();
     const double t = frames > 1 ? double(i) / double(frames - 1) : 0.0;
-    if (path == "orbit") {  // once around, 20 degrees above the equator
-        const double az = 2.0 * M_PI * double(i) / double(frames), el = 20.0 * M_PI / 180.0;
+    if (path == "orbit") {  // `arc` degrees around (arc / frames per frame), 20 degrees above the equator
+        const double az = arc * M_PI / 180.0 * double(i) / double(frames), el = 20.0 * M_PI / 180.0;
         const glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
         return Camera::perspective(c + D * dir, c, {0, 1, 0}, fov, w, h);
     }
@@ -193,7 +198,7 @@ int run_bench(int argc, char** argv) {
     if (a.subdivide > 0) name += "@" + std::to_string(a.subdivide);
     std::vector<Camera> cams;
     for (int i = 0; i < a.frames; ++i) {
-        cams.push_back(path_camera(a.path, i, a.frames, mesh.bounds, a.width, a.height));
+        cams.push_back(path_camera(a.path, i, a.frames, a.arc, mesh.bounds, a.width, a.height));
         cams.back().set_near(default_near(mesh));
     }
     std::fprintf(stderr, "bench: %s, %zu triangles, %s path, %d frames\n", name.c_str(), nf, a.path.c_str(), a.frames);

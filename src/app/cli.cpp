@@ -32,7 +32,7 @@ const char* kUsage =
     "                      [--lines=silhouette,crease,border] [--visibility=appel|rays]\n"
     "                      [--no-walk] [--subdivide=N] [--quiet]\n"
     "                      [--finder=exhaustive|randomized] [--fraction=F] [--seed=S] [--recall]\n"
-    "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--seed=S] [--subdivide=N]\n"
+    "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"

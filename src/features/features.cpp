@@ -315,6 +315,7 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
 
     // Frame coherence: every silhouette edge of the previous view is checked; from a share of the
     // lost ones a seek starts on each side.
+    const bool had_previous = !previous_.empty();
     if (opt_.coherence) {
         for (std::uint32_t e : previous_) {
             if (e >= ne || out.edge_kind[e] == kSil) continue;
@@ -341,6 +342,8 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
         }
     } else if (opt_.fraction > 0.0 && ne > 0) {
         if (alias_.size() != ne) build_table();
+        // Without a previous view to follow, every drawn edge that misses starts a seek.
+        const bool seek_draws = opt_.seek_draws && (!opt_.coherence || !had_previous);
         const auto draws = std::size_t(std::llround(opt_.fraction * double(ne)));
         for (std::size_t i = 0; i < draws; ++i) {
             const std::uint64_t r = rng_();
@@ -350,7 +353,7 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
             if (out.edge_kind[e] == kSil) continue;
             ++out.stats.edges_examined;
             if (is_silhouette(mesh, out, e)) trace(e, out);
-            else if (opt_.seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
+            else if (seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
         }
     }
     previous_ = out.silhouette_edges;

@@ -50,6 +50,7 @@ struct FinderOptions {
                                   // border edges, that start a seek per view
     int step_bound = 24;          // edges a seek may follow
     bool seek_draws = true;       // a drawn edge that is not a silhouette starts a seek too
+                                  // (with coherence: only while there is no previous view)
     std::uint64_t seed = 1;       // random seed (runs are deterministic)
 };
 
