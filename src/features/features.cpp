@@ -176,6 +176,8 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         search_randomized(camera, out);
     }
     cusps_and_curves(mesh, options, out);
+    for (std::uint32_t v : sought_) out.vertex_scratch[v].sought = 0;
+    sought_.clear();
     out.stats.faces_decided = out.face_front.faces_decided();
     out.stats.exact_facing_tests = out.face_front.exact_tests();
 }
@@ -279,6 +281,11 @@ void SilhouetteFinder::seek(std::uint32_t v, bool front, const Camera& camera, F
     const double sign = front ? 1.0 : -1.0;  // maximise sign * depth
     double here = sign * camera.depth(mesh.positions[v]);
     for (int step = 0; step < opt_.step_bound; ++step) {
+        // A vertex another seek has passed this view leads where that seek went: stop.
+        auto& mark = out.vertex_scratch[v];
+        if (mark.sought) return;
+        mark.sought = 1;
+        sought_.push_back(v);
         ++out.stats.seek_steps;
         std::uint32_t next = UINT32_MAX;
         double best = here;

@@ -79,7 +79,7 @@ struct Features {
         std::uint32_t edge_xor = 0;  // xor of the vertex's feature edges
         std::uint8_t degree = 0, silhouettes = 0, front = 0;
         std::uint8_t kinds = 0;  // bit per LineKind of its feature edges
-        std::uint8_t cusp = 0, traced = 0;
+        std::uint8_t cusp = 0, traced = 0, sought = 0;
     };
     std::vector<std::uint8_t> edge_scratch;
     std::vector<std::uint32_t> candidates;  // exhaustive scan: room for every edge
@@ -118,7 +118,7 @@ private:
     std::mt19937_64 rng_;
     std::vector<float> alias_prob_;  // Vose's alias table over edges, weights pi - dihedral
     std::vector<std::uint32_t> alias_;
-    std::vector<std::uint32_t> previous_, stack_;
+    std::vector<std::uint32_t> previous_, stack_, sought_;
 };
 
 }  // namespace inkline
