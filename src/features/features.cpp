@@ -185,23 +185,28 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
 void SilhouetteFinder::scan_exhaustive(Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::uint32_t ne = std::uint32_t(mesh.edge_count()), nf = std::uint32_t(mesh.face_count());
-    // Branchless pass: every edge whose two face states differ (or are both undecided; borders
-    // meet the sentinel) is written as a candidate; the few candidates are then decided exactly.
-    if (out.candidates.size() < ne) out.candidates.resize(ne);
+    // Branchless pass over blocks of edges: every edge whose two face states differ (or are both
+    // undecided; borders meet the sentinel) is written as a candidate; the few candidates of a
+    // block are then decided exactly.
+    constexpr std::uint32_t kBlock = 4096;
+    if (out.candidates.size() < kBlock) out.candidates.resize(kBlock);
     const auto* __restrict ef = mesh.edge_face.data();
     const std::uint8_t* __restrict st = out.face_front.states();
     std::uint32_t* __restrict cand = out.candidates.data();
-    std::uint32_t n = 0;
-    for (std::uint32_t e = 0; e < ne; ++e) {
-        const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
-        cand[n] = e;
-        n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
-    }
-    for (std::uint32_t i = 0; i < n; ++i) {
-        const std::uint32_t e = cand[i];
-        if (is_silhouette(mesh, out, e)) {
-            out.edge_kind[e] = kSil;
-            out.silhouette_edges.push_back(e);
+    for (std::uint32_t e0 = 0; e0 < ne; e0 += kBlock) {
+        const std::uint32_t e1 = std::min(ne, e0 + kBlock);
+        std::uint32_t n = 0;
+        for (std::uint32_t e = e0; e < e1; ++e) {
+            const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
+            cand[n] = e;
+            n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
+        }
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const std::uint32_t e = cand[i];
+            if (is_silhouette(mesh, out, e)) {
+                out.edge_kind[e] = kSil;
+                out.silhouette_edges.push_back(e);
+            }
         }
     }
     classify_static(mesh, out, [](std::uint32_t) {});  // crease silhouettes were scanned already

@@ -82,7 +82,7 @@ struct Features {
         std::uint8_t cusp = 0, traced = 0, sought = 0;
     };
     std::vector<std::uint8_t> edge_scratch;
-    std::vector<std::uint32_t> candidates;  // exhaustive scan: room for every edge
+    std::vector<std::uint32_t> candidates;  // exhaustive scan: one block of edges
     std::vector<VertexScratch> vertex_scratch;
 };
 
