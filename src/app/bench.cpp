@@ -45,14 +45,8 @@ BenchArgs parse_bench(int argc, char** argv) {
     BenchArgs a;
     for (int i = 2; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (arg.rfind("--", 0) != 0) {
-            if (!a.model.empty()) throw Usage("more than one model given ('" + a.model + "', '" + arg + "')");
-            a.model = arg;
-            continue;
-        }
-        const auto eq = arg.find('=');
-        if (eq == std::string::npos) throw Usage("unknown option '" + arg + "'");
-        const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
+        std::string key, value;
+        if (!split_option(arg, a.model, key, value)) continue;
         if (key == "--path") {
             if (value != "orbit" && value != "dolly" && value != "walk")
                 throw Error(key, "unknown path '" + value + "' (expected orbit, dolly or walk)");

@@ -23,6 +23,19 @@ double parse_number(const std::string& flag, const std::string& s) {
     return v;
 }
 
+bool split_option(const std::string& arg, std::string& model, std::string& key, std::string& value) {
+    if (arg.rfind("--", 0) != 0) {
+        if (!model.empty()) throw Usage("more than one model given ('" + model + "', '" + arg + "')");
+        model = arg;
+        return false;
+    }
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) throw Usage("unknown option '" + arg + "'");
+    key = arg.substr(0, eq);
+    value = arg.substr(eq + 1);
+    return true;
+}
+
 namespace {
 
 const char* kUsage =
@@ -75,14 +88,8 @@ RenderArgs parse_render(int argc, char** argv) {
         if (arg == "--quiet") { a.quiet = true; continue; }
         if (arg == "--no-walk") { a.walk = false; continue; }
         if (arg == "--recall") { a.recall = true; continue; }
-        if (arg.rfind("--", 0) != 0) {
-            if (!a.model.empty()) throw Usage("more than one model given ('" + a.model + "', '" + arg + "')");
-            a.model = arg;
-            continue;
-        }
-        const auto eq = arg.find('=');
-        if (eq == std::string::npos) throw Usage("unknown option '" + arg + "'");
-        const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
+        std::string key, value;
+        if (!split_option(arg, a.model, key, value)) continue;
         if (key == "--output") a.output = value;
         else if (key == "--format") a.format = value;
         else if (key == "--eye" || key == "--target" || key == "--up" || key == "--fov" || key == "--size" ||
