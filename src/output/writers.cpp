@@ -380,21 +380,36 @@ std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::st
                              const std::string& x_label, const std::string& y_label,
                              const std::vector<std::string>& series_names) {
     constexpr double W = 720, H = 480, L = 80, R = 200, T = 50, B = 60;
-    double x0 = 1e300, x1 = -1e300, y1 = 0.0;
+    double x0 = 1e300, x1 = -1e300, ymin = 1e300, ymax = 0.0;
     for (const auto& p : points) {
         x0 = std::min(x0, p.x);
         x1 = std::max(x1, p.x);
-        y1 = std::max(y1, p.y);
+        if (p.y > 0.0) ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
     }
-    if (points.empty()) x0 = 0.0, x1 = 1.0, y1 = 1.0;
+    if (points.empty()) x0 = 0.0, x1 = 1.0;
+    if (!(ymax > 0.0)) ymin = 1.0, ymax = 1.0;
     if (x1 - x0 < 1e-3) x0 -= 5e-4, x1 += 5e-4;
     const double xpad = 0.05 * (x1 - x0);
     x0 -= xpad;
     x1 += xpad;
-    y1 = y1 > 0.0 ? y1 * 1.1 : 1.0;
-    const double y0 = 0.0;
+    // y on a log scale when the values span more than a factor of 20 (whole decades), else linear from 0.
+    const bool log_y = ymax / ymin > 20.0;
+    const double y0 = log_y ? std::pow(10.0, std::floor(std::log10(ymin))) : 0.0;
+    const double y1 = log_y ? std::pow(10.0, std::ceil(std::log10(ymax))) : ymax * 1.1;
     auto X = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
-    auto Y = [&](double y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); };
+    auto Y = [&](double y) {
+        const double t = log_y ? std::log10(std::max(y, y0) / y0) / std::log10(y1 / y0) : (y - y0) / (y1 - y0);
+        return H - B - t * (H - T - B);
+    };
+    std::vector<double> yticks;
+    if (log_y) {
+        for (double d = y0; d <= y1 * 1.0001; d *= 10.0)
+            for (double m : {1.0, 2.0, 5.0})
+                if (m * d <= y1 * 1.0001) yticks.push_back(m * d);
+    } else {
+        const double ys = tick_step(y1 - y0, 6);
+        for (double y = 0.0; y <= y1 + 1e-12; y += ys) yticks.push_back(std::round(y / ys) * ys);
+    }
 
     std::string svg;
     cairo_surface_t* surface = cairo_svg_surface_create_for_stream(append_to_string, &svg, W, H);
@@ -416,7 +431,7 @@ std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::st
     cairo_line_to(cr, L, H - B);
     cairo_line_to(cr, W - R, H - B);
     cairo_stroke(cr);
-    const double xs = tick_step(x1 - x0, 6), ys = tick_step(y1 - y0, 6);
+    const double xs = tick_step(x1 - x0, 6);
     char buf[64];
     for (double x = std::ceil(x0 / xs) * xs; x <= x1 + 1e-12; x += xs) {
         cairo_move_to(cr, X(x), H - B);
@@ -425,13 +440,13 @@ std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::st
         std::snprintf(buf, sizeof buf, "%g", std::round(x / xs) * xs);
         text(X(x), H - B + 18, buf, 11, 0.5);
     }
-    for (double y = 0.0; y <= y1 + 1e-12; y += ys) {
+    for (double y : yticks) {
         cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
         cairo_move_to(cr, L, Y(y));
         cairo_line_to(cr, W - R, Y(y));
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0, 0, 0);
-        std::snprintf(buf, sizeof buf, "%g", std::round(y / ys) * ys);
+        std::snprintf(buf, sizeof buf, "%g", y);
         text(L - 8, Y(y) + 4, buf, 11, 1.0);
     }
     text((L + W - R) / 2, H - 15, x_label, 13, 0.5);
@@ -439,7 +454,7 @@ std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::st
     cairo_save(cr);
     cairo_translate(cr, 22, (T + H - B) / 2);
     cairo_rotate(cr, -M_PI / 2);
-    text(0, 0, y_label, 13, 0.5);
+    text(0, 0, log_y ? y_label + " (log scale)" : y_label, 13, 0.5);
     cairo_restore(cr);
     // Points, labelled, coloured by series.
     static const double colours[][3] = {{0.1, 0.1, 0.1}, {0.85, 0.35, 0.1}, {0.1, 0.45, 0.8}, {0.2, 0.6, 0.2}};
