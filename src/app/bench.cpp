@@ -170,7 +170,7 @@ struct Row {
     std::string finder;
     double fraction = 1.0;
     bool coherence = false;
-    double features_s = 0.0, visibility_s = 0.0;
+    double features_s = 0.0, search_s = 0.0, visibility_s = 0.0;
     double silhouette_edges = 0.0, found_length = 0.0, wrong_px = 0.0;
 };
 
@@ -239,6 +239,7 @@ int run_bench(int argc, char** argv) {
         for (std::size_t i = 0; i < cams.size(); ++i) {
             const Features& f = session.find(cams[i]);
             r.features_s += session.seconds_features();
+            r.search_s += f.stats.seconds_search;
             r.silhouette_edges += double(f.silhouette_edges.size());
             r.found_length += edges_length(mesh, f.silhouette_edges);
             View& v = session.visibility(cams[i]);
@@ -252,7 +253,7 @@ int run_bench(int argc, char** argv) {
     }
 
     const double n = double(cams.size());
-    const double exhaustive_ms = 1e3 * rows[0].features_s / n;
+    const double exhaustive_ms = 1e3 * rows[0].features_s / n, exhaustive_search_ms = 1e3 * rows[0].search_s / n;
     std::string csv =
         "model,triangles,finder,fraction,coherence,frames,ms_per_frame,silhouette_edges_per_frame,"
         "silhouette_edges_per_second,recall_length,wrong_visible_length_px\n";
@@ -260,8 +261,8 @@ int run_bench(int argc, char** argv) {
                      std::to_string(a.frames) + " frames)\n\n"
                      "| finder | fraction | coherence | ms/frame | frames/s | triangles/s | silhouette edges/frame | "
                      "silhouette edges/s | recall (length) | wrong visible px/frame | slowdown of exhaustive | "
-                     "visibility ms/frame |\n"
-                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+                     "search ms/frame | search slowdown of exhaustive | visibility ms/frame |\n"
+                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     std::vector<PlotPoint> points;
     for (const Row& r : rows) {
         const double ms = 1e3 * r.features_s / n, fps = ms > 0.0 ? 1e3 / ms : 0.0;
@@ -275,6 +276,8 @@ int run_bench(int argc, char** argv) {
               fmt("%.3f", ms) + " | " + fmt("%.0f", fps) + " | " + fmt("%.3g", fps * double(nf)) + " | " +
               fmt("%.0f", sil) + " | " + fmt("%.3g", sil_s) + " | " + fmt("%.4f", recall) + " | " +
               fmt("%.1f", wrong) + " | " + fmt("%.2f", ms > 0.0 ? exhaustive_ms / ms : 0.0) + " | " +
+              fmt("%.3f", 1e3 * r.search_s / n) + " | " +
+              fmt("%.2f", r.search_s > 0.0 ? exhaustive_search_ms / (1e3 * r.search_s / n) : 0.0) + " | " +
               fmt("%.2f", 1e3 * r.visibility_s / n) + " |\n";
         PlotPoint p;
         p.x = recall;

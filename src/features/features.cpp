@@ -1,6 +1,7 @@
 #include "features/features.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "core/predicates.hpp"
@@ -168,6 +169,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     out.stats = {};
     out.stats.finder = opt_.kind;
 
+    const auto t0 = std::chrono::steady_clock::now();
     if (opt_.kind == FinderKind::Exhaustive) {
         out.face_front.begin_full(mesh, camera);
         scan_exhaustive(out);
@@ -175,7 +177,10 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         out.face_front.begin_lazy(mesh, camera);
         search_randomized(camera, out);
     }
+    const auto t1 = std::chrono::steady_clock::now();
     cusps_and_curves(mesh, options, out);
+    out.stats.seconds_search = std::chrono::duration<double>(t1 - t0).count();
+    out.stats.seconds_chain = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     for (std::uint32_t v : sought_) out.vertex_scratch[v].sought = 0;
     sought_.clear();
     out.stats.faces_decided = out.face_front.faces_decided();

@@ -60,6 +60,8 @@ struct FinderStats {
     std::size_t edges_examined = 0;  // edges whose facing was compared (scan, draws, trace rings)
     std::size_t seeks = 0, seek_steps = 0, seek_hits = 0;
     std::size_t faces_decided = 0, exact_facing_tests = 0;
+    double seconds_search = 0.0;  // finding the silhouette edges (and classifying creases, borders)
+    double seconds_chain = 0.0;   // cusps and chaining into curves (the same work for every finder)
 };
 
 struct Features {
