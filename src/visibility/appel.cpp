@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <glm/geometric.hpp>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
 #include "core/predicates.hpp"
 
 namespace inkline {
@@ -57,57 +59,119 @@ glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint3
     return mesh.positions[f[0]];
 }
 
-double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+// Exact sign of the orientation of (a, b, c) (CGAL's filtered predicate): positive when c is left
+// of the directed line a -> b.
+int orient2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return int(CGAL::orientation(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y), K::Point_2(c.x, c.y)));
+}
 
 enum class Walk { Visible, Occluded, Failed };
 
+// The image turned (by exact sign changes and a swap of the axes) so that the walk's path runs
+// from u toward -x: every test on the path is then a comparison with u.y, or an orientation in
+// these coordinates.
+struct PathFrame {
+    int dir;  // 0: toward min x, 1: max x, 2: min y, 3: max y (in the image)
+    // The sign of the turned frame's orientations relative to the image's.
+    int det() const { return dir == 0 || dir == 3 ? 1 : -1; }
+    glm::dvec2 operator()(glm::dvec2 p) const {
+        switch (dir) {
+            case 0: return p;
+            case 1: return {-p.x, p.y};
+            case 2: return {p.y, p.x};
+            default: return {-p.y, p.x};
+        }
+    }
+};
+
 // Section 4.4: is the point U (P in 3D, u in the image) hidden by a layer of surface enclosing it?
-// Every layer over u, followed from u toward the left edge of the occluders' box, ends at a
-// silhouette or border crossing that path. From each such crossing V, walk the surface branches
-// of the occluder back along the path, face by face, in the image; a branch that reaches u is
-// depth-tested against U (exact orientation); a branch that folds (silhouette) or ends (border) on
-// the way is not the layer over u. Degenerate paths (through vertices) fail: the caller then
-// makes a ray test.
+// Every layer over u, followed from u along a straight path out of the occluders' box `box`
+// (min x, max x, min y, max y; the path goes to the nearest side), ends at a silhouette or border
+// crossing that path. From each such crossing V, walk the surface branches of the occluder back
+// along the path, face by face, in the image; a branch that reaches u is depth-tested against U
+// (exact orientation); a branch that folds (silhouette) or ends (border) on the way is not the
+// layer over u. The path is axis-parallel, so whether a projected vertex lies above or below it is
+// an exact comparison; where the path meets an edge, before or after u, is an exact orientation.
+// Degenerate paths (through a vertex, u on an edge) fail: the caller then makes a ray test.
 Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
-             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, double left) {
-    const Segment2 path{u, {left, u.y}, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
+             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
+    const double dist[4] = {u.x - box[0], box[1] - u.x, u.y - box[2], box[3] - u.y};
+    const int dir = int(std::min_element(dist, dist + 4) - dist);
+    const PathFrame T{dir};
+    const glm::dvec2 end = dir < 2 ? glm::dvec2(box[dir], u.y) : glm::dvec2(u.x, box[dir]);
+    const Segment2 path{u, end, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
+    const glm::dvec2 ut = T(u);
+    const int front_sign = T.det();
+    const VertexImages& proj = g.images;
+    const auto& own_faces = mesh.edge_face[own_edge];
     Walk result = Walk::Visible;
-    auto proj = [&](std::uint32_t v) { return camera.project(mesh.positions[v]); };
     g.grid->candidates(path, [&](std::uint32_t k) {
         if (result != Walk::Visible) return;
         const Segment2& o = g.occluders[k];
         if (o.edge == own_edge) return;
-        double t[2];
-        const int n = segment_crossings(path, o, t);
-        if (n == 0) return;
-        if (n != 1 || t[0] <= 0.0) {
+        // Does the occluder cross the path (the half-line y = u.y, x < u.x, in the turned frame)?
+        glm::dvec2 a = T(o.a), b = T(o.b);
+        if ((a.y > ut.y && b.y > ut.y) || (a.y < ut.y && b.y < ut.y)) return;
+        if (a.y == ut.y || b.y == ut.y) {  // an end on the path's line: degenerate unless beyond u
+            if ((a.y == ut.y && a.x <= ut.x) || (b.y == ut.y && b.x <= ut.x)) result = Walk::Failed;
+            else if (a.y == b.y) result = Walk::Failed;  // on the line, both ends beyond u: cannot happen
+            return;
+        }
+        if (a.y > b.y) std::swap(a, b);  // a below the path, b above
+        const int su = orient2(a, b, ut);  // < 0: u right of a -> b, the crossing before u
+        if (su == 0) {
             result = Walk::Failed;
             return;
         }
-        const glm::dvec2 vp = path.a + t[0] * (path.b - path.a);
+        if (su > 0) return;
         for (std::uint32_t f : mesh.edge_face[o.edge]) {
             if (f == kNoFace) continue;
-            // the branch must lie on u's side of the occluder's image
-            const double su = cross2(o.b - o.a, u - o.a),
-                         st = cross2(o.b - o.a, camera.project(third_vertex(mesh, f, o.edge)) - o.a);
-            if (su == 0.0 || st == 0.0) {
+            // The branch must lie on u's side of the occluder's image.
+            const auto& fv = mesh.faces[f];
+            const auto& fe = mesh.face_edges[f];
+            const int i_in = fe[0] == o.edge ? 0 : fe[1] == o.edge ? 1 : 2;
+            const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
+            if (st == 0) {
                 result = Walk::Failed;
                 return;
             }
-            if ((su > 0) != (st > 0)) continue;
-            // Walk from vp toward u over the faces.
-            std::uint32_t face = f, entry = o.edge;
-            glm::dvec2 from = vp;
+            if (st != su) continue;
+            // Walk from the crossing toward u over the faces: the path enters each face by one
+            // edge and leaves by one of the other two, the one joining the third corner to the
+            // entry corner on the other side of the path.
+            std::uint32_t face = f;
+            int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
             for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
                 const auto& c = mesh.faces[face];
-                const glm::dvec2 q[3] = {proj(c[0]), proj(c[1]), proj(c[2])};
-                // u inside the face's image (strictly): the depth test decides.
-                const double s0 = cross2(q[1] - q[0], u - q[0]), s1 = cross2(q[2] - q[1], u - q[1]),
-                             s2 = cross2(q[0] - q[2], u - q[2]);
-                if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) {
-                    // U's own faces are U's layer, not in front of it (P, rounded onto the edge,
-                    // cannot be tested against their planes).
-                    if (face == mesh.edge_face[own_edge][0] || face == mesh.edge_face[own_edge][1]) break;
+                const glm::dvec2 p0 = T(proj(c[entry])), p1 = T(proj(c[(entry + 1) % 3])),
+                                 p2 = T(proj(c[(entry + 2) % 3]));
+                if (p2.y == ut.y) {
+                    result = Walk::Failed;  // the path through a vertex
+                    return;
+                }
+                // Faces facing the same way have images of the same orientation (front-facing:
+                // clockwise in the image, whose y axis points down), so that the path goes on
+                // across each edge; rounding may flip a face seen nearly edge-on: then give up.
+                if (orient2(p0, p1, p2) != (face_front[face] ? -front_sign : front_sign)) {
+                    result = Walk::Failed;
+                    return;
+                }
+                // The exit edge joins the third corner p2 to the entry corner across the path.
+                const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
+                glm::dvec2 lo = via1 ? p1 : p2, hi = via1 ? p2 : p0;
+                if (lo.y > hi.y) std::swap(lo, hi);
+                const int se = orient2(lo, hi, ut);
+                if (se == 0) {
+                    result = Walk::Failed;  // u on the edge
+                    return;
+                }
+                if (se > 0) {
+                    // The path reaches u inside this face: the depth test decides. U's own faces
+                    // are U's layer, not in front of it (P, rounded onto the edge, cannot be
+                    // tested against their planes).
+                    if (face == own_faces[0] || face == own_faces[1]) break;
                     const glm::dvec3 &A = mesh.positions[c[0]], &B = mesh.positions[c[1]], &C = mesh.positions[c[2]];
                     const int eye = orient_eye(camera, A, B, C), pt = orient3(A, B, C, P);
                     if (eye == 0 || pt == 0) {
@@ -117,37 +181,15 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                     if (eye != pt) result = Walk::Occluded;
                     break;
                 }
-                if (s0 == 0 || s1 == 0 || s2 == 0) {
-                    result = Walk::Failed;
-                    return;
-                }
-                // Leave by the edge the path crosses (not the one it came in by).
-                std::uint32_t exit = UINT32_MAX;
-                glm::dvec2 at{0.0};
-                for (int i = 0; i < 3 && exit == UINT32_MAX; ++i) {
-                    const std::uint32_t e = mesh.face_edges[face][i];
-                    if (e == entry) continue;
-                    const Segment2 side{q[i], q[(i + 1) % 3], UINT32_MAX - 1, UINT32_MAX - 2, e};
-                    const Segment2 leg{from, u, UINT32_MAX - 3, UINT32_MAX - 4, e};
-                    double tt[2];
-                    const int m = segment_crossings(leg, side, tt);
-                    if (m == 1 && tt[0] > 0.0) exit = e, at = from + tt[0] * (u - from);
-                    else if (m != 0) {
-                        result = Walk::Failed;
-                        return;
-                    }
-                }
-                if (exit == UINT32_MAX) {
-                    result = Walk::Failed;
-                    return;
-                }
+                const int exit_corner = via1 ? (entry + 1) % 3 : (entry + 2) % 3;
+                const std::uint32_t exit = mesh.face_edges[face][exit_corner];
                 const auto [f0, f1] = mesh.edge_face[exit];
-                if (f1 == kNoFace || face_front[f0] != face_front[f1])
-                    break;  // the layer ends or folds before u
+                if (f1 == kNoFace || face_front[f0] != face_front[f1]) break;  // the layer ends or folds before u
                 face = f0 == face ? f1 : f0;
-                entry = exit;
-                from = at;
+                const auto& ne = mesh.face_edges[face];
+                entry = ne[0] == exit ? 0 : ne[1] == exit ? 1 : 2;
             }
+            if (result != Walk::Visible) return;
         }
     });
     return result;
@@ -408,15 +450,20 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
     // the cluster; proved hidden raises its bound.
-    double left = 1e300;
-    for (const Segment2& o : graph.occluders) left = std::min({left, o.a.x, o.b.x});
-    left -= 1.0;
+    double box[4] = {1e300, -1e300, 1e300, -1e300};
+    for (const Segment2& o : graph.occluders) {
+        box[0] = std::min({box[0], o.a.x, o.b.x});
+        box[1] = std::max({box[1], o.a.x, o.b.x});
+        box[2] = std::min({box[2], o.a.y, o.b.y});
+        box[3] = std::max({box[3], o.a.y, o.b.y});
+    }
+    box[0] -= 1.0, box[1] += 1.0, box[2] -= 1.0, box[3] += 1.0;
     for (std::size_t c = 0; c < nc && options.walk && graph.grid; ++c) {
         if (state[c] != kBound || zero[c] == UINT32_MAX) continue;
         const std::uint32_t p = zero[c];
         const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
         ++st.walks;
-        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, left);
+        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, box);
         if (w == Walk::Visible) {
             state[c] = kFixed;  // value(p) == 0 already
         } else if (w == Walk::Occluded) {
