@@ -1,5 +1,5 @@
-// Time per stage of one frame (features; features + visibility by ray tests or by propagation) on the sample meshes with the
-// default camera. Usage: bench_frame [--benchmark_filter=...]; meshes come from INKLINE_DATA_DIR.
+// Time per stage of one frame (features; features + visibility by ray tests or by propagation;
+// visibility by propagation alone) on the sample meshes with the default camera. Usage: bench_frame [--benchmark_filter=...]; meshes come from INKLINE_DATA_DIR.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -69,6 +69,28 @@ void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMeth
     state.counters["sil_edges_per_s"] = benchmark::Counter(double(sil), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The visibility stage alone by propagation (features computed once, outside the loop), as
+// render_view runs it for visible lines: build_pieces + assign_qi_appel.
+void BM_Visibility(benchmark::State& state, const char* name, bool walk) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    cam.set_near(inkline::default_near(m->topology()));
+    const inkline::Features f = inkline::extract_features(m->topology(), cam);
+    std::size_t rays = 0, walks = 0;
+    for (auto _ : state) {
+        inkline::PieceGraph g = inkline::build_pieces(m->topology(), f, cam);
+        const auto st = inkline::assign_qi_appel(
+            m->topology(), cam, f.face_front, [&]() -> const inkline::RayCaster& { return m->rays(); }, g,
+            {false, &m->self_intersecting_faces(), walk});
+        rays = st.ray_tests;
+        walks = st.walks;
+        benchmark::DoNotOptimize(g);
+    }
+    state.counters["ray_tests"] = double(rays);
+    state.counters["walks"] = double(walks);
+}
+
 int reg = [] {
     for (const char* n : kMeshes) {
         benchmark::RegisterBenchmark((std::string("features/") + n).c_str(), BM_Features, n)->Unit(benchmark::kMillisecond);
@@ -78,6 +100,10 @@ int reg = [] {
                                      inkline::VisibilityMethod::Appel, true)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_appel_nowalk/") + n).c_str(), BM_Frame, n,
                                      inkline::VisibilityMethod::Appel, false)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("visibility_appel/") + n).c_str(), BM_Visibility, n, true)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("visibility_appel_nowalk/") + n).c_str(), BM_Visibility, n, false)
+            ->Unit(benchmark::kMillisecond);
     }
     return 0;
 }();
