@@ -423,7 +423,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         changed = 0;
         for (const auto& [op, l] : constraints) {
             const std::uint32_t c = comp[graph.links[l].before];
-            if (state[c] != kBound) continue;
+            // An inconsistent cluster's values mean nothing (they depend on the order of union).
+            if (state[c] != kBound || state[comp[op]] == kInconsistent) continue;
             const int n = value(op), m = std::min(value(graph.links[l].before), value(graph.links[l].after));
             if (m >= n) continue;
             int raise = n - m;
