@@ -1,6 +1,7 @@
 #include "visibility/appel.hpp"
 
 #include <algorithm>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -65,6 +66,75 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 // of the directed line a -> b.
 int orient2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
     return int(CGAL::orientation(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y), K::Point_2(c.x, c.y)));
+}
+
+// orient_eye, inlined for a perspective camera (CGAL's filtered predicate).
+int eye_side(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    if (camera.is_ortho()) return orient_eye(camera, a, b, c);
+    const glm::dvec3 e = camera.eye();
+    return int(CGAL::orientation(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z), K::Point_3(c.x, c.y, c.z),
+                                 K::Point_3(e.x, e.y, e.z)));
+}
+
+// orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (or a rotation of it):
+// the face's plane filter (MeshTopology::FacePlane, the bound of extract_features for the eye,
+// which holds for any point x), then the exact predicate.
+int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
+    constexpr double kEps = 1.1102230246251565e-16;
+    const MeshTopology::FacePlane& q = mesh.face_planes[f];
+    const double det = glm::dot(q.n, x) - q.k;
+    const double bound = 16.0 * kEps * (glm::dot(q.p, glm::abs(x)) + q.pa) + 0x1p-1060;
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    const auto& c = mesh.faces[f];
+    return orient3(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
+}
+
+// The faces around a vertex v, each with its facing and its other corners A, B in the face's order
+// (v, A, B).
+struct RingFace {
+    std::uint32_t face;
+    bool front;
+    const glm::dvec3 *A, *B;
+};
+void ring_of(const MeshTopology& mesh, const std::vector<std::uint8_t>& face_front, std::uint32_t v,
+             std::vector<RingFace>& ring) {
+    ring.clear();
+    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+        const std::uint32_t g = mesh.vertex_edges[k];
+        // each face around v once: the one traversing g away from v
+        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
+        if (f == kNoFace) continue;
+        const auto& c = mesh.faces[f];
+        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+        ring.push_back({f, bool(face_front[f]), &mesh.positions[c[(i + 1) % 3]], &mesh.positions[c[(i + 2) % 3]]});
+    }
+}
+
+// local_occlusion (appel.hpp) with the ring of faces around v.
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<RingFace>& ring, std::uint32_t v,
+                    std::uint32_t edge) {
+    const auto& ev = mesh.edge_vertex[edge];
+    const auto& ef = mesh.edge_face[edge];
+    const glm::dvec3& V = mesh.positions[v];
+    const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
+    int count = 0;
+    for (const RingFace& r : ring) {
+        if (r.face == ef[0] || r.face == ef[1]) continue;
+        // The eye and the points of the edge near V on opposite sides of the face's plane (the
+        // eye's side is the face's facing, known) ...
+        const int edge_side = plane_side(mesh, r.face, W);
+        if (edge_side == 0 || (edge_side > 0) == r.front) continue;
+        // ... and the line of sight through them inside the face's corner at V: W seen between
+        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each. The
+        // first is the face's facing, orient_eye(V, A, B): 1 for a front face; a face not in
+        // front may still hold the eye in its plane (0: it hides nothing). The second is its
+        // opposite, orient_eye(V, B, A).
+        const int ba = r.front ? 1 : eye_side(camera, V, *r.A, *r.B);
+        if (ba == 0 || eye_side(camera, V, *r.A, W) != ba) continue;
+        if (eye_side(camera, V, *r.B, W) == -ba) ++count;
+    }
+    return count;
 }
 
 enum class Walk { Visible, Occluded, Failed };
@@ -199,31 +269,9 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
 
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<std::uint8_t>& face_front,
                     std::uint32_t v, std::uint32_t edge) {
-    const auto& ev = mesh.edge_vertex[edge];
-    const glm::dvec3& V = mesh.positions[v];
-    const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
-    int count = 0;
-    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-        const std::uint32_t g = mesh.vertex_edges[k];
-        // each face around v once: the one traversing g away from v
-        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
-        if (f == kNoFace || f == mesh.edge_face[edge][0] || f == mesh.edge_face[edge][1]) continue;
-        const auto& c = mesh.faces[f];
-        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-        const glm::dvec3& A = mesh.positions[c[(i + 1) % 3]];
-        const glm::dvec3& B = mesh.positions[c[(i + 2) % 3]];
-        // The eye and the points of the edge near V on opposite sides of the face's plane (the
-        // eye's side is the face's facing, known; only "not front" needs the exact test for 0) ...
-        const int edge_side = orient3(V, A, B, W);
-        if (edge_side == 0 || (edge_side > 0) == bool(face_front[f])) continue;
-        if (edge_side > 0 && orient_eye(camera, V, A, B) == 0) continue;
-        // ... and the line of sight through them inside the face's corner at V: W seen between
-        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each.
-        const int wa = orient_eye(camera, V, A, W), ba = orient_eye(camera, V, A, B);
-        const int wb = orient_eye(camera, V, B, W), ab = orient_eye(camera, V, B, A);
-        if (wa != 0 && wa == ba && wb != 0 && wb == ab) ++count;
-    }
-    return count;
+    std::vector<RingFace> ring;
+    ring_of(mesh, face_front, v, ring);
+    return local_occlusion(mesh, camera, ring, v, edge);
 }
 
 int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t occluder, const glm::dvec3& c1,
@@ -269,12 +317,16 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         return st;
     }
 
-    // Nodes: pieces, then one per vertex where curves end.
+    // Nodes: pieces, then one per vertex where curves end. The ends sorted by vertex (their index
+    // in the low bits) give the vertex nodes in increasing vertex order.
+    const auto& ends = graph.ends;
+    std::vector<std::uint64_t> end_order(ends.size());
+    for (std::size_t i = 0; i < ends.size(); ++i) end_order[i] = std::uint64_t(ends[i].vertex) << 32 | i;
+    std::sort(end_order.begin(), end_order.end());
     std::vector<std::uint32_t> verts;
-    verts.reserve(graph.ends.size());
-    for (const auto& e : graph.ends) verts.push_back(e.vertex);
-    std::sort(verts.begin(), verts.end());
-    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    verts.reserve(ends.size());
+    for (const std::uint64_t k : end_order)
+        if (verts.empty() || verts.back() != std::uint32_t(k >> 32)) verts.push_back(std::uint32_t(k >> 32));
     auto vnode = [&](std::uint32_t v) {
         return np + std::uint32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin());
     };
@@ -305,11 +357,20 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         if (pierced[b] || pierced[a]) continue;
         if (!forest.unite(b, a, link_delta[l])) bad[a] = 1;
     }
-    // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion.
-    for (const auto& e : graph.ends)
-        if (!pierced[e.piece] &&
-            !forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, face_front, e.vertex, e.edge)))
-            bad[e.piece] = 1;
+    // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion. All ends at
+    // one vertex share its ring of faces.
+    std::vector<RingFace> ring;
+    for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
+        const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
+        std::size_t j = i;
+        while (j < end_order.size() && std::uint32_t(end_order[j] >> 32) == v) ++j;
+        ring_of(mesh, face_front, v, ring);
+        for (; i < j; ++i) {
+            const auto& e = ends[std::uint32_t(end_order[i])];
+            if (pierced[e.piece]) continue;
+            if (!forest.unite(std::uint32_t(node), e.piece, local_occlusion(mesh, camera, ring, v, e.edge))) bad[e.piece] = 1;
+        }
+    }
 
     // Clusters.
     std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
