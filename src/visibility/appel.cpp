@@ -90,6 +90,18 @@ int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
     return orient3(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
 }
 
+// A set of mesh edges, one bit each.
+class EdgeMarks {
+public:
+    explicit EdgeMarks(std::size_t n) : bits_(n / 64 + 1, 0) {}
+    void set(std::uint32_t e) { bits_[e >> 6] |= std::uint64_t(1) << (e & 63); }
+    bool test(std::uint32_t e) const { return bits_[e >> 6] >> (e & 63) & 1; }
+    void clear() { std::fill(bits_.begin(), bits_.end(), 0); }
+
+private:
+    std::vector<std::uint64_t> bits_;
+};
+
 // The faces around a vertex v, each with its facing and its other corners A, B in the face's order
 // (v, A, B).
 struct RingFace {
@@ -408,16 +420,25 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         state[c] = kFixed;
         base[c] = value - off[node];
     };
+    // (Extreme vertices inside curves: the pieces with a span reaching them, found in one pass
+    // over the spans, with the edges around those vertices marked.)
+    std::vector<std::uint32_t> inner_extremes;
     for (std::uint32_t v : graph.extreme_vertices) {
         if (v == UINT32_MAX) continue;
-        if (std::binary_search(verts.begin(), verts.end(), v)) {
-            fix(vnode(v), 0);
-            continue;
-        }
+        if (std::binary_search(verts.begin(), verts.end(), v)) fix(vnode(v), 0);
+        else inner_extremes.push_back(v);
+    }
+    EdgeMarks marked(mesh.edge_count());
+    if (!inner_extremes.empty()) {
+        for (std::uint32_t v : inner_extremes)
+            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
+                marked.set(mesh.vertex_edges[k]);
         for (std::uint32_t p = 0; p < np; ++p)
             for (const EdgeSpan& s : spans[p]) {
+                if (!marked.test(s.edge)) continue;
                 const auto& ev = mesh.edge_vertex[s.edge];
-                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+                for (std::uint32_t v : inner_extremes)
+                    if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
             }
     }
 
@@ -446,16 +467,13 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         std::uint32_t edge, piece;
         double s0, s1;
     };
-    std::vector<std::uint32_t> queried;  // occluder edges of crossings between clusters
+    marked.clear();  // occluder edges of crossings between clusters
     for (const auto& c : graph.link_crossings)
-        if (c.delta != 0) queried.push_back(c.occluder_edge);
-    std::sort(queried.begin(), queried.end());
-    queried.erase(std::unique(queried.begin(), queried.end()), queried.end());
+        if (c.delta != 0) marked.set(c.occluder_edge);
     std::vector<EdgePiece> by_edge;
     for (std::uint32_t p = 0; p < np; ++p)
         for (const EdgeSpan& s : spans[p])
-            if (std::binary_search(queried.begin(), queried.end(), s.edge))
-                by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+            if (marked.test(s.edge)) by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
     std::sort(by_edge.begin(), by_edge.end(), [](const EdgePiece& a, const EdgePiece& b) {
         return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
     });
