@@ -244,9 +244,12 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                 const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
                 glm::dvec2 lo = via1 ? p1 : p2, hi = via1 ? p2 : p0;
                 if (lo.y > hi.y) std::swap(lo, hi);
+                const int exit_corner = via1 ? (entry + 1) % 3 : (entry + 2) % 3;
+                const std::uint32_t exit = mesh.face_edges[face][exit_corner];
                 const int se = orient2(lo, hi, ut);
                 if (se == 0) {
-                    result = Walk::Failed;  // u on the edge
+                    if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
+                    result = Walk::Failed;        // u on another edge
                     return;
                 }
                 if (se > 0) {
@@ -263,8 +266,6 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                     if (eye != pt) result = Walk::Occluded;
                     break;
                 }
-                const int exit_corner = via1 ? (entry + 1) % 3 : (entry + 2) % 3;
-                const std::uint32_t exit = mesh.face_edges[face][exit_corner];
                 const auto [f0, f1] = mesh.edge_face[exit];
                 if (f1 == kNoFace || face_front[f0] != face_front[f1]) break;  // the layer ends or folds before u
                 face = f0 == face ? f1 : f0;
