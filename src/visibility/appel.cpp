@@ -223,20 +223,26 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
             // Walk from the crossing toward u over the faces: the path enters each face by one
             // edge and leaves by one of the other two, the one joining the third corner to the
             // entry corner on the other side of the path.
-            std::uint32_t face = f;
+            // The branch keeps its facing (it ends at folds): faces facing the same way have
+            // images of the same orientation (front-facing: clockwise in the image, whose y axis
+            // points down), so that the path goes on across each edge; rounding may flip a face
+            // seen nearly edge-on: then give up. The images of the entry edge's ends carry over
+            // from face to face.
+            const bool front = face_front[f];
+            const int want = front ? -front_sign : front_sign;
+            std::uint32_t face = f, va = fv[i_in], vb = fv[(i_in + 1) % 3];
+            glm::dvec2 pa = T(proj(va)), pb = T(proj(vb));
             int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
             for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
                 const auto& c = mesh.faces[face];
-                const glm::dvec2 p0 = T(proj(c[entry])), p1 = T(proj(c[(entry + 1) % 3])),
-                                 p2 = T(proj(c[(entry + 2) % 3]));
+                const std::uint32_t v0 = c[entry], v1 = c[(entry + 1) % 3], v2 = c[(entry + 2) % 3];
+                auto image = [&](std::uint32_t w) { return w == va ? pa : w == vb ? pb : T(proj(w)); };
+                const glm::dvec2 p0 = image(v0), p1 = image(v1), p2 = T(proj(v2));
                 if (p2.y == ut.y) {
                     result = Walk::Failed;  // the path through a vertex
                     return;
                 }
-                // Faces facing the same way have images of the same orientation (front-facing:
-                // clockwise in the image, whose y axis points down), so that the path goes on
-                // across each edge; rounding may flip a face seen nearly edge-on: then give up.
-                if (orient2(p0, p1, p2) != (face_front[face] ? -front_sign : front_sign)) {
+                if (orient2(p0, p1, p2) != want) {
                     result = Walk::Failed;
                     return;
                 }
@@ -267,10 +273,13 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                     break;
                 }
                 const auto [f0, f1] = mesh.edge_face[exit];
-                if (f1 == kNoFace || face_front[f0] != face_front[f1]) break;  // the layer ends or folds before u
+                if (f1 == kNoFace) break;  // the layer ends before u
                 face = f0 == face ? f1 : f0;
+                if (bool(face_front[face]) != front) break;  // or folds
                 const auto& ne = mesh.face_edges[face];
                 entry = ne[0] == exit ? 0 : ne[1] == exit ? 1 : 2;
+                va = via1 ? v1 : v2, vb = via1 ? v2 : v0;
+                pa = via1 ? p1 : p2, pb = via1 ? p2 : p0;
             }
             if (result != Walk::Visible) return;
         }
