@@ -189,6 +189,13 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
     const VertexImages& proj = g.images;
     const auto& own_faces = mesh.edge_face[own_edge];
     Walk result = Walk::Visible;
+    struct Crossed {
+        double d;
+        std::uint32_t k;
+        glm::dvec2 a, b;  // the occluder in the turned frame, a below the path
+    };
+    thread_local std::vector<Crossed> crossed;  // (reused from walk to walk)
+    crossed.clear();
     g.grid->candidates(path, [&](std::uint32_t k) {
         if (result != Walk::Visible) return;
         const Segment2& o = g.occluders[k];
@@ -208,6 +215,17 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
             return;
         }
         if (su > 0) return;
+        // Where (in float: only an order) the path meets the occluder, away from u.
+        crossed.push_back({ut.x - (a.x + (ut.y - a.y) / (b.y - a.y) * (b.x - a.x)), k, a, b});
+    });
+    if (result != Walk::Visible) return result;
+    // The branches from the nearest crossings first: they are the shortest, and one layer found
+    // in front of U ends the walk.
+    std::sort(crossed.begin(), crossed.end(), [](const Crossed& x, const Crossed& y) { return x.d < y.d; });
+    for (const Crossed& x : crossed) {
+        const Segment2& o = g.occluders[x.k];
+        const glm::dvec2 a = x.a, b = x.b;
+        const int su = -1;
         for (std::uint32_t f : mesh.edge_face[o.edge]) {
             if (f == kNoFace) continue;
             // The branch must lie on u's side of the occluder's image.
@@ -217,7 +235,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
             const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
             if (st == 0) {
                 result = Walk::Failed;
-                return;
+                return result;
             }
             if (st != su) continue;
             // Walk from the crossing toward u over the faces: the path enters each face by one
@@ -240,11 +258,11 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                 const glm::dvec2 p0 = image(v0), p1 = image(v1), p2 = T(proj(v2));
                 if (p2.y == ut.y) {
                     result = Walk::Failed;  // the path through a vertex
-                    return;
+                    return result;
                 }
                 if (orient2(p0, p1, p2) != want) {
                     result = Walk::Failed;
-                    return;
+                    return result;
                 }
                 // The exit edge joins the third corner p2 to the entry corner across the path.
                 const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
@@ -256,7 +274,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge
-                    return;
+                    return result;
                 }
                 if (se > 0) {
                     // The path reaches u inside this face: the depth test decides. U's own faces
@@ -267,7 +285,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                     const int eye = orient_eye(camera, A, B, C), pt = orient3(A, B, C, P);
                     if (eye == 0 || pt == 0) {
                         result = Walk::Failed;
-                        return;
+                        return result;
                     }
                     if (eye != pt) result = Walk::Occluded;
                     break;
@@ -281,9 +299,9 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const std::vector<s
                 va = via1 ? v1 : v2, vb = via1 ? v2 : v0;
                 pa = via1 ? p1 : p2, pb = via1 ? p2 : p0;
             }
-            if (result != Walk::Visible) return;
+            if (result != Walk::Visible) return result;
         }
-    });
+    }
     return result;
 }
 
