@@ -1,7 +1,9 @@
-// Time per stage of one frame (features; features + visibility by ray tests or by propagation) on the sample meshes with the
-// default camera. Usage: bench_frame [--benchmark_filter=...]; meshes come from INKLINE_DATA_DIR.
+// Time per stage of one frame (features; features + visibility by ray tests or by propagation;
+// visibility by propagation alone) on the sample meshes with the default camera. Usage: bench_frame [--benchmark_filter=...]; meshes come from INKLINE_DATA_DIR.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -48,8 +50,10 @@ void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMeth
     opt.exact_hidden = false;  // as `inkline render` without --hidden: visible lines
     opt.walk = walk;
     std::size_t sil = 0, rays = 0, pieces = 0, walks = 0;
+    double vis_seconds = 0.0;
     for (auto _ : state) {
         auto v = inkline::render_view(*m, cam, opt);
+        vis_seconds += v.drawing.stats.seconds_visibility;
         pieces = v.drawing.stats.pieces;
         walks = v.drawing.stats.walks;
         sil = v.drawing.stats.silhouette_edges;
@@ -60,7 +64,31 @@ void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMeth
     state.counters["ray_tests"] = double(rays);
     state.counters["pieces"] = double(pieces);
     state.counters["walks"] = double(walks);
+    // The visibility stage alone (wall time per frame, as measured by render_view), in ms.
+    state.counters["vis_ms"] = 1e3 * vis_seconds / double(std::max<std::int64_t>(1, state.iterations()));
     state.counters["sil_edges_per_s"] = benchmark::Counter(double(sil), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The visibility stage alone by propagation (features computed once, outside the loop), as
+// render_view runs it for visible lines: build_pieces + assign_qi_appel.
+void BM_Visibility(benchmark::State& state, const char* name, bool walk) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    cam.set_near(inkline::default_near(m->topology()));
+    const inkline::Features f = inkline::extract_features(m->topology(), cam);
+    std::size_t rays = 0, walks = 0;
+    for (auto _ : state) {
+        inkline::PieceGraph g = inkline::build_pieces(m->topology(), f, cam);
+        const auto st = inkline::assign_qi_appel(
+            m->topology(), cam, f.face_front, [&]() -> const inkline::RayCaster& { return m->rays(); }, g,
+            {false, &m->self_intersecting_faces(), walk});
+        rays = st.ray_tests;
+        walks = st.walks;
+        benchmark::DoNotOptimize(g);
+    }
+    state.counters["ray_tests"] = double(rays);
+    state.counters["walks"] = double(walks);
 }
 
 int reg = [] {
@@ -72,6 +100,10 @@ int reg = [] {
                                      inkline::VisibilityMethod::Appel, true)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_appel_nowalk/") + n).c_str(), BM_Frame, n,
                                      inkline::VisibilityMethod::Appel, false)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("visibility_appel/") + n).c_str(), BM_Visibility, n, true)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("visibility_appel_nowalk/") + n).c_str(), BM_Visibility, n, false)
+            ->Unit(benchmark::kMillisecond);
     }
     return 0;
 }();

@@ -1,7 +1,10 @@
 #include "visibility/appel.hpp"
 
 #include <algorithm>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "core/predicates.hpp"
 
@@ -57,99 +60,248 @@ glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint3
     return mesh.positions[f[0]];
 }
 
-double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+// Exact sign of the orientation of (a, b, c) (CGAL's filtered predicate): positive when c is left
+// of the directed line a -> b.
+int orient2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return int(CGAL::orientation(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y), K::Point_2(c.x, c.y)));
+}
+
+// orient_eye, inlined for a perspective camera (CGAL's filtered predicate).
+int eye_side(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    if (camera.is_ortho()) return orient_eye(camera, a, b, c);
+    const glm::dvec3 e = camera.eye();
+    return int(CGAL::orientation(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z), K::Point_3(c.x, c.y, c.z),
+                                 K::Point_3(e.x, e.y, e.z)));
+}
+
+// orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (or a rotation of it):
+// the face's plane filter (MeshTopology::FacePlane, the bound of extract_features for the eye,
+// which holds for any point x), then the exact predicate.
+int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
+    constexpr double kEps = 1.1102230246251565e-16;
+    const MeshTopology::FacePlane& q = mesh.face_planes[f];
+    const double det = glm::dot(q.n, x) - q.k;
+    const double bound = 16.0 * kEps * (glm::dot(q.p, glm::abs(x)) + q.pa) + 0x1p-1060;
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    const auto& c = mesh.faces[f];
+    return orient3(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
+}
+
+// A set of mesh edges, one bit each.
+class EdgeMarks {
+public:
+    explicit EdgeMarks(std::size_t n) : bits_(n / 64 + 1, 0) {}
+    void set(std::uint32_t e) { bits_[e >> 6] |= std::uint64_t(1) << (e & 63); }
+    bool test(std::uint32_t e) const { return bits_[e >> 6] >> (e & 63) & 1; }
+    void clear() { std::fill(bits_.begin(), bits_.end(), 0); }
+
+private:
+    std::vector<std::uint64_t> bits_;
+};
+
+// The faces around a vertex v, each with its facing and its other corners A, B in the face's order
+// (v, A, B).
+struct RingFace {
+    std::uint32_t face;
+    bool front;
+    const glm::dvec3 *A, *B;
+};
+void ring_of(const MeshTopology& mesh, const FaceFacing& face_front, std::uint32_t v,
+             std::vector<RingFace>& ring) {
+    ring.clear();
+    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+        const std::uint32_t g = mesh.vertex_edges[k];
+        // each face around v once: the one traversing g away from v
+        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
+        if (f == kNoFace) continue;
+        const auto& c = mesh.faces[f];
+        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+        ring.push_back({f, bool(face_front[f]), &mesh.positions[c[(i + 1) % 3]], &mesh.positions[c[(i + 2) % 3]]});
+    }
+}
+
+// local_occlusion (appel.hpp) with the ring of faces around v.
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<RingFace>& ring, std::uint32_t v,
+                    std::uint32_t edge) {
+    const auto& ev = mesh.edge_vertex[edge];
+    const auto& ef = mesh.edge_face[edge];
+    const glm::dvec3& V = mesh.positions[v];
+    const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
+    int count = 0;
+    for (const RingFace& r : ring) {
+        if (r.face == ef[0] || r.face == ef[1]) continue;
+        // The eye and the points of the edge near V on opposite sides of the face's plane (the
+        // eye's side is the face's facing, known) ...
+        const int edge_side = plane_side(mesh, r.face, W);
+        if (edge_side == 0 || (edge_side > 0) == r.front) continue;
+        // ... and the line of sight through them inside the face's corner at V: W seen between
+        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each. The
+        // first is the face's facing, orient_eye(V, A, B): 1 for a front face; a face not in
+        // front may still hold the eye in its plane (0: it hides nothing). The second is its
+        // opposite, orient_eye(V, B, A).
+        const int ba = r.front ? 1 : eye_side(camera, V, *r.A, *r.B);
+        if (ba == 0 || eye_side(camera, V, *r.A, W) != ba) continue;
+        if (eye_side(camera, V, *r.B, W) == -ba) ++count;
+    }
+    return count;
+}
 
 enum class Walk { Visible, Occluded, Failed };
 
+// The image turned (by exact sign changes and a swap of the axes) so that the walk's path runs
+// from u toward -x: every test on the path is then a comparison with u.y, or an orientation in
+// these coordinates.
+struct PathFrame {
+    int dir;  // 0: toward min x, 1: max x, 2: min y, 3: max y (in the image)
+    // The sign of the turned frame's orientations relative to the image's.
+    int det() const { return dir == 0 || dir == 3 ? 1 : -1; }
+    glm::dvec2 operator()(glm::dvec2 p) const {
+        switch (dir) {
+            case 0: return p;
+            case 1: return {-p.x, p.y};
+            case 2: return {p.y, p.x};
+            default: return {-p.y, p.x};
+        }
+    }
+};
+
 // Section 4.4: is the point U (P in 3D, u in the image) hidden by a layer of surface enclosing it?
-// Every layer over u, followed from u toward the left edge of the occluders' box, ends at a
-// silhouette or border crossing that path. From each such crossing V, walk the surface branches
-// of the occluder back along the path, face by face, in the image; a branch that reaches u is
-// depth-tested against U (exact orientation); a branch that folds (silhouette) or ends (border) on
-// the way is not the layer over u. Degenerate paths (through vertices) fail: the caller then
-// makes a ray test.
+// Every layer over u, followed from u along a straight path out of the occluders' box `box`
+// (min x, max x, min y, max y; the path goes to the nearest side), ends at a silhouette or border
+// crossing that path. From each such crossing V, walk the surface branches of the occluder back
+// along the path, face by face, in the image; a branch that reaches u is depth-tested against U
+// (exact orientation); a branch that folds (silhouette) or ends (border) on the way is not the
+// layer over u. The path is axis-parallel, so whether a projected vertex lies above or below it is
+// an exact comparison; where the path meets an edge, before or after u, is an exact orientation.
+// Degenerate paths (through a vertex, u on an edge) fail: the caller then makes a ray test.
 Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
-             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, double left) {
-    const Segment2 path{u, {left, u.y}, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
+             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
+    const double dist[4] = {u.x - box[0], box[1] - u.x, u.y - box[2], box[3] - u.y};
+    const int dir = int(std::min_element(dist, dist + 4) - dist);
+    const PathFrame T{dir};
+    const glm::dvec2 end = dir < 2 ? glm::dvec2(box[dir], u.y) : glm::dvec2(u.x, box[dir]);
+    const Segment2 path{u, end, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
+    const glm::dvec2 ut = T(u);
+    const int front_sign = T.det();
+    const VertexImages& proj = g.images;
+    const auto& own_faces = mesh.edge_face[own_edge];
     Walk result = Walk::Visible;
-    auto proj = [&](std::uint32_t v) { return camera.project(mesh.positions[v]); };
+    struct Crossed {
+        double d;
+        std::uint32_t k;
+        glm::dvec2 a, b;  // the occluder in the turned frame, a below the path
+    };
+    thread_local std::vector<Crossed> crossed;  // (reused from walk to walk)
+    crossed.clear();
     g.grid->candidates(path, [&](std::uint32_t k) {
         if (result != Walk::Visible) return;
         const Segment2& o = g.occluders[k];
         if (o.edge == own_edge) return;
-        double t[2];
-        const int n = segment_crossings(path, o, t);
-        if (n == 0) return;
-        if (n != 1 || t[0] <= 0.0) {
+        // Does the occluder cross the path (the half-line y = u.y, x < u.x, in the turned frame)?
+        glm::dvec2 a = T(o.a), b = T(o.b);
+        if ((a.y > ut.y && b.y > ut.y) || (a.y < ut.y && b.y < ut.y)) return;
+        if (a.y == ut.y || b.y == ut.y) {  // an end on the path's line: degenerate unless beyond u
+            if ((a.y == ut.y && a.x <= ut.x) || (b.y == ut.y && b.x <= ut.x)) result = Walk::Failed;
+            else if (a.y == b.y) result = Walk::Failed;  // on the line, both ends beyond u: cannot happen
+            return;
+        }
+        if (a.y > b.y) std::swap(a, b);  // a below the path, b above
+        const int su = orient2(a, b, ut);  // < 0: u right of a -> b, the crossing before u
+        if (su == 0) {
             result = Walk::Failed;
             return;
         }
-        const glm::dvec2 vp = path.a + t[0] * (path.b - path.a);
+        if (su > 0) return;
+        // Where (in float: only an order) the path meets the occluder, away from u.
+        crossed.push_back({ut.x - (a.x + (ut.y - a.y) / (b.y - a.y) * (b.x - a.x)), k, a, b});
+    });
+    if (result != Walk::Visible) return result;
+    // The branches from the nearest crossings first: they are the shortest, and one layer found
+    // in front of U ends the walk.
+    std::sort(crossed.begin(), crossed.end(), [](const Crossed& x, const Crossed& y) { return x.d < y.d; });
+    for (const Crossed& x : crossed) {
+        const Segment2& o = g.occluders[x.k];
+        const glm::dvec2 a = x.a, b = x.b;
+        const int su = -1;
         for (std::uint32_t f : mesh.edge_face[o.edge]) {
             if (f == kNoFace) continue;
-            // the branch must lie on u's side of the occluder's image
-            const double su = cross2(o.b - o.a, u - o.a),
-                         st = cross2(o.b - o.a, camera.project(third_vertex(mesh, f, o.edge)) - o.a);
-            if (su == 0.0 || st == 0.0) {
+            // The branch must lie on u's side of the occluder's image.
+            const auto& fv = mesh.faces[f];
+            const auto& fe = mesh.face_edges[f];
+            const int i_in = fe[0] == o.edge ? 0 : fe[1] == o.edge ? 1 : 2;
+            const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
+            if (st == 0) {
                 result = Walk::Failed;
-                return;
+                return result;
             }
-            if ((su > 0) != (st > 0)) continue;
-            // Walk from vp toward u over the faces.
-            std::uint32_t face = f, entry = o.edge;
-            glm::dvec2 from = vp;
+            if (st != su) continue;
+            // Walk from the crossing toward u over the faces: the path enters each face by one
+            // edge and leaves by one of the other two, the one joining the third corner to the
+            // entry corner on the other side of the path.
+            // The branch keeps its facing (it ends at folds): faces facing the same way have
+            // images of the same orientation (front-facing: clockwise in the image, whose y axis
+            // points down), so that the path goes on across each edge; rounding may flip a face
+            // seen nearly edge-on: then give up. The images of the entry edge's ends carry over
+            // from face to face.
+            const bool front = face_front[f];
+            const int want = front ? -front_sign : front_sign;
+            std::uint32_t face = f, va = fv[i_in], vb = fv[(i_in + 1) % 3];
+            glm::dvec2 pa = T(proj(va)), pb = T(proj(vb));
+            int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
             for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
                 const auto& c = mesh.faces[face];
-                const glm::dvec2 q[3] = {proj(c[0]), proj(c[1]), proj(c[2])};
-                // u inside the face's image (strictly): the depth test decides.
-                const double s0 = cross2(q[1] - q[0], u - q[0]), s1 = cross2(q[2] - q[1], u - q[1]),
-                             s2 = cross2(q[0] - q[2], u - q[2]);
-                if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) {
-                    // U's own faces are U's layer, not in front of it (P, rounded onto the edge,
-                    // cannot be tested against their planes).
-                    if (face == mesh.edge_face[own_edge][0] || face == mesh.edge_face[own_edge][1]) break;
+                const std::uint32_t v0 = c[entry], v1 = c[(entry + 1) % 3], v2 = c[(entry + 2) % 3];
+                auto image = [&](std::uint32_t w) { return w == va ? pa : w == vb ? pb : T(proj(w)); };
+                const glm::dvec2 p0 = image(v0), p1 = image(v1), p2 = T(proj(v2));
+                if (p2.y == ut.y) {
+                    result = Walk::Failed;  // the path through a vertex
+                    return result;
+                }
+                if (orient2(p0, p1, p2) != want) {
+                    result = Walk::Failed;
+                    return result;
+                }
+                // The exit edge joins the third corner p2 to the entry corner across the path.
+                const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
+                glm::dvec2 lo = via1 ? p1 : p2, hi = via1 ? p2 : p0;
+                if (lo.y > hi.y) std::swap(lo, hi);
+                const int exit_corner = via1 ? (entry + 1) % 3 : (entry + 2) % 3;
+                const std::uint32_t exit = mesh.face_edges[face][exit_corner];
+                const int se = orient2(lo, hi, ut);
+                if (se == 0) {
+                    if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
+                    result = Walk::Failed;        // u on another edge
+                    return result;
+                }
+                if (se > 0) {
+                    // The path reaches u inside this face: the depth test decides. U's own faces
+                    // are U's layer, not in front of it (P, rounded onto the edge, cannot be
+                    // tested against their planes).
+                    if (face == own_faces[0] || face == own_faces[1]) break;
                     const glm::dvec3 &A = mesh.positions[c[0]], &B = mesh.positions[c[1]], &C = mesh.positions[c[2]];
                     const int eye = orient_eye(camera, A, B, C), pt = orient3(A, B, C, P);
                     if (eye == 0 || pt == 0) {
                         result = Walk::Failed;
-                        return;
+                        return result;
                     }
                     if (eye != pt) result = Walk::Occluded;
                     break;
                 }
-                if (s0 == 0 || s1 == 0 || s2 == 0) {
-                    result = Walk::Failed;
-                    return;
-                }
-                // Leave by the edge the path crosses (not the one it came in by).
-                std::uint32_t exit = UINT32_MAX;
-                glm::dvec2 at{0.0};
-                for (int i = 0; i < 3 && exit == UINT32_MAX; ++i) {
-                    const std::uint32_t e = mesh.face_edges[face][i];
-                    if (e == entry) continue;
-                    const Segment2 side{q[i], q[(i + 1) % 3], UINT32_MAX - 1, UINT32_MAX - 2, e};
-                    const Segment2 leg{from, u, UINT32_MAX - 3, UINT32_MAX - 4, e};
-                    double tt[2];
-                    const int m = segment_crossings(leg, side, tt);
-                    if (m == 1 && tt[0] > 0.0) exit = e, at = from + tt[0] * (u - from);
-                    else if (m != 0) {
-                        result = Walk::Failed;
-                        return;
-                    }
-                }
-                if (exit == UINT32_MAX) {
-                    result = Walk::Failed;
-                    return;
-                }
                 const auto [f0, f1] = mesh.edge_face[exit];
-                if (f1 == kNoFace || face_front[f0] != face_front[f1])
-                    break;  // the layer ends or folds before u
+                if (f1 == kNoFace) break;  // the layer ends before u
                 face = f0 == face ? f1 : f0;
-                entry = exit;
-                from = at;
+                if (bool(face_front[face]) != front) break;  // or folds
+                const auto& ne = mesh.face_edges[face];
+                entry = ne[0] == exit ? 0 : ne[1] == exit ? 1 : 2;
+                va = via1 ? v1 : v2, vb = via1 ? v2 : v0;
+                pa = via1 ? p1 : p2, pb = via1 ? p2 : p0;
             }
+            if (result != Walk::Visible) return result;
         }
-    });
+    }
     return result;
 }
 
@@ -157,31 +309,9 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
 
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                     std::uint32_t v, std::uint32_t edge) {
-    const auto& ev = mesh.edge_vertex[edge];
-    const glm::dvec3& V = mesh.positions[v];
-    const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
-    int count = 0;
-    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-        const std::uint32_t g = mesh.vertex_edges[k];
-        // each face around v once: the one traversing g away from v
-        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
-        if (f == kNoFace || f == mesh.edge_face[edge][0] || f == mesh.edge_face[edge][1]) continue;
-        const auto& c = mesh.faces[f];
-        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-        const glm::dvec3& A = mesh.positions[c[(i + 1) % 3]];
-        const glm::dvec3& B = mesh.positions[c[(i + 2) % 3]];
-        // The eye and the points of the edge near V on opposite sides of the face's plane (the
-        // eye's side is the face's facing, known; only "not front" needs the exact test for 0) ...
-        const int edge_side = orient3(V, A, B, W);
-        if (edge_side == 0 || (edge_side > 0) == bool(face_front[f])) continue;
-        if (edge_side > 0 && orient_eye(camera, V, A, B) == 0) continue;
-        // ... and the line of sight through them inside the face's corner at V: W seen between
-        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each.
-        const int wa = orient_eye(camera, V, A, W), ba = orient_eye(camera, V, A, B);
-        const int wb = orient_eye(camera, V, B, W), ab = orient_eye(camera, V, B, A);
-        if (wa != 0 && wa == ba && wb != 0 && wb == ab) ++count;
-    }
-    return count;
+    std::vector<RingFace> ring;
+    ring_of(mesh, face_front, v, ring);
+    return local_occlusion(mesh, camera, ring, v, edge);
 }
 
 int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t occluder, const glm::dvec3& c1,
@@ -227,12 +357,16 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         return st;
     }
 
-    // Nodes: pieces, then one per vertex where curves end.
+    // Nodes: pieces, then one per vertex where curves end. The ends sorted by vertex (their index
+    // in the low bits) give the vertex nodes in increasing vertex order.
+    const auto& ends = graph.ends;
+    std::vector<std::uint64_t> end_order(ends.size());
+    for (std::size_t i = 0; i < ends.size(); ++i) end_order[i] = std::uint64_t(ends[i].vertex) << 32 | i;
+    std::sort(end_order.begin(), end_order.end());
     std::vector<std::uint32_t> verts;
-    verts.reserve(graph.ends.size());
-    for (const auto& e : graph.ends) verts.push_back(e.vertex);
-    std::sort(verts.begin(), verts.end());
-    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    verts.reserve(ends.size());
+    for (const std::uint64_t k : end_order)
+        if (verts.empty() || verts.back() != std::uint32_t(k >> 32)) verts.push_back(std::uint32_t(k >> 32));
     auto vnode = [&](std::uint32_t v) {
         return np + std::uint32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin());
     };
@@ -263,11 +397,20 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         if (pierced[b] || pierced[a]) continue;
         if (!forest.unite(b, a, link_delta[l])) bad[a] = 1;
     }
-    // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion.
-    for (const auto& e : graph.ends)
-        if (!pierced[e.piece] &&
-            !forest.unite(vnode(e.vertex), e.piece, local_occlusion(mesh, camera, face_front, e.vertex, e.edge)))
-            bad[e.piece] = 1;
+    // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion. All ends at
+    // one vertex share its ring of faces.
+    std::vector<RingFace> ring;
+    for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
+        const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
+        std::size_t j = i;
+        while (j < end_order.size() && std::uint32_t(end_order[j] >> 32) == v) ++j;
+        ring_of(mesh, face_front, v, ring);
+        for (; i < j; ++i) {
+            const auto& e = ends[std::uint32_t(end_order[i])];
+            if (pierced[e.piece]) continue;
+            if (!forest.unite(std::uint32_t(node), e.piece, local_occlusion(mesh, camera, ring, v, e.edge))) bad[e.piece] = 1;
+        }
+    }
 
     // Clusters.
     std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
@@ -305,16 +448,25 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         state[c] = kFixed;
         base[c] = value - off[node];
     };
+    // (Extreme vertices inside curves: the pieces with a span reaching them, found in one pass
+    // over the spans, with the edges around those vertices marked.)
+    std::vector<std::uint32_t> inner_extremes;
     for (std::uint32_t v : graph.extreme_vertices) {
         if (v == UINT32_MAX) continue;
-        if (std::binary_search(verts.begin(), verts.end(), v)) {
-            fix(vnode(v), 0);
-            continue;
-        }
+        if (std::binary_search(verts.begin(), verts.end(), v)) fix(vnode(v), 0);
+        else inner_extremes.push_back(v);
+    }
+    EdgeMarks marked(mesh.edge_count());
+    if (!inner_extremes.empty()) {
+        for (std::uint32_t v : inner_extremes)
+            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
+                marked.set(mesh.vertex_edges[k]);
         for (std::uint32_t p = 0; p < np; ++p)
             for (const EdgeSpan& s : spans[p]) {
+                if (!marked.test(s.edge)) continue;
                 const auto& ev = mesh.edge_vertex[s.edge];
-                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+                for (std::uint32_t v : inner_extremes)
+                    if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
             }
     }
 
@@ -343,16 +495,13 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         std::uint32_t edge, piece;
         double s0, s1;
     };
-    std::vector<std::uint32_t> queried;  // occluder edges of crossings between clusters
+    marked.clear();  // occluder edges of crossings between clusters
     for (const auto& c : graph.link_crossings)
-        if (c.delta != 0) queried.push_back(c.occluder_edge);
-    std::sort(queried.begin(), queried.end());
-    queried.erase(std::unique(queried.begin(), queried.end()), queried.end());
+        if (c.delta != 0) marked.set(c.occluder_edge);
     std::vector<EdgePiece> by_edge;
     for (std::uint32_t p = 0; p < np; ++p)
         for (const EdgeSpan& s : spans[p])
-            if (std::binary_search(queried.begin(), queried.end(), s.edge))
-                by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+            if (marked.test(s.edge)) by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
     std::sort(by_edge.begin(), by_edge.end(), [](const EdgePiece& a, const EdgePiece& b) {
         return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
     });
@@ -381,7 +530,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         changed = 0;
         for (const auto& [op, l] : constraints) {
             const std::uint32_t c = comp[graph.links[l].before];
-            if (state[c] != kBound) continue;
+            // An inconsistent cluster's values mean nothing (they depend on the order of union).
+            if (state[c] != kBound || state[comp[op]] == kInconsistent) continue;
             const int n = value(op), m = std::min(value(graph.links[l].before), value(graph.links[l].after));
             if (m >= n) continue;
             int raise = n - m;
@@ -408,15 +558,20 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
     // the cluster; proved hidden raises its bound.
-    double left = 1e300;
-    for (const Segment2& o : graph.occluders) left = std::min({left, o.a.x, o.b.x});
-    left -= 1.0;
+    double box[4] = {1e300, -1e300, 1e300, -1e300};
+    for (const Segment2& o : graph.occluders) {
+        box[0] = std::min({box[0], o.a.x, o.b.x});
+        box[1] = std::max({box[1], o.a.x, o.b.x});
+        box[2] = std::min({box[2], o.a.y, o.b.y});
+        box[3] = std::max({box[3], o.a.y, o.b.y});
+    }
+    box[0] -= 1.0, box[1] += 1.0, box[2] -= 1.0, box[3] += 1.0;
     for (std::size_t c = 0; c < nc && options.walk && graph.grid; ++c) {
         if (state[c] != kBound || zero[c] == UINT32_MAX) continue;
         const std::uint32_t p = zero[c];
         const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
         ++st.walks;
-        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, left);
+        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, box);
         if (w == Walk::Visible) {
             state[c] = kFixed;  // value(p) == 0 already
         } else if (w == Walk::Occluded) {

@@ -84,6 +84,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     PieceGraph g;
     VisibleCurves& out = g.curves;
     g.immersive = geometry_behind_near(mesh, camera);
+    g.images = VertexImages(mesh, camera);
 
     // Occluding edges in the image: silhouettes and borders.
     std::vector<Segment2>& occluders = g.occluders;

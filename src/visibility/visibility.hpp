@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -29,6 +30,31 @@ struct VisibleCurves {
     std::vector<std::vector<EdgeSpan>> spans;  // parallel to pieces
     std::size_t crossings = 0;                 // intersecting (curve edge, occluding edge) pairs
     std::size_t ray_tests = 0;
+};
+
+// Image positions of mesh vertices for one view, each projected at most once (on first use):
+// the same value Camera::project gives.
+class VertexImages {
+public:
+    VertexImages() = default;
+    VertexImages(const MeshTopology& mesh, const Camera& camera)
+        : positions_(&mesh.positions), camera_(camera), p_(new glm::dvec2[mesh.vertex_count()]),
+          done_(mesh.vertex_count() / 64 + 1, 0) {}
+    glm::dvec2 operator()(std::uint32_t v) const {
+        std::uint64_t& w = done_[v >> 6];
+        const std::uint64_t bit = std::uint64_t(1) << (v & 63);
+        if (!(w & bit)) {
+            w |= bit;
+            p_[v] = camera_.project((*positions_)[v]);
+        }
+        return p_[v];
+    }
+
+private:
+    const std::vector<glm::dvec3>* positions_ = nullptr;
+    Camera camera_;
+    std::unique_ptr<glm::dvec2[]> p_;
+    mutable std::vector<std::uint64_t> done_;
 };
 
 // The pieces of a view before they get their QI, and what the fast method needs to propagate QI
@@ -59,6 +85,7 @@ struct PieceGraph {
     std::optional<SegmentGrid> grid;   // their grid index
     bool immersive = false;  // geometry at or behind the near plane
     std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
+    VertexImages images;  // the mesh vertices in the image (walks project the faces they cross)
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet).
