@@ -40,6 +40,43 @@ void BM_Features(benchmark::State& state, const char* name) {
     state.counters["triangles"] = double(m->topology().face_count());
 }
 
+// Features of consecutive frames from one ViewSession (storage reused, as an interactive viewer
+// runs): the steady-state cost of the feature stage.
+void BM_FeaturesSession(benchmark::State& state, const char* name) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    inkline::ViewSession session(*m);
+    double search = 0.0, chain = 0.0;
+    for (auto _ : state) {
+        const auto& f = session.find(cam);
+        search += f.stats.seconds_search;
+        chain += f.stats.seconds_chain;
+    }
+    const double n = double(std::max<std::int64_t>(1, state.iterations()));
+    state.counters["search_ms"] = 1e3 * search / n;
+    state.counters["chain_ms"] = 1e3 * chain / n;
+}
+
+// A full frame from one ViewSession (features with storage reused, then visibility by propagation).
+void BM_FrameSession(benchmark::State& state, const char* name) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    inkline::ViewOptions opt;
+    opt.exact_hidden = false;
+    inkline::ViewSession session(*m, opt);
+    double vis = 0.0, feat = 0.0;
+    for (auto _ : state) {
+        const auto& v = session.render(cam);
+        vis += v.drawing.stats.seconds_visibility;
+        feat += v.drawing.stats.seconds_features;
+    }
+    const double n = double(std::max<std::int64_t>(1, state.iterations()));
+    state.counters["features_ms"] = 1e3 * feat / n;
+    state.counters["vis_ms"] = 1e3 * vis / n;
+}
+
 // A full frame (features + visibility, no drawing) with one visibility method.
 void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMethod method, bool walk) {
     const auto* m = model(name);
@@ -94,6 +131,10 @@ void BM_Visibility(benchmark::State& state, const char* name, bool walk) {
 int reg = [] {
     for (const char* n : kMeshes) {
         benchmark::RegisterBenchmark((std::string("features/") + n).c_str(), BM_Features, n)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("features_session/") + n).c_str(), BM_FeaturesSession, n)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("frame_appel_session/") + n).c_str(), BM_FrameSession, n)
+            ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_rays/") + n).c_str(), BM_Frame, n,
                                      inkline::VisibilityMethod::Rays, true)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_appel/") + n).c_str(), BM_Frame, n,
