@@ -46,7 +46,7 @@ struct FinderOptions {
     // the angle between their face normals (pi - dihedral); >= 1 examines every edge once.
     double fraction = 0.05;
     bool coherence = true;        // check every silhouette edge of the previous view
-    double seed_fraction = 0.25;  // share of lost previous silhouette edges, and of crease and
+    double seed_fraction = 0.05;  // share of lost previous silhouette edges, and of crease and
                                   // border edges, that start a seek per view
     int step_bound = 24;          // edges a seek may follow
     bool seek_draws = true;       // a drawn edge that is not a silhouette starts a seek too
