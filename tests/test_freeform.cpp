@@ -580,3 +580,98 @@ TEST(FreeformLineArt, DrawsPortionsOfSelectedStrokesAndClipsHiddenOnes) {
     EXPECT_LT(part, 0.7 * full);
     EXPECT_GT(part, 0.0);
 }
+
+// ---- The command line: inkline render SURFACES --strokes=... ----------------------------------
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace {
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+fs::path scratch_dir() {
+    const fs::path d = fs::path(::testing::TempDir()) /
+                       ("inkline_ff_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+CliRun inkline_run(const std::string& args, const fs::path& dir) {
+    const std::string cmd = std::string(INKLINE_BINARY) + " render " + args + " >" + (dir / "stdout").string() + " 2>" +
+                            (dir / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir / "stdout");
+    r.err = slurp(dir / "stderr");
+    return r;
+}
+}  // namespace
+
+TEST(FreeformCli, TeapotStrokesAndSilhouettesToJsonAndSvg) {
+    const fs::path d = scratch_dir();
+    const std::string cam = " --up=0,0,1 --eye=7,-9,5.5 --target=0.2,0,1.4 --size=600x600";
+    for (const char* kind : {"iso", "curvature", "isophote"}) {
+        const CliRun r = inkline_run(kTeapot + " -o " + (d / "t.json").string() + cam + " --strokes=" + kind +
+                                      " --points=1500 --cones=20 --shader=combined",
+                                  d);
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.out.find("freeform: "), std::string::npos);
+        const auto j = nlohmann::json::parse(slurp(d / "t.json"));
+        std::map<std::string, int> kinds;
+        for (const auto& p : j["polylines"]) {
+            kinds[p["kind"].get<std::string>()]++;
+            for (const auto& q : p["points"]) {
+                EXPECT_GT(q[0].get<double>(), 0.0);
+                EXPECT_LT(q[0].get<double>(), 600.0);
+            }
+        }
+        EXPECT_GT(kinds["freeform"], 300) << kind;
+        EXPECT_GT(kinds["silhouette"], 10) << kind;
+        EXPECT_GT(kinds["border"], 0) << kind;  // the spout's tip, the rim's opening
+    }
+    const CliRun r = inkline_run(kTeapot + " -o " + (d / "t.svg").string() + cam + " --strokes=iso --points=500", d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(slurp(d / "t.svg").find("freeform-visible"), std::string::npos);
+    // Without --strokes: the tessellation's lines only.
+    const CliRun plain = inkline_run(kTeapot + " -o " + (d / "p.json").string() + cam, d);
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    EXPECT_EQ(slurp(d / "p.json").find("\"freeform\""), std::string::npos);
+}
+
+TEST(FreeformCli, BadInputIsOneLineNamingTheProblem) {
+    const fs::path d = scratch_dir();
+    CliRun r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=spiral", d);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--strokes: unknown stroke kind 'spiral'"), std::string::npos) << r.err;
+    r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=iso --shader=phong", d);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("--shader: unknown shader 'phong'"), std::string::npos) << r.err;
+    r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=iso --cones=0", d);
+    EXPECT_EQ(r.code, 1);
+    std::ofstream(d / "bad.bpt") << "2\n3 3\n0 0 0\n";
+    r = inkline_run((d / "bad.bpt").string() + " -o " + (d / "a.svg").string(), d);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("bad.bpt: patch 1: expected 16 control points, got 1"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+    r = inkline_run(std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off -o " + (d / "a.svg").string() + " --strokes=iso", d);
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("need a .bpt or .json surface model"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "a.svg"));
+}
