@@ -127,6 +127,15 @@ std::vector<glm::dvec3> riesz(std::vector<glm::dvec3> x, int iterations) {
 
 }  // namespace
 
+std::vector<glm::dvec3> optimize_cone_axes(int m) {
+    std::vector<glm::dvec3> x = fibonacci_sphere(m);
+    if (m >= 4 && m <= kMaxOptimizedCones) {
+        x = riesz(x, 400);
+        x = push_into_holes(x, 1500);
+    }
+    return x;
+}
+
 std::vector<glm::dvec3> cone_axes(int m) {
     static std::mutex mutex;
     static std::map<int, std::vector<glm::dvec3>> cache;  // deterministic: computed once per m
@@ -134,11 +143,7 @@ std::vector<glm::dvec3> cone_axes(int m) {
         std::lock_guard<std::mutex> lock(mutex);
         if (auto it = cache.find(m); it != cache.end()) return it->second;
     }
-    std::vector<glm::dvec3> x = fibonacci_sphere(m);
-    if (m >= 4 && m <= kMaxOptimizedCones) {
-        x = riesz(x, 400);
-        x = push_into_holes(x, 1500);
-    }
+    std::vector<glm::dvec3> x = optimize_cone_axes(m);
     std::lock_guard<std::mutex> lock(mutex);
     cache[m] = x;
     return x;

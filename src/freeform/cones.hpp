@@ -20,6 +20,7 @@ namespace inkline::freeform {
 inline constexpr int kMaxOptimizedCones = 2000;
 std::vector<glm::dvec3> fibonacci_sphere(int m);
 std::vector<glm::dvec3> cone_axes(int m);
+std::vector<glm::dvec3> optimize_cone_axes(int m);  // the same, computed (not cached)
 // The covering angle from the Delaunay triangles' circumradii (exact up to rounding, needs the
 // axes not all in one hemisphere): a check on covering_angle below.
 double hull_covering_angle(const std::vector<glm::dvec3>& axes);
