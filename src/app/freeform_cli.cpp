@@ -128,7 +128,7 @@ void FreeformRender::add_strokes(const Camera& camera, Drawing& drawing, bool qu
     const glm::dvec3 v = glm::normalize(camera.eye() - camera.target());
     m.options.strokes.isophote_direction = v;  // "silhouette lines" of this view direction
     if (!m.light_given)  // a headlight from the upper left
-        m.draw.shader.lights = {glm::normalize(v + 0.6 * camera.upward() - 0.4 * camera.right())};
+        m.draw.shader.lights = {glm::normalize(v + 1.0 * camera.upward() - 0.7 * camera.right())};
     m.art->grow(m.options);
     freeform::DrawStats ds;
     std::vector<Piece> pieces = m.art->draw(camera, m.draw, &ds);

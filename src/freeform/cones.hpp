@@ -47,7 +47,7 @@ bool parse_shader(const std::string& s, ShaderKind& out);  // "diffuse", "silhou
 struct Shader {
     ShaderKind kind = ShaderKind::Combined;
     std::vector<glm::dvec3> lights{glm::dvec3(0.0, 0.0, 1.0)};  // unit directions towards the lights
-    double c = 1.0, tau_dif = 0.0;
+    double c = 2.0, tau_dif = 0.1;
     double d = 2.0, tau_sil = 0.2;
 
     double diffuse(const glm::dvec3& n) const;
