@@ -145,6 +145,54 @@ TEST(FreeformSurface, PrincipalCurvaturesAreExtremeNormalCurvatures) {
         }
 }
 
+TEST(FreeformSurface, NurbsSphereIsExact) {
+    // examples/nurbs_sphere.json: the classic rational quadratic sphere (9 x 5 control points).
+    SurfaceList list = load_surfaces(std::string(INKLINE_EXAMPLES_DIR) + "/nurbs_sphere.json");
+    ASSERT_EQ(list.size(), 1u);
+    const Surface& s = *list[0];
+    EXPECT_EQ(s.name(), "nurbs");
+    expect_partials(s, 20, 1e-6);
+    std::mt19937_64 rng(4);
+    std::uniform_real_distribution<double> U(0.01, 0.99);
+    for (int k = 0; k < 200; ++k) {
+        const double u = U(rng), v = U(rng);
+        const SurfacePoint p = s.eval(u, v);
+        EXPECT_NEAR(glm::length(p.p), 1.0, 1e-14);
+        const Curvature c = s.curvature(u, v);
+        ASSERT_TRUE(c.valid);
+        EXPECT_NEAR(c.k1, -1.0, 1e-9);
+        EXPECT_NEAR(c.k2, -1.0, 1e-9);
+        EXPECT_NEAR(glm::dot(c.n, p.p), 1.0, 1e-12);  // outward
+    }
+    EXPECT_NEAR(glm::length(s.eval(1.0, 1.0).p), 1.0, 1e-14);  // the domain's end evaluates
+    EXPECT_NEAR(total_area(list), 4 * M_PI, 1e-3);
+    // Tessellated, welded at the poles and the seam: a closed sphere.
+    const Tessellation t = tessellate(list, {}, "nurbs_sphere.json");
+    EXPECT_TRUE(build_topology(t.mesh).closed);
+}
+
+TEST(FreeformSurface, BezierAsNurbsIsTheSameSurface) {
+    const SurfaceList teapot = load_bpt(kTeapot);
+    const auto& b = dynamic_cast<const BezierPatch&>(*teapot[9]);
+    const std::vector<double> K{0, 0, 0, 0, 1, 1, 1, 1};
+    NurbsSurface n(3, 3, K, K, 4, 4, b.control_points(), std::vector<double>(16, 1.0));
+    for (double u : {0.0, 0.2, 0.7, 1.0})
+        for (double v : {0.0, 0.45, 1.0}) {
+            const SurfacePoint a = b.eval(u, v), c = n.eval(u, v);
+            EXPECT_LT(glm::length(a.p - c.p), 1e-13);
+            EXPECT_LT(glm::length(a.su - c.su), 1e-12);
+            EXPECT_LT(glm::length(a.svv - c.svv), 1e-11);
+            EXPECT_LT(glm::length(a.suv - c.suv), 1e-11);
+        }
+    EXPECT_THROW(NurbsSurface(3, 3, {0, 0, 0, 0, 1, 1, 0.5, 1}, K, 4, 4, b.control_points(), std::vector<double>(16, 1.0)), Error);
+    EXPECT_THROW(NurbsSurface(3, 3, K, K, 4, 4, b.control_points(), std::vector<double>(16, 0.0)), Error);
+    EXPECT_THROW(parse_surfaces_json(R"({"surfaces": [{"type": "nurbs", "degree": [1, 1], "count": [2, 2],
+        "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[0,1,0],[1,0,0]]}]})", "x.json"), Error);
+    const SurfaceList ok = parse_surfaces_json(R"({"surfaces": [{"type": "nurbs", "degree": [1, 1], "count": [2, 2],
+        "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "points": [[0,0,0],[0,1,0],[1,0,0],[1,1,0,2]]}]})", "x.json");
+    EXPECT_EQ(ok.size(), 1u);
+}
+
 TEST(FreeformSurface, BptReaderRefusesMalformedInput) {
     auto msg = [](const std::string& text) {
         try {

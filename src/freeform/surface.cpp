@@ -1,5 +1,6 @@
 #include "freeform/surface.hpp"
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -155,6 +156,111 @@ SurfacePoint BezierPatch::eval(double u, double v) const {
     return s;
 }
 
+namespace {
+// Values, first and second derivatives of the n B-spline basis functions of degree p at t.
+// The last knot span is closed so that t = the domain's end evaluates.
+void bspline_basis(const std::vector<double>& K, int p, int n, double t, std::vector<double>& N0,
+                   std::vector<double>& N1, std::vector<double>& N2) {
+    const int m = int(K.size());
+    // Degree-0 functions over all m - 1 spans.
+    std::vector<std::vector<double>> N(std::size_t(p + 1), std::vector<double>(std::size_t(m - 1), 0.0));
+    int last = -1;  // last non-empty span (for t at the end of the domain)
+    for (int i = 0; i + 1 < m; ++i)
+        if (K[std::size_t(i)] < K[std::size_t(i + 1)] && i >= p && i < n) last = i;
+    for (int i = 0; i + 1 < m; ++i)
+        N[0][std::size_t(i)] = (K[std::size_t(i)] <= t && t < K[std::size_t(i + 1)]) ? 1.0 : 0.0;
+    if (t >= K[std::size_t(n)] && last >= 0) {
+        std::fill(N[0].begin(), N[0].end(), 0.0);
+        N[0][std::size_t(last)] = 1.0;
+    }
+    auto ratio = [](double a, double b) { return b != 0.0 ? a / b : 0.0; };
+    for (int d = 1; d <= p; ++d)
+        for (int i = 0; i + d + 1 < m; ++i) {
+            const std::size_t I = std::size_t(i);
+            N[std::size_t(d)][I] = ratio(t - K[I], K[I + std::size_t(d)] - K[I]) * N[std::size_t(d - 1)][I] +
+                                   ratio(K[I + std::size_t(d) + 1] - t, K[I + std::size_t(d) + 1] - K[I + 1]) *
+                                       N[std::size_t(d - 1)][I + 1];
+        }
+    // Derivatives: N'_{i,p} = p (N_{i,p-1} / (K[i+p] - K[i]) - N_{i+1,p-1} / (K[i+p+1] - K[i+1])),
+    // and the same rule applied to N'_{., p-1} for the second derivative.
+    auto deriv = [&](const std::vector<double>& lower, int d, int i) {
+        const std::size_t I = std::size_t(i);
+        return d * (ratio(lower[I], K[I + std::size_t(d)] - K[I]) -
+                    ratio(lower[I + 1], K[I + std::size_t(d) + 1] - K[I + 1]));
+    };
+    N0.assign(std::size_t(n), 0.0);
+    N1.assign(std::size_t(n), 0.0);
+    N2.assign(std::size_t(n), 0.0);
+    std::vector<double> d1_lower(std::size_t(m - 1), 0.0);  // first derivatives at degree p - 1
+    if (p >= 2)
+        for (int i = 0; i + p < m; ++i) d1_lower[std::size_t(i)] = deriv(N[std::size_t(p - 2)], p - 1, i);
+    for (int i = 0; i < n; ++i) {
+        N0[std::size_t(i)] = N[std::size_t(p)][std::size_t(i)];
+        if (p >= 1) N1[std::size_t(i)] = deriv(N[std::size_t(p - 1)], p, i);
+        if (p >= 2) N2[std::size_t(i)] = deriv(d1_lower, p, i);
+    }
+}
+}  // namespace
+
+NurbsSurface::NurbsSurface(int p, int q, std::vector<double> U, std::vector<double> V, int nu, int nv,
+                           std::vector<glm::dvec3> P, std::vector<double> W)
+    : p_(p), q_(q), nu_(nu), nv_(nv), U_(std::move(U)), V_(std::move(V)), P_(std::move(P)), W_(std::move(W)) {
+    if (p < 1 || q < 1 || p > 15 || q > 15) throw Error("nurbs", "degrees must be 1..15");
+    if (nu <= p || nv <= q) throw Error("nurbs", "need more control points than the degree in each direction");
+    if (U_.size() != std::size_t(nu + p + 1) || V_.size() != std::size_t(nv + q + 1))
+        throw Error("nurbs", "knot vectors must hold count + degree + 1 values");
+    if (P_.size() != std::size_t(nu) * std::size_t(nv) || W_.size() != P_.size())
+        throw Error("nurbs", "need count_u x count_v control points and weights");
+    for (const auto* K : {&U_, &V_})
+        for (std::size_t i = 0; i < K->size(); ++i)
+            if (!std::isfinite((*K)[i]) || (i > 0 && (*K)[i] < (*K)[i - 1])) throw Error("nurbs", "knots must be finite and non-decreasing");
+    for (double w : W_)
+        if (!(w > 0.0) || !std::isfinite(w)) throw Error("nurbs", "weights must be positive");
+    u_range = {U_[std::size_t(p)], U_[std::size_t(nu)]};
+    v_range = {V_[std::size_t(q)], V_[std::size_t(nv)]};
+    if (!(u_range[1] > u_range[0]) || !(v_range[1] > v_range[0])) throw Error("nurbs", "empty parameter domain");
+}
+
+namespace {
+int spans(const std::vector<double>& K, int p, int n) {
+    int c = 0;
+    for (int i = p; i < n; ++i) c += K[std::size_t(i)] < K[std::size_t(i + 1)];
+    return c;
+}
+}  // namespace
+int NurbsSurface::spans_u() const { return spans(U_, p_, nu_); }
+int NurbsSurface::spans_v() const { return spans(V_, q_, nv_); }
+
+SurfacePoint NurbsSurface::eval(double u, double v) const {
+    std::vector<double> a0, a1, a2, b0, b1, b2;
+    bspline_basis(U_, p_, nu_, u, a0, a1, a2);
+    bspline_basis(V_, q_, nv_, v, b0, b1, b2);
+    // Homogeneous sums A = sum N M w P and w = sum N M w, with their partials.
+    glm::dvec3 A(0.0), Au(0.0), Av(0.0), Auu(0.0), Auv(0.0), Avv(0.0);
+    double w = 0, wu = 0, wv = 0, wuu = 0, wuv = 0, wvv = 0;
+    for (int i = 0; i < nu_; ++i) {
+        const std::size_t I = std::size_t(i);
+        if (a0[I] == 0.0 && a1[I] == 0.0 && a2[I] == 0.0) continue;
+        for (int j = 0; j < nv_; ++j) {
+            const std::size_t J = std::size_t(j);
+            const std::size_t k = I * std::size_t(nv_) + J;
+            const double wk = W_[k];
+            const glm::dvec3 hp = wk * P_[k];
+            const double c[6] = {a0[I] * b0[J], a1[I] * b0[J], a0[I] * b1[J], a2[I] * b0[J], a1[I] * b1[J], a0[I] * b2[J]};
+            A += c[0] * hp, Au += c[1] * hp, Av += c[2] * hp, Auu += c[3] * hp, Auv += c[4] * hp, Avv += c[5] * hp;
+            w += c[0] * wk, wu += c[1] * wk, wv += c[2] * wk, wuu += c[3] * wk, wuv += c[4] * wk, wvv += c[5] * wk;
+        }
+    }
+    SurfacePoint s;
+    s.p = A / w;
+    s.su = (Au - wu * s.p) / w;
+    s.sv = (Av - wv * s.p) / w;
+    s.suu = (Auu - 2.0 * wu * s.su - wuu * s.p) / w;
+    s.suv = (Auv - wu * s.sv - wv * s.su - wuv * s.p) / w;
+    s.svv = (Avv - 2.0 * wv * s.sv - wvv * s.p) / w;
+    return s;
+}
+
 Sphere::Sphere(glm::dvec3 c, double r) : center(c), radius(r) {
     if (!(r > 0.0) || !std::isfinite(r)) throw Error("sphere", "radius must be positive");
     u_range = {0.0, M_PI};
@@ -267,6 +373,45 @@ SurfaceList parse_surfaces_json(const std::string& text, const std::string& wher
                 for (std::size_t i = 0; i < s["points"].size(); ++i)
                     cp.push_back(vec3(s["points"][i], what + " point " + std::to_string(i)));
                 out.push_back(std::make_unique<BezierPatch>(nu, nv, std::move(cp)));
+            } else if (type == "nurbs") {
+                auto ints = [&](const char* key) {
+                    if (!s.contains(key) || !s[key].is_array() || s[key].size() != 2 || !s[key][0].is_number_integer() ||
+                        !s[key][1].is_number_integer())
+                        throw Error(where, what + ": \"" + key + "\" must be two integers");
+                    return std::array<int, 2>{s[key][0].get<int>(), s[key][1].get<int>()};
+                };
+                auto numbers = [&](const char* key) {
+                    if (!s.contains(key) || !s[key].is_array()) throw Error(where, what + ": \"" + key + "\" must be an array");
+                    std::vector<double> k;
+                    for (const auto& x : s[key]) {
+                        if (!x.is_number()) throw Error(where, what + ": \"" + key + "\" must hold numbers");
+                        k.push_back(x.get<double>());
+                    }
+                    return k;
+                };
+                const auto deg = ints("degree"), count = ints("count");
+                if (count[0] < 2 || count[1] < 2 || count[0] > 10000 || count[1] > 10000 ||
+                    std::size_t(count[0]) * std::size_t(count[1]) > 4000000)
+                    throw Error(where, what + ": bad \"count\"");
+                if (!s.contains("points") || !s["points"].is_array() ||
+                    s["points"].size() != std::size_t(count[0]) * std::size_t(count[1]))
+                    throw Error(where, what + ": \"points\" must hold count[0] x count[1] control points");
+                std::vector<glm::dvec3> pts;
+                std::vector<double> wts;
+                for (std::size_t i = 0; i < s["points"].size(); ++i) {
+                    const auto& q = s["points"][i];
+                    const std::string pw = what + " point " + std::to_string(i);
+                    if (q.is_array() && q.size() == 4) {
+                        if (!q[3].is_number()) throw Error(where, pw + ": the weight must be a number");
+                        pts.push_back(vec3(nlohmann::json::array({q[0], q[1], q[2]}), pw));
+                        wts.push_back(q[3].get<double>());
+                    } else {
+                        pts.push_back(vec3(q, pw));
+                        wts.push_back(1.0);
+                    }
+                }
+                out.push_back(std::make_unique<NurbsSurface>(deg[0], deg[1], numbers("knots_u"), numbers("knots_v"), count[0],
+                                                             count[1], std::move(pts), std::move(wts)));
             } else if (type == "sphere") {
                 out.push_back(std::make_unique<Sphere>(c, number(s, "radius", what, 1.0, true)));
             } else if (type == "torus" || type == "wavy_torus") {
@@ -276,7 +421,7 @@ SurfaceList parse_surfaces_json(const std::string& text, const std::string& wher
                 if (w < 0 || w > 1000 || w != std::floor(w)) throw Error(where, what + ": \"waves\" must be an integer 0..1000");
                 out.push_back(std::make_unique<Torus>(c, number(s, "R", what, 1.0, true), number(s, "r", what, 0.3, true), a, int(w)));
             } else {
-                throw Error(where, what + ": unknown type '" + type + "' (expected bezier, sphere, torus, wavy_torus)");
+                throw Error(where, what + ": unknown type '" + type + "' (expected bezier, nurbs, sphere, torus, wavy_torus)");
             }
         } catch (const Error& e) {
             const std::string m = e.what();

@@ -68,6 +68,26 @@ private:
     std::vector<glm::dvec3> cp_;
 };
 
+// Rational B-spline (NURBS) surface of degree (p, q) with knot vectors U (nu + p + 1 values) and
+// V (nv + q + 1), nu x nv control points (i along u) with positive weights. Domain
+// [U[p], U[nu]] x [V[q], V[nv]]. Derivatives exact: B-spline basis derivatives (Cox-de Boor) and the
+// quotient rule on the homogeneous sums.
+class NurbsSurface final : public Surface {
+public:
+    NurbsSurface(int degree_u, int degree_v, std::vector<double> knots_u, std::vector<double> knots_v, int count_u,
+                 int count_v, std::vector<glm::dvec3> points, std::vector<double> weights);
+    SurfacePoint eval(double u, double v) const override;
+    std::string name() const override { return "nurbs"; }
+    int spans_u() const;  // non-empty knot spans in the domain
+    int spans_v() const;
+
+private:
+    int p_, q_, nu_, nv_;
+    std::vector<double> U_, V_;
+    std::vector<glm::dvec3> P_;
+    std::vector<double> W_;
+};
+
 // Sphere: u in [0, pi] the colatitude from +z, v in [0, 2 pi) the longitude (periodic).
 class Sphere final : public Surface {
 public:
@@ -102,7 +122,9 @@ SurfaceList parse_bpt(const std::string& text, const std::string& where);
 // {"surfaces": [{"type": "bezier", "degree": [3, 3], "points": [[x, y, z], ...]},
 //               {"type": "sphere", "center": [x, y, z], "radius": r},
 //               {"type": "torus", "center": [..], "R": 1, "r": 0.3},
-//               {"type": "wavy_torus", "center": [..], "R": 1, "r": 0.3, "amplitude": 0.3, "waves": 6}],
+//               {"type": "wavy_torus", "center": [..], "R": 1, "r": 0.3, "amplitude": 0.3, "waves": 6},
+//               {"type": "nurbs", "degree": [p, q], "knots_u": [..], "knots_v": [..], "count": [nu, nv],
+//                "points": [[x, y, z] or [x, y, z, weight], ...]}],
 //  "transparent": [indices of transparent surfaces] (optional)}
 SurfaceList load_surfaces_json(const std::string& path);
 SurfaceList parse_surfaces_json(const std::string& text, const std::string& where);

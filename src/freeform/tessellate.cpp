@@ -16,6 +16,8 @@ namespace {
 
 std::array<int, 2> grid_size(const Surface& s, const TessellationOptions& o) {
     if (dynamic_cast<const BezierPatch*>(&s)) return {o.bezier_segments, o.bezier_segments};
+    if (const auto* n = dynamic_cast<const NurbsSurface*>(&s))  // a Bezier patch's worth per knot span
+        return {std::min(4096, o.bezier_segments * n->spans_u()), std::min(4096, o.bezier_segments * n->spans_v())};
     const int n = std::max(8, o.primitive_segments);
     if (dynamic_cast<const Sphere*>(&s)) return {n / 2, n};
     return {n, n / 2};  // torus: around the ring, around the tube
