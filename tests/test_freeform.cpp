@@ -402,6 +402,44 @@ TEST(FreeformStrokes, StayOnTheSurfaceAndWithinTheLimits) {
     }
 }
 
+TEST(FreeformStrokes, PrescribedDirectionFollowsItsProjection) {
+    // On a sphere around the origin, the field "+z projected onto the tangent plane" is the
+    // meridians: every stroke keeps its longitude.
+    SurfaceList list;
+    list.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1.0));
+    StrokeOptions o;
+    o.field = StrokeField::Direction;
+    o.direction = {0, 0, 1};
+    o.length = 0.5;
+    const auto strokes = grow_strokes(list, cover(list, 300, 4), o);
+    ASSERT_GT(strokes.size(), 280u);
+    for (const Stroke& st : strokes) {
+        EXPECT_GT(st.length(), 0.2);
+        for (const auto& uv : st.uv) EXPECT_NEAR(std::remainder(uv.y - st.seed_uv.y, 2 * M_PI), 0.0, 1e-6);
+    }
+}
+
+TEST(FreeformCoverage, MeshPointsFollowTriangleArea) {
+    // A fine UV sphere: its triangles are far from equal in area; counts per equal-area z slab are.
+    SurfaceList list;
+    list.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1.0));
+    const Tessellation t = tessellate(list, {16, 256}, "sphere");
+    const auto pts = cover_mesh(t.mesh.positions, t.mesh.triangles, 40000, 3);
+    EXPECT_NEAR(double(pts.size()), 40000.0, 400.0);
+    std::vector<int> slab(10, 0);
+    for (const auto& s : pts) {
+        const auto& tr = t.mesh.triangles[s.face];
+        // Inside its triangle: the barycentric weights of the point are non-negative.
+        const glm::dvec3 a = t.mesh.positions[tr[0]], b = t.mesh.positions[tr[1]], c = t.mesh.positions[tr[2]];
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        EXPECT_GE(glm::dot(glm::cross(b - a, s.point - a), n), -1e-12);
+        EXPECT_GE(glm::dot(glm::cross(c - b, s.point - b), n), -1e-12);
+        EXPECT_GE(glm::dot(glm::cross(a - c, s.point - c), n), -1e-12);
+        slab[std::min(9, int((s.point.z + 1.0) / 0.2))]++;
+    }
+    for (int c : slab) EXPECT_NEAR(c, pts.size() / 10.0, 0.05 * pts.size() / 10.0);
+}
+
 TEST(FreeformStrokes, LinesOfCurvatureOnATorusAreParallelsAndMeridians) {
     SurfaceList list;
     list.push_back(std::make_unique<Torus>(glm::dvec3(0), 2.0, 0.5));

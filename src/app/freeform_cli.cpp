@@ -17,7 +17,8 @@ namespace inkline {
 const char* kFreeformUsage =
     "SURFACES: .bpt (Bezier patches, e.g. examples/teapot.bpt) or .json (src/freeform/README.md):\n"
     "  silhouettes and borders of the tessellation, and with --strokes Elber's line art:\n"
-    "  [--strokes=iso|iso-u|iso-v|curvature|curvature-max|curvature-min|isophote] [--points=N]\n"
+    "  [--strokes=iso|iso-u|iso-v|curvature|curvature-max|curvature-min|isophote|direction]\n"
+    "  [--direction=x,y,z (for --strokes=direction)] [--points=N]\n"
     "  [--cones=M] [--buckets=redundant|exclusive] [--shader=diffuse|silhouette|combined]\n"
     "  [--light=x,y,z] [--decay-dif=C] [--tau-dif=T] [--decay-sil=D] [--tau-sil=T]\n"
     "  [--stroke-length=F (of the diagonal)] [--tessellation=N] [--cover-seed=S]\n"
@@ -25,7 +26,7 @@ const char* kFreeformUsage =
 
 namespace {
 const char* kKeys[] = {"--strokes", "--points", "--cones", "--buckets", "--shader", "--light", "--decay-dif",
-                       "--tau-dif", "--decay-sil", "--tau-sil", "--stroke-length", "--tessellation", "--cover-seed"};
+                       "--tau-dif", "--decay-sil", "--tau-sil", "--stroke-length", "--tessellation", "--cover-seed", "--direction"};
 
 glm::dvec3 vec3(const std::string& flag, const std::string& s) {
     std::vector<std::string> parts;
@@ -83,7 +84,8 @@ FreeformRender::FreeformRender(const std::string& path, const FreeformArgs& args
     auto has = [&](const char* k) { return f.count(k) > 0; };
     if (has("--strokes") && !freeform::parse_stroke_field(f.at("--strokes"), m.options.strokes.field))
         throw Error("--strokes", "unknown stroke kind '" + f.at("--strokes") +
-                                     "' (expected iso, iso-u, iso-v, curvature, curvature-max, curvature-min, isophote)");
+                                     "' (expected iso, iso-u, iso-v, curvature, curvature-max, curvature-min, isophote, direction)");
+    if (has("--direction")) m.options.strokes.direction = vec3("--direction", f.at("--direction"));
     if (has("--points")) m.options.points = std::size_t(integer("--points", f.at("--points"), 1, 1e8));
     if (has("--cones")) m.options.cones = int(integer("--cones", f.at("--cones"), 1, 100000));
     if (has("--buckets")) {

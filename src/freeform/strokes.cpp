@@ -40,8 +40,9 @@ glm::dvec3 normal_derivative(const glm::dvec3& cd, double len, const glm::dvec3&
 
 // Unit tangent direction of the field at uv, as a parameter-space vector d with |S_u d.x + S_v d.y| = 1,
 // turned to agree with `prev` (zero vector: no preference). False where the field is undefined.
-bool field_direction(const Surface& s, glm::dvec2 uv, StrokeField f, const glm::dvec3& iso_dir, const glm::dvec3& prev,
+bool field_direction(const Surface& s, glm::dvec2 uv, StrokeField f, const StrokeOptions& o, const glm::dvec3& prev,
                      glm::dvec2& d, glm::dvec3& T, double& kmax) {
+    const glm::dvec3& iso_dir = o.isophote_direction;
     const SurfacePoint p = s.eval(uv.x, uv.y);
     const Curvature c = curvature_of(p, s.sign);
     if (!c.valid) return false;
@@ -63,6 +64,13 @@ bool field_direction(const Surface& s, glm::dvec2 uv, StrokeField f, const glm::
             const glm::dvec3 nv = normal_derivative(glm::cross(p.suv, p.sv) + glm::cross(p.su, p.svv), len, c.n * s.sign);
             const glm::dvec2 g(glm::dot(nu, iso_dir), glm::dot(nv, iso_dir));
             d = {-g.y, g.x};
+            break;
+        }
+        case StrokeField::Direction: {
+            const glm::dvec3 t = o.direction - c.n * glm::dot(c.n, o.direction);  // onto the tangent plane
+            const double E = glm::dot(p.su, p.su), F = glm::dot(p.su, p.sv), G = glm::dot(p.sv, p.sv);
+            const double det = E * G - F * F, a1 = glm::dot(p.su, t), a2 = glm::dot(p.sv, t);
+            d = {(G * a1 - F * a2) / det, (E * a2 - F * a1) / det};
             break;
         }
         default: return false;
@@ -114,13 +122,13 @@ void march(const Surface& s, glm::dvec2 uv, StrokeField f, const StrokeOptions& 
         glm::dvec2 d1, d2;
         glm::dvec3 T1, T2;
         double k1 = 0, k2 = 0;
-        if (!field_direction(s, uv, f, o.isophote_direction, prev, d1, T1, k1)) return;
+        if (!field_direction(s, uv, f, o, prev, d1, T1, k1)) return;
         if (glm::dot(T1, prev) < 0.5) return;  // the field turned sharply: a singularity
         double h = std::clamp(o.max_turn / std::max(k1, 1e-12), hmin, hmax);
         h = std::min(h, budget - done);
         glm::dvec2 mid = uv + 0.5 * h * d1;
         const bool mid_in = inside(s, mid);
-        if (!mid_in || !field_direction(s, mid, f, o.isophote_direction, T1, d2, T2, k2)) d2 = d1, T2 = T1;
+        if (!mid_in || !field_direction(s, mid, f, o, T1, d2, T2, k2)) d2 = d1, T2 = T1;
         glm::dvec2 step = h * d2;
         const double t = boundary_fraction(s, uv, step);
         const bool last = t < 1.0;
@@ -158,7 +166,7 @@ bool parse_stroke_field(const std::string& s, StrokeField& out) {
         {"iso", StrokeField::Iso},           {"iso-u", StrokeField::IsoU},
         {"iso-v", StrokeField::IsoV},        {"curvature", StrokeField::Curvature},
         {"curvature-max", StrokeField::CurvatureMax}, {"curvature-min", StrokeField::CurvatureMin},
-        {"isophote", StrokeField::Isophote}};
+        {"isophote", StrokeField::Isophote}, {"direction", StrokeField::Direction}};
     for (const auto& [n, f] : names)
         if (s == n) return out = f, true;
     return false;
@@ -221,6 +229,33 @@ std::vector<SurfaceSample> cover(const SurfaceList& surfaces, std::size_t r, std
     return out;
 }
 
+std::vector<MeshSample> cover_mesh(const std::vector<glm::dvec3>& positions,
+                                   const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t r,
+                                   std::uint64_t seed) {
+    std::vector<double> area(triangles.size());
+    double total = 0.0;
+    for (std::size_t f = 0; f < triangles.size(); ++f) {
+        const auto& t = triangles[f];
+        area[f] = 0.5 * glm::length(glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]));
+        total += area[f];
+    }
+    std::vector<MeshSample> out;
+    if (!(total > 0.0) || r == 0) return out;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    for (std::size_t f = 0; f < triangles.size(); ++f) {
+        const double expected = double(r) * area[f] / total;
+        std::size_t n = std::size_t(expected);
+        if (U(rng) < expected - double(n)) ++n;  // fractional placement
+        const auto& t = triangles[f];
+        for (std::size_t q = 0; q < n; ++q) {
+            const double a = std::sqrt(U(rng)), b = U(rng);  // uniform in the triangle
+            out.push_back({std::uint32_t(f), (1 - a) * positions[t[0]] + a * (1 - b) * positions[t[1]] + a * b * positions[t[2]]});
+        }
+    }
+    return out;
+}
+
 Stroke grow_stroke(const Surface& s, std::uint32_t surface_index, glm::dvec2 uv, StrokeField field,
                    const StrokeOptions& o) {
     Stroke st;
@@ -234,7 +269,7 @@ Stroke grow_stroke(const Surface& s, std::uint32_t surface_index, glm::dvec2 uv,
     double k = 0;
     std::vector<glm::dvec3> fwd, bwd;
     std::vector<glm::dvec2> fuv, buv;
-    if (field_direction(s, uv, field, o.isophote_direction, glm::dvec3(0.0), d, T, k)) {
+    if (field_direction(s, uv, field, o, glm::dvec3(0.0), d, T, k)) {
         march(s, uv, field, o, T, 0.5 * o.length, fwd, fuv);
         march(s, uv, field, o, -T, 0.5 * o.length, bwd, buv);
     }

@@ -8,6 +8,7 @@
 // Each stroke keeps its seed point, unit normal N_i there and arc length s_i.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -37,8 +38,9 @@ enum class StrokeField {
     CurvatureMin,  // ... of k2
     Curvature,     // k1 direction for even seeds, k2 for odd
     Isophote,      // constant angle between N and a fixed direction: the paper's "silhouette lines"
+    Direction,     // a prescribed field: `direction` projected onto the tangent plane
 };
-// "iso", "iso-u", "iso-v", "curvature", "curvature-max", "curvature-min", "isophote".
+// "iso", "iso-u", "iso-v", "curvature", "curvature-max", "curvature-min", "isophote", "direction".
 bool parse_stroke_field(const std::string& s, StrokeField& out);
 
 struct StrokeOptions {
@@ -47,6 +49,7 @@ struct StrokeOptions {
     double max_turn = 0.08;               // radians of turning per step (curvature-adaptive step)
     double min_step_fraction = 1.0 / 64;  // of `length`
     glm::dvec3 isophote_direction{0, 0, 1};
+    glm::dvec3 direction{1, 0, 0};  // the prescribed field of StrokeField::Direction
 };
 
 struct Stroke {
@@ -59,6 +62,16 @@ struct Stroke {
     std::size_t seed_at = 0;            // index of the seed in points
     double length() const { return arc.empty() ? 0.0 : arc.back(); }
 };
+
+// For polygonal surfaces (the paper, section 2.1): r points, each triangle receiving r * area / total
+// (the fraction by a coin), uniform inside it. Deterministic for a seed.
+struct MeshSample {
+    std::uint32_t face = 0;
+    glm::dvec3 point{0.0};
+};
+std::vector<MeshSample> cover_mesh(const std::vector<glm::dvec3>& positions,
+                                   const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t r,
+                                   std::uint64_t seed);
 
 Stroke grow_stroke(const Surface& s, std::uint32_t surface_index, glm::dvec2 uv, StrokeField field,
                    const StrokeOptions& options);
