@@ -12,7 +12,6 @@
 
 #include "app/freeform_cli.hpp"
 #include "core/error.hpp"
-#include "model/subdivide.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
 
@@ -194,8 +193,8 @@ int render(int argc, char** argv) {
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
     else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model");
-    Model model = freeform ? Model(subdivide_loop(freeform->mesh(), a.subdivide), a.crease)
-                           : Model::load(a.model, a.crease, a.subdivide);
+    if (freeform && a.subdivide > 0) throw Error("--subdivide", "not for surface models (use --tessellation=N)");
+    Model model = freeform ? Model(freeform->mesh(), a.crease) : Model::load(a.model, a.crease, a.subdivide);
     const Camera cam = make_camera(a, model.topology());
     ViewOptions opt;
     opt.features = a.features;
