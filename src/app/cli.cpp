@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/freeform_cli.hpp"
 #include "core/error.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -48,7 +49,7 @@ const char* kUsage =
     "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
-    "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
+    "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh), or SURFACES (below).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
     "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
@@ -73,6 +74,7 @@ struct RenderArgs {
     FeatureOptions features;
     FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
+    FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
 };
 
 RenderArgs parse_render(int argc, char** argv) {
@@ -88,6 +90,7 @@ RenderArgs parse_render(int argc, char** argv) {
         if (arg == "--quiet") { a.quiet = true; continue; }
         if (arg == "--no-walk") { a.walk = false; continue; }
         if (arg == "--recall") { a.recall = true; continue; }
+        if (take_freeform_switch(arg, a.freeform)) continue;
         std::string key, value;
         if (!split_option(arg, a.model, key, value)) continue;
         if (key == "--output") a.output = value;
@@ -126,7 +129,7 @@ RenderArgs parse_render(int argc, char** argv) {
                     throw Error(key, "unknown line kind '" + name + "' (expected silhouette, crease, border)");
                 a.features.kinds[int(kind)] = true;
             }
-        } else
+        } else if (!take_freeform_flag(key, value, a.freeform))
             throw Usage("unknown option '" + key + "'");
     }
     if (a.model.empty()) throw Usage("no model given");
@@ -187,7 +190,11 @@ int render(int argc, char** argv) {
     RenderArgs a = parse_render(argc, argv);
     const std::string out = a.output.empty() ? default_output(a.model) : a.output;
     const Format format = output_format(out, a.format);  // refuse a bad format before any work
-    Model model = Model::load(a.model, a.crease, a.subdivide);
+    std::unique_ptr<FreeformRender> freeform;
+    if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
+    else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model");
+    if (freeform && a.subdivide > 0) throw Error("--subdivide", "not for surface models (use --tessellation=N)");
+    Model model = freeform ? Model(freeform->mesh(), a.crease) : Model::load(a.model, a.crease, a.subdivide);
     const Camera cam = make_camera(a, model.topology());
     ViewOptions opt;
     opt.features = a.features;
@@ -202,6 +209,7 @@ int render(int argc, char** argv) {
         view.drawing.stats.recall =
             total > 0.0 ? edges_length(model.topology(), view.features.silhouette_edges) / total : 1.0;
     }
+    if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet);
     OutputOptions oo;
     oo.hidden = a.hidden;
     const auto t_out = std::chrono::steady_clock::now();
@@ -236,6 +244,7 @@ int run_cli(int argc, char** argv) {
         const std::string cmd = argv[1];
         if (cmd == "-h" || cmd == "--help" || cmd == "help") {
             std::fputs(kUsage, stdout);
+            std::fputs(kFreeformUsage, stdout);
             return 0;
         }
         if (cmd == "render") return render(argc, argv);

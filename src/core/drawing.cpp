@@ -7,6 +7,7 @@ const char* to_string(LineKind k) {
         case LineKind::Silhouette: return "silhouette";
         case LineKind::Border: return "border";
         case LineKind::Crease: return "crease";
+        case LineKind::Freeform: return "freeform";
     }
     return "unknown";
 }

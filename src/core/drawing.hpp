@@ -13,10 +13,12 @@
 
 namespace inkline {
 
-enum class LineKind : std::uint8_t { Silhouette = 0, Border = 1, Crease = 2 };
-inline constexpr int kLineKindCount = 3;
+// Freeform: line-art strokes on freeform surfaces (src/freeform/), not a feature of the mesh.
+enum class LineKind : std::uint8_t { Silhouette = 0, Border = 1, Crease = 2, Freeform = 3 };
+inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
+inline constexpr int kPieceKindCount = 4;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
-// Parses "silhouette", "border", "crease"; returns false for anything else.
+// Parses "silhouette", "border", "crease" (the feature kinds); returns false for anything else.
 bool parse_line_kind(const std::string& s, LineKind& out);
 
 struct Piece {

@@ -46,6 +46,9 @@ constexpr std::array<LineStyle, 4> kStyles{{
     {"hidden-qi3plus", 0xcccccc, 1, 4, 0.4},  // QI >= 3
 }};
 
+// Freeform strokes are hatching: drawn thinner than the feature lines around them.
+double kind_width(LineKind k) { return k == LineKind::Freeform ? 0.5 : 1.0; }
+
 double line_width(const Drawing& d, const OutputOptions& o) {
     return o.line_width > 0 ? o.line_width : std::max(1.0, 1.5 * d.camera.height() / 1024.0);
 }
@@ -67,7 +70,7 @@ struct Group {
 std::vector<Group> groups(const Drawing& d, const OutputOptions& o) {
     std::vector<Group> out;
     for (int level = int(kStyles.size()) - 1; level >= 0; --level) {
-        for (int k = 0; k < kLineKindCount; ++k) {
+        for (int k = 0; k < kPieceKindCount; ++k) {
             Group g{kStyles[level], LineKind(k), {}};
             for (const Piece& p : d.pieces)
                 if (p.kind == g.kind && std::min<int>(p.qi, kStyles.size() - 1) == level &&
@@ -210,7 +213,7 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const Outp
     for (const Group& g : groups(d, o)) {
         const auto channel = [&](int shift) { return ((g.style.rgb >> shift) & 0xff) / 255.0; };
         cairo_set_source_rgb(c, channel(16), channel(8), channel(0));
-        cairo_set_line_width(c, width * g.style.width_scale);
+        cairo_set_line_width(c, width * g.style.width_scale * kind_width(g.kind));
         const double dash[2] = {g.style.dash_on, g.style.dash_off};
         cairo_set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
         for (const Piece* p : g.pieces) {
@@ -326,7 +329,7 @@ std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
         std::snprintf(color, sizeof color, "#%06x", unsigned(g.style.rgb));
         out += "<g id=\"" + id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + id +
                "\" fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" +
-               num(width * g.style.width_scale) + "\"";
+               num(width * g.style.width_scale * kind_width(g.kind)) + "\"";
         if (g.style.dash_on > 0)
             out += " stroke-dasharray=\"" + num(g.style.dash_on) + "," + num(g.style.dash_off) +
                    "\"";

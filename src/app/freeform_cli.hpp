@@ -1,0 +1,41 @@
+// `inkline render SURFACES.{bpt,json}`: the flags of Elber's line art (src/freeform/) and the
+// glue that adds its strokes to the drawing of the surfaces' tessellation.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "core/camera.hpp"
+#include "core/drawing.hpp"
+#include "model/mesh_io.hpp"
+
+namespace inkline {
+
+struct FreeformArgs {
+    std::map<std::string, std::string> flags;  // --strokes, --points, --cones, ...
+    bool transparent = false, no_cull = false, open = false;
+    bool any() const { return !flags.empty() || transparent || no_cull || open; }
+};
+// True when `key` (with its value) or the bare switch `arg` is a freeform flag (stored in a).
+bool take_freeform_flag(const std::string& key, const std::string& value, FreeformArgs& a);
+bool take_freeform_switch(const std::string& arg, FreeformArgs& a);
+bool is_freeform_model(const std::string& path);
+extern const char* kFreeformUsage;
+
+class FreeformRender {
+public:
+    // Loads and tessellates the surfaces (inkline::Error naming the file on bad input).
+    FreeformRender(const std::string& path, const FreeformArgs& args);
+    ~FreeformRender();
+    const TriangleMesh& mesh() const;
+    // With --strokes: grows the strokes for this camera's default isophote direction, selects and
+    // draws them; appends the pieces to the drawing and prints a summary unless quiet.
+    void add_strokes(const Camera& camera, Drawing& drawing, bool quiet);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace inkline
