@@ -3,11 +3,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
+#include "core/error.hpp"
+#include "model/primitives.hpp"
+#include "pipeline.hpp"
+#include "style/hatching.hpp"
 #include "style/strokes.hpp"
+#include "style/noise.hpp"
+#include "style/offsets.hpp"
+#include "style/style.hpp"
+#include "style/stylize.hpp"
 
 using inkline::ArcPolyline;
 using inkline::Drawing;
@@ -147,3 +156,104 @@ TEST(Chaining, ClosedLoopAndUnusablePieces) {
     EXPECT_EQ(s[0].path.points().front(), s[0].path.points().back());
     EXPECT_DOUBLE_EQ(s[0].path.length(), 40.0);
 }
+
+// ---- Style files -----------------------------------------------------------------------------
+
+namespace {
+
+std::string error_of(const std::string& json_text, const std::string& file = "/tmp/s/mine.json") {
+    try {
+        inkline::parse_style(json_text, file);
+    } catch (const inkline::Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
+    for (const char* name : {"clean", "technical", "sketchy", "charcoal", "ink-brush", "hatched"}) {
+        const inkline::Style s = inkline::load_style(name);
+        EXPECT_EQ(s.name, name);
+    }
+    const inkline::Style file = inkline::load_style("clean"), builtin = inkline::Style::clean();
+    ASSERT_EQ(file.hidden.size(), builtin.hidden.size());
+    for (std::size_t i = 0; i < file.hidden.size(); ++i) {
+        EXPECT_EQ(file.hidden[i].rgb, builtin.hidden[i].rgb);
+        EXPECT_EQ(file.hidden[i].width, builtin.hidden[i].width);
+        EXPECT_EQ(file.hidden[i].dash_on, builtin.hidden[i].dash_on);
+        EXPECT_EQ(file.hidden[i].dash_off, builtin.hidden[i].dash_off);
+    }
+    for (const auto& l : file.lines) {
+        EXPECT_TRUE(l.plain());
+        EXPECT_EQ(l.rgb, 0u);
+        EXPECT_EQ(l.width, 1.0);
+    }
+    EXPECT_FALSE(file.draw_hidden);
+    // The presets that are more than lines use what they say.
+    EXPECT_TRUE(inkline::load_style("technical").draw_hidden);
+    EXPECT_TRUE(inkline::load_style("technical").for_qi(LineKind::Crease, 7).omit);
+    EXPECT_TRUE(inkline::load_style("charcoal").lines[0].offsets.has_value());
+    EXPECT_FALSE(inkline::load_style("ink-brush").lines[0].brush.empty());
+    EXPECT_DOUBLE_EQ(inkline::load_style("ink-brush").lines[0].brush_aspect, 4.0);  // 128 x 32 image
+    EXPECT_TRUE(inkline::load_style("hatched").hatching.enabled);
+}
+
+TEST(StyleFile, KindsOverrideDefaultKeyByKey) {
+    const inkline::Style s = inkline::parse_style(
+        R"({"lines": {"default": {"colour": "#102030", "width": 2}, "crease": {"width": 0.5}}, "hidden": [{"dash": [3, 1]}]})",
+        "/tmp/s/x.json");
+    EXPECT_EQ(s.lines[int(LineKind::Crease)].rgb, 0x102030u);
+    EXPECT_EQ(s.lines[int(LineKind::Crease)].width, 0.5);
+    EXPECT_EQ(s.lines[int(LineKind::Silhouette)].width, 2.0);
+    ASSERT_EQ(s.hidden.size(), 1u);
+    EXPECT_EQ(s.for_qi(LineKind::Border, 4).dash_on, 3.0);  // QI beyond the last entry: the last
+    EXPECT_EQ(s.for_qi(LineKind::Border, 4).rgb, 0x7f7f7fu);  // from clean's first hidden level
+}
+
+TEST(StyleFile, ErrorsNameFileKeyAndExpectedValues) {
+    std::string e = error_of(R"({"colour": "#000000"})");
+    EXPECT_NE(e.find("/tmp/s/mine.json: unknown key 'colour'"), std::string::npos) << e;
+    EXPECT_NE(e.find("expected one of"), std::string::npos) << e;
+    EXPECT_NE(e.find("lines"), std::string::npos) << e;
+
+    e = error_of(R"({"lines": {"crease": {"colr": "#000000"}}})");
+    EXPECT_NE(e.find("unknown key 'lines.crease.colr'"), std::string::npos) << e;
+    EXPECT_NE(e.find("colour"), std::string::npos) << e;
+
+    e = error_of(R"({"lines": {"silhouette": {"width_rule": "wide"}}})");
+    EXPECT_NE(e.find("key 'lines.silhouette.width_rule'"), std::string::npos) << e;
+    EXPECT_NE(e.find("constant, taper"), std::string::npos) << e;
+
+    e = error_of(R"({"lines": {"default": {"colour": "red"}}})");
+    EXPECT_NE(e.find("key 'lines.default.colour': expected a colour \"#rrggbb\", got \"red\""), std::string::npos) << e;
+
+    e = error_of(R"({"lines": {"default": {"opacity": 2}}})");
+    EXPECT_NE(e.find("key 'lines.default.opacity': expected a number in [0, 1], got 2"), std::string::npos) << e;
+
+    e = error_of(R"({"hidden": [{"dash": [1]}]})");
+    EXPECT_NE(e.find("key 'hidden[0].dash': expected [on, off]"), std::string::npos) << e;
+
+    e = error_of(R"({"hidden": {"qi": 1}})");
+    EXPECT_NE(e.find("key 'hidden': expected an array"), std::string::npos) << e;
+
+    e = error_of(R"({"lines": {"default": {"offsets": {"table": "no-such-table"}}}})");
+    EXPECT_NE(e.find("key 'lines.default.offsets.table': no such file '/tmp/s/offsets/no-such-table.txt'"),
+              std::string::npos) << e;
+
+    e = error_of(R"({"hatching": {"segments": "four"}})");
+    EXPECT_NE(e.find("key 'hatching.segments': expected a number in [1, 64]"), std::string::npos) << e;
+
+    e = error_of(R"({"lines": )");
+    EXPECT_NE(e.find("/tmp/s/mine.json: not valid JSON"), std::string::npos) << e;
+
+    e = error_of(R"([1, 2])");
+    EXPECT_NE(e.find("expected an object"), std::string::npos) << e;
+
+    // Each is one line.
+    for (const std::string& m : {error_of(R"({"x": 1})"), error_of("{")}) EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_THROW(inkline::load_style("no-such-style-anywhere"), inkline::Error);
+    EXPECT_THROW(inkline::load_style_file("/nonexistent/dir/s.json"), inkline::Error);
+}
+

@@ -1,0 +1,174 @@
+#include "output/styled.hpp"
+
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <glm/geometric.hpp>
+
+#include "core/error.hpp"
+
+namespace inkline {
+namespace {
+
+using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+
+cairo_status_t append(void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+}
+
+void set_colour(cairo_t* c, std::uint32_t rgb, double opacity) {
+    const auto ch = [&](int shift) { return ((rgb >> shift) & 0xff) / 255.0; };
+    if (opacity >= 1.0)
+        cairo_set_source_rgb(c, ch(16), ch(8), ch(0));
+    else
+        cairo_set_source_rgba(c, ch(16), ch(8), ch(0), opacity);
+}
+
+class Brushes {
+public:
+    cairo_surface_t* get(const std::string& path) {
+        auto it = cache_.find(path);
+        if (it == cache_.end()) {
+            SurfacePtr s(cairo_image_surface_create_from_png(path.c_str()), cairo_surface_destroy);
+            if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS)
+                throw Error(path, std::string("cannot read brush image: ") +
+                                      cairo_status_to_string(cairo_surface_status(s.get())));
+            it = cache_.emplace(path, std::move(s)).first;
+        }
+        return it->second.get();
+    }
+
+private:
+    std::map<std::string, SurfacePtr> cache_;
+};
+
+// One quad of a brush stroke: the brush image, affinely mapped so that its x runs from u0 to u1
+// along the quad and its y across it, used as a mask for the ink colour inside the quad.
+void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
+    const double iw = cairo_image_surface_get_width(brush), ih = cairo_image_surface_get_height(brush);
+    const glm::dvec2 c0 = 0.5 * (q.corner[0] + q.corner[1]), c1 = 0.5 * (q.corner[2] + q.corner[3]);
+    const double len = glm::length(c1 - c0);
+    const double w = 0.5 * (glm::length(q.corner[0] - q.corner[1]) + glm::length(q.corner[3] - q.corner[2]));
+    if (!(len > 1e-9) || !(w > 1e-9)) return;
+    const glm::dvec2 d = (c1 - c0) / len, n(-d.y, d.x);
+    // Grow the quad a little along the spine so neighbours overlap (no antialiasing seams).
+    const glm::dvec2 g = 0.3 * d;
+    cairo_save(c);
+    cairo_move_to(c, q.corner[0].x - g.x, q.corner[0].y - g.y);
+    cairo_line_to(c, q.corner[1].x - g.x, q.corner[1].y - g.y);
+    cairo_line_to(c, q.corner[2].x + g.x, q.corner[2].y + g.y);
+    cairo_line_to(c, q.corner[3].x + g.x, q.corner[3].y + g.y);
+    cairo_close_path(c);
+    cairo_clip(c);
+    // User space -> image space: x = u0 iw + (d.(p - c0)) (u1 - u0) iw / len, y = ih/2 - n.(p - c0) ih / w
+    // (the left side, corner 0, is at image row 0).
+    const glm::dvec2 a = d * ((q.u1 - q.u0) * iw / len), b = -n * (ih / w);
+    cairo_matrix_t m;
+    cairo_matrix_init(&m, a.x, b.x, a.y, b.y, q.u0 * iw - glm::dot(a, c0), 0.5 * ih - glm::dot(b, c0));
+    cairo_pattern_t* p = cairo_pattern_create_for_surface(brush);
+    cairo_pattern_set_matrix(p, &m);
+    cairo_pattern_set_extend(p, CAIRO_EXTEND_PAD);
+    cairo_pattern_set_filter(p, CAIRO_FILTER_GOOD);
+    cairo_mask(c, p);
+    cairo_pattern_destroy(p);
+    cairo_restore(c);
+}
+
+cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool background) {
+    cairo_t* c = cairo_create(surface);
+    if (background) {
+        set_colour(c, sd.background, 1.0);
+        cairo_paint(c);
+    }
+    cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+    Brushes brushes;
+    try {
+        for (const StyledLayer& layer : sd.layers) {
+            for (const Mark& m : layer.marks) {
+                set_colour(c, m.rgb, m.opacity);
+                switch (m.type) {
+                    case Mark::Type::Stroke: {
+                        cairo_set_line_width(c, m.width);
+                        const double dash[2] = {m.dash_on, m.dash_off};
+                        cairo_set_dash(c, dash, m.dash_on > 0 ? 2 : 0, 0);
+                        for (const auto& path : m.paths) {
+                            if (path.size() < 2) continue;
+                            cairo_move_to(c, path[0].x, path[0].y);
+                            for (std::size_t i = 1; i < path.size(); ++i) cairo_line_to(c, path[i].x, path[i].y);
+                        }
+                        cairo_stroke(c);
+                        break;
+                    }
+                    case Mark::Type::Fill:
+                        cairo_set_fill_rule(c, CAIRO_FILL_RULE_WINDING);
+                        for (const auto& path : m.paths) {
+                            if (path.size() < 3) continue;
+                            cairo_move_to(c, path[0].x, path[0].y);
+                            for (std::size_t i = 1; i < path.size(); ++i) cairo_line_to(c, path[i].x, path[i].y);
+                            cairo_close_path(c);
+                        }
+                        cairo_fill(c);
+                        break;
+                    case Mark::Type::Brush: {
+                        cairo_surface_t* b = brushes.get(m.brush);
+                        if (m.opacity < 1.0) cairo_push_group(c);
+                        set_colour(c, m.rgb, 1.0);
+                        for (const BrushQuad& q : m.quads) draw_quad(c, b, q);
+                        if (m.opacity < 1.0) {
+                            cairo_pop_group_to_source(c);
+                            cairo_paint_with_alpha(c, m.opacity);
+                        }
+                        break;
+                    }
+                }
+            }
+        }
+    } catch (...) {
+        cairo_destroy(c);
+        throw;
+    }
+    const cairo_status_t st = cairo_status(c);
+    cairo_destroy(c);
+    return st;
+}
+
+}  // namespace
+
+std::string styled_to_bytes(const StyledDrawing& sd, Format f) {
+    if (f == Format::Json) throw Error("--style", "stylized output is drawn (svg, pdf, png); JSON keeps the exact pieces");
+    std::string bytes;
+    const int w = sd.width, h = sd.height;
+    SurfacePtr surface(f == Format::Pdf   ? cairo_pdf_surface_create_for_stream(append, &bytes, w, h)
+                       : f == Format::Svg ? cairo_svg_surface_create_for_stream(append, &bytes, w, h)
+                                          : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h),
+                       cairo_surface_destroy);
+    cairo_surface_t* s = surface.get();
+    cairo_status_t st = cairo_surface_status(s);
+    if (st == CAIRO_STATUS_SUCCESS) st = draw(s, sd, f != Format::Pdf || sd.background != 0xffffff);
+    if (st == CAIRO_STATUS_SUCCESS && f == Format::Png) {
+        st = cairo_surface_write_to_png_stream(s, append, &bytes);
+    } else if (st == CAIRO_STATUS_SUCCESS) {
+        cairo_surface_finish(s);
+        st = cairo_surface_status(s);
+    }
+    if (st != CAIRO_STATUS_SUCCESS) throw Error("cairo", cairo_status_to_string(st));
+    return bytes;
+}
+
+void write_styled(const StyledDrawing& sd, const std::string& path, Format f) {
+    std::string bytes;
+    try {
+        bytes = styled_to_bytes(sd, f);
+    } catch (const Error& e) {
+        throw Error(path, e.what());
+    }
+    write_text_file(path, bytes);
+}
+
+}  // namespace inkline
