@@ -1,5 +1,6 @@
 #include "style/offsets.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -93,9 +94,10 @@ std::vector<OffsetRun> apply_offsets(const ArcPolyline& spine, const OffsetTable
     const auto& V = table.vertices;
     bool have_prev = false;
     double ps = 0, pvx = 0, pvy = 0;  // previous vertex emitted
+    [&] {  // returns at the end of the spine
     for (long rep = 0;; ++rep) {
         const double base = double(rep) * period;
-        if (base > L) break;
+        if (base > L) return;
         for (std::size_t i = 0; i < V.size(); ++i) {
             double s = base + V[i].t * period, vx = V[i].vx, vy = V[i].vy;
             const bool broken = V[i].break_before || !have_prev;
@@ -111,7 +113,7 @@ std::vector<OffsetRun> apply_offsets(const ArcPolyline& spine, const OffsetTable
                         emit(ps + g * (L - ps), pvx + g * (vx - pvx), pvy + g * (vy - pvy), false);
                     }
                 }
-                return runs;
+                return;
             }
             if (broken) {
                 emit(s, vx, vy, true);
@@ -130,6 +132,10 @@ std::vector<OffsetRun> apply_offsets(const ArcPolyline& spine, const OffsetTable
             pvy = vy;
         }
     }
+    }();
+    // A repetition that starts exactly at the end of the spine leaves a lone point.
+    runs.erase(std::remove_if(runs.begin(), runs.end(), [](const OffsetRun& r) { return r.points.size() < 2; }),
+               runs.end());
     return runs;
 }
 
