@@ -35,7 +35,7 @@ def charcoal(rng):
             v = (y + 0.5) / H * 2 - 1                      # -1 .. 1 across the stroke
             half = 0.78 + 0.12 * edge(x, 0) / 2            # ragged edges
             body = max(0.0, 1 - (abs(v) / half) ** 4)
-            tex = 0.8 + 0.25 * n(x, y) / 2 + 0.5 * (grain[y][x] - 0.5)   # paper grain
+            tex = 0.82 + 0.08 * n(x, y) / 2 + 0.6 * (grain[y][x] - 0.5)   # paper grain
             row.append(clamp(255 * body * max(0.0, min(1.0, tex))))
         rows.append(row)
     return rows

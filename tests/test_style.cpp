@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#include <cairo.h>
 #include <filesystem>
 #include <vector>
 
@@ -11,6 +14,7 @@
 #include "core/error.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
+#include "output/styled.hpp"
 #include "style/hatching.hpp"
 #include "style/strokes.hpp"
 #include "style/noise.hpp"
@@ -504,4 +508,88 @@ TEST(Hatching, OnlyOnVisibleSurfaceCheckedAgainstRayTests) {
         const glm::dvec2 got = glm::normalize(h.points.back() - h.points.front());
         EXPECT_GT(std::abs(glm::dot(want, got)), 0.8);
     }
+}
+
+// ---- Brush strokes -------------------------------------------------------------------------------
+
+TEST(Brush, QuadsFollowTheSpineWithCrossbarsAtVerticesAndSeams) {
+    inkline::Style style = inkline::load_style("ink-brush");
+    inkline::LineStyle& ls = style.lines[int(LineKind::Silhouette)];
+    ls.width_rule = inkline::WidthRule::Constant;
+    ls.noise = {};
+    ls.width = 5.0;     // 5 px at base width 1
+    ls.spacing = 7.0;   // spine vertices every 7 px
+    style.base_width = 1.0;
+    // Straight, 100 px: the 128 x 32 brush (aspect 4) repeats every 20 px.
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{50, 100}, {150, 100}}}}), style, false);
+    ASSERT_EQ(sd.layers.size(), 1u);
+    const inkline::Mark& m = sd.layers[0].marks.at(0);
+    ASSERT_EQ(m.type, inkline::Mark::Type::Brush);
+    EXPECT_NE(m.brush.find("ink.png"), std::string::npos);
+    // Crossbars at x = 50 + 7k (vertices), 50 + 20k (seams) and 150: the union, sorted.
+    std::vector<double> bars;
+    for (int k = 0; 7 * k < 100; ++k) bars.push_back(50 + 7.0 * k);
+    for (int k = 1; 20 * k < 100; ++k) bars.push_back(50 + 20.0 * k);
+    bars.push_back(150);
+    std::sort(bars.begin(), bars.end());
+    bars.erase(std::unique(bars.begin(), bars.end(), [](double a, double b) { return std::abs(a - b) < 1e-9; }), bars.end());
+    ASSERT_EQ(m.quads.size(), bars.size() - 1);
+    for (std::size_t i = 0; i < m.quads.size(); ++i) {
+        const inkline::BrushQuad& q = m.quads[i];
+        EXPECT_NEAR(q.corner[0].x, bars[i], 1e-9);
+        EXPECT_NEAR(q.corner[3].x, bars[i + 1], 1e-9);
+        EXPECT_NEAR(std::abs(q.corner[0].y - q.corner[1].y), 5.0, 1e-9);  // the crossbar spans the width
+        EXPECT_NEAR(q.corner[2].x, q.corner[3].x, 1e-9);
+        // The image runs along: u advances by the length over 20 px, wrapping at the seams.
+        EXPECT_NEAR(q.u0, std::fmod(bars[i] - 50, 20.0) / 20.0, 1e-9);
+        EXPECT_NEAR(q.u1 - q.u0, (bars[i + 1] - bars[i]) / 20.0, 1e-9);
+        EXPECT_LE(q.u1, 1.0 + 1e-12);
+        if (i > 0) {
+            EXPECT_EQ(q.corner[0], m.quads[i - 1].corner[3]);  // neighbours share a crossbar
+        }
+    }
+}
+
+TEST(Brush, InkOnlyInsideTheStrokeInEveryFormat) {
+    inkline::Style style = inkline::load_style("ink-brush");
+    for (auto& l : style.lines) l.noise = {}, l.width_rule = inkline::WidthRule::Constant, l.width = 8.0;
+    style.base_width = 1.0;
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{40, 100}, {160, 100}}}}), style, false);
+    const std::string png = inkline::styled_to_bytes(sd, inkline::Format::Png);
+    cairo_surface_t* s = [&] {
+        struct Reader { const std::string* b; std::size_t at; } r{&png, 0};
+        return cairo_image_surface_create_from_png_stream(
+            [](void* c, unsigned char* data, unsigned int n) {
+                auto* rr = static_cast<Reader*>(c);
+                if (rr->at + n > rr->b->size()) return CAIRO_STATUS_READ_ERROR;
+                std::memcpy(data, rr->b->data() + rr->at, n);
+                rr->at += n;
+                return CAIRO_STATUS_SUCCESS;
+            },
+            &r);
+    }();
+    ASSERT_EQ(cairo_surface_status(s), CAIRO_STATUS_SUCCESS);
+    const int stride = cairo_image_surface_get_stride(s);
+    const unsigned char* px = cairo_image_surface_get_data(s);
+    std::size_t inside_dark = 0, outside_dark = 0, inside = 0;
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 200; ++x) {
+            const auto* p = px + y * stride + 4 * x;
+            const bool dark = p[1] < 128;
+            const bool in = x >= 41 && x <= 159 && std::abs(y + 0.5 - 100) < 3.5;
+            const bool near = x >= 38 && x <= 162 && std::abs(y + 0.5 - 100) < 5.5;
+            inside += in;
+            inside_dark += in && dark;
+            outside_dark += !near && dark;
+        }
+    cairo_surface_destroy(s);
+    EXPECT_GT(double(inside_dark), 0.7 * double(inside));
+    EXPECT_EQ(outside_dark, 0u);
+    // The same drawing as PDF and SVG (Cairo's surfaces; the brush is embedded as an image).
+    const std::string pdf = inkline::styled_to_bytes(sd, inkline::Format::Pdf);
+    const std::string svg = inkline::styled_to_bytes(sd, inkline::Format::Svg);
+    EXPECT_EQ(pdf.substr(0, 4), "%PDF");
+    EXPECT_NE(svg.find("<svg"), std::string::npos);
+    EXPECT_NE(svg.find("image"), std::string::npos);
+    EXPECT_THROW(inkline::styled_to_bytes(sd, inkline::Format::Json), inkline::Error);
 }
