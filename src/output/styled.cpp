@@ -29,26 +29,36 @@ void set_colour(cairo_t* c, std::uint32_t rgb, double opacity) {
         cairo_set_source_rgba(c, ch(16), ch(8), ch(0), opacity);
 }
 
+// Brush images by file, tinted with the ink colour (ARGB, premultiplied): a brush stroke fills
+// its quads with the image as the source, which PDF and SVG keep as one embedded image and a
+// small pattern per quad (a mask per quad would repeat a soft-mask group every time).
 class Brushes {
 public:
-    cairo_surface_t* get(const std::string& path) {
-        auto it = cache_.find(path);
+    cairo_surface_t* get(const std::string& path, std::uint32_t rgb) {
+        const auto key = std::make_pair(path, rgb);
+        auto it = cache_.find(key);
         if (it == cache_.end()) {
-            SurfacePtr s(cairo_image_surface_create_from_png(path.c_str()), cairo_surface_destroy);
-            if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS)
+            SurfacePtr src(cairo_image_surface_create_from_png(path.c_str()), cairo_surface_destroy);
+            if (cairo_surface_status(src.get()) != CAIRO_STATUS_SUCCESS)
                 throw Error(path, std::string("cannot read brush image: ") +
-                                      cairo_status_to_string(cairo_surface_status(s.get())));
-            it = cache_.emplace(path, std::move(s)).first;
+                                      cairo_status_to_string(cairo_surface_status(src.get())));
+            const int w = cairo_image_surface_get_width(src.get()), h = cairo_image_surface_get_height(src.get());
+            SurfacePtr tinted(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h), cairo_surface_destroy);
+            cairo_t* c = cairo_create(tinted.get());
+            set_colour(c, rgb, 1.0);
+            cairo_mask_surface(c, src.get(), 0, 0);  // alpha of the brush, colour of the ink
+            cairo_destroy(c);
+            it = cache_.emplace(key, std::move(tinted)).first;
         }
         return it->second.get();
     }
 
 private:
-    std::map<std::string, SurfacePtr> cache_;
+    std::map<std::pair<std::string, std::uint32_t>, SurfacePtr> cache_;
 };
 
-// One quad of a brush stroke: the brush image, affinely mapped so that its x runs from u0 to u1
-// along the quad and its y across it, used as a mask for the ink colour inside the quad.
+// One quad of a brush stroke, filled with the brush image affinely mapped so that its x runs
+// from u0 to u1 along the quad and its y across it.
 void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
     const double iw = cairo_image_surface_get_width(brush), ih = cairo_image_surface_get_height(brush);
     const glm::dvec2 c0 = 0.5 * (q.corner[0] + q.corner[1]), c1 = 0.5 * (q.corner[2] + q.corner[3]);
@@ -56,15 +66,13 @@ void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
     const double w = 0.5 * (glm::length(q.corner[0] - q.corner[1]) + glm::length(q.corner[3] - q.corner[2]));
     if (!(len > 1e-9) || !(w > 1e-9)) return;
     const glm::dvec2 d = (c1 - c0) / len, n(-d.y, d.x);
-    // Grow the quad a little along the spine so neighbours overlap (no antialiasing seams).
+    // Grow the quad a little along the spine so neighbours overlap (no antialiasing seams); the image repeats there.
     const glm::dvec2 g = 0.3 * d;
-    cairo_save(c);
     cairo_move_to(c, q.corner[0].x - g.x, q.corner[0].y - g.y);
     cairo_line_to(c, q.corner[1].x - g.x, q.corner[1].y - g.y);
     cairo_line_to(c, q.corner[2].x + g.x, q.corner[2].y + g.y);
     cairo_line_to(c, q.corner[3].x + g.x, q.corner[3].y + g.y);
     cairo_close_path(c);
-    cairo_clip(c);
     // User space -> image space: x = u0 iw + (d.(p - c0)) (u1 - u0) iw / len, y = ih/2 - n.(p - c0) ih / w
     // (the left side, corner 0, is at image row 0).
     const glm::dvec2 a = d * ((q.u1 - q.u0) * iw / len), b = -n * (ih / w);
@@ -72,11 +80,11 @@ void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
     cairo_matrix_init(&m, a.x, b.x, a.y, b.y, q.u0 * iw - glm::dot(a, c0), 0.5 * ih - glm::dot(b, c0));
     cairo_pattern_t* p = cairo_pattern_create_for_surface(brush);
     cairo_pattern_set_matrix(p, &m);
-    cairo_pattern_set_extend(p, CAIRO_EXTEND_PAD);
+    cairo_pattern_set_extend(p, CAIRO_EXTEND_REPEAT);  // the brush tiles along x; PDF has no PAD
     cairo_pattern_set_filter(p, CAIRO_FILTER_GOOD);
-    cairo_mask(c, p);
+    cairo_set_source(c, p);
+    cairo_fill(c);
     cairo_pattern_destroy(p);
-    cairo_restore(c);
 }
 
 cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool background) {
@@ -116,9 +124,8 @@ cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool back
                         cairo_fill(c);
                         break;
                     case Mark::Type::Brush: {
-                        cairo_surface_t* b = brushes.get(m.brush);
+                        cairo_surface_t* b = brushes.get(m.brush, m.rgb);
                         if (m.opacity < 1.0) cairo_push_group(c);
-                        set_colour(c, m.rgb, 1.0);
                         for (const BrushQuad& q : m.quads) draw_quad(c, b, q);
                         if (m.opacity < 1.0) {
                             cairo_pop_group_to_source(c);

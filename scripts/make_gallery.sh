@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Renders every style preset on the six sample meshes into examples/gallery/ (512 x 512 PNG),
+# the pictures of examples/gallery.md. Usage: scripts/make_gallery.sh [OUT_DIR] [FORMAT]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-examples/gallery}
+fmt=${2:-png}
+mkdir -p "$out"
+for mesh in fandisk bunny00 armadillo elephant ChineseDragon-10kv knot1; do
+  for style in clean technical sketchy charcoal ink-brush hatched; do
+    build/src/inkline render "data/meshes/$mesh.off" -o "$out/$mesh-$style.$fmt" --size=512x512 --style="$style" --quiet
+  done
+done
