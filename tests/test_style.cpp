@@ -593,3 +593,23 @@ TEST(Brush, InkOnlyInsideTheStrokeInEveryFormat) {
     EXPECT_NE(svg.find("image"), std::string::npos);
     EXPECT_THROW(inkline::styled_to_bytes(sd, inkline::Format::Json), inkline::Error);
 }
+
+TEST(Hatching, ChosenDirectionalLightShadesTheFarSide) {
+    const inkline::Model model(inkline::make_sphere({0, 0, 0}, 1.0, 64, 32));
+    inkline::Camera cam = inkline::Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 30.0, 300, 300);
+    cam.set_near(1e-3);
+    inkline::Style s = inkline::parse_style(R"({"hatching": {"enabled": true, "light": [1, 0, 0], "threshold": 0.3,
+                                                "min_pixels": 0}})", "/tmp/l.json");
+    ASSERT_FALSE(s.hatching.light_at_camera);
+    const auto hatches = inkline::hatch_strokes(model.topology(), cam, model.rays(), s.hatching);
+    ASSERT_GT(hatches.size(), 20u);
+    for (const auto& h : hatches) EXPECT_LT(h.centre.x, 0.35);  // n.x < 0.3 up to faceting
+    // With the light at the camera the same threshold shades the rim all around instead.
+    s.hatching.light_at_camera = true;
+    bool right = false, left = false;
+    for (const auto& h : inkline::hatch_strokes(model.topology(), cam, model.rays(), s.hatching))
+        right |= h.centre.x > 0.8, left |= h.centre.x < -0.8;
+    EXPECT_TRUE(right && left);
+    const std::string e = error_of(R"({"hatching": {"light": "sun"}})");
+    EXPECT_NE(e.find("key 'hatching.light': expected \"camera\" or a direction [x, y, z]"), std::string::npos) << e;
+}

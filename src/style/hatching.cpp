@@ -79,7 +79,7 @@ std::vector<HatchStroke> hatch_strokes(const MeshTopology& mesh, const Camera& c
             const glm::dvec3 O = camera.ray_origin(P);
             const glm::dvec3 view = P - O;
             if (glm::dot(nf, view) >= 0) continue;  // back-facing
-            const glm::dvec3 L = glm::normalize(-view);
+            const glm::dvec3 L = style.light_at_camera ? glm::normalize(-view) : style.light;
             const glm::dvec3 n = blended_normal(P);
             const double tone = std::max(0.0, glm::dot(n, L));
             if (tone >= style.threshold) continue;

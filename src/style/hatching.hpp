@@ -1,7 +1,8 @@
 // Shading strokes (Markosian et al. 97, section 5, fig. 3d): stroke particles placed on the
 // surface in world space (one per triangle centre, or by area for an even density), drawn where
 // the surface is visible (a ray test from the eye: no layer in front) and where the Lambertian
-// tone with a point light at the camera is below a threshold. A stroke's direction is
+// tone with a point light at the camera (or, beyond the paper, a chosen directional light) is
+// below a threshold. A stroke's direction is
 // normal x view ray, so strokes line up with the silhouettes; each is a polyline of a preset world
 // length whose segments follow the normal blended from the vertex normals of its triangle.
 #pragma once
@@ -22,7 +23,7 @@ namespace inkline {
 struct HatchStroke {
     std::uint32_t face = 0;   // the triangle holding the particle
     glm::dvec3 centre{0.0};   // the particle (on the triangle)
-    double tone = 0.0;        // Lambertian tone at the particle, light at the camera
+    double tone = 0.0;        // Lambertian tone at the particle (light at the camera or chosen)
     std::vector<glm::dvec2> points;  // pixels
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -201,13 +202,28 @@ struct Parser {
                 for (std::size_t i = 0; i < v.size(); ++i)
                     s.hidden.push_back(line(v[i], "hidden[" + std::to_string(i) + "]", clean[std::min(i, clean.size() - 1)]));
             } else {
-                check_keys(v, k, {"enabled", "threshold", "length", "segments", "min_pixels", "by_area", "spacing",
-                                  "seed", "line"});
+                check_keys(v, k, {"enabled", "threshold", "light", "length", "segments", "min_pixels", "by_area",
+                                  "spacing", "seed", "line"});
                 HatchStyle& h = s.hatching;
                 for (const auto& [k2, v2] : v.items()) {
                     const std::string key = k + "." + k2;
                     if (k2 == "enabled") h.enabled = boolean(v2, key);
                     else if (k2 == "threshold") h.threshold = number(v2, key, 0, 1);
+                    else if (k2 == "light") {
+                        const char* expected = "expected \"camera\" or a direction [x, y, z] towards the light";
+                        if (v2.is_string() && v2.get<std::string>() == "camera") {
+                            h.light_at_camera = true;
+                        } else if (v2.is_array() && v2.size() == 3 && v2[0].is_number() && v2[1].is_number() &&
+                                   v2[2].is_number()) {
+                            const glm::dvec3 d(v2[0].get<double>(), v2[1].get<double>(), v2[2].get<double>());
+                            const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+                            if (!(n > 0) || !std::isfinite(n)) fail(key, std::string(expected) + ", got " + v2.dump());
+                            h.light_at_camera = false;
+                            h.light = d / n;
+                        } else {
+                            fail(key, std::string(expected) + ", got " + v2.dump());
+                        }
+                    }
                     else if (k2 == "length") h.length = number(v2, key, 1e-6, 10);
                     else if (k2 == "segments") h.segments = int(number(v2, key, 1, 64));
                     else if (k2 == "min_pixels") h.min_pixels = number(v2, key, 0, 1e4);

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "core/drawing.hpp"
 #include "style/offsets.hpp"
 
@@ -47,7 +49,9 @@ struct LineStyle {
 
 struct HatchStyle {
     bool enabled = false;
-    double threshold = 0.55;        // Lambertian tone (light at the camera) below which strokes are drawn
+    double threshold = 0.55;        // Lambertian tone below which strokes are drawn
+    bool light_at_camera = true;    // the paper's point light at the eye; else a directional light:
+    glm::dvec3 light{0.0, 1.0, 0.0};  // world direction towards the light (unit)
     double length = 0.03;           // world length, as a share of the model's half diagonal
     int segments = 4;               // polyline segments per stroke
     double min_pixels = 3.0;        // strokes shorter on screen are not drawn
