@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numeric>
 #include <tuple>
-#include <unordered_map>
 
 #include <glm/geometric.hpp>
 
@@ -85,11 +84,6 @@ glm::dvec2 out_direction(const Piece& p, int end) {
     return glm::dvec2(0.0);
 }
 
-struct CellHash {
-    std::size_t operator()(const std::pair<long long, long long>& c) const {
-        return std::size_t(c.first * 73856093LL) ^ std::size_t(c.second * 19349663LL);
-    }
-};
 
 }  // namespace
 
@@ -102,42 +96,31 @@ std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o) {
     // Endpoint e = 2 * piece + end. partner[e]: the endpoint it is joined to, or -1.
     std::vector<long long> partner(2 * n, -1);
     if (o.join) {
-        const double cell = std::max(1.0, o.join_distance);
-        const auto key = [&](const glm::dvec2& q) {
-            return std::make_pair((long long)std::floor(q.x / cell), (long long)std::floor(q.y / cell));
-        };
         const auto tip = [&](std::size_t e) -> const glm::dvec2& {
             const Piece& p = d.pieces[e / 2];
             return e % 2 ? p.points.back() : p.points.front();
         };
-        std::unordered_map<std::pair<long long, long long>, std::vector<std::size_t>, CellHash> grid;
+        // Ends sorted by x; a sweep pairs those within the join distance (they nearly coincide).
+        std::vector<std::pair<double, std::size_t>> ends;
+        ends.reserve(2 * used.size());
         for (std::uint32_t i : used)
-            for (int end = 0; end < 2; ++end) grid[key(tip(2 * i + end))].push_back(2 * i + end);
+            for (int end = 0; end < 2; ++end) ends.emplace_back(tip(2 * i + end).x, 2 * i + end);
+        std::sort(ends.begin(), ends.end());
         // Candidate joins: (same curve first, then the smallest turn).
         const double max_turn = o.max_turn_degrees * M_PI / 180.0;
         std::vector<std::tuple<int, double, std::size_t, std::size_t>> cand;
-        for (std::uint32_t i : used) {
-            for (int end = 0; end < 2; ++end) {
-                const std::size_t a = 2 * i + end;
-                const auto [cx, cy] = key(tip(a));
-                for (long long dx = -1; dx <= 1; ++dx)
-                    for (long long dy = -1; dy <= 1; ++dy) {
-                        const auto it = grid.find({cx + dx, cy + dy});
-                        if (it == grid.end()) continue;
-                        for (std::size_t b : it->second) {
-                            if (b <= a) continue;
-                            const Piece &pa = d.pieces[a / 2], &pb = d.pieces[b / 2];
-                            if (pa.kind != pb.kind || pa.qi != pb.qi) continue;
-                            if (glm::distance(tip(a), tip(b)) > o.join_distance) continue;
-                            // Leaving a, entering b: travel direction inside b is -out(b).
-                            const glm::dvec2 u = out_direction(pa, int(a % 2)),
-                                             v = -out_direction(pb, int(b % 2));
-                            const double turn = std::acos(std::clamp(glm::dot(u, v), -1.0, 1.0));
-                            const bool same_curve = pa.curve == pb.curve;
-                            if (!same_curve && !(turn <= max_turn)) continue;
-                            cand.emplace_back(same_curve ? 0 : 1, turn, a, b);
-                        }
-                    }
+        for (std::size_t i = 0; i < ends.size(); ++i) {
+            for (std::size_t j = i + 1; j < ends.size() && ends[j].first - ends[i].first <= o.join_distance; ++j) {
+                const std::size_t a = std::min(ends[i].second, ends[j].second), b = std::max(ends[i].second, ends[j].second);
+                const Piece &pa = d.pieces[a / 2], &pb = d.pieces[b / 2];
+                if (pa.kind != pb.kind || pa.qi != pb.qi) continue;
+                if (glm::distance(tip(a), tip(b)) > o.join_distance) continue;
+                // Leaving a, entering b: travel direction inside b is -out(b).
+                const glm::dvec2 u = out_direction(pa, int(a % 2)), v = -out_direction(pb, int(b % 2));
+                const double turn = std::acos(std::clamp(glm::dot(u, v), -1.0, 1.0));
+                const bool same_curve = pa.curve == pb.curve;
+                if (!same_curve && !(turn <= max_turn)) continue;
+                cand.emplace_back(same_curve ? 0 : 1, turn, a, b);
             }
         }
         std::sort(cand.begin(), cand.end());
