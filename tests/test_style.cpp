@@ -613,3 +613,42 @@ TEST(Hatching, ChosenDirectionalLightShadesTheFarSide) {
     const std::string e = error_of(R"({"hatching": {"light": "sun"}})");
     EXPECT_NE(e.find("key 'hatching.light': expected \"camera\" or a direction [x, y, z]"), std::string::npos) << e;
 }
+
+TEST(StyledSvg, OneLayerPerLineClassAndBrushImageEmbeddedOnce) {
+    // Visible silhouette and crease, hidden silhouette at QI 1 and crease at QI 2, technical style.
+    const Drawing d = drawing_of({
+        {LineKind::Silhouette, 0, 1, {{10, 10}, {100, 10}}},
+        {LineKind::Crease, 0, 2, {{10, 50}, {100, 60}}},
+        {LineKind::Silhouette, 1, 3, {{10, 90}, {100, 90}}},
+        {LineKind::Crease, 2, 4, {{10, 120}, {100, 120}}},
+        {LineKind::Border, 5, 5, {{10, 150}, {100, 150}}},  // QI >= 3: omitted by technical
+    });
+    const std::string svg = inkline::styled_to_bytes(inkline::stylize(d, inkline::load_style("technical"), false),
+                                                     inkline::Format::Svg);
+    std::vector<std::string> ids;
+    for (std::size_t at = 0; (at = svg.find("inkscape:groupmode=\"layer\"", at)) != std::string::npos; ++at) {
+        const std::size_t open = svg.rfind("id=\"", at) + 4;
+        ids.push_back(svg.substr(open, svg.find('"', open) - open));
+    }
+    // Hidden layers first (deepest first), visible last, as the default writer.
+    EXPECT_EQ(ids, (std::vector<std::string>{"crease-hidden-qi2", "silhouette-hidden-qi1", "silhouette-visible", "crease-visible"}));
+    EXPECT_NE(svg.find("stroke-dasharray=\"7,4\""), std::string::npos);
+    EXPECT_EQ(svg.find("border"), std::string::npos);
+
+    // A brush stroke: the image once, one clipped copy per quad.
+    const inkline::StyledDrawing sd = inkline::stylize(
+        drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}}, {LineKind::Crease, 0, 2, {{20, 50}, {180, 40}}}}),
+        inkline::load_style("ink-brush"), false);
+    std::size_t quads = 0;
+    for (const auto& l : sd.layers)
+        for (const auto& m : l.marks) quads += m.quads.size();
+    const std::string b = inkline::styled_to_bytes(sd, inkline::Format::Svg);
+    const auto count = [&](const std::string& s) {
+        std::size_t n = 0;
+        for (std::size_t at = 0; (at = b.find(s, at)) != std::string::npos; ++at) ++n;
+        return n;
+    };
+    EXPECT_GT(quads, 10u);
+    EXPECT_EQ(count("<image id=\"brush"), 1u);
+    EXPECT_EQ(count("<svg x="), quads);
+}

@@ -1,11 +1,12 @@
 #include "output/styled.hpp"
 
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 
 #include <cairo-pdf.h>
-#include <cairo-svg.h>
 #include <cairo.h>
 #include <glm/geometric.hpp>
 
@@ -145,15 +146,144 @@ cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool back
     return st;
 }
 
+// ---- SVG, written by hand: one Inkscape layer per StyledLayer (as the default writer), so an
+// illustrator can edit the line classes apart. Brush strokes: the tinted brush image embedded once
+// per (brush, colour) and, per quad, the columns of it that the quad shows mapped onto the quad.
+
+std::string num(double v, int decimals = 3) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+    std::string out(buf, r.ptr);
+    if (out.find('.') != std::string::npos) {
+        while (out.back() == '0') out.pop_back();
+        if (out.back() == '.') out.pop_back();
+    }
+    return out == "-0" ? "0" : out;
+}
+
+std::string hex_colour(std::uint32_t rgb) {
+    char c[8];
+    std::snprintf(c, sizeof c, "#%06x", unsigned(rgb & 0xffffff));
+    return c;
+}
+
+std::string base64(const std::string& in) {
+    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    out.reserve((in.size() + 2) / 3 * 4);
+    std::size_t i = 0;
+    for (; i + 2 < in.size(); i += 3) {
+        const unsigned v = (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8 | (unsigned char)in[i + 2];
+        out += {t[v >> 18], t[(v >> 12) & 63], t[(v >> 6) & 63], t[v & 63]};
+    }
+    if (i + 1 == in.size()) {
+        const unsigned v = (unsigned char)in[i] << 16;
+        out += {t[v >> 18], t[(v >> 12) & 63], '=', '='};
+    } else if (i + 2 == in.size()) {
+        const unsigned v = (unsigned char)in[i] << 16 | (unsigned char)in[i + 1] << 8;
+        out += {t[v >> 18], t[(v >> 12) & 63], t[(v >> 6) & 63], '='};
+    }
+    return out;
+}
+
+std::string styled_to_svg(const StyledDrawing& sd) {
+    const std::string W = std::to_string(sd.width), H = std::to_string(sd.height);
+    std::string defs, body;
+    Brushes brushes;
+    std::map<std::pair<std::string, std::uint32_t>, std::string> brush_ids;
+    std::size_t patterns = 0;
+    for (const StyledLayer& layer : sd.layers) {
+        body += "<g id=\"" + layer.id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + layer.id + "\">\n";
+        for (const Mark& m : layer.marks) {
+            const std::string colour = hex_colour(m.rgb);
+            const std::string opacity = m.opacity < 1.0 ? " opacity=\"" + num(m.opacity) + "\"" : "";
+            switch (m.type) {
+                case Mark::Type::Stroke:
+                    body += "<g fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" + num(m.width, 4) + "\"" + opacity;
+                    if (m.dash_on > 0) body += " stroke-dasharray=\"" + num(m.dash_on) + "," + num(m.dash_off) + "\"";
+                    body += " stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
+                    for (const auto& path : m.paths) {
+                        if (path.size() < 2) continue;
+                        body += "<polyline points=\"";
+                        for (const glm::dvec2& q : path) body += num(q.x) + "," + num(q.y) + " ";
+                        body.back() = '"';
+                        body += "/>\n";
+                    }
+                    body += "</g>\n";
+                    break;
+                case Mark::Type::Fill: {
+                    body += "<path fill=\"" + colour + "\" fill-rule=\"nonzero\" stroke=\"none\"" + opacity + " d=\"";
+                    for (const auto& path : m.paths) {
+                        if (path.size() < 3) continue;
+                        body += "M";
+                        for (const glm::dvec2& q : path) body += num(q.x) + "," + num(q.y) + " ";
+                        body += "Z";
+                    }
+                    body += "\"/>\n";
+                    break;
+                }
+                case Mark::Type::Brush: {
+                    cairo_surface_t* b = brushes.get(m.brush, m.rgb);
+                    const double iw = cairo_image_surface_get_width(b), ih = cairo_image_surface_get_height(b);
+                    auto [it, fresh] = brush_ids.emplace(std::make_pair(m.brush, m.rgb), "brush" + std::to_string(brush_ids.size()));
+                    if (fresh) {
+                        std::string png;
+                        cairo_surface_write_to_png_stream(b, append, &png);
+                        defs += "<image id=\"" + it->second + "\" width=\"" + num(iw) + "\" height=\"" + num(ih) +
+                                "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
+                    }
+                    body += "<g" + opacity + ">\n";
+                    for (const BrushQuad& q : m.quads) {
+                        const glm::dvec2 c0 = 0.5 * (q.corner[0] + q.corner[1]), c1 = 0.5 * (q.corner[2] + q.corner[3]);
+                        const double len = glm::length(c1 - c0);
+                        const double w = 0.5 * (glm::length(q.corner[0] - q.corner[1]) + glm::length(q.corner[3] - q.corner[2]));
+                        if (!(len > 1e-9) || !(w > 1e-9) || !(q.u1 > q.u0)) continue;
+                        const glm::dvec2 d = (c1 - c0) / len, n(-d.y, d.x);
+                        // Image -> user space (the inverse of the Cairo pattern matrix in draw_quad):
+                        // the image's columns u0 iw .. u1 iw, clipped by a nested <svg> viewport, land on
+                        // the quad (a parallelogram from the start crossbar along the spine), grown by
+                        // 0.3 px each way so neighbours overlap.
+                        const glm::dvec2 A = d * (len / ((q.u1 - q.u0) * iw)), B = -n * (w / ih);
+                        const glm::dvec2 e = c0 - A * (q.u0 * iw) - B * (0.5 * ih);
+                        const double grow = 0.3 / glm::length(A);
+                        const double x0 = q.u0 * iw - grow, x1 = q.u1 * iw + grow;
+                        const auto g6 = [](double v) {
+                            char buf[64];
+                            const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 7);
+                            return std::string(buf, r.ptr);
+                        };
+                        body += "<g transform=\"matrix(" + g6(A.x) + " " + g6(A.y) + " " + g6(B.x) + " " + g6(B.y) + " " +
+                                g6(e.x) + " " + g6(e.y) + ")\"><svg x=\"" + g6(x0) + "\" y=\"0\" width=\"" + g6(x1 - x0) +
+                                "\" height=\"" + num(ih) + "\" viewBox=\"" + g6(x0) + " 0 " + g6(x1 - x0) + " " + num(ih) +
+                                "\"><use href=\"#" + it->second + "\"/>";
+                        if (x0 < 0) body += "<use href=\"#" + it->second + "\" x=\"" + num(-iw) + "\"/>";   // wrap at seams
+                        if (x1 > iw) body += "<use href=\"#" + it->second + "\" x=\"" + num(iw) + "\"/>";
+                        body += "</svg></g>\n";
+                        ++patterns;
+                    }
+                    body += "</g>\n";
+                    break;
+                }
+            }
+        }
+        body += "</g>\n";
+    }
+    return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+           "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" "
+           "version=\"1.1\" width=\"" + W + "\" height=\"" + H + "\" viewBox=\"0 0 " + W + " " + H + "\">\n" +
+           (defs.empty() ? "" : "<defs>\n" + defs + "</defs>\n") + "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" +
+           W + "\" height=\"" + H + "\" fill=\"" + hex_colour(sd.background) + "\"/>\n" + body + "</svg>\n";
+}
+
 }  // namespace
 
 std::string styled_to_bytes(const StyledDrawing& sd, Format f) {
     if (f == Format::Json) throw Error("--style", "stylized output is drawn (svg, pdf, png); JSON keeps the exact pieces");
+    if (f == Format::Svg) return styled_to_svg(sd);
     std::string bytes;
     const int w = sd.width, h = sd.height;
-    SurfacePtr surface(f == Format::Pdf   ? cairo_pdf_surface_create_for_stream(append, &bytes, w, h)
-                       : f == Format::Svg ? cairo_svg_surface_create_for_stream(append, &bytes, w, h)
-                                          : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h),
+    SurfacePtr surface(f == Format::Pdf ? cairo_pdf_surface_create_for_stream(append, &bytes, w, h)
+                                        : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h),
                        cairo_surface_destroy);
     cairo_surface_t* s = surface.get();
     cairo_status_t st = cairo_surface_status(s);

@@ -1,5 +1,7 @@
-// Output of stylized drawings (style/stylize.hpp): SVG, PDF and PNG drawn by Cairo (its SVG
-// surface for SVG, so brush textures come out the same in all three), written atomically.
+// Output of stylized drawings (style/stylize.hpp): PDF and PNG drawn by Cairo; SVG written by hand
+// with one Inkscape layer per StyledLayer (as the default writer: "<kind>-visible",
+// "<kind>-hidden-qi1", ..., "hatching") and brush strokes as the brush image (embedded once)
+// mapped onto each quad through a clipping viewport. Written atomically.
 #pragma once
 
 #include <string>
