@@ -15,6 +15,7 @@
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
 #include "output/styled.hpp"
+#include "style/attributes.hpp"
 #include "style/hatching.hpp"
 #include "style/strokes.hpp"
 #include "style/noise.hpp"
@@ -651,4 +652,83 @@ TEST(StyledSvg, OneLayerPerLineClassAndBrushImageEmbeddedOnce) {
     EXPECT_GT(quads, 10u);
     EXPECT_EQ(count("<image id=\"brush"), 1u);
     EXPECT_EQ(count("<svg x="), quads);
+}
+
+// ---- Width by depth and by lighting -----------------------------------------------------------
+
+TEST(PointAttributes, ChainedWithTheirPointsAndScaleWidths) {
+    // Two pieces of one curve, the second stored backwards; depth 1..2 along the stroke.
+    const Drawing d = drawing_of({
+        {LineKind::Silhouette, 0, 1, {{10, 50}, {60, 50}}},
+        {LineKind::Silhouette, 0, 1, {{110, 50}, {85, 50}, {60, 50}}},
+    });
+    inkline::PointAttributes a;
+    a.depth = {{1.0, 1.5}, {2.0, 1.75, 1.5}};
+    a.tone = {{0.0, 0.5}, {1.0, 0.75, 0.5}};
+    const auto s = inkline::chain_strokes(d, {}, &a);
+    ASSERT_EQ(s.size(), 1u);
+    const bool forward = s[0].path.points().front().x == 10;
+    std::vector<double> depth = s[0].depth;
+    if (!forward) std::reverse(depth.begin(), depth.end());
+    EXPECT_EQ(depth, (std::vector<double>{1.0, 1.5, 1.75, 2.0}));
+    EXPECT_EQ(s[0].tone.size(), 4u);
+
+    // Width x2 at the nearest point, x0.5 at the farthest: the outline is 2w wide at depth 1
+    // and w/2 at depth 2, linear in depth between.
+    inkline::Style style = inkline::Style::clean();
+    style.base_width = 1.0;
+    style.lines[0].width = 4.0;
+    style.lines[0].depth_near = 2.0;
+    style.lines[0].depth_far = 0.5;
+    style.lines[0].spacing = 5.0;
+    const auto sd = inkline::stylize(d, style, false, {}, nullptr, &a);
+    ASSERT_EQ(sd.layers.size(), 1u);
+    const auto& o = sd.layers[0].marks.at(0).paths.at(0);
+    ASSERT_EQ(sd.layers[0].marks[0].type, inkline::Mark::Type::Fill);
+    expect_simple_closed(o);
+    const std::size_t n = (o.size() - 1) / 2;  // points per side
+    const auto width_at_x = [&](double x) {
+        for (std::size_t i = 0; i < n; ++i)
+            if (std::abs(o[i].x - x) < 1e-9) return std::abs(o[i].y - o[o.size() - 2 - i].y);
+        return -1.0;
+    };
+    EXPECT_NEAR(width_at_x(10), 8.0, 1e-9);
+    EXPECT_NEAR(width_at_x(110), 2.0, 1e-9);
+    EXPECT_NEAR(width_at_x(60), 4.0 * (2.0 + 0.5 * (0.5 - 2.0)), 1e-9);  // depth 1.5: halfway
+    // Without attributes the factors are 1: a stroke of constant width.
+    const auto none = inkline::stylize(d, style, false);
+    EXPECT_EQ(none.layers[0].marks.at(0).type, inkline::Mark::Type::Stroke);
+    EXPECT_EQ(none.layers[0].marks[0].width, 4.0);
+}
+
+TEST(PointAttributes, FromAViewDepthAndToneAtEveryPoint) {
+    const inkline::Model model(inkline::make_box({-1, -1, -1}, {1, 1, 1}));
+    const auto cam = inkline::Camera::perspective({3, 2.5, 4}, {0, 0, 0}, {0, 1, 0}, 40.0, 300, 300);
+    const inkline::View v = inkline::render_view(model, cam);
+    const auto a = inkline::point_attributes(model.topology(), cam, v.drawing, v.spans, true, {});
+    ASSERT_EQ(a.depth.size(), v.drawing.pieces.size());
+    std::size_t checked = 0;
+    for (std::size_t p = 0; p < v.drawing.pieces.size(); ++p) {
+        ASSERT_EQ(a.depth[p].size(), v.drawing.pieces[p].points.size());
+        for (std::size_t i = 0; i < a.depth[p].size(); ++i) {
+            EXPECT_GT(a.depth[p][i], 0.0);
+            EXPECT_GE(a.tone[p][i], 0.0);
+            EXPECT_LE(a.tone[p][i], 1.0);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 8u);
+    // A directional light straight along +y: the edges of the top face (y = 1) share the top's
+    // normal with a side face, so their tone is cos 45 degrees.
+    const auto up = inkline::point_attributes(model.topology(), cam, v.drawing, v.spans, false, {0, 1, 0});
+    std::size_t top = 0;
+    for (std::size_t p = 0; p < v.drawing.pieces.size(); ++p)
+        for (std::size_t i = 0; i < up.tone[p].size(); ++i) {
+            // Project back: a top edge point projects near the top face's outline; check by tone value.
+            if (std::abs(up.tone[p][i] - std::sqrt(0.5)) < 1e-9) ++top;
+        }
+    EXPECT_GT(top, 0u);
+    EXPECT_NE(inkline::parse_style(R"({"lines": {"default": {"width_by_light": [0.5, 2]}}})", "/tmp/x.json").lines[0].light_dark, 1.0);
+    const std::string e = error_of(R"({"lines": {"default": {"width_by_depth": 2}}})");
+    EXPECT_NE(e.find("key 'lines.default.width_by_depth': expected [near, far] width factors"), std::string::npos) << e;
 }

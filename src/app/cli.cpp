@@ -15,6 +15,7 @@
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
+#include "style/attributes.hpp"
 #include "style/hatching.hpp"
 #include "style/style.hpp"
 #include "style/stylize.hpp"
@@ -236,7 +237,12 @@ int render(int argc, char** argv) {
             for (auto& h : hatch_strokes(model.topology(), hc, model.rays(), style->hatching, true, &hatch_stats))
                 hatches.push_back(std::move(h.points));
         }
-        const StyledDrawing sd = stylize(view.drawing, *style, a.hidden, hatches, &style_stats);
+        std::optional<PointAttributes> attributes;
+        if (style->uses_attributes())
+            attributes = point_attributes(model.topology(), cam, view.drawing, view.spans, style->light_at_camera,
+                                          style->light);
+        const StyledDrawing sd =
+            stylize(view.drawing, *style, a.hidden, hatches, &style_stats, attributes ? &*attributes : nullptr);
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
         write_styled(sd, out, format);
     } else {

@@ -87,7 +87,7 @@ glm::dvec2 out_direction(const Piece& p, int end) {
 
 }  // namespace
 
-std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o) {
+std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o, const PointAttributes* attr) {
     const std::size_t n = d.pieces.size();
     std::vector<std::uint32_t> used;
     for (std::uint32_t i = 0; i < n; ++i)
@@ -155,16 +155,32 @@ std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o) {
         s.qi = d.pieces[i].qi;
         s.closed = closed;
         std::vector<glm::dvec2> pts;
+        std::vector<double> depth, tone;
+        bool with_attr = attr != nullptr;
         std::size_t cur = first;
         int start_end = first_end;
         for (;;) {
             done[cur] = 1;
             s.pieces.push_back(std::uint32_t(cur));
             const auto& P = d.pieces[cur].points;
+            const std::size_t skip = pts.empty() ? 0 : 1;
             if (start_end == 0)
-                pts.insert(pts.end(), P.begin() + (pts.empty() ? 0 : 1), P.end());
+                pts.insert(pts.end(), P.begin() + skip, P.end());
             else
-                pts.insert(pts.end(), P.rbegin() + (pts.empty() ? 0 : 1), P.rend());
+                pts.insert(pts.end(), P.rbegin() + skip, P.rend());
+            with_attr = with_attr && cur < attr->depth.size() && attr->depth[cur].size() == P.size() &&
+                        cur < attr->tone.size() && attr->tone[cur].size() == P.size();
+            if (with_attr) {
+                const auto& D = attr->depth[cur];
+                const auto& L = attr->tone[cur];
+                if (start_end == 0) {
+                    depth.insert(depth.end(), D.begin() + skip, D.end());
+                    tone.insert(tone.end(), L.begin() + skip, L.end());
+                } else {
+                    depth.insert(depth.end(), D.rbegin() + skip, D.rend());
+                    tone.insert(tone.end(), L.rbegin() + skip, L.rend());
+                }
+            }
             const long long q = partner[2 * cur + (1 - start_end)];
             if (q < 0) break;
             const std::size_t next = std::size_t(q) / 2;
@@ -173,6 +189,22 @@ std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o) {
             start_end = int(q % 2);
         }
         if (closed && !pts.empty()) pts.back() = pts.front();
+        if (with_attr) {
+            // Drop consecutive duplicates here, with their attributes, so the path keeps every point.
+            std::size_t k = 0;
+            for (std::size_t i = 0; i < pts.size(); ++i) {
+                if (k > 0 && pts[i] == pts[k - 1]) continue;
+                pts[k] = pts[i];
+                depth[k] = depth[i];
+                tone[k] = tone[i];
+                ++k;
+            }
+            pts.resize(k);
+            depth.resize(k);
+            tone.resize(k);
+            s.depth = std::move(depth);
+            s.tone = std::move(tone);
+        }
         s.path = ArcPolyline(std::move(pts));
         out.push_back(std::move(s));
     }

@@ -50,6 +50,15 @@ struct Stroke {
     bool closed = false;                 // the chain came back to its start (last point == first)
     std::vector<std::uint32_t> pieces;   // indices into Drawing::pieces, in stroke order
     ArcPolyline path;                    // pixels
+    // Per point of `path`, when the pieces came with them (PointAttributes): camera depth and
+    // Lambertian tone; empty otherwise.
+    std::vector<double> depth, tone;
+};
+
+// Per piece of a Drawing, per point: camera depth and tone (see style/attributes.hpp); a piece's
+// vectors are empty when unknown.
+struct PointAttributes {
+    std::vector<std::vector<double>> depth, tone;
 };
 
 struct ChainOptions {
@@ -60,6 +69,7 @@ struct ChainOptions {
 };
 
 // Pieces with fewer than two points or a non-finite point are skipped (as the writers do).
-std::vector<Stroke> chain_strokes(const Drawing& drawing, const ChainOptions& options = {});
+std::vector<Stroke> chain_strokes(const Drawing& drawing, const ChainOptions& options = {},
+                                  const PointAttributes* attributes = nullptr);
 
 }  // namespace inkline

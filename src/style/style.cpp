@@ -40,6 +40,14 @@ Style Style::clean() {
     return s;
 }
 
+bool Style::uses_attributes() const {
+    for (const auto& l : lines)
+        if (l.uses_attributes()) return true;
+    for (const auto& l : hidden)
+        if (l.uses_attributes()) return true;
+    return hatching.line.uses_attributes();
+}
+
 const LineStyle& Style::for_qi(LineKind kind, int qi) const {
     static const LineStyle omitted = [] {
         LineStyle l;
@@ -105,6 +113,25 @@ struct Parser {
         return p.string();
     }
 
+    // "camera" or a direction [x, y, z] towards the light.
+    void light(const json& v, const std::string& key, bool& at_camera, glm::dvec3& dir) const {
+        const char* expected = "expected \"camera\" or a direction [x, y, z] towards the light";
+        if (v.is_string() && v.get<std::string>() == "camera") {
+            at_camera = true;
+            return;
+        }
+        if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number()) {
+            const glm::dvec3 d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+            const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+            if (n > 0 && std::isfinite(n)) {
+                at_camera = false;
+                dir = d / n;
+                return;
+            }
+        }
+        fail(key, std::string(expected) + ", got " + v.dump());
+    }
+
     // Width / height of a PNG, from its IHDR chunk.
     double png_aspect(const std::string& png, const std::string& key) const {
         std::ifstream in(png, std::ios::binary);
@@ -119,7 +146,8 @@ struct Parser {
 
     LineStyle line(const json& j, const std::string& path, LineStyle l) const {
         check_keys(j, path,
-                   {"colour", "opacity", "width", "width_rule", "taper_length", "taper_min", "dash", "spacing",
+                   {"colour", "opacity", "width", "width_rule", "taper_length", "taper_min", "width_by_depth",
+                    "width_by_light", "dash", "spacing",
                     "offsets", "noise", "brush", "brush_aspect", "omit"});
         for (const auto& [k, v] : j.items()) {
             const std::string key = path + "." + k;
@@ -133,6 +161,14 @@ struct Parser {
                 else fail(key, "expected one of constant, taper, got \"" + r + "\"");
             } else if (k == "taper_length") l.taper_length = number(v, key, 0, 1e4);
             else if (k == "taper_min") l.taper_min = number(v, key, 0, 1);
+            else if (k == "width_by_depth" || k == "width_by_light") {
+                if (!v.is_array() || v.size() != 2)
+                    fail(key, std::string("expected [") + (k == "width_by_depth" ? "near, far" : "lit, dark") +
+                                  "] width factors, got " + v.dump());
+                const double a = number(v[0], key, 0, 100), b = number(v[1], key, 0, 100);
+                if (k == "width_by_depth") l.depth_near = a, l.depth_far = b;
+                else l.light_lit = a, l.light_dark = b;
+            }
             else if (k == "dash") {
                 if (!v.is_array() || v.size() != 2) fail(key, "expected [on, off] in px, got " + v.dump());
                 l.dash_on = number(v[0], key, 0, 1e4);
@@ -171,14 +207,15 @@ struct Parser {
         Style s = Style::clean();
         s.file = file;
         s.name = fs::path(file).stem().string();
-        check_keys(root, "", {"name", "description", "background", "base_width", "draw_hidden", "chain", "lines",
-                              "hidden", "hatching"});
+        check_keys(root, "", {"name", "description", "background", "base_width", "draw_hidden", "light", "chain",
+                              "lines", "hidden", "hatching"});
         for (const auto& [k, v] : root.items()) {
             if (k == "name") s.name = string(v, k);
             else if (k == "description") string(v, k);
             else if (k == "background") s.background = colour(v, k);
             else if (k == "base_width") s.base_width = number(v, k, 0, 1000);
             else if (k == "draw_hidden") s.draw_hidden = boolean(v, k);
+            else if (k == "light") light(v, k, s.light_at_camera, s.light);
             else if (k == "chain") {
                 check_keys(v, k, {"join", "max_turn_degrees", "join_distance"});
                 for (const auto& [k2, v2] : v.items()) {
@@ -209,21 +246,7 @@ struct Parser {
                     const std::string key = k + "." + k2;
                     if (k2 == "enabled") h.enabled = boolean(v2, key);
                     else if (k2 == "threshold") h.threshold = number(v2, key, 0, 1);
-                    else if (k2 == "light") {
-                        const char* expected = "expected \"camera\" or a direction [x, y, z] towards the light";
-                        if (v2.is_string() && v2.get<std::string>() == "camera") {
-                            h.light_at_camera = true;
-                        } else if (v2.is_array() && v2.size() == 3 && v2[0].is_number() && v2[1].is_number() &&
-                                   v2[2].is_number()) {
-                            const glm::dvec3 d(v2[0].get<double>(), v2[1].get<double>(), v2[2].get<double>());
-                            const double n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-                            if (!(n > 0) || !std::isfinite(n)) fail(key, std::string(expected) + ", got " + v2.dump());
-                            h.light_at_camera = false;
-                            h.light = d / n;
-                        } else {
-                            fail(key, std::string(expected) + ", got " + v2.dump());
-                        }
-                    }
+                    else if (k2 == "light") light(v2, key, h.light_at_camera, h.light);
                     else if (k2 == "length") h.length = number(v2, key, 1e-6, 10);
                     else if (k2 == "segments") h.segments = int(number(v2, key, 1, 64));
                     else if (k2 == "min_pixels") h.min_pixels = number(v2, key, 0, 1e4);

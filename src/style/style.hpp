@@ -32,6 +32,11 @@ struct LineStyle {
     WidthRule width_rule = WidthRule::Constant;
     double taper_length = 20.0;    // px at each end (Taper)
     double taper_min = 0.15;       // width at the very ends, as a share of the full width
+    // Width factors (need the view's mesh: see style/attributes.hpp): at the nearest and farthest
+    // point of the drawing, linear in depth between; at tone 1 (lit) and 0 (dark), linear between.
+    double depth_near = 1.0, depth_far = 1.0;
+    double light_lit = 1.0, light_dark = 1.0;
+    bool uses_attributes() const { return depth_near != 1.0 || depth_far != 1.0 || light_lit != 1.0 || light_dark != 1.0; }
     double dash_on = 0.0, dash_off = 0.0;  // px; 0: solid
     double spacing = 1.5;          // px: resampling of the spine for offsets, noise, outlines
     std::optional<OffsetTable> offsets;
@@ -43,7 +48,7 @@ struct LineStyle {
     bool omit = false;             // not drawn at all
     // Drawn as plain Cairo strokes, exactly like the default output (no spine processing).
     bool plain() const {
-        return !offsets && !noise.active() && brush.empty() && width_rule == WidthRule::Constant;
+        return !offsets && !noise.active() && brush.empty() && width_rule == WidthRule::Constant && !uses_attributes();
     }
 };
 
@@ -67,6 +72,8 @@ struct Style {
     std::uint32_t background = 0xffffff;
     double base_width = 0.0;                  // px; <= 0: max(1, 1.5 * height / 1024)
     bool draw_hidden = false;                 // hidden lines even without --hidden
+    bool light_at_camera = true;              // light for width_by_light (camera, or a direction:)
+    glm::dvec3 light{0.0, 1.0, 0.0};
     bool chain = true;                        // join pieces into strokes
     double max_turn_degrees = 30.0;
     double join_distance = 1e-3;              // px
@@ -77,6 +84,7 @@ struct Style {
 
     // The built-in default: today's look (black, hidden levels 1, 2, >= 3 grey, dashed).
     static Style clean();
+    bool uses_attributes() const;  // some line style's width depends on depth or lighting
     const LineStyle& for_qi(LineKind kind, int qi) const;
 };
 

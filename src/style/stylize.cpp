@@ -67,8 +67,11 @@ glm::dvec2 normal_at(const std::vector<glm::dvec2>& p, std::size_t i) {
 class Builder {
 public:
     Builder(const Style& s, int height) : style_(s), bw_(base_width(s, height)) {}
+    double depth_lo = 0.0, depth_hi = 0.0;  // depth range of the drawing (width_by_depth)
 
-    void add(const ArcPolyline& spine, const LineStyle& ls, StyledLayer& layer, StylizeStats& st) {
+    // depth, tone: per spine point, or null.
+    void add(const ArcPolyline& spine, const LineStyle& ls, StyledLayer& layer, StylizeStats& st,
+             const std::vector<double>* depth = nullptr, const std::vector<double>* tone = nullptr) {
         if (ls.omit || spine.size() < 2) return;
         ++st.strokes;
         const double w = ls.width * bw_;
@@ -95,17 +98,33 @@ public:
                     r.points[i] += noise_offset(noise_, r.points[i], spine.tangent(r.arc[i]), ls.noise.normal,
                                                 ls.noise.tangent, ls.noise.wavelength);
         const double L = spine.length();
-        const auto width_at = [&](double s) {
-            if (ls.width_rule != WidthRule::Taper || ls.taper_length <= 0) return w;
-            const double f = std::clamp(std::min(s, L - s) / ls.taper_length, 0.0, 1.0);
-            return w * (ls.taper_min + (1 - ls.taper_min) * std::sin(f * M_PI / 2));
+        // Attributes at arc length s: linear between the spine's points.
+        const auto sample = [&](const std::vector<double>& v, double s) {
+            const std::size_t i = spine.segment(s);
+            const double a = spine.arc()[i], b = spine.arc()[std::min(i + 1, spine.size() - 1)];
+            const double t = b > a ? std::clamp((s - a) / (b - a), 0.0, 1.0) : 0.0;
+            return v[i] + t * (v[std::min(i + 1, v.size() - 1)] - v[i]);
         };
+        const bool by_depth = depth && depth->size() == spine.size() && (ls.depth_near != 1 || ls.depth_far != 1);
+        const bool by_light = tone && tone->size() == spine.size() && (ls.light_lit != 1 || ls.light_dark != 1);
+        const auto width_at = [&](double s) {
+            double k = 1.0;
+            if (by_depth) {
+                const double f = depth_hi > depth_lo ? std::clamp((sample(*depth, s) - depth_lo) / (depth_hi - depth_lo), 0.0, 1.0) : 0.0;
+                k *= ls.depth_near + f * (ls.depth_far - ls.depth_near);
+            }
+            if (by_light) k *= ls.light_dark + sample(*tone, s) * (ls.light_lit - ls.light_dark);
+            if (ls.width_rule != WidthRule::Taper || ls.taper_length <= 0) return w * k;
+            const double f = std::clamp(std::min(s, L - s) / ls.taper_length, 0.0, 1.0);
+            return w * k * (ls.taper_min + (1 - ls.taper_min) * std::sin(f * M_PI / 2));
+        };
+        const bool varying = by_depth || by_light || ls.width_rule == WidthRule::Taper;
         for (OffsetRun& r : runs) {
             if (r.points.size() < 2) continue;
             st.points += r.points.size();
             if (!ls.brush.empty()) {
                 add_brush(mark(layer, Mark::Type::Brush, ls, w), r, width_at, ls);
-            } else if (ls.width_rule == WidthRule::Constant) {
+            } else if (!varying) {
                 mark(layer, Mark::Type::Stroke, ls, w).paths.push_back(std::move(r.points));
             } else {
                 std::vector<double> widths;
@@ -192,7 +211,8 @@ std::vector<glm::dvec2> width_outline(const std::vector<glm::dvec2>& p, const st
 }
 
 StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
-                      const std::vector<std::vector<glm::dvec2>>& hatches, StylizeStats* stats) {
+                      const std::vector<std::vector<glm::dvec2>>& hatches, StylizeStats* stats,
+                      const PointAttributes* attributes) {
     StylizeStats st;
     StyledDrawing out;
     out.width = d.camera.width();
@@ -204,10 +224,17 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
     co.join = style.chain;
     co.max_turn_degrees = style.max_turn_degrees;
     co.join_distance = style.join_distance;
-    const std::vector<Stroke> strokes = chain_strokes(d, co);
+    const std::vector<Stroke> strokes = chain_strokes(d, co, attributes);
     const double margin = std::max(out.width, out.height);
     const glm::dvec2 lo(-margin, -margin), hi(out.width + margin, out.height + margin);
     Builder builder(style, out.height);
+    bool first_depth = true;
+    for (const Stroke& s : strokes)
+        for (double z : s.depth) {
+            builder.depth_lo = first_depth ? z : std::min(builder.depth_lo, z);
+            builder.depth_hi = first_depth ? z : std::max(builder.depth_hi, z);
+            first_depth = false;
+        }
 
     // Layers as the default writers order them: deepest hidden level first, kinds in enum order,
     // then hatching, then visible lines.
@@ -220,7 +247,12 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
         for (const Stroke& s : strokes) {
             if (int(s.kind) != kind || std::min(s.qi, std::max(levels, 0)) != level || (s.qi > 0 && level == 0)) continue;
             const LineStyle& ls = style.for_qi(s.kind, s.qi);
-            for (auto& run : clip_runs(s.path.points(), lo, hi)) builder.add(ArcPolyline(std::move(run)), ls, layer, st);
+            auto runs = clip_runs(s.path.points(), lo, hi);
+            // Attributes follow the points only when clipping left the stroke whole.
+            const bool whole = runs.size() == 1 && runs[0].size() == s.path.size() && runs[0] == s.path.points();
+            for (auto& run : runs)
+                builder.add(ArcPolyline(std::move(run)), ls, layer, st, whole && !s.depth.empty() ? &s.depth : nullptr,
+                            whole && !s.tone.empty() ? &s.tone : nullptr);
         }
         if (!layer.marks.empty()) out.layers.push_back(std::move(layer));
     };

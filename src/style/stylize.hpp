@@ -10,6 +10,7 @@
 #include <glm/vec2.hpp>
 
 #include "core/drawing.hpp"
+#include "style/strokes.hpp"
 #include "style/style.hpp"
 
 namespace inkline {
@@ -51,8 +52,11 @@ struct StylizeStats {
 
 // `hidden`: --hidden was given (hidden lines are drawn when it is or when the style says so).
 // `hatches`: screen polylines of shading strokes (style/hatching.hpp), drawn below visible lines.
+// `attributes`: depth and tone per piece point (style/attributes.hpp), for widths by depth or
+// lighting; without them those factors are 1.
 StyledDrawing stylize(const Drawing& drawing, const Style& style, bool hidden,
-                      const std::vector<std::vector<glm::dvec2>>& hatches = {}, StylizeStats* stats = nullptr);
+                      const std::vector<std::vector<glm::dvec2>>& hatches = {}, StylizeStats* stats = nullptr,
+                      const PointAttributes* attributes = nullptr);
 
 // The outline of a stroke of variable width: left side forward, right side back, closed (the
 // first point repeated at the end). widths[i] is the full width at points[i].
