@@ -1,5 +1,6 @@
 // Stylization time of one frame per preset (strokes, offsets, noise, outlines, brush quads, and
-// for `hatched` the shading strokes with their ray tests) against the visibility time of the same
+// for `hatched` the shading strokes with their ray tests; depth and tone per line point for the
+// presets whose widths use them) against the visibility time of the same
 // frame, on the sample meshes with the default camera (1024 x 1024; visible lines, and hidden ones
 // for the presets that draw them). Both in process CPU time (all threads), so a loaded machine
 // does not skew the ratio: style_ms per iteration, vis_ms the least of 5 runs of the visibility
@@ -11,10 +12,12 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "output/styled.hpp"
 #include "pipeline.hpp"
+#include "style/attributes.hpp"
 #include "style/hatching.hpp"
 #include "style/style.hpp"
 #include "style/stylize.hpp"
@@ -74,7 +77,11 @@ inkline::StyledDrawing stylize(const Frame& f, const inkline::Style& style, std:
         for (auto& s : inkline::hatch_strokes(f.model->topology(), f.camera, f.model->rays(), style.hatching))
             h.push_back(std::move(s.points));
     *hatches = h.size();
-    return inkline::stylize(f.view.drawing, style, false, h);
+    std::optional<inkline::PointAttributes> attr;
+    if (style.uses_attributes())
+        attr = inkline::point_attributes(f.model->topology(), f.camera, f.view.drawing, f.view.spans,
+                                         style.light_at_camera, style.light);
+    return inkline::stylize(f.view.drawing, style, false, h, nullptr, attr ? &*attr : nullptr);
 }
 
 void BM_Stylize(benchmark::State& state, const char* mesh, const char* style_name) {
