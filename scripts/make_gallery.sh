@@ -11,3 +11,16 @@ for mesh in fandisk bunny00 armadillo elephant ChineseDragon-10kv knot1; do
     build/src/inkline render "data/meshes/$mesh.off" -o "$out/$mesh-$style.$fmt" --size=512x512 --style="$style" --quiet
   done
 done
+
+# Each shipped offset table alone on the bunny (a style file per table, in a temporary directory
+# next to the styles so that table names resolve).
+tmp=$(mktemp -d styles/.gallery-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$tmp/offsets"
+cp styles/offsets/*.txt "$tmp/offsets/"
+for table in sawtooth lazy jittery jerky dashes circles; do
+  printf '{"lines": {"default": {"colour": "#000000", "width": 1.0, "spacing": 1.0, "offsets": {"table": "%s"}}}}\n' \
+    "$table" > "$tmp/table-$table.json"
+  build/src/inkline render data/meshes/bunny00.off -o "$out/offsets-$table.$fmt" --size=512x512 \
+    --style="$tmp/table-$table.json" --quiet
+done
