@@ -247,6 +247,9 @@ TEST(StyleFile, ErrorsNameFileKeyAndExpectedValues) {
     EXPECT_NE(e.find("key 'lines.default.offsets.table': no such file '/tmp/s/offsets/no-such-table.txt'"),
               std::string::npos) << e;
 
+    e = error_of(R"({"lines": {"default": {"offsets": {"table": "x", "period": 1e-9}}}})");
+    EXPECT_NE(e.find("key 'lines.default.offsets"), std::string::npos) << e;
+
     e = error_of(R"({"hatching": {"segments": "four"}})");
     EXPECT_NE(e.find("key 'hatching.segments': expected a number in [1, 64]"), std::string::npos) << e;
 
@@ -298,11 +301,12 @@ TEST(OffsetTable, ParsesVerticesPeriodAndBreaks) {
 }
 
 TEST(OffsetTable, MalformedFilesNameFileAndLine) {
-    EXPECT_EQ(table_error("0 0 0\n1 0 0\n"), "t.txt: no 'period' line (expected 'period P', P > 0 px)");
+    EXPECT_EQ(table_error("0 0 0\n1 0 0\n"), "t.txt: no 'period' line (expected 'period P', P >= 0.1 px)");
     EXPECT_EQ(table_error("period 5\n0 0 0\n"), "t.txt: an offset table needs at least two vertices 't vx vy'");
     EXPECT_EQ(table_error("period 5\n0 0 0\n0.5 1 1\n0.4 0 0\n"), "t.txt:4: t must not decrease (0.4 after 0.500000)");
     EXPECT_EQ(table_error("period 5\n0 0 0\n1.5 0 0\n"), "t.txt:3: t must be in [0, 1], got 1.5");
-    EXPECT_EQ(table_error("period -2\n"), "t.txt:1: 'period' expects one positive number of px");
+    EXPECT_EQ(table_error("period -2\n"), "t.txt:1: 'period' expects one number of px, at least 0.1");
+    EXPECT_EQ(table_error("period 1e-9\n"), "t.txt:1: 'period' expects one number of px, at least 0.1");
     EXPECT_EQ(table_error("period 2\nperiod 3\n"), "t.txt:2: 'period' given twice");
     EXPECT_EQ(table_error("period 2\n0 0\n"), "t.txt:2: expected 't vx vy' (three numbers), 'period P' or 'break', got '0 0'");
     EXPECT_EQ(table_error("period 2\n0 x 0\n"), "t.txt:2: expected 't vx vy' (three numbers), 'period P' or 'break', got '0 x 0'");
@@ -731,4 +735,18 @@ TEST(PointAttributes, FromAViewDepthAndToneAtEveryPoint) {
     EXPECT_NE(inkline::parse_style(R"({"lines": {"default": {"width_by_light": [0.5, 2]}}})", "/tmp/x.json").lines[0].light_dark, 1.0);
     const std::string e = error_of(R"({"lines": {"default": {"width_by_depth": 2}}})");
     EXPECT_NE(e.find("key 'lines.default.width_by_depth': expected [near, far] width factors"), std::string::npos) << e;
+}
+
+TEST(Brush, ZeroWidthEndsDrawNothingAndTerminate) {
+    inkline::Style style = inkline::load_style("ink-brush");
+    for (auto& l : style.lines) l.taper_min = 0.0, l.noise = {};
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}}}), style, false);
+    ASSERT_EQ(sd.layers.size(), 1u);
+    for (const auto& q : sd.layers[0].marks.at(0).quads) EXPECT_GT(q.u1, q.u0);
+    style.lines[0].width = 0.0;
+    const auto none = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}}}), style, false);
+    std::size_t quads = 0;
+    for (const auto& l : none.layers)
+        for (const auto& m : l.marks) quads += m.quads.size();
+    EXPECT_EQ(quads, 0u);
 }

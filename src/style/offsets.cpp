@@ -39,8 +39,8 @@ OffsetTable parse_offset_table(const std::string& text, const std::string& file)
         if (w.empty()) continue;
         if (w[0] == "period") {
             double p = 0;
-            if (w.size() != 2 || !parse_double(w[1], p) || !(p > 0))
-                throw fail("'period' expects one positive number of px");
+            if (w.size() != 2 || !parse_double(w[1], p) || !(p >= 0.1))
+                throw fail("'period' expects one number of px, at least 0.1");
             if (t.period > 0) throw fail("'period' given twice");
             t.period = p;
         } else if (w[0] == "break") {
@@ -59,7 +59,7 @@ OffsetTable parse_offset_table(const std::string& text, const std::string& file)
         }
         trailing_break = pending_break;
     }
-    if (!(t.period > 0)) throw Error(file, "no 'period' line (expected 'period P', P > 0 px)");
+    if (!(t.period > 0)) throw Error(file, "no 'period' line (expected 'period P', P >= 0.1 px)");
     if (t.vertices.size() < 2) throw Error(file, "an offset table needs at least two vertices 't vx vy'");
     // A break after the last vertex leaves repetitions unconnected, as one before the first does.
     if (trailing_break) t.vertices.front().break_before = true;

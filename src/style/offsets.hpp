@@ -3,7 +3,7 @@
 // with "break" tags that leave adjacent vertices unconnected (dashes, circles, letters).
 // Text format (styles/README.md):
 //     # comment                      anything after '#' is ignored
-//     period 12                      px of stroke per repetition (required, > 0)
+//     period 12                      px of stroke per repetition (required, >= 0.1)
 //     t vx vy                        one vertex: t in [0, 1], non-decreasing; vx, vy in px
 //     break                          no line from the previous vertex to the next one
 #pragma once

@@ -182,7 +182,11 @@ struct Parser {
                     const std::string key2 = key + "." + k2;
                     if (k2 == "table") l.offsets = load_offset_table(resolve(string(v2, key2), "offsets", ".txt", key2));
                     else if (k2 == "scale") l.offset_scale = number(v2, key2, -100, 100);
-                    else l.offset_period = number(v2, key2, 0, 1e4);
+                    else {
+                        l.offset_period = number(v2, key2, 0, 1e4);
+                        if (l.offset_period > 0 && l.offset_period < 0.1)
+                            fail(key2, "expected 0 (the table's period) or at least 0.1 px, got " + v2.dump());
+                    }
                 }
             } else if (k == "noise") {
                 check_keys(v, key, {"normal", "tangent", "wavelength"});
@@ -251,7 +255,7 @@ struct Parser {
                     else if (k2 == "segments") h.segments = int(number(v2, key, 1, 64));
                     else if (k2 == "min_pixels") h.min_pixels = number(v2, key, 0, 1e4);
                     else if (k2 == "by_area") h.by_area = boolean(v2, key);
-                    else if (k2 == "spacing") h.spacing = number(v2, key, 1e-5, 10);
+                    else if (k2 == "spacing") h.spacing = number(v2, key, 0.002, 10);  // bounds the particle count
                     else if (k2 == "seed") h.seed = std::uint32_t(number(v2, key, 0, 4294967295.0));
                     else h.line = line(v2, key + ".line", h.line);
                 }

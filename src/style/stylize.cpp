@@ -167,8 +167,8 @@ private:
                 const glm::dvec2 a = r.points[i - 1], b = r.points[i];
                 const double len = glm::distance(a, b);
                 const double seg_len = aspect * w;
-                // Seams inside this segment.
-                for (double k = std::floor(s / seg_len) + 1; k * seg_len < s + len; k += 1) {
+                // Seams inside this segment (none where the stroke has no width).
+                for (double k = std::floor(s / seg_len) + 1; seg_len > 1e-3 && k * seg_len < s + len; k += 1) {
                     const double f = (k * seg_len - s) / len;
                     const glm::dvec2 d = glm::normalize(b - a);
                     bars.push_back({a + f * (b - a), {-d.y, d.x}, k * seg_len, w});
@@ -181,6 +181,7 @@ private:
             const Bar &a = bars[i - 1], &b = bars[i];
             if (b.s - a.s <= 1e-9) continue;
             const double seg_len = aspect * 0.5 * (a.w + b.w);
+            if (!(seg_len > 1e-3)) continue;  // no width: nothing to draw
             BrushQuad q;
             q.corner[0] = a.p + 0.5 * a.w * a.n;
             q.corner[1] = a.p - 0.5 * a.w * a.n;
