@@ -6,14 +6,20 @@
 #include <cstdlib>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "app/freeform_cli.hpp"
 #include "core/error.hpp"
+#include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
+#include "style/attributes.hpp"
+#include "style/hatching.hpp"
+#include "style/style.hpp"
+#include "style/stylize.hpp"
 
 namespace inkline {
 
@@ -46,6 +52,7 @@ const char* kUsage =
     "                      [--lines=silhouette,crease,border] [--visibility=appel|rays]\n"
     "                      [--no-walk] [--subdivide=N] [--quiet]\n"
     "                      [--finder=exhaustive|randomized] [--fraction=F] [--seed=S] [--recall]\n"
+    "                      [--style=NAME|FILE.json]\n"
     "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
@@ -53,7 +60,9 @@ const char* kUsage =
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
     "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
-    "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n";
+    "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n"
+    "--style: a preset in the styles directory ($INKLINE_STYLES, else the source tree's styles/: clean,\n"
+    "technical, sketchy, charcoal, ink-brush, hatched) or a style file; see styles/README.md.\n";
 
 
 glm::dvec3 parse_vec3(const std::string& flag, const std::string& s) {
@@ -75,6 +84,7 @@ struct RenderArgs {
     FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
+    std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
 };
 
 RenderArgs parse_render(int argc, char** argv) {
@@ -94,6 +104,7 @@ RenderArgs parse_render(int argc, char** argv) {
         std::string key, value;
         if (!split_option(arg, a.model, key, value)) continue;
         if (key == "--output") a.output = value;
+        else if (key == "--style") a.style = value;
         else if (key == "--format") a.format = value;
         else if (key == "--eye" || key == "--target" || key == "--up" || key == "--fov" || key == "--size" ||
                  key == "--ortho" || key == "--near")
@@ -190,6 +201,11 @@ int render(int argc, char** argv) {
     RenderArgs a = parse_render(argc, argv);
     const std::string out = a.output.empty() ? default_output(a.model) : a.output;
     const Format format = output_format(out, a.format);  // refuse a bad format before any work
+    std::optional<Style> style;  // read before any work: a bad style file fails fast
+    if (!a.style.empty()) {
+        if (format == Format::Json) throw Error("--style", "a style draws svg, pdf or png; JSON keeps the exact pieces");
+        style = load_style(a.style);
+    }
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
     else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model");
@@ -201,6 +217,7 @@ int render(int argc, char** argv) {
     opt.visibility = a.visibility;
     opt.walk = a.walk;
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
+    if (style && style->draw_hidden) opt.exact_hidden = true;
     opt.finder = a.finder;
     View view = render_view(model, cam, opt);
     if (a.recall) {
@@ -216,7 +233,29 @@ int render(int argc, char** argv) {
     view.drawing.stats.seconds_output = 0.0;
     view.drawing.stats.seconds_total =
         std::chrono::duration<double>(t_out - t0).count();  // load + features + visibility
-    write_drawing(view.drawing, out, format, oo);
+    StylizeStats style_stats;
+    HatchStats hatch_stats;
+    double t_style = 0.0;
+    if (style) {
+        const auto t_s = std::chrono::steady_clock::now();
+        std::vector<std::vector<glm::dvec2>> hatches;
+        if (style->hatching.enabled) {
+            Camera hc = cam;
+            if (hc.near_distance() <= 0.0) hc.set_near(default_near(model.topology()));
+            for (auto& h : hatch_strokes(model.topology(), hc, model.rays(), style->hatching, true, &hatch_stats))
+                hatches.push_back(std::move(h.points));
+        }
+        std::optional<PointAttributes> attributes;
+        if (style->uses_attributes())
+            attributes = point_attributes(model.topology(), cam, view.drawing, view.spans, style->light_at_camera,
+                                          style->light);
+        const StyledDrawing sd =
+            stylize(view.drawing, *style, a.hidden, hatches, &style_stats, attributes ? &*attributes : nullptr);
+        t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
+        write_styled(sd, out, format);
+    } else {
+        write_drawing(view.drawing, out, format, oo);
+    }
     const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
     if (!a.quiet) {
         const auto& s = view.drawing.stats;
@@ -229,6 +268,10 @@ int render(int argc, char** argv) {
         std::printf("\n");
         std::printf("seconds: load %.4f, features %.4f, visibility %.4f, output %.4f\n", s.seconds_load,
                     s.seconds_features, s.seconds_visibility, t_write);
+        if (style)
+            std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
+                        style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
+                        hatch_stats.ray_tests, t_style);
         std::printf("camera: --eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d\n", fmt3(cam.eye()).c_str(),
                     fmt3(cam.target()).c_str(), fmt3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
                     cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());

@@ -1,0 +1,20 @@
+// Output of stylized drawings (style/stylize.hpp): PDF and PNG drawn by Cairo; SVG written by hand
+// with one Inkscape layer per StyledLayer (as the default writer: "<kind>-visible",
+// "<kind>-hidden-qi1", ..., "hatching") and brush strokes as the brush image (embedded once)
+// mapped onto each quad through a clipping viewport. Written atomically.
+#pragma once
+
+#include <string>
+
+#include "output/writers.hpp"
+#include "style/stylize.hpp"
+
+namespace inkline {
+
+// SVG, PDF or PNG as bytes. Throws inkline::Error for JSON (stylized output has no JSON form;
+// JSON keeps the exact pieces) and when a brush image cannot be read.
+std::string styled_to_bytes(const StyledDrawing& drawing, Format format);
+// Throws inkline::Error(path, reason) on failure; the target is then left untouched.
+void write_styled(const StyledDrawing& drawing, const std::string& path, Format format);
+
+}  // namespace inkline
