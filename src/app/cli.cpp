@@ -52,6 +52,8 @@ const char* kUsage =
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
     "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
+    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
+    "                      [--no-coherence] [--no-panel] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png] [--fps]]\n"
     "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n";
 
 
@@ -230,6 +232,12 @@ int render(int argc, char** argv) {
 
 }  // namespace
 
+Camera camera_from_flags(const std::map<std::string, std::string>& flags, const MeshTopology& mesh) {
+    RenderArgs a;
+    a.camera = flags;
+    return make_camera(a, mesh);
+}
+
 int run_cli(int argc, char** argv) {
     try {
         if (argc < 2) throw Usage("no command given");
@@ -240,6 +248,7 @@ int run_cli(int argc, char** argv) {
         }
         if (cmd == "render") return render(argc, argv);
         if (cmd == "bench") return run_bench(argc, argv);
+        if (cmd == "view") return run_view(argc, argv);
         throw Usage("unknown command '" + cmd + "'");
     } catch (const Usage& e) {
         std::fprintf(stderr, "inkline: %s\n%s", e.what(), kUsage);
