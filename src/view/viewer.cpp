@@ -324,13 +324,14 @@ public:
 
             const auto td = Clock::now();
             draw_scene(cam);
-            if (opt_.frames > 0 && frame + 1 == opt_.frames && !opt_.screenshot.empty())
-                save_screenshot(opt_.screenshot, w, h);
+            const bool shot = opt_.frames > 0 && frame + 1 == opt_.frames && !opt_.screenshot.empty();
+            if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, w, h);
             if (panel_) {
                 draw_panel(view, cam);
                 ImGui::Render();
                 ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
             }
+            if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, w, h);
             glfwSwapBuffers(win_);
             st.draw = since(td);
             st.frame = since(t0);
@@ -584,7 +585,8 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
         if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", recall_);
     }
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::TextUnformatted("left drag orbit, right/middle drag pan, wheel zoom");
+        ImGui::TextUnformatted("left drag: orbit; right/middle drag: pan");
+        ImGui::TextUnformatted("wheel: zoom; H hides this panel");
         ImGui::TextUnformatted("R reset, 1/2/3 front/side/top, O ortho/persp");
         ImGui::Text("%s", rig_.ortho() ? "orthographic" : "perspective");
         ImGui::InputText("file name", export_name_, sizeof export_name_);

@@ -23,6 +23,7 @@ struct ViewerOptions {
     bool orbit = false;       // turn the camera along an orbit, `arc` degrees over the frames
     double arc = 90.0;
     std::string screenshot;   // PNG of the last frame's drawing (without the panel)
+    bool screenshot_ui = false;  // the screenshot includes the panel
     bool fps = false;         // print the measured frames per second and where the time goes
 };
 
