@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
 #include "core/camera.hpp"
 #include "view/camera_rig.hpp"
@@ -267,6 +268,45 @@ TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
                 recall, precision);
     EXPECT_GE(recall, 0.9);
     EXPECT_GE(precision, 0.9);
+}
+
+TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    const fs::path exported = d / "view.json", rendered = d / "render.json";
+    const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=4 --orbit --arc=30 --size=500x400 "
+                                    "--hidden --crease=30 --export=" + exported.string(), d);
+    ASSERT_EQ(v.code, 0) << v.err;
+    const std::string said = "; the same with: inkline ";
+    const auto at = v.out.find(said);
+    ASSERT_NE(at, std::string::npos) << v.out;
+    std::string command = v.out.substr(at + said.size(), v.out.find('\n', at) - at - said.size());
+    const std::string target = " -o " + exported.string();
+    ASSERT_GE(command.size(), target.size());
+    ASSERT_EQ(command.substr(command.size() - target.size()), target) << command;
+    command = command.substr(0, command.size() - target.size()) + " -o " + rendered.string() + " --quiet";
+    EXPECT_NE(command.find("--hidden"), std::string::npos) << command;
+    EXPECT_NE(command.find("--crease=30"), std::string::npos) << command;
+    const Result r = run("", command, d);
+    ASSERT_EQ(r.code, 0) << command << "\n" << r.err;
+    const auto a = nlohmann::json::parse(slurp(exported)), b = nlohmann::json::parse(slurp(rendered));
+    EXPECT_EQ(a["width"], 500);
+    EXPECT_EQ(a["height"], 400);
+    EXPECT_EQ(a["camera"], b["camera"]);
+    ASSERT_EQ(a["polylines"].size(), b["polylines"].size());
+    ASSERT_GT(a["polylines"].size(), 50u);
+    std::size_t hidden = 0;
+    for (std::size_t i = 0; i < a["polylines"].size(); ++i) {
+        const auto &p = a["polylines"][i], &q = b["polylines"][i];
+        ASSERT_EQ(p["kind"], q["kind"]) << i;
+        ASSERT_EQ(p["qi"], q["qi"]) << i;
+        ASSERT_EQ(p["points"].size(), q["points"].size()) << i;
+        for (std::size_t k = 0; k < p["points"].size(); ++k)
+            for (int c = 0; c < 2; ++c)
+                ASSERT_NEAR(p["points"][k][c].get<double>(), q["points"][k][c].get<double>(), 1e-9) << i;
+        hidden += p["qi"].get<int>() > 0;
+    }
+    EXPECT_GT(hidden, 0u);  // hidden pieces exported with --hidden
 }
 
 TEST(ViewWindow, NoDisplayIsAOneLineErrorNotACrash) {

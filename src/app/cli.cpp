@@ -53,7 +53,8 @@ const char* kUsage =
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
     "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
     "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
-    "                      [--no-coherence] [--no-panel] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]] [--fps]]\n"
+    "                      [--no-coherence] [--no-panel] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
+    "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
     "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n";
 
 

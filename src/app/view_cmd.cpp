@@ -7,6 +7,7 @@
 
 #include "app/cli.hpp"
 #include "core/error.hpp"
+#include "output/writers.hpp"
 #include "pipeline.hpp"
 #include "view/viewer.hpp"
 
@@ -47,6 +48,10 @@ int run_view(int argc, char** argv) {
         } else if (key == "--screenshot") {
             if (value.empty()) throw Error(key, "expected a file name");
             o.screenshot = value;
+        } else if (key == "--export") {
+            if (value.empty()) throw Error(key, "expected a file name");
+            output_format(value, "");  // refuse an unknown format before any work
+            o.export_path = value;
         } else if (key == "--crease") {
             crease = parse_number(key, value);
             if (crease < 0.0 || crease > 180.0) throw Error(key, "expected an angle in [0, 180] degrees");
@@ -77,8 +82,8 @@ int run_view(int argc, char** argv) {
             throw Usage("unknown option '" + key + "'");
     }
     if (model_path.empty()) throw Usage("no model given");
-    if (!frames_given && (o.orbit || !o.screenshot.empty() || o.fps))
-        throw Usage("--orbit, --screenshot and --fps drive the window for --frames=N frames");
+    if (!frames_given && (o.orbit || !o.screenshot.empty() || o.fps || !o.export_path.empty()))
+        throw Usage("--orbit, --screenshot, --export and --fps drive the window for --frames=N frames");
     if (!camera.count("--size")) camera["--size"] = "1024x768";
     o.model_path = model_path;
     Model model = Model::load(model_path, crease, o.subdivide);

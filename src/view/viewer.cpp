@@ -332,6 +332,8 @@ public:
                 ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
             }
             if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, w, h);
+            if (opt_.frames > 0 && frame + 1 == opt_.frames && !opt_.export_path.empty())
+                export_view(view, cam, opt_.export_path);
             glfwSwapBuffers(win_);
             st.draw = since(td);
             st.frame = since(t0);
@@ -488,8 +490,9 @@ private:
     }
 
     void draw_panel(View& view, const Camera& cam);
-    void export_view(const View& view, const Camera& cam, const char* label, Format format);
-    std::string render_command(const Camera& cam) const;
+    // Writes the current drawing (format from the extension) and prints the `render` line for it.
+    void export_view(const View& view, const Camera& cam, const std::string& path);
+    std::string render_command(const Camera& cam, const std::string& output) const;
 
     Model& model_;
     ViewerOptions opt_;
@@ -510,7 +513,7 @@ private:
     bool dirty_ = false, crease_dirty_ = false;  // options changed: a new session next frame
 };
 
-std::string Viewer::render_command(const Camera& cam) const {
+std::string Viewer::render_command(const Camera& cam, const std::string& output) const {
     std::string c = "inkline render " + opt_.model_path;
     if (opt_.subdivide > 0) c += " --subdivide=" + std::to_string(opt_.subdivide);
     char buf[64];
@@ -529,7 +532,7 @@ std::string Viewer::render_command(const Camera& cam) const {
         c += buf;
     }
     if (hidden_) c += " --hidden";
-    return c + " " + camera_flags(cam) + " -o " + export_name_ + ".svg";
+    return c + " " + camera_flags(cam) + " -o " + output;
 }
 
 void Viewer::draw_panel(View& view, const Camera& cam) {
@@ -590,15 +593,17 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
         ImGui::TextUnformatted("R reset, 1/2/3 front/side/top, O ortho/persp");
         ImGui::Text("%s", rig_.ortho() ? "orthographic" : "perspective");
         ImGui::InputText("file name", export_name_, sizeof export_name_);
-        constexpr std::pair<const char*, Format> kButtons[] = {
-            {"SVG", Format::Svg}, {"PDF", Format::Pdf}, {"PNG", Format::Png}, {"JSON", Format::Json}};
-        for (const auto& [label, format] : kButtons) {
-            if (label != kButtons[0].first) ImGui::SameLine();
-            if (ImGui::Button(label)) export_view(view, cam, label, format);
+        for (const char* label : {"SVG", "PDF", "PNG", "JSON"}) {
+            if (label[0] != 'S') ImGui::SameLine();
+            if (ImGui::Button(label)) {
+                std::string ext = label;
+                for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+                export_view(view, cam, std::string(export_name_) + "." + ext);
+            }
         }
         ImGui::SameLine();
         if (ImGui::Button("render command")) {
-            command_ = render_command(cam);
+            command_ = render_command(cam, std::string(export_name_) + ".svg");
             std::printf("%s\n", command_.c_str());
             std::fflush(stdout);
         }
@@ -608,19 +613,17 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
     ImGui::End();
 }
 
-void Viewer::export_view(const View& view, const Camera& cam, const char* label, Format format) {
-    std::string ext = label;
-    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    const std::string path = std::string(export_name_) + "." + ext;
+void Viewer::export_view(const View& view, const Camera& cam, const std::string& path) {
     OutputOptions oo;
     oo.hidden = hidden_;
     try {
-        write_drawing(view.drawing, path, format, oo);
+        write_drawing(view.drawing, path, output_format(path, ""), oo);
         status_ = "wrote " + path;
-        command_ = render_command(cam);
+        command_ = render_command(cam, path);
         std::printf("wrote %s; the same with: %s\n", path.c_str(), command_.c_str());
         std::fflush(stdout);
     } catch (const Error& e) {
+        if (opt_.frames > 0) throw;  // headless: the error is the result
         status_ = e.what();
         std::fprintf(stderr, "inkline: %s\n", e.what());
     }
