@@ -120,6 +120,30 @@ TEST(LineMesh, QuadsPerSegmentHiddenOnlyWhenAsked) {
     EXPECT_EQ(v.back().style, 0.0f);
 }
 
+TEST(LineMesh, SimplificationDropsOnlyPointsOnTheLine) {
+    Drawing d;
+    d.camera = Camera::framing(unit_box(), 1024, 1024);
+    Piece straight, zigzag;
+    for (int i = 0; i <= 100; ++i) {
+        straight.points.push_back({10.0 + i, 20.0 + 0.5 * i + (i % 2 ? 0.1 : -0.1)});  // within 0.25 px of a line
+        zigzag.points.push_back({10.0 + 2 * i, 200.0 + (i % 2 ? 1.0 : -1.0)});
+    }
+    std::vector<LineVertex> v;
+    LineMeshOptions o;
+    o.simplify_px = 0.25;
+    d.pieces = {straight};
+    build_line_mesh(d, o, v);
+    EXPECT_LE(v.size(), 6u * 2);  // at most 64 points dropped in a row: two segments
+    EXPECT_GE(v.size(), 6u);
+    d.pieces = {zigzag};
+    build_line_mesh(d, o, v);
+    EXPECT_EQ(v.size(), 6u * 100);  // every corner is 2 px off its neighbours' line: all kept
+    o.simplify_px = 0.0;
+    d.pieces = {straight};
+    build_line_mesh(d, o, v);
+    EXPECT_EQ(v.size(), 6u * 100);
+}
+
 // ---- The window under Xvfb --------------------------------------------------------------------
 
 struct Result {

@@ -30,6 +30,7 @@ struct LineMeshOptions {
     bool hidden = false;               // hidden pieces too
     bool kinds[kLineKindCount] = {true, true, true};
     double width = 0.0;                // visible stroke width in px; <= 0: max(1, 1.5 * height / 1024)
+    double simplify_px = 0.0;          // > 0: drop points within this many pixels of the line kept
 };
 
 // Replaces `out` with the quads of every drawn piece (6 vertices per segment); hidden styles come

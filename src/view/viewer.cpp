@@ -319,6 +319,7 @@ public:
             const auto tl = Clock::now();
             LineMeshOptions lo;
             lo.hidden = hidden_;
+            lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
             build_line_mesh(view.drawing, lo, lines_);
             st.lines = since(tl);
 
