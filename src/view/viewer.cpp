@@ -276,7 +276,9 @@ public:
         for (int frame = 0; !glfwWindowShouldClose(win_); ++frame) {
             if (opt_.frames > 0 && frame >= opt_.frames) break;
             const auto t0 = Clock::now();
-            glfwPollEvents();
+            // Idle for a few frames (the panel settles after an event): sleep until input.
+            if (opt_.frames == 0 && unchanged_ > 3) glfwWaitEventsTimeout(0.5);
+            else glfwPollEvents();
             if (crease_dirty_) {
                 model_.topology().set_crease_angle(crease_);
                 crease_dirty_ = false;
@@ -303,25 +305,33 @@ public:
             const Camera cam = rig_.camera(w, h);
             last = cam;
             StageTimes st;
-            View& view = session_->render(cam);
-            st.features = session_->seconds_features();
-            st.search = view.features.stats.seconds_search;
-            st.chain = view.features.stats.seconds_chain;
-            st.visibility = view.drawing.stats.seconds_visibility;
-            last_silhouettes_ = view.drawing.stats.silhouette_edges;
-            if (recall_on_) {
-                const auto tr = Clock::now();
-                const Features ref = extract_features(model_.topology(), cam, vopt_.features);
-                const double all = edges_length(model_.topology(), ref.silhouette_edges);
-                recall_ = all > 0.0 ? edges_length(model_.topology(), view.features.silhouette_edges) / all : 1.0;
-                st.recall = since(tr);
+            // Interactive and nothing changed: the last view and its quads are still right.
+            const bool again = opt_.frames == 0 && view_ && same_camera(cam, drawn_);
+            unchanged_ = again ? unchanged_ + 1 : 0;
+            if (!again) {
+                View& view = session_->render(cam);
+                view_ = &view;
+                drawn_ = cam;
+                st.features = session_->seconds_features();
+                st.search = view.features.stats.seconds_search;
+                st.chain = view.features.stats.seconds_chain;
+                st.visibility = view.drawing.stats.seconds_visibility;
+                last_silhouettes_ = view.drawing.stats.silhouette_edges;
+                if (recall_on_) {
+                    const auto tr = Clock::now();
+                    const Features ref = extract_features(model_.topology(), cam, vopt_.features);
+                    const double all = edges_length(model_.topology(), ref.silhouette_edges);
+                    recall_ = all > 0.0 ? edges_length(model_.topology(), view.features.silhouette_edges) / all : 1.0;
+                    st.recall = since(tr);
+                }
+                const auto tl = Clock::now();
+                LineMeshOptions lo;
+                lo.hidden = hidden_;
+                lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
+                build_line_mesh(view.drawing, lo, lines_);
+                st.lines = since(tl);
             }
-            const auto tl = Clock::now();
-            LineMeshOptions lo;
-            lo.hidden = hidden_;
-            lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
-            build_line_mesh(view.drawing, lo, lines_);
-            st.lines = since(tl);
+            View& view = *view_;
 
             const auto td = Clock::now();
             draw_scene(cam);
@@ -338,8 +348,10 @@ public:
             glfwSwapBuffers(win_);
             st.draw = since(td);
             st.frame = since(t0);
-            shown_.add(shown_, -0.1);  // what the panel shows: a moving average
-            shown_.add(st, 0.1);
+            if (!again) {
+                shown_.add(shown_, -0.1);  // what the panel shows: a moving average
+                shown_.add(st, 0.1);
+            }
             if (frame == 0) {
                 shown_ = st;
                 t_measure = Clock::now();  // the first frame builds the lazy indexes: not measured
@@ -368,6 +380,13 @@ private:
         vopt_.exact_hidden = hidden_;
         vopt_.finder.fraction = fraction_;
         session_ = std::make_unique<ViewSession>(model_, vopt_);
+        view_ = nullptr;  // it belonged to the old session
+    }
+
+    static bool same_camera(const Camera& a, const Camera& b) {
+        return a.eye() == b.eye() && a.target() == b.target() && a.up() == b.up() && a.fov_deg() == b.fov_deg() &&
+               a.is_ortho() == b.is_ortho() && a.ortho_height() == b.ortho_height() && a.width() == b.width() &&
+               a.height() == b.height();
     }
 
     void key(int k) {
@@ -502,6 +521,9 @@ private:
     ViewOptions vopt_;
     std::unique_ptr<ViewSession> session_;
     std::vector<LineVertex> lines_;
+    View* view_ = nullptr;  // the session's last view (lines_ are its quads), drawn at drawn_
+    Camera drawn_;
+    int unchanged_ = 0;     // frames in a row without a new view
     GLuint line_prog_ = 0, mesh_prog_ = 0, line_vao_ = 0, line_vbo_ = 0, mesh_vao_ = 0, mesh_bufs_[2] = {0, 0};
     std::size_t line_capacity_ = 0, last_silhouettes_ = 0;
     double mouse_x_ = 0, mouse_y_ = 0, scroll_ = 0;
@@ -560,7 +582,10 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
         }
         if (finder) {
             if (ImGui::SliderFloat("fraction", &fraction_, 0.0001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic))
+            {
                 session_->finder().set_fraction(fraction_);
+                view_ = nullptr;
+            }
             dirty_ |= ImGui::Checkbox("frame coherence", &vopt_.finder.coherence);
         }
         int vis = vopt_.visibility == VisibilityMethod::Rays ? 1 : 0;
@@ -572,7 +597,7 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
             dirty_ = true;
         }
         if (!vis) dirty_ |= ImGui::Checkbox("walk before ray tests", &vopt_.walk);
-        ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_);
+        if (ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_)) view_ = nullptr;
     }
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
         const DrawingStats& s = view.drawing.stats;
