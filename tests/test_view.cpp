@@ -113,6 +113,11 @@ TEST(LineMesh, QuadsPerSegmentHiddenOnlyWhenAsked) {
     }
     // The second segment starts where the first ends, along the piece.
     EXPECT_FLOAT_EQ(v[6].along, 100.0f - 1.75f);
+    // Segment-local coordinates for round caps: from -reach to length + reach.
+    EXPECT_FLOAT_EQ(v[0].u, -1.75f);
+    EXPECT_FLOAT_EQ(v[5].u, 101.75f);
+    EXPECT_FLOAT_EQ(v[0].length, 100.0f);
+    EXPECT_FLOAT_EQ(v[6].length, 50.0f);
     o.hidden = true;
     build_line_mesh(d, o, v);
     ASSERT_EQ(v.size(), 24u);
@@ -193,7 +198,8 @@ struct Mask {
     }
 };
 
-Mask dark_pixels(const fs::path& png) {
+// Pixels with luminance in [lo, hi) (lines drawn black: below 128; hidden lines grey).
+Mask dark_pixels(const fs::path& png, double lo = -1.0, double hi = 128.0) {
     Mask m;
     cairo_surface_t* s = cairo_image_surface_create_from_png(png.c_str());
     if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
@@ -210,7 +216,7 @@ Mask dark_pixels(const fs::path& png) {
         for (int x = 0; x < m.w; ++x) {
             const std::uint32_t p = reinterpret_cast<const std::uint32_t*>(data + std::size_t(y) * stride)[x];
             const double lum = 0.299 * ((p >> 16) & 0xff) + 0.587 * ((p >> 8) & 0xff) + 0.114 * (p & 0xff);
-            m.dark[std::size_t(y) * m.w + x] = lum < 128.0;
+            m.dark[std::size_t(y) * m.w + x] = lum >= lo && lum < hi;
         }
     cairo_surface_destroy(s);
     return m;
@@ -230,6 +236,19 @@ double covered(const Mask& a, const Mask& b, int r) {
             hit += found;
         }
     return all ? double(hit) / double(all) : 0.0;
+}
+
+// a without the pixels that have a pixel of b within r pixels.
+Mask away_from(const Mask& a, const Mask& b, int r) {
+    Mask m = a;
+    for (int y = 0; y < a.h; ++y)
+        for (int x = 0; x < a.w; ++x) {
+            if (!a.dark[std::size_t(y) * a.w + x]) continue;
+            for (int yy = std::max(0, y - r); yy <= std::min(b.h - 1, y + r); ++yy)
+                for (int xx = std::max(0, x - r); xx <= std::min(b.w - 1, x + r); ++xx)
+                    if (b.dark[std::size_t(yy) * b.w + xx]) m.dark[std::size_t(y) * a.w + x] = 0;
+        }
+    return m;
 }
 
 std::string camera_line(const std::string& out) {
@@ -292,6 +311,35 @@ TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
                 recall, precision);
     EXPECT_GE(recall, 0.9);
     EXPECT_GE(precision, 0.9);
+}
+
+TEST(ViewWindow, HiddenLinesAreDrawnGreyWhereRenderDrawsThem) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    const fs::path shot = d / "shot.png", drawn = d / "render.png", plain = d / "plain.png";
+    const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=20 --size=640x480 --hidden "
+                                    "--screenshot=" + shot.string(), d);
+    ASSERT_EQ(v.code, 0) << v.err;
+    const std::string cam = camera_line(v.out);
+    ASSERT_EQ(run("", "render " + mesh("fandisk.off") + " --hidden " + cam + " -o " + drawn.string() + " --quiet", d).code, 0);
+    ASSERT_EQ(run("", "render " + mesh("fandisk.off") + " " + cam + " -o " + plain.string() + " --quiet", d).code, 0);
+    // Grey away from black: the hidden lines (dashed, thinner, lighter), not the antialiased rims
+    // of the visible ones.
+    const Mask a_dark = dark_pixels(shot), b_dark = dark_pixels(drawn), c_dark = dark_pixels(plain);
+    const Mask a = away_from(dark_pixels(shot, 128.0, 235.0), a_dark, 2);
+    const Mask b = away_from(dark_pixels(drawn, 128.0, 235.0), b_dark, 2);
+    const Mask c = away_from(dark_pixels(plain, 128.0, 235.0), c_dark, 2);
+    const double recall = covered(b, a, 3), precision = covered(a, b, 3);
+    std::printf("hidden: render %zu grey px away from lines (%zu without --hidden), screenshot %zu; %.4f, %.4f\n",
+                b.count(), c.count(), a.count(), recall, precision);
+    ASSERT_GT(b.count(), 300u) << "render --hidden drew few hidden lines";
+    ASSERT_LT(c.count(), b.count() / 10);
+    EXPECT_GE(recall, 0.8);
+    EXPECT_GE(precision, 0.8);
+    EXPECT_GT(double(a.count()), 0.5 * double(b.count()));
+    EXPECT_LT(double(a.count()), 2.0 * double(b.count()));
+    EXPECT_GE(covered(b_dark, a_dark, 2), 0.9);  // the visible lines as without --hidden
+    EXPECT_GE(covered(a_dark, b_dark, 2), 0.9);
 }
 
 TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {

@@ -76,11 +76,13 @@ void build_line_mesh(const Drawing& d, const LineMeshOptions& o, std::vector<Lin
                 // Extended by the reach at both ends: round-ish caps and joins without gaps.
                 const glm::dvec2 a0 = a - double(reach) * t, b0 = b + double(reach) * t;
                 const float s0 = float(along) - reach, s1 = float(along + len) + reach;
-                const auto v = [&](const glm::dvec2& c, float side, float s) {
+                const auto v = [&](const glm::dvec2& c, float side, float s, float u) {
                     const glm::dvec2 q = c + double(side * reach) * n;
-                    return LineVertex{float(q.x), float(q.y), side * reach, s, half, float(style)};
+                    return LineVertex{float(q.x), float(q.y), side * reach, s, half, float(style), u, float(len)};
                 };
-                const LineVertex v0 = v(a0, -1.0f, s0), v1 = v(a0, 1.0f, s0), v2 = v(b0, -1.0f, s1), v3 = v(b0, 1.0f, s1);
+                const float u1 = float(len) + reach;
+                const LineVertex v0 = v(a0, -1.0f, s0, -reach), v1 = v(a0, 1.0f, s0, -reach),
+                                 v2 = v(b0, -1.0f, s1, u1), v3 = v(b0, 1.0f, s1, u1);
                 out.insert(out.end(), {v0, v1, v2, v2, v1, v3});
                 along += len;
             }

@@ -16,6 +16,9 @@ struct LineVertex {
     float along;     // arc length from the start of the piece, pixels
     float half;      // half the stroke width, pixels
     float style;     // 0 visible, 1 QI 1, 2 QI 2, 3 QI >= 3
+    float u;         // along the segment from its start, pixels (< 0 or > length: in a cap)
+    float length;    // the segment's length, pixels (caps and joins are round: coverage by the
+                     // distance to the segment, and overlaps blend by the minimum)
 };
 
 struct LineStyleGl {

@@ -96,30 +96,40 @@ layout(location = 1) in float across;
 layout(location = 2) in float along;
 layout(location = 3) in float half_width;
 layout(location = 4) in float style;
+layout(location = 5) in float u;
+layout(location = 6) in float seg_length;
 uniform vec2 size;
 out float v_across;
 out float v_along;
+out float v_u;
 flat out float v_half;
+flat out float v_length;
 flat out int v_style;
 void main() {
     gl_Position = vec4(2.0 * pos.x / size.x - 1.0, 1.0 - 2.0 * pos.y / size.y, 0.0, 1.0);
     v_across = across;
     v_along = along;
     v_half = half_width;
+    v_u = u;
+    v_length = seg_length;
     v_style = int(style + 0.5);
 }
 )";
 const char* kLineFs = R"(#version 330 core
 in float v_across;
 in float v_along;
+in float v_u;
 flat in float v_half;
+flat in float v_length;
 flat in int v_style;
 uniform vec4 styles[4];  // grey, dash on, dash off, unused
 out vec4 colour;
 void main() {
     vec4 s = styles[v_style];
     if (s.y > 0.0 && mod(v_along, s.y + s.z) >= s.y) discard;
-    float cover = clamp(v_half + 0.5 - abs(v_across), 0.0, 1.0);
+    // Distance to the segment: round caps, and round joins where segments overlap.
+    float beyond = max(max(-v_u, v_u - v_length), 0.0);
+    float cover = clamp(v_half + 0.5 - length(vec2(beyond, v_across)), 0.0, 1.0);
     if (cover <= 0.0) discard;
     // Blended with GL_MIN (dark on light): overlapping quads at the joins do not darken twice.
     colour = vec4(vec3(mix(1.0, s.x, cover)), 1.0);
@@ -239,6 +249,8 @@ public:
         attr(2, 1, offsetof(LineVertex, along));
         attr(3, 1, offsetof(LineVertex, half));
         attr(4, 1, offsetof(LineVertex, style));
+        attr(5, 1, offsetof(LineVertex, u));
+        attr(6, 1, offsetof(LineVertex, length));
         glBindVertexArray(0);
 
         crease_ = float(model.topology().crease_degrees);
