@@ -17,8 +17,9 @@ run() {  # label, then view arguments
     echo "== $label" >&2
     local line
     line=$(xvfb-run -a -s "-screen 0 1280x800x24" "$BIN" view "$MODEL" --subdivide=2 --size=1024x768 \
-        --frames="$FRAMES" --orbit --arc="$ARC" --fps "$@" | grep '^fps:')
-    echo "| $label | \`$*\` | ${line#fps: } |" >>"$OUT.tmp"
+        --frames="$FRAMES" --orbit --arc="$ARC" --fps "$@" | grep -E '^(fps|cpu):' | tr '\n' ' ')
+    line=${line#fps: }
+    echo "| $label | \`$*\` | ${line/ cpu: /; CPU: } |" >>"$OUT.tmp"
 }
 {
     echo "### inkline view: armadillo@2 (832000 triangles), 1024x768, orbit 3 deg/frame, $FRAMES frames"
