@@ -342,6 +342,35 @@ TEST(ViewWindow, HiddenLinesAreDrawnGreyWhereRenderDrawsThem) {
     EXPECT_GE(covered(a_dark, b_dark, 2), 0.9);
 }
 
+TEST(ViewWindow, ShadingFillsTheModelUnderTheSameLines) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    const fs::path shot = d / "shot.png", drawn = d / "render.png";
+    const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=2 --size=640x480 --shading --screenshot=" +
+                                    shot.string(), d);
+    ASSERT_EQ(v.code, 0) << v.err;
+    ASSERT_EQ(run("", "render " + mesh("bunny00.off") + " " + camera_line(v.out) + " -o " + drawn.string() + " --quiet", d).code, 0);
+    const Mask a_dark = dark_pixels(shot), b_dark = dark_pixels(drawn);
+    const Mask grey = away_from(dark_pixels(shot, 150.0, 245.0), a_dark, 2);  // the shading's bands
+    // The lines' bounding box, grown by 3 px: the shading lies inside it and fills much of it.
+    int x0 = b_dark.w, y0 = b_dark.h, x1 = -1, y1 = -1;
+    for (int y = 0; y < b_dark.h; ++y)
+        for (int x = 0; x < b_dark.w; ++x)
+            if (b_dark.dark[std::size_t(y) * b_dark.w + x]) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    ASSERT_GE(x1, x0);
+    std::size_t inside = 0;
+    for (int y = 0; y < grey.h; ++y)
+        for (int x = 0; x < grey.w; ++x)
+            inside += grey.dark[std::size_t(y) * grey.w + x] && x >= x0 - 3 && x <= x1 + 3 && y >= y0 - 3 && y <= y1 + 3;
+    const double box = double(x1 - x0 + 1) * double(y1 - y0 + 1);
+    std::printf("shading: %zu grey px, %zu inside the lines' box of %.0f px; lines %.4f, %.4f\n", grey.count(), inside,
+                box, covered(b_dark, a_dark, 2), covered(a_dark, b_dark, 2));
+    EXPECT_GT(double(grey.count()), 0.3 * box);
+    EXPECT_GE(double(inside), 0.99 * double(grey.count()));
+    EXPECT_GE(covered(b_dark, a_dark, 2), 0.9);  // the lines drawn over the shading are render's
+    EXPECT_GE(covered(a_dark, b_dark, 2), 0.9);
+}
+
 TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
