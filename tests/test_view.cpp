@@ -410,6 +410,20 @@ TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {
     EXPECT_GT(hidden, 0u);  // hidden pieces exported with --hidden
 }
 
+TEST(ViewWindow, PrintedCameraIsReproducedByRender) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    for (const std::string flags : {"--eye=3,1,2 --target=0,0.1,0 --fov=40", "--ortho=1.2 --eye=0,2,3"}) {
+        const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=30 --size=320x200 " + flags, d);
+        ASSERT_EQ(v.code, 0) << v.err;
+        const std::string cam = camera_line(v.out);
+        EXPECT_EQ(cam.find("--ortho") != std::string::npos, flags.find("--ortho") != std::string::npos) << cam;
+        const Result r = run("", "render " + mesh("fandisk.off") + " " + cam + " -o " + (d / "r.json").string(), d);
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(camera_line(r.out), cam);  // the same flags, digit for digit
+    }
+}
+
 TEST(ViewWindow, NoDisplayIsAOneLineErrorNotACrash) {
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png";
