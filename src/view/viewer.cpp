@@ -16,6 +16,7 @@
 #include <ctime>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -205,10 +206,10 @@ struct Glfw {
 };
 
 struct StageTimes {
-    double features = 0, search = 0, chain = 0, visibility = 0, recall = 0, lines = 0, draw = 0, frame = 0;
+    double features = 0, search = 0, chain = 0, visibility = 0, recall = 0, lines = 0, draw = 0, frame = 0, wait = 0;
     void add(const StageTimes& o, double k = 1.0) {
         features += k * o.features, search += k * o.search, chain += k * o.chain, visibility += k * o.visibility;
-        recall += k * o.recall, lines += k * o.lines, draw += k * o.draw, frame += k * o.frame;
+        recall += k * o.recall, lines += k * o.lines, draw += k * o.draw, frame += k * o.frame, wait += k * o.wait;
     }
 };
 
@@ -285,19 +286,26 @@ public:
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
 
+    // The loop is pipelined: while the main thread draws frame k-1 (OpenGL, the panel, the swap),
+    // a worker thread runs the pipeline for frame k's camera. The lines drawn are one frame behind
+    // the camera; the shading is drawn at the lines' camera, so the two always agree.
     int run() {
-        Camera last = rig_.camera(1, 1);
         StageTimes total;
         int measured = 0;
-        double cpu_main0 = 0.0, cpu_all0 = 0.0;
-        const auto t_start = Clock::now();
-        auto t_measure = t_start;
+        double cpu_main0 = 0.0, cpu_all0 = 0.0, cpu_worker0 = 0.0, wall = 0.0;
+        auto t_measure = Clock::now();
         for (int frame = 0; !glfwWindowShouldClose(win_); ++frame) {
-            if (opt_.frames > 0 && frame >= opt_.frames) break;
+            // Headless: frames 0..N-1 each start the pipeline for one camera; frame N only draws
+            // the last result (screenshot, export).
+            const bool finishing = opt_.frames > 0 && frame == opt_.frames;
             const auto t0 = Clock::now();
             // Idle for a few frames (the panel settles after an event): sleep until input.
-            if (opt_.frames == 0 && unchanged_ > 3) glfwWaitEventsTimeout(0.5);
+            if (opt_.frames == 0 && unchanged_ > 3 && !job_.valid()) glfwWaitEventsTimeout(0.5);
             else glfwPollEvents();
+            StageTimes st;
+            const bool fresh = sync(st);  // the view computed while the last frame was drawn
+            if (finishing) wall = since(t_measure);
+            // The session is idle here: options change now.
             if (crease_dirty_) {
                 model_.topology().set_crease_angle(crease_);
                 crease_dirty_ = false;
@@ -307,7 +315,12 @@ public:
                 rebuild_session();
                 dirty_ = false;
             }
-            if (opt_.frames > 0 && opt_.orbit && frame > 0) rig_.orbit(opt_.arc / opt_.frames, 0.0);
+            if (fraction_dirty_) {
+                session_->finder().set_fraction(fraction_);
+                fraction_dirty_ = false;
+                force_ = true;
+            }
+            if (opt_.frames > 0 && opt_.orbit && frame > 0 && !finishing) rig_.orbit(opt_.arc / opt_.frames, 0.0);
             if (panel_) {
                 ImGui_ImplOpenGL3_NewFrame();
                 ImGui_ImplGlfw_NewFrame();
@@ -322,83 +335,66 @@ public:
                 continue;
             }
             const Camera cam = rig_.camera(w, h);
-            last = cam;
-            StageTimes st;
             // Interactive and nothing changed: the last view and its quads are still right.
-            const bool again = opt_.frames == 0 && view_ && same_camera(cam, drawn_);
-            unchanged_ = again ? unchanged_ + 1 : 0;
-            if (!again) {
-                View& view = session_->render(cam);
-                view_ = &view;
-                drawn_ = cam;
-                st.features = session_->seconds_features();
-                st.search = view.features.stats.seconds_search;
-                st.chain = view.features.stats.seconds_chain;
-                st.visibility = view.drawing.stats.seconds_visibility;
-                last_silhouettes_ = view.drawing.stats.silhouette_edges;
-                if (recall_on_) {
-                    const auto tr = Clock::now();
-                    const Features ref = extract_features(model_.topology(), cam, vopt_.features);
-                    const double all = edges_length(model_.topology(), ref.silhouette_edges);
-                    recall_ = all > 0.0 ? edges_length(model_.topology(), view.features.silhouette_edges) / all : 1.0;
-                    st.recall = since(tr);
-                }
-                const auto tl = Clock::now();
-                LineMeshOptions lo;
-                lo.hidden = hidden_;
-                lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
-                build_line_mesh(view.drawing, lo, lines_);
-                st.lines = since(tl);
+            const bool again = opt_.frames == 0 && !force_ && view_ && same_camera(cam, drawn_);
+            unchanged_ = again && !fresh && !job_.valid() ? unchanged_ + 1 : 0;
+            if (!again && !finishing) {
+                launch(cam);
+                force_ = false;
             }
-            View& view = *view_;
+            if (!view_) sync(st);  // nothing to draw yet (first frame, new session): wait for it
 
             const auto td = Clock::now();
-            draw_scene(cam);
-            const bool shot = opt_.frames > 0 && frame + 1 == opt_.frames && !opt_.screenshot.empty();
-            if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, w, h);
+            draw_scene(drawn_);
+            const bool shot = finishing && !opt_.screenshot.empty();
+            if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
             if (panel_) {
-                draw_panel(view, cam);
+                draw_panel();
                 ImGui::Render();
                 ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
             }
-            if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, w, h);
-            if (opt_.frames > 0 && frame + 1 == opt_.frames && !opt_.export_path.empty())
-                export_view(view, cam, opt_.export_path);
+            if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+            if (finishing && !opt_.export_path.empty()) export_view(opt_.export_path);
             glfwSwapBuffers(win_);
             st.draw = since(td);
             st.frame = since(t0);
-            if (!again) {
+            if (fresh) {
                 shown_.add(shown_, -0.1);  // what the panel shows: a moving average
                 shown_.add(st, 0.1);
             }
+            if (finishing) break;
             if (frame == 0) {
                 shown_ = st;
                 t_measure = Clock::now();  // the first frame builds the lazy indexes: not measured
                 cpu_main0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
                 cpu_all0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
+                cpu_worker0 = worker_cpu_;
             } else {
                 total.add(st);
                 ++measured;
             }
         }
-        const double wall = since(t_measure);
+        StageTimes st;
+        sync(st);  // a pipeline still in flight (window closed)
         if (opt_.fps && measured > 0) {
+            if (opt_.frames == 0) wall = since(t_measure);
             const double k = 1000.0 / measured;
             const double cpu_main = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu_main0;
             const double cpu_all = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu_all0;
-            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame: features %.2f "
-                        "(search %.2f, chain %.2f), visibility %.2f, line quads %.2f, GL draw+swap %.2f, "
-                        "events/other %.2f; %zu silhouette edges, %zu line vertices in the last frame\n",
+            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; pipeline thread: "
+                        "features %.2f (search %.2f, chain %.2f), visibility %.2f, line quads %.2f; main thread: GL "
+                        "draw+swap %.2f, waiting for the pipeline %.2f; %zu silhouette edges, %zu line vertices in "
+                        "the last frame\n",
                         measured / wall, measured, int(model_.topology().face_count()), wall * k, total.features * k,
                         total.search * k, total.chain * k, total.visibility * k, total.lines * k, total.draw * k,
-                        (wall - total.features - total.visibility - total.recall - total.lines - total.draw) * k,
-                        last_silhouettes_, lines_.size());
-            // On a loaded machine wall time is inflated; CPU time is the work itself (the pipeline
-            // runs on the main thread, Mesa's llvmpipe rasterizes on its own threads).
-            std::printf("cpu: main thread %.2f ms/frame, all threads of the process %.2f ms/frame (X server not "
-                        "included)\n", cpu_main * k, cpu_all * k);
+                        total.wait * k, last_silhouettes_, lines_.size());
+            // On a loaded machine wall time is inflated; CPU time is the work itself (Mesa's
+            // llvmpipe rasterizes on threads of its own).
+            std::printf("cpu: pipeline thread %.2f ms/frame, main thread %.2f, all threads of the process %.2f (X "
+                        "server not included)\n",
+                        (worker_cpu_ - cpu_worker0) * k, cpu_main * k, cpu_all * k);
         }
-        std::printf("camera: %s\n", camera_flags(last).c_str());
+        std::printf("camera: %s\n", camera_flags(drawn_).c_str());
         return 0;
     }
 
@@ -406,8 +402,68 @@ private:
     void rebuild_session() {
         vopt_.exact_hidden = hidden_;
         vopt_.finder.fraction = fraction_;
+        StageTimes st;
+        sync(st);  // never while the old session is in use
         session_ = std::make_unique<ViewSession>(model_, vopt_);
         view_ = nullptr;  // it belonged to the old session
+    }
+
+    // Starts the pipeline for `cam` on a worker thread: features -> visibility -> line quads. It
+    // reads the model and uses the session; the main thread touches neither until sync().
+    void launch(const Camera& cam) {
+        LineMeshOptions lo;
+        lo.hidden = hidden_;
+        lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
+        const bool recall = recall_on_;
+        const FeatureOptions kinds = vopt_.features;  // the panel may change vopt_ meanwhile
+        job_ = std::async(std::launch::async, [this, cam, lo, recall, kinds] {
+            const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+            Job& j = job_result_;
+            View& view = session_->render(cam);
+            j.view = &view;
+            j.camera = cam;
+            j.times = StageTimes{};
+            j.times.features = session_->seconds_features();
+            j.times.search = view.features.stats.seconds_search;
+            j.times.chain = view.features.stats.seconds_chain;
+            j.times.visibility = view.drawing.stats.seconds_visibility;
+            j.recall = -1.0;
+            if (recall) {
+                const auto tr = Clock::now();
+                const Features ref = extract_features(model_.topology(), cam, kinds);
+                const double all = edges_length(model_.topology(), ref.silhouette_edges);
+                j.recall = all > 0.0 ? edges_length(model_.topology(), view.features.silhouette_edges) / all : 1.0;
+                j.times.recall = since(tr);
+            }
+            const auto tl = Clock::now();
+            build_line_mesh(view.drawing, lo, j.lines);
+            j.times.lines = since(tl);
+            j.cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu0;
+        });
+    }
+
+    // Waits for the pipeline in flight, if any (its exception, if any, is thrown here), and makes
+    // its view the one drawn. Returns whether there was one.
+    bool sync(StageTimes& st) {
+        if (!job_.valid()) return false;
+        const auto t = Clock::now();
+        job_.get();
+        st.wait += since(t);
+        const Job& j = job_result_;
+        std::swap(lines_, job_result_.lines);
+        view_ = j.view;
+        drawn_ = j.camera;
+        stats_ = j.view->drawing.stats;
+        recall_ = j.recall;
+        worker_cpu_ += j.cpu;
+        st.features = j.times.features;
+        st.search = j.times.search;
+        st.chain = j.times.chain;
+        st.visibility = j.times.visibility;
+        st.recall = j.times.recall;
+        st.lines = j.times.lines;
+        last_silhouettes_ = stats_.silhouette_edges;
+        return true;
     }
 
     static bool same_camera(const Camera& a, const Camera& b) {
@@ -536,9 +592,9 @@ private:
         glDisable(GL_BLEND);
     }
 
-    void draw_panel(View& view, const Camera& cam);
+    void draw_panel();
     // Writes the current drawing (format from the extension) and prints the `render` line for it.
-    void export_view(const View& view, const Camera& cam, const std::string& path);
+    void export_view(const std::string& path);
     std::string render_command(const Camera& cam, const std::string& output) const;
 
     Model& model_;
@@ -550,6 +606,18 @@ private:
     std::vector<LineVertex> lines_;
     View* view_ = nullptr;  // the session's last view (lines_ are its quads), drawn at drawn_
     Camera drawn_;
+    DrawingStats stats_;    // of view_ (the panel reads this copy: view_ is rewritten by the worker)
+    struct Job {            // written by the worker thread, read after job_.get()
+        View* view = nullptr;
+        Camera camera;
+        StageTimes times;
+        double recall = -1.0, cpu = 0.0;
+        std::vector<LineVertex> lines;
+    };
+    Job job_result_;
+    std::future<void> job_;
+    double worker_cpu_ = 0.0;
+    bool force_ = false, fraction_dirty_ = false;  // a new view needed though the camera is the same
     int unchanged_ = 0;     // frames in a row without a new view
     GLuint line_prog_ = 0, mesh_prog_ = 0, line_vao_ = 0, line_vbo_ = 0, mesh_vao_ = 0, mesh_bufs_[2] = {0, 0};
     std::size_t line_capacity_ = 0, last_silhouettes_ = 0;
@@ -585,7 +653,8 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
     return c + " " + camera_flags(cam) + " -o " + output;
 }
 
-void Viewer::draw_panel(View& view, const Camera& cam) {
+void Viewer::draw_panel() {
+    const Camera& cam = drawn_;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("inkline (H hides)");
@@ -609,10 +678,7 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
         }
         if (finder) {
             if (ImGui::SliderFloat("fraction", &fraction_, 0.0001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic))
-            {
-                session_->finder().set_fraction(fraction_);
-                view_ = nullptr;
-            }
+                fraction_dirty_ = true;  // applied when the session is idle
             dirty_ |= ImGui::Checkbox("frame coherence", &vopt_.finder.coherence);
         }
         int vis = vopt_.visibility == VisibilityMethod::Rays ? 1 : 0;
@@ -624,10 +690,10 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
             dirty_ = true;
         }
         if (!vis) dirty_ |= ImGui::Checkbox("walk before ray tests", &vopt_.walk);
-        if (ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_)) view_ = nullptr;
+        if (ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_)) force_ = true;
     }
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const DrawingStats& s = view.drawing.stats;
+        const DrawingStats& s = stats_;
         const StageTimes& t = shown_;
         ImGui::Text("%.1f fps, %.2f ms per frame", t.frame > 0 ? 1.0 / t.frame : 0.0, 1e3 * t.frame);
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
@@ -651,7 +717,7 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
             if (ImGui::Button(label)) {
                 std::string ext = label;
                 for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-                export_view(view, cam, std::string(export_name_) + "." + ext);
+                export_view(std::string(export_name_) + "." + ext);
             }
         }
         ImGui::SameLine();
@@ -666,7 +732,11 @@ void Viewer::draw_panel(View& view, const Camera& cam) {
     ImGui::End();
 }
 
-void Viewer::export_view(const View& view, const Camera& cam, const std::string& path) {
+void Viewer::export_view(const std::string& path) {
+    StageTimes st;
+    sync(st);  // the newest view, and the worker idle
+    const View& view = *view_;
+    const Camera& cam = drawn_;
     OutputOptions oo;
     oo.hidden = hidden_;
     try {
