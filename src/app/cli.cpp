@@ -48,13 +48,13 @@ const char* kUsage =
     "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
+    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
+    "                      [--no-coherence] [--no-panel] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
+    "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
     "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
-    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
-    "                      [--no-coherence] [--no-panel] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
-    "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
     "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n";
 
 
