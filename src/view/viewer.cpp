@@ -302,12 +302,30 @@ public:
             const bool finishing = opt_.frames > 0 && frame == opt_.frames;
             const auto t0 = Clock::now();
             // Idle for a few frames (the panel settles after an event): sleep until input.
-            if (opt_.frames == 0 && unchanged_ > 3 && !job_.valid()) glfwWaitEventsTimeout(0.5);
+            // Interactive, the window does not wait for the pipeline: it draws the last view while
+            // the next one is computed (the panel and the camera stay responsive on big meshes),
+            // yielding the CPU to the pipeline between its frames.
+            const bool interactive = opt_.frames == 0;
+            if (interactive && unchanged_ > 3 && !job_.valid()) glfwWaitEventsTimeout(0.5);
+            else if (interactive && job_.valid()) glfwWaitEventsTimeout(0.004);
             else glfwPollEvents();
             StageTimes st;
-            const bool fresh = sync(st);  // the view computed while the last frame was drawn
+            const bool ready = job_.valid() && job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+            const bool fresh = (!interactive || ready) && sync(st);  // headless: lock-step, one frame behind
+            if (fresh) {
+                const auto now = Clock::now();
+                if (last_fresh_ != Clock::time_point{}) {
+                    const double period = std::chrono::duration<double>(now - last_fresh_).count();
+                    view_period_ = view_period_ > 0.0 ? 0.9 * view_period_ + 0.1 * period : period;
+                }
+                last_fresh_ = now;
+            }
             if (finishing) wall = since(t_measure);
-            // The session is idle here: options change now.
+            // Options change only while the session is idle.
+            if (crease_dirty_ || fraction_dirty_) {
+                StageTimes ignored;
+                sync(ignored);
+            }
             if (crease_dirty_) {
                 model_.topology().set_crease_angle(crease_);
                 crease_dirty_ = false;
@@ -340,7 +358,7 @@ public:
             // Interactive and nothing changed: the last view and its quads are still right.
             const bool again = opt_.frames == 0 && !force_ && view_ && same_camera(cam, drawn_);
             unchanged_ = again && !fresh && !job_.valid() ? unchanged_ + 1 : 0;
-            if (!again && !finishing) {
+            if (!again && !finishing && !job_.valid()) {
                 launch(cam);
                 force_ = false;
             }
@@ -363,6 +381,9 @@ public:
             if (fresh) {
                 shown_.add(shown_, -0.1);  // what the panel shows: a moving average
                 shown_.add(st, 0.1);
+            } else {  // the window's own frame: no new view
+                shown_.frame = 0.9 * shown_.frame + 0.1 * st.frame;
+                shown_.draw = 0.9 * shown_.draw + 0.1 * st.draw;
             }
             if (finishing) break;
             if (frame == 0) {
@@ -397,7 +418,9 @@ public:
                         (worker_cpu_ - cpu_worker0) * k, total.cpu_features * k, total.cpu_visibility * k, cpu_main * k,
                         cpu_all * k);
         }
-        std::printf("camera: %s\n", camera_flags(drawn_).c_str());
+        // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
+        const Camera final_camera = opt_.frames > 0 ? drawn_ : rig_.camera(drawn_.width(), drawn_.height());
+        std::printf("camera: %s\n", camera_flags(final_camera).c_str());
         return 0;
     }
 
@@ -626,6 +649,8 @@ private:
     Job job_result_;
     std::future<void> job_;
     double worker_cpu_ = 0.0;
+    Clock::time_point last_fresh_{};  // when the last view arrived
+    double view_period_ = 0.0;        // moving average of the time between views
     bool force_ = false, fraction_dirty_ = false;  // a new view needed though the camera is the same
     int unchanged_ = 0;     // frames in a row without a new view
     GLuint line_prog_ = 0, mesh_prog_ = 0, line_vao_ = 0, line_vbo_ = 0, mesh_vao_ = 0, mesh_bufs_[2] = {0, 0};
@@ -704,7 +729,8 @@ void Viewer::draw_panel() {
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
         const DrawingStats& s = stats_;
         const StageTimes& t = shown_;
-        ImGui::Text("%.1f fps, %.2f ms per frame", t.frame > 0 ? 1.0 / t.frame : 0.0, 1e3 * t.frame);
+        ImGui::Text("%.1f views/s (pipeline), window %.1f fps", view_period_ > 0 ? 1.0 / view_period_ : 0.0,
+                    t.frame > 0 ? 1.0 / t.frame : 0.0);
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
         ImGui::Text("visibility %.2f ms, line quads %.2f ms", 1e3 * t.visibility, 1e3 * t.lines);
         ImGui::Text("GL draw + swap %.2f ms%s", 1e3 * t.draw, recall_on_ ? " (+ recall reference)" : "");
