@@ -49,7 +49,7 @@ const char* kUsage =
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
     "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
-    "                      [--no-coherence] [--no-panel] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
+    "                      [--no-coherence] [--no-panel] [--recall] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
     "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"

@@ -29,6 +29,7 @@ int run_view(int argc, char** argv) {
         if (arg == "--no-panel") { o.panel = false; continue; }
         if (arg == "--no-coherence") { o.view.finder.coherence = false; continue; }
         if (arg == "--screenshot-ui") { o.screenshot_ui = true; continue; }
+        if (arg == "--recall") { o.recall = true; continue; }
         std::string key, value;
         if (!split_option(arg, model_path, key, value)) continue;
         const auto integer = [&](int lo, int hi) {

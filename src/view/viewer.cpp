@@ -267,6 +267,7 @@ public:
         hidden_ = o.hidden;
         shading_ = o.shading;
         panel_ = o.panel;
+        recall_on_ = o.recall;
         vopt_ = o.view;
         rebuild_session();
     }
@@ -382,9 +383,10 @@ public:
                 shown_.add(shown_, -0.1);  // what the panel shows: a moving average
                 shown_.add(st, 0.1);
             } else {  // the window's own frame: no new view
-                shown_.frame = 0.9 * shown_.frame + 0.1 * st.frame;
                 shown_.draw = 0.9 * shown_.draw + 0.1 * st.draw;
             }
+            if (frame > 0)  // the first frame waits for the lazy indexes
+                window_period_ = window_period_ > 0.0 ? 0.9 * window_period_ + 0.1 * st.frame : st.frame;
             if (finishing) break;
             if (frame == 0) {
                 shown_ = st;
@@ -651,6 +653,7 @@ private:
     double worker_cpu_ = 0.0;
     Clock::time_point last_fresh_{};  // when the last view arrived
     double view_period_ = 0.0;        // moving average of the time between views
+    double window_period_ = 0.0;      // moving average of the window's frame time
     bool force_ = false, fraction_dirty_ = false;  // a new view needed though the camera is the same
     int unchanged_ = 0;     // frames in a row without a new view
     GLuint line_prog_ = 0, mesh_prog_ = 0, line_vao_ = 0, line_vbo_ = 0, mesh_vao_ = 0, mesh_bufs_[2] = {0, 0};
@@ -691,6 +694,7 @@ void Viewer::draw_panel() {
     const Camera& cam = drawn_;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.8f);  // the drawing shows through; H hides the panel
     ImGui::Begin("inkline (H hides)");
     if (ImGui::CollapsingHeader("Lines", ImGuiTreeNodeFlags_DefaultOpen)) {
         for (int k = 0; k < kLineKindCount; ++k) {
@@ -730,7 +734,7 @@ void Viewer::draw_panel() {
         const DrawingStats& s = stats_;
         const StageTimes& t = shown_;
         ImGui::Text("%.1f views/s (pipeline), window %.1f fps", view_period_ > 0 ? 1.0 / view_period_ : 0.0,
-                    t.frame > 0 ? 1.0 / t.frame : 0.0);
+                    window_period_ > 0 ? 1.0 / window_period_ : 0.0);
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
         ImGui::Text("visibility %.2f ms, line quads %.2f ms", 1e3 * t.visibility, 1e3 * t.lines);
         ImGui::Text("GL draw + swap %.2f ms%s", 1e3 * t.draw, recall_on_ ? " (+ recall reference)" : "");

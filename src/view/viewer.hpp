@@ -25,6 +25,7 @@ struct ViewerOptions {
     std::string screenshot;   // PNG of the last frame's drawing (without the panel)
     bool screenshot_ui = false;  // the screenshot includes the panel
     std::string export_path;  // the last frame exported as the panel's buttons do (SVG/PDF/PNG/JSON)
+    bool recall = false;      // recall of silhouette length against the exhaustive finder, per view
     bool fps = false;         // print the measured frames per second and where the time goes
 };
 
