@@ -11,6 +11,7 @@ packages=(
   libembree-dev libtbb-dev libglm-dev libcairo2-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   librsvg2-bin poppler-utils
+  libglfw3-dev libimgui-dev libgl-dev libglx-mesa0 libgl1-mesa-dri xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -56,6 +56,9 @@ const char* kUsage =
     "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
+    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
+    "                      [--no-coherence] [--no-panel] [--recall] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
+    "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh), or SURFACES (below).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
@@ -281,6 +284,12 @@ int render(int argc, char** argv) {
 
 }  // namespace
 
+Camera camera_from_flags(const std::map<std::string, std::string>& flags, const MeshTopology& mesh) {
+    RenderArgs a;
+    a.camera = flags;
+    return make_camera(a, mesh);
+}
+
 int run_cli(int argc, char** argv) {
     try {
         if (argc < 2) throw Usage("no command given");
@@ -292,6 +301,7 @@ int run_cli(int argc, char** argv) {
         }
         if (cmd == "render") return render(argc, argv);
         if (cmd == "bench") return run_bench(argc, argv);
+        if (cmd == "view") return run_view(argc, argv);
         throw Usage("unknown command '" + cmd + "'");
     } catch (const Usage& e) {
         std::fprintf(stderr, "inkline: %s\n%s", e.what(), kUsage);

@@ -1,0 +1,40 @@
+#!/bin/bash
+# Frames per second of the preview window's own loop (`inkline view --frames=N --orbit --fps`):
+# the pipeline on the CPU every frame (features -> visibility), line quads, OpenGL draw and swap,
+# the ImGui panel, under Xvfb with Mesa's software OpenGL (llvmpipe). Armadillo Loop-subdivided
+# twice (832 k triangles), a 1024x768 window, an orbit of 3 degrees per frame (as run_tradeoff.sh);
+# the exhaustive finder, and the randomized one with and without frame coherence.
+# Writes bench/results/view_fps.md. Usage: bench/run_view_fps.sh [build-dir] [frames]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BIN="${1:-build}/src/inkline"
+FRAMES="${2:-60}"
+OUT=bench/results/view_fps.md
+MODEL=data/meshes/armadillo.off
+ARC=$((3 * FRAMES))
+run() {  # label, then view arguments
+    local label=$1; shift
+    echo "== $label" >&2
+    local line
+    line=$(xvfb-run -a -s "-screen 0 1280x800x24" "$BIN" view "$MODEL" --subdivide=2 --size=1024x768 \
+        --frames="$FRAMES" --orbit --arc="$ARC" --fps "$@" | grep -E '^(fps|cpu):' | tr '\n' ' ')
+    line=${line#fps: }
+    echo "| $label | \`$*\` | ${line/ cpu: /; CPU: } |" >>"$OUT.tmp"
+}
+{
+    echo "### inkline view: armadillo@2 (832000 triangles), 1024x768, orbit 3 deg/frame, $FRAMES frames"
+    echo
+    echo "$(date -u +%Y-%m-%d) on $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the start; $(xvfb-run -a glxinfo -B 2>/dev/null | grep -m1 'renderer string' | sed 's/.*: //' || echo 'renderer unknown')"
+    echo
+    echo "| setting | flags | measured |"
+    echo "|---|---|---|"
+} >"$OUT.tmp"
+run "exhaustive" --finder=exhaustive
+run "randomized 0.05, coherence" --finder=randomized
+run "randomized 0.05, no coherence" --finder=randomized --no-coherence
+run "randomized 0.002, coherence" --finder=randomized --fraction=0.002
+run "randomized 0.002, no coherence" --finder=randomized --fraction=0.002 --no-coherence
+run "exhaustive, no panel" --finder=exhaustive --no-panel
+run "exhaustive, shading" --finder=exhaustive --shading
+mv "$OUT.tmp" "$OUT"
+cat "$OUT"

@@ -1,0 +1,802 @@
+#include "view/viewer.hpp"
+
+#define GLFW_INCLUDE_NONE
+#define GL_GLEXT_PROTOTYPES
+#include <GL/glcorearb.h>
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <cairo.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cctype>
+#include <utility>
+#include <chrono>
+#include <ctime>
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+
+#include "core/error.hpp"
+#include "output/writers.hpp"
+#include "view/camera_rig.hpp"
+#include "view/line_mesh.hpp"
+
+namespace inkline {
+
+std::string camera_flags(const Camera& cam) {
+    const auto v3 = [](const glm::dvec3& v) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", v.x, v.y, v.z);
+        return std::string(buf);
+    };
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "--eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d", v3(cam.eye()).c_str(),
+                  v3(cam.target()).c_str(), v3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
+                  cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());
+    return buf;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double cpu_seconds(clockid_t clock) {
+    timespec t{};
+    clock_gettime(clock, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+std::string glfw_error() {
+    const char* d = nullptr;
+    glfwGetError(&d);
+    return d ? d : "unknown GLFW error";
+}
+
+// ---- GL helpers -------------------------------------------------------------------------------
+
+GLuint compile(GLenum type, const char* src) {
+    const GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, nullptr);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = {};
+        glGetShaderInfoLog(s, sizeof log, nullptr, log);
+        throw Error("view", std::string("shader does not compile: ") + log);
+    }
+    return s;
+}
+
+GLuint program(const char* vs, const char* fs) {
+    const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+    const GLuint p = glCreateProgram();
+    glAttachShader(p, v);
+    glAttachShader(p, f);
+    glLinkProgram(p);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    GLint ok = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = {};
+        glGetProgramInfoLog(p, sizeof log, nullptr, log);
+        throw Error("view", std::string("shader program does not link: ") + log);
+    }
+    return p;
+}
+
+// Line quads in pixels (line_mesh.hpp): coverage across the line for antialiasing, dashes along it.
+const char* kLineVs = R"(#version 330 core
+layout(location = 0) in vec2 pos;
+layout(location = 1) in float across;
+layout(location = 2) in float along;
+layout(location = 3) in float half_width;
+layout(location = 4) in float style;
+layout(location = 5) in float u;
+layout(location = 6) in float seg_length;
+uniform vec2 size;
+out float v_across;
+out float v_along;
+out float v_u;
+flat out float v_half;
+flat out float v_length;
+flat out int v_style;
+void main() {
+    gl_Position = vec4(2.0 * pos.x / size.x - 1.0, 1.0 - 2.0 * pos.y / size.y, 0.0, 1.0);
+    v_across = across;
+    v_along = along;
+    v_half = half_width;
+    v_u = u;
+    v_length = seg_length;
+    v_style = int(style + 0.5);
+}
+)";
+const char* kLineFs = R"(#version 330 core
+in float v_across;
+in float v_along;
+in float v_u;
+flat in float v_half;
+flat in float v_length;
+flat in int v_style;
+uniform vec4 styles[4];  // grey, dash on, dash off, unused
+out vec4 colour;
+void main() {
+    vec4 s = styles[v_style];
+    if (s.y > 0.0 && mod(v_along, s.y + s.z) >= s.y) discard;
+    // Distance to the segment: round caps, and round joins where segments overlap.
+    float beyond = max(max(-v_u, v_u - v_length), 0.0);
+    float cover = clamp(v_half + 0.5 - length(vec2(beyond, v_across)), 0.0, 1.0);
+    if (cover <= 0.0) discard;
+    // Blended with GL_MIN (dark on light): overlapping quads at the joins do not darken twice.
+    colour = vec4(vec3(mix(1.0, s.x, cover)), 1.0);
+}
+)";
+// Flat toon shading: the face normal from screen-space derivatives of the view-space position,
+// three bands of light grey under a headlight.
+const char* kMeshVs = R"(#version 330 core
+layout(location = 0) in vec3 pos;
+uniform mat4 view;
+uniform mat4 projection;
+out vec3 v_view;
+void main() {
+    vec4 p = view * vec4(pos, 1.0);
+    v_view = p.xyz;
+    gl_Position = projection * p;
+}
+)";
+const char* kMeshFs = R"(#version 330 core
+in vec3 v_view;
+uniform int ortho;
+out vec4 colour;
+void main() {
+    vec3 n = normalize(cross(dFdx(v_view), dFdy(v_view)));
+    vec3 to_eye = ortho == 1 ? vec3(0.0, 0.0, 1.0) : normalize(-v_view);
+    float l = abs(dot(n, to_eye));
+    float g = l > 0.75 ? 0.93 : (l > 0.35 ? 0.84 : 0.75);
+    colour = vec4(vec3(g), 1.0);
+}
+)";
+
+// ---- Screenshot: the back buffer to a PNG through Cairo, written atomically --------------------
+
+cairo_status_t append(void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+}
+
+void save_screenshot(const std::string& path, int w, int h) {
+    const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_RGB24, w);
+    std::vector<unsigned char> rows(std::size_t(stride) * std::size_t(h)), flipped(rows.size());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_PACK_ROW_LENGTH, stride / 4);
+    glReadBuffer(GL_BACK);
+    // BGRA as 8_8_8_8_REV is Cairo's native-endian 0x00RRGGBB.
+    glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_INT_8_8_8_8_REV, rows.data());
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    for (int y = 0; y < h; ++y)  // GL rows are bottom-up, PNG rows top-down
+        std::copy_n(rows.data() + std::size_t(h - 1 - y) * stride, stride, flipped.data() + std::size_t(y) * stride);
+    cairo_surface_t* s = cairo_image_surface_create_for_data(flipped.data(), CAIRO_FORMAT_RGB24, w, h, stride);
+    std::string png;
+    const cairo_status_t st = cairo_surface_write_to_png_stream(s, append, &png);
+    cairo_surface_destroy(s);
+    if (st != CAIRO_STATUS_SUCCESS) throw Error(path, std::string("cairo: ") + cairo_status_to_string(st));
+    write_text_file(path, png);
+}
+
+// ---- The window -------------------------------------------------------------------------------
+
+struct Glfw {
+    Glfw() {
+        if (!glfwInit()) throw Error("view", "cannot open a window (no display?): " + glfw_error());
+    }
+    ~Glfw() { glfwTerminate(); }
+    Glfw(const Glfw&) = delete;
+    Glfw& operator=(const Glfw&) = delete;
+};
+
+struct StageTimes {
+    double features = 0, search = 0, chain = 0, visibility = 0, recall = 0, lines = 0, draw = 0, frame = 0, wait = 0;
+    double cpu_features = 0, cpu_visibility = 0;  // CPU time of the pipeline thread
+    void add(const StageTimes& o, double k = 1.0) {
+        cpu_features += k * o.cpu_features, cpu_visibility += k * o.cpu_visibility;
+        features += k * o.features, search += k * o.search, chain += k * o.chain, visibility += k * o.visibility;
+        recall += k * o.recall, lines += k * o.lines, draw += k * o.draw, frame += k * o.frame, wait += k * o.wait;
+    }
+};
+
+class Viewer {
+public:
+    Viewer(Model& model, const Camera& home, const ViewerOptions& o)
+        : model_(model), opt_(o), rig_(home, model.topology().bounds) {
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+        glfwWindowHint(GLFW_RESIZABLE, o.frames > 0 ? GLFW_FALSE : GLFW_TRUE);
+        const std::string title = "inkline view - " + o.model_path;
+        win_ = glfwCreateWindow(home.width(), home.height(), title.c_str(), nullptr, nullptr);
+        if (!win_) throw Error("view", "cannot open an OpenGL 3.3 core window: " + glfw_error());
+        glfwMakeContextCurrent(win_);
+        glfwSwapInterval(o.frames > 0 ? 0 : 1);
+        glfwSetWindowUserPointer(win_, this);
+        // Ours first: ImGui's backend chains to them.
+        glfwSetScrollCallback(win_, [](GLFWwindow* w, double, double dy) {
+            static_cast<Viewer*>(glfwGetWindowUserPointer(w))->scroll_ += dy;
+        });
+        glfwSetKeyCallback(win_, [](GLFWwindow* w, int key, int, int action, int) {
+            if (action == GLFW_PRESS) static_cast<Viewer*>(glfwGetWindowUserPointer(w))->key(key);
+        });
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's directory
+        ImGui::StyleColorsLight();
+        ImGui_ImplGlfw_InitForOpenGL(win_, true);
+        ImGui_ImplOpenGL3_Init("#version 330 core");
+
+        line_prog_ = program(kLineVs, kLineFs);
+        mesh_prog_ = program(kMeshVs, kMeshFs);
+        glGenVertexArrays(1, &line_vao_);
+        glGenBuffers(1, &line_vbo_);
+        glBindVertexArray(line_vao_);
+        glBindBuffer(GL_ARRAY_BUFFER, line_vbo_);
+        const auto attr = [](GLuint i, GLint n, std::size_t offset) {
+            glEnableVertexAttribArray(i);
+            glVertexAttribPointer(i, n, GL_FLOAT, GL_FALSE, sizeof(LineVertex), reinterpret_cast<const void*>(offset));
+        };
+        attr(0, 2, offsetof(LineVertex, x));
+        attr(1, 1, offsetof(LineVertex, across));
+        attr(2, 1, offsetof(LineVertex, along));
+        attr(3, 1, offsetof(LineVertex, half));
+        attr(4, 1, offsetof(LineVertex, style));
+        attr(5, 1, offsetof(LineVertex, u));
+        attr(6, 1, offsetof(LineVertex, length));
+        glBindVertexArray(0);
+
+        crease_ = float(model.topology().crease_degrees);
+        fraction_ = float(o.view.finder.fraction);
+        hidden_ = o.hidden;
+        shading_ = o.shading;
+        panel_ = o.panel;
+        recall_on_ = o.recall;
+        vopt_ = o.view;
+        rebuild_session();
+    }
+
+    ~Viewer() {
+        glDeleteBuffers(1, &line_vbo_);
+        glDeleteVertexArrays(1, &line_vao_);
+        if (mesh_vao_) {
+            glDeleteBuffers(2, mesh_bufs_);
+            glDeleteVertexArrays(1, &mesh_vao_);
+        }
+        glDeleteProgram(line_prog_);
+        glDeleteProgram(mesh_prog_);
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+        glfwDestroyWindow(win_);
+    }
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    // The loop is pipelined: while the main thread draws frame k-1 (OpenGL, the panel, the swap),
+    // a worker thread runs the pipeline for frame k's camera. The lines drawn are one frame behind
+    // the camera; the shading is drawn at the lines' camera, so the two always agree.
+    int run() {
+        StageTimes total;
+        int measured = 0;
+        double cpu_main0 = 0.0, cpu_all0 = 0.0, cpu_worker0 = 0.0, wall = 0.0;
+        auto t_measure = Clock::now();
+        for (int frame = 0; !glfwWindowShouldClose(win_); ++frame) {
+            // Headless: frames 0..N-1 each start the pipeline for one camera; frame N only draws
+            // the last result (screenshot, export).
+            const bool finishing = opt_.frames > 0 && frame == opt_.frames;
+            const auto t0 = Clock::now();
+            // Idle for a few frames (the panel settles after an event): sleep until input.
+            // Interactive, the window does not wait for the pipeline: it draws the last view while
+            // the next one is computed (the panel and the camera stay responsive on big meshes),
+            // yielding the CPU to the pipeline between its frames.
+            const bool interactive = opt_.frames == 0;
+            if (interactive && unchanged_ > 3 && !job_.valid()) glfwWaitEventsTimeout(0.5);
+            else if (interactive && job_.valid()) glfwWaitEventsTimeout(0.004);
+            else glfwPollEvents();
+            StageTimes st;
+            const bool ready = job_.valid() && job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+            const bool fresh = (!interactive || ready) && sync(st);  // headless: lock-step, one frame behind
+            if (fresh) {
+                const auto now = Clock::now();
+                if (last_fresh_ != Clock::time_point{}) {
+                    const double period = std::chrono::duration<double>(now - last_fresh_).count();
+                    view_period_ = view_period_ > 0.0 ? 0.9 * view_period_ + 0.1 * period : period;
+                }
+                last_fresh_ = now;
+            }
+            if (finishing) wall = since(t_measure);
+            // Options change only while the session is idle.
+            if (crease_dirty_ || fraction_dirty_) {
+                StageTimes ignored;
+                sync(ignored);
+            }
+            if (crease_dirty_) {
+                model_.topology().set_crease_angle(crease_);
+                crease_dirty_ = false;
+                dirty_ = true;
+            }
+            if (dirty_) {
+                rebuild_session();
+                dirty_ = false;
+            }
+            if (fraction_dirty_) {
+                session_->finder().set_fraction(fraction_);
+                fraction_dirty_ = false;
+                force_ = true;
+            }
+            if (opt_.frames > 0 && opt_.orbit && frame > 0 && !finishing) rig_.orbit(opt_.arc / opt_.frames, 0.0);
+            if (panel_) {
+                ImGui_ImplOpenGL3_NewFrame();
+                ImGui_ImplGlfw_NewFrame();
+                ImGui::NewFrame();
+            }
+            mouse();
+            int w = 0, h = 0;
+            glfwGetFramebufferSize(win_, &w, &h);
+            if (w < 1 || h < 1) {  // minimised
+                if (panel_) ImGui::EndFrame();
+                glfwWaitEvents();
+                continue;
+            }
+            const Camera cam = rig_.camera(w, h);
+            // Interactive and nothing changed: the last view and its quads are still right.
+            const bool again = opt_.frames == 0 && !force_ && view_ && same_camera(cam, drawn_);
+            unchanged_ = again && !fresh && !job_.valid() ? unchanged_ + 1 : 0;
+            if (!again && !finishing && !job_.valid()) {
+                launch(cam);
+                force_ = false;
+            }
+            if (!view_) sync(st);  // nothing to draw yet (first frame, new session): wait for it
+
+            const auto td = Clock::now();
+            draw_scene(drawn_);
+            const bool shot = finishing && !opt_.screenshot.empty();
+            if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+            if (panel_) {
+                draw_panel();
+                ImGui::Render();
+                ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            }
+            if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+            if (finishing && !opt_.export_path.empty()) export_view(opt_.export_path);
+            glfwSwapBuffers(win_);
+            st.draw = since(td);
+            st.frame = since(t0);
+            if (fresh) {
+                shown_.add(shown_, -0.1);  // what the panel shows: a moving average
+                shown_.add(st, 0.1);
+            } else {  // the window's own frame: no new view
+                shown_.draw = 0.9 * shown_.draw + 0.1 * st.draw;
+            }
+            if (frame > 0)  // the first frame waits for the lazy indexes
+                window_period_ = window_period_ > 0.0 ? 0.9 * window_period_ + 0.1 * st.frame : st.frame;
+            if (finishing) break;
+            if (frame == 0) {
+                shown_ = st;
+                t_measure = Clock::now();  // the first frame builds the lazy indexes: not measured
+                cpu_main0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+                cpu_all0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
+                cpu_worker0 = worker_cpu_;
+            } else {
+                total.add(st);
+                ++measured;
+            }
+        }
+        StageTimes st;
+        sync(st);  // a pipeline still in flight (window closed)
+        if (opt_.fps && measured > 0) {
+            if (opt_.frames == 0) wall = since(t_measure);
+            const double k = 1000.0 / measured;
+            const double cpu_main = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu_main0;
+            const double cpu_all = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu_all0;
+            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; pipeline thread: "
+                        "features %.2f (search %.2f, chain %.2f), visibility %.2f, line quads %.2f; main thread: GL "
+                        "draw+swap %.2f, waiting for the pipeline %.2f; %zu silhouette edges, %zu line vertices in "
+                        "the last frame\n",
+                        measured / wall, measured, int(model_.topology().face_count()), wall * k, total.features * k,
+                        total.search * k, total.chain * k, total.visibility * k, total.lines * k, total.draw * k,
+                        total.wait * k, last_silhouettes_, lines_.size());
+            // On a loaded machine wall time is inflated; CPU time is the work itself (Mesa's
+            // llvmpipe rasterizes on threads of its own).
+            std::printf("cpu: pipeline thread %.2f ms/frame (features %.2f, visibility %.2f), main thread %.2f, all "
+                        "threads of the process %.2f (X server not included)\n",
+                        (worker_cpu_ - cpu_worker0) * k, total.cpu_features * k, total.cpu_visibility * k, cpu_main * k,
+                        cpu_all * k);
+        }
+        // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
+        const Camera final_camera = opt_.frames > 0 ? drawn_ : rig_.camera(drawn_.width(), drawn_.height());
+        std::printf("camera: %s\n", camera_flags(final_camera).c_str());
+        return 0;
+    }
+
+private:
+    void rebuild_session() {
+        vopt_.exact_hidden = hidden_;
+        vopt_.finder.fraction = fraction_;
+        StageTimes st;
+        sync(st);  // never while the old session is in use
+        session_ = std::make_unique<ViewSession>(model_, vopt_);
+        view_ = nullptr;  // it belonged to the old session
+    }
+
+    // Starts the pipeline for `cam` on a worker thread: features -> visibility -> line quads. It
+    // reads the model and uses the session; the main thread touches neither until sync().
+    void launch(const Camera& cam) {
+        LineMeshOptions lo;
+        lo.hidden = hidden_;
+        lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
+        const bool recall = recall_on_;
+        const FeatureOptions kinds = vopt_.features;  // the panel may change vopt_ meanwhile
+        job_ = std::async(std::launch::async, [this, cam, lo, recall, kinds] {
+            const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+            Job& j = job_result_;
+            session_->find(cam);  // find, then visibility: the same as render(), timed apart
+            const double cpu1 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
+            View& view = session_->visibility(cam);
+            j.cpu_features = cpu1 - cpu0;
+            j.cpu_visibility = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu1;
+            j.view = &view;
+            j.camera = cam;
+            j.times = StageTimes{};
+            j.times.features = session_->seconds_features();
+            j.times.search = view.features.stats.seconds_search;
+            j.times.chain = view.features.stats.seconds_chain;
+            j.times.visibility = view.drawing.stats.seconds_visibility;
+            j.recall = -1.0;
+            if (recall) {
+                const auto tr = Clock::now();
+                const Features ref = extract_features(model_.topology(), cam, kinds);
+                const double all = edges_length(model_.topology(), ref.silhouette_edges);
+                j.recall = all > 0.0 ? edges_length(model_.topology(), view.features.silhouette_edges) / all : 1.0;
+                j.times.recall = since(tr);
+            }
+            const auto tl = Clock::now();
+            build_line_mesh(view.drawing, lo, j.lines);
+            j.times.lines = since(tl);
+            j.cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu0;
+        });
+    }
+
+    // Waits for the pipeline in flight, if any (its exception, if any, is thrown here), and makes
+    // its view the one drawn. Returns whether there was one.
+    bool sync(StageTimes& st) {
+        if (!job_.valid()) return false;
+        const auto t = Clock::now();
+        job_.get();
+        st.wait += since(t);
+        const Job& j = job_result_;
+        std::swap(lines_, job_result_.lines);
+        view_ = j.view;
+        drawn_ = j.camera;
+        stats_ = j.view->drawing.stats;
+        recall_ = j.recall;
+        worker_cpu_ += j.cpu;
+        st.cpu_features = j.cpu_features;
+        st.cpu_visibility = j.cpu_visibility;
+        st.features = j.times.features;
+        st.search = j.times.search;
+        st.chain = j.times.chain;
+        st.visibility = j.times.visibility;
+        st.recall = j.times.recall;
+        st.lines = j.times.lines;
+        last_silhouettes_ = stats_.silhouette_edges;
+        return true;
+    }
+
+    static bool same_camera(const Camera& a, const Camera& b) {
+        return a.eye() == b.eye() && a.target() == b.target() && a.up() == b.up() && a.fov_deg() == b.fov_deg() &&
+               a.is_ortho() == b.is_ortho() && a.ortho_height() == b.ortho_height() && a.width() == b.width() &&
+               a.height() == b.height();
+    }
+
+    void key(int k) {
+        if (panel_ && ImGui::GetIO().WantCaptureKeyboard) return;
+        switch (k) {
+            case GLFW_KEY_R: rig_.reset(); break;
+            case GLFW_KEY_1: rig_.front(); break;
+            case GLFW_KEY_2: rig_.side(); break;
+            case GLFW_KEY_3: rig_.top(); break;
+            case GLFW_KEY_O: rig_.toggle_ortho(); break;
+            case GLFW_KEY_H: panel_ = !panel_; break;
+            case GLFW_KEY_ESCAPE:
+            case GLFW_KEY_Q: glfwSetWindowShouldClose(win_, GLFW_TRUE); break;
+            default: break;
+        }
+    }
+
+    void mouse() {
+        double x = 0, y = 0;
+        glfwGetCursorPos(win_, &x, &y);
+        const double dx = x - mouse_x_, dy = y - mouse_y_;
+        mouse_x_ = x;
+        mouse_y_ = y;
+        const bool ui = panel_ && ImGui::GetIO().WantCaptureMouse;
+        const double scroll = scroll_;
+        scroll_ = 0.0;
+        if (ui) return;
+        if (scroll != 0.0) rig_.zoom(scroll);
+        int h = 0;
+        glfwGetWindowSize(win_, nullptr, &h);
+        if (glfwGetMouseButton(win_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) rig_.orbit(-0.4 * dx, -0.4 * dy);
+        else if (glfwGetMouseButton(win_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+                 glfwGetMouseButton(win_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS)
+            rig_.pan(dx, dy, h);
+    }
+
+    void upload_mesh() {
+        const MeshTopology& m = model_.topology();
+        const glm::dvec3 c = m.bounds.center();  // float positions relative to the box centre
+        std::vector<float> pos;
+        pos.reserve(3 * m.positions.size());
+        for (const glm::dvec3& p : m.positions) pos.insert(pos.end(), {float(p.x - c.x), float(p.y - c.y), float(p.z - c.z)});
+        glGenVertexArrays(1, &mesh_vao_);
+        glGenBuffers(2, mesh_bufs_);
+        glBindVertexArray(mesh_vao_);
+        glBindBuffer(GL_ARRAY_BUFFER, mesh_bufs_[0]);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(pos.size() * sizeof(float)), pos.data(), GL_STATIC_DRAW);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_bufs_[1]);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.faces.size() * sizeof(m.faces[0])), m.faces.data(), GL_STATIC_DRAW);
+        glBindVertexArray(0);
+    }
+
+    void draw_scene(const Camera& cam) {
+        const int w = cam.width(), h = cam.height();
+        glViewport(0, 0, w, h);
+        glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
+        glClearDepth(1.0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (shading_) {
+            if (!mesh_vao_) upload_mesh();
+            const MeshTopology& m = model_.topology();
+            const glm::dvec3 c = m.bounds.center();
+            const double R = std::max(m.bounds.half_diagonal(), 1e-12);
+            const double dist = glm::dot(c - cam.eye(), cam.forward());
+            const double near = cam.is_ortho() ? dist - 1.01 * R : std::max(dist - 1.01 * R, 1e-3 * R);
+            const double far = dist + 1.01 * R;
+            const glm::dmat4 view = glm::lookAt(cam.eye() - c, cam.target() - c, cam.upward());
+            const double aspect = double(w) / double(h);
+            glm::dmat4 proj;
+            if (cam.is_ortho()) {
+                const double hh = 0.5 * cam.ortho_height();
+                proj = glm::ortho(-hh * aspect, hh * aspect, -hh, hh, near, far);
+            } else {
+                proj = glm::perspective(glm::radians(cam.fov_deg()), aspect, near, far);
+            }
+            const glm::mat4 vf(view), pf(proj);
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_LESS);
+            // Pushed back a little so lines on the surface are never under it (they are drawn on top anyway).
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(1.0f, 1.0f);
+            glUseProgram(mesh_prog_);
+            glUniformMatrix4fv(glGetUniformLocation(mesh_prog_, "view"), 1, GL_FALSE, glm::value_ptr(vf));
+            glUniformMatrix4fv(glGetUniformLocation(mesh_prog_, "projection"), 1, GL_FALSE, glm::value_ptr(pf));
+            glUniform1i(glGetUniformLocation(mesh_prog_, "ortho"), cam.is_ortho() ? 1 : 0);
+            glBindVertexArray(mesh_vao_);
+            glDrawElements(GL_TRIANGLES, GLsizei(3 * m.faces.size()), GL_UNSIGNED_INT, nullptr);
+            glDisable(GL_POLYGON_OFFSET_FILL);
+            glDisable(GL_DEPTH_TEST);
+        }
+        // The lines: their visibility is already decided; drawn over everything, the darker wins.
+        glEnable(GL_BLEND);
+        glBlendEquation(GL_MIN);
+        glUseProgram(line_prog_);
+        glUniform2f(glGetUniformLocation(line_prog_, "size"), float(w), float(h));
+        float styles[16];
+        for (int i = 0; i < 4; ++i) {
+            const LineStyleGl& s = line_style(i);
+            styles[4 * i + 0] = s.grey;
+            styles[4 * i + 1] = s.dash_on;
+            styles[4 * i + 2] = s.dash_off;
+            styles[4 * i + 3] = 0.0f;
+        }
+        glUniform4fv(glGetUniformLocation(line_prog_, "styles"), 4, styles);
+        glBindVertexArray(line_vao_);
+        glBindBuffer(GL_ARRAY_BUFFER, line_vbo_);
+        const std::size_t bytes = lines_.size() * sizeof(LineVertex);
+        if (bytes > line_capacity_) {
+            line_capacity_ = std::max(bytes, 2 * line_capacity_);
+            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(line_capacity_), nullptr, GL_STREAM_DRAW);
+        }
+        if (bytes > 0) {
+            glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(bytes), lines_.data());
+            glDrawArrays(GL_TRIANGLES, 0, GLsizei(lines_.size()));
+        }
+        glBindVertexArray(0);
+        glBlendEquation(GL_FUNC_ADD);
+        glDisable(GL_BLEND);
+    }
+
+    void draw_panel();
+    // Writes the current drawing (format from the extension) and prints the `render` line for it.
+    void export_view(const std::string& path);
+    std::string render_command(const Camera& cam, const std::string& output) const;
+
+    Model& model_;
+    ViewerOptions opt_;
+    CameraRig rig_;
+    GLFWwindow* win_ = nullptr;
+    ViewOptions vopt_;
+    std::unique_ptr<ViewSession> session_;
+    std::vector<LineVertex> lines_;
+    View* view_ = nullptr;  // the session's last view (lines_ are its quads), drawn at drawn_
+    Camera drawn_;
+    DrawingStats stats_;    // of view_ (the panel reads this copy: view_ is rewritten by the worker)
+    struct Job {            // written by the worker thread, read after job_.get()
+        View* view = nullptr;
+        Camera camera;
+        StageTimes times;
+        double recall = -1.0, cpu = 0.0, cpu_features = 0.0, cpu_visibility = 0.0;
+        std::vector<LineVertex> lines;
+    };
+    Job job_result_;
+    std::future<void> job_;
+    double worker_cpu_ = 0.0;
+    Clock::time_point last_fresh_{};  // when the last view arrived
+    double view_period_ = 0.0;        // moving average of the time between views
+    double window_period_ = 0.0;      // moving average of the window's frame time
+    bool force_ = false, fraction_dirty_ = false;  // a new view needed though the camera is the same
+    int unchanged_ = 0;     // frames in a row without a new view
+    GLuint line_prog_ = 0, mesh_prog_ = 0, line_vao_ = 0, line_vbo_ = 0, mesh_vao_ = 0, mesh_bufs_[2] = {0, 0};
+    std::size_t line_capacity_ = 0, last_silhouettes_ = 0;
+    double mouse_x_ = 0, mouse_y_ = 0, scroll_ = 0;
+    bool hidden_ = false, shading_ = false, panel_ = true, recall_on_ = false;
+    float crease_ = 40.0f, fraction_ = 0.05f;
+    double recall_ = -1.0;
+    StageTimes shown_;
+    char export_name_[256] = "inkline-view";
+    std::string status_, command_;
+    bool dirty_ = false, crease_dirty_ = false;  // options changed: a new session next frame
+};
+
+std::string Viewer::render_command(const Camera& cam, const std::string& output) const {
+    std::string c = "inkline render " + opt_.model_path;
+    if (opt_.subdivide > 0) c += " --subdivide=" + std::to_string(opt_.subdivide);
+    char buf[64];
+    std::snprintf(buf, sizeof buf, " --crease=%g", double(crease_));
+    c += buf;
+    std::string kinds;
+    for (int k = 0; k < kLineKindCount; ++k)
+        if (vopt_.features.kinds[k]) kinds += std::string(kinds.empty() ? "" : ",") + to_string(LineKind(k));
+    if (kinds.empty()) kinds = "none";
+    c += " --lines=" + kinds;
+    if (vopt_.visibility == VisibilityMethod::Rays) c += " --visibility=rays";
+    if (!vopt_.walk) c += " --no-walk";
+    if (vopt_.finder.kind == FinderKind::Randomized) {
+        std::snprintf(buf, sizeof buf, " --finder=randomized --fraction=%g --seed=%llu", double(fraction_),
+                      static_cast<unsigned long long>(vopt_.finder.seed));
+        c += buf;
+    }
+    if (hidden_) c += " --hidden";
+    return c + " " + camera_flags(cam) + " -o " + output;
+}
+
+void Viewer::draw_panel() {
+    const Camera& cam = drawn_;
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.8f);  // the drawing shows through; H hides the panel
+    ImGui::Begin("inkline (H hides)");
+    if (ImGui::CollapsingHeader("Lines", ImGuiTreeNodeFlags_DefaultOpen)) {
+        for (int k = 0; k < kLineKindCount; ++k) {
+            if (k > 0) ImGui::SameLine();
+            dirty_ |= ImGui::Checkbox(to_string(LineKind(k)), &vopt_.features.kinds[k]);
+        }
+        dirty_ |= ImGui::Checkbox("hidden lines (dashed by QI)", &hidden_);
+        ImGui::Checkbox("shading under the lines", &shading_);
+        if (ImGui::SliderFloat("crease angle", &crease_, 0.0f, 180.0f, "%.1f deg")) crease_dirty_ = true;
+    }
+    if (ImGui::CollapsingHeader("Finder and visibility", ImGuiTreeNodeFlags_DefaultOpen)) {
+        int finder = vopt_.finder.kind == FinderKind::Randomized ? 1 : 0;
+        bool changed = ImGui::RadioButton("exhaustive", &finder, 0);
+        ImGui::SameLine();
+        changed |= ImGui::RadioButton("randomized", &finder, 1);
+        if (changed) {
+            vopt_.finder.kind = finder ? FinderKind::Randomized : FinderKind::Exhaustive;
+            dirty_ = true;
+        }
+        if (finder) {
+            if (ImGui::SliderFloat("fraction", &fraction_, 0.0001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic))
+                fraction_dirty_ = true;  // applied when the session is idle
+            dirty_ |= ImGui::Checkbox("frame coherence", &vopt_.finder.coherence);
+        }
+        int vis = vopt_.visibility == VisibilityMethod::Rays ? 1 : 0;
+        changed = ImGui::RadioButton("appel (QI propagation)", &vis, 0);
+        ImGui::SameLine();
+        changed |= ImGui::RadioButton("rays", &vis, 1);
+        if (changed) {
+            vopt_.visibility = vis ? VisibilityMethod::Rays : VisibilityMethod::Appel;
+            dirty_ = true;
+        }
+        if (!vis) dirty_ |= ImGui::Checkbox("walk before ray tests", &vopt_.walk);
+        if (ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_)) force_ = true;
+    }
+    if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const DrawingStats& s = stats_;
+        const StageTimes& t = shown_;
+        ImGui::Text("%.1f views/s (pipeline), window %.1f fps", view_period_ > 0 ? 1.0 / view_period_ : 0.0,
+                    window_period_ > 0 ? 1.0 / window_period_ : 0.0);
+        ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
+        ImGui::Text("visibility %.2f ms, line quads %.2f ms", 1e3 * t.visibility, 1e3 * t.lines);
+        ImGui::Text("GL draw + swap %.2f ms%s", 1e3 * t.draw, recall_on_ ? " (+ recall reference)" : "");
+        ImGui::Text("%zu triangles, %zu silhouette edges", s.triangles, s.silhouette_edges);
+        ImGui::Text("%.3g silhouette edges/s (finder)", s.seconds_features > 0 ? s.silhouette_edges / s.seconds_features : 0.0);
+        ImGui::Text("%zu crease, %zu border edges, %zu cusps", s.crease_edges, s.border_edges, s.cusps);
+        ImGui::Text("%zu pieces, %zu crossings, %zu clusters", s.pieces, s.crossings, s.clusters);
+        ImGui::Text("%zu ray tests, %zu walks", s.ray_tests, s.walks);
+        if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", recall_);
+    }
+    if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::TextUnformatted("left drag: orbit; right/middle drag: pan");
+        ImGui::TextUnformatted("wheel: zoom; H hides this panel");
+        ImGui::TextUnformatted("R reset, 1/2/3 front/side/top, O ortho/persp");
+        ImGui::Text("%s", rig_.ortho() ? "orthographic" : "perspective");
+        ImGui::InputText("file name", export_name_, sizeof export_name_);
+        for (const char* label : {"SVG", "PDF", "PNG", "JSON"}) {
+            if (label[0] != 'S') ImGui::SameLine();
+            if (ImGui::Button(label)) {
+                std::string ext = label;
+                for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+                export_view(std::string(export_name_) + "." + ext);
+            }
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("render command")) {
+            command_ = render_command(cam, std::string(export_name_) + ".svg");
+            std::printf("%s\n", command_.c_str());
+            std::fflush(stdout);
+        }
+        if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
+        if (!command_.empty()) ImGui::TextWrapped("%s", command_.c_str());
+    }
+    ImGui::End();
+}
+
+void Viewer::export_view(const std::string& path) {
+    StageTimes st;
+    sync(st);  // the newest view, and the worker idle
+    const View& view = *view_;
+    const Camera& cam = drawn_;
+    OutputOptions oo;
+    oo.hidden = hidden_;
+    try {
+        write_drawing(view.drawing, path, output_format(path, ""), oo);
+        status_ = "wrote " + path;
+        command_ = render_command(cam, path);
+        std::printf("wrote %s; the same with: %s\n", path.c_str(), command_.c_str());
+        std::fflush(stdout);
+    } catch (const Error& e) {
+        if (opt_.frames > 0) throw;  // headless: the error is the result
+        status_ = e.what();
+        std::fprintf(stderr, "inkline: %s\n", e.what());
+    }
+}
+
+}  // namespace
+
+int run_viewer(Model& model, const Camera& home, const ViewerOptions& options) {
+    Glfw glfw;
+    Viewer viewer(model, home, options);
+    return viewer.run();
+}
+
+}  // namespace inkline

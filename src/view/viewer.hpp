@@ -1,0 +1,40 @@
+// `inkline view`: the preview window. A GLFW window with an OpenGL 3.3 core context runs the real
+// pipeline (ViewSession: features -> visibility) on the CPU every frame and draws the pieces as
+// antialiased line quads (hidden ones grey and dashed by QI), optionally over flat-shaded
+// triangles; a Dear ImGui panel sets the options, shows the statistics and exports the view.
+// Headless driving (--frames): N frames, optionally along an orbit, a screenshot of the last one.
+#pragma once
+
+#include <string>
+
+#include "core/camera.hpp"
+#include "pipeline.hpp"
+
+namespace inkline {
+
+struct ViewerOptions {
+    std::string model_path;   // shown in the title and in the printed `inkline render` line
+    int subdivide = 0;
+    ViewOptions view;         // pipeline options (finder, visibility, line kinds)
+    bool hidden = false;      // draw hidden lines
+    bool shading = false;     // flat grey triangles under the lines
+    bool panel = true;        // the ImGui panel
+    int frames = 0;           // > 0: run that many frames, then exit
+    bool orbit = false;       // turn the camera along an orbit, `arc` degrees over the frames
+    double arc = 90.0;
+    std::string screenshot;   // PNG of the last frame's drawing (without the panel)
+    bool screenshot_ui = false;  // the screenshot includes the panel
+    std::string export_path;  // the last frame exported as the panel's buttons do (SVG/PDF/PNG/JSON)
+    bool recall = false;      // recall of silhouette length against the exhaustive finder, per view
+    bool fps = false;         // print the measured frames per second and where the time goes
+};
+
+// Opens the window on `home` (its size is the window's drawing area) and runs until closed, or
+// for options.frames frames. Prints the camera flags of the last frame as `render` does.
+// Throws inkline::Error when no window can be opened (no display, no OpenGL 3.3).
+int run_viewer(Model& model, const Camera& home, const ViewerOptions& options);
+
+// The camera flags exactly as `inkline render` prints them (without the leading "camera: ").
+std::string camera_flags(const Camera& camera);
+
+}  // namespace inkline
