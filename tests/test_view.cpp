@@ -313,6 +313,35 @@ TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
     EXPECT_GE(precision, 0.9);
 }
 
+TEST(ViewWindow, StyledScreenshotIsWhatRenderWritesWithTheStyle) {
+    // With --style the window shows the stylized drawing (brush strokes, offsets, hatching) as
+    // render --style writes it at the same camera: the same pixels, not an approximation.
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    for (const std::string style : {"ink-brush", "technical", "hatched"}) {
+        const fs::path shot = d / (style + "-shot.png"), drawn = d / (style + "-render.png");
+        const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=20 --size=480x360 "
+                                        "--style=" + style + " --screenshot=" + shot.string(), d);
+        ASSERT_EQ(v.code, 0) << v.err;
+        const Result r = run("", "render " + mesh("fandisk.off") + " --style=" + style + " " + camera_line(v.out) +
+                                     " -o " + drawn.string() + " --quiet", d);
+        ASSERT_EQ(r.code, 0) << r.err;
+        for (const double hi : {128.0, 235.0}) {  // black lines; then grey ones too (hidden, hatching)
+            const Mask a = dark_pixels(shot, -1.0, hi), b = dark_pixels(drawn, -1.0, hi);
+            ASSERT_GT(b.count(), 500u) << style;
+            const double recall = covered(b, a, 0), precision = covered(a, b, 0);
+            std::printf("%s (< %.0f): render %zu px, screenshot %zu; same pixel %.4f, %.4f\n", style.c_str(), hi,
+                        b.count(), a.count(), recall, precision);
+            EXPECT_GE(recall, 0.999) << style;
+            EXPECT_GE(precision, 0.999) << style;
+        }
+    }
+    // A bad style is refused before a window opens, naming the style.
+    const Result bad = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=1 --style=no-such-style", d);
+    EXPECT_NE(bad.code, 0);
+    EXPECT_NE(bad.err.find("no-such-style"), std::string::npos) << bad.err;
+}
+
 TEST(ViewWindow, HiddenLinesAreDrawnGreyWhereRenderDrawsThem) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();

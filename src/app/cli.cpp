@@ -16,9 +16,8 @@
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
-#include "style/attributes.hpp"
-#include "style/hatching.hpp"
 #include "style/style.hpp"
+#include "style/styled_view.hpp"
 #include "style/stylize.hpp"
 
 namespace inkline {
@@ -56,7 +55,7 @@ const char* kUsage =
     "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
     "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
     "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG]\n"
-    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading]\n"
+    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading] [--style=NAME|FILE]\n"
     "                      [--no-coherence] [--no-panel] [--recall] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
     "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh), or SURFACES (below).\n"
@@ -241,19 +240,10 @@ int render(int argc, char** argv) {
     double t_style = 0.0;
     if (style) {
         const auto t_s = std::chrono::steady_clock::now();
-        std::vector<std::vector<glm::dvec2>> hatches;
-        if (style->hatching.enabled) {
-            Camera hc = cam;
-            if (hc.near_distance() <= 0.0) hc.set_near(default_near(model.topology()));
-            for (auto& h : hatch_strokes(model.topology(), hc, model.rays(), style->hatching, true, &hatch_stats))
-                hatches.push_back(std::move(h.points));
-        }
-        std::optional<PointAttributes> attributes;
-        if (style->uses_attributes())
-            attributes = point_attributes(model.topology(), cam, view.drawing, view.spans, style->light_at_camera,
-                                          style->light);
-        const StyledDrawing sd =
-            stylize(view.drawing, *style, a.hidden, hatches, &style_stats, attributes ? &*attributes : nullptr);
+        StyledViewStats sv;
+        const StyledDrawing sd = stylize_view(model, cam, view, *style, a.hidden, &sv);
+        style_stats = sv.stylize;
+        hatch_stats = sv.hatching;
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
         write_styled(sd, out, format);
     } else {

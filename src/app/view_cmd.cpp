@@ -7,6 +7,7 @@
 
 #include "app/cli.hpp"
 #include "core/error.hpp"
+#include "style/style.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
 #include "view/viewer.hpp"
@@ -49,6 +50,9 @@ int run_view(int argc, char** argv) {
         } else if (key == "--screenshot") {
             if (value.empty()) throw Error(key, "expected a file name");
             o.screenshot = value;
+        } else if (key == "--style") {
+            load_style(value);  // a bad style file fails before the window opens
+            o.style = value;
         } else if (key == "--export") {
             if (value.empty()) throw Error(key, "expected a file name");
             output_format(value, "");  // refuse an unknown format before any work

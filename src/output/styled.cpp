@@ -298,6 +298,20 @@ std::string styled_to_bytes(const StyledDrawing& sd, Format f) {
     return bytes;
 }
 
+void styled_to_pixels(const StyledDrawing& sd, std::vector<std::uint32_t>& pixels) {
+    const int w = sd.width, h = sd.height;
+    pixels.assign(std::size_t(w) * std::size_t(h), 0xffffffffu);
+    const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_RGB24, w);
+    if (stride != 4 * w) throw Error("cairo", "unexpected stride for a " + std::to_string(w) + " px wide image");
+    SurfacePtr surface(cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(pixels.data()),
+                                                           CAIRO_FORMAT_RGB24, w, h, stride),
+                       cairo_surface_destroy);
+    cairo_status_t st = cairo_surface_status(surface.get());
+    if (st == CAIRO_STATUS_SUCCESS) st = draw(surface.get(), sd, true);
+    cairo_surface_flush(surface.get());
+    if (st != CAIRO_STATUS_SUCCESS) throw Error("cairo", cairo_status_to_string(st));
+}
+
 void write_styled(const StyledDrawing& sd, const std::string& path, Format f) {
     std::string bytes;
     try {

@@ -27,7 +27,10 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/error.hpp"
+#include "output/styled.hpp"
 #include "output/writers.hpp"
+#include "style/style.hpp"
+#include "style/styled_view.hpp"
 #include "view/camera_rig.hpp"
 #include "view/line_mesh.hpp"
 
@@ -144,6 +147,23 @@ void main() {
 )";
 // Flat toon shading: the face normal from screen-space derivatives of the view-space position,
 // three bands of light grey under a headlight.
+// The stylized drawing (a Cairo RGB24 image, top row first) over the whole viewport.
+const char* kImageVs = R"(#version 330 core
+out vec2 uv;
+void main() {
+    vec2 p = vec2(float((gl_VertexID & 1) * 2), float((gl_VertexID & 2)));  // 0,0 2,0 0,2 2,2
+    uv = vec2(p.x * 0.5, 1.0 - p.y * 0.5);
+    gl_Position = vec4(p - 1.0, 0.0, 1.0);
+}
+)";
+
+const char* kImageFs = R"(#version 330 core
+in vec2 uv;
+uniform sampler2D image;
+out vec4 colour;
+void main() { colour = vec4(texture(image, uv).rgb, 1.0); }
+)";
+
 const char* kMeshVs = R"(#version 330 core
 layout(location = 0) in vec3 pos;
 uniform mat4 view;
@@ -245,6 +265,14 @@ public:
 
         line_prog_ = program(kLineVs, kLineFs);
         mesh_prog_ = program(kMeshVs, kMeshFs);
+        image_prog_ = program(kImageVs, kImageFs);
+        glGenTextures(1, &image_tex_);
+        glBindTexture(GL_TEXTURE_2D, image_tex_);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glBindTexture(GL_TEXTURE_2D, 0);
         glGenVertexArrays(1, &line_vao_);
         glGenBuffers(1, &line_vbo_);
         glBindVertexArray(line_vao_);
@@ -269,6 +297,13 @@ public:
         panel_ = o.panel;
         recall_on_ = o.recall;
         vopt_ = o.view;
+        style_names_ = {"lines (GL)", "clean", "technical", "sketchy", "charcoal", "ink-brush", "hatched"};
+        if (!o.style.empty()) {
+            const auto it = std::find(style_names_.begin(), style_names_.end(), o.style);
+            if (it == style_names_.end()) style_names_.push_back(o.style);  // a style file
+            style_index_ = int(std::find(style_names_.begin(), style_names_.end(), o.style) - style_names_.begin());
+            style_ = std::make_shared<const Style>(load_style(o.style));
+        }
         rebuild_session();
     }
 
@@ -281,6 +316,8 @@ public:
         }
         glDeleteProgram(line_prog_);
         glDeleteProgram(mesh_prog_);
+        glDeleteProgram(image_prog_);
+        glDeleteTextures(1, &image_tex_);
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
@@ -428,7 +465,7 @@ public:
 
 private:
     void rebuild_session() {
-        vopt_.exact_hidden = hidden_;
+        vopt_.exact_hidden = hidden_ || (style_ && style_->draw_hidden);
         vopt_.finder.fraction = fraction_;
         StageTimes st;
         sync(st);  // never while the old session is in use
@@ -444,7 +481,9 @@ private:
         lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
         const bool recall = recall_on_;
         const FeatureOptions kinds = vopt_.features;  // the panel may change vopt_ meanwhile
-        job_ = std::async(std::launch::async, [this, cam, lo, recall, kinds] {
+        const std::shared_ptr<const Style> style = style_;
+        const bool hidden = hidden_;
+        job_ = std::async(std::launch::async, [this, cam, lo, recall, kinds, style, hidden] {
             const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
             Job& j = job_result_;
             session_->find(cam);  // find, then visibility: the same as render(), timed apart
@@ -468,7 +507,13 @@ private:
                 j.times.recall = since(tr);
             }
             const auto tl = Clock::now();
-            build_line_mesh(view.drawing, lo, j.lines);
+            j.styled = style != nullptr;
+            if (style) {  // what render --style writes, as pixels
+                styled_to_pixels(stylize_view(model_, cam, view, *style, hidden), j.pixels);
+                j.lines.clear();
+            } else {
+                build_line_mesh(view.drawing, lo, j.lines);
+            }
             j.times.lines = since(tl);
             j.cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu0;
         });
@@ -483,6 +528,9 @@ private:
         st.wait += since(t);
         const Job& j = job_result_;
         std::swap(lines_, job_result_.lines);
+        std::swap(pixels_, job_result_.pixels);
+        styled_ = j.styled;
+        pixels_new_ = styled_;
         view_ = j.view;
         drawn_ = j.camera;
         stats_ = j.view->drawing.stats;
@@ -599,6 +647,23 @@ private:
         // The lines: their visibility is already decided; drawn over everything, the darker wins.
         glEnable(GL_BLEND);
         glBlendEquation(GL_MIN);
+        if (styled_) {  // the stylized drawing: its white paper lets the shading through
+            glBindTexture(GL_TEXTURE_2D, image_tex_);
+            if (pixels_new_ && pixels_.size() == std::size_t(w) * std::size_t(h)) {
+                glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+                glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_BGRA, GL_UNSIGNED_BYTE, pixels_.data());
+                pixels_new_ = false;
+            }
+            glUseProgram(image_prog_);
+            glUniform1i(glGetUniformLocation(image_prog_, "image"), 0);
+            glBindVertexArray(line_vao_);  // core profile: some VAO must be bound; the shader makes the quad
+            glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+            glBindVertexArray(0);
+            glBindTexture(GL_TEXTURE_2D, 0);
+            glBlendEquation(GL_FUNC_ADD);
+            glDisable(GL_BLEND);
+            return;
+        }
         glUseProgram(line_prog_);
         glUniform2f(glGetUniformLocation(line_prog_, "size"), float(w), float(h));
         float styles[16];
@@ -647,6 +712,8 @@ private:
         StageTimes times;
         double recall = -1.0, cpu = 0.0, cpu_features = 0.0, cpu_visibility = 0.0;
         std::vector<LineVertex> lines;
+        bool styled = false;
+        std::vector<std::uint32_t> pixels;  // styled: the drawing, camera.width() x camera.height()
     };
     Job job_result_;
     std::future<void> job_;
@@ -656,6 +723,12 @@ private:
     double window_period_ = 0.0;      // moving average of the window's frame time
     bool force_ = false, fraction_dirty_ = false;  // a new view needed though the camera is the same
     int unchanged_ = 0;     // frames in a row without a new view
+    std::vector<std::string> style_names_;  // the panel's choices: GL lines, the presets, a --style file
+    int style_index_ = 0;
+    std::shared_ptr<const Style> style_;     // null: GL lines
+    std::vector<std::uint32_t> pixels_;      // the styled drawing of view_
+    bool styled_ = false, pixels_new_ = false;
+    GLuint image_prog_ = 0, image_tex_ = 0;
     GLuint line_prog_ = 0, mesh_prog_ = 0, line_vao_ = 0, line_vbo_ = 0, mesh_vao_ = 0, mesh_bufs_[2] = {0, 0};
     std::size_t line_capacity_ = 0, last_silhouettes_ = 0;
     double mouse_x_ = 0, mouse_y_ = 0, scroll_ = 0;
@@ -687,6 +760,7 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
         c += buf;
     }
     if (hidden_) c += " --hidden";
+    if (style_) c += " --style=" + style_names_[std::size_t(style_index_)];
     return c + " " + camera_flags(cam) + " -o " + output;
 }
 
@@ -703,6 +777,23 @@ void Viewer::draw_panel() {
         }
         dirty_ |= ImGui::Checkbox("hidden lines (dashed by QI)", &hidden_);
         ImGui::Checkbox("shading under the lines", &shading_);
+        const int before = style_index_;
+        if (ImGui::BeginCombo("style", style_names_[std::size_t(style_index_)].c_str())) {
+            for (int i = 0; i < int(style_names_.size()); ++i)
+                if (ImGui::Selectable(style_names_[std::size_t(i)].c_str(), i == style_index_)) style_index_ = i;
+            ImGui::EndCombo();
+        }
+        if (style_index_ != before) {
+            try {
+                style_ = style_index_ == 0 ? nullptr
+                                           : std::make_shared<const Style>(load_style(style_names_[std::size_t(style_index_)]));
+                status_.clear();
+            } catch (const Error& e) {
+                status_ = e.what();
+                style_index_ = before;
+            }
+            dirty_ = true;  // a style may draw hidden lines: a new session
+        }
         if (ImGui::SliderFloat("crease angle", &crease_, 0.0f, 180.0f, "%.1f deg")) crease_dirty_ = true;
     }
     if (ImGui::CollapsingHeader("Finder and visibility", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -736,7 +827,8 @@ void Viewer::draw_panel() {
         ImGui::Text("%.1f views/s (pipeline), window %.1f fps", view_period_ > 0 ? 1.0 / view_period_ : 0.0,
                     window_period_ > 0 ? 1.0 / window_period_ : 0.0);
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
-        ImGui::Text("visibility %.2f ms, line quads %.2f ms", 1e3 * t.visibility, 1e3 * t.lines);
+        ImGui::Text("visibility %.2f ms, %s %.2f ms", 1e3 * t.visibility, styled_ ? "style + raster" : "line quads",
+                    1e3 * t.lines);
         ImGui::Text("GL draw + swap %.2f ms%s", 1e3 * t.draw, recall_on_ ? " (+ recall reference)" : "");
         ImGui::Text("%zu triangles, %zu silhouette edges", s.triangles, s.silhouette_edges);
         ImGui::Text("%.3g silhouette edges/s (finder)", s.seconds_features > 0 ? s.silhouette_edges / s.seconds_features : 0.0);
@@ -779,7 +871,12 @@ void Viewer::export_view(const std::string& path) {
     OutputOptions oo;
     oo.hidden = hidden_;
     try {
-        write_drawing(view.drawing, path, output_format(path, ""), oo);
+        const Format format = output_format(path, "");
+        if (style_ && format != Format::Json) {
+            write_styled(stylize_view(model_, cam, view, *style_, hidden_), path, format);
+        } else {
+            write_drawing(view.drawing, path, format, oo);
+        }
         status_ = "wrote " + path;
         command_ = render_command(cam, path);
         std::printf("wrote %s; the same with: %s\n", path.c_str(), command_.c_str());

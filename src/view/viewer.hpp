@@ -18,6 +18,8 @@ struct ViewerOptions {
     ViewOptions view;         // pipeline options (finder, visibility, line kinds)
     bool hidden = false;      // draw hidden lines
     bool shading = false;     // flat grey triangles under the lines
+    std::string style;        // --style NAME|FILE: the drawing stylized as render --style draws it (a
+                              // Cairo image shown as a texture); empty: antialiased GL line quads
     bool panel = true;        // the ImGui panel
     int frames = 0;           // > 0: run that many frames, then exit
     bool orbit = false;       // turn the camera along an orbit, `arc` degrees over the frames
