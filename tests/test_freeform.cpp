@@ -673,41 +673,17 @@ TEST(FreeformLineArt, DrawsPortionsOfSelectedStrokesAndClipsHiddenOnes) {
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <sys/wait.h>
+#include "cli_util.hpp"
 
 namespace {
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int code = -1;
-    std::string out, err;
-};
+using CliRun = inkline_test::Result;
+using inkline_test::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+fs::path scratch_dir() { return inkline_test::scratch("inkline_ff_"); }
 
-fs::path scratch_dir() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("inkline_ff_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-CliRun inkline_run(const std::string& args, const fs::path& dir) {
-    const std::string cmd = std::string(INKLINE_BINARY) + " render " + args + " >" + (dir / "stdout").string() + " 2>" +
-                            (dir / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    return r;
-}
+CliRun inkline_run(const std::string& args, const fs::path& dir) { return inkline_test::run_inkline("", "render " + args, dir); }
 }  // namespace
 
 TEST(FreeformCli, TeapotStrokesAndSilhouettesToJsonAndSvg) {

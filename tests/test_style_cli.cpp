@@ -2,6 +2,8 @@
 // exactly the default output, bad style files refused with one line naming file and key.
 #include <gtest/gtest.h>
 
+#include "cli_util.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,35 +15,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int code = -1;
-    std::string out, err;
-};
+using inkline_test::Result;
+using inkline_test::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
-fs::path scratch() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("inkline_style_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path scratch() { return inkline_test::scratch("inkline_style_cli_"); }
 
 Result run(const std::string& args, const fs::path& dir, const std::string& env = "") {
-    const std::string cmd = env + " " + std::string(INKLINE_BINARY) + " " + args + " >" + (dir / "stdout").string() +
-                            " 2>" + (dir / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    return r;
+    return inkline_test::run_inkline(env.empty() ? "" : env + " ", args, dir);
 }
 
 std::string mesh(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name; }

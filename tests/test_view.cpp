@@ -3,6 +3,8 @@
 // at the camera the window prints.
 #include <gtest/gtest.h>
 
+#include "cli_util.hpp"
+
 #include <cairo.h>
 #include <sys/wait.h>
 
@@ -151,35 +153,13 @@ TEST(LineMesh, SimplificationDropsOnlyPointsOnTheLine) {
 
 // ---- The window under Xvfb --------------------------------------------------------------------
 
-struct Result {
-    int code = -1;
-    std::string out, err;
-};
+using inkline_test::Result;
+using inkline_test::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
-fs::path scratch() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("inkline_view_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path scratch() { return inkline_test::scratch("inkline_view_"); }
 
 Result run(const std::string& prefix, const std::string& args, const fs::path& dir) {
-    const std::string cmd = prefix + std::string(INKLINE_BINARY) + " " + args + " >" + (dir / "stdout").string() +
-                            " 2>" + (dir / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    return r;
+    return inkline_test::run_inkline(prefix, args, dir);
 }
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
