@@ -12,6 +12,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <iterator>
 #include <string>
 #include <unordered_map>
@@ -23,6 +26,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <glm/geometric.hpp>
 
+#include "../fuzz/pipeline_input.hpp"
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
@@ -538,6 +542,27 @@ TEST(Extremes, ModelUnderOnePixel) {
             EXPECT_GT(v.drawing.pieces.size(), 0u) << dist;
         }
     }
+}
+
+// ---- fuzzer findings ---------------------------------------------------------------------
+
+// Every input the pipeline fuzzer (fuzz/run.sh pipeline) found failing, replayed: the drawings
+// must be finite with non-negative QI.
+TEST(Extremes, PipelineFuzzRegressions) {
+    const std::filesystem::path dir = std::filesystem::path(__FILE__).parent_path().parent_path() / "fuzz" / "regressions";
+    ASSERT_TRUE(std::filesystem::is_directory(dir)) << dir;
+    int replayed = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        if (e.path().filename().string().rfind("pipeline-", 0) != 0) continue;
+        std::ifstream f(e.path(), std::ios::binary);
+        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+        std::vector<inkline::View> views;
+        const bool rendered = inkline_fuzz::render_from_bytes(bytes.data(), bytes.size(), views);
+        for (const auto& v : views) EXPECT_TRUE(inkline_fuzz::drawing_is_sane(v.drawing)) << e.path();
+        EXPECT_TRUE(rendered || views.empty()) << e.path();
+        ++replayed;
+    }
+    EXPECT_GT(replayed, 0);
 }
 
 }  // namespace

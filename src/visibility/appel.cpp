@@ -590,6 +590,11 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         base[c] = ray_qi(p) - off[p];
         state[c] = kFixed;
     }
+    // A negative value proves the cluster's offsets wrong (the surface is not embedded there, or
+    // the view is degenerate: found by fuzz/run.sh pipeline, a crease at QI -2): the reference
+    // method decides its pieces.
+    for (std::uint32_t p = 0; p < np; ++p)
+        if (state[comp[p]] != kInconsistent && value(p) < 0) state[comp[p]] = kInconsistent;
     for (std::uint32_t p = 0; p < np; ++p) {
         if (state[comp[p]] == kInconsistent) {
             pieces[p].qi = ray_qi(p);
