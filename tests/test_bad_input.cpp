@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -64,7 +65,8 @@ CliResult run_cli(const std::vector<std::string>& args, const fs::path& dir) {
         // A guard, so that a regression cannot take the machine's memory: 2 GiB of address space
         // (ASan reserves terabytes of address space, so there its RSS limit is used instead).
 #if defined(__SANITIZE_ADDRESS__)
-        ::setenv("ASAN_OPTIONS", "hard_rss_limit_mb=2048", 0);
+        const char* given = std::getenv("ASAN_OPTIONS");
+        ::setenv("ASAN_OPTIONS", ((given ? std::string(given) + ":" : std::string()) + "hard_rss_limit_mb=2048").c_str(), 1);
 #else
         const struct rlimit lim = {rlim_t(2) << 30, rlim_t(2) << 30};
         ::setrlimit(RLIMIT_AS, &lim);
