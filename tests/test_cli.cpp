@@ -142,7 +142,7 @@ TEST(Cli, BadMeshesGiveOneLineErrorsAndNoOutput) {
         {"range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "range.off"},
         {"nonmanifold.off",
          "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n", "non-manifold"},
-        {"garbage.stl", std::string("solid x\n\x01\x02\x03 garbage \xff\xfe\n", 25), "garbage.stl"},
+        {"garbage.stl", std::string("solid x\n\x01\x02\x03 garbage \xff\xfe\n"), "garbage.stl"},
         {"unknown.xyz", "1 2 3\n", "unknown.xyz"},
     };
     for (const Case& c : cases) {

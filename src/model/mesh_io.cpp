@@ -11,53 +11,11 @@
 #include <string_view>
 #include <unordered_map>
 
-#include <OpenMesh/Core/IO/IOManager.hh>
-#include <OpenMesh/Core/IO/importer/ImporterT.hh>
-#include <OpenMesh/Core/IO/Options.hh>
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include "core/error.hpp"
 
 namespace inkline {
 namespace {
-
-struct DoubleTraits : public OpenMesh::DefaultTraits {
-    typedef OpenMesh::Vec3d Point;
-    typedef OpenMesh::Vec3d Normal;
-};
-using SoupMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
-
-// OpenMesh's ImporterT silently splits faces it cannot add (non-manifold edges, inconsistent
-// orientation) into separate components by duplicating vertices. We must see such faces to
-// refuse the mesh, so this importer keeps OpenMesh's readers but records the raw polygons.
-class SoupImporter : public OpenMesh::IO::ImporterT<SoupMesh> {
-public:
-    explicit SoupImporter(SoupMesh& m) : OpenMesh::IO::ImporterT<SoupMesh>(m) {}
-    OpenMesh::FaceHandle add_face(const VHandles& idx) override {
-        std::vector<std::int64_t> f;
-        f.reserve(idx.size());
-        for (auto h : idx) f.push_back(h.idx());
-        polygons.push_back(std::move(f));
-        return OpenMesh::FaceHandle();  // no face is built in the OpenMesh mesh
-    }
-    bool is_triangle_mesh() const override { return false; }  // readers must not pre-split
-    std::vector<std::vector<std::int64_t>> polygons;
-};
-
-// Silences OpenMesh's console messages while reading; we report our own one-line errors.
-struct QuietOpenMesh {
-    QuietOpenMesh() {
-        omerr().disable();
-        omlog().disable();
-        omout().disable();
-    }
-    ~QuietOpenMesh() {
-        omerr().enable();
-        omlog().enable();
-        omout().enable();
-    }
-};
 
 std::string lower_extension(const std::string& path) {
     const auto dot = path.find_last_of('.');
@@ -84,7 +42,7 @@ struct Soup {
 // (a failed number leaves the stream failed and later indices uninitialized, NaN/inf coordinates
 // and truncated files come out as unrelated errors or silently corrupted meshes, OBJ faces with
 // repeated or unparsable indices are dropped), so OFF, OBJ, ASCII PLY and STL are parsed here
-// with line numbers in every message; OpenMesh still reads binary OFF and PLY.
+// with line numbers in every message, and so are binary OFF and PLY (see read_ply_binary).
 class Lines {
 public:
     Lines(const std::string& text, bool hash_comments) : text_(text), comments_(hash_comments) {}
@@ -434,23 +392,202 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
     }
 }
 
-// Binary OFF and PLY: OpenMesh's readers, through the importer that records the raw polygons.
-void read_with_openmesh(const std::string& path, const std::string& ext, Soup& soup) {
-    SoupMesh om;
-    SoupImporter importer(om);
-    OpenMesh::IO::Options opt;
-    bool ok = false;
+// Binary PLY (little- or big-endian). Read here, not by OpenMesh, whose reader trusts the file:
+// it reserves storage for the header's counts and resizes face lists to their stated lengths
+// before reading them (a 300-byte file with one list claiming 2e9 entries took 17 GB). Here every
+// count is checked against the bytes that remain before anything is allocated for it.
+enum class PlyType : std::uint8_t { I8, U8, I16, U16, I32, U32, F32, F64, Bad };
+
+PlyType ply_type(std::string_view t) {
+    if (t == "char" || t == "int8") return PlyType::I8;
+    if (t == "uchar" || t == "uint8") return PlyType::U8;
+    if (t == "short" || t == "int16") return PlyType::I16;
+    if (t == "ushort" || t == "uint16") return PlyType::U16;
+    if (t == "int" || t == "int32") return PlyType::I32;
+    if (t == "uint" || t == "uint32") return PlyType::U32;
+    if (t == "float" || t == "float32") return PlyType::F32;
+    if (t == "double" || t == "float64") return PlyType::F64;
+    return PlyType::Bad;
+}
+
+std::size_t ply_size(PlyType t) {
+    switch (t) {
+        case PlyType::I8: case PlyType::U8: return 1;
+        case PlyType::I16: case PlyType::U16: return 2;
+        case PlyType::F64: return 8;
+        default: return 4;
+    }
+}
+
+void read_ply_binary(const std::string& data, const std::string& path, bool big_endian, Soup& soup) {
+    struct Property {
+        std::string name;
+        bool list = false;
+        PlyType count = PlyType::U8, value = PlyType::F32;
+    };
+    struct Element {
+        std::string name;
+        std::int64_t count = 0;
+        std::vector<Property> props;
+    };
+    const auto end = data.find("end_header");
+    if (end == std::string::npos) throw Error(path, "file ends inside the PLY header (no end_header)");
+    const auto nl = data.find('\n', end);
+    if (nl == std::string::npos) throw Error(path, "file ends after the PLY header (truncated)");
+    const std::string header = data.substr(0, end);
+    Lines lines(header, false);
+    std::vector<std::string_view> tok;
+    std::vector<Element> elements;
+    lines.next(tok);  // "ply", checked by the caller
+    while (lines.next(tok)) {
+        if (tok[0] == "format" || tok[0] == "comment" || tok[0] == "obj_info") continue;
+        if (tok[0] == "element") {
+            Element e;
+            if (tok.size() != 3 || !parse_int(tok[2], e.count) || e.count < 0)
+                throw Error(path, lines.at() + "malformed element line");
+            e.name = std::string(tok[1]);
+            elements.push_back(std::move(e));
+        } else if (tok[0] == "property") {
+            if (elements.empty()) throw Error(path, lines.at() + "property before any element");
+            Property p;
+            p.list = tok.size() >= 2 && tok[1] == "list";
+            if (tok.size() != (p.list ? 5u : 3u)) throw Error(path, lines.at() + "malformed property line");
+            p.name = std::string(tok.back());
+            if (p.list) p.count = ply_type(tok[2]);
+            p.value = ply_type(tok[p.list ? 3 : 1]);
+            if (p.count == PlyType::Bad || p.value == PlyType::Bad ||
+                (p.list && (p.count == PlyType::F32 || p.count == PlyType::F64)))
+                throw Error(path, lines.at() + "bad property type");
+            elements.back().props.push_back(std::move(p));
+        } else {
+            throw Error(path, lines.at() + "unknown PLY header line " + quoted(tok[0]));
+        }
+    }
+    std::size_t at = nl + 1;
+    // The minimum size of each element's instances (scalars and list lengths) must fit.
     {
-        QuietOpenMesh quiet;
-        ok = OpenMesh::IO::IOManager().read(path, importer, opt);
+        long double need = 0.0L;
+        for (const auto& e : elements) {
+            std::size_t bytes = 0;
+            for (const auto& p : e.props) bytes += ply_size(p.list ? p.count : p.value);
+            need += static_cast<long double>(e.count) * static_cast<long double>(std::max<std::size_t>(bytes, 1));
+            if (need > static_cast<long double>(data.size() - at))
+                throw Error(path, "header claims " + std::to_string(e.count) + " " + e.name + " elements, more than the " +
+                                      std::to_string(data.size() - at) +
+                                      " bytes after the header can hold (truncated or malformed)");
+        }
     }
-    if (!ok) throw Error(path, "cannot parse as " + ext + " (malformed or truncated file)");
-    soup.positions.reserve(om.n_vertices());
-    for (auto v : om.vertices()) {
-        const auto& p = om.point(v);
-        soup.positions.emplace_back(p[0], p[1], p[2]);
+    auto read = [&](PlyType t) -> double {
+        const std::size_t n = ply_size(t);
+        if (data.size() - at < n) throw Error(path, "file ends inside the PLY body (truncated)");
+        unsigned char b[8];
+        std::memcpy(b, data.data() + at, n);
+        at += n;
+        if (big_endian) std::reverse(b, b + n);  // to the little-endian order of this machine
+        switch (t) {
+            case PlyType::I8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
+            case PlyType::U8: return b[0];
+            case PlyType::I16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
+            case PlyType::U16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
+            case PlyType::I32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
+            case PlyType::U32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
+            case PlyType::F32: { float v; std::memcpy(&v, b, 4); return v; }
+            default: { double v; std::memcpy(&v, b, 8); return v; }
+        }
+    };
+    for (const auto& e : elements) {
+        const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+        int xyz[3] = {-1, -1, -1}, indices = -1;
+        for (int j = 0; j < int(e.props.size()); ++j) {
+            const auto& p = e.props[j];
+            if (is_vertex && !p.list && (p.name == "x" || p.name == "y" || p.name == "z")) xyz[p.name[0] - 'x'] = j;
+            if (is_face && p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = j;
+        }
+        if (is_vertex && (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0))
+            throw Error(path, "PLY vertex element lacks an x, y or z property");
+        if (is_face && indices < 0) throw Error(path, "PLY face element lacks a vertex_indices list");
+        if (is_vertex) soup.positions.reserve(std::size_t(e.count));  // fits in the file: checked
+        if (is_face) soup.polygons.reserve(std::size_t(e.count));
+        for (std::int64_t i = 0; i < e.count; ++i) {
+            glm::dvec3 p(0.0);
+            std::vector<std::int64_t> poly;
+            for (int j = 0; j < int(e.props.size()); ++j) {
+                const Property& pr = e.props[j];
+                if (pr.list) {
+                    const double n = read(pr.count);
+                    if (n < 0 || n * double(ply_size(pr.value)) > double(data.size() - at))
+                        throw Error(path, e.name + " " + std::to_string(i) + ": list length " +
+                                              std::to_string(std::int64_t(n)) +
+                                              " does not fit in the rest of the file (truncated or malformed)");
+                    if (j == indices) poly.reserve(std::size_t(n));
+                    for (std::int64_t m = 0; m < std::int64_t(n); ++m) {
+                        const double v = read(pr.value);
+                        if (j == indices) {
+                            if (v != std::floor(v))
+                                throw Error(path, "face " + std::to_string(i) + ": index " + std::to_string(v) +
+                                                      " is not an integer");
+                            poly.push_back(std::int64_t(v));
+                        }
+                    }
+                } else {
+                    const double x = read(pr.value);
+                    for (int c = 0; c < 3; ++c)
+                        if (is_vertex && j == xyz[c]) p[c] = x;
+                }
+            }
+            if (is_vertex) soup.positions.push_back(p);
+            if (is_face) soup.polygons.push_back(std::move(poly));
+        }
     }
-    soup.polygons = std::move(importer.polygons);
+}
+
+// Binary OFF, laid out as OpenMesh reads and writes it (little-endian): the header line, then
+// vertex, face and edge counts (uint32), per vertex 3 floats (then 3 normal floats for NOFF and 2
+// texture floats for STOFF), per face its corner count and corner indices (uint32). Read here, not
+// by OpenMesh, whose reader trusts the counts: it reserves storage for them and reads faces past
+// the end of the file, so a short file claiming billions of elements takes gigabytes.
+void read_off_binary(const std::string& data, const std::string& path, const std::string& key, Soup& soup) {
+    if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0 ||
+        key.substr(0, key.size() - 3).find_first_not_of("STCN4n") != std::string::npos)
+        throw Error(path, "line 1: expected an OFF header, found " + quoted(key));
+    const std::string prefix = key.substr(0, key.size() - 3);
+    if (prefix.find_first_of("C4n") != std::string::npos)
+        throw Error(path, "binary OFF with colours or a vertex dimension other than 3 ('" + key +
+                              "') is not supported");
+    const std::size_t floats = 3 + (prefix.find('N') != std::string::npos ? 3 : 0) +
+                               (prefix.find("ST") != std::string::npos ? 2 : 0);
+    std::size_t at = data.find('\n') + 1;  // the caller saw a first line
+    auto u32 = [&](const char* what) {
+        if (data.size() - at < 4) throw Error(path, std::string("file ends inside the ") + what + " (truncated)");
+        const auto* b = reinterpret_cast<const unsigned char*>(data.data() + at);
+        at += 4;
+        return std::uint32_t(b[0]) | (std::uint32_t(b[1]) << 8) | (std::uint32_t(b[2]) << 16) |
+               (std::uint32_t(b[3]) << 24);
+    };
+    const std::uint64_t nv = u32("header"), nf = u32("header");
+    u32("header");  // edge count, unused
+    const std::uint64_t body = data.size() - at;
+    if (nv * floats * 4 + nf * 16 > body)
+        throw Error(path, "header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                              " faces, more than the " + std::to_string(body) +
+                              " bytes after it can hold (truncated or malformed)");
+    soup.positions.reserve(nv);
+    for (std::uint64_t i = 0; i < nv; ++i) {
+        float c[8];
+        std::memcpy(c, data.data() + at, 4 * floats);  // fits: checked above
+        at += 4 * floats;
+        soup.positions.emplace_back(c[0], c[1], c[2]);
+    }
+    soup.polygons.reserve(nf);
+    for (std::uint64_t f = 0; f < nf; ++f) {
+        const std::uint64_t n = u32("faces");
+        if (n * 4 > data.size() - at)
+            throw Error(path, "face " + std::to_string(f) + " claims " + std::to_string(n) +
+                                  " corners, more than the rest of the file holds (truncated or malformed)");
+        std::vector<std::int64_t> poly(n);
+        for (auto& v : poly) v = u32("faces");
+        soup.polygons.push_back(std::move(poly));
+    }
 }
 
 }  // namespace
@@ -472,7 +609,9 @@ TriangleMesh load_mesh(const std::string& path) {
     std::vector<std::string_view> first;
     Lines::split(std::string_view(data).substr(0, data.find('\n')), first);
     if (ext == "off") {
-        if (first.size() >= 2 && first[1] == "BINARY") read_with_openmesh(path, ext, soup);
+        if (first.size() >= 2 && first[1] == "BINARY") {
+            read_off_binary(data, path, std::string(first[0]), soup);
+        }
         else read_off(data, path, soup);
     } else if (ext == "obj") {
         read_obj(data, path, soup);
@@ -480,11 +619,14 @@ TriangleMesh load_mesh(const std::string& path) {
         if (first.empty() || first[0] != "ply") throw Error(path, "not a PLY file (no 'ply' magic line)");
         Lines header(data, false);
         std::vector<std::string_view> tok;
-        bool ascii = false;
+        std::string format;
         while (header.next(tok) && tok[0] != "end_header")
-            if (tok[0] == "format") ascii = tok.size() >= 2 && tok[1] == "ascii";
-        if (ascii) read_ply_ascii(data, path, soup);
-        else read_with_openmesh(path, ext, soup);
+            if (tok[0] == "format" && tok.size() >= 2) format = std::string(tok[1]);
+        if (format == "ascii") read_ply_ascii(data, path, soup);
+        else if (format == "binary_little_endian") read_ply_binary(data, path, false, soup);
+        else if (format == "binary_big_endian") read_ply_binary(data, path, true, soup);
+        else throw Error(path, "unknown PLY format " + quoted(format) +
+                                   " (expected ascii, binary_little_endian or binary_big_endian)");
     } else {
         // ASCII if it starts with "solid" and holds no NUL byte (binary headers may start with
         // "solid" too, but the records' attribute words are practically always zero).

@@ -1,4 +1,4 @@
-// Model loading: OpenMesh's readers (OBJ, OFF, PLY, STL) into a validated triangle soup.
+// Model loading: strict readers (OBJ, OFF, PLY, STL; ASCII and binary) into a validated triangle soup.
 // Takes a file path; gives positions and consistently oriented triangles, or throws
 // inkline::Error("<file>: <problem>") for anything the pipeline cannot draw correctly.
 #pragma once

@@ -405,8 +405,20 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         std::size_t j = i;
         while (j < end_order.size() && std::uint32_t(end_order[j] >> 32) == v) ++j;
         ring_of(mesh, face_front, v, ring);
+        // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
+        // the local occlusion at v undefined; the pieces ending at v take the reference ray test
+        // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
+        bool edge_on = false;
+        for (const RingFace& r : ring) {
+            const auto& c = mesh.faces[r.face];
+            if (orient_eye(camera, mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]]) == 0) {
+                edge_on = true;
+                break;
+            }
+        }
         for (; i < j; ++i) {
             const auto& e = ends[std::uint32_t(end_order[i])];
+            if (edge_on) pierced[e.piece] = 1;
             if (pierced[e.piece]) continue;
             if (!forest.unite(std::uint32_t(node), e.piece, local_occlusion(mesh, camera, ring, v, e.edge))) bad[e.piece] = 1;
         }
@@ -590,6 +602,11 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         base[c] = ray_qi(p) - off[p];
         state[c] = kFixed;
     }
+    // A negative value proves the cluster's offsets wrong (the surface is not embedded there, or
+    // the view is degenerate: found by fuzz/run.sh pipeline, a crease at QI -2): the reference
+    // method decides its pieces.
+    for (std::uint32_t p = 0; p < np; ++p)
+        if (state[comp[p]] != kInconsistent && value(p) < 0) state[comp[p]] = kInconsistent;
     for (std::uint32_t p = 0; p < np; ++p) {
         if (state[comp[p]] == kInconsistent) {
             pieces[p].qi = ray_qi(p);
