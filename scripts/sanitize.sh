@@ -17,4 +17,11 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # Tests labelled asan_slow (test_oracle: 156 brute-force cases; measured on 2 busy cores, the whole
 # suite took 507 s under ASan, without them 79 s)
 # are left out here; the Release run of the same suite covers them.
-ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE asan_slow "$@"
+ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE 'asan_slow|gl' "$@"
+# Tests labelled gl drive the preview window (Mesa's OpenGL under Xvfb): ASan and UBSan stay on, leak
+# checks off, because Mesa's driver leaks at exit from a module it has already unloaded, which
+# leaves no function or library name for a suppression (seen: 112 bytes in 2 allocations from
+# "<unknown module>"). inkline's own code in that process is the same code the other tests check
+# for leaks.
+ASAN_OPTIONS=${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0} \
+  ctest --test-dir build-asan --output-on-failure -j "$jobs" -L gl -LE asan_slow "$@"
