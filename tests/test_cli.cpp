@@ -2,6 +2,8 @@
 // output files, valid SVG/PDF/PNG/JSON that follows DESIGN.md.
 #include <gtest/gtest.h>
 
+#include "cli_util.hpp"
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -16,36 +18,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int code = -1;
-    std::string out, err;
-};
+using inkline_test::Result;
+using inkline_test::slurp;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+fs::path scratch() { return inkline_test::scratch("inkline_cli_"); }
 
-fs::path scratch() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("inkline_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-Result run(const std::string& args, const fs::path& dir) {
-    const std::string cmd = std::string(INKLINE_BINARY) + " " + args + " >" + (dir / "stdout").string() + " 2>" +
-                            (dir / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    return r;
-}
+Result run(const std::string& args, const fs::path& dir) { return inkline_test::run_inkline("", args, dir); }
 
 std::string mesh(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name; }
 
