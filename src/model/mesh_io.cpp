@@ -298,43 +298,83 @@ void read_stl_binary(const std::string& data, const std::string& path, Soup& sou
     (void)path;
 }
 
-// ASCII PLY: header of elements and (scalar or list) properties; the "vertex" element gives x, y,
-// z and the "face" element its "vertex_indices" (or "vertex_index") list; others are skipped.
-void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup) {
-    struct Property {
-        std::string name;
-        bool list = false;
-    };
-    struct Element {
-        std::string name;
-        std::int64_t count = 0;
-        std::vector<Property> props;
-    };
-    Lines lines(text, false);
+enum class PlyType : std::uint8_t { I8, U8, I16, U16, I32, U32, F32, F64, Bad };
+
+PlyType ply_type(std::string_view t) {
+    if (t == "char" || t == "int8") return PlyType::I8;
+    if (t == "uchar" || t == "uint8") return PlyType::U8;
+    if (t == "short" || t == "int16") return PlyType::I16;
+    if (t == "ushort" || t == "uint16") return PlyType::U16;
+    if (t == "int" || t == "int32") return PlyType::I32;
+    if (t == "uint" || t == "uint32") return PlyType::U32;
+    if (t == "float" || t == "float32") return PlyType::F32;
+    if (t == "double" || t == "float64") return PlyType::F64;
+    return PlyType::Bad;
+}
+
+std::size_t ply_size(PlyType t) {
+    switch (t) {
+        case PlyType::I8: case PlyType::U8: return 1;
+        case PlyType::I16: case PlyType::U16: return 2;
+        case PlyType::F64: return 8;
+        default: return 4;
+    }
+}
+
+// A PLY header: elements with their (scalar or list) properties and the properties' types. Reads
+// `lines` up to and including the end_header line. Types are checked only when `typed` (binary
+// files need them; ASCII bodies are read as numbers whatever the header says).
+struct PlyProperty {
+    std::string name;
+    bool list = false;
+    PlyType count = PlyType::U8, value = PlyType::F32;
+};
+struct PlyElement {
+    std::string name;
+    std::int64_t count = 0;
+    std::vector<PlyProperty> props;
+};
+
+std::vector<PlyElement> read_ply_header(Lines& lines, const std::string& path, bool typed) {
     std::vector<std::string_view> tok;
-    std::vector<Element> elements;
+    std::vector<PlyElement> elements;
     lines.next(tok);  // "ply", checked by the caller
     while (true) {
         if (!lines.next(tok)) throw Error(path, "file ends inside the PLY header (no end_header)");
-        if (tok[0] == "end_header") break;
+        if (tok[0] == "end_header") return elements;
         if (tok[0] == "format" || tok[0] == "comment" || tok[0] == "obj_info") continue;
         if (tok[0] == "element") {
-            Element e;
+            PlyElement e;
             if (tok.size() != 3 || !parse_int(tok[2], e.count) || e.count < 0)
                 throw Error(path, lines.at() + "malformed element line");
             e.name = std::string(tok[1]);
             elements.push_back(std::move(e));
         } else if (tok[0] == "property") {
             if (elements.empty()) throw Error(path, lines.at() + "property before any element");
-            Property p;
+            PlyProperty p;
             p.list = tok.size() >= 2 && tok[1] == "list";
             if (tok.size() != (p.list ? 5u : 3u)) throw Error(path, lines.at() + "malformed property line");
             p.name = std::string(tok.back());
+            if (typed) {
+                if (p.list) p.count = ply_type(tok[2]);
+                p.value = ply_type(tok[p.list ? 3 : 1]);
+                if (p.count == PlyType::Bad || p.value == PlyType::Bad ||
+                    (p.list && (p.count == PlyType::F32 || p.count == PlyType::F64)))
+                    throw Error(path, lines.at() + "bad property type");
+            }
             elements.back().props.push_back(std::move(p));
         } else {
             throw Error(path, lines.at() + "unknown PLY header line " + quoted(tok[0]));
         }
     }
+}
+
+// ASCII PLY: header of elements and (scalar or list) properties; the "vertex" element gives x, y,
+// z and the "face" element its "vertex_indices" (or "vertex_index") list; others are skipped.
+void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup) {
+    Lines lines(text, false);
+    const std::vector<PlyElement> elements = read_ply_header(lines, path, false);
+    std::vector<std::string_view> tok;
     // The body as one token stream (an element instance is conventionally one line).
     std::size_t k = 0;
     tok.clear();
@@ -396,73 +436,14 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
 // it reserves storage for the header's counts and resizes face lists to their stated lengths
 // before reading them (a 300-byte file with one list claiming 2e9 entries took 17 GB). Here every
 // count is checked against the bytes that remain before anything is allocated for it.
-enum class PlyType : std::uint8_t { I8, U8, I16, U16, I32, U32, F32, F64, Bad };
-
-PlyType ply_type(std::string_view t) {
-    if (t == "char" || t == "int8") return PlyType::I8;
-    if (t == "uchar" || t == "uint8") return PlyType::U8;
-    if (t == "short" || t == "int16") return PlyType::I16;
-    if (t == "ushort" || t == "uint16") return PlyType::U16;
-    if (t == "int" || t == "int32") return PlyType::I32;
-    if (t == "uint" || t == "uint32") return PlyType::U32;
-    if (t == "float" || t == "float32") return PlyType::F32;
-    if (t == "double" || t == "float64") return PlyType::F64;
-    return PlyType::Bad;
-}
-
-std::size_t ply_size(PlyType t) {
-    switch (t) {
-        case PlyType::I8: case PlyType::U8: return 1;
-        case PlyType::I16: case PlyType::U16: return 2;
-        case PlyType::F64: return 8;
-        default: return 4;
-    }
-}
-
 void read_ply_binary(const std::string& data, const std::string& path, bool big_endian, Soup& soup) {
-    struct Property {
-        std::string name;
-        bool list = false;
-        PlyType count = PlyType::U8, value = PlyType::F32;
-    };
-    struct Element {
-        std::string name;
-        std::int64_t count = 0;
-        std::vector<Property> props;
-    };
     const auto end = data.find("end_header");
     if (end == std::string::npos) throw Error(path, "file ends inside the PLY header (no end_header)");
     const auto nl = data.find('\n', end);
     if (nl == std::string::npos) throw Error(path, "file ends after the PLY header (truncated)");
-    const std::string header = data.substr(0, end);
+    const std::string header = data.substr(0, nl + 1);  // Lines keeps a reference
     Lines lines(header, false);
-    std::vector<std::string_view> tok;
-    std::vector<Element> elements;
-    lines.next(tok);  // "ply", checked by the caller
-    while (lines.next(tok)) {
-        if (tok[0] == "format" || tok[0] == "comment" || tok[0] == "obj_info") continue;
-        if (tok[0] == "element") {
-            Element e;
-            if (tok.size() != 3 || !parse_int(tok[2], e.count) || e.count < 0)
-                throw Error(path, lines.at() + "malformed element line");
-            e.name = std::string(tok[1]);
-            elements.push_back(std::move(e));
-        } else if (tok[0] == "property") {
-            if (elements.empty()) throw Error(path, lines.at() + "property before any element");
-            Property p;
-            p.list = tok.size() >= 2 && tok[1] == "list";
-            if (tok.size() != (p.list ? 5u : 3u)) throw Error(path, lines.at() + "malformed property line");
-            p.name = std::string(tok.back());
-            if (p.list) p.count = ply_type(tok[2]);
-            p.value = ply_type(tok[p.list ? 3 : 1]);
-            if (p.count == PlyType::Bad || p.value == PlyType::Bad ||
-                (p.list && (p.count == PlyType::F32 || p.count == PlyType::F64)))
-                throw Error(path, lines.at() + "bad property type");
-            elements.back().props.push_back(std::move(p));
-        } else {
-            throw Error(path, lines.at() + "unknown PLY header line " + quoted(tok[0]));
-        }
-    }
+    const std::vector<PlyElement> elements = read_ply_header(lines, path, true);
     std::size_t at = nl + 1;
     // The minimum size of each element's instances (scalars and list lengths) must fit.
     {
@@ -512,7 +493,7 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
             glm::dvec3 p(0.0);
             std::vector<std::int64_t> poly;
             for (int j = 0; j < int(e.props.size()); ++j) {
-                const Property& pr = e.props[j];
+                const PlyProperty& pr = e.props[j];
                 if (pr.list) {
                     const double n = read(pr.count);
                     if (n < 0 || n * double(ply_size(pr.value)) > double(data.size() - at))
