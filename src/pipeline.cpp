@@ -23,7 +23,7 @@ Model Model::load(const std::string& path, double crease_degrees, int subdivide)
     return m;
 }
 
-Model::Model(const TriangleMesh& mesh, double crease_degrees) : topo_(build_topology(mesh, crease_degrees)) {}
+Model::Model(TriangleMesh mesh, double crease_degrees) : topo_(build_topology(std::move(mesh), crease_degrees)) {}
 
 const RayCaster& Model::rays() const {
     if (!rays_) rays_ = std::make_unique<RayCaster>(topo_);

@@ -19,7 +19,7 @@ public:
     // Loads and validates a mesh file (throws inkline::Error naming the file).
     // `subdivide` rounds of Loop subdivision are applied after loading.
     static Model load(const std::string& path, double crease_degrees = 40.0, int subdivide = 0);
-    explicit Model(const TriangleMesh& mesh, double crease_degrees = 40.0);
+    explicit Model(TriangleMesh mesh, double crease_degrees = 40.0);  // moved into the topology
 
     const MeshTopology& topology() const { return topo_; }
     MeshTopology& topology() { return topo_; }

@@ -488,7 +488,7 @@ TEST(Extremes, SilhouetteThroughAVertex) {
     const TriangleMesh sphere = inkline::make_sphere({0, 0, 0}, 1.0, 16, 8);
     const inkline::Model ms(sphere);
     const auto& t = ms.topology();
-    const glm::dvec3 n = t.face_normals[5], p = t.positions[t.faces[5][0]];
+    const glm::dvec3 n = t.face_normal(5), p = t.positions[t.faces[5][0]];
     glm::dvec3 along = glm::normalize(glm::cross(n, glm::dvec3(0.3, 1, 0.2)));
     expect_sound(ms, Camera::perspective(p + 4.0 * along, {0, 0, 0}, {0.1, 1, 0.05}, 45, 600, 600),
                  "eye near a face plane of a sphere");

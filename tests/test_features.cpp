@@ -214,7 +214,7 @@ std::size_t count_kind(const Features& f, LineKind k) {
 TEST(FaceIsFront, SignConventionPerspective) {
     // Counter-clockwise seen from +z: outward normal +z.
     const MeshTopology t = one_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
-    EXPECT_GT(t.face_normals[0].z, 0.0);
+    EXPECT_GT(t.face_normal(0).z, 0.0);
     EXPECT_TRUE(inkline::face_is_front(t, 0, persp({0.2, 0.2, 5})));
     EXPECT_FALSE(inkline::face_is_front(t, 0, persp({0.2, 0.2, -5})));
     // Only the side of the eye matters, not where the camera looks.
@@ -243,7 +243,7 @@ TEST(FaceIsFront, BoxFacesPointOutward) {
                 front += is_front;
                 // Front exactly when the outward normal points to the eye; the four sides seen
                 // edge-on (ortho) or from behind their planes (perspective) are not front.
-                EXPECT_EQ(is_front, glm::dot(box.face_normals[f], dir) > 0.5) << "face " << f;
+                EXPECT_EQ(is_front, glm::dot(box.face_normal(f), dir) > 0.5) << "face " << f;
             }
             EXPECT_EQ(front, 2);
         }

@@ -269,7 +269,7 @@ TEST(FreeformTessellation, TeapotWeldsIntoTheMeshPipeline) {
         const glm::dvec2 uv(0.37, 0.61);
         const glm::dvec3 p = t.locate(teapot, s, uv, f0, f1);
         ASSERT_NE(f0, UINT32_MAX);
-        EXPECT_GT(glm::dot(model.topology().face_normals[f0], teapot[s]->normal(uv.x, uv.y)), 0.9) << "patch " << s;
+        EXPECT_GT(glm::dot(model.topology().face_normal(f0), teapot[s]->normal(uv.x, uv.y)), 0.9) << "patch " << s;
         EXPECT_LT(glm::length(p - teapot[s]->eval(uv.x, uv.y).p), 0.01);  // chordal error of a 16x16 grid
     }
     // Silhouettes and borders of the teapot through the unchanged pipeline.

@@ -580,8 +580,7 @@ std::size_t count_flag(const MeshTopology& t, std::uint8_t flag) {
 void expect_well_formed(const MeshTopology& t) {
     const std::size_t nv = t.vertex_count(), nf = t.face_count(), ne = t.edge_count();
     ASSERT_EQ(t.face_edges.size(), nf);
-    ASSERT_EQ(t.face_normals.size(), nf);
-    ASSERT_EQ(t.face_offsets.size(), nf);
+    ASSERT_EQ(t.facing.size(), nf);
     ASSERT_EQ(t.edge_face.size(), ne);
     ASSERT_EQ(t.edge_flags.size(), ne);
     ASSERT_EQ(t.edge_normal_angle.size(), ne);
@@ -620,8 +619,9 @@ void expect_well_formed(const MeshTopology& t) {
             EXPECT_EQ(ends, (std::set<std::uint32_t>{t.faces[f][k], t.faces[f][(k + 1) % 3]}));
             EXPECT_TRUE(t.edge_face[e][0] == f || t.edge_face[e][1] == f);
             // Unit normal, plane through the corners.
-            EXPECT_NEAR(glm::length(t.face_normals[f]), 1.0, 1e-12);
-            EXPECT_NEAR(glm::dot(t.face_normals[f], t.positions[t.faces[f][k]]), t.face_offsets[f],
+            EXPECT_NEAR(glm::length(t.face_normal(f)), 1.0, 1e-12);
+            EXPECT_NEAR(glm::dot(t.face_normal(f), t.positions[t.faces[f][k]]),
+                        glm::dot(t.face_normal(f), t.positions[t.faces[f][0]]),
                         1e-12 * (1.0 + glm::length(t.positions[t.faces[f][k]])));
         }
     // Vertex -> edge CSR: each edge listed exactly once under each of its two vertices.
@@ -687,7 +687,7 @@ TEST(Topology, Box) {
     for (std::uint32_t f = 0; f < t.face_count(); ++f) {
         glm::dvec3 c(0.0);
         for (auto v : t.faces[f]) c += t.positions[v] / 3.0;
-        EXPECT_GT(glm::dot(t.face_normals[f], c - glm::dvec3(0.5, 1, 1.5)), 0.0) << f;
+        EXPECT_GT(glm::dot(t.face_normal(f), c - glm::dvec3(0.5, 1, 1.5)), 0.0) << f;
     }
 }
 
@@ -753,8 +753,8 @@ TEST(Topology, ValleyIsConcaveRidgeIsConvex) {
         ASSERT_NE(hinge, UINT32_MAX);
         EXPECT_NEAR(t.edge_normal_angle[hinge], M_PI / 2, 1e-6);
         EXPECT_TRUE(t.is_crease(hinge));
-        EXPECT_EQ(t.face_normals[0].y > 0, true);
-        EXPECT_EQ(t.face_normals[1].y > 0, true);
+        EXPECT_EQ(t.face_normal(0).y > 0, true);
+        EXPECT_EQ(t.face_normal(1).y > 0, true);
         if (side > 0) {  // normals (1,1,0) and (-1,1,0) point towards each other: valley
             EXPECT_EQ(t.edge_flags[hinge], inkline::kEdgeCrease | inkline::kEdgeConcave);
         } else {

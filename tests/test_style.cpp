@@ -485,7 +485,7 @@ TEST(Hatching, OnlyOnVisibleSurfaceCheckedAgainstRayTests) {
         // ray-test service and by the exact ball (the mesh is inside the ball, so a ray to a point
         // of the big ball that clears the small ball's inscribed mesh may graze the ball itself:
         // test against a ball inside the mesh: 0.98 r < r cos(pi/24) cos(pi/48)).
-        EXPECT_LT(glm::dot(topo.face_normals[h.face], h.centre - cam.eye()), 0.0);
+        EXPECT_LT(glm::dot(topo.face_normal(h.face), h.centre - cam.eye()), 0.0);
         EXPECT_LT(h.tone, hs.threshold);
         EXPECT_EQ(model.rays().count_layers(cam.eye(), h.centre, h.face, inkline::kNoFace), 0);
         if (back) {
@@ -505,7 +505,7 @@ TEST(Hatching, OnlyOnVisibleSurfaceCheckedAgainstRayTests) {
     EXPECT_EQ(unchecked.size(), st.lit);
     // Strokes run along normal x view ray: across the view direction, tangent to the outline.
     for (const auto& h : hatches) {
-        const glm::dvec3 n = topo.face_normals[h.face], v = glm::normalize(h.centre - cam.eye());
+        const glm::dvec3 n = topo.face_normal(h.face), v = glm::normalize(h.centre - cam.eye());
         const glm::dvec3 dir = glm::normalize(glm::cross(n, v));
         const glm::dvec2 a = cam.project(h.centre), b = cam.project(h.centre + 1e-4 * dir);
         if (glm::distance(a, b) < 1e-6) continue;

@@ -1,36 +1,102 @@
 #include "model/self_intersections.hpp"
 
-#include <iterator>
-#include <utility>
+#include <array>
+#include <cmath>
+#include <limits>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
 
 namespace inkline {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+// A face's box: floats rounded outward (so it holds the face), and the face as the box's id
+// (28 bytes).
+struct Box : CGAL::Box_intersection_d::Box_d<float, 3, CGAL::Box_intersection_d::ID_NONE> {
+    using Base = CGAL::Box_intersection_d::Box_d<float, 3, CGAL::Box_intersection_d::ID_NONE>;
+    Box(float lo[3], float hi[3], std::uint32_t f) : Base(lo, hi), face(f) {}
+    std::size_t id() const { return face; }
+    std::uint32_t face;
+};
+
+K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+
+float down(double x) {
+    const float f = float(x);
+    return double(f) <= x ? f : std::nextafter(f, -std::numeric_limits<float>::infinity());
+}
+float up(double x) {
+    const float f = float(x);
+    return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
+}
+
+// Do faces f and g meet anywhere but where the mesh joins them (a shared edge or vertex)?
+// The case analysis on shared corners is the one of CGAL's Polygon_mesh_processing::
+// self_intersections (which needs a halfedge copy of the mesh, see the header); every test is an
+// exact predicate of the Epick kernel.
+bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g) {
+    const auto& a = mesh.faces[f];
+    const auto& b = mesh.faces[g];
+    int shared = 0, ia = -1, ib = -1;  // last shared corner, in a and in b
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (a[i] == b[j]) {
+                ++shared;
+                ia = i;
+                ib = j;
+            }
+    const auto P = [&](std::uint32_t v) { return cgal(mesh.positions[v]); };
+    const K::Triangle_3 ta(P(a[0]), P(a[1]), P(a[2])), tb(P(b[0]), P(b[1]), P(b[2]));
+    if (shared == 0) return CGAL::do_intersect(ta, tb);
+    if (shared == 1) {
+        // Beyond the shared corner, two triangles meet iff the side opposite the shared corner of
+        // one meets the other.
+        const K::Segment_3 sa(P(a[(ia + 1) % 3]), P(a[(ia + 2) % 3])), sb(P(b[(ib + 1) % 3]), P(b[(ib + 2) % 3]));
+        return CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
+    }
+    if (shared == 2) {
+        // A shared edge (p, q): the faces overlap iff their far corners are coplanar with it and on
+        // the same side of it.
+        std::uint32_t ra = 0, rb = 0, p = 0, q = 0;
+        for (int i = 0; i < 3; ++i) {
+            if (a[i] != b[0] && a[i] != b[1] && a[i] != b[2]) {
+                ra = a[i];
+                p = a[(i + 1) % 3];
+                q = a[(i + 2) % 3];
+            }
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2]) rb = b[i];
+        }
+        const K::Point_3 Pp = P(p), Pq = P(q), Ra = P(ra), Rb = P(rb);
+        return CGAL::orientation(Pp, Pq, Ra, Rb) == CGAL::COPLANAR &&
+               CGAL::coplanar_orientation(Pp, Pq, Ra, Rb) == CGAL::POSITIVE;
+    }
+    return true;  // the same three vertices twice
+}
+
+}  // namespace
 
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
-    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-    using SM = CGAL::Surface_mesh<K::Point_3>;
-    SM sm;
-    std::vector<SM::Vertex_index> vs;
-    vs.reserve(mesh.vertex_count());
-    for (const auto& p : mesh.positions) vs.push_back(sm.add_vertex({p.x, p.y, p.z}));
-    std::vector<std::uint32_t> face_of;  // Surface_mesh face -> our face
-    face_of.reserve(mesh.face_count());
-    std::vector<std::uint8_t> out(mesh.face_count(), 0);
-    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const std::size_t nf = mesh.face_count();
+    std::vector<std::uint8_t> out(nf, 0);
+    std::vector<Box> boxes;
+    boxes.reserve(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
-        const SM::Face_index fi = sm.add_face(vs[t[0]], vs[t[1]], vs[t[2]]);
-        if (fi == SM::null_face()) {  // cannot happen on a validated 2-manifold; be safe
-            out[f] = 1;
-            continue;
+        float lo[3], hi[3];
+        for (int d = 0; d < 3; ++d) {
+            const double x0 = mesh.positions[t[0]][d], x1 = mesh.positions[t[1]][d], x2 = mesh.positions[t[2]][d];
+            lo[d] = down(std::min({x0, x1, x2}));
+            hi[d] = up(std::max({x0, x1, x2}));
         }
-        face_of.push_back(f);
+        boxes.emplace_back(lo, hi, f);
     }
-    std::vector<std::pair<SM::Face_index, SM::Face_index>> pairs;
-    CGAL::Polygon_mesh_processing::self_intersections(sm, std::back_inserter(pairs));
-    for (const auto& [a, b] : pairs) out[face_of[std::size_t(a)]] = out[face_of[std::size_t(b)]] = 1;
+    // Closed boxes (the default): faces that only touch reach the exact test too.
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+        const auto f = std::uint32_t(x.id()), g = std::uint32_t(y.id());
+        if ((out[f] && out[g]) || !faces_intersect(mesh, f, g)) return;
+        out[f] = out[g] = 1;
+    });
     return out;
 }
 

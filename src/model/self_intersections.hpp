@@ -9,7 +9,12 @@
 
 namespace inkline {
 
-// Per face: 1 if it intersects another face (CGAL Polygon_mesh_processing, exact predicates).
+// Per face: 1 if it intersects another face (exact predicates). Candidate pairs come from CGAL's
+// box_self_intersection_d on float boxes rounded outward (32 bytes per face, twice: CGAL copies
+// them); the pair test is the case analysis of CGAL's Polygon_mesh_processing::self_intersections,
+// written here because that function needs the mesh copied into a CGAL::Surface_mesh first (about
+// 80 bytes per face more, the peak of a 3 M-triangle model; docs/memory.md). test_model checks
+// that both give the same faces.
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh);
 
 }  // namespace inkline

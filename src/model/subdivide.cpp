@@ -7,7 +7,7 @@
 
 namespace inkline {
 
-TriangleMesh subdivide_loop(const TriangleMesh& mesh, int levels) {
+TriangleMesh subdivide_loop(TriangleMesh mesh, int levels) {
     if (levels <= 0) return mesh;
     struct Traits : OpenMesh::DefaultTraits {
         using Point = OpenMesh::Vec3d;

@@ -6,6 +6,6 @@
 namespace inkline {
 
 // `levels` rounds of Loop subdivision (each quadruples the triangles). The result is validated.
-TriangleMesh subdivide_loop(const TriangleMesh& mesh, int levels);
+TriangleMesh subdivide_loop(TriangleMesh mesh, int levels);
 
 }  // namespace inkline

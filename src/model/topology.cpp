@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+#include <utility>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <glm/common.hpp>
@@ -27,10 +27,17 @@ void MeshTopology::set_crease_angle(double degrees) {
     }
 }
 
-MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
+glm::dvec3 MeshTopology::face_normal(std::uint32_t f) const {
+    const auto& v = faces[f];
+    const glm::dvec3 n = glm::cross(positions[v[1]] - positions[v[0]], positions[v[2]] - positions[v[0]]);
+    const double len = glm::length(n);
+    return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+}
+
+MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     MeshTopology t;
-    t.positions = mesh.positions;
-    t.faces = mesh.triangles;
+    t.positions = std::move(mesh.positions);
+    t.faces = std::move(mesh.triangles);
     const std::size_t nv = t.positions.size(), nf = t.faces.size();
 
     t.bounds.lo = t.bounds.hi = t.positions.empty() ? glm::dvec3(0.0) : t.positions[0];
@@ -39,26 +46,11 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
         t.bounds.hi = glm::max(t.bounds.hi, p);
     }
 
-    t.face_normals.resize(nf);
-    t.face_offsets.resize(nf);
-    t.face_planes.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) {
-        const auto& v = t.faces[f];
-        const glm::dvec3 e = t.positions[v[1]] - t.positions[v[0]], g = t.positions[v[2]] - t.positions[v[0]];
-        const glm::dvec3 n = glm::cross(e, g);
-        const glm::dvec3 a = t.positions[v[0]];
-        const glm::dvec3 p{std::abs(e.y * g.z) + std::abs(e.z * g.y), std::abs(e.z * g.x) + std::abs(e.x * g.z),
-                           std::abs(e.x * g.y) + std::abs(e.y * g.x)};
-        t.face_planes[f] = {n, glm::dot(n, a), p, glm::dot(p, glm::abs(a))};
-        const double len = glm::length(n);
-        t.face_normals[f] = len > 0.0 ? n / len : glm::dvec3(0.0);
-        t.face_offsets[f] = glm::dot(t.face_normals[f], t.positions[v[0]]);
-    }
-
-    // Float facing planes. The double normal n errs by at most 8 eps |p| per component (p its
-    // permanent), so the unit normal's direction by at most 16 sqrt(3) eps |p|_inf / |n|; with the
-    // rounding to float (2^-24) that must stay below 2^-21 per component, else the face is NaN and
-    // always goes to the exact predicate. facing.cpp derives the per-view bound from this.
+    // Float facing planes, from the double normal n = cross(b - a, c - a), which errs by at most
+    // 8 eps |p| per component (p its permanent: per component the sum of the absolute products), so
+    // the unit normal's direction by at most 16 sqrt(3) eps |p|_inf / |n|; with the rounding to float
+    // (2^-24) that must stay below 2^-21 per component, else the face is NaN and always goes to the
+    // exact predicate. facing.cpp derives the per-view bound from this.
     t.facing_origin = t.bounds.center();
     t.facing_radius = 0.0;
     for (const auto& p : t.positions) {
@@ -67,9 +59,14 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
     }
     t.facing.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) {
-        const auto& q = t.face_planes[f];
-        const double len = glm::length(q.n);
-        const double pmax = std::max({q.p.x, q.p.y, q.p.z});
+        const auto& v = t.faces[f];
+        const glm::dvec3 a = t.positions[v[0]];
+        const glm::dvec3 e = t.positions[v[1]] - a, g = t.positions[v[2]] - a;
+        const glm::dvec3 n = glm::cross(e, g);
+        const double pmax = std::max({std::abs(e.y * g.z) + std::abs(e.z * g.y),
+                                      std::abs(e.z * g.x) + std::abs(e.x * g.z),
+                                      std::abs(e.x * g.y) + std::abs(e.y * g.x)});
+        const double len = glm::length(n);
         constexpr double kEps = 1.1102230246251565e-16;
         const bool trusted = len > 0.0 && std::isfinite(len) && 16.0 * 1.7320508075688772 * kEps * pmax / len +
                                                                         0x1p-24 + 8.0 * kEps <= 0x1p-21;
@@ -78,30 +75,57 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
             t.facing[f] = {nan, nan, nan, nan};
             continue;
         }
-        const glm::dvec3 n = q.n / len;
-        t.facing[f] = {float(n.x), float(n.y), float(n.z),
-                       float(glm::dot(n, t.positions[t.faces[f][0]] - t.facing_origin))};
+        const glm::dvec3 u = n / len;
+        t.facing[f] = {float(u.x), float(u.y), float(u.z), float(glm::dot(u, a - t.facing_origin))};
     }
 
-    // Edges: first traversal a->b creates the edge with face 0; the opposite traversal fills face 1.
-    std::unordered_map<std::uint64_t, std::uint32_t> index;
-    index.reserve(nf * 2);
+    // Edges, numbered in the order of their first traversal (face by face, corner by corner); the
+    // first traversal a->b gives face 0, the opposite one face 1. Corners are grouped by their edge
+    // with a counting sort on the lower vertex and a sort of each (small) bucket: 8 bytes per corner,
+    // freed on return, instead of a hash map (~80 bytes per edge at the peak; docs/memory.md).
+    const std::size_t nc = 3 * nf;
     t.face_edges.resize(nf);
-    for (std::uint32_t f = 0; f < nf; ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = t.faces[f][k], b = t.faces[f][(k + 1) % 3];
-            const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-            auto [it, inserted] = index.try_emplace(key, std::uint32_t(t.edge_vertex.size()));
-            if (inserted) {
-                t.edge_vertex.push_back({a, b});
-                t.edge_face.push_back({f, kNoFace});
-            } else {
-                t.edge_face[it->second][1] = f;
+    std::uint32_t* corner_edge = t.face_edges.empty() ? nullptr : t.face_edges[0].data();  // corner c = 3f + k
+    std::size_t ne = 0;
+    {
+        std::vector<std::uint32_t> begin(nv + 2, 0);
+        for (const auto& tri : t.faces)
+            for (int k = 0; k < 3; ++k) ++begin[std::min(tri[k], tri[(k + 1) % 3]) + 2];
+        for (std::size_t v = 0; v < nv; ++v) begin[v + 2] += begin[v + 1];
+        std::vector<std::uint64_t> key(nc);  // (upper vertex, corner), bucketed by lower vertex
+        for (std::uint32_t c = 0; c < nc; ++c) {
+            const auto& tri = t.faces[c / 3];
+            const std::uint32_t a = tri[c % 3], b = tri[(c % 3 + 1) % 3];
+            key[begin[std::min(a, b) + 1]++] = (std::uint64_t(std::max(a, b)) << 32) | c;
+        }
+        // Each corner learns the first corner of its edge (the smallest index in its group).
+        for (std::size_t v = 0; v < nv; ++v) {
+            const auto b0 = key.begin() + begin[v], b1 = key.begin() + begin[v + 1];
+            std::sort(b0, b1);
+            std::uint32_t first = 0;
+            for (auto it = b0; it != b1; ++it) {
+                const std::uint32_t c = std::uint32_t(*it);
+                if (it == b0 || (*it >> 32) != (*(it - 1) >> 32)) {
+                    first = c;
+                    ++ne;
+                }
+                corner_edge[c] = first;
             }
-            t.face_edges[f][k] = it->second;
         }
     }
-    const std::size_t ne = t.edge_vertex.size();
+    t.edge_vertex.reserve(ne);
+    t.edge_face.reserve(ne);
+    for (std::uint32_t c = 0; c < nc; ++c) {
+        const std::uint32_t f = c / 3, first = corner_edge[c];
+        if (first == c) {
+            corner_edge[c] = std::uint32_t(t.edge_vertex.size());
+            t.edge_vertex.push_back({t.faces[f][c % 3], t.faces[f][(c % 3 + 1) % 3]});
+            t.edge_face.push_back({f, kNoFace});
+        } else {  // first < c already holds its edge
+            corner_edge[c] = corner_edge[first];
+            t.edge_face[corner_edge[c]][1] = f;
+        }
+    }
     t.edge_normal_angle.assign(ne, 0.0f);
     t.edge_flags.assign(ne, 0);
     t.closed = true;
@@ -113,7 +137,7 @@ MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees) {
             t.closed = false;
             continue;
         }
-        const double c = std::clamp(glm::dot(t.face_normals[f0], t.face_normals[f1]), -1.0, 1.0);
+        const double c = std::clamp(glm::dot(t.face_normal(f0), t.face_normal(f1)), -1.0, 1.0);
         t.edge_normal_angle[e] = float(std::acos(c));
         // Convexity: the far corner of face 1 below the oriented plane of face 0 (exact predicate).
         std::uint32_t opp = 0;

@@ -1,5 +1,5 @@
 // MeshTopology: the flat, read-only arrays that every per-view stage reads (DESIGN.md step 1).
-// Takes a validated TriangleMesh; gives vertices, faces, edges with both faces, face planes,
+// Takes a validated TriangleMesh (moved in, so the model is held once); gives vertices, faces, edges with both faces, face planes,
 // the angle between face normals, convexity, crease and border flags, vertex->edge adjacency.
 #pragma once
 
@@ -29,19 +29,9 @@ struct MeshTopology {
     std::vector<glm::dvec3> positions;
     std::vector<std::array<std::uint32_t, 3>> faces;
     std::vector<std::array<std::uint32_t, 3>> face_edges;  // edge of corner k: (faces[k], faces[k+1])
-    std::vector<glm::dvec3> face_normals;                  // unit (zero for degenerate faces)
-    std::vector<double> face_offsets;                      // plane: dot(normal, x) = offset
-    // Facing filter, contiguous per face: the plane (n, k) with n = cross(b - a, c - a) in double
-    // and k = dot(n, a), and the error scale (p, pa): p the permanent of n (per component, the sum
-    // of the absolute products), pa = dot(p, |a|). orientation(a, b, c, eye) has the sign of
-    // dot(n, eye) - k wherever that exceeds its forward error bound (features.cpp).
-    struct FacePlane {
-        glm::dvec3 n;
-        double k;
-        glm::dvec3 p;
-        double pa;
-    };
-    std::vector<FacePlane> face_planes;
+    // Unit normal of face f (zero for a degenerate face), computed from the corners: nothing per
+    // face is stored for it (the model's memory is the topology; see docs/memory.md).
+    glm::dvec3 face_normal(std::uint32_t f) const;
     // Float facing planes, 16 bytes per face (one load for a lazy test; the full scan measured
     // 2x faster than with four separate arrays), for the exhaustive scan and the per-face test
     // (features/facing.hpp): unit normal and offset d = dot(n, a - facing_origin), so that
@@ -84,6 +74,6 @@ struct MeshTopology {
     void set_crease_angle(double degrees);
 };
 
-MeshTopology build_topology(const TriangleMesh& mesh, double crease_degrees = 40.0);
+MeshTopology build_topology(TriangleMesh mesh, double crease_degrees = 40.0);
 
 }  // namespace inkline

@@ -19,8 +19,8 @@ PointAttributes point_attributes(const MeshTopology& mesh, const Camera& camera,
         const auto add = [&](std::uint32_t e, double s) {
             const auto [v0, v1] = mesh.edge_vertex[e];
             const glm::dvec3 P = mesh.positions[v0] + s * (mesh.positions[v1] - mesh.positions[v0]);
-            glm::dvec3 n = mesh.face_normals[mesh.edge_face[e][0]];
-            if (mesh.edge_face[e][1] != kNoFace) n += mesh.face_normals[mesh.edge_face[e][1]];
+            glm::dvec3 n = mesh.face_normal(mesh.edge_face[e][0]);
+            if (mesh.edge_face[e][1] != kNoFace) n += mesh.face_normal(mesh.edge_face[e][1]);
             const double len = glm::length(n);
             const glm::dvec3 L = light_at_camera ? glm::normalize(camera.ray_origin(P) - P) : light;
             // At a silhouette the two faces turn opposite ways: the tone is about 0 (dark) there.

@@ -44,7 +44,7 @@ std::vector<HatchStroke> hatch_strokes(const MeshTopology& mesh, const Camera& c
     for (std::uint32_t f = 0; f < F; ++f) {
         const auto& t = mesh.faces[f];
         const glm::dvec3 A = mesh.positions[t[0]], B = mesh.positions[t[1]], C = mesh.positions[t[2]];
-        const glm::dvec3 nf = mesh.face_normals[f];
+        const glm::dvec3 nf = mesh.face_normal(f);
         if (glm::length(nf) == 0) continue;
         // Barycentric coordinates of a point in the plane of the triangle (clamped to it).
         const glm::dvec3 e0 = B - A, e1 = C - A;

@@ -77,17 +77,21 @@ int eye_side(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, con
 }
 
 // orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (or a rotation of it):
-// the face's plane filter (MeshTopology::FacePlane, the bound of extract_features for the eye,
-// which holds for any point x), then the exact predicate.
+// the plane filter of extract_features (n = cross(b - a, c - a) with its permanent p; the bound
+// holds for any point x), then the exact predicate.
 int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
     constexpr double kEps = 1.1102230246251565e-16;
-    const MeshTopology::FacePlane& q = mesh.face_planes[f];
-    const double det = glm::dot(q.n, x) - q.k;
-    const double bound = 16.0 * kEps * (glm::dot(q.p, glm::abs(x)) + q.pa) + 0x1p-1060;
+    const auto& c = mesh.faces[f];
+    const glm::dvec3 &a = mesh.positions[c[0]], &b = mesh.positions[c[1]], &cc = mesh.positions[c[2]];
+    const glm::dvec3 e = b - a, g = cc - a;
+    const glm::dvec3 n = glm::cross(e, g);
+    const glm::dvec3 p{std::abs(e.y * g.z) + std::abs(e.z * g.y), std::abs(e.z * g.x) + std::abs(e.x * g.z),
+                       std::abs(e.x * g.y) + std::abs(e.y * g.x)};
+    const double det = glm::dot(n, x) - glm::dot(n, a);
+    const double bound = 16.0 * kEps * (glm::dot(p, glm::abs(x)) + glm::dot(p, glm::abs(a))) + 0x1p-1060;
     if (det > bound) return 1;
     if (det < -bound) return -1;
-    const auto& c = mesh.faces[f];
-    return orient3(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
+    return orient3(a, b, cc, x);
 }
 
 // A set of mesh edges, one bit each.

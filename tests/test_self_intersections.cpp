@@ -1,0 +1,145 @@
+// self_intersecting_faces (src/model/self_intersections.cpp: float boxes and our own pair test)
+// against CGAL's Polygon_mesh_processing::self_intersections on a Surface_mesh copy, the
+// reference: the same faces, exactly, on constructed cases with touching and overlapping faces
+// (shared edge folded flat, shared vertex, coincident faces, crossing boxes), on crumpled
+// spheres that intersect themselves in many ways, and on real meshes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include "model/mesh_io.hpp"
+#include "model/primitives.hpp"
+#include "model/self_intersections.hpp"
+#include "model/topology.hpp"
+
+namespace {
+
+using inkline::TriangleMesh;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SM = CGAL::Surface_mesh<K::Point_3>;
+
+std::vector<std::uint8_t> reference(const inkline::MeshTopology& mesh) {
+    SM sm;
+    std::vector<SM::Vertex_index> vs;
+    for (const auto& p : mesh.positions) vs.push_back(sm.add_vertex({p.x, p.y, p.z}));
+    for (const auto& t : mesh.faces) {
+        const auto f = sm.add_face(vs[t[0]], vs[t[1]], vs[t[2]]);
+        EXPECT_NE(f, SM::null_face()) << "reference needs a manifold mesh";
+    }
+    std::vector<std::pair<SM::Face_index, SM::Face_index>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections(sm, std::back_inserter(pairs));
+    std::vector<std::uint8_t> out(mesh.face_count(), 0);
+    for (const auto& [a, b] : pairs) out[std::size_t(a)] = out[std::size_t(b)] = 1;
+    return out;
+}
+
+// Same faces as the reference; returns how many were flagged (so cases can say they are not empty).
+std::size_t expect_same(const TriangleMesh& m, const std::string& what) {
+    const inkline::MeshTopology t = inkline::build_topology(m);
+    const auto ours = inkline::self_intersecting_faces(t);
+    const auto ref = reference(t);
+    EXPECT_EQ(ours.size(), ref.size());
+    std::size_t flagged = 0, differ = 0;
+    for (std::size_t f = 0; f < ref.size(); ++f) {
+        flagged += ref[f];
+        if (ours[f] != ref[f] && ++differ <= 5) ADD_FAILURE() << what << ": face " << f << " ours " << int(ours[f]) << " CGAL " << int(ref[f]);
+    }
+    EXPECT_EQ(differ, 0u) << what;
+    return flagged;
+}
+
+TEST(SelfIntersections, ClosedSurfacesDoNotIntersectThemselves) {
+    EXPECT_EQ(expect_same(inkline::make_sphere({0, 0, 0}, 1, 32, 16), "sphere"), 0u);
+    EXPECT_EQ(expect_same(inkline::make_box({0, 0, 0}, {1, 2, 3}), "box"), 0u);
+    EXPECT_EQ(expect_same(inkline::make_sheet(1.0, 0.3, 12), "sheet"), 0u);
+}
+
+TEST(SelfIntersections, CrossingAndTouchingParts) {
+    EXPECT_GT(expect_same(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                inkline::make_box({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5})),
+                          "crossing boxes"),
+              0u);
+    // Sharing part of a face: coincident coplanar faces of opposite orientation.
+    EXPECT_GT(expect_same(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                inkline::make_box({1, 0, 0}, {2, 1.5, 0.7})),
+                          "boxes sharing a face"),
+              0u);
+    // Touching at one edge only, and at one corner only.
+    EXPECT_GT(expect_same(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                inkline::make_box({1, 1, 0}, {2, 2, 1})),
+                          "boxes sharing an edge line"),
+              0u);
+    EXPECT_GT(expect_same(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                inkline::make_box({1, 1, 1}, {2, 2, 2})),
+                          "boxes sharing a corner point"),
+              0u);
+    // Apart by a hair: boxes overlap in float but not in double.
+    EXPECT_EQ(expect_same(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                inkline::make_box({1 + 1e-12, 0, 0}, {2, 1, 1})),
+                          "boxes 1e-12 apart"),
+              0u);
+    EXPECT_EQ(expect_same(inkline::merge_meshes(inkline::make_torus({0, 0, 0}, {0, 0, 1}, 1.0, 0.25, 48, 16),
+                                                inkline::make_torus({1, 0, 0}, {0, 1, 0}, 1.0, 0.25, 48, 16)),
+                          "linked tori"),
+              0u);
+}
+
+// Faces joined by the mesh: a shared edge folded flat (far corners coplanar, same side) and a
+// shared vertex with overlapping coplanar wedges; and the same joints not overlapping.
+TEST(SelfIntersections, FacesThatShareCorners) {
+    TriangleMesh fold;  // open strip: 0-1 shared; 2 and 3 on the same side of it, coplanar
+    fold.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.3, 0.6, 0}};
+    fold.triangles = {{0, 1, 2}, {1, 0, 3}};
+    EXPECT_EQ(expect_same(fold, "folded flat"), 2u);
+    fold.positions[3] = {0.3, 0.6, 1e-9};  // just out of the plane
+    EXPECT_EQ(expect_same(fold, "folded, not flat"), 0u);
+    fold.positions[3] = {0.5, -1, 0};  // flat, unfolded
+    EXPECT_EQ(expect_same(fold, "flat"), 0u);
+
+    TriangleMesh fan;  // two triangles sharing vertex 0 only
+    fan.positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.2, 0}, {0.2, 1, 0}};
+    fan.triangles = {{0, 1, 2}, {0, 3, 4}};
+    EXPECT_EQ(expect_same(fan, "coplanar wedge inside"), 2u);
+    fan.positions[3] = {-1, 0.2, 0};
+    fan.positions[4] = {-0.2, 1, 0};
+    EXPECT_EQ(expect_same(fan, "coplanar wedges apart"), 0u);
+    fan.positions[3] = {1, 1, 1};
+    fan.positions[4] = {1, 1, -1};  // pierces the first triangle
+    EXPECT_EQ(expect_same(fan, "piercing at a shared vertex"), 2u);
+    fan.positions[4] = {1, 1, 0.5};  // both above
+    EXPECT_EQ(expect_same(fan, "above a shared vertex"), 0u);
+}
+
+// Spheres whose vertices are moved at random by about an edge length: many folds, of every kind above.
+TEST(SelfIntersections, CrumpledSpheres) {
+    std::mt19937 rng(7);
+    std::size_t total = 0;
+    for (int round = 0; round < 6; ++round) {
+        TriangleMesh s = inkline::make_sphere({0, 0, 0}, 1, 20 + 4 * round, 10 + 2 * round);
+        std::uniform_real_distribution<double> r(-0.25, 0.25);  // edges are 0.16 to 0.3 long
+        for (auto& p : s.positions) p += glm::dvec3(r(rng), r(rng), r(rng));
+        total += expect_same(s, "crumpled sphere " + std::to_string(round));
+    }
+    std::printf("[self-intersections] crumpled spheres: %zu faces\n", total);
+    EXPECT_GT(total, 50u) << "the crumpled spheres should intersect themselves";
+}
+
+TEST(SelfIntersections, RealMeshes) {
+    for (const char* name : {"ChineseDragon-10kv.off", "bunny00.off", "fandisk.off", "knot1.off"}) {
+        const TriangleMesh m = inkline::load_mesh(std::string(INKLINE_DATA_DIR) + "/meshes/" + name);
+        const std::size_t n = expect_same(m, name);
+        std::printf("[self-intersections] %s: %zu faces\n", name, n);
+    }
+}
+
+}  // namespace
