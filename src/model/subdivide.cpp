@@ -14,30 +14,44 @@ TriangleMesh subdivide_loop(TriangleMesh mesh, int levels) {
         using Normal = OpenMesh::Vec3d;
     };
     using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
-    Mesh m;
-    std::vector<Mesh::VertexHandle> vh;
-    vh.reserve(mesh.positions.size());
-    for (const auto& p : mesh.positions) vh.push_back(m.add_vertex({p.x, p.y, p.z}));
-    for (const auto& t : mesh.triangles)
-        if (!m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid())
-            throw Error("subdivide", "OpenMesh refused a face of a validated mesh");
-    OpenMesh::Subdivider::Uniform::LoopT<Mesh, double> loop;
-    loop.attach(m);
-    loop(std::size_t(levels));
-    loop.detach();
     TriangleMesh out;
-    out.positions.reserve(m.n_vertices());
-    for (const auto v : m.vertices()) {
-        const auto& p = m.point(v);
-        out.positions.emplace_back(p[0], p[1], p[2]);
-    }
-    out.triangles.reserve(m.n_faces());
-    for (const auto f : m.faces()) {
-        std::array<std::uint32_t, 3> tri{};
-        int k = 0;
-        for (const auto v : m.fv_range(f)) tri[k++] = std::uint32_t(v.idx());
-        out.triangles.push_back(tri);
-    }
+    {
+        Mesh m;
+        std::vector<Mesh::VertexHandle> vh;
+        vh.reserve(mesh.positions.size());
+        for (const auto& p : mesh.positions) vh.push_back(m.add_vertex({p.x, p.y, p.z}));
+        for (const auto& t : mesh.triangles)
+            if (!m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid())
+                throw Error("subdivide", "OpenMesh refused a face of a validated mesh");
+        mesh = TriangleMesh{};  // the input is in m now
+        vh = {};
+        OpenMesh::Subdivider::Uniform::LoopT<Mesh, double> loop;
+        loop.attach(m);
+        // Room for the final level at once (with the subdivider's own properties, attached above):
+        // the arrays would otherwise grow by doubling, and a doubling holds the old and the new
+        // array together (the load's peak; docs/memory.md). Loop: V' = V + E, E' = 2E + 3F, F' = 4F.
+        std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces();
+        for (int l = 0; l < levels; ++l) {
+            nv += ne;
+            ne = 2 * ne + 3 * nf;
+            nf *= 4;
+        }
+        m.reserve(nv, ne, nf);
+        loop(std::size_t(levels));
+        loop.detach();
+        out.positions.reserve(m.n_vertices());
+        for (const auto v : m.vertices()) {
+            const auto& p = m.point(v);
+            out.positions.emplace_back(p[0], p[1], p[2]);
+        }
+        out.triangles.reserve(m.n_faces());
+        for (const auto f : m.faces()) {
+            std::array<std::uint32_t, 3> tri{};
+            int k = 0;
+            for (const auto v : m.fv_range(f)) tri[k++] = std::uint32_t(v.idx());
+            out.triangles.push_back(tri);
+        }
+    }  // the OpenMesh copy is freed before the check below
     validate_mesh(out, "subdivide");
     return out;
 }
