@@ -26,11 +26,6 @@ std::string lower_extension(const std::string& path) {
     return e;
 }
 
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (std::uint64_t(a) << 32) | b;
-}
-
 
 // Vertex positions and raw polygons (0-based indices, unchecked) as read from a file.
 struct Soup {
@@ -648,6 +643,45 @@ TriangleMesh load_mesh(const std::string& path) {
     return mesh;
 }
 
+CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t nv) {
+    const std::size_t nc = 3 * triangles.size();
+    CornerMates out;
+    out.mate.assign(nc, kNoCorner);
+    std::vector<std::uint32_t> begin(nv + 2, 0);
+    for (const auto& t : triangles)
+        for (int k = 0; k < 3; ++k) ++begin[std::min(t[k], t[(k + 1) % 3]) + 2];
+    for (std::size_t v = 0; v < nv; ++v) begin[v + 2] += begin[v + 1];
+    std::vector<std::uint64_t> key(nc);  // (upper vertex, corner), bucketed by lower vertex
+    for (std::uint32_t c = 0; c < nc; ++c) {
+        const auto& t = triangles[c / 3];
+        const std::uint32_t a = t[c % 3], b = t[(c % 3 + 1) % 3];
+        key[begin[std::min(a, b) + 1]++] = (std::uint64_t(std::max(a, b)) << 32) | c;
+    }
+    std::uint32_t first_bad_corner = kNoCorner;
+    for (std::size_t v = 0; v < nv; ++v) {
+        const auto b0 = key.begin() + begin[v], b1 = key.begin() + begin[v + 1];
+        std::sort(b0, b1);
+        for (auto g0 = b0; g0 != b1;) {  // one group: the same upper vertex
+            auto g1 = g0 + 1;
+            while (g1 != b1 && (*g1 >> 32) == (*g0 >> 32)) ++g1;
+            const auto first = std::uint32_t(*g0);
+            if (g1 - g0 > 1) {
+                out.mate[first] = std::uint32_t(*(g1 - 1));
+                for (auto it = g0 + 1; it != g1; ++it) out.mate[std::uint32_t(*it)] = first;
+            }
+            if (g1 - g0 > 2) {
+                out.extra += std::size_t(g1 - g0 - 2);
+                if (std::uint32_t(g0[2]) < first_bad_corner) {
+                    first_bad_corner = std::uint32_t(g0[2]);
+                    out.first_bad = (std::uint64_t(v) << 32) | (*g0 >> 32);
+                }
+            }
+            g0 = g1;
+        }
+    }
+    return out;
+}
+
 void validate_mesh(TriangleMesh& mesh, const std::string& where) {
     const std::size_t nv = mesh.positions.size();
     for (std::size_t i = 0; i < nv; ++i) {
@@ -667,29 +701,13 @@ void validate_mesh(TriangleMesh& mesh, const std::string& where) {
             throw Error(where, "face " + std::to_string(f) + " repeats a vertex index");
     }
 
-    // Undirected edge -> incident faces. More than two is a non-manifold edge.
-    std::unordered_map<std::uint64_t, std::array<std::uint32_t, 2>> edge_faces;
-    edge_faces.reserve(nf * 2);
-    std::size_t nonmanifold = 0;
-    std::uint64_t first_bad = 0;
-    for (std::uint32_t f = 0; f < nf; ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const auto key = edge_key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3]);
-            auto [it, inserted] = edge_faces.try_emplace(key, std::array<std::uint32_t, 2>{f, UINT32_MAX});
-            if (inserted) continue;
-            if (it->second[1] == UINT32_MAX) {
-                it->second[1] = f;
-            } else {
-                if (nonmanifold++ == 0) first_bad = key;
-                it->second[1] = UINT32_MAX - 1;  // poisoned: counted once more is fine
-            }
-        }
-    }
-    if (nonmanifold > 0)
-        throw Error(where, "non-manifold: " + std::to_string(nonmanifold) +
+    // Corners grouped by edge: more than two on an edge is a non-manifold edge.
+    const CornerMates mates = corner_mates(mesh.triangles, nv);
+    if (mates.extra > 0)
+        throw Error(where, "non-manifold: " + std::to_string(mates.extra) +
                                " extra face(s) on edges shared by more than two faces (first at vertices " +
-                               std::to_string(first_bad >> 32) + "-" +
-                               std::to_string(first_bad & 0xffffffffu) +
+                               std::to_string(mates.first_bad >> 32) + "-" +
+                               std::to_string(mates.first_bad & 0xffffffffu) +
                                "); hidden-line removal by quantitative invisibility needs a 2-manifold mesh");
 
     // Consistent orientation by breadth-first search over faces: two faces sharing an edge must
@@ -715,9 +733,9 @@ void validate_mesh(TriangleMesh& mesh, const std::string& where) {
             for (int k = 0; k < 3; ++k) {
                 std::uint32_t a = t[k], b = t[(k + 1) % 3];
                 if (state[f] < 0) std::swap(a, b);  // direction after the flip decided for f
-                const auto& ef = edge_faces.at(edge_key(a, b));
-                if (ef[1] == UINT32_MAX) continue;  // border edge
-                const std::uint32_t g = ef[0] == f ? ef[1] : ef[0];
+                const std::uint32_t other = mates.mate[3 * f + k];
+                if (other == kNoCorner) continue;  // border edge
+                const std::uint32_t g = other / 3;
                 // g must traverse b->a after its own flip state.
                 const bool g_ab = directed(g, a, b);
                 const std::int8_t need = g_ab ? -1 : 1;
@@ -740,8 +758,8 @@ void validate_mesh(TriangleMesh& mesh, const std::string& where) {
     // and faces_reoriented counts the faces whose final orientation differs from the input.
     std::vector<double> volume(ncomp, 0.0);
     std::vector<char> closed(ncomp, 1);
-    for (const auto& [key, ef] : edge_faces)
-        if (ef[1] == UINT32_MAX) closed[component[ef[0]]] = 0;
+    for (std::size_t c = 0; c < mates.mate.size(); ++c)
+        if (mates.mate[c] == kNoCorner) closed[component[c / 3]] = 0;
     const glm::dvec3 c = mesh.positions[mesh.triangles[0][0]];
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.triangles[f];

@@ -29,4 +29,20 @@ TriangleMesh load_mesh(const std::string& path);
 // Polygons are not accepted here (triangles only); orientation is made consistent.
 void validate_mesh(TriangleMesh& mesh, const std::string& where);
 
+// Corners grouped by undirected edge. Corner c = 3f + k stands for the edge from corner k to
+// corner k + 1 of face f; the corners of one edge form a group, ordered by index. mate[c] is
+// kNoCorner for a corner alone on its edge (a border), the group's first corner for the others,
+// and the group's last corner for the first (so in a 2-manifold each corner's mate is the other
+// traversal of its edge). `extra` counts corners beyond two per edge (non-manifold edges) and
+// `first_bad` is the edge (lower vertex << 32 | upper) whose third corner has the smallest index.
+// A counting sort on the lower vertex and a sort per vertex: 8 bytes per corner while it runs,
+// where a hash map took about 80 bytes per edge (docs/memory.md).
+inline constexpr std::uint32_t kNoCorner = UINT32_MAX;
+struct CornerMates {
+    std::vector<std::uint32_t> mate;
+    std::size_t extra = 0;
+    std::uint64_t first_bad = 0;
+};
+CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t vertex_count);
+
 }  // namespace inkline

@@ -80,49 +80,27 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     }
 
     // Edges, numbered in the order of their first traversal (face by face, corner by corner); the
-    // first traversal a->b gives face 0, the opposite one face 1. Corners are grouped by their edge
-    // with a counting sort on the lower vertex and a sort of each (small) bucket: 8 bytes per corner,
-    // freed on return, instead of a hash map (~80 bytes per edge at the peak; docs/memory.md).
+    // first traversal a->b gives face 0, the last other one face 1 (the only other one in a
+    // 2-manifold). face_edges first holds each corner's mate, then, corner by corner, its edge.
     const std::size_t nc = 3 * nf;
     t.face_edges.resize(nf);
     std::uint32_t* corner_edge = t.face_edges.empty() ? nullptr : t.face_edges[0].data();  // corner c = 3f + k
     std::size_t ne = 0;
     {
-        std::vector<std::uint32_t> begin(nv + 2, 0);
-        for (const auto& tri : t.faces)
-            for (int k = 0; k < 3; ++k) ++begin[std::min(tri[k], tri[(k + 1) % 3]) + 2];
-        for (std::size_t v = 0; v < nv; ++v) begin[v + 2] += begin[v + 1];
-        std::vector<std::uint64_t> key(nc);  // (upper vertex, corner), bucketed by lower vertex
-        for (std::uint32_t c = 0; c < nc; ++c) {
-            const auto& tri = t.faces[c / 3];
-            const std::uint32_t a = tri[c % 3], b = tri[(c % 3 + 1) % 3];
-            key[begin[std::min(a, b) + 1]++] = (std::uint64_t(std::max(a, b)) << 32) | c;
-        }
-        // Each corner learns the first corner of its edge (the smallest index in its group).
-        for (std::size_t v = 0; v < nv; ++v) {
-            const auto b0 = key.begin() + begin[v], b1 = key.begin() + begin[v + 1];
-            std::sort(b0, b1);
-            std::uint32_t first = 0;
-            for (auto it = b0; it != b1; ++it) {
-                const std::uint32_t c = std::uint32_t(*it);
-                if (it == b0 || (*it >> 32) != (*(it - 1) >> 32)) {
-                    first = c;
-                    ++ne;
-                }
-                corner_edge[c] = first;
-            }
-        }
+        CornerMates mates = corner_mates(t.faces, nv);
+        std::copy(mates.mate.begin(), mates.mate.end(), corner_edge);
+        for (std::uint32_t c = 0; c < nc; ++c) ne += corner_edge[c] == kNoCorner || corner_edge[c] > c;
     }
     t.edge_vertex.reserve(ne);
     t.edge_face.reserve(ne);
     for (std::uint32_t c = 0; c < nc; ++c) {
-        const std::uint32_t f = c / 3, first = corner_edge[c];
-        if (first == c) {
+        const std::uint32_t f = c / 3, mate = corner_edge[c];
+        if (mate == kNoCorner || mate > c) {  // the first corner of its edge
             corner_edge[c] = std::uint32_t(t.edge_vertex.size());
             t.edge_vertex.push_back({t.faces[f][c % 3], t.faces[f][(c % 3 + 1) % 3]});
             t.edge_face.push_back({f, kNoFace});
-        } else {  // first < c already holds its edge
-            corner_edge[c] = corner_edge[first];
+        } else {  // its edge's first corner (mate < c) already holds the edge
+            corner_edge[c] = corner_edge[mate];
             t.edge_face[corner_edge[c]][1] = f;
         }
     }
