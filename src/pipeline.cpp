@@ -30,8 +30,10 @@ const RayCaster& Model::rays() const {
     return *rays_;
 }
 
-const std::vector<std::uint8_t>& Model::self_intersecting_faces() const {
-    if (!pierced_) pierced_ = std::make_unique<std::vector<std::uint8_t>>(inkline::self_intersecting_faces(topo_));
+const std::vector<std::uint8_t>& Model::self_intersecting_faces() const { return self_intersections().faces; }
+
+const SelfIntersections& Model::self_intersections() const {
+    if (!pierced_) pierced_ = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_));
     return *pierced_;
 }
 
@@ -87,12 +89,13 @@ void ViewSession::finish(const Camera& camera) {
         return r;
     };
     // Once per model, like the ray-test index: not the view's time.
-    const std::vector<std::uint8_t>* pierced = appel ? &model.self_intersecting_faces() : nullptr;
+    const SelfIntersections& si = model.self_intersections();
+    const std::vector<std::uint8_t>* pierced = appel ? &si.faces : nullptr;
     const auto t1 = std::chrono::steady_clock::now();
     VisibleCurves curves;
     AppelStats as;
     if (appel) {
-        PieceGraph g = build_pieces(model.topology(), v.features, camera);
+        PieceGraph g = build_pieces(model.topology(), v.features, camera, &si.cuts);
         as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g, {options.exact_hidden, pierced, options.walk});
         curves = std::move(g.curves);
         curves.ray_tests = as.ray_tests;
@@ -106,7 +109,7 @@ void ViewSession::finish(const Camera& camera) {
         curves.pieces.resize(k);
         curves.spans.resize(k);
     } else {
-        curves = compute_visibility(model.topology(), v.features, camera, rays());
+        curves = compute_visibility(model.topology(), v.features, camera, rays(), &si.cuts);
     }
 
     Drawing& d = v.drawing;

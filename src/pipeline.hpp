@@ -7,6 +7,7 @@
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
 #include "features/features.hpp"
+#include "model/self_intersections.hpp"
 #include "model/topology.hpp"
 #include "visibility/ray_caster.hpp"
 #include "visibility/appel.hpp"
@@ -27,12 +28,15 @@ public:
     const RayCaster& rays() const;
     // Per face: intersects another face; computed on first use (the fast visibility needs it).
     const std::vector<std::uint8_t>& self_intersecting_faces() const;
+    // Those faces and where edges meet other faces (both visibility methods cut curves there);
+    // computed on first use, once.
+    const SelfIntersections& self_intersections() const;
     double load_seconds() const { return load_seconds_; }
 
 private:
     MeshTopology topo_;
     mutable std::unique_ptr<RayCaster> rays_;
-    mutable std::unique_ptr<std::vector<std::uint8_t>> pierced_;
+    mutable std::unique_ptr<SelfIntersections> pierced_;
     double load_seconds_ = 0.0;
 };
 

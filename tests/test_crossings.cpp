@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -14,6 +15,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
 
+#include "core/camera.hpp"
+#include "core/predicates.hpp"
 #include "visibility/crossings.hpp"
 
 using inkline::Segment2;
@@ -507,4 +510,109 @@ TEST(SegmentGrid, DegenerateSets) {
     int n = 0;
     empty.candidates(seg(0, 0, kW, kH), [&](std::size_t) { ++n; });
     EXPECT_EQ(n, 0);
+}
+
+// ---- exact image-space predicates from 3D points --------------------------------------------
+
+// image_orientation agrees with the orientation of the projected points wherever rounding cannot
+// have decided it, and sees exactly degenerate configurations (collinear images) as such.
+TEST(ImageOrientation, MatchesTheProjection) {
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    for (int ortho = 0; ortho < 2; ++ortho) {
+        const inkline::Camera cam = ortho ? inkline::Camera::orthographic({3, 2, 5}, {0, 0, 0}, {0.1, 1, 0}, 4, 600, 500)
+                                          : inkline::Camera::perspective({3, 2, 5}, {0, 0, 0}, {0.1, 1, 0}, 40, 600, 500);
+        int checked = 0;
+        for (int i = 0; i < 2000; ++i) {
+            const glm::dvec3 a(U(rng), U(rng), U(rng)), b(U(rng), U(rng), U(rng)), c(U(rng), U(rng), U(rng));
+            const glm::dvec2 pa = cam.project(a), pb = cam.project(b), pc = cam.project(c);
+            const double det = (pb.x - pa.x) * (pc.y - pa.y) - (pb.y - pa.y) * (pc.x - pa.x);
+            if (std::abs(det) < 1e-6) continue;
+            ++checked;
+            EXPECT_EQ(inkline::image_orientation(cam, a, b, c), det > 0 ? 1 : -1) << ortho << " " << i;
+            EXPECT_EQ(inkline::image_orientation(cam, a, b, c),
+                      int(CGAL::orientation(K::Point_2(pa.x, pa.y), K::Point_2(pb.x, pb.y), K::Point_2(pc.x, pc.y))));
+        }
+        EXPECT_GT(checked, 1900);
+        // On one line of sight (perspective; the eye and p chosen so that the point twice as far
+        // is exact) or along an axis-aligned view direction (orthographic): one point in the
+        // image, so any third point is collinear with it.
+        const inkline::Camera axis = inkline::Camera::orthographic({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 4, 600, 500);
+        const glm::dvec3 p(0.25, 0.5, -0.75);
+        const glm::dvec3 behind = ortho ? p + glm::dvec3(0, 0, -2) : cam.eye() + 2.0 * (p - cam.eye());
+        if (ortho) {
+            EXPECT_EQ(inkline::image_orientation(axis, p, behind, {0.3, -0.2, 0.1}), 0);
+            continue;
+        }
+        EXPECT_EQ(inkline::image_orientation(cam, p, behind, {0.3, -0.2, 0.1}), 0) << ortho;
+    }
+}
+
+// The eye (1, 1, 5) in the plane of two parallel box edges, one in front of the other: their images
+// are collinear and overlap, and the end of the front edge lies on the back edge's image (where a
+// third edge, the front box's side silhouette, ends on it: a T-junction). The rounded images hide
+// both (the 2D predicate sees one touch at the shared start and no crossing with the side edge);
+// the exact predicates from 3D find the overlap and the touch, at the image of the front corner.
+TEST(SegmentCrossings, ExactFromThreeDimensions) {
+    const inkline::Camera cam = inkline::Camera::perspective({1, 1, 5}, {0.5, 0.0, -1}, {0, 1, 0}, 50, 600, 600);
+    const glm::dvec3 v4(0, 0, 1), v5(1, 0, 1), v7(1, 1, 1), v12(-1, -1, -3), v13(2, -1, -3);
+    const Segment2 back{cam.project(v12), cam.project(v13), 12, 13, 23, inkline::image_slack(cam, v12, cam.project(v12))};
+    const Segment2 front{cam.project(v4), cam.project(v5), 4, 5, 5, inkline::image_slack(cam, v4, cam.project(v4))};
+    const Segment2 side{cam.project(v5), cam.project(v7), 5, 7, 6, inkline::image_slack(cam, v5, cam.project(v5))};
+    const inkline::Segment3 back3{v12, v13, &v12, &v13}, front3{v4, v5, &v4, &v5}, side3{v5, v7, &v5, &v7};
+    // Where the front corner v5 appears along the back edge: the line of sight from the eye
+    // through v5 meets the back edge at x = 1, 2/3 of the way from v12 to v13 in 3D; in the image
+    // (perspective division by the depths of v12 and v13) at the parameter below.
+    const double zA = cam.depth(v12), zB = cam.depth(v13), at_v5 = (2.0 / 3.0) * zB / ((1.0 / 3.0) * zA + (2.0 / 3.0) * zB);
+    double t[2];
+    ASSERT_EQ(inkline::segment_crossings(cam, back, back3, front, front3, t), 2);
+    EXPECT_EQ(t[0], 0.0);
+    EXPECT_NEAR(t[1], at_v5, 1e-12);
+    ASSERT_EQ(inkline::segment_crossings(cam, back, back3, side, side3, t), 1);
+    EXPECT_NEAR(t[0], at_v5, 1e-12);
+    // The other way round: along the front edge the back edge covers all of it.
+    ASSERT_EQ(inkline::segment_crossings(cam, front, front3, back, back3, t), 2);
+    EXPECT_EQ(t[0], 0.0);
+    EXPECT_EQ(t[1], 1.0);
+    // What the rounded image coordinates say (not exact for these segments: recorded, so that a
+    // change in rounding shows here rather than in a drawing).
+    EXPECT_EQ(inkline::segment_crossings(back, side, t), 0);
+}
+
+// Where rounding puts a projected point: within image_slack of the exact image (checked against
+// an evaluation in long double, which carries 11 more bits), also far from the origin, very near
+// the eye plane and far outside the image.
+TEST(ImageSlack, BoundsTheProjectionError) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    using LV = long double;
+    for (double offset : {0.0, 1e6}) {
+        for (int ortho = 0; ortho < 2; ++ortho) {
+            const glm::dvec3 o(offset, -offset, offset);
+            const inkline::Camera cam =
+                ortho ? inkline::Camera::orthographic(o + glm::dvec3(3, 2, 5), o, {0.1, 1, 0}, 4, 600, 500)
+                      : inkline::Camera::perspective(o + glm::dvec3(3, 2, 5), o, {0.1, 1, 0}, 40, 600, 500);
+            double worst = 0.0;
+            for (int i = 0; i < 3000; ++i) {
+                glm::dvec3 P = o + glm::dvec3(U(rng), U(rng), U(rng)) * (i % 3 == 0 ? 30.0 : 1.0);
+                if (i % 5 == 0) P = cam.eye() + cam.forward() * std::pow(10.0, -9.0 * std::abs(U(rng))) +
+                                    cam.right() * U(rng) + cam.upward() * U(rng);
+                if (!(cam.depth(P) > 0.0)) continue;
+                const glm::dvec2 p = cam.project(P);
+                // The same formula in long double, from the same (rounded) frame.
+                const glm::dvec3 E = cam.eye(), r = cam.right(), u = cam.upward(), f = cam.forward();
+                const LV dx = LV(P.x) - LV(E.x), dy = LV(P.y) - LV(E.y), dz = LV(P.z) - LV(E.z);
+                const LV x = dx * r.x + dy * r.y + dz * r.z, y = dx * u.x + dy * u.y + dz * u.z;
+                const LV z = ortho ? LV(1) : dx * f.x + dy * f.y + dz * f.z;
+                const LV px = LV(0.5) * cam.width() + LV(cam.focal()) * x / z;
+                const LV py = LV(0.5) * cam.height() - LV(cam.focal()) * y / z;
+                const double err = double(std::max(std::abs(px - LV(p.x)), std::abs(py - LV(p.y))));
+                const double slack = inkline::image_slack(cam, P, p);
+                EXPECT_LE(err, slack) << offset << " " << ortho << " " << i;
+                worst = std::max(worst, err / slack);
+            }
+            std::printf("[slack] offset %g ortho %d: worst error / slack %.3g\n", offset, ortho, worst);
+        }
+    }
 }

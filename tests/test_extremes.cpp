@@ -381,12 +381,13 @@ TEST(Extremes, SliverTriangle) {
     }
 }
 
-// KNOWN FAILURE (disabled; run with --gtest_also_run_disabled_tests): two closed boxes touching
-// along part of a face (coincident faces and collinear overlapping edges, with their own
-// vertices). Both visibility methods give QI 1 on stretches of silhouette the brute-force count
-// sees as visible (2-4% of the drawn length), e.g. piece 12 of the first view near (268, 183) px.
-// Touching solids are a self-intersection in the limit, outside Appel's assumptions.
-TEST(Extremes, DISABLED_KnownFailure_TouchingBoxesSharingAFace) {
+// Two closed boxes touching along part of a face (coincident faces and collinear overlapping
+// edges, with their own vertices): a self-intersection in the limit. Where a curve edge starts to
+// lie on the other box's face (a silhouette of one box running down the other's side) its QI can
+// change with no image-space event; both methods gave QI 1 to stretches of silhouette that are
+// visible (2-4% of the drawn length) until curves were cut where their edges meet other faces
+// (model/self_intersections.hpp, EdgeCut).
+TEST(Extremes, TouchingBoxesSharingAFace) {
     const inkline::Model boxes(
         inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}), inkline::make_box({1, 0, 0}, {2, 1.5, 0.7})));
     for (glm::dvec3 dir : {glm::dvec3(1, 0.8, 1.3), glm::dvec3(-0.7, 0.5, 1.0)})
@@ -465,12 +466,13 @@ TEST(Extremes, OrthographicAlongOneSide) {
     expect_sound(m, Camera::orthographic({0.5, 5, -5}, {0.5, 0, 0}, {0, 1, 1}, 5, 500, 500), "ortho along a side");
 }
 
-// KNOWN FAILURE (disabled): the eye (1, 1, 5) in the plane y = 1 of both boxes' tops, so the
-// front box's corners project exactly onto the back box's silhouette edges (T-junctions in the
-// image). Both methods give QI 2 to a stretch of the back box's bottom silhouette that is visible
-// (piece 4 from about (352, 352) px, 4.5% of the drawn length): the piece is not split where the
-// front box's silhouette ends exactly on it, so its one QI is wrong for part of it.
-TEST(Extremes, DISABLED_KnownFailure_VertexExactlyOnASilhouetteBehind) {
+// The eye (1, 1, 5) in the plane y = 1 of both boxes' tops, so the front box's corners project
+// exactly onto the back box's silhouette edges (T-junctions in the image, and the front box's
+// bottom edge collinear with the back box's in the image). Rounded image coordinates hid the
+// T-junction where the front box's side silhouette ends on the back box's bottom silhouette, and
+// both methods gave QI 2 to a visible stretch of it (4.5% of the drawn length), until crossings
+// were decided exactly from the 3D points (segment_crossings with Segment3, image_orientation).
+TEST(Extremes, VertexExactlyOnASilhouetteBehind) {
     const inkline::Model m(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
                                                  inkline::make_box({-1, -1, -4}, {2, 1, -3})));
     expect_sound(m, Camera::perspective({1, 1, 5}, {0.5, 0.0, -1}, {0, 1, 0}, 50, 600, 600),
@@ -505,11 +507,13 @@ TEST(Extremes, NearPlaneInsideModel) {
     expect_sound(m, inside, "eye inside the bounding box");
 }
 
-// KNOWN FAILURE (disabled): a near plane through the model's centre, the eye outside. Lines in
-// front of the near plane are dropped, and occluders in front of it still count (both methods
-// agree on that, as the brute-force count from the eye does), but 1.5% of the drawn length has a
-// QI 2 lower than the brute-force count (piece 8 near (342, 337) px: 2 against 4).
-TEST(Extremes, DISABLED_KnownFailure_NearPlaneThroughTheCentre) {
+// A near plane through the model's centre, the eye outside. Lines in front of the near plane are
+// dropped; occluders in front of it still count (QI counts the layers between a point and the
+// eye, DESIGN.md; the ray test and the brute-force count go from the eye). The occluding edges
+// were clipped at the near plane too, so pieces were not cut where they pass behind silhouettes
+// in front of it (1.5% of the drawn length with a QI 2 lower than the count) until occluders were
+// clipped only at the default near plane.
+TEST(Extremes, NearPlaneThroughTheCentre) {
     const inkline::Model m(inkline::load_mesh(mesh_path("fandisk.off")));
     const auto& b = m.topology().bounds;
     const glm::dvec3 c = b.center();
@@ -517,6 +521,38 @@ TEST(Extremes, DISABLED_KnownFailure_NearPlaneThroughTheCentre) {
     Camera cut = Camera::perspective(c + glm::dvec3(0, 0, 2.5 * R), c, {0, 1, 0}, 40, 600, 600);
     cut.set_near(2.5 * R);
     expect_sound(m, cut, "near plane through the centre", false);
+}
+
+// The same cut with an orthographic camera (the near plane measured from the eye plane).
+TEST(Extremes, NearPlaneThroughTheCentreOrthographic) {
+    const inkline::Model m(inkline::load_mesh(mesh_path("fandisk.off")));
+    const auto& b = m.topology().bounds;
+    const glm::dvec3 c = b.center();
+    const double R = b.half_diagonal();
+    for (glm::dvec3 dir : {glm::dvec3(0, 0, 1), glm::dvec3(1, 0.6, 1.4)}) {
+        dir = glm::normalize(dir);
+        Camera cut = Camera::orthographic(c + 3.0 * R * dir, c, {0, 1, 0}, 2.2 * R, 600, 600);
+        cut.set_near(3.0 * R);
+        expect_sound(m, cut, "orthographic near plane through the centre", false);
+    }
+}
+
+// Interpenetrating solids: creases and silhouettes of each box pass through the other's faces,
+// where their QI changes with no image-space event (both methods cut curves there).
+TEST(Extremes, InterpenetratingBoxes) {
+    const inkline::Model m(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                 inkline::make_box({0.5, 0.3, 0.4}, {1.6, 0.8, 1.5})));
+    for (glm::dvec3 dir : {glm::dvec3(1, 0.8, 1.3), glm::dvec3(-0.7, 0.5, 1.0), glm::dvec3(0.3, -0.6, -1.0)})
+        expect_sound(m, oblique(m.topology(), dir), "interpenetrating boxes");
+}
+
+// A small box standing on a larger one: its bottom face lies inside the other's top face
+// (coincident faces of opposite orientation), its vertical edges end on that face.
+TEST(Extremes, BoxStandingOnABox) {
+    const inkline::Model m(inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}),
+                                                 inkline::make_box({0.2, 1, 0.3}, {0.7, 1.6, 0.8})));
+    for (glm::dvec3 dir : {glm::dvec3(1, 0.8, 1.3), glm::dvec3(-0.7, 0.5, 1.0), glm::dvec3(0.2, 1.0, 0.1)})
+        expect_sound(m, oblique(m.topology(), dir), "box standing on a box");
 }
 
 // Very far: the model under one pixel (and under a thousandth of one).

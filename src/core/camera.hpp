@@ -37,6 +37,8 @@ public:
     glm::dvec3 forward() const { return f_; }
     glm::dvec3 right() const { return r_; }
     glm::dvec3 upward() const { return u_; }
+    // F of DESIGN.md: pixels per unit of (lateral distance / depth), or per world unit (ortho).
+    double focal() const { return focal_; }
 
     // Signed distance along the view direction from the eye plane.
     double depth(const glm::dvec3& p) const;

@@ -43,4 +43,11 @@ int orient_eye(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, c
     return orient3(a, b, c, camera.eye());
 }
 
+int image_orientation(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    // Pixel coordinates are (right, -up) of d = p - eye divided by forward . d (perspective), and
+    // (right, -up, forward) is a right-handed frame; see tests/test_crossings.cpp.
+    if (camera.is_ortho()) return orient3_dir(a, b, c, camera.forward());
+    return int(CGAL::orientation(cgal(camera.eye()), cgal(a), cgal(b), cgal(c)));
+}
+
 }  // namespace inkline

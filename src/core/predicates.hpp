@@ -20,4 +20,10 @@ int orient3_dir(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, c
 // infinity in direction -forward, so this is orient3_dir(a, b, c, -forward).
 int orient_eye(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
 
+// Sign of the orientation of the images of a, b, c (the sign CGAL::orientation gives on their
+// exact pixel coordinates), decided exactly in 3D: orient3(eye, a, b, c) for a
+// perspective camera, orient3_dir(a, b, c, forward) for an orthographic one. The points must lie
+// in front of the eye plane (the image of a point behind the eye is mirrored).
+int image_orientation(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+
 }  // namespace inkline

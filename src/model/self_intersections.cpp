@@ -1,8 +1,11 @@
 #include "model/self_intersections.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+
+#include <glm/geometric.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
@@ -74,11 +77,12 @@ bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g)
     return true;  // the same three vertices twice
 }
 
-}  // namespace
-
-std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
+// Calls fn(f, g) for pairs of faces that intersect (every pair, or, with `once`, only pairs with
+// a face not reported yet: enough to flag the faces).
+template <class Fn>
+void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
     const std::size_t nf = mesh.face_count();
-    std::vector<std::uint8_t> out(nf, 0);
+    out.assign(nf, 0);
     std::vector<Box> boxes;
     boxes.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
@@ -94,10 +98,60 @@ std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
     // Closed boxes (the default): faces that only touch reach the exact test too.
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
         const auto f = std::uint32_t(x.id()), g = std::uint32_t(y.id());
-        if ((out[f] && out[g]) || !faces_intersect(mesh, f, g)) return;
+        if ((once && out[f] && out[g]) || !faces_intersect(mesh, f, g)) return;
         out[f] = out[g] = 1;
+        fn(f, g);
     });
+}
+
+// Where edge e meets triangle f (not one of e's faces): the parameter of the point, or of the
+// ends of the shared stretch, except at an end vertex that f shares (no event there).
+void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, std::vector<EdgeCut>& cuts) {
+    const auto [v0, v1] = mesh.edge_vertex[e];
+    const auto& t = mesh.faces[f];
+    const glm::dvec3 E0 = mesh.positions[v0], E1 = mesh.positions[v1];
+    const K::Segment_3 seg(cgal(E0), cgal(E1));
+    const K::Triangle_3 tri(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
+    if (seg.is_degenerate() || tri.is_degenerate() || !CGAL::do_intersect(seg, tri)) return;
+    const auto x = CGAL::intersection(seg, tri);
+    if (!x) return;
+    const glm::dvec3 d = E1 - E0;
+    const double dd = glm::dot(d, d);
+    const bool shares0 = std::find(t.begin(), t.end(), v0) != t.end(), shares1 = std::find(t.begin(), t.end(), v1) != t.end();
+    auto add = [&](const K::Point_3& p) {
+        const double s = std::clamp(glm::dot(glm::dvec3(p.x(), p.y(), p.z()) - E0, d) / dd, 0.0, 1.0);
+        if ((s == 0.0 && shares0) || (s == 1.0 && shares1)) return;
+        cuts.push_back({e, s});
+    };
+    if (const K::Point_3* p = boost::get<K::Point_3>(&*x)) add(*p);
+    else if (const K::Segment_3* q = boost::get<K::Segment_3>(&*x)) add(q->source()), add(q->target());
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
+    std::vector<std::uint8_t> out;
+    intersecting_pairs(mesh, out, true, [](std::uint32_t, std::uint32_t) {});
     return out;
+}
+
+SelfIntersections self_intersections(const MeshTopology& mesh) {
+    SelfIntersections si;
+    intersecting_pairs(mesh, si.faces, false, [&](std::uint32_t fa, std::uint32_t fb) {
+        for (int k = 0; k < 2; ++k) {
+            const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
+            for (std::uint32_t e : mesh.face_edges[f]) {
+                const auto& ef = mesh.edge_face[e];
+                if (ef[0] == g || ef[1] == g) continue;  // an edge of both
+                cut_edge(mesh, e, g, si.cuts);
+            }
+        }
+    });
+    std::sort(si.cuts.begin(), si.cuts.end());
+    si.cuts.erase(std::unique(si.cuts.begin(), si.cuts.end(),
+                              [](const EdgeCut& a, const EdgeCut& b) { return a.edge == b.edge && a.s == b.s; }),
+                  si.cuts.end());
+    return si;
 }
 
 }  // namespace inkline

@@ -1,6 +1,6 @@
 // Faces that intersect other faces of the mesh (not just at shared edges or vertices): where a
 // curve passes through a face, its QI changes without any image-space event, so the fast
-// visibility must not propagate across such curves.
+// visibility must not propagate across such curves, and both methods cut curves there.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -9,6 +9,22 @@
 
 namespace inkline {
 
+// A point where a mesh edge meets a face other than its own: parameter s along the edge (0 at
+// edge_vertex[edge][0], 1 at [1]).
+struct EdgeCut {
+    std::uint32_t edge;
+    double s;
+    bool operator<(const EdgeCut& o) const { return edge != o.edge ? edge < o.edge : s < o.s; }
+};
+
+struct SelfIntersections {
+    std::vector<std::uint8_t> faces;  // per face: 1 if it intersects another face
+    // Sorted by edge, then s: where edges pass through other faces, and the ends of the stretches
+    // where an edge lies on another face (touching or coincident surfaces). Empty for an embedded
+    // surface; a few per intersecting pair otherwise (16 bytes each).
+    std::vector<EdgeCut> cuts;
+};
+
 // Per face: 1 if it intersects another face (exact predicates). Candidate pairs come from CGAL's
 // box_self_intersection_d on float boxes rounded outward (32 bytes per face, twice: CGAL copies
 // them); the pair test is the case analysis of CGAL's Polygon_mesh_processing::self_intersections,
@@ -16,5 +32,9 @@ namespace inkline {
 // 80 bytes per face more, the peak of a 3 M-triangle model; docs/memory.md). test_model checks
 // that both give the same faces.
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh);
+
+// The same faces, and where their edges meet the other faces of each intersecting pair (exact
+// predicates decide which edges meet which faces; the points are constructions, rounded).
+SelfIntersections self_intersections(const MeshTopology& mesh);
 
 }  // namespace inkline

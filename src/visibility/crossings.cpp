@@ -9,6 +9,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "core/predicates.hpp"
+
 namespace inkline {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -78,6 +80,108 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
     return 1;
 }
 
+// The projection (core/camera.cpp) computes d = P - E (error up to eps M per coordinate, with
+// M = |P|_1 + |E|_1), its dot products X, Y, Z with the unit frame vectors (a few eps M more each;
+// the frame itself is within a few eps of orthonormal), then x = W/2 + F X / Z: the quotient errs
+// by (4 eps M / Z) (1 + |X| / Z), so x by 4 eps (M / Z) (F + |x - W/2|), plus a few eps (|x| + W)
+// for the last operations; the same for y. Orthographic: x = W/2 + F X errs by 4 eps F M plus the
+// last roundings. The bound below takes 64 eps over the sum of both terms (and the depth itself
+// less its own error): a filter, never a tolerance (docs/tolerances.md). Infinite when the point
+// is so near the eye plane that its depth has no correct bit.
+double image_slack(const Camera& camera, const glm::dvec3& P, const glm::dvec2& p) {
+    constexpr double kEps = 0x1p-53;
+    const glm::dvec3 E = camera.eye();
+    const double M = std::abs(P.x) + std::abs(P.y) + std::abs(P.z) + std::abs(E.x) + std::abs(E.y) + std::abs(E.z);
+    const double W = camera.width(), H = camera.height();
+    double lever;
+    if (camera.is_ortho()) {
+        lever = camera.focal() * M;
+    } else {
+        const double z = camera.depth(P) - 8.0 * kEps * M;
+        if (!(z > 0.0)) return INFINITY;
+        lever = M / z * (camera.focal() + std::abs(p.x - 0.5 * W) + std::abs(p.y - 0.5 * H));
+    }
+    return 64.0 * kEps * (W + H + std::abs(p.x) + std::abs(p.y) + lever);
+}
+
+namespace {
+// Order along an image line of two points whose images lie on the line of `l` (exactly): the sign
+// of the position of y minus that of x, in the direction *l.LA -> *l.LB.
+int image_order(const Camera& camera, const Segment3& l, const glm::dvec3& x, const glm::dvec3& y) {
+    if (!camera.is_ortho()) {
+        // In the plane through the eye and the line, positions along the image line are angles
+        // around the eye: compare the turn from x to y with the turn from LA to LB.
+        const K::Point_3 e(camera.eye().x, camera.eye().y, camera.eye().z);
+        const auto turn = CGAL::coplanar_orientation(e, K::Point_3(x.x, x.y, x.z), K::Point_3(y.x, y.y, y.z));
+        if (turn == CGAL::COLLINEAR) return 0;
+        const auto ref = CGAL::coplanar_orientation(e, K::Point_3(l.LA->x, l.LA->y, l.LA->z),
+                                                    K::Point_3(l.LB->x, l.LB->y, l.LB->z));
+        return turn == ref ? 1 : -1;
+    }
+    // Orthographic: the component of y - x across the view direction f, along LB - LA:
+    // ((y - x) . g) (f . f) - ((y - x) . f) (g . f) with g = LB - LA, in exact rationals.
+    const glm::dvec3 f = camera.forward();
+    const Q fx(f.x), fy(f.y), fz(f.z);
+    const Q dx = Q(y.x) - Q(x.x), dy = Q(y.y) - Q(x.y), dz = Q(y.z) - Q(x.z);
+    const Q gx = Q(l.LB->x) - Q(l.LA->x), gy = Q(l.LB->y) - Q(l.LA->y), gz = Q(l.LB->z) - Q(l.LA->z);
+    const Q v = (dx * gx + dy * gy + dz * gz) * (fx * fx + fy * fy + fz * fz) -
+                (dx * fx + dy * fy + dz * fz) * (gx * fx + gy * fy + gz * fz);
+    return CGAL::sign(v);
+}
+
+// Parameter along q (image coordinates) of the image of point p of o, known to lie on q's line.
+double param_on(const Segment2& q, glm::dvec2 p) {
+    const glm::dvec2 d = q.b - q.a;
+    return quotient(glm::dot(p - q.a, d), glm::dot(d, d), [&] { return qdot(p, q.a, q.a, q.b); },
+                    [&] { return qdot(q.b, q.a, q.a, q.b); });
+}
+}  // namespace
+
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, double t[2]) {
+    if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
+    if (q.a == q.b || o.a == o.b) return 0;
+    // Bounding boxes apart by more than the rounding of the images: the exact images are apart.
+    const double m = q.slack + o.slack;
+    if (std::max(q.a.x, q.b.x) + m < std::min(o.a.x, o.b.x) || std::max(o.a.x, o.b.x) + m < std::min(q.a.x, q.b.x) ||
+        std::max(q.a.y, q.b.y) + m < std::min(o.a.y, o.b.y) || std::max(o.a.y, o.b.y) + m < std::min(q.a.y, q.b.y))
+        return 0;
+    const int s0 = image_orientation(camera, *q3.LA, *q3.LB, o3.A), s1 = image_orientation(camera, *q3.LA, *q3.LB, o3.B);
+    if (s0 != 0 && s0 == s1) return 0;
+    const int s2 = image_orientation(camera, *o3.LA, *o3.LB, q3.A), s3 = image_orientation(camera, *o3.LA, *o3.LB, q3.B);
+    if (s2 != 0 && s2 == s3) return 0;
+    if (s0 == 0 && s1 == 0) {
+        // Collinear images: the shared part, its ends ordered exactly along the line (positions
+        // before q's start are 0, after its end 1, otherwise constructions).
+        double u[2];
+        bool before[2], after[2];
+        for (int k = 0; k < 2; ++k) {
+            const glm::dvec3& X = k ? o3.B : o3.A;
+            const int from_start = image_order(camera, q3, q3.A, X), to_end = image_order(camera, q3, X, q3.B);
+            before[k] = from_start < 0;
+            after[k] = to_end < 0;
+            u[k] = from_start <= 0 ? 0.0 : to_end <= 0 ? 1.0 : std::clamp(param_on(q, k ? o.b : o.a), 0.0, 1.0);
+        }
+        if ((before[0] && before[1]) || (after[0] && after[1])) return 0;
+        t[0] = std::min(u[0], u[1]);
+        t[1] = std::max(u[0], u[1]);
+        return t[0] == t[1] ? 1 : 2;
+    }
+    // Proper crossing or touch: the parameter is a construction in the image coordinates.
+    double u;
+    if (s0 == 0) u = param_on(q, o.a);
+    else if (s1 == 0) u = param_on(q, o.b);
+    else if (s2 == 0) u = 0.0;
+    else if (s3 == 0) u = 1.0;
+    else {
+        const glm::dvec2 d = q.b - q.a, e = o.b - o.a;
+        u = quotient(cross(o.a - q.a, e), cross(d, e), [&] { return qcross(o.a, q.a, o.a, o.b); },
+                     [&] { return qcross(q.b, q.a, o.a, o.b); });
+    }
+    t[0] = std::clamp(u, 0.0, 1.0);
+    return 1;
+}
+
 SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, double height) {
     glm::dvec2 lo(INFINITY), hi(-INFINITY);
     for (const auto& s : segments) {
@@ -99,12 +203,12 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     cell_ = glm::dvec2(ext.x / nx_, ext.y / ny_);
 
     std::vector<std::uint32_t> count(cells() + 1, 0);
-    for (const auto& s : segments) visit_cells(s.a, s.b, [&](std::size_t c) { ++count[c + 1]; });
+    for (const auto& s : segments) visit_cells(s.a, s.b, s.slack, [&](std::size_t c) { ++count[c + 1]; });
     for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
     cell_begin_ = count;
     items_.resize(count.back());
     for (std::uint32_t i = 0; i < segments.size(); ++i)
-        visit_cells(segments[i].a, segments[i].b, [&](std::size_t c) { items_[count[c]++] = i; });
+        visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });
     mark_.assign(segments.size(), 0);
 }
 

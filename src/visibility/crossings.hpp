@@ -9,6 +9,9 @@
 #include <cmath>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/camera.hpp"
 
 namespace inkline {
 
@@ -16,13 +19,38 @@ struct Segment2 {
     glm::dvec2 a, b;
     std::uint32_t v0, v1;  // mesh vertices of the edge; segments sharing one never "cross"
     std::uint32_t edge;    // mesh edge
+    // Bound on the distance of a and b from the exact images of their 3D points (rounding of the
+    // projection, image_slack); 0 for segments given in the image.
+    double slack = 0.0;
 };
+
+// Where a projected segment lies in 3D, for the exact image-space predicates: the points seen at
+// its ends (where the near plane clipped it, the point constructed there) and two exact points of
+// its line in the same direction (the mesh edge's vertices).
+struct Segment3 {
+    glm::dvec3 A, B;
+    const glm::dvec3 *LA, *LB;
+};
+
+// Bound on the rounding error of camera.project(P) (pixels), for a point in front of the eye
+// plane; see image_slack in crossings.cpp.
+double image_slack(const Camera& camera, const glm::dvec3& P, const glm::dvec2& p);
 
 // Parameters t in [0,1] along `q` (q.a + t (q.b - q.a)) where `o` meets it, decided exactly on
 // the double coordinates: none if they do not meet; one for a proper crossing or a touch
 // (an end point on the other segment); two, the ends of the shared part, if collinear and
 // overlapping. Degenerate (zero-length) segments and segments sharing a mesh vertex give none.
 int segment_crossings(const Segment2& q, const Segment2& o, double t[2]);
+
+// The same for projected mesh segments, decided exactly in 3D rather than on the rounded image
+// coordinates: whether an end point lies left of, right of or on the other segment's image is the
+// orientation of the end point against the plane through the eye and the other segment's line
+// (image_orientation, core/predicates.hpp), so that a vertex that lies exactly on another edge's
+// image (a T-junction, two silhouettes meeting, edges collinear in the image) is seen as such,
+// whatever the rounding of the projection. The parameters are constructions from the image
+// coordinates, clamped to [0, 1]. All points must lie in front of the eye plane.
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, double t[2]);
 
 class SegmentGrid {
 public:
@@ -36,7 +64,7 @@ public:
     template <class Fn>
     void candidates(const Segment2& q, Fn&& fn) const {
         stamp_ = stamp_ + 1 == 0 ? (mark_.assign(mark_.size(), 0), 1u) : stamp_ + 1;
-        visit_cells(q.a, q.b, [&](std::size_t cell) {
+        visit_cells(q.a, q.b, q.slack, [&](std::size_t cell) {
             for (std::uint32_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
                 const std::uint32_t s = items_[k];
                 if (mark_[s] == stamp_) continue;
@@ -48,8 +76,9 @@ public:
     std::size_t cells() const { return std::size_t(nx_) * ny_; }
 
 private:
+    // The cells of segment (a, b) widened by `margin` (the rounding of its images).
     template <class Fn>
-    void visit_cells(glm::dvec2 a, glm::dvec2 b, Fn&& fn) const;
+    void visit_cells(glm::dvec2 a, glm::dvec2 b, double margin, Fn&& fn) const;
     int cell_x(double x) const;
     int cell_y(double y) const;
 
@@ -61,9 +90,9 @@ private:
 };
 
 template <class Fn>
-void SegmentGrid::visit_cells(glm::dvec2 a, glm::dvec2 b, Fn&& fn) const {
-    const int x0 = cell_x(std::min(a.x, b.x)), x1 = cell_x(std::max(a.x, b.x));
-    const int y0 = cell_y(std::min(a.y, b.y)), y1 = cell_y(std::max(a.y, b.y));
+void SegmentGrid::visit_cells(glm::dvec2 a, glm::dvec2 b, double margin, Fn&& fn) const {
+    const int x0 = cell_x(std::min(a.x, b.x) - margin), x1 = cell_x(std::max(a.x, b.x) + margin);
+    const int y0 = cell_y(std::min(a.y, b.y) - margin), y1 = cell_y(std::max(a.y, b.y) + margin);
     const bool many = std::size_t(x1 - x0 + 1) * std::size_t(y1 - y0 + 1) > 8;
     const glm::dvec2 d = b - a;
     for (int y = y0; y <= y1; ++y)
@@ -73,7 +102,8 @@ void SegmentGrid::visit_cells(glm::dvec2 a, glm::dvec2 b, Fn&& fn) const {
             if (many && x > 0 && y > 0 && x + 1 < nx_ && y + 1 < ny_) {
                 const glm::dvec2 c = lo_ + (glm::dvec2(x, y) + 0.5) * cell_;
                 const double side = d.x * (c.y - a.y) - d.y * (c.x - a.x);
-                const double reach = (std::abs(d.x) * cell_.y + std::abs(d.y) * cell_.x) * 0.75;
+                const double reach = (std::abs(d.x) * cell_.y + std::abs(d.y) * cell_.x) * 0.75 +
+                                     margin * (std::abs(d.x) + std::abs(d.y));
                 if (std::abs(side) > reach) continue;
             }
             fn(std::size_t(y) * nx_ + x);

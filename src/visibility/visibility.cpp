@@ -14,15 +14,17 @@ namespace {
 struct ClipSeg {
     glm::dvec3 A, B;
     glm::dvec2 a, b;
+    double slack;   // rounding of a and b (image_slack)
     double zA, zB;  // depths of A and B
     double sA, sB;  // parameters of A and B along the mesh edge
     std::uint32_t edge;
     bool run_start;  // the curve is interrupted (clipped) before this segment
+    const glm::dvec3 *LA = nullptr, *LB = nullptr;  // the mesh vertices at the ends, before clipping
+    Segment3 in_3d() const { return {A, B, LA, LB}; }
 };
 
-// Clips edge (P,Q) to depth >= near; returns false when nothing is left.
-bool clip_edge(const Camera& cam, glm::dvec3 P, glm::dvec3 Q, double sP, double sQ, ClipSeg& out) {
-    const double n = cam.near_distance();
+// Clips edge (P,Q) to depth >= n; returns false when nothing is left.
+bool clip_edge(const Camera& cam, double n, glm::dvec3 P, glm::dvec3 Q, double sP, double sQ, ClipSeg& out) {
     double zP = cam.depth(P), zQ = cam.depth(Q);
     if (!(zP >= n) && !(zQ >= n)) return false;
     if (zP < n) {
@@ -44,6 +46,7 @@ bool clip_edge(const Camera& cam, glm::dvec3 P, glm::dvec3 Q, double sP, double 
     out.sB = sQ;
     out.a = cam.project(P);
     out.b = cam.project(Q);
+    out.slack = std::max(image_slack(cam, P, out.a), image_slack(cam, Q, out.b));
     return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
 }
 
@@ -54,10 +57,12 @@ double to_3d(const Camera& cam, const ClipSeg& s, double t) {
     return den > 0.0 ? t * s.zA / den : t;
 }
 
+constexpr std::uint32_t kNoOccluder = UINT32_MAX;  // a split where the curve meets another face
+
 struct Split {
     std::uint32_t seg;
     double t;
-    std::uint32_t occluder;  // index into the occluders
+    std::uint32_t occluder;  // index into the occluders, or kNoOccluder
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
@@ -80,13 +85,18 @@ double default_near(const MeshTopology& mesh) {
     return 1e-6 * (r > 0.0 ? r : 1.0);
 }
 
-PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera) {
+PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                        const std::vector<EdgeCut>* cuts) {
     PieceGraph g;
     VisibleCurves& out = g.curves;
     g.immersive = geometry_behind_near(mesh, camera);
     g.images = VertexImages(mesh, camera);
 
-    // Occluding edges in the image: silhouettes and borders.
+    // Occluding edges in the image: silhouettes and borders. QI counts the layers between a point
+    // and the eye (DESIGN.md), so the near plane clips the curves drawn, not the occluders: those
+    // are clipped only where they could not be projected, at the default near plane (or the
+    // camera's, if nearer).
+    const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
     std::vector<Segment2>& occluders = g.occluders;
     std::vector<ClipSeg> occ_clip;
     occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
@@ -95,8 +105,10 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         for (std::uint32_t e : *list) {
             const auto [v0, v1] = mesh.edge_vertex[e];
             ClipSeg s;
-            if (clip_edge(camera, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
-                occluders.push_back({s.a, s.b, v0, v1, e});
+            if (clip_edge(camera, occluder_near, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
+                s.LA = &mesh.positions[v0];
+                s.LB = &mesh.positions[v1];
+                occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
                 occ_clip.push_back(s);
             }
         }
@@ -136,11 +148,14 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             ClipSeg s;
-            if (!clip_edge(camera, mesh.positions[va], mesh.positions[vb], forward ? 0.0 : 1.0, forward ? 1.0 : 0.0, s)) {
+            if (!clip_edge(camera, camera.near_distance(), mesh.positions[va], mesh.positions[vb], forward ? 0.0 : 1.0,
+                           forward ? 1.0 : 0.0, s)) {
                 interrupted = true;
                 continue;
             }
             s.edge = e;
+            s.LA = &mesh.positions[va];
+            s.LB = &mesh.positions[vb];
             // A clipped start also interrupts the curve.
             s.run_start = segs.empty() || interrupted || s.A != mesh.positions[va] || segs.back().B != mesh.positions[va];
             interrupted = s.B != mesh.positions[vb];
@@ -152,14 +167,31 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         splits.clear();
         for (std::uint32_t j = 0; j < segs.size(); ++j) {
             const ClipSeg& s = segs[j];
-            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge};
+            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
+            const Segment3 q3 = s.in_3d();
             grid.candidates(q, [&](std::uint32_t k) {
                 double t[2];
-                const int n = segment_crossings(q, occluders[k], t);
+                const int n = segment_crossings(camera, q, q3, occluders[k], occ_clip[k].in_3d(), t);
                 if (n == 0) return;
                 if (!in_curves[occluders[k].edge] || s.edge < occluders[k].edge) ++out.crossings;
                 for (int i = 0; i < n; ++i) splits.push_back({j, t[i], k});
             });
+            // Where the edge meets another face (the surface passes through itself, or touches
+            // itself), inside the clipped segment: no occluder, but the QI may change.
+            if (cuts && !cuts->empty()) {
+                auto it = std::lower_bound(cuts->begin(), cuts->end(), EdgeCut{s.edge, -1.0});
+                for (; it != cuts->end() && it->edge == s.edge; ++it) {
+                    const double lo = std::min(s.sA, s.sB), hi = std::max(s.sA, s.sB);
+                    if (it->s < lo || it->s > hi || s.sA == s.sB) continue;
+                    const double u = (it->s - s.sA) / (s.sB - s.sA);  // along the 3D segment
+                    double t = u;
+                    if (!camera.is_ortho()) {
+                        const double den = (1.0 - u) * s.zA + u * s.zB;
+                        t = den > 0.0 ? u * s.zB / den : u;
+                    }
+                    splits.push_back({j, std::clamp(t, 0.0, 1.0), kNoOccluder});
+                }
+            }
         }
         for (auto& sp : splits)  // a split at a segment's end is the next segment's start
             if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0, sp.occluder};
@@ -211,14 +243,16 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
                 while (k < splits.size() && splits[k].seg == j && splits[k].t == t) ++k;  // all crossings here
                 if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) {
                     split_at_start = true;
-                    for (std::size_t i = k0; i < k; ++i) wrap.push_back({j, splits[i].occluder, t});
+                    for (std::size_t i = k0; i < k; ++i)
+                        if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t});
                 }
                 if (t >= 1.0) continue;  // the end of the run: nothing follows
                 if (t > t0) add_span(t);
                 if (cur_spans.empty()) continue;  // nothing to cut yet (split at the run start)
                 emit();
                 linked = true;
-                for (std::size_t i = k0; i < k; ++i) pending.push_back({j, splits[i].occluder, t});
+                for (std::size_t i = k0; i < k; ++i)
+                    if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t});
                 cur.points.push_back(s.a + t * (s.b - s.a));
                 t0 = t;
             }
@@ -265,8 +299,8 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             c.c1 = s.A;
             c.c2 = s.B;
             double to[2];
-            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge};
-            const double ot = segment_crossings(occluders[c.occluder], q, to) > 0 ? to[0] : 0.5;
+            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
+            const double ot = segment_crossings(camera, occluders[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
             c.occluder_s = o.sA + to_3d(camera, o, ot) * (o.sB - o.sA);
             c.occluder_edge = occluders[c.occluder].edge;
         }
@@ -309,8 +343,8 @@ int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& r
 }
 
 VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                                 const RayCaster& rays) {
-    PieceGraph g = build_pieces(mesh, features, camera);
+                                 const RayCaster& rays, const std::vector<EdgeCut>* cuts) {
+    PieceGraph g = build_pieces(mesh, features, camera, cuts);
     VisibleCurves& out = g.curves;  // the reference: one ray test per piece
     for (std::size_t p = 0; p < out.pieces.size(); ++p) {
         out.pieces[p].qi = qi_by_ray(mesh, camera, rays, out.pieces[p], out.spans[p]);

@@ -13,6 +13,7 @@
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
 #include "features/features.hpp"
+#include "model/self_intersections.hpp"
 #include "model/topology.hpp"
 #include "visibility/crossings.hpp"
 #include "visibility/ray_caster.hpp"
@@ -88,8 +89,10 @@ struct PieceGraph {
     VertexImages images;  // the mesh vertices in the image (walks project the faces they cross)
 };
 
-// Clips, projects and splits the curves at every crossing (no QI yet).
-PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera);
+// Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
+// curve edges meet other faces: model/self_intersections.hpp), if given.
+PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                        const std::vector<EdgeCut>* cuts = nullptr);
 
 // Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
 struct PieceProbe {
@@ -110,6 +113,6 @@ double default_near(const MeshTopology& mesh);
 
 // The reference method: one ray test per piece.
 VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                                 const RayCaster& rays);
+                                 const RayCaster& rays, const std::vector<EdgeCut>* cuts = nullptr);
 
 }  // namespace inkline
