@@ -23,6 +23,7 @@
 #include "core/error.hpp"
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
+#include "model/self_intersections.hpp"
 #include "model/subdivide.hpp"
 #include "model/topology.hpp"
 
@@ -847,6 +848,57 @@ TEST(Topology, MergedMeshesKeepComponentsApart) {
     EXPECT_EQ(t.edge_count(), 18u + 33u);
     EXPECT_EQ(count_flag(t, inkline::kEdgeBorder), 12u);
     EXPECT_EQ(count_flag(t, inkline::kEdgeCrease), 12u);
+}
+
+// Where edges meet other faces (model/self_intersections.hpp): none on an embedded surface; a
+// point where an edge passes through a face; the ends of the stretch where an edge lies on another
+// face (touching boxes).
+namespace {
+glm::dvec3 cut_point(const MeshTopology& t, const inkline::EdgeCut& c) {
+    const glm::dvec3 a = t.positions[t.edge_vertex[c.edge][0]], b = t.positions[t.edge_vertex[c.edge][1]];
+    return a + c.s * (b - a);
+}
+}  // namespace
+
+TEST(SelfIntersections, CutsWhereEdgesMeetOtherFaces) {
+    const MeshTopology fandisk = inkline::build_topology(inkline::load_mesh(std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off"));
+    const inkline::SelfIntersections none = inkline::self_intersections(fandisk);
+    EXPECT_TRUE(none.cuts.empty());
+    EXPECT_EQ(std::count(none.faces.begin(), none.faces.end(), 1), 0);
+
+    // A box pierced by a thin box: the thin box's four long edges (along x) pass through the
+    // big box's sides x = 0 and x = 1 (at y, z inside them): one cut each at x = 0 and x = 1.
+    const MeshTopology pierced = inkline::build_topology(inkline::merge_meshes(
+        inkline::make_box({0, 0, 0}, {1, 1, 1}), inkline::make_box({-1, 0.4, 0.3}, {2, 0.6, 0.7})));
+    const inkline::SelfIntersections si = inkline::self_intersections(pierced);
+    EXPECT_TRUE(std::is_sorted(si.cuts.begin(), si.cuts.end()));
+    int at0 = 0, at1 = 0;
+    for (const auto& c : si.cuts) {
+        const glm::dvec3 p = cut_point(pierced, c);
+        EXPECT_TRUE(c.s > 0.0 && c.s < 1.0) << c.s;
+        if (std::abs(p.x) < 1e-12) ++at0;
+        if (std::abs(p.x - 1.0) < 1e-12) ++at1;
+        // Every cut is on the big box's sides or on the thin box's long edges where they meet.
+        EXPECT_TRUE(std::abs(p.x) < 1e-12 || std::abs(p.x - 1.0) < 1e-12) << p.x << " " << p.y << " " << p.z;
+    }
+    EXPECT_GE(at0, 4);
+    EXPECT_GE(at1, 4);
+    EXPECT_GT(std::count(si.faces.begin(), si.faces.end(), 1), 0);
+
+    // Touching boxes (tests/test_extremes.cpp TouchingBoxesSharingAFace): the second box's edge
+    // x = 1, z = 0.7 (y from 0 to 1.5) lies on the first box's side x = 1 for y in [0, 1]: a cut
+    // at y = 1, where it leaves that side.
+    const MeshTopology touching = inkline::build_topology(inkline::merge_meshes(
+        inkline::make_box({0, 0, 0}, {1, 1, 1}), inkline::make_box({1, 0, 0}, {2, 1.5, 0.7})));
+    const inkline::SelfIntersections st = inkline::self_intersections(touching);
+    bool leaves = false;
+    for (const auto& c : st.cuts) {
+        const glm::dvec3 a = touching.positions[touching.edge_vertex[c.edge][0]];
+        const glm::dvec3 b = touching.positions[touching.edge_vertex[c.edge][1]];
+        const glm::dvec3 p = cut_point(touching, c);
+        if (a.x == 1 && b.x == 1 && a.z == 0.7 && b.z == 0.7 && std::abs(p.y - 1.0) < 1e-12) leaves = true;
+    }
+    EXPECT_TRUE(leaves);
 }
 
 // Loop subdivision (OpenMesh): each level quadruples the triangles of a closed mesh, keeps it
