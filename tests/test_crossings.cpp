@@ -616,3 +616,50 @@ TEST(ImageSlack, BoundsTheProjectionError) {
         }
     }
 }
+
+// The 3D-exact segment_crossings (with its filter on the rounded image coordinates) against a
+// reference made of exact 3D orientations only, on lattice points seen from a lattice eye (many
+// lines of sight through several points: touches, T-junctions, collinear images) and at random.
+TEST(SegmentCrossings, ThreeDimensionalMatchesExactOrientations) {
+    std::mt19937_64 rng(3);
+    const inkline::Camera cams[] = {
+        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
+        inkline::Camera::perspective({2, 2, 12}, {2, 2, 0}, {0, 1, 0}, 50, 640, 640),
+        inkline::Camera::orthographic({1, 1, 10}, {1, 1, 0}, {0, 1, 0}, 8, 500, 500),
+        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+    };
+    int degenerate = 0, crossing = 0;
+    for (const auto& cam : cams) {
+        std::uniform_int_distribution<int> L(-3, 3);
+        std::uniform_real_distribution<double> U(-3.0, 3.0);
+        for (int i = 0; i < 20000; ++i) {
+            glm::dvec3 P[4];
+            for (auto& p : P) p = i % 2 ? glm::dvec3(L(rng), L(rng), L(rng)) : glm::dvec3(U(rng), U(rng), U(rng));
+            if (P[0] == P[1] || P[2] == P[3]) continue;
+            auto seg2 = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t id) {
+                const glm::dvec2 pa = cam.project(a), pb = cam.project(b);
+                return Segment2{pa, pb, 2 * id, 2 * id + 1, id,
+                                std::max(inkline::image_slack(cam, a, pa), inkline::image_slack(cam, b, pb))};
+            };
+            const Segment2 q = seg2(P[0], P[1], 0), o = seg2(P[2], P[3], 1);
+            if (q.a == q.b || o.a == o.b) continue;
+            const inkline::Segment3 q3{P[0], P[1], &P[0], &P[1]}, o3{P[2], P[3], &P[2], &P[3]};
+            const int s0 = inkline::image_orientation(cam, P[0], P[1], P[2]), s1 = inkline::image_orientation(cam, P[0], P[1], P[3]);
+            const int s2 = inkline::image_orientation(cam, P[2], P[3], P[0]), s3 = inkline::image_orientation(cam, P[2], P[3], P[1]);
+            double t[2];
+            const int n = inkline::segment_crossings(cam, q, q3, o, o3, t);
+            if (s0 == 0 && s1 == 0) {  // collinear images: 0, 1 or 2, within [0, 1]
+                ++degenerate;
+                EXPECT_LE(n, 2);
+                for (int k = 0; k < n; ++k) EXPECT_TRUE(t[k] >= 0.0 && t[k] <= 1.0);
+                continue;
+            }
+            const bool meet = !(s0 != 0 && s0 == s1) && !(s2 != 0 && s2 == s3);
+            if (s0 * s1 * s2 * s3 == 0) ++degenerate;
+            crossing += meet;
+            ASSERT_EQ(n, meet ? 1 : 0) << i << " signs " << s0 << s1 << s2 << s3;
+        }
+    }
+    EXPECT_GT(degenerate, 1000);
+    EXPECT_GT(crossing, 1000);
+}

@@ -129,6 +129,26 @@ int image_order(const Camera& camera, const Segment3& l, const glm::dvec3& x, co
     return CGAL::sign(v);
 }
 
+// image_orientation(camera, *l3.LA, *l3.LB, P), from the rounded image coordinates when they decide
+// it: each coordinate of l.a, l.b and p is within its slack d of the exact image, so moving them
+// changes the determinant u x v (u = b - a, v = p - a) by at most 2 d (|u|_1 + |v|_1) + 8 d^2;
+// computing it from the rounded coordinates errs by at most 5 eps |u|_1 |v|_1 more. Only for an
+// unclipped l (a clipped end is a construction, off the edge's line by its own rounding).
+int orient_filtered(const Camera& camera, const Segment2& l, const Segment3& l3, glm::dvec2 p, double p_slack,
+                    const glm::dvec3& P) {
+    if (l3.A == *l3.LA && l3.B == *l3.LB) {
+        constexpr double kEps = 0x1p-53;
+        const glm::dvec2 u = l.b - l.a, v = p - l.a;
+        const double det = u.x * v.y - u.y * v.x;
+        const double d = std::max(l.slack, p_slack);
+        const double nu = std::abs(u.x) + std::abs(u.y), nv = std::abs(v.x) + std::abs(v.y);
+        const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
+        if (det > bound) return 1;
+        if (det < -bound) return -1;
+    }
+    return image_orientation(camera, *l3.LA, *l3.LB, P);
+}
+
 // Parameter along q (image coordinates) of the image of point p of o, known to lie on q's line.
 double param_on(const Segment2& q, glm::dvec2 p) {
     const glm::dvec2 d = q.b - q.a;
@@ -146,9 +166,9 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
     if (std::max(q.a.x, q.b.x) + m < std::min(o.a.x, o.b.x) || std::max(o.a.x, o.b.x) + m < std::min(q.a.x, q.b.x) ||
         std::max(q.a.y, q.b.y) + m < std::min(o.a.y, o.b.y) || std::max(o.a.y, o.b.y) + m < std::min(q.a.y, q.b.y))
         return 0;
-    const int s0 = image_orientation(camera, *q3.LA, *q3.LB, o3.A), s1 = image_orientation(camera, *q3.LA, *q3.LB, o3.B);
+    const int s0 = orient_filtered(camera, q, q3, o.a, o.slack, o3.A), s1 = orient_filtered(camera, q, q3, o.b, o.slack, o3.B);
     if (s0 != 0 && s0 == s1) return 0;
-    const int s2 = image_orientation(camera, *o3.LA, *o3.LB, q3.A), s3 = image_orientation(camera, *o3.LA, *o3.LB, q3.B);
+    const int s2 = orient_filtered(camera, o, o3, q.a, q.slack, q3.A), s3 = orient_filtered(camera, o, o3, q.b, q.slack, q3.B);
     if (s2 != 0 && s2 == s3) return 0;
     if (s0 == 0 && s1 == 0) {
         // Collinear images: the shared part, its ends ordered exactly along the line (positions
