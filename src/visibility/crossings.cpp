@@ -9,12 +9,23 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "visibility/fast_orient.hpp"
+
 namespace inkline {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Q = CGAL::Exact_rational;
 K::Point_2 cgal(const glm::dvec2& p) { return {p.x, p.y}; }
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+// x rounded to a float no larger / no smaller than x (beyond the float range: the largest float).
+float float_down(double x) {
+    const float f = float(x);
+    return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+}
+float float_up(double x) {
+    const float f = float(x);
+    return double(f) < x ? std::nextafter(f, INFINITY) : f;
+}
 
 // num / den in double, unless the operands left the normal range (a subnormal or zero
 // denominator from underflow, an infinite value from overflow): then the quotient of the exact
@@ -41,13 +52,13 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
     if (std::max(q.a.x, q.b.x) < std::min(o.a.x, o.b.x) || std::max(o.a.x, o.b.x) < std::min(q.a.x, q.b.x) ||
         std::max(q.a.y, q.b.y) < std::min(o.a.y, o.b.y) || std::max(o.a.y, o.b.y) < std::min(q.a.y, q.b.y))
         return 0;
+    const int s0 = orient2_fast(q.a, q.b, o.a), s1 = orient2_fast(q.a, q.b, o.b);
+    if (s0 != 0 && s0 == s1) return 0;
+    const int s2 = orient2_fast(o.a, o.b, q.a), s3 = orient2_fast(o.a, o.b, q.b);
+    if (s2 != 0 && s2 == s3) return 0;
     const K::Point_2 qa = cgal(q.a), qb = cgal(q.b), oa = cgal(o.a), ob = cgal(o.b);
-    const auto s0 = CGAL::orientation(qa, qb, oa), s1 = CGAL::orientation(qa, qb, ob);
-    if (s0 != CGAL::COLLINEAR && s0 == s1) return 0;
-    const auto s2 = CGAL::orientation(oa, ob, qa), s3 = CGAL::orientation(oa, ob, qb);
-    if (s2 != CGAL::COLLINEAR && s2 == s3) return 0;
     const glm::dvec2 d = q.b - q.a;
-    if (s0 == CGAL::COLLINEAR && s1 == CGAL::COLLINEAR) {
+    if (s0 == 0 && s1 == 0) {
         // Collinear: the exact test above only says the lines agree; the overlap must be checked.
         if (!CGAL::do_intersect(K::Segment_2(qa, qb), K::Segment_2(oa, ob))) return 0;
         const double dd = glm::dot(d, d);
@@ -66,12 +77,12 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
     const double den = cross(d, e);
     auto qdd = [&] { return qdot(q.b, q.a, q.a, q.b); };
     double u;
-    if (s0 == CGAL::COLLINEAR)
+    if (s0 == 0)
         u = quotient(glm::dot(o.a - q.a, d), glm::dot(d, d), [&] { return qdot(o.a, q.a, q.a, q.b); }, qdd);
-    else if (s1 == CGAL::COLLINEAR)
+    else if (s1 == 0)
         u = quotient(glm::dot(o.b - q.a, d), glm::dot(d, d), [&] { return qdot(o.b, q.a, q.a, q.b); }, qdd);
-    else if (s2 == CGAL::COLLINEAR) u = 0.0;
-    else if (s3 == CGAL::COLLINEAR) u = 1.0;
+    else if (s2 == 0) u = 0.0;
+    else if (s3 == 0) u = 1.0;
     else u = quotient(cross(o.a - q.a, e), den, [&] { return qcross(o.a, q.a, o.a, o.b); },
                       [&] { return qcross(q.b, q.a, o.a, o.b); });
     t[0] = std::clamp(u, 0.0, 1.0);
@@ -92,7 +103,17 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     }
     const glm::dvec2 ext = hi - lo;
     const double n = std::max<double>(1.0, double(segments.size()));
-    const double side = std::sqrt(ext.x * ext.y / n);
+    // Cells about as large as the segments (occluders are curves: an area-based size would put
+    // long runs of them in one cell), but no more cells than 16 per segment.
+    double len = 0.0;
+    std::size_t counted = 0;
+    for (const auto& s : segments) {
+        const glm::dvec2 d = glm::abs(s.b - s.a);
+        const double l = std::max(d.x, d.y);
+        if (l < ext.x + ext.y) len += l, ++counted;
+    }
+    const double mean = counted ? len / double(counted) : 0.0;
+    const double side = std::max(2.0 * mean, std::sqrt(ext.x * ext.y / (16.0 * n)));
     nx_ = std::clamp(int(std::ceil(ext.x / side)), 1, 2048);
     ny_ = std::clamp(int(std::ceil(ext.y / side)), 1, 2048);
     lo_ = lo;
@@ -103,8 +124,12 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
     cell_begin_ = count;
     items_.resize(count.back());
-    for (std::uint32_t i = 0; i < segments.size(); ++i)
-        visit_cells(segments[i].a, segments[i].b, [&](std::size_t c) { items_[count[c]++] = i; });
+    for (std::uint32_t i = 0; i < segments.size(); ++i) {
+        const Segment2& s = segments[i];
+        const Item it{i, float_down(std::min(s.a.x, s.b.x)), float_down(std::min(s.a.y, s.b.y)),
+                      float_up(std::max(s.a.x, s.b.x)), float_up(std::max(s.a.y, s.b.y))};
+        visit_cells(s.a, s.b, [&](std::size_t c) { items_[count[c]++] = it; });
+    }
     mark_.assign(segments.size(), 0);
 }
 
