@@ -133,13 +133,4 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     mark_.assign(segments.size(), 0);
 }
 
-int SegmentGrid::cell_x(double x) const {
-    const double c = std::floor((x - lo_.x) / cell_.x);
-    return c < 0.0 ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
-}
-int SegmentGrid::cell_y(double y) const {
-    const double c = std::floor((y - lo_.y) / cell_.y);
-    return c < 0.0 ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
-}
-
 }  // namespace inkline

@@ -154,8 +154,12 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             const ClipSeg& s = segs[j];
             const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge};
             grid.candidates(q, [&](std::uint32_t k) {
+                const Segment2& o = occluders[k];
+                // (segments sharing a vertex never cross: the usual case, the curve's own
+                // neighbours, decided here without the call)
+                if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return;
                 double t[2];
-                const int n = segment_crossings(q, occluders[k], t);
+                const int n = segment_crossings(q, o, t);
                 if (n == 0) return;
                 if (!in_curves[occluders[k].edge] || s.edge < occluders[k].edge) ++out.crossings;
                 for (int i = 0; i < n; ++i) splits.push_back({j, t[i], k});
