@@ -17,15 +17,6 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Q = CGAL::Exact_rational;
 K::Point_2 cgal(const glm::dvec2& p) { return {p.x, p.y}; }
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-// x rounded to a float no larger / no smaller than x (beyond the float range: the largest float).
-float float_down(double x) {
-    const float f = float(x);
-    return double(f) > x ? std::nextafter(f, -INFINITY) : f;
-}
-float float_up(double x) {
-    const float f = float(x);
-    return double(f) < x ? std::nextafter(f, INFINITY) : f;
-}
 
 // num / den in double, unless the operands left the normal range (a subnormal or zero
 // denominator from underflow, an infinite value from overflow): then the quotient of the exact
@@ -103,17 +94,7 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     }
     const glm::dvec2 ext = hi - lo;
     const double n = std::max<double>(1.0, double(segments.size()));
-    // Cells about as large as the segments (occluders are curves: an area-based size would put
-    // long runs of them in one cell), but no more cells than 16 per segment.
-    double len = 0.0;
-    std::size_t counted = 0;
-    for (const auto& s : segments) {
-        const glm::dvec2 d = glm::abs(s.b - s.a);
-        const double l = std::max(d.x, d.y);
-        if (l < ext.x + ext.y) len += l, ++counted;
-    }
-    const double mean = counted ? len / double(counted) : 0.0;
-    const double side = std::max(2.0 * mean, std::sqrt(ext.x * ext.y / (16.0 * n)));
+    const double side = std::sqrt(ext.x * ext.y / n);
     nx_ = std::clamp(int(std::ceil(ext.x / side)), 1, 2048);
     ny_ = std::clamp(int(std::ceil(ext.y / side)), 1, 2048);
     lo_ = lo;
@@ -124,12 +105,8 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
     cell_begin_ = count;
     items_.resize(count.back());
-    for (std::uint32_t i = 0; i < segments.size(); ++i) {
-        const Segment2& s = segments[i];
-        const Item it{i, float_down(std::min(s.a.x, s.b.x)), float_down(std::min(s.a.y, s.b.y)),
-                      float_up(std::max(s.a.x, s.b.x)), float_up(std::max(s.a.y, s.b.y))};
-        visit_cells(s.a, s.b, [&](std::size_t c) { items_[count[c]++] = it; });
-    }
+    for (std::uint32_t i = 0; i < segments.size(); ++i)
+        visit_cells(segments[i].a, segments[i].b, [&](std::size_t c) { items_[count[c]++] = i; });
     mark_.assign(segments.size(), 0);
 }
 

@@ -31,21 +31,17 @@ public:
     // whatever lies beyond it, so queries stay exact anywhere.
     SegmentGrid(const std::vector<Segment2>& segments, double width, double height);
 
-    // Calls fn(index) once for every indexed segment whose cells overlap q's cells and whose
-    // bounding box overlaps q's (a superset of the segments that can meet q; the caller decides
-    // with segment_crossings). The boxes are kept with the cell lists, rounded outward to float.
+    // Calls fn(index) once for every indexed segment whose cells overlap q's cells (a superset of
+    // the segments that can meet q; the caller decides with segment_crossings).
     template <class Fn>
     void candidates(const Segment2& q, Fn&& fn) const {
         stamp_ = stamp_ + 1 == 0 ? (mark_.assign(mark_.size(), 0), 1u) : stamp_ + 1;
-        const double qx0 = std::min(q.a.x, q.b.x), qx1 = std::max(q.a.x, q.b.x);
-        const double qy0 = std::min(q.a.y, q.b.y), qy1 = std::max(q.a.y, q.b.y);
         visit_cells(q.a, q.b, [&](std::size_t cell) {
             for (std::uint32_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
-                const Item& it = items_[k];
-                if (qx1 < it.x0 || qx0 > it.x1 || qy1 < it.y0 || qy0 > it.y1) continue;
-                if (mark_[it.s] == stamp_) continue;
-                mark_[it.s] = stamp_;
-                fn(it.s);
+                const std::uint32_t s = items_[k];
+                if (mark_[s] == stamp_) continue;
+                mark_[s] = stamp_;
+                fn(s);
             }
         });
     }
@@ -65,12 +61,7 @@ private:
 
     glm::dvec2 lo_{0.0}, cell_{1.0};
     int nx_ = 1, ny_ = 1;
-    struct Item {
-        std::uint32_t s;         // the segment
-        float x0, y0, x1, y1;    // its bounding box, rounded outward
-    };
-    std::vector<std::uint32_t> cell_begin_;
-    std::vector<Item> items_;
+    std::vector<std::uint32_t> cell_begin_, items_;
     mutable std::vector<std::uint32_t> mark_;
     mutable std::uint32_t stamp_ = 0;
 };
