@@ -18,6 +18,7 @@
 #include "core/camera.hpp"
 #include "core/predicates.hpp"
 #include "visibility/crossings.hpp"
+#include "visibility/fast_orient.hpp"
 
 using inkline::Segment2;
 
@@ -662,4 +663,96 @@ TEST(SegmentCrossings, ThreeDimensionalMatchesExactOrientations) {
     }
     EXPECT_GT(degenerate, 1000);
     EXPECT_GT(crossing, 1000);
+}
+
+// ---------------------------------------------------------------------------------------------
+// fast_orient.hpp: the float-filtered orientations give the exact signs (CGAL's), also where the
+// filter cannot decide (collinear / coplanar points, perturbations in the last bit, coordinates
+// near the ends of the double range).
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+int cgal_orient2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return int(CGAL::orientation(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y), K::Point_2(c.x, c.y)));
+}
+int cgal_orient3(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c, glm::dvec3 d) {
+    return int(CGAL::orientation(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z), K::Point_3(c.x, c.y, c.z),
+                                 K::Point_3(d.x, d.y, d.z)));
+}
+
+}  // namespace
+
+TEST(FastOrient, Orient2MatchesCgal) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    int zeros = 0, n = 0;
+    for (double scale : {1.0, 1024.0, 1e-150, 1e150, 1e-300, 1e300}) {
+        for (int i = 0; i < 20000; ++i) {
+            const glm::dvec2 a(U(rng) * scale, U(rng) * scale), b(U(rng) * scale, U(rng) * scale);
+            glm::dvec2 c(U(rng) * scale, U(rng) * scale);
+            if (i % 2) {  // on the line a-b, rounded, then nudged by a few ulps
+                const double t = U(rng) * 2.0;
+                c = a + t * (b - a);
+                if (i % 4 == 1) c.x = up_next(c.x);
+                if (i % 8 == 3) c.y = down_next(c.y);
+            }
+            if (i % 16 == 5) c = glm::dvec2(a.x + 4.0 * (b.x - a.x), a.y + 4.0 * (b.y - a.y));  // often exact
+            const int want = cgal_orient2(a, b, c);
+            zeros += want == 0;
+            ++n;
+            ASSERT_EQ(inkline::orient2_fast(a, b, c), want) << "scale " << scale << " case " << i;
+        }
+    }
+    // Lattice points: many exactly collinear triples.
+    for (int i = 0; i < 20000; ++i) {
+        std::uniform_int_distribution<int> L(-4, 4);
+        const glm::dvec2 a(L(rng), L(rng)), b(L(rng), L(rng)), c(L(rng), L(rng));
+        const int want = cgal_orient2(a * 0.1, b * 0.1, c * 0.1);
+        zeros += want == 0;
+        ASSERT_EQ(inkline::orient2_fast(a * 0.1, b * 0.1, c * 0.1), want);
+    }
+    EXPECT_GT(zeros, 1000);  // the exact path was taken, and gave 0
+    EXPECT_GT(n, 0);
+}
+
+TEST(FastOrient, Orient3AndEyeMatchCgal) {
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    int zeros = 0;
+    for (double scale : {1.0, 1e-150, 1e150, 1e-300, 1e300}) {
+        for (int i = 0; i < 20000; ++i) {
+            const glm::dvec3 a(U(rng), U(rng), U(rng)), b(U(rng), U(rng), U(rng)), c(U(rng), U(rng), U(rng));
+            glm::dvec3 d(U(rng), U(rng), U(rng));
+            if (i % 2) {  // in the plane abc, rounded, then nudged
+                const double s = U(rng), t = U(rng);
+                d = a + s * (b - a) + t * (c - a);
+                if (i % 4 == 1) d.z = up_next(d.z);
+            }
+            if (i % 16 == 7) d = a + 2.0 * (b - a);  // on the line ab: often exactly coplanar
+            const int want = cgal_orient3(a * scale, b * scale, c * scale, d * scale);
+            zeros += want == 0;
+            ASSERT_EQ(inkline::orient3_fast(a * scale, b * scale, c * scale, d * scale), want)
+                << "scale " << scale << " case " << i;
+        }
+    }
+    for (int i = 0; i < 20000; ++i) {  // lattice points: coplanar quadruples
+        std::uniform_int_distribution<int> L(-3, 3);
+        auto p = [&] { return glm::dvec3(L(rng), L(rng), L(rng)) * 0.1; };
+        const glm::dvec3 a = p(), b = p(), c = p(), d = p();
+        const int want = cgal_orient3(a, b, c, d);
+        zeros += want == 0;
+        ASSERT_EQ(inkline::orient3_fast(a, b, c, d), want);
+    }
+    EXPECT_GT(zeros, 1000);
+    // The eye as the fourth point (perspective) or at infinity (orthographic).
+    const auto persp = inkline::Camera::perspective({0.3, 0.2, 5.0}, {0, 0, 0}, {0, 1, 0}, 40.0, 64, 64);
+    const auto ortho = inkline::Camera::orthographic({0.3, 0.2, 5.0}, {0, 0, 0}, {0, 1, 0}, 3.0, 64, 64);
+    for (int i = 0; i < 5000; ++i) {
+        const glm::dvec3 a(U(rng), U(rng), U(rng)), b(U(rng), U(rng), U(rng));
+        const glm::dvec3 c = i % 2 ? a + U(rng) * (b - a) + U(rng) * (persp.eye() - a) : glm::dvec3(U(rng), U(rng), U(rng));
+        for (const auto* cam : {&persp, &ortho})
+            ASSERT_EQ(inkline::orient_eye_fast(*cam, a, b, c), inkline::orient_eye(*cam, a, b, c)) << i;
+    }
 }

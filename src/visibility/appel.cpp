@@ -7,6 +7,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include "core/predicates.hpp"
+#include "visibility/fast_orient.hpp"
 
 namespace inkline {
 namespace {
@@ -62,36 +63,19 @@ glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint3
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-// Exact sign of the orientation of (a, b, c) (CGAL's filtered predicate): positive when c is left
-// of the directed line a -> b.
-int orient2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
-    return int(CGAL::orientation(K::Point_2(a.x, a.y), K::Point_2(b.x, b.y), K::Point_2(c.x, c.y)));
-}
+// Exact sign of the orientation of (a, b, c): positive when c is left of the directed line a -> b.
+int orient2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) { return orient2_fast(a, b, c); }
 
-// orient_eye, inlined for a perspective camera (CGAL's filtered predicate).
+// orient_eye (exact, with an inlined float filter).
 int eye_side(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    if (camera.is_ortho()) return orient_eye(camera, a, b, c);
-    const glm::dvec3 e = camera.eye();
-    return int(CGAL::orientation(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z), K::Point_3(c.x, c.y, c.z),
-                                 K::Point_3(e.x, e.y, e.z)));
+    return orient_eye_fast(camera, a, b, c);
 }
 
-// orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (or a rotation of it):
-// the plane filter of extract_features (n = cross(b - a, c - a) with its permanent p; the bound
-// holds for any point x), then the exact predicate.
+// orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (exact, with an
+// inlined float filter).
 int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
-    constexpr double kEps = 1.1102230246251565e-16;
     const auto& c = mesh.faces[f];
-    const glm::dvec3 &a = mesh.positions[c[0]], &b = mesh.positions[c[1]], &cc = mesh.positions[c[2]];
-    const glm::dvec3 e = b - a, g = cc - a;
-    const glm::dvec3 n = glm::cross(e, g);
-    const glm::dvec3 p{std::abs(e.y * g.z) + std::abs(e.z * g.y), std::abs(e.z * g.x) + std::abs(e.x * g.z),
-                       std::abs(e.x * g.y) + std::abs(e.y * g.x)};
-    const double det = glm::dot(n, x) - glm::dot(n, a);
-    const double bound = 16.0 * kEps * (glm::dot(p, glm::abs(x)) + glm::dot(p, glm::abs(a))) + 0x1p-1060;
-    if (det > bound) return 1;
-    if (det < -bound) return -1;
-    return orient3(a, b, cc, x);
+    return orient3_fast(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
 }
 
 // A set of mesh edges, one bit each.
@@ -106,14 +90,15 @@ private:
     std::vector<std::uint64_t> bits_;
 };
 
-// The faces around a vertex v, each with its facing and its other corners A, B in the face's order
-// (v, A, B).
+// The faces around a vertex v, each with its facing, its other corners A, B in the face's order
+// (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
 struct RingFace {
     std::uint32_t face;
     bool front;
+    int eye;
     const glm::dvec3 *A, *B;
 };
-void ring_of(const MeshTopology& mesh, const FaceFacing& face_front, std::uint32_t v,
+void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              std::vector<RingFace>& ring) {
     ring.clear();
     for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
@@ -123,7 +108,9 @@ void ring_of(const MeshTopology& mesh, const FaceFacing& face_front, std::uint32
         if (f == kNoFace) continue;
         const auto& c = mesh.faces[f];
         const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-        ring.push_back({f, bool(face_front[f]), &mesh.positions[c[(i + 1) % 3]], &mesh.positions[c[(i + 2) % 3]]});
+        const bool front = face_front[f];
+        const glm::dvec3 *A = &mesh.positions[c[(i + 1) % 3]], *B = &mesh.positions[c[(i + 2) % 3]];
+        ring.push_back({f, front, front ? 1 : orient_eye_fast(camera, mesh.positions[v], *A, *B), A, B});
     }
 }
 
@@ -146,7 +133,7 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::v
         // first is the face's facing, orient_eye(V, A, B): 1 for a front face; a face not in
         // front may still hold the eye in its plane (0: it hides nothing). The second is its
         // opposite, orient_eye(V, B, A).
-        const int ba = r.front ? 1 : eye_side(camera, V, *r.A, *r.B);
+        const int ba = r.eye;
         if (ba == 0 || eye_side(camera, V, *r.A, W) != ba) continue;
         if (eye_side(camera, V, *r.B, W) == -ba) ++count;
     }
@@ -286,7 +273,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                     // tested against their planes).
                     if (face == own_faces[0] || face == own_faces[1]) break;
                     const glm::dvec3 &A = mesh.positions[c[0]], &B = mesh.positions[c[1]], &C = mesh.positions[c[2]];
-                    const int eye = orient_eye(camera, A, B, C), pt = orient3(A, B, C, P);
+                    const int eye = orient_eye_fast(camera, A, B, C), pt = orient3_fast(A, B, C, P);
                     if (eye == 0 || pt == 0) {
                         result = Walk::Failed;
                         return result;
@@ -314,33 +301,42 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                     std::uint32_t v, std::uint32_t edge) {
     std::vector<RingFace> ring;
-    ring_of(mesh, face_front, v, ring);
+    ring_of(mesh, camera, face_front, v, ring);
     return local_occlusion(mesh, camera, ring, v, edge);
 }
 
-int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t occluder, const glm::dvec3& c1,
-                   const glm::dvec3& c2) {
+namespace {
+// crossing_delta with the view's facing, if known (a front face needs no orientation test).
+int occluder_delta(const MeshTopology& mesh, const Camera& camera, const FaceFacing* face_front, std::uint32_t occluder,
+                   const glm::dvec3& c1, const glm::dvec3& c2) {
     const glm::dvec3& O1 = mesh.positions[mesh.edge_vertex[occluder][0]];
     const glm::dvec3& O2 = mesh.positions[mesh.edge_vertex[occluder][1]];
     // The occluder's line meets the line of sight at O, the curve at C. With P a plane through the
     // occluder and one curve end (not in the plane of the eye and the occluder), O lies between the
     // eye and C exactly when the eye and C are on opposite sides of P.
-    int s1 = orient_eye(camera, O1, O2, c1), s2 = orient_eye(camera, O1, O2, c2);
+    int s1 = orient_eye_fast(camera, O1, O2, c1), s2 = orient_eye_fast(camera, O1, O2, c2);
     bool in_front;
     if (s1 != 0) {
-        const int c = orient3(O1, O2, c1, c2);
+        const int c = orient3_fast(O1, O2, c1, c2);
         in_front = c != 0 && s1 == -c;
     } else {
-        const int c = orient3(O1, O2, c2, c1);
+        const int c = orient3_fast(O1, O2, c2, c1);
         in_front = c != 0 && s2 == -c;
     }
     if (!in_front) return 0;
     // The curve enters the side of the occluder's image where its face(s) lie: more layers.
+    // (edge_face[0] traverses the edge from edge_vertex[0] to [1]: this is its orientation.)
     const std::uint32_t f0 = mesh.edge_face[occluder][0];
-    const int face_side = orient_eye(camera, O1, O2, third_vertex(mesh, f0, occluder));
+    const int face_side = face_front && (*face_front)[f0] ? 1 : orient_eye_fast(camera, O1, O2, third_vertex(mesh, f0, occluder));
     const int after = s2 != 0 ? s2 : -s1;
     const int k = mesh.edge_face[occluder][1] == kNoFace ? 1 : 2;
     return after == face_side ? k : -k;
+}
+}  // namespace
+
+int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t occluder, const glm::dvec3& c1,
+                   const glm::dvec3& c2) {
+    return occluder_delta(mesh, camera, nullptr, occluder, c1, c2);
 }
 
 AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
@@ -393,7 +389,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // Along curves: the change behind occluders in front.
     std::vector<int> link_delta(graph.links.size(), 0);
     for (auto& c : graph.link_crossings) {
-        c.delta = crossing_delta(mesh, camera, c.occluder_edge, c.c1, c.c2);
+        c.delta = occluder_delta(mesh, camera, &face_front, c.occluder_edge, c.c1, c.c2);
         link_delta[c.link] += c.delta;
     }
     for (std::size_t l = 0; l < graph.links.size(); ++l) {
@@ -408,18 +404,11 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
         std::size_t j = i;
         while (j < end_order.size() && std::uint32_t(end_order[j] >> 32) == v) ++j;
-        ring_of(mesh, face_front, v, ring);
+        ring_of(mesh, camera, face_front, v, ring);
         // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
         // the local occlusion at v undefined; the pieces ending at v take the reference ray test
         // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
-        bool edge_on = false;
-        for (const RingFace& r : ring) {
-            const auto& c = mesh.faces[r.face];
-            if (orient_eye(camera, mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]]) == 0) {
-                edge_on = true;
-                break;
-            }
-        }
+        const bool edge_on = std::any_of(ring.begin(), ring.end(), [](const RingFace& r) { return r.eye == 0; });
         for (; i < j; ++i) {
             const auto& e = ends[std::uint32_t(end_order[i])];
             if (edge_on) pierced[e.piece] = 1;

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/predicates.hpp"
+#include "visibility/fast_orient.hpp"
 
 namespace inkline {
 namespace {
@@ -43,13 +44,13 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
     if (std::max(q.a.x, q.b.x) < std::min(o.a.x, o.b.x) || std::max(o.a.x, o.b.x) < std::min(q.a.x, q.b.x) ||
         std::max(q.a.y, q.b.y) < std::min(o.a.y, o.b.y) || std::max(o.a.y, o.b.y) < std::min(q.a.y, q.b.y))
         return 0;
+    const int s0 = orient2_fast(q.a, q.b, o.a), s1 = orient2_fast(q.a, q.b, o.b);
+    if (s0 != 0 && s0 == s1) return 0;
+    const int s2 = orient2_fast(o.a, o.b, q.a), s3 = orient2_fast(o.a, o.b, q.b);
+    if (s2 != 0 && s2 == s3) return 0;
     const K::Point_2 qa = cgal(q.a), qb = cgal(q.b), oa = cgal(o.a), ob = cgal(o.b);
-    const auto s0 = CGAL::orientation(qa, qb, oa), s1 = CGAL::orientation(qa, qb, ob);
-    if (s0 != CGAL::COLLINEAR && s0 == s1) return 0;
-    const auto s2 = CGAL::orientation(oa, ob, qa), s3 = CGAL::orientation(oa, ob, qb);
-    if (s2 != CGAL::COLLINEAR && s2 == s3) return 0;
     const glm::dvec2 d = q.b - q.a;
-    if (s0 == CGAL::COLLINEAR && s1 == CGAL::COLLINEAR) {
+    if (s0 == 0 && s1 == 0) {
         // Collinear: the exact test above only says the lines agree; the overlap must be checked.
         if (!CGAL::do_intersect(K::Segment_2(qa, qb), K::Segment_2(oa, ob))) return 0;
         const double dd = glm::dot(d, d);
@@ -68,12 +69,12 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]) {
     const double den = cross(d, e);
     auto qdd = [&] { return qdot(q.b, q.a, q.a, q.b); };
     double u;
-    if (s0 == CGAL::COLLINEAR)
+    if (s0 == 0)
         u = quotient(glm::dot(o.a - q.a, d), glm::dot(d, d), [&] { return qdot(o.a, q.a, q.a, q.b); }, qdd);
-    else if (s1 == CGAL::COLLINEAR)
+    else if (s1 == 0)
         u = quotient(glm::dot(o.b - q.a, d), glm::dot(d, d), [&] { return qdot(o.b, q.a, q.a, q.b); }, qdd);
-    else if (s2 == CGAL::COLLINEAR) u = 0.0;
-    else if (s3 == CGAL::COLLINEAR) u = 1.0;
+    else if (s2 == 0) u = 0.0;
+    else if (s3 == 0) u = 1.0;
     else u = quotient(cross(o.a - q.a, e), den, [&] { return qcross(o.a, q.a, o.a, o.b); },
                       [&] { return qcross(q.b, q.a, o.a, o.b); });
     t[0] = std::clamp(u, 0.0, 1.0);
@@ -230,15 +231,6 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     for (std::uint32_t i = 0; i < segments.size(); ++i)
         visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });
     mark_.assign(segments.size(), 0);
-}
-
-int SegmentGrid::cell_x(double x) const {
-    const double c = std::floor((x - lo_.x) / cell_.x);
-    return c < 0.0 ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
-}
-int SegmentGrid::cell_y(double y) const {
-    const double c = std::floor((y - lo_.y) / cell_.y);
-    return c < 0.0 ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
 }
 
 }  // namespace inkline

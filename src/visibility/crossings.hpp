@@ -79,8 +79,14 @@ private:
     // The cells of segment (a, b) widened by `margin` (the rounding of its images).
     template <class Fn>
     void visit_cells(glm::dvec2 a, glm::dvec2 b, double margin, Fn&& fn) const;
-    int cell_x(double x) const;
-    int cell_y(double y) const;
+    int cell_x(double x) const {
+        const double c = std::floor((x - lo_.x) / cell_.x);
+        return c < 0.0 ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
+    }
+    int cell_y(double y) const {
+        const double c = std::floor((y - lo_.y) / cell_.y);
+        return c < 0.0 ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
+    }
 
     glm::dvec2 lo_{0.0}, cell_{1.0};
     int nx_ = 1, ny_ = 1;

@@ -170,8 +170,12 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
             const Segment3 q3 = s.in_3d();
             grid.candidates(q, [&](std::uint32_t k) {
+                const Segment2& o = occluders[k];
+                // (segments sharing a vertex never cross: the usual case, the curve's own
+                // neighbours, decided here without the call)
+                if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return;
                 double t[2];
-                const int n = segment_crossings(camera, q, q3, occluders[k], occ_clip[k].in_3d(), t);
+                const int n = segment_crossings(camera, q, q3, o, occ_clip[k].in_3d(), t);
                 if (n == 0) return;
                 if (!in_curves[occluders[k].edge] || s.edge < occluders[k].edge) ++out.crossings;
                 for (int i = 0; i < n; ++i) splits.push_back({j, t[i], k});
