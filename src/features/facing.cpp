@@ -17,20 +17,24 @@ namespace inkline {
 // so the float distance errs by less than 2^-19 (|E|_1 + R); the bound takes twice that, plus an
 // absolute floor for the subnormal range. Orthographic: E = -forward and no offset term (w = 0).
 // Outside the bound the float sign is the exact sign; inside, the exact predicate decides.
+void FacingFilter::bind(const MeshTopology& mesh, const Camera& camera) {
+    const bool ortho = camera.is_ortho();
+    const glm::dvec3 e = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
+    ex = float(e.x);
+    ey = float(e.y);
+    ez = float(e.z);
+    w = ortho ? 0.0f : 1.0f;
+    const double l1 = std::abs(e.x) + std::abs(e.y) + std::abs(e.z);
+    bound = float(0x1p-18 * (l1 + (ortho ? 0.0 : mesh.facing_radius)) + 1e-36);
+    if (!std::isfinite(ex) || !std::isfinite(ey) || !std::isfinite(ez) || !std::isfinite(bound))
+        bound = INFINITY;  // out of float range: every face goes to the exact test
+}
+
 void FaceFacing::bind(const MeshTopology& mesh, const Camera& camera) {
     mesh_ = &mesh;
     camera_ = camera;
     exact_ = 0;
-    const bool ortho = camera.is_ortho();
-    const glm::dvec3 e = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
-    ex_ = float(e.x);
-    ey_ = float(e.y);
-    ez_ = float(e.z);
-    w_ = ortho ? 0.0f : 1.0f;
-    const double l1 = std::abs(e.x) + std::abs(e.y) + std::abs(e.z);
-    bound_ = float(0x1p-18 * (l1 + (ortho ? 0.0 : mesh.facing_radius)) + 1e-36);
-    if (!std::isfinite(ex_) || !std::isfinite(ey_) || !std::isfinite(ez_) || !std::isfinite(bound_))
-        bound_ = INFINITY;  // out of float range: every face goes to the exact test
+    filter_.bind(mesh, camera);
 }
 
 void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
@@ -55,7 +59,7 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera) {
     full_ = true;
     const MeshTopology::FacingPlane* __restrict p = mesh.facing.data();
     std::uint8_t* __restrict out = state_.data();
-    const float ex = ex_, ey = ey_, ez = ez_, w = w_, b = bound_;
+    const float ex = filter_.ex, ey = filter_.ey, ez = filter_.ez, w = filter_.w, b = filter_.bound;
     // Front 2, back 0, undecided (or NaN plane) 1: resolved exactly when first read.
     for (std::size_t f = 0; f < nf; ++f) {
         const float det = p[f].nx * ex + p[f].ny * ey + p[f].nz * ez - w * p[f].d;
@@ -63,15 +67,9 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera) {
     }
 }
 
-float FaceFacing::signed_distance(std::uint32_t f) const {
-    const MeshTopology::FacingPlane& p = mesh_->facing[f];
-    return p.nx * ex_ + p.ny * ey_ + p.nz * ez_ - w_ * p.d;
-}
+float FaceFacing::signed_distance(std::uint32_t f) const { return filter_.signed_distance(mesh_->facing[f]); }
 
-std::uint8_t FaceFacing::filter(std::uint32_t f) const {
-    const float det = signed_distance(f);
-    return std::uint8_t(std::uint8_t(det > bound_) + std::uint8_t(!(det < -bound_)));
-}
+std::uint8_t FaceFacing::filter(std::uint32_t f) const { return filter_(mesh_->facing[f]); }
 
 std::uint8_t FaceFacing::resolve(std::uint32_t f) const {
     std::uint8_t s = full_ ? kUnknown : filter(f);

@@ -16,6 +16,21 @@
 
 namespace inkline {
 
+// The float filter of one view, for searches that keep their own per-face state: kFront/kBack
+// where the float sign of the eye's distance to the face's plane is trusted, kUnknown where the
+// exact predicate (face_is_front) must decide. FaceFacing runs the same filter.
+struct FacingFilter {
+    float ex = 0, ey = 0, ez = 0, w = 0, bound = 0;
+    void bind(const MeshTopology& mesh, const Camera& camera);
+    float signed_distance(const MeshTopology::FacingPlane& p) const {
+        return p.nx * ex + p.ny * ey + p.nz * ez - w * p.d;
+    }
+    std::uint8_t operator()(const MeshTopology::FacingPlane& p) const {  // kBack 0, kUnknown 1, kFront 2
+        const float det = signed_distance(p);
+        return std::uint8_t(std::uint8_t(det > bound) + std::uint8_t(!(det < -bound)));
+    }
+};
+
 class FaceFacing {
 public:
     static constexpr std::uint8_t kBack = 0, kUnknown = 1, kFront = 2;
@@ -55,7 +70,7 @@ private:
 
     const MeshTopology* mesh_ = nullptr;
     Camera camera_;
-    float ex_ = 0, ey_ = 0, ez_ = 0, w_ = 0, bound_ = 0;
+    FacingFilter filter_;
     bool full_ = false;
     mutable std::vector<std::uint8_t> state_;
     mutable std::vector<std::uint32_t> touched_;  // lazy views: faces decided so far

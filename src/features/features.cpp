@@ -256,8 +256,7 @@ void SilhouetteFinder::build_table() {
 // curves it meets at junctions).
 void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
     const MeshTopology& mesh = *mesh_;
-    out.edge_kind[e] = kSil;
-    out.silhouette_edges.push_back(e);
+    add_silhouette(e, mesh.edge_face[e][0], mesh.edge_face[e][1], out);
     stack_.clear();
     stack_.push_back(e);
     while (!stack_.empty()) {
@@ -271,8 +270,7 @@ void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
                 if (out.edge_kind[h] != kNoKind) continue;  // found, or a border or (non-silhouette) crease
                 ++out.stats.edges_examined;
                 if (is_silhouette(mesh, out, h)) {
-                    out.edge_kind[h] = kSil;
-                    out.silhouette_edges.push_back(h);
+                    add_silhouette(h, mesh.edge_face[h][0], mesh.edge_face[h][1], out);
                     stack_.push_back(h);
                 }
             }
@@ -318,11 +316,137 @@ void SilhouetteFinder::seek(std::uint32_t v, bool front, const Camera& camera, F
     }
 }
 
+void SilhouetteFinder::add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out) {
+    out.edge_kind[e] = kSil;
+    out.silhouette_edges.push_back(e);
+    current_.push_back({e, {f0, f1}});
+}
+
+namespace {
+// face_state bits: decided in this view, front now, front in the previous view, in the flood,
+// neighbours examined.
+constexpr std::uint8_t kDecided = 1, kFrontNow = 2, kFrontBefore = 4, kFlooded = 8, kRingDone = 16;
+inline bool flipped(std::uint8_t s) { return ((s >> 1) ^ (s >> 2)) & 1; }
+inline bool front_now(std::uint8_t s) { return s & kFrontNow; }
+}  // namespace
+
+// Facing of face f now and in the previous view: the float filter, and the exact predicate where
+// the filter cannot decide (so always the exact answer, as FaceFacing gives).
+std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
+    std::uint8_t s = face_state_[f];
+    if (s) return s;
+    const MeshTopology::FacingPlane& p = mesh_->facing[f];
+    std::uint8_t now = filter_(p), before = previous_filter_(p);
+    if (now == FaceFacing::kUnknown) now = face_is_front(*mesh_, f, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+    if (before == FaceFacing::kUnknown)
+        before = face_is_front(*mesh_, f, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+    static_assert(FaceFacing::kFront == kFrontNow);
+    s = std::uint8_t(kDecided | (now & kFrontNow) | ((before & kFrontNow) << 1));
+    face_state_[f] = s;
+    face_touched_.push_back(f);
+    return s;
+}
+
+// Frame coherence: the previous view's silhouette edges are checked (streamed as compact
+// records); an edge whose two faces kept their facing is a silhouette now exactly when it was one
+// before. Every other silhouette edge of this view has a face that changed facing, so the search
+// seeks where the silhouette moved by flooding over the faces that changed facing, from those of
+// the previous silhouette edges and from those beside them (a face that turns next to a silhouette
+// that stays starts a curve touching it at a vertex), at most step_bound faces deep. Each flooded
+// face's edges are decided. What this cannot see: silhouette curves born away from the previous
+// ones (the random draws and the crease/border seeds find those).
+void SilhouetteFinder::follow(const Camera& camera, Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t nf = mesh.face_count();
+    if (adjacent_.size() != nf) {
+        adjacent_.resize(nf);
+        for (std::uint32_t f = 0; f < nf; ++f)
+            for (int k = 0; k < 3; ++k) {
+                const auto& ef = mesh.edge_face[mesh.face_edges[f][k]];
+                adjacent_[f][k] = ef[0] == f ? ef[1] : ef[0];
+            }
+        face_state_.assign(nf, 0);
+        face_touched_.clear();
+    }
+    camera_ = camera;
+    filter_.bind(mesh, camera);
+    flood_.clear();
+    flood_depth_.clear();
+    auto visit = [&](std::uint32_t f, std::uint8_t depth) {
+        face_state_[f] |= kFlooded;
+        flood_.push_back(f);
+        flood_depth_.push_back(depth);
+    };
+    auto seed = [&](std::uint32_t f) {
+        const std::uint8_t s = face_state_[f];
+        if (flipped(s) && !(s & kFlooded)) visit(f, 0);
+        if (s & kRingDone) return;
+        face_state_[f] = std::uint8_t(face_state_[f] | kRingDone);
+        for (std::uint32_t g : adjacent_[f]) {
+            if (g == kNoFace) continue;
+            const std::uint8_t t = face_state(g);
+            if (flipped(t) && !(t & kFlooded)) visit(g, 0);
+        }
+    };
+    const EdgeRecord* rec = previous_.data();
+    const std::size_t n = previous_.size();
+    constexpr std::size_t kAhead = 12;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i + kAhead < n) {
+            for (std::uint32_t f : rec[i + kAhead].face) {
+                __builtin_prefetch(&mesh.facing[f]);
+                __builtin_prefetch(&adjacent_[f]);
+            }
+        }
+        const EdgeRecord& r = rec[i];
+        const std::uint8_t a = face_state(r.face[0]), b = face_state(r.face[1]);
+        if (!flipped(a) && !flipped(b)) {
+            ++out.stats.edges_examined;
+            if (front_now(a) != front_now(b)) add_silhouette(r.edge, r.face[0], r.face[1], out);
+        }
+        seed(r.face[0]);
+        seed(r.face[1]);
+    }
+    const std::uint8_t bound = std::uint8_t(std::clamp(opt_.step_bound, 0, 255));
+    for (std::size_t h = 0; h < flood_.size(); ++h) {
+        if (flood_depth_[h] >= bound) continue;
+        for (std::uint32_t g : adjacent_[flood_[h]]) {
+            if (g == kNoFace) continue;
+            const std::uint8_t t = face_state(g);
+            if (flipped(t) && !(t & kFlooded)) visit(g, std::uint8_t(flood_depth_[h] + 1));
+        }
+    }
+    out.stats.seeks += flood_.empty() ? 0 : 1;
+    out.stats.seek_steps += flood_.size();
+    // The flooded faces' edges; an edge between two flooded faces is decided by the lower one.
+    for (std::uint32_t x : flood_) {
+        const std::uint8_t sx = face_state_[x];
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t y = adjacent_[x][k];
+            if (y == kNoFace) continue;
+            const std::uint8_t sy = face_state(y);
+            if ((sy & kFlooded) && y < x) continue;
+            ++out.stats.edges_examined;
+            if (front_now(sx) != front_now(sy)) {
+                ++out.stats.seek_hits;
+                add_silhouette(mesh.face_edges[x][k], x, y, out);
+            }
+        }
+    }
+    for (std::uint32_t f : face_touched_) face_state_[f] = 0;
+    face_touched_.clear();
+}
+
 void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count();
     out.stats.fraction = opt_.fraction;
     auto coin = [&](double p) { return p >= 1.0 || double(rng_() >> 11) * 0x1p-53 < p; };
+    current_.clear();
+
+    // Frame coherence first (nothing is marked yet, so what it finds needs no check).
+    const bool had_previous = !previous_.empty();
+    if (opt_.coherence && had_previous) follow(camera, out);
 
     // Creases and borders are view-independent: classified every view (creases that are
     // silhouettes are traced from).
@@ -330,20 +454,8 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
         if (out.edge_kind[e] != kSil) trace(e, out);
     });
 
-    // Frame coherence: every silhouette edge of the previous view is checked; from a share of the
-    // lost ones a seek starts on each side.
-    const bool had_previous = !previous_.empty();
+    // Seeds on creases and borders: silhouettes often run beside them (cylinders).
     if (opt_.coherence) {
-        for (std::uint32_t e : previous_) {
-            if (e >= ne || out.edge_kind[e] == kSil) continue;
-            ++out.stats.edges_examined;
-            if (is_silhouette(mesh, out, e)) {
-                trace(e, out);
-            } else if (coin(opt_.seed_fraction)) {
-                seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
-            }
-        }
-        // Seeds on creases and borders: silhouettes often run beside them (cylinders).
         for (const auto* list : {&mesh.crease_list, &mesh.border_list})
             for (std::uint32_t e : *list)
                 if (coin(opt_.seed_fraction))
@@ -373,7 +485,10 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
             else if (seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
         }
     }
-    previous_ = out.silhouette_edges;
+    previous_.swap(current_);
+    previous_camera_ = camera;
+    previous_filter_ = filter_;
+    previous_filter_.bind(mesh, camera);
 }
 
 }  // namespace inkline

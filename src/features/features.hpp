@@ -5,6 +5,7 @@
 // reference) and the randomized seed-and-seek search with frame coherence (section 4.1).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -114,13 +115,31 @@ private:
     void trace(std::uint32_t e, Features& out);
     void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
+    void follow(const Camera& camera, Features& out);
+    std::uint8_t face_state(std::uint32_t f);
+    void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
 
     const MeshTopology* mesh_;
     FinderOptions opt_;
     std::mt19937_64 rng_;
     std::vector<float> alias_prob_;  // Vose's alias table over edges, weights pi - dihedral
     std::vector<std::uint32_t> alias_;
-    std::vector<std::uint32_t> previous_, stack_, sought_;
+    std::vector<std::uint32_t> stack_, sought_;
+
+    // Frame coherence. The previous view's silhouette edges as compact records (the edge and its
+    // two faces), checked by streaming; where the silhouette moved, the search follows the faces
+    // that changed facing (follow()). Face adjacency (12 bytes per face) and a state byte per face
+    // are built on first use, only by a randomized finder with coherence.
+    struct EdgeRecord {
+        std::uint32_t edge, face[2];
+    };
+    std::vector<EdgeRecord> previous_, current_;
+    Camera previous_camera_, camera_;
+    FacingFilter previous_filter_, filter_;
+    std::vector<std::array<std::uint32_t, 3>> adjacent_;  // [f][k]: face across face_edges[f][k]
+    std::vector<std::uint8_t> face_state_;                 // per face, this view; 0 = not decided
+    std::vector<std::uint32_t> face_touched_, flood_;
+    std::vector<std::uint8_t> flood_depth_;
 };
 
 }  // namespace inkline
