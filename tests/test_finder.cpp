@@ -89,6 +89,24 @@ TEST(Finder, FractionOneEqualsExhaustive) {
     }
 }
 
+// The exhaustive scan split over threads gives the same edges in the same order (and the same
+// curves) as on one thread. armadillo@1 so that both passes are actually split.
+TEST(Finder, ExhaustiveThreadsSameResult) {
+    static const Model sub = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off", 40.0, 1);
+    for (const Model* m : {&sub, &mesh_model("bunny00")}) {
+        for (const Camera& cam : cameras(m->topology().bounds)) {
+            Features one, two;
+            SilhouetteFinder(m->topology()).find(cam, {}, one);
+            FinderOptions o;
+            o.threads = 2;
+            SilhouetteFinder(m->topology(), o).find(cam, {}, two);
+            EXPECT_EQ(one.silhouette_edges, two.silhouette_edges);
+            EXPECT_FALSE(one.silhouette_edges.empty());
+            expect_same(one, two);
+        }
+    }
+}
+
 // Everything the randomized finder reports is a silhouette edge, and what it finds is closed
 // under adjacency: every silhouette edge at a vertex of a found one is found.
 TEST(Finder, OnlyTrueSilhouettesAndWholeCurves) {

@@ -2,6 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <thread>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -39,8 +45,8 @@ void FaceFacing::bind(const MeshTopology& mesh, const Camera& camera) {
 
 void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
     const std::size_t nf = mesh.face_count();
-    if (full_ || state_.size() != nf + 1 || mesh_ != &mesh) {
-        state_.assign(nf + 1, kUnknown);
+    if (full_ || state_.size() != nf + kPad || mesh_ != &mesh) {
+        state_.assign(nf + kPad, kUnknown);
         state_[nf] = kSentinel;
     } else {
         for (std::uint32_t f : touched_) state_[f] = kUnknown;
@@ -50,21 +56,82 @@ void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
     bind(mesh, camera);
 }
 
-void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera) {
-    bind(mesh, camera);
-    const std::size_t nf = mesh.face_count();
-    state_.resize(nf + 1);
-    state_[nf] = kSentinel;
-    touched_.clear();
-    full_ = true;
-    const MeshTopology::FacingPlane* __restrict p = mesh.facing.data();
-    std::uint8_t* __restrict out = state_.data();
-    const float ex = filter_.ex, ey = filter_.ey, ez = filter_.ez, w = filter_.w, b = filter_.bound;
-    // Front 2, back 0, undecided (or NaN plane) 1: resolved exactly when first read.
+namespace {
+
+// Front 2, back 0, undecided (or NaN plane) 1, for faces [0, nf).
+void facing_states_scalar(const MeshTopology::FacingPlane* __restrict p, std::size_t nf, const FacingFilter& flt,
+                          std::uint8_t* __restrict out) {
+    const float ex = flt.ex, ey = flt.ey, ez = flt.ez, w = flt.w, b = flt.bound;
     for (std::size_t f = 0; f < nf; ++f) {
         const float det = p[f].nx * ex + p[f].ny * ey + p[f].nz * ez - w * p[f].d;
         out[f] = std::uint8_t(std::uint8_t(det > b) + std::uint8_t(!(det < -b)));
     }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same with AVX2, 8 faces a step: the 8 planes transposed to 4 rows of 8 lanes (the same
+// products and sums in the same order as the scalar loop, no FMA, so the same floats), the two
+// comparisons as bit masks, spread to one byte per face with pdep.
+__attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology::FacingPlane* __restrict p,
+                                                             std::size_t nf, const FacingFilter& flt,
+                                                             std::uint8_t* __restrict out) {
+    const __m256 ex = _mm256_set1_ps(flt.ex), ey = _mm256_set1_ps(flt.ey), ez = _mm256_set1_ps(flt.ez);
+    const __m256 w = _mm256_set1_ps(flt.w), b = _mm256_set1_ps(flt.bound), nb = _mm256_set1_ps(-flt.bound);
+    constexpr std::uint64_t kLowBits = 0x0101010101010101ull;
+    std::size_t f = 0;
+    for (; f + 8 <= nf; f += 8) {
+        const float* q = &p[f].nx;
+        // a = faces 0|4, b = 1|5, c = 2|6, d = 3|7 (one 128-bit plane per half).
+        const __m256 a = _mm256_loadu2_m128(q + 16, q), bb = _mm256_loadu2_m128(q + 20, q + 4);
+        const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
+        const __m256 t0 = _mm256_unpacklo_ps(a, bb), t1 = _mm256_unpackhi_ps(a, bb);
+        const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
+        const __m256 nx = _mm256_shuffle_ps(t0, t2, 0x44), ny = _mm256_shuffle_ps(t0, t2, 0xEE);
+        const __m256 nz = _mm256_shuffle_ps(t1, t3, 0x44), dd = _mm256_shuffle_ps(t1, t3, 0xEE);
+        const __m256 det = _mm256_sub_ps(
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, ex), _mm256_mul_ps(ny, ey)), _mm256_mul_ps(nz, ez)),
+            _mm256_mul_ps(w, dd));
+        const unsigned front = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, b, _CMP_GT_OQ)));
+        const unsigned not_back = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, nb, _CMP_NLT_UQ)));
+        const std::uint64_t bytes = _pdep_u64(front, kLowBits) + _pdep_u64(not_back, kLowBits);
+        std::memcpy(out + f, &bytes, 8);
+    }
+    facing_states_scalar(p + f, nf - f, flt, out + f);
+}
+#endif
+
+}  // namespace
+
+bool cpu_has_avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
+    return has;
+#else
+    return false;
+#endif
+}
+
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads) {
+    bind(mesh, camera);
+    const std::size_t nf = mesh.face_count();
+    state_.resize(nf + kPad);
+    std::fill(state_.begin() + std::ptrdiff_t(nf), state_.end(), kSentinel);
+    touched_.clear();
+    full_ = true;
+    auto run = [&](std::size_t lo, std::size_t hi) {
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
+#endif
+        facing_states_scalar(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
+    };
+    const std::size_t parts = std::size_t(std::clamp(threads, 1, 64));
+    if (parts == 1 || nf < 65536) return run(0, nf);
+    std::vector<std::thread> pool;
+    const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line aligned parts
+    for (std::size_t i = 1; i < parts; ++i)
+        if (i * step < nf) pool.emplace_back(run, i * step, std::min(nf, (i + 1) * step));
+    run(0, std::min(nf, step));
+    for (auto& t : pool) t.join();
 }
 
 float FaceFacing::signed_distance(std::uint32_t f) const { return filter_.signed_distance(mesh_->facing[f]); }

@@ -31,6 +31,9 @@ struct FacingFilter {
     }
 };
 
+// Whether this CPU runs the AVX2 + BMI2 kernels (checked once; otherwise the scalar loops run).
+bool cpu_has_avx2();
+
 class FaceFacing {
 public:
     static constexpr std::uint8_t kBack = 0, kUnknown = 1, kFront = 2;
@@ -40,8 +43,8 @@ public:
     // size (the first view, or the first after a full scan, clears everything once).
     void begin_lazy(const MeshTopology& mesh, const Camera& camera);
     // Starts a view and decides every face (float filter for all, exact for the undecided ones
-    // when they are first read).
-    void begin_full(const MeshTopology& mesh, const Camera& camera);
+    // when they are first read); the filter pass split over `threads` threads.
+    void begin_full(const MeshTopology& mesh, const Camera& camera, int threads = 1);
 
     // 1 if the eye is strictly on the front side of face f, else 0 (also for degenerate faces and
     // faces whose plane contains the eye). Not thread-safe: it caches what it computes.
@@ -53,11 +56,13 @@ public:
     // want to move toward a silhouette; NaN for untrusted planes. Never used for decisions.
     float signed_distance(std::uint32_t f) const;
 
-    std::size_t size() const { return state_.empty() ? 0 : state_.size() - 1; }
+    std::size_t size() const { return state_.empty() ? 0 : state_.size() - kPad; }
     std::size_t faces_decided() const { return full_ ? size() : touched_.size(); }
     // Raw states (kBack, kUnknown, kFront) of a full view, for scans that resolve kUnknown
-    // themselves; index face_count() holds kSentinel (so a border's kNoFace, clamped, differs).
+    // themselves; index face_count() holds kSentinel (so a border's kNoFace, clamped, differs),
+    // followed by 3 readable bytes (so a 4-byte gather at any index <= face_count() stays inside).
     static constexpr std::uint8_t kSentinel = 3;
+    static constexpr std::size_t kPad = 4;
     const std::uint8_t* states() const { return state_.data(); }
     std::size_t exact_tests() const { return exact_; }
     // Every face decided, as 0/1 (for tests and tools; O(faces)).

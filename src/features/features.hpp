@@ -53,6 +53,8 @@ struct FinderOptions {
     bool seek_draws = true;       // a drawn edge that is not a silhouette starts a seek too
                                   // (with coherence: only while there is no previous view)
     std::uint64_t seed = 1;       // random seed (runs are deterministic)
+    int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
+                                  // (the result and its order do not depend on it)
 };
 
 struct FinderStats {
@@ -85,7 +87,7 @@ struct Features {
         std::uint8_t cusp = 0, traced = 0, sought = 0;
     };
     std::vector<std::uint8_t> edge_scratch;
-    std::vector<std::uint32_t> candidates;  // exhaustive scan: one block of edges
+    std::vector<std::vector<std::uint32_t>> thread_candidates;  // exhaustive scan: candidate edges, per thread
     std::vector<VertexScratch> vertex_scratch;
 };
 
