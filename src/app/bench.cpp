@@ -26,7 +26,8 @@ namespace {
 
 struct BenchArgs {
     std::string model, path = "orbit", csv, markdown, plot;
-    int frames = 60, subdivide = 0, width = 1024, height = 1024;
+    int frames = 60, subdivide = 0, width = 1024, height = 1024, threads = 1;
+    bool first_full = false;  // coherence rows: the first view by the exhaustive scan
     double arc = 360.0;  // orbit: degrees covered by the frames
     std::uint64_t seed = 1;
     double crease = 40.0;
@@ -53,6 +54,12 @@ BenchArgs parse_bench(int argc, char** argv) {
             a.path = value;
         } else if (key == "--frames") a.frames = parse_int(key, value, 1, 100000);
         else if (key == "--subdivide") a.subdivide = parse_int(key, value, 0, 6);
+        else if (key == "--threads") a.threads = parse_int(key, value, 1, 64);
+        else if (key == "--first-view") {
+            if (value != "exhaustive" && value != "random")
+                throw Error(key, "unknown value '" + value + "' (expected exhaustive or random)");
+            a.first_full = value == "exhaustive";
+        }
         else if (key == "--seed") a.seed = std::uint64_t(parse_int(key, value, 0, 2147483647));
         else if (key == "--csv") a.csv = value;
         else if (key == "--markdown") a.markdown = value;
@@ -217,6 +224,7 @@ int run_bench(int argc, char** argv) {
 
     std::vector<FinderOptions> settings;
     settings.push_back({});
+    settings.back().threads = a.threads;
     for (bool coherence : {false, true})
         for (double f : a.fractions) {
             FinderOptions o;
@@ -224,6 +232,7 @@ int run_bench(int argc, char** argv) {
             o.fraction = f;
             o.coherence = coherence;
             o.seed = a.seed;
+            o.first_full = coherence && a.first_full;
             settings.push_back(o);
         }
 
@@ -257,7 +266,11 @@ int run_bench(int argc, char** argv) {
     std::string csv =
         "model,triangles,finder,fraction,coherence,frames,ms_per_frame,silhouette_edges_per_frame,"
         "silhouette_edges_per_second,recall_length,wrong_visible_length_px\n";
-    std::string md = "### " + name + " (" + std::to_string(nf) + " triangles, " + a.path + " path, " +
+    std::string path_note = a.path;
+    if (a.path == "orbit") path_note += " " + fmt("%g", a.arc / a.frames) + " deg/frame";
+    if (a.threads > 1) path_note += ", exhaustive on " + std::to_string(a.threads) + " threads";
+    if (a.first_full) path_note += ", coherence from an exhaustive first view";
+    std::string md = "### " + name + " (" + std::to_string(nf) + " triangles, " + path_note + ", " +
                      std::to_string(a.frames) + " frames)\n\n"
                      "| finder | fraction | coherence | ms/frame | frames/s | triangles/s | silhouette edges/frame | "
                      "silhouette edges/s | recall (length) | wrong visible px/frame | slowdown of exhaustive | "

@@ -179,6 +179,15 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     if (opt_.kind == FinderKind::Exhaustive) {
         out.face_front.begin_full(mesh, camera, opt_.threads);
         scan_exhaustive(out);
+    } else if (opt_.coherence && opt_.first_full && previous_.empty()) {
+        out.face_front.begin_full(mesh, camera, opt_.threads);
+        scan_exhaustive(out);
+        out.stats.finder = FinderKind::Randomized;
+        out.stats.fraction = opt_.fraction;
+        previous_.clear();
+        for (std::uint32_t e : out.silhouette_edges) previous_.push_back({e, {mesh.edge_face[e][0], mesh.edge_face[e][1]}});
+        previous_camera_ = camera;
+        previous_filter_.bind(mesh, camera);
     } else {
         out.face_front.begin_lazy(mesh, camera);
         search_randomized(camera, out);
@@ -394,11 +403,19 @@ void SilhouetteFinder::add_silhouette(std::uint32_t e, std::uint32_t f0, std::ui
 }
 
 namespace {
-// face_state bits: decided in this view, front now, front in the previous view, in the flood,
-// neighbours examined.
-constexpr std::uint8_t kDecided = 1, kFrontNow = 2, kFrontBefore = 4, kFlooded = 8, kRingDone = 16;
+// face_state bits: decided in this view, front now, front in the previous view.
+constexpr std::uint8_t kDecided = 1, kFrontNow = 2;
 inline bool flipped(std::uint8_t s) { return ((s >> 1) ^ (s >> 2)) & 1; }
 inline bool front_now(std::uint8_t s) { return s & kFrontNow; }
+
+// The vector the facing filter dots the planes with (eye - facing_origin, or -forward for an
+// orthographic camera) in double, and w (1 perspective, 0 orthographic).
+void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], double& w) {
+    const bool ortho = camera.is_ortho();
+    const glm::dvec3 v = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
+    e[0] = v.x, e[1] = v.y, e[2] = v.z;
+    w = ortho ? 0.0 : 1.0;
+}
 }  // namespace
 
 // Facing of face f now and in the previous view: the float filter, and the exact predicate where
@@ -418,14 +435,29 @@ std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
     return s;
 }
 
-// Frame coherence: the previous view's silhouette edges are checked (streamed as compact
-// records); an edge whose two faces kept their facing is a silhouette now exactly when it was one
-// before. Every other silhouette edge of this view has a face that changed facing, so the search
-// seeks where the silhouette moved by flooding over the faces that changed facing, from those of
-// the previous silhouette edges and from those beside them (a face that turns next to a silhouette
-// that stays starts a curve touching it at a vertex), at most step_bound faces deep. Each flooded
-// face's edges are decided. What this cannot see: silhouette curves born away from the previous
-// ones (the random draws and the crease/border seeds find those).
+// The band: every face whose float distance to the eye e is within margin + bound. With the
+// float distance within bound/2 of the exact one (facing.cpp) and a unit normal, the exact
+// distance moves by at most |e' - e| when the eye moves to e', so a face outside the band keeps
+// its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
+void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
+    const MeshTopology& mesh = *mesh_;
+    band_.clear();
+    const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
+    const MeshTopology::FacingPlane* p = mesh.facing.data();
+    const std::uint32_t nf = std::uint32_t(mesh.face_count());
+    for (std::uint32_t f = 0; f < nf; ++f)
+        if (!(std::abs(filter_.signed_distance(p[f])) > limit)) band_.push_back({p[f], f});
+    for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
+    band_w_ = w;
+    band_margin_ = margin;
+}
+
+// Frame coherence (exact). Every face that changed facing since the previous view lies in the band
+// (streamed: plane copies, no mesh access); an edge whose two faces kept their facing is a
+// silhouette now exactly when it was one in the previous view, so the silhouette is the previous
+// edges none of whose faces turned, plus the edges of the faces that turned whose two faces differ
+// now. Given the previous view's silhouette complete, so is this one; silhouette curves the
+// previous view missed are found here only where their faces turn (or by the draws).
 void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t nf = mesh.face_count();
@@ -438,72 +470,60 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             }
         face_state_.assign(nf, 0);
         face_touched_.clear();
+        band_margin_ = -1.0;
     }
     camera_ = camera;
     filter_.bind(mesh, camera);
-    flood_.clear();
-    flood_depth_.clear();
-    auto visit = [&](std::uint32_t f, std::uint8_t depth) {
-        face_state_[f] |= kFlooded;
-        flood_.push_back(f);
-        flood_depth_.push_back(depth);
+
+    // The band is valid while both eyes lie within its margin of where it was built.
+    double e[3], w, p[3], pw;
+    eye_vector(mesh, camera, e, w);
+    eye_vector(mesh, previous_camera_, p, pw);
+    auto dist = [](const double a[3], const double b[3]) {
+        return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
     };
-    auto seed = [&](std::uint32_t f) {
-        const std::uint8_t s = face_state_[f];
-        if (flipped(s) && !(s & kFlooded)) visit(f, 0);
-        if (s & kRingDone) return;
-        face_state_[f] = std::uint8_t(face_state_[f] | kRingDone);
-        for (std::uint32_t g : adjacent_[f]) {
-            if (g == kNoFace) continue;
-            const std::uint8_t t = face_state(g);
-            if (flipped(t) && !(t & kFlooded)) visit(g, 0);
-        }
-    };
-    const EdgeRecord* rec = previous_.data();
-    const std::size_t n = previous_.size();
-    constexpr std::size_t kAhead = 12;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (i + kAhead < n) {
-            for (std::uint32_t f : rec[i + kAhead].face) {
-                __builtin_prefetch(&mesh.facing[f]);
-                __builtin_prefetch(&adjacent_[f]);
-            }
-        }
-        const EdgeRecord& r = rec[i];
-        const std::uint8_t a = face_state(r.face[0]), b = face_state(r.face[1]);
-        if (!flipped(a) && !flipped(b)) {
-            ++out.stats.edges_examined;
-            if (front_now(a) != front_now(b)) add_silhouette(r.edge, r.face[0], r.face[1], out);
-        }
-        seed(r.face[0]);
-        seed(r.face[1]);
+    const double step = dist(e, p);
+    if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
+          dist(p, band_eye_) <= band_margin_)) {
+        const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        build_band(e, w, std::max(opt_.band_steps, 1.0) * (step * (1.0 + 1e-9) + 1e-12 * scale));
+        out.stats.band_rebuilt = true;
     }
-    const std::uint8_t bound = std::uint8_t(std::clamp(opt_.step_bound, 0, 255));
-    for (std::size_t h = 0; h < flood_.size(); ++h) {
-        if (flood_depth_[h] >= bound) continue;
-        for (std::uint32_t g : adjacent_[flood_[h]]) {
-            if (g == kNoFace) continue;
-            const std::uint8_t t = face_state(g);
-            if (flipped(t) && !(t & kFlooded)) visit(g, std::uint8_t(flood_depth_[h] + 1));
-        }
+    out.stats.band_faces = band_.size();
+
+    // The band's faces now and before (their states kept for the turned faces' neighbours, which
+    // mostly lie in the band too); every other face keeps its facing.
+    turned_.clear();
+    for (const BandFace& b : band_) {
+        std::uint8_t now = filter_(b.plane), before = previous_filter_(b.plane);
+        if (now == FaceFacing::kUnknown)
+            now = face_is_front(mesh, b.face, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+        if (before == FaceFacing::kUnknown)
+            before = face_is_front(mesh, b.face, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+        const std::uint8_t s = std::uint8_t(kDecided | (now & kFrontNow) | ((before & kFrontNow) << 1));
+        face_state_[b.face] = s;
+        if (flipped(s)) turned_.push_back(b.face);
     }
-    out.stats.seeks += flood_.empty() ? 0 : 1;
-    out.stats.seek_steps += flood_.size();
-    // The flooded faces' edges; an edge between two flooded faces is decided by the lower one.
-    for (std::uint32_t x : flood_) {
+    out.stats.faces_turned = turned_.size();
+
+    for (const EdgeRecord& r : previous_) {
+        if (flipped(face_state_[r.face[0]]) || flipped(face_state_[r.face[1]])) continue;
+        ++out.stats.edges_examined;
+        add_silhouette(r.edge, r.face[0], r.face[1], out);
+    }
+    // Edges of turned faces; an edge between two turned faces is decided by the lower one.
+    for (std::uint32_t x : turned_) {
         const std::uint8_t sx = face_state_[x];
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t y = adjacent_[x][k];
             if (y == kNoFace) continue;
             const std::uint8_t sy = face_state(y);
-            if ((sy & kFlooded) && y < x) continue;
+            if (flipped(sy) && y < x) continue;
             ++out.stats.edges_examined;
-            if (front_now(sx) != front_now(sy)) {
-                ++out.stats.seek_hits;
-                add_silhouette(mesh.face_edges[x][k], x, y, out);
-            }
+            if (front_now(sx) != front_now(sy)) add_silhouette(mesh.face_edges[x][k], x, y, out);
         }
     }
+    for (const BandFace& b : band_) face_state_[b.face] = 0;
     for (std::uint32_t f : face_touched_) face_state_[f] = 0;
     face_touched_.clear();
 }

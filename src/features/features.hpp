@@ -53,6 +53,9 @@ struct FinderOptions {
     bool seek_draws = true;       // a drawn edge that is not a silhouette starts a seek too
                                   // (with coherence: only while there is no previous view)
     std::uint64_t seed = 1;       // random seed (runs are deterministic)
+    bool first_full = false;      // with coherence: a view without a previous view runs the
+                                  // exhaustive scan, later views follow it
+    double band_steps = 8.0;      // coherence: the band's margin in steps of the eye's last move
     int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
                                   // (the result and its order do not depend on it)
 };
@@ -62,6 +65,8 @@ struct FinderStats {
     double fraction = 1.0;
     std::size_t edges_examined = 0;  // edges whose facing was compared (scan, draws, trace rings)
     std::size_t seeks = 0, seek_steps = 0, seek_hits = 0;
+    std::size_t band_faces = 0, faces_turned = 0;  // coherence: faces checked, faces that changed facing
+    bool band_rebuilt = false;                      // coherence: the band was rebuilt this view
     std::size_t faces_decided = 0, exact_facing_tests = 0;
     double seconds_search = 0.0;  // finding the silhouette edges (and classifying creases, borders)
     double seconds_chain = 0.0;   // cusps and chaining into curves (the same work for every finder)
@@ -118,6 +123,7 @@ private:
     void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
     void follow(const Camera& camera, Features& out);
+    void build_band(const double eye[3], double w, double margin);
     std::uint8_t face_state(std::uint32_t f);
     void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
 
@@ -129,19 +135,28 @@ private:
     std::vector<std::uint32_t> stack_, sought_;
 
     // Frame coherence. The previous view's silhouette edges as compact records (the edge and its
-    // two faces), checked by streaming; where the silhouette moved, the search follows the faces
-    // that changed facing (follow()). Face adjacency (12 bytes per face) and a state byte per face
-    // are built on first use, only by a randomized finder with coherence.
+    // two faces). A face changes facing between two views only if its plane passes between the
+    // two eyes, so only faces whose plane was within a margin M of the eye when the band was
+    // built (copied into band_, 20 bytes each) can change while the eye stays within M of that
+    // position; the band is rebuilt by one pass over all faces when the eye leaves. follow() streams
+    // the band, and the silhouette is the previous edges whose faces kept their facing plus the
+    // edges of the faces that changed. Adjacency (12 bytes per face), a state byte per face and the
+    // band are built on first use, only by a randomized finder with coherence.
     struct EdgeRecord {
         std::uint32_t edge, face[2];
+    };
+    struct BandFace {
+        MeshTopology::FacingPlane plane;
+        std::uint32_t face;
     };
     std::vector<EdgeRecord> previous_, current_;
     Camera previous_camera_, camera_;
     FacingFilter previous_filter_, filter_;
     std::vector<std::array<std::uint32_t, 3>> adjacent_;  // [f][k]: face across face_edges[f][k]
     std::vector<std::uint8_t> face_state_;                 // per face, this view; 0 = not decided
-    std::vector<std::uint32_t> face_touched_, flood_;
-    std::vector<std::uint8_t> flood_depth_;
+    std::vector<std::uint32_t> face_touched_, turned_;
+    std::vector<BandFace> band_;
+    double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
 };
 
 }  // namespace inkline
