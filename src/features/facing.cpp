@@ -100,6 +100,43 @@ __attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology:
 }
 #endif
 
+// Faces whose float distance to the eye is not above limit (NaN planes included), appended.
+void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, std::uint32_t f1, const FacingFilter& flt,
+                         float limit, std::vector<std::uint32_t>& out) {
+    for (std::uint32_t f = f0; f < f1; ++f)
+        if (!(std::abs(flt.signed_distance(p[f])) > limit)) out.push_back(f);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t nf,
+                                                            const FacingFilter& flt, float limit,
+                                                            std::vector<std::uint32_t>& out) {
+    const __m256 ex = _mm256_set1_ps(flt.ex), ey = _mm256_set1_ps(flt.ey), ez = _mm256_set1_ps(flt.ez);
+    const __m256 w = _mm256_set1_ps(flt.w), lim = _mm256_set1_ps(limit);
+    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    std::uint32_t f = 0;
+    for (; f + 8 <= nf; f += 8) {
+        const float* q = &p[f].nx;
+        const __m256 a = _mm256_loadu2_m128(q + 16, q), bb = _mm256_loadu2_m128(q + 20, q + 4);
+        const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
+        const __m256 t0 = _mm256_unpacklo_ps(a, bb), t1 = _mm256_unpackhi_ps(a, bb);
+        const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
+        const __m256 nx = _mm256_shuffle_ps(t0, t2, 0x44), ny = _mm256_shuffle_ps(t0, t2, 0xEE);
+        const __m256 nz = _mm256_shuffle_ps(t1, t3, 0x44), dd = _mm256_shuffle_ps(t1, t3, 0xEE);
+        const __m256 det = _mm256_sub_ps(
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, ex), _mm256_mul_ps(ny, ey)), _mm256_mul_ps(nz, ez)),
+            _mm256_mul_ps(w, dd));
+        // not (|det| > limit): NaN included
+        unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
+        while (m) {
+            out.push_back(f + unsigned(__builtin_ctz(m)));
+            m &= m - 1;
+        }
+    }
+    faces_within_scalar(p, f, nf, flt, limit, out);
+}
+#endif
+
 }  // namespace
 
 bool cpu_has_avx2() {
@@ -109,6 +146,14 @@ bool cpu_has_avx2() {
 #else
     return false;
 #endif
+}
+
+void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out) {
+    const std::uint32_t nf = std::uint32_t(mesh.face_count());
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), nf, filter, limit, out);
+#endif
+    faces_within_scalar(mesh.facing.data(), 0, nf, filter, limit, out);
 }
 
 void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads) {

@@ -31,6 +31,10 @@ struct FacingFilter {
     }
 };
 
+// Appends the faces whose float distance to the eye (FacingFilter::signed_distance) is not above
+// `limit`, in order; faces with an untrusted (NaN) plane are always included.
+void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out);
+
 // Whether this CPU runs the AVX2 + BMI2 kernels (checked once; otherwise the scalar loops run).
 bool cpu_has_avx2();
 

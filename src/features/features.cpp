@@ -152,6 +152,7 @@ SilhouetteFinder::SilhouetteFinder(const MeshTopology& mesh, const FinderOptions
 
 void SilhouetteFinder::reset() {
     previous_.clear();
+    complete_ = false;
     rng_.seed(opt_.seed);
 }
 
@@ -188,6 +189,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         for (std::uint32_t e : out.silhouette_edges) previous_.push_back({e, {mesh.edge_face[e][0], mesh.edge_face[e][1]}});
         previous_camera_ = camera;
         previous_filter_.bind(mesh, camera);
+        complete_ = true;
     } else {
         out.face_front.begin_lazy(mesh, camera);
         search_randomized(camera, out);
@@ -444,9 +446,13 @@ void SilhouetteFinder::build_band(const double eye[3], double w, double margin) 
     band_.clear();
     const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
     const MeshTopology::FacingPlane* p = mesh.facing.data();
-    const std::uint32_t nf = std::uint32_t(mesh.face_count());
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (!(std::abs(filter_.signed_distance(p[f])) > limit)) band_.push_back({p[f], f});
+    std::fill(band_bits_.begin(), band_bits_.end(), 0);
+    turned_.clear();
+    faces_within(mesh, filter_, limit, turned_);  // turned_ as scratch
+    for (std::uint32_t f : turned_) {
+        band_.push_back({p[f], f});
+        band_bits_[f >> 6] |= std::uint64_t(1) << (f & 63);
+    }
     for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
     band_w_ = w;
     band_margin_ = margin;
@@ -461,16 +467,11 @@ void SilhouetteFinder::build_band(const double eye[3], double w, double margin) 
 void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t nf = mesh.face_count();
-    if (adjacent_.size() != nf) {
-        adjacent_.resize(nf);
-        for (std::uint32_t f = 0; f < nf; ++f)
-            for (int k = 0; k < 3; ++k) {
-                const auto& ef = mesh.edge_face[mesh.face_edges[f][k]];
-                adjacent_[f][k] = ef[0] == f ? ef[1] : ef[0];
-            }
+    if (face_state_.size() != nf) {
         face_state_.assign(nf, 0);
         face_touched_.clear();
         band_margin_ = -1.0;
+        for (auto* bits : {&band_bits_, &front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
     }
     camera_ = camera;
     filter_.bind(mesh, camera);
@@ -491,39 +492,51 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     }
     out.stats.band_faces = band_.size();
 
-    // The band's faces now and before (their states kept for the turned faces' neighbours, which
-    // mostly lie in the band too); every other face keeps its facing.
+    // The band's faces now and before: front-now bits for all, turned ones listed; every other
+    // face keeps its facing.
     turned_.clear();
+    std::uint64_t* __restrict front = front_bits_.data();
+    std::uint64_t* __restrict turned = turned_bits_.data();
     for (const BandFace& b : band_) {
         std::uint8_t now = filter_(b.plane), before = previous_filter_(b.plane);
         if (now == FaceFacing::kUnknown)
             now = face_is_front(mesh, b.face, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
         if (before == FaceFacing::kUnknown)
             before = face_is_front(mesh, b.face, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
-        const std::uint8_t s = std::uint8_t(kDecided | (now & kFrontNow) | ((before & kFrontNow) << 1));
-        face_state_[b.face] = s;
-        if (flipped(s)) turned_.push_back(b.face);
+        const std::uint64_t m = std::uint64_t(1) << (b.face & 63);
+        std::uint64_t& fw = front[b.face >> 6];
+        fw = now == FaceFacing::kFront ? (fw | m) : (fw & ~m);
+        if (now != before) {
+            turned[b.face >> 6] |= m;
+            turned_.push_back(b.face);
+        }
     }
     out.stats.faces_turned = turned_.size();
+    auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
 
     for (const EdgeRecord& r : previous_) {
-        if (flipped(face_state_[r.face[0]]) || flipped(face_state_[r.face[1]])) continue;
+        if (bit(turned, r.face[0]) || bit(turned, r.face[1])) continue;
         ++out.stats.edges_examined;
         add_silhouette(r.edge, r.face[0], r.face[1], out);
     }
     // Edges of turned faces; an edge between two turned faces is decided by the lower one.
-    for (std::uint32_t x : turned_) {
-        const std::uint8_t sx = face_state_[x];
+    // Their neighbours mostly lie in the band; the others kept their facing and are decided here.
+    const std::size_t nt = turned_.size();
+    constexpr std::size_t kAhead = 8;
+    for (std::size_t i = 0; i < nt; ++i) {
+        if (i + kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + kAhead]]);
+        const std::uint32_t x = turned_[i];
+        const bool fx = bit(front, x);
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t y = adjacent_[x][k];
-            if (y == kNoFace) continue;
-            const std::uint8_t sy = face_state(y);
-            if (flipped(sy) && y < x) continue;
+            const auto& ef = mesh.edge_face[mesh.face_edges[x][k]];
+            const std::uint32_t y = ef[0] == x ? ef[1] : ef[0];
+            if (y == kNoFace || (bit(turned, y) && y < x)) continue;
             ++out.stats.edges_examined;
-            if (front_now(sx) != front_now(sy)) add_silhouette(mesh.face_edges[x][k], x, y, out);
+            const bool fy = bit(band_bits_.data(), y) ? bool(bit(front, y)) : front_now(face_state(y));
+            if (fx != fy) add_silhouette(mesh.face_edges[x][k], ef[0], ef[1], out);
         }
     }
-    for (const BandFace& b : band_) face_state_[b.face] = 0;
+    for (std::uint32_t f : turned_) turned[f >> 6] = 0;
     for (std::uint32_t f : face_touched_) face_state_[f] = 0;
     face_touched_.clear();
 }
@@ -538,6 +551,15 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
     // Frame coherence first (nothing is marked yet, so what it finds needs no check).
     const bool had_previous = !previous_.empty();
     if (opt_.coherence && had_previous) follow(camera, out);
+    // Following a complete silhouette exactly leaves it complete: nothing is left to draw or seek.
+    complete_ = complete_ && opt_.coherence && had_previous;
+    if (complete_) {
+        classify_static(mesh, out, [&](std::uint32_t) {});  // crease silhouettes were followed
+        previous_.swap(current_);
+        previous_camera_ = camera;
+        previous_filter_ = filter_;
+        return;
+    }
 
     // Creases and borders are view-independent: classified every view (creases that are
     // silhouettes are traced from).

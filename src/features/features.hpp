@@ -54,7 +54,8 @@ struct FinderOptions {
                                   // (with coherence: only while there is no previous view)
     std::uint64_t seed = 1;       // random seed (runs are deterministic)
     bool first_full = false;      // with coherence: a view without a previous view runs the
-                                  // exhaustive scan, later views follow it
+                                  // exhaustive scan; later views follow it exactly (complete, so
+                                  // they skip the draws and seeks)
     double band_steps = 8.0;      // coherence: the band's margin in steps of the eye's last move
     int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
                                   // (the result and its order do not depend on it)
@@ -141,7 +142,8 @@ private:
     // position; the band is rebuilt by one pass over all faces when the eye leaves. follow() streams
     // the band, and the silhouette is the previous edges whose faces kept their facing plus the
     // edges of the faces that changed. Adjacency (12 bytes per face), a state byte per face and the
-    // band are built on first use, only by a randomized finder with coherence.
+    // band are built on first use, only by a randomized finder with coherence; with three bits
+    // per face for the band's states.
     struct EdgeRecord {
         std::uint32_t edge, face[2];
     };
@@ -150,12 +152,14 @@ private:
         std::uint32_t face;
     };
     std::vector<EdgeRecord> previous_, current_;
+    bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
     Camera previous_camera_, camera_;
     FacingFilter previous_filter_, filter_;
-    std::vector<std::array<std::uint32_t, 3>> adjacent_;  // [f][k]: face across face_edges[f][k]
     std::vector<std::uint8_t> face_state_;                 // per face, this view; 0 = not decided
     std::vector<std::uint32_t> face_touched_, turned_;
     std::vector<BandFace> band_;
+    // Bit per face: in the band; front now (band faces); turned since the previous view.
+    std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
 };
 
