@@ -137,6 +137,64 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
 }
 #endif
 
+void band_states_scalar(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t i0, std::size_t n,
+                        const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                        std::vector<std::uint32_t>& check) {
+    for (std::size_t i = i0; i < n; ++i) {
+        const std::uint8_t a = now(planes[i]), b = before(planes[i]);
+        const std::uint32_t f = ids[i];
+        const std::uint64_t m = std::uint64_t(1) << (f & 63);
+        std::uint64_t& w = front_bits[f >> 6];
+        w = a == FaceFacing::kFront ? (w | m) : (w & ~m);
+        if (a != b || a == FaceFacing::kUnknown) check.push_back(std::uint32_t(i));
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::FacingPlane* planes,
+                                                           const std::uint32_t* ids, std::size_t n,
+                                                           const FacingFilter& now, const FacingFilter& before,
+                                                           std::uint64_t* front_bits, std::vector<std::uint32_t>& check) {
+    const __m256 ax = _mm256_set1_ps(now.ex), ay = _mm256_set1_ps(now.ey), az = _mm256_set1_ps(now.ez);
+    const __m256 aw = _mm256_set1_ps(now.w), ab = _mm256_set1_ps(now.bound), anb = _mm256_set1_ps(-now.bound);
+    const __m256 bx = _mm256_set1_ps(before.ex), by = _mm256_set1_ps(before.ey), bz = _mm256_set1_ps(before.ez);
+    const __m256 bw = _mm256_set1_ps(before.w), bb = _mm256_set1_ps(before.bound), bnb = _mm256_set1_ps(-before.bound);
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const float* q = &planes[i].nx;
+        const __m256 a = _mm256_loadu2_m128(q + 16, q), b = _mm256_loadu2_m128(q + 20, q + 4);
+        const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
+        const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
+        const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
+        const __m256 nx = _mm256_shuffle_ps(t0, t2, 0x44), ny = _mm256_shuffle_ps(t0, t2, 0xEE);
+        const __m256 nz = _mm256_shuffle_ps(t1, t3, 0x44), dd = _mm256_shuffle_ps(t1, t3, 0xEE);
+        const __m256 da = _mm256_sub_ps(
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, ax), _mm256_mul_ps(ny, ay)), _mm256_mul_ps(nz, az)),
+            _mm256_mul_ps(aw, dd));
+        const __m256 db = _mm256_sub_ps(
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, bx), _mm256_mul_ps(ny, by)), _mm256_mul_ps(nz, bz)),
+            _mm256_mul_ps(bw, dd));
+        const unsigned fa = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(da, ab, _CMP_GT_OQ)));
+        const unsigned ka = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(da, anb, _CMP_NLT_UQ)));  // not back
+        const unsigned fb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bb, _CMP_GT_OQ)));
+        const unsigned kb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bnb, _CMP_NLT_UQ)));
+        // states differ, or "now" undecided (not back and not front)
+        unsigned odd = (fa ^ fb) | (ka ^ kb) | (ka & ~fa);
+        for (unsigned j = 0; j < 8; ++j) {
+            const std::uint32_t f = ids[i + j];
+            const std::uint64_t m = std::uint64_t(1) << (f & 63);
+            std::uint64_t& w = front_bits[f >> 6];
+            w = (fa >> j) & 1 ? (w | m) : (w & ~m);
+        }
+        while (odd) {
+            check.push_back(std::uint32_t(i + unsigned(__builtin_ctz(odd))));
+            odd &= odd - 1;
+        }
+    }
+    band_states_scalar(planes, ids, i, n, now, before, front_bits, check);
+}
+#endif
+
 }  // namespace
 
 bool cpu_has_avx2() {
@@ -154,6 +212,15 @@ void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float li
     if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), nf, filter, limit, out);
 #endif
     faces_within_scalar(mesh.facing.data(), 0, nf, filter, limit, out);
+}
+
+void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
+                 const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                 std::vector<std::uint32_t>& check) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) return band_states_avx2(planes, ids, n, now, before, front_bits, check);
+#endif
+    band_states_scalar(planes, ids, 0, n, now, before, front_bits, check);
 }
 
 void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads) {

@@ -35,6 +35,14 @@ struct FacingFilter {
 // `limit`, in order; faces with an untrusted (NaN) plane are always included.
 void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out);
 
+// For faces ids[0..n) with copies of their planes: sets each face's bit in front_bits where
+// `now` says front and clears it elsewhere; appends to `check` the positions i where the two
+// filters disagree or `now` cannot decide (the caller decides those exactly; where both filters
+// agree and decide, the face kept its facing).
+void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
+                 const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                 std::vector<std::uint32_t>& check);
+
 // Whether this CPU runs the AVX2 + BMI2 kernels (checked once; otherwise the scalar loops run).
 bool cpu_has_avx2();
 

@@ -443,14 +443,14 @@ std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
 // its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
 void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
-    band_.clear();
     const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
-    const MeshTopology::FacingPlane* p = mesh.facing.data();
+    band_faces_.clear();
+    faces_within(mesh, filter_, limit, band_faces_);
+    band_planes_.resize(band_faces_.size());
     std::fill(band_bits_.begin(), band_bits_.end(), 0);
-    turned_.clear();
-    faces_within(mesh, filter_, limit, turned_);  // turned_ as scratch
-    for (std::uint32_t f : turned_) {
-        band_.push_back({p[f], f});
+    for (std::size_t i = 0; i < band_faces_.size(); ++i) {
+        const std::uint32_t f = band_faces_[i];
+        band_planes_[i] = mesh.facing[f];
         band_bits_[f >> 6] |= std::uint64_t(1) << (f & 63);
     }
     for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
@@ -490,25 +490,27 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         build_band(e, w, std::max(opt_.band_steps, 1.0) * (step * (1.0 + 1e-9) + 1e-12 * scale));
         out.stats.band_rebuilt = true;
     }
-    out.stats.band_faces = band_.size();
+    out.stats.band_faces = band_faces_.size();
 
     // The band's faces now and before: front-now bits for all, turned ones listed; every other
     // face keeps its facing.
     turned_.clear();
+    check_.clear();
     std::uint64_t* __restrict front = front_bits_.data();
     std::uint64_t* __restrict turned = turned_bits_.data();
-    for (const BandFace& b : band_) {
-        std::uint8_t now = filter_(b.plane), before = previous_filter_(b.plane);
+    band_states(band_planes_.data(), band_faces_.data(), band_faces_.size(), filter_, previous_filter_, front, check_);
+    for (std::uint32_t i : check_) {  // the filters disagree or cannot decide: exact
+        const std::uint32_t f = band_faces_[i];
+        std::uint8_t now = filter_(band_planes_[i]), before = previous_filter_(band_planes_[i]);
         if (now == FaceFacing::kUnknown)
-            now = face_is_front(mesh, b.face, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+            now = face_is_front(mesh, f, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
         if (before == FaceFacing::kUnknown)
-            before = face_is_front(mesh, b.face, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
-        const std::uint64_t m = std::uint64_t(1) << (b.face & 63);
-        std::uint64_t& fw = front[b.face >> 6];
-        fw = now == FaceFacing::kFront ? (fw | m) : (fw & ~m);
+            before = face_is_front(mesh, f, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+        const std::uint64_t m = std::uint64_t(1) << (f & 63);
+        front[f >> 6] = now == FaceFacing::kFront ? (front[f >> 6] | m) : (front[f >> 6] & ~m);
         if (now != before) {
-            turned[b.face >> 6] |= m;
-            turned_.push_back(b.face);
+            turned[f >> 6] |= m;
+            turned_.push_back(f);
         }
     }
     out.stats.faces_turned = turned_.size();

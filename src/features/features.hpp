@@ -138,7 +138,7 @@ private:
     // Frame coherence. The previous view's silhouette edges as compact records (the edge and its
     // two faces). A face changes facing between two views only if its plane passes between the
     // two eyes, so only faces whose plane was within a margin M of the eye when the band was
-    // built (copied into band_, 20 bytes each) can change while the eye stays within M of that
+    // built (their planes copied, 20 bytes each) can change while the eye stays within M of that
     // position; the band is rebuilt by one pass over all faces when the eye leaves. follow() streams
     // the band, and the silhouette is the previous edges whose faces kept their facing plus the
     // edges of the faces that changed. Adjacency (12 bytes per face), a state byte per face and the
@@ -147,17 +147,14 @@ private:
     struct EdgeRecord {
         std::uint32_t edge, face[2];
     };
-    struct BandFace {
-        MeshTopology::FacingPlane plane;
-        std::uint32_t face;
-    };
     std::vector<EdgeRecord> previous_, current_;
     bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
     Camera previous_camera_, camera_;
     FacingFilter previous_filter_, filter_;
     std::vector<std::uint8_t> face_state_;                 // per face, this view; 0 = not decided
     std::vector<std::uint32_t> face_touched_, turned_;
-    std::vector<BandFace> band_;
+    std::vector<MeshTopology::FacingPlane> band_planes_;  // copies, parallel to band_faces_
+    std::vector<std::uint32_t> band_faces_, check_;
     // Bit per face: in the band; front now (band faces); turned since the previous view.
     std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
