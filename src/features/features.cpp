@@ -487,8 +487,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
           dist(p, band_eye_) <= band_margin_)) {
         const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-        build_band(e, w, std::max(opt_.band_steps, 1.0) * (step * (1.0 + 1e-9) + 1e-12 * scale));
+        const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
+        build_band(e, w, steps * (step * (1.0 + 1e-9) + 1e-12 * scale));
         out.stats.band_rebuilt = true;
+        // Per frame the band costs about its size, a rebuild about the face count once per
+        // `steps` frames (a band face costs about 4 faces of a rebuild, measured): balanced at
+        // steps = sqrt(faces / band faces per step) / 2.
+        const double per_step = std::max(1.0, double(band_faces_.size()) / steps);
+        auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / per_step), 2.0, 64.0);
     }
     out.stats.band_faces = band_faces_.size();
 

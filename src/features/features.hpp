@@ -56,7 +56,9 @@ struct FinderOptions {
     bool first_full = false;      // with coherence: a view without a previous view runs the
                                   // exhaustive scan; later views follow it exactly (complete, so
                                   // they skip the draws and seeks)
-    double band_steps = 8.0;      // coherence: the band's margin in steps of the eye's last move
+    double band_steps = 0.0;      // coherence: the band's margin in steps of the eye's last move;
+                                  // 0: chosen from the last band's size (streaming the band and
+                                  // rebuilding it balanced: sqrt(faces / band faces per step) / 2)
     int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
                                   // (the result and its order do not depend on it)
 };
@@ -158,6 +160,7 @@ private:
     // Bit per face: in the band; front now (band faces); turned since the previous view.
     std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
+    double auto_steps_ = 8.0;
 };
 
 }  // namespace inkline
