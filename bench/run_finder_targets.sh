@@ -22,45 +22,47 @@ run() {  # name, then inkline bench arguments
         --csv="$OUT/$name.csv" --markdown="$OUT/$name.md" >/dev/null
 }
 # Columns of a bench Markdown row: 2 finder, 3 fraction, 4 coherence, 8 silhouette edges/frame,
-# 10 recall, 13 search ms/frame.
-row() {  # file, finder, coherence -> "search_ms sil_edges recall"
-    awk -F'|' -v f="$2" -v c="$3" '$2 ~ " "f" " && $4 ~ " "c" " {gsub(/ /, ""); print $13, $8, $10; exit}' "$1"
+# 10 recall, 13 search ms/frame (mean), 16 median search ms/frame.
+row() {  # file, finder, coherence -> "search_ms sil_edges recall median_search_ms"
+    awk -F'|' -v f="$2" -v c="$3" '$2 ~ " "f" " && $4 ~ " "c" " {gsub(/ /, ""); print $13, $8, $10, $16; exit}' "$1"
 }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
 summary="$OUT/finder_targets.md"
 {
     echo "## armadillo@2 (832000 triangles), search time per frame along orbits, one core"
     echo
     echo "Commands: \`bench/run_finder_targets.sh\` (inkline bench data/meshes/armadillo.off --subdivide=2"
     echo "--frames=60 --arc=A --fractions=0.0005 --first-view=exhaustive). Search = finding the silhouette"
-    echo "edges (chaining excluded: the same work for every finder). Coherence rows include the exhaustive"
-    echo "first view."
+    echo "edges (chaining excluded: the same work for every finder). Mean over the frames (coherence: with"
+    echo "its exhaustive first view and first-use set-up) and median over the frames (steady state, and"
+    echo "robust against the other processes of this shared machine)."
     echo
-    echo "| deg/frame | exhaustive search ms | coherence search ms | speed-up | recall (coherence) | random 0.0005 search ms | recall (random) | silhouette edges/frame |"
+    echo "| deg/frame | exhaustive search ms (mean / median) | coherence search ms (mean / median) | speed-up (mean / median) | recall (coherence) | random 0.0005 search ms (mean) | recall (random) | silhouette edges/frame |"
     echo "|---:|---:|---:|---:|---:|---:|---:|---:|"
 } > "$summary.tmp"
 for dpf in 0.25 0.5 1 2; do
     arc=$(awk -v d="$dpf" 'BEGIN {print d * 60}')
     name="armadillo@2-${dpf}dpf"
     run "$name" $M/armadillo.off --subdivide=2 --frames=60 --arc="$arc"
-    read -r ex sil _ < <(row "$OUT/$name.md" exhaustive no)
-    read -r co _ cr < <(row "$OUT/$name.md" randomized yes)
-    read -r ra _ rr < <(row "$OUT/$name.md" randomized no)
-    echo "| $dpf | $ex | $co | $(awk -v a="$ex" -v b="$co" 'BEGIN {printf "%.2f", a / b}') | $cr | $ra | $rr | $sil |" >> "$summary.tmp"
+    read -r ex sil _ exm < <(row "$OUT/$name.md" exhaustive no)
+    read -r co _ cr com < <(row "$OUT/$name.md" randomized yes)
+    read -r ra _ rr _ < <(row "$OUT/$name.md" randomized no)
+    echo "| $dpf | $ex / $exm | $co / $com | $(ratio "$ex" "$co") / $(ratio "$exm" "$com") | $cr | $ra | $rr | $sil |" >> "$summary.tmp"
 done
 {
     echo
     echo "## Over subdivision levels (armadillo, 1 degree per frame, 30 frames), one core"
     echo
-    echo "| level | triangles | silhouette edges/frame | exhaustive search ms | coherence search ms | speed-up | coherence ns per silhouette edge | exhaustive ns per triangle |"
+    echo "| level | triangles | silhouette edges/frame | exhaustive search ms (median) | coherence search ms (median) | speed-up (median) | coherence ns per silhouette edge | exhaustive ns per triangle |"
     echo "|---:|---:|---:|---:|---:|---:|---:|---:|"
 } >> "$summary.tmp"
 for level in 0 1 2 3; do
     name="levels-$level"
     run "$name" $M/armadillo.off --subdivide=$level --frames=30 --arc=30
     tri=$(awk -F, 'NR == 2 {print $2}' "$OUT/$name.csv")
-    read -r ex sil _ < <(row "$OUT/$name.md" exhaustive no)
-    read -r co _ _ < <(row "$OUT/$name.md" randomized yes)
-    echo "| @$level | $tri | $sil | $ex | $co | $(awk -v a="$ex" -v b="$co" 'BEGIN {printf "%.2f", a / b}') |" \
+    read -r _ sil _ ex < <(row "$OUT/$name.md" exhaustive no)
+    read -r _ _ _ co < <(row "$OUT/$name.md" randomized yes)
+    echo "| @$level | $tri | $sil | $ex | $co | $(ratio "$ex" "$co") |" \
          "$(awk -v c="$co" -v s="$sil" 'BEGIN {printf "%.1f", 1e6 * c / s}') |" \
          "$(awk -v e="$ex" -v t="$tri" 'BEGIN {printf "%.2f", 1e6 * e / t}') |" >> "$summary.tmp"
 done
