@@ -32,6 +32,8 @@ run tori-1024 tori:1024 --frames=20
 if [ "${INKLINE_BENCH_3M:-1}" = 1 ]; then
     run armadillo@3 $M/armadillo.off --subdivide=3 --frames=10
 fi
-{ head -1 "$OUT/fandisk.csv"; for f in "$OUT"/*.csv; do [ "$f" = "$OUT/all.csv" ] || tail -n +2 "$f"; done; } > "$OUT/all.csv"
-cat $(ls "$OUT"/*.md | grep -v "/all.md$") | grep -v '^$' | sed 's/^###/\n###/' > "$OUT/all.md.tmp" && mv "$OUT/all.md.tmp" "$OUT/all.md"
+# (the files of bench/run_finder_targets.sh, *dpf.* and levels-*, are not part of this set)
+mine() { grep -v -e "/all\.$1\$" -e "dpf\.$1\$" -e "/levels-" -e "/finder_targets\.md\$" -e "/finder\.md\$"; }
+{ head -1 "$OUT/fandisk.csv"; for f in $(ls "$OUT"/*.csv | mine csv); do tail -n +2 "$f"; done; } > "$OUT/all.csv"
+cat $(ls "$OUT"/*.md | mine md) | grep -v '^$' | sed 's/^###/\n###/' > "$OUT/all.md.tmp" && mv "$OUT/all.md.tmp" "$OUT/all.md"
 echo "wrote $OUT/all.csv and $OUT/all.md" >&2

@@ -230,6 +230,26 @@ TEST(Cli, RandomizedFinderAndRecallInJson) {
     EXPECT_FALSE(fs::exists(d / "g.svg"));
 }
 
+// Coherence from an exhaustive first view follows the silhouette exactly: recall 1 and no wrong
+// visible line on every coherence row; a bad value is refused naming the flag.
+TEST(Cli, BenchFirstViewExhaustive) {
+    const fs::path d = scratch();
+    const Result r = run("bench tori:32 --frames=6 --arc=6 --fractions=0.01 --first-view=exhaustive --threads=2 --csv=" +
+                             (d / "f.csv").string(), d);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto rows = split(slurp(d / "f.csv"), '\n');
+    ASSERT_EQ(rows.size(), 4u);  // header, exhaustive, randomized without and with coherence
+    const auto c = split(rows[3], ',');
+    ASSERT_EQ(c.size(), 11u);
+    EXPECT_EQ(c[4], "1");
+    EXPECT_EQ(std::stod(c[9]), 1.0);
+    EXPECT_EQ(std::stod(c[10]), 0.0);
+    EXPECT_NE(r.out.find("coherence from an exhaustive first view"), std::string::npos) << r.out;
+    const Result bad = run("bench tori:32 --first-view=full", d);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("--first-view: unknown value 'full'"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, BenchWritesCsvTableAndPlot) {
     const fs::path d = scratch();
     const Result r = run("bench tori:32 --frames=4 --fractions=0.01,0.1 --csv=" + (d / "b.csv").string() +

@@ -89,6 +89,24 @@ TEST(Finder, FractionOneEqualsExhaustive) {
     }
 }
 
+// The exhaustive scan split over threads gives the same edges in the same order (and the same
+// curves) as on one thread. armadillo@1 so that both passes are actually split.
+TEST(Finder, ExhaustiveThreadsSameResult) {
+    static const Model sub = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off", 40.0, 1);
+    for (const Model* m : {&sub, &mesh_model("bunny00")}) {
+        for (const Camera& cam : cameras(m->topology().bounds)) {
+            Features one, two;
+            SilhouetteFinder(m->topology()).find(cam, {}, one);
+            FinderOptions o;
+            o.threads = 2;
+            SilhouetteFinder(m->topology(), o).find(cam, {}, two);
+            EXPECT_EQ(one.silhouette_edges, two.silhouette_edges);
+            EXPECT_FALSE(one.silhouette_edges.empty());
+            expect_same(one, two);
+        }
+    }
+}
+
 // Everything the randomized finder reports is a silhouette edge, and what it finds is closed
 // under adjacency: every silhouette edge at a vertex of a found one is found.
 TEST(Finder, OnlyTrueSilhouettesAndWholeCurves) {
@@ -211,6 +229,43 @@ TEST(Finder, CoherenceAloneFollowsAnOrbit) {
                                     edges_length(torus.topology(), ex.silhouette_edges));
     }
     EXPECT_GE(worst, 0.999);
+}
+
+// With coherence from an exhaustive first view, every later view is the exhaustive answer exactly
+// (the band holds every face that can turn): along an orbit (band kept and rebuilt), after a jump,
+// for an orthographic camera, and back to perspective. Draws are off, so nothing else could help.
+TEST(Finder, CoherenceFromExhaustiveFirstViewIsExact) {
+    const Model torus(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 96, 48));
+    for (const Model* m : {&torus, &mesh_model("armadillo"), &mesh_model("fandisk")}) {
+        const Bounds3 box = m->topology().bounds;
+        const glm::dvec3 c = box.center();
+        const double d = 3.0 * box.half_diagonal();
+        std::vector<Camera> path;
+        for (int i = 0; i < 24; ++i) {
+            const double az = 0.3 + 0.0175 * i;  // 1 degree per view
+            path.push_back(Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.4, std::cos(az)), c, {0, 1, 0}, 30, 640, 480));
+        }
+        path.push_back(Camera::perspective(c + d * glm::dvec3(-0.8, -0.3, 0.5), c, {0, 1, 0}, 30, 640, 480));  // a jump
+        for (int i = 0; i < 4; ++i)
+            path.push_back(Camera::orthographic(c + d * glm::dvec3(0.3 + 0.01 * i, 1.0, 0.4), c, {0, 0, 1},
+                                                2.2 * box.half_diagonal(), 640, 640));
+        path.push_back(path.front());
+        FinderOptions o = randomized(0.0, true);
+        o.first_full = true;
+        SilhouetteFinder finder(m->topology(), o);
+        Features f;
+        std::size_t rebuilt = 0;
+        for (std::size_t i = 0; i < path.size(); ++i) {
+            SCOPED_TRACE(testing::Message() << "view " << i);
+            finder.find(path[i], {}, f);
+            const Features ex = extract_features(m->topology(), path[i]);
+            ASSERT_FALSE(ex.silhouette_edges.empty());
+            expect_same(ex, f);
+            rebuilt += f.stats.band_rebuilt;
+        }
+        EXPECT_GE(rebuilt, 3u);                  // the orbit's first, the jump, the camera kind
+        EXPECT_LT(rebuilt, path.size() - 2);     // and the band kept across orbit views
+    }
 }
 
 }  // namespace

@@ -26,7 +26,8 @@ namespace {
 
 struct BenchArgs {
     std::string model, path = "orbit", csv, markdown, plot;
-    int frames = 60, subdivide = 0, width = 1024, height = 1024;
+    int frames = 60, subdivide = 0, width = 1024, height = 1024, threads = 1;
+    bool first_full = false;  // coherence rows: the first view by the exhaustive scan
     double arc = 360.0;  // orbit: degrees covered by the frames
     std::uint64_t seed = 1;
     double crease = 40.0;
@@ -53,6 +54,12 @@ BenchArgs parse_bench(int argc, char** argv) {
             a.path = value;
         } else if (key == "--frames") a.frames = parse_int(key, value, 1, 100000);
         else if (key == "--subdivide") a.subdivide = parse_int(key, value, 0, 6);
+        else if (key == "--threads") a.threads = parse_int(key, value, 1, 64);
+        else if (key == "--first-view") {
+            if (value != "exhaustive" && value != "random")
+                throw Error(key, "unknown value '" + value + "' (expected exhaustive or random)");
+            a.first_full = value == "exhaustive";
+        }
         else if (key == "--seed") a.seed = std::uint64_t(parse_int(key, value, 0, 2147483647));
         else if (key == "--csv") a.csv = value;
         else if (key == "--markdown") a.markdown = value;
@@ -172,7 +179,15 @@ struct Row {
     bool coherence = false;
     double features_s = 0.0, search_s = 0.0, visibility_s = 0.0;
     double silhouette_edges = 0.0, found_length = 0.0, wrong_px = 0.0;
+    std::vector<double> search_frames;  // per frame, for the median (robust on a shared machine)
 };
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
 std::string fmt(const char* f, double v) {
     char buf[64];
@@ -217,6 +232,7 @@ int run_bench(int argc, char** argv) {
 
     std::vector<FinderOptions> settings;
     settings.push_back({});
+    settings.back().threads = a.threads;
     for (bool coherence : {false, true})
         for (double f : a.fractions) {
             FinderOptions o;
@@ -224,6 +240,7 @@ int run_bench(int argc, char** argv) {
             o.fraction = f;
             o.coherence = coherence;
             o.seed = a.seed;
+            o.first_full = coherence && a.first_full;
             settings.push_back(o);
         }
 
@@ -240,6 +257,7 @@ int run_bench(int argc, char** argv) {
             const Features& f = session.find(cams[i]);
             r.features_s += session.seconds_features();
             r.search_s += f.stats.seconds_search;
+            r.search_frames.push_back(f.stats.seconds_search);
             r.silhouette_edges += double(f.silhouette_edges.size());
             r.found_length += edges_length(mesh, f.silhouette_edges);
             View& v = session.visibility(cams[i]);
@@ -254,15 +272,21 @@ int run_bench(int argc, char** argv) {
 
     const double n = double(cams.size());
     const double exhaustive_ms = 1e3 * rows[0].features_s / n, exhaustive_search_ms = 1e3 * rows[0].search_s / n;
+    const double exhaustive_median = median(rows[0].search_frames);
     std::string csv =
         "model,triangles,finder,fraction,coherence,frames,ms_per_frame,silhouette_edges_per_frame,"
         "silhouette_edges_per_second,recall_length,wrong_visible_length_px\n";
-    std::string md = "### " + name + " (" + std::to_string(nf) + " triangles, " + a.path + " path, " +
+    std::string path_note = a.path;
+    if (a.path == "orbit") path_note += " " + fmt("%g", a.arc / a.frames) + " deg/frame";
+    if (a.threads > 1) path_note += ", exhaustive on " + std::to_string(a.threads) + " threads";
+    if (a.first_full) path_note += ", coherence from an exhaustive first view";
+    std::string md = "### " + name + " (" + std::to_string(nf) + " triangles, " + path_note + ", " +
                      std::to_string(a.frames) + " frames)\n\n"
                      "| finder | fraction | coherence | ms/frame | frames/s | triangles/s | silhouette edges/frame | "
                      "silhouette edges/s | recall (length) | wrong visible px/frame | slowdown of exhaustive | "
-                     "search ms/frame | search slowdown of exhaustive | visibility ms/frame |\n"
-                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+                     "search ms/frame | search slowdown of exhaustive | visibility ms/frame | median search ms/frame | "
+                     "median search slowdown of exhaustive |\n"
+                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     std::vector<PlotPoint> points;
     for (const Row& r : rows) {
         const double ms = 1e3 * r.features_s / n, fps = ms > 0.0 ? 1e3 / ms : 0.0;
@@ -278,7 +302,8 @@ int run_bench(int argc, char** argv) {
               fmt("%.1f", wrong) + " | " + fmt("%.2f", ms > 0.0 ? exhaustive_ms / ms : 0.0) + " | " +
               fmt("%.3f", 1e3 * r.search_s / n) + " | " +
               fmt("%.2f", r.search_s > 0.0 ? exhaustive_search_ms / (1e3 * r.search_s / n) : 0.0) + " | " +
-              fmt("%.2f", 1e3 * r.visibility_s / n) + " |\n";
+              fmt("%.2f", 1e3 * r.visibility_s / n) + " | " + fmt("%.3f", 1e3 * median(r.search_frames)) + " | " +
+              fmt("%.2f", median(r.search_frames) > 0.0 ? exhaustive_median / median(r.search_frames) : 0.0) + " |\n";
         PlotPoint p;
         p.x = recall;
         p.y = ms;

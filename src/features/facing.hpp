@@ -16,6 +16,36 @@
 
 namespace inkline {
 
+// The float filter of one view, for searches that keep their own per-face state: kFront/kBack
+// where the float sign of the eye's distance to the face's plane is trusted, kUnknown where the
+// exact predicate (face_is_front) must decide. FaceFacing runs the same filter.
+struct FacingFilter {
+    float ex = 0, ey = 0, ez = 0, w = 0, bound = 0;
+    void bind(const MeshTopology& mesh, const Camera& camera);
+    float signed_distance(const MeshTopology::FacingPlane& p) const {
+        return p.nx * ex + p.ny * ey + p.nz * ez - w * p.d;
+    }
+    std::uint8_t operator()(const MeshTopology::FacingPlane& p) const {  // kBack 0, kUnknown 1, kFront 2
+        const float det = signed_distance(p);
+        return std::uint8_t(std::uint8_t(det > bound) + std::uint8_t(!(det < -bound)));
+    }
+};
+
+// Appends the faces whose float distance to the eye (FacingFilter::signed_distance) is not above
+// `limit`, in order; faces with an untrusted (NaN) plane are always included.
+void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out);
+
+// For faces ids[0..n) with copies of their planes: sets each face's bit in front_bits where
+// `now` says front and clears it elsewhere; appends to `check` the positions i where the two
+// filters disagree or `now` cannot decide (the caller decides those exactly; where both filters
+// agree and decide, the face kept its facing).
+void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
+                 const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                 std::vector<std::uint32_t>& check);
+
+// Whether this CPU runs the AVX2 + BMI2 kernels (checked once; otherwise the scalar loops run).
+bool cpu_has_avx2();
+
 class FaceFacing {
 public:
     static constexpr std::uint8_t kBack = 0, kUnknown = 1, kFront = 2;
@@ -25,8 +55,8 @@ public:
     // size (the first view, or the first after a full scan, clears everything once).
     void begin_lazy(const MeshTopology& mesh, const Camera& camera);
     // Starts a view and decides every face (float filter for all, exact for the undecided ones
-    // when they are first read).
-    void begin_full(const MeshTopology& mesh, const Camera& camera);
+    // when they are first read); the filter pass split over `threads` threads.
+    void begin_full(const MeshTopology& mesh, const Camera& camera, int threads = 1);
 
     // 1 if the eye is strictly on the front side of face f, else 0 (also for degenerate faces and
     // faces whose plane contains the eye). Not thread-safe: it caches what it computes.
@@ -38,11 +68,13 @@ public:
     // want to move toward a silhouette; NaN for untrusted planes. Never used for decisions.
     float signed_distance(std::uint32_t f) const;
 
-    std::size_t size() const { return state_.empty() ? 0 : state_.size() - 1; }
+    std::size_t size() const { return state_.empty() ? 0 : state_.size() - kPad; }
     std::size_t faces_decided() const { return full_ ? size() : touched_.size(); }
     // Raw states (kBack, kUnknown, kFront) of a full view, for scans that resolve kUnknown
-    // themselves; index face_count() holds kSentinel (so a border's kNoFace, clamped, differs).
+    // themselves; index face_count() holds kSentinel (so a border's kNoFace, clamped, differs),
+    // followed by 3 readable bytes (so a 4-byte gather at any index <= face_count() stays inside).
     static constexpr std::uint8_t kSentinel = 3;
+    static constexpr std::size_t kPad = 4;
     const std::uint8_t* states() const { return state_.data(); }
     std::size_t exact_tests() const { return exact_; }
     // Every face decided, as 0/1 (for tests and tools; O(faces)).
@@ -55,7 +87,7 @@ private:
 
     const MeshTopology* mesh_ = nullptr;
     Camera camera_;
-    float ex_ = 0, ey_ = 0, ez_ = 0, w_ = 0, bound_ = 0;
+    FacingFilter filter_;
     bool full_ = false;
     mutable std::vector<std::uint8_t> state_;
     mutable std::vector<std::uint32_t> touched_;  // lazy views: faces decided so far

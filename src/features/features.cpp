@@ -3,6 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <thread>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include "core/predicates.hpp"
 
@@ -146,6 +152,7 @@ SilhouetteFinder::SilhouetteFinder(const MeshTopology& mesh, const FinderOptions
 
 void SilhouetteFinder::reset() {
     previous_.clear();
+    complete_ = false;
     rng_.seed(opt_.seed);
 }
 
@@ -171,8 +178,18 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
 
     const auto t0 = std::chrono::steady_clock::now();
     if (opt_.kind == FinderKind::Exhaustive) {
-        out.face_front.begin_full(mesh, camera);
+        out.face_front.begin_full(mesh, camera, opt_.threads);
         scan_exhaustive(out);
+    } else if (opt_.coherence && opt_.first_full && previous_.empty()) {
+        out.face_front.begin_full(mesh, camera, opt_.threads);
+        scan_exhaustive(out);
+        out.stats.finder = FinderKind::Randomized;
+        out.stats.fraction = opt_.fraction;
+        previous_.clear();
+        for (std::uint32_t e : out.silhouette_edges) previous_.push_back({e, {mesh.edge_face[e][0], mesh.edge_face[e][1]}});
+        previous_camera_ = camera;
+        previous_filter_.bind(mesh, camera);
+        complete_ = true;
     } else {
         out.face_front.begin_lazy(mesh, camera);
         search_randomized(camera, out);
@@ -187,33 +204,98 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     out.stats.exact_facing_tests = out.face_front.exact_tests();
 }
 
+namespace {
+
+// Candidates among edges [e0, e1): edges whose two face states differ, or whose first face is
+// undecided (borders meet the sentinel). Returns how many were written to cand.
+std::uint32_t scan_block_scalar(const std::array<std::uint32_t, 2>* __restrict ef, const std::uint8_t* __restrict st,
+                                std::uint32_t nf, std::uint32_t e0, std::uint32_t e1, std::uint32_t* __restrict cand) {
+    std::uint32_t n = 0;
+    for (std::uint32_t e = e0; e < e1; ++e) {
+        const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
+        cand[n] = e;
+        n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
+    }
+    return n;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same with AVX2, 8 edges a step: the face pairs deinterleaved, the two states gathered as
+// 32-bit words (states() is padded for that) and masked to their low byte; candidates are rare,
+// so they are written from the comparison's bit mask.
+__attribute__((target("avx2,bmi2"))) std::uint32_t scan_block_avx2(const std::array<std::uint32_t, 2>* __restrict ef,
+                                                                   const std::uint8_t* __restrict st, std::uint32_t nf,
+                                                                   std::uint32_t e0, std::uint32_t e1,
+                                                                   std::uint32_t* __restrict cand) {
+    const __m256i last = _mm256_set1_epi32(int(nf)), low = _mm256_set1_epi32(0xff);
+    const __m256i unknown = _mm256_set1_epi32(FaceFacing::kUnknown), zero = _mm256_setzero_si256();
+    const int* states = reinterpret_cast<const int*>(st);
+    std::uint32_t n = 0, e = e0;
+    for (; e + 8 <= e1; e += 8) {
+        const __m256 lo = _mm256_loadu_ps(reinterpret_cast<const float*>(&ef[e][0]));
+        const __m256 hi = _mm256_loadu_ps(reinterpret_cast<const float*>(&ef[e + 4][0]));
+        // shuffle gives edges 0 1 4 5 | 2 3 6 7; the 64-bit permute puts them in order.
+        const __m256i f0 = _mm256_permute4x64_epi64(_mm256_castps_si256(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8);
+        const __m256i f1 = _mm256_min_epu32(
+            _mm256_permute4x64_epi64(_mm256_castps_si256(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8), last);
+        const __m256i a = _mm256_and_si256(_mm256_i32gather_epi32(states, f0, 1), low);
+        const __m256i b = _mm256_and_si256(_mm256_i32gather_epi32(states, f1, 1), low);
+        const __m256i x = _mm256_or_si256(_mm256_xor_si256(a, b), _mm256_and_si256(a, unknown));
+        unsigned mask = ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(x, zero)))) & 0xffu;
+        while (mask) {
+            cand[n++] = e + unsigned(__builtin_ctz(mask));
+            mask &= mask - 1;
+        }
+    }
+    return n + scan_block_scalar(ef, st, nf, e, e1, cand + n);
+}
+#endif
+
+}  // namespace
+
 void SilhouetteFinder::scan_exhaustive(Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::uint32_t ne = std::uint32_t(mesh.edge_count()), nf = std::uint32_t(mesh.face_count());
     // Branchless pass over blocks of edges: every edge whose two face states differ (or are both
-    // undecided; borders meet the sentinel) is written as a candidate; the few candidates of a
-    // block are then decided exactly.
+    // undecided; borders meet the sentinel) is a candidate; candidates are then decided exactly,
+    // in edge order, on this thread (the exact facing caches what it computes).
     constexpr std::uint32_t kBlock = 4096;
-    if (out.candidates.size() < kBlock) out.candidates.resize(kBlock);
-    const auto* __restrict ef = mesh.edge_face.data();
-    const std::uint8_t* __restrict st = out.face_front.states();
-    std::uint32_t* __restrict cand = out.candidates.data();
-    for (std::uint32_t e0 = 0; e0 < ne; e0 += kBlock) {
-        const std::uint32_t e1 = std::min(ne, e0 + kBlock);
-        std::uint32_t n = 0;
-        for (std::uint32_t e = e0; e < e1; ++e) {
-            const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
-            cand[n] = e;
-            n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
+    const auto* ef = mesh.edge_face.data();
+    const std::uint8_t* st = out.face_front.states();
+#if defined(__x86_64__) && defined(__GNUC__)
+    const bool avx2 = cpu_has_avx2();
+#else
+    const bool avx2 = false;
+#endif
+    auto collect = [&](std::uint32_t lo, std::uint32_t hi, std::vector<std::uint32_t>& cand) {
+        cand.clear();
+        for (std::uint32_t e0 = lo; e0 < hi; e0 += kBlock) {
+            const std::uint32_t e1 = std::min(hi, e0 + kBlock), n0 = std::uint32_t(cand.size());
+            cand.resize(n0 + (e1 - e0));
+#if defined(__x86_64__) && defined(__GNUC__)
+            const std::uint32_t n = avx2 ? scan_block_avx2(ef, st, nf, e0, e1, cand.data() + n0)
+                                         : scan_block_scalar(ef, st, nf, e0, e1, cand.data() + n0);
+#else
+            const std::uint32_t n = scan_block_scalar(ef, st, nf, e0, e1, cand.data() + n0);
+#endif
+            cand.resize(n0 + n);
         }
-        for (std::uint32_t i = 0; i < n; ++i) {
-            const std::uint32_t e = cand[i];
+    };
+    const std::uint32_t parts = ne < 65536 ? 1u : std::uint32_t(std::clamp(opt_.threads, 1, 64));
+    auto& lists = out.thread_candidates;
+    if (lists.size() < parts) lists.resize(parts);
+    const std::uint32_t step = (ne + parts - 1) / parts;
+    std::vector<std::thread> pool;
+    for (std::uint32_t i = 1; i < parts; ++i)
+        pool.emplace_back(collect, std::min(ne, i * step), std::min(ne, (i + 1) * step), std::ref(lists[i]));
+    collect(0, std::min(ne, step), lists[0]);
+    for (auto& t : pool) t.join();
+    for (std::uint32_t i = 0; i < parts; ++i)
+        for (std::uint32_t e : lists[i])
             if (is_silhouette(mesh, out, e)) {
                 out.edge_kind[e] = kSil;
                 out.silhouette_edges.push_back(e);
             }
-        }
-    }
     classify_static(mesh, out, [](std::uint32_t) {});  // crease silhouettes were scanned already
     out.stats.fraction = 1.0;
     out.stats.edges_examined = ne;
@@ -256,8 +338,7 @@ void SilhouetteFinder::build_table() {
 // curves it meets at junctions).
 void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
     const MeshTopology& mesh = *mesh_;
-    out.edge_kind[e] = kSil;
-    out.silhouette_edges.push_back(e);
+    add_silhouette(e, mesh.edge_face[e][0], mesh.edge_face[e][1], out);
     stack_.clear();
     stack_.push_back(e);
     while (!stack_.empty()) {
@@ -271,8 +352,7 @@ void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
                 if (out.edge_kind[h] != kNoKind) continue;  // found, or a border or (non-silhouette) crease
                 ++out.stats.edges_examined;
                 if (is_silhouette(mesh, out, h)) {
-                    out.edge_kind[h] = kSil;
-                    out.silhouette_edges.push_back(h);
+                    add_silhouette(h, mesh.edge_face[h][0], mesh.edge_face[h][1], out);
                     stack_.push_back(h);
                 }
             }
@@ -318,11 +398,176 @@ void SilhouetteFinder::seek(std::uint32_t v, bool front, const Camera& camera, F
     }
 }
 
+void SilhouetteFinder::add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out) {
+    out.edge_kind[e] = kSil;
+    out.silhouette_edges.push_back(e);
+    current_.push_back({e, {f0, f1}});
+}
+
+namespace {
+// face_state bits: decided in this view, front now, front in the previous view.
+constexpr std::uint8_t kDecided = 1, kFrontNow = 2;
+inline bool flipped(std::uint8_t s) { return ((s >> 1) ^ (s >> 2)) & 1; }
+inline bool front_now(std::uint8_t s) { return s & kFrontNow; }
+
+// The vector the facing filter dots the planes with (eye - facing_origin, or -forward for an
+// orthographic camera) in double, and w (1 perspective, 0 orthographic).
+void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], double& w) {
+    const bool ortho = camera.is_ortho();
+    const glm::dvec3 v = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
+    e[0] = v.x, e[1] = v.y, e[2] = v.z;
+    w = ortho ? 0.0 : 1.0;
+}
+}  // namespace
+
+// Facing of face f now and in the previous view: the float filter, and the exact predicate where
+// the filter cannot decide (so always the exact answer, as FaceFacing gives).
+std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
+    std::uint8_t s = face_state_[f];
+    if (s) return s;
+    const MeshTopology::FacingPlane& p = mesh_->facing[f];
+    std::uint8_t now = filter_(p), before = previous_filter_(p);
+    if (now == FaceFacing::kUnknown) now = face_is_front(*mesh_, f, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+    if (before == FaceFacing::kUnknown)
+        before = face_is_front(*mesh_, f, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+    static_assert(FaceFacing::kFront == kFrontNow);
+    s = std::uint8_t(kDecided | (now & kFrontNow) | ((before & kFrontNow) << 1));
+    face_state_[f] = s;
+    face_touched_.push_back(f);
+    return s;
+}
+
+// The band: every face whose float distance to the eye e is within margin + bound. With the
+// float distance within bound/2 of the exact one (facing.cpp) and a unit normal, the exact
+// distance moves by at most |e' - e| when the eye moves to e', so a face outside the band keeps
+// its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
+void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
+    const MeshTopology& mesh = *mesh_;
+    const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
+    band_faces_.clear();
+    faces_within(mesh, filter_, limit, band_faces_);
+    band_planes_.resize(band_faces_.size());
+    std::fill(band_bits_.begin(), band_bits_.end(), 0);
+    for (std::size_t i = 0; i < band_faces_.size(); ++i) {
+        const std::uint32_t f = band_faces_[i];
+        band_planes_[i] = mesh.facing[f];
+        band_bits_[f >> 6] |= std::uint64_t(1) << (f & 63);
+    }
+    for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
+    band_w_ = w;
+    band_margin_ = margin;
+}
+
+// Frame coherence (exact). Every face that changed facing since the previous view lies in the band
+// (streamed: plane copies, no mesh access); an edge whose two faces kept their facing is a
+// silhouette now exactly when it was one in the previous view, so the silhouette is the previous
+// edges none of whose faces turned, plus the edges of the faces that turned whose two faces differ
+// now. Given the previous view's silhouette complete, so is this one; silhouette curves the
+// previous view missed are found here only where their faces turn (or by the draws).
+void SilhouetteFinder::follow(const Camera& camera, Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t nf = mesh.face_count();
+    if (face_state_.size() != nf) {
+        face_state_.assign(nf, 0);
+        face_touched_.clear();
+        band_margin_ = -1.0;
+        for (auto* bits : {&band_bits_, &front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
+    }
+    camera_ = camera;
+    filter_.bind(mesh, camera);
+
+    // The band is valid while both eyes lie within its margin of where it was built.
+    double e[3], w, p[3], pw;
+    eye_vector(mesh, camera, e, w);
+    eye_vector(mesh, previous_camera_, p, pw);
+    auto dist = [](const double a[3], const double b[3]) {
+        return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    };
+    const double step = dist(e, p);
+    if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
+          dist(p, band_eye_) <= band_margin_)) {
+        const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
+        build_band(e, w, steps * (step * (1.0 + 1e-9) + 1e-12 * scale));
+        out.stats.band_rebuilt = true;
+        // Per frame the band costs about its size, a rebuild about the face count once per
+        // `steps` frames (a band face costs about 4 faces of a rebuild, measured): balanced at
+        // steps = sqrt(faces / band faces per step) / 2.
+        const double per_step = std::max(1.0, double(band_faces_.size()) / steps);
+        auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / per_step), 2.0, 64.0);
+    }
+    out.stats.band_faces = band_faces_.size();
+
+    // The band's faces now and before: front-now bits for all, turned ones listed; every other
+    // face keeps its facing.
+    turned_.clear();
+    check_.clear();
+    std::uint64_t* __restrict front = front_bits_.data();
+    std::uint64_t* __restrict turned = turned_bits_.data();
+    band_states(band_planes_.data(), band_faces_.data(), band_faces_.size(), filter_, previous_filter_, front, check_);
+    for (std::uint32_t i : check_) {  // the filters disagree or cannot decide: exact
+        const std::uint32_t f = band_faces_[i];
+        std::uint8_t now = filter_(band_planes_[i]), before = previous_filter_(band_planes_[i]);
+        if (now == FaceFacing::kUnknown)
+            now = face_is_front(mesh, f, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+        if (before == FaceFacing::kUnknown)
+            before = face_is_front(mesh, f, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
+        const std::uint64_t m = std::uint64_t(1) << (f & 63);
+        front[f >> 6] = now == FaceFacing::kFront ? (front[f >> 6] | m) : (front[f >> 6] & ~m);
+        if (now != before) {
+            turned[f >> 6] |= m;
+            turned_.push_back(f);
+        }
+    }
+    out.stats.faces_turned = turned_.size();
+    auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
+
+    for (const EdgeRecord& r : previous_) {
+        if (bit(turned, r.face[0]) || bit(turned, r.face[1])) continue;
+        ++out.stats.edges_examined;
+        add_silhouette(r.edge, r.face[0], r.face[1], out);
+    }
+    // Edges of turned faces; an edge between two turned faces is decided by the lower one.
+    // Their neighbours mostly lie in the band; the others kept their facing and are decided here.
+    const std::size_t nt = turned_.size();
+    constexpr std::size_t kAhead = 8;
+    for (std::size_t i = 0; i < nt; ++i) {
+        if (i + kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + kAhead]]);
+        const std::uint32_t x = turned_[i];
+        const bool fx = bit(front, x);
+        for (int k = 0; k < 3; ++k) {
+            const auto& ef = mesh.edge_face[mesh.face_edges[x][k]];
+            const std::uint32_t y = ef[0] == x ? ef[1] : ef[0];
+            if (y == kNoFace || (bit(turned, y) && y < x)) continue;
+            ++out.stats.edges_examined;
+            const bool fy = bit(band_bits_.data(), y) ? bool(bit(front, y)) : front_now(face_state(y));
+            if (fx != fy) add_silhouette(mesh.face_edges[x][k], ef[0], ef[1], out);
+        }
+    }
+    for (std::uint32_t f : turned_) turned[f >> 6] = 0;
+    for (std::uint32_t f : face_touched_) face_state_[f] = 0;
+    face_touched_.clear();
+}
+
 void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count();
     out.stats.fraction = opt_.fraction;
     auto coin = [&](double p) { return p >= 1.0 || double(rng_() >> 11) * 0x1p-53 < p; };
+    current_.clear();
+
+    // Frame coherence first (nothing is marked yet, so what it finds needs no check).
+    const bool had_previous = !previous_.empty();
+    if (opt_.coherence && had_previous) follow(camera, out);
+    // Following a complete silhouette exactly leaves it complete: nothing is left to draw or seek.
+    complete_ = complete_ && opt_.coherence && had_previous;
+    if (complete_) {
+        classify_static(mesh, out, [&](std::uint32_t) {});  // crease silhouettes were followed
+        previous_.swap(current_);
+        previous_camera_ = camera;
+        previous_filter_ = filter_;
+        return;
+    }
 
     // Creases and borders are view-independent: classified every view (creases that are
     // silhouettes are traced from).
@@ -330,20 +575,8 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
         if (out.edge_kind[e] != kSil) trace(e, out);
     });
 
-    // Frame coherence: every silhouette edge of the previous view is checked; from a share of the
-    // lost ones a seek starts on each side.
-    const bool had_previous = !previous_.empty();
+    // Seeds on creases and borders: silhouettes often run beside them (cylinders).
     if (opt_.coherence) {
-        for (std::uint32_t e : previous_) {
-            if (e >= ne || out.edge_kind[e] == kSil) continue;
-            ++out.stats.edges_examined;
-            if (is_silhouette(mesh, out, e)) {
-                trace(e, out);
-            } else if (coin(opt_.seed_fraction)) {
-                seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
-            }
-        }
-        // Seeds on creases and borders: silhouettes often run beside them (cylinders).
         for (const auto* list : {&mesh.crease_list, &mesh.border_list})
             for (std::uint32_t e : *list)
                 if (coin(opt_.seed_fraction))
@@ -373,7 +606,10 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
             else if (seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
         }
     }
-    previous_ = out.silhouette_edges;
+    previous_.swap(current_);
+    previous_camera_ = camera;
+    previous_filter_ = filter_;
+    previous_filter_.bind(mesh, camera);
 }
 
 }  // namespace inkline

@@ -5,6 +5,7 @@
 // reference) and the randomized seed-and-seek search with frame coherence (section 4.1).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -52,6 +53,14 @@ struct FinderOptions {
     bool seek_draws = true;       // a drawn edge that is not a silhouette starts a seek too
                                   // (with coherence: only while there is no previous view)
     std::uint64_t seed = 1;       // random seed (runs are deterministic)
+    bool first_full = false;      // with coherence: a view without a previous view runs the
+                                  // exhaustive scan; later views follow it exactly (complete, so
+                                  // they skip the draws and seeks)
+    double band_steps = 0.0;      // coherence: the band's margin in steps of the eye's last move;
+                                  // 0: chosen from the last band's size (streaming the band and
+                                  // rebuilding it balanced: sqrt(faces / band faces per step) / 2)
+    int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
+                                  // (the result and its order do not depend on it)
 };
 
 struct FinderStats {
@@ -59,6 +68,8 @@ struct FinderStats {
     double fraction = 1.0;
     std::size_t edges_examined = 0;  // edges whose facing was compared (scan, draws, trace rings)
     std::size_t seeks = 0, seek_steps = 0, seek_hits = 0;
+    std::size_t band_faces = 0, faces_turned = 0;  // coherence: faces checked, faces that changed facing
+    bool band_rebuilt = false;                      // coherence: the band was rebuilt this view
     std::size_t faces_decided = 0, exact_facing_tests = 0;
     double seconds_search = 0.0;  // finding the silhouette edges (and classifying creases, borders)
     double seconds_chain = 0.0;   // cusps and chaining into curves (the same work for every finder)
@@ -84,7 +95,7 @@ struct Features {
         std::uint8_t cusp = 0, traced = 0, sought = 0;
     };
     std::vector<std::uint8_t> edge_scratch;
-    std::vector<std::uint32_t> candidates;  // exhaustive scan: one block of edges
+    std::vector<std::vector<std::uint32_t>> thread_candidates;  // exhaustive scan: candidate edges, per thread
     std::vector<VertexScratch> vertex_scratch;
 };
 
@@ -114,13 +125,42 @@ private:
     void trace(std::uint32_t e, Features& out);
     void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
+    void follow(const Camera& camera, Features& out);
+    void build_band(const double eye[3], double w, double margin);
+    std::uint8_t face_state(std::uint32_t f);
+    void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
 
     const MeshTopology* mesh_;
     FinderOptions opt_;
     std::mt19937_64 rng_;
     std::vector<float> alias_prob_;  // Vose's alias table over edges, weights pi - dihedral
     std::vector<std::uint32_t> alias_;
-    std::vector<std::uint32_t> previous_, stack_, sought_;
+    std::vector<std::uint32_t> stack_, sought_;
+
+    // Frame coherence. The previous view's silhouette edges as compact records (the edge and its
+    // two faces). A face changes facing between two views only if its plane passes between the
+    // two eyes, so only faces whose plane was within a margin M of the eye when the band was
+    // built (their planes copied, 20 bytes each) can change while the eye stays within M of that
+    // position; the band is rebuilt by one pass over all faces when the eye leaves. follow() streams
+    // the band, and the silhouette is the previous edges whose faces kept their facing plus the
+    // edges of the faces that changed. Adjacency (12 bytes per face), a state byte per face and the
+    // band are built on first use, only by a randomized finder with coherence; with three bits
+    // per face for the band's states.
+    struct EdgeRecord {
+        std::uint32_t edge, face[2];
+    };
+    std::vector<EdgeRecord> previous_, current_;
+    bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
+    Camera previous_camera_, camera_;
+    FacingFilter previous_filter_, filter_;
+    std::vector<std::uint8_t> face_state_;                 // per face, this view; 0 = not decided
+    std::vector<std::uint32_t> face_touched_, turned_;
+    std::vector<MeshTopology::FacingPlane> band_planes_;  // copies, parallel to band_faces_
+    std::vector<std::uint32_t> band_faces_, check_;
+    // Bit per face: in the band; front now (band faces); turned since the previous view.
+    std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
+    double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
+    double auto_steps_ = 8.0;
 };
 
 }  // namespace inkline
