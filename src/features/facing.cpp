@@ -69,28 +69,58 @@ void facing_states_scalar(const MeshTopology::FacingPlane* __restrict p, std::si
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
+// Eight consecutive planes (nx, ny, nz, d) transposed to four rows of eight lanes.
+#define INKLINE_AVX2 __attribute__((target("avx2,bmi2"), always_inline))
+struct Planes8 {
+    __m256 nx, ny, nz, d;
+};
+INKLINE_AVX2 inline void load_planes8(const float* q, Planes8& out) {
+    // a = planes 0|4, b = 1|5, c = 2|6, d = 3|7 (one 128-bit plane per half).
+    const __m256 a = _mm256_loadu2_m128(q + 16, q), b = _mm256_loadu2_m128(q + 20, q + 4);
+    const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
+    const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
+    const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
+    out.nx = _mm256_shuffle_ps(t0, t2, 0x44);
+    out.ny = _mm256_shuffle_ps(t0, t2, 0xEE);
+    out.nz = _mm256_shuffle_ps(t1, t3, 0x44);
+    out.d = _mm256_shuffle_ps(t1, t3, 0xEE);
+}
+// The filter's eye (ex, ey, ez, w) in all lanes.
+struct Eye8 {
+    __m256 ex, ey, ez, w;
+};
+INKLINE_AVX2 inline void load_eye8(const FacingFilter& f, Eye8& out) {
+    out.ex = _mm256_set1_ps(f.ex);
+    out.ey = _mm256_set1_ps(f.ey);
+    out.ez = _mm256_set1_ps(f.ez);
+    out.w = _mm256_set1_ps(f.w);
+}
+// The filter's distance of the eye to eight planes: the same products and sums in the same order
+// as FacingFilter::signed_distance (no FMA), so the same floats.
+INKLINE_AVX2 inline void eye_distance8(const Planes8& p, const Eye8& e, __m256& out) {
+    out = _mm256_sub_ps(
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(p.nx, e.ex), _mm256_mul_ps(p.ny, e.ey)), _mm256_mul_ps(p.nz, e.ez)),
+        _mm256_mul_ps(e.w, p.d));
+}
+#endif
+
+#if defined(__x86_64__) && defined(__GNUC__)
 // The same with AVX2, 8 faces a step: the 8 planes transposed to 4 rows of 8 lanes (the same
 // products and sums in the same order as the scalar loop, no FMA, so the same floats), the two
 // comparisons as bit masks, spread to one byte per face with pdep.
 __attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology::FacingPlane* __restrict p,
                                                              std::size_t nf, const FacingFilter& flt,
                                                              std::uint8_t* __restrict out) {
-    const __m256 ex = _mm256_set1_ps(flt.ex), ey = _mm256_set1_ps(flt.ey), ez = _mm256_set1_ps(flt.ez);
-    const __m256 w = _mm256_set1_ps(flt.w), b = _mm256_set1_ps(flt.bound), nb = _mm256_set1_ps(-flt.bound);
+    Eye8 eye;
+    load_eye8(flt, eye);
+    const __m256 b = _mm256_set1_ps(flt.bound), nb = _mm256_set1_ps(-flt.bound);
     constexpr std::uint64_t kLowBits = 0x0101010101010101ull;
     std::size_t f = 0;
     for (; f + 8 <= nf; f += 8) {
-        const float* q = &p[f].nx;
-        // a = faces 0|4, b = 1|5, c = 2|6, d = 3|7 (one 128-bit plane per half).
-        const __m256 a = _mm256_loadu2_m128(q + 16, q), bb = _mm256_loadu2_m128(q + 20, q + 4);
-        const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
-        const __m256 t0 = _mm256_unpacklo_ps(a, bb), t1 = _mm256_unpackhi_ps(a, bb);
-        const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-        const __m256 nx = _mm256_shuffle_ps(t0, t2, 0x44), ny = _mm256_shuffle_ps(t0, t2, 0xEE);
-        const __m256 nz = _mm256_shuffle_ps(t1, t3, 0x44), dd = _mm256_shuffle_ps(t1, t3, 0xEE);
-        const __m256 det = _mm256_sub_ps(
-            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, ex), _mm256_mul_ps(ny, ey)), _mm256_mul_ps(nz, ez)),
-            _mm256_mul_ps(w, dd));
+        Planes8 p8;
+        load_planes8(&p[f].nx, p8);
+        __m256 det;
+        eye_distance8(p8, eye, det);
         const unsigned front = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, b, _CMP_GT_OQ)));
         const unsigned not_back = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, nb, _CMP_NLT_UQ)));
         const std::uint64_t bytes = _pdep_u64(front, kLowBits) + _pdep_u64(not_back, kLowBits);
@@ -111,21 +141,16 @@ void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, s
 __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t nf,
                                                             const FacingFilter& flt, float limit,
                                                             std::vector<std::uint32_t>& out) {
-    const __m256 ex = _mm256_set1_ps(flt.ex), ey = _mm256_set1_ps(flt.ey), ez = _mm256_set1_ps(flt.ez);
-    const __m256 w = _mm256_set1_ps(flt.w), lim = _mm256_set1_ps(limit);
+    Eye8 eye;
+    load_eye8(flt, eye);
+    const __m256 lim = _mm256_set1_ps(limit);
     const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
     std::uint32_t f = 0;
     for (; f + 8 <= nf; f += 8) {
-        const float* q = &p[f].nx;
-        const __m256 a = _mm256_loadu2_m128(q + 16, q), bb = _mm256_loadu2_m128(q + 20, q + 4);
-        const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
-        const __m256 t0 = _mm256_unpacklo_ps(a, bb), t1 = _mm256_unpackhi_ps(a, bb);
-        const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-        const __m256 nx = _mm256_shuffle_ps(t0, t2, 0x44), ny = _mm256_shuffle_ps(t0, t2, 0xEE);
-        const __m256 nz = _mm256_shuffle_ps(t1, t3, 0x44), dd = _mm256_shuffle_ps(t1, t3, 0xEE);
-        const __m256 det = _mm256_sub_ps(
-            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, ex), _mm256_mul_ps(ny, ey)), _mm256_mul_ps(nz, ez)),
-            _mm256_mul_ps(w, dd));
+        Planes8 p8;
+        load_planes8(&p[f].nx, p8);
+        __m256 det;
+        eye_distance8(p8, eye, det);
         // not (|det| > limit): NaN included
         unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
         while (m) {
@@ -155,25 +180,18 @@ __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::F
                                                            const std::uint32_t* ids, std::size_t n,
                                                            const FacingFilter& now, const FacingFilter& before,
                                                            std::uint64_t* front_bits, std::vector<std::uint32_t>& check) {
-    const __m256 ax = _mm256_set1_ps(now.ex), ay = _mm256_set1_ps(now.ey), az = _mm256_set1_ps(now.ez);
-    const __m256 aw = _mm256_set1_ps(now.w), ab = _mm256_set1_ps(now.bound), anb = _mm256_set1_ps(-now.bound);
-    const __m256 bx = _mm256_set1_ps(before.ex), by = _mm256_set1_ps(before.ey), bz = _mm256_set1_ps(before.ez);
-    const __m256 bw = _mm256_set1_ps(before.w), bb = _mm256_set1_ps(before.bound), bnb = _mm256_set1_ps(-before.bound);
+    Eye8 eye_now, eye_before;
+    load_eye8(now, eye_now);
+    load_eye8(before, eye_before);
+    const __m256 ab = _mm256_set1_ps(now.bound), anb = _mm256_set1_ps(-now.bound);
+    const __m256 bb = _mm256_set1_ps(before.bound), bnb = _mm256_set1_ps(-before.bound);
     std::size_t i = 0;
     for (; i + 8 <= n; i += 8) {
-        const float* q = &planes[i].nx;
-        const __m256 a = _mm256_loadu2_m128(q + 16, q), b = _mm256_loadu2_m128(q + 20, q + 4);
-        const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
-        const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
-        const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-        const __m256 nx = _mm256_shuffle_ps(t0, t2, 0x44), ny = _mm256_shuffle_ps(t0, t2, 0xEE);
-        const __m256 nz = _mm256_shuffle_ps(t1, t3, 0x44), dd = _mm256_shuffle_ps(t1, t3, 0xEE);
-        const __m256 da = _mm256_sub_ps(
-            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, ax), _mm256_mul_ps(ny, ay)), _mm256_mul_ps(nz, az)),
-            _mm256_mul_ps(aw, dd));
-        const __m256 db = _mm256_sub_ps(
-            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(nx, bx), _mm256_mul_ps(ny, by)), _mm256_mul_ps(nz, bz)),
-            _mm256_mul_ps(bw, dd));
+        Planes8 p8;
+        load_planes8(&planes[i].nx, p8);
+        __m256 da, db;
+        eye_distance8(p8, eye_now, da);
+        eye_distance8(p8, eye_before, db);
         const unsigned fa = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(da, ab, _CMP_GT_OQ)));
         const unsigned ka = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(da, anb, _CMP_NLT_UQ)));  // not back
         const unsigned fb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bb, _CMP_GT_OQ)));
