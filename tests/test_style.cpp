@@ -265,6 +265,16 @@ TEST(StyleFile, ErrorsNameFileKeyAndExpectedValues) {
     EXPECT_THROW(inkline::load_style_file("/nonexistent/dir/s.json"), inkline::Error);
 }
 
+// A number too large for a double is nlohmann's out_of_range, not a parse_error: it was let
+// through and aborted the program (found by fuzz/run.sh style; fuzz/regressions/style-*).
+TEST(StyleFile, NumberTooLargeIsAOneLineError) {
+    for (const char* text : {R"({"base_width": 1e999})", R"({"description": 2222e2222222222222222})"}) {
+        const std::string e = error_of(text);
+        EXPECT_NE(e.find("/tmp/s/mine.json: not valid JSON: number overflow"), std::string::npos) << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+}
+
 // ---- Offset tables ---------------------------------------------------------------------------
 
 namespace {

@@ -271,9 +271,9 @@ Style parse_style(const std::string& text, const std::string& file) {
     json root;
     try {
         root = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
         std::string what = e.what();
-        if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
+        if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);  // "[json.exception.x.n] "
         throw Error(file, "not valid JSON: " + what);
     }
     Parser p{file, fs::path(file).parent_path()};
