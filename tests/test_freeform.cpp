@@ -295,6 +295,40 @@ TEST(FreeformTessellation, ClosedPrimitivesAreClosedAndOutward) {
     EXPECT_EQ(t.flipped_surfaces, 0u);
 }
 
+// Valid but huge input: the grids' size is checked before anything is evaluated, so 40,000
+// patches (11.6 M grid points at 16 segments) or a NURBS of 256 x 256 knot spans (4097^2 grid
+// points) are refused at once with one line naming the file, instead of gigabytes of mesh.
+TEST(FreeformTessellation, RefusesGridsOfMillionsOfPointsBeforeEvaluating) {
+    std::string bpt = "40000\n";
+    for (int k = 0; k < 40000; ++k) {  // disjoint squares
+        const std::string x0 = std::to_string(k), x1 = std::to_string(k) + ".5";
+        bpt += "1 1\n" + x0 + " 0 0\n" + x0 + " 1 0\n" + x1 + " 0 0\n" + x1 + " 1 0\n";
+    }
+    SurfaceList patches = parse_bpt(bpt, "many.bpt");
+    ASSERT_EQ(patches.size(), 40000u);
+    std::string json = R"({"surfaces": [{"type": "nurbs", "degree": [1, 1], "count": [257, 257], "knots_u": [0)";
+    std::string knots;
+    for (int i = 0; i <= 257; ++i) knots += ", " + std::to_string(i);
+    json += knots + R"(], "knots_v": [0)" + knots + R"(], "points": [)";
+    for (int i = 0; i < 257 * 257; ++i) json += (i ? ",[" : "[") + std::to_string(i % 257) + "," + std::to_string(i / 257) + ",0]";
+    json += "]}]}";
+    SurfaceList nurbs = parse_surfaces_json(json, "fine.json");
+    for (auto* list : {&patches, &nurbs}) {
+        const std::string file = list == &patches ? "many.bpt" : "fine.json";
+        try {
+            tessellate(*list, {}, file);
+            ADD_FAILURE() << file << " accepted";
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << m;
+            EXPECT_NE(m.find("more than 9000000 grid points"), std::string::npos) << m;
+            EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+        }
+    }
+    // A lower resolution brings the patches under the limit (40,000 x 9 points).
+    EXPECT_EQ(tessellate(patches, {2, 8}, "many.bpt").mesh.triangles.size(), 40000u * 8);
+}
+
 TEST(FreeformCoverage, SphereHasEqualCountsInEqualAreas) {
     SurfaceList list;
     list.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1.0));

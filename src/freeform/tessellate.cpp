@@ -40,6 +40,19 @@ Tessellation tessellate(SurfaceList& surfaces, const TessellationOptions& option
     if (options.bezier_segments < 1 || options.bezier_segments > 1024 || options.primitive_segments < 8 ||
         options.primitive_segments > 8192)
         throw Error(where, "tessellation segments out of range");
+    // The grids' size is known before anything is evaluated: refuse what would take gigabytes
+    // (about 200 bytes per grid point by the end: points, welded mesh, topology). The CLI's finest
+    // --tessellation (512) on the teapot's 32 patches needs 8.4 M.
+    constexpr std::size_t kMaxGridPoints = 9000000;
+    std::size_t grid_points = 0;
+    for (const auto& sp : surfaces) {
+        const auto [nu, nv] = grid_size(*sp, options);
+        grid_points += std::size_t(nu + 1) * std::size_t(nv + 1);
+        if (grid_points > kMaxGridPoints)
+            throw Error(where, "tessellating " + std::to_string(surfaces.size()) + " surfaces needs more than " +
+                                   std::to_string(kMaxGridPoints) +
+                                   " grid points (fewer or smaller surfaces, or a lower --tessellation)");
+    }
     Tessellation t;
     // Grid points.
     Bounds3 box{glm::dvec3(1e300), glm::dvec3(-1e300)};
