@@ -7,6 +7,7 @@
 // hang is a finding too (the fuzzer reports those itself).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -32,7 +33,8 @@ inline bool finite2(glm::dvec2 p) { return std::isfinite(p.x) && std::isfinite(p
 inline bool finite3(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
 // Offset table: parsed, then applied along a 150 px spine with the extremes a style may ask for
-// (scale +-100, period 0.1 px or the table's, spacing 0.05 px: styles/README.md).
+// (scale +-100; the table's period or the shortest override the style parser allows: 0.1 px, and
+// no more than 100 table vertices per px; spacing 0.05 px: styles/README.md).
 inline std::string check_offsets(const std::string& text) {
     inkline::OffsetTable t;
     try {
@@ -42,7 +44,8 @@ inline std::string check_offsets(const std::string& text) {
     }
     const inkline::ArcPolyline spine({{0, 0}, {60, 0}, {60, 40}, {20, 70}});
     for (double scale : {1.0, -100.0, 100.0})
-        for (double period : {0.0, 0.1, 7.5})
+        for (double period : {0.0, std::max(0.1, double(t.vertices.size()) / inkline::kMaxOffsetVerticesPerPx),
+                              std::max(7.5, double(t.vertices.size()) / inkline::kMaxOffsetVerticesPerPx)})
             for (double spacing : {1.5, 0.05}) {
                 const auto runs = inkline::apply_offsets(spine, t, scale, period, spacing);
                 std::size_t n = 0;

@@ -202,6 +202,11 @@ struct Parser {
             } else if (k == "brush_aspect") l.brush_aspect = number(v, key, 0, 1000);
             else l.omit = boolean(v, key);
         }
+        if (l.offsets && l.offset_period > 0 &&
+            double(l.offsets->vertices.size()) > kMaxOffsetVerticesPerPx * l.offset_period)
+            fail(path + ".offsets.period", "table '" + l.offsets->name + "' has " +
+                                               std::to_string(l.offsets->vertices.size()) + " vertices, more than 100 per px of a " +
+                                               fmt(l.offset_period) + " px period");
         if (j.contains("brush") && !j.contains("brush_aspect") && !l.brush.empty())
             l.brush_aspect = png_aspect(l.brush, path + ".brush");
         return l;
