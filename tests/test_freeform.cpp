@@ -329,6 +329,28 @@ TEST(FreeformTessellation, RefusesGridsOfMillionsOfPointsBeforeEvaluating) {
     EXPECT_EQ(tessellate(patches, {2, 8}, "many.bpt").mesh.triangles.size(), 40000u * 8);
 }
 
+// Surfaces of absurd scale: a sphere of radius 1e300 has an infinite area, which made every
+// share of the coverage NaN (cast to a count: undefined behaviour); one of radius 1e-300, or a
+// patch whose corners lie on a line, has faces without a usable normal, whose NaN ray made Embree
+// abort in the orientation vote. Found with the bpt/surfaces fuzz checks; the inputs are replayed
+// by FuzzRegressions.BezierPatches and FuzzRegressions.SurfacesJson.
+TEST(FreeformCoverage, InfiniteAreaGivesNoPointsAndDegenerateFacesNoVote) {
+    SurfaceList huge;
+    huge.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1e300));
+    EXPECT_TRUE(cover(huge, 10, 1).empty());
+    SurfaceList line = parse_bpt("1\n1 1\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n", "line.bpt");
+    const Tessellation t = tessellate(line, {2, 8}, "line.bpt");  // a flat strip: kept, orientation as given
+    EXPECT_EQ(t.mesh.triangles.size(), 8u);
+    EXPECT_EQ(line[0]->sign, 1.0);
+    SurfaceList tiny;
+    tiny.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1e-300));
+    try {
+        tessellate(tiny, {2, 8}, "tiny.json");
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("tiny.json: ", 0), 0u) << e.what();
+    }
+}
+
 TEST(FreeformCoverage, SphereHasEqualCountsInEqualAreas) {
     SurfaceList list;
     list.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1.0));

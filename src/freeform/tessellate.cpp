@@ -156,7 +156,12 @@ Tessellation tessellate(SurfaceList& surfaces, const TessellationOptions& option
         for (std::size_t q = 0; q < k; ++q) {
             const auto& tr = t.mesh.triangles[by_area[q].second];
             const glm::dvec3 a = t.mesh.positions[tr[0]], b = t.mesh.positions[tr[1]], c = t.mesh.positions[tr[2]];
-            const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+            // A face without a usable normal (collinear corners, or a cross product that underflows
+            // on tiny coordinates) has no vote: Embree aborts on a NaN ray (fuzz/run.sh bpt).
+            const glm::dvec3 cr = glm::cross(b - a, c - a);
+            const double len = glm::length(cr);
+            if (!(len > 0.0) || !std::isfinite(len)) continue;
+            const glm::dvec3 n = cr / len;
             const glm::dvec3 m = (a + b + c) / 3.0;
             const int layers = rays.count_layers(m + 1e-6 * diag * n, m + 4.0 * diag * n, by_area[q].second, UINT32_MAX);
             (layers % 2 == 0 ? outward : inward)++;
