@@ -351,6 +351,30 @@ TEST(FreeformCoverage, InfiniteAreaGivesNoPointsAndDegenerateFacesNoVote) {
     }
 }
 
+// Welding counts cells from the bounding box's corner: a torus centred 8.9e23 from the origin
+// (found by fuzz/run.sh surfaces; fuzz/regressions/surfaces-far-center) overflowed the 64-bit
+// cell index (undefined behaviour); one at 1e6 welds exactly like the one at the origin.
+TEST(FreeformTessellation, FarFromTheOriginWeldsTheSame) {
+    auto torus_at = [](glm::dvec3 c) {
+        SurfaceList l;
+        l.push_back(std::make_unique<Torus>(c, 1.0, 0.38, 0.3, 6));
+        return l;
+    };
+    SurfaceList near = torus_at(glm::dvec3(0)), far = torus_at({0, 0, 1e6}), farther = torus_at({0, 0, 8.9e23});
+    const Tessellation a = tessellate(near, {2, 16}, "near.json"), b = tessellate(far, {2, 16}, "far.json");
+    EXPECT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+    EXPECT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
+    EXPECT_EQ(a.welded, b.welded);
+    try {  // all of it within one rounding step: refused by the mesh checks, or collapsed
+        tessellate(farther, {2, 16}, "farther.json");
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("farther.json: ", 0), 0u) << e.what();
+    }
+    SurfaceList huge;
+    huge.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1e300));
+    EXPECT_THROW(tessellate(huge, {2, 8}, "huge.json"), Error);
+}
+
 TEST(FreeformCoverage, SphereHasEqualCountsInEqualAreas) {
     SurfaceList list;
     list.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1.0));

@@ -76,13 +76,16 @@ Tessellation tessellate(SurfaceList& surfaces, const TessellationOptions& option
     }
     // Weld: points within tol share a vertex (hash of tol-sized cells, neighbours checked).
     const double diag = std::max(glm::length(box.hi - box.lo), 1e-300);
+    if (!std::isfinite(diag)) throw Error(where, "the surfaces' bounding box is too large for a double (coordinates near 1e300)");
     const double tol = 1e-7 * diag;
     std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells;
     std::vector<std::uint32_t> vertex_of(t.points.size());
     for (std::size_t k = 0; k < t.points.size(); ++k) {
         const glm::dvec3 p = t.points[k];
-        const CellKey c{std::int64_t(std::floor(p.x / tol)), std::int64_t(std::floor(p.y / tol)),
-                        std::int64_t(std::floor(p.z / tol))};
+        // Cells counted from the box's corner: 0 .. 1e7 whatever the offset (from the origin, a
+        // surface far away, 1e24 with a diagonal of 3, overflowed the integer: fuzz/run.sh surfaces).
+        const glm::dvec3 q = (p - box.lo) / tol;
+        const CellKey c{std::int64_t(std::floor(q.x)), std::int64_t(std::floor(q.y)), std::int64_t(std::floor(q.z))};
         std::uint32_t found = UINT32_MAX;
         for (int dx = -1; dx <= 1 && found == UINT32_MAX; ++dx)
             for (int dy = -1; dy <= 1 && found == UINT32_MAX; ++dy)
