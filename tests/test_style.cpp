@@ -275,6 +275,20 @@ TEST(StyleFile, NumberTooLargeIsAOneLineError) {
     }
 }
 
+// A brush or table name longer than the file system allows made std::filesystem throw its own
+// exception (found by fuzz/run.sh style; fuzz/regressions/style-name-too-long).
+TEST(StyleFile, NameTooLongIsNoSuchFile) {
+    const std::string name(5000, 'x');
+    for (const std::string key : {"brush", "offsets"}) {
+        const std::string text = key == "brush" ? R"({"lines": {"default": {"brush": ")" + name + "\"}}}"
+                                                : R"({"lines": {"default": {"offsets": {"table": ")" + name + "\"}}}}";
+        const std::string e = error_of(text);
+        EXPECT_NE(e.find("/tmp/s/mine.json: key 'lines.default." + std::string(key == "brush" ? "brush" : "offsets.table") +
+                         "': no such file"), std::string::npos) << e.substr(0, 200);
+    }
+    EXPECT_THROW(inkline::load_style(name), inkline::Error);
+}
+
 // ---- Offset tables ---------------------------------------------------------------------------
 
 namespace {

@@ -109,7 +109,8 @@ struct Parser {
         fs::path p = name.find('/') == std::string::npos && fs::path(name).extension() != ext
                          ? dir / sub / (name + ext)
                          : dir / name;
-        if (!fs::exists(p)) fail(key, "no such file '" + p.string() + "'");
+        std::error_code ec;  // a name too long for the file system is "no such file" too, not an exception
+        if (!fs::exists(p, ec)) fail(key, "no such file '" + p.string() + "'");
         return p.string();
     }
 
@@ -306,7 +307,7 @@ std::string styles_dir() {
 Style load_style(const std::string& name) {
     if (name.find('/') != std::string::npos || fs::path(name).extension() == ".json") return load_style_file(name);
     const fs::path p = fs::path(styles_dir()) / (name + ".json");
-    if (!fs::exists(p)) {
+    if (std::error_code missing; !fs::exists(p, missing)) {
         std::string known;
         std::error_code ec;
         for (const auto& e : fs::directory_iterator(styles_dir(), ec))
