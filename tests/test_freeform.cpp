@@ -295,6 +295,86 @@ TEST(FreeformTessellation, ClosedPrimitivesAreClosedAndOutward) {
     EXPECT_EQ(t.flipped_surfaces, 0u);
 }
 
+// Valid but huge input: the grids' size is checked before anything is evaluated, so 40,000
+// patches (11.6 M grid points at 16 segments) or a NURBS of 256 x 256 knot spans (4097^2 grid
+// points) are refused at once with one line naming the file, instead of gigabytes of mesh.
+TEST(FreeformTessellation, RefusesGridsOfMillionsOfPointsBeforeEvaluating) {
+    std::string bpt = "40000\n";
+    for (int k = 0; k < 40000; ++k) {  // disjoint squares
+        const std::string x0 = std::to_string(k), x1 = std::to_string(k) + ".5";
+        bpt += "1 1\n" + x0 + " 0 0\n" + x0 + " 1 0\n" + x1 + " 0 0\n" + x1 + " 1 0\n";
+    }
+    SurfaceList patches = parse_bpt(bpt, "many.bpt");
+    ASSERT_EQ(patches.size(), 40000u);
+    std::string json = R"({"surfaces": [{"type": "nurbs", "degree": [1, 1], "count": [257, 257], "knots_u": [0)";
+    std::string knots;
+    for (int i = 0; i <= 257; ++i) knots += ", " + std::to_string(i);
+    json += knots + R"(], "knots_v": [0)" + knots + R"(], "points": [)";
+    for (int i = 0; i < 257 * 257; ++i) json += (i ? ",[" : "[") + std::to_string(i % 257) + "," + std::to_string(i / 257) + ",0]";
+    json += "]}]}";
+    SurfaceList nurbs = parse_surfaces_json(json, "fine.json");
+    for (auto* list : {&patches, &nurbs}) {
+        const std::string file = list == &patches ? "many.bpt" : "fine.json";
+        try {
+            tessellate(*list, {}, file);
+            ADD_FAILURE() << file << " accepted";
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            EXPECT_EQ(m.rfind(file + ": ", 0), 0u) << m;
+            EXPECT_NE(m.find("more than 9000000 grid points"), std::string::npos) << m;
+            EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+        }
+    }
+    // A lower resolution brings the patches under the limit (40,000 x 9 points).
+    EXPECT_EQ(tessellate(patches, {2, 8}, "many.bpt").mesh.triangles.size(), 40000u * 8);
+}
+
+// Surfaces of absurd scale: a sphere of radius 1e300 has an infinite area, which made every
+// share of the coverage NaN (cast to a count: undefined behaviour); one of radius 1e-300, or a
+// patch whose corners lie on a line, has faces without a usable normal, whose NaN ray made Embree
+// abort in the orientation vote. Found with the bpt/surfaces fuzz checks; the inputs are replayed
+// by FuzzRegressions.BezierPatches and FuzzRegressions.SurfacesJson.
+TEST(FreeformCoverage, InfiniteAreaGivesNoPointsAndDegenerateFacesNoVote) {
+    SurfaceList huge;
+    huge.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1e300));
+    EXPECT_TRUE(cover(huge, 10, 1).empty());
+    SurfaceList line = parse_bpt("1\n1 1\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n", "line.bpt");
+    const Tessellation t = tessellate(line, {2, 8}, "line.bpt");  // a flat strip: kept, orientation as given
+    EXPECT_EQ(t.mesh.triangles.size(), 8u);
+    EXPECT_EQ(line[0]->sign, 1.0);
+    SurfaceList tiny;
+    tiny.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1e-300));
+    try {
+        tessellate(tiny, {2, 8}, "tiny.json");
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("tiny.json: ", 0), 0u) << e.what();
+    }
+}
+
+// Welding counts cells from the bounding box's corner: a torus centred 8.9e23 from the origin
+// (found by fuzz/run.sh surfaces; fuzz/regressions/surfaces-far-center) overflowed the 64-bit
+// cell index (undefined behaviour); one at 1e6 welds exactly like the one at the origin.
+TEST(FreeformTessellation, FarFromTheOriginWeldsTheSame) {
+    auto torus_at = [](glm::dvec3 c) {
+        SurfaceList l;
+        l.push_back(std::make_unique<Torus>(c, 1.0, 0.38, 0.3, 6));
+        return l;
+    };
+    SurfaceList near = torus_at(glm::dvec3(0)), far = torus_at({0, 0, 1e6}), farther = torus_at({0, 0, 8.9e23});
+    const Tessellation a = tessellate(near, {2, 16}, "near.json"), b = tessellate(far, {2, 16}, "far.json");
+    EXPECT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+    EXPECT_EQ(a.mesh.triangles.size(), b.mesh.triangles.size());
+    EXPECT_EQ(a.welded, b.welded);
+    try {  // all of it within one rounding step: refused by the mesh checks, or collapsed
+        tessellate(farther, {2, 16}, "farther.json");
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("farther.json: ", 0), 0u) << e.what();
+    }
+    SurfaceList huge;
+    huge.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1e300));
+    EXPECT_THROW(tessellate(huge, {2, 8}, "huge.json"), Error);
+}
+
 TEST(FreeformCoverage, SphereHasEqualCountsInEqualAreas) {
     SurfaceList list;
     list.push_back(std::make_unique<Sphere>(glm::dvec3(0), 1.0));

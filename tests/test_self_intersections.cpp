@@ -120,6 +120,23 @@ TEST(SelfIntersections, FacesThatShareCorners) {
     EXPECT_EQ(expect_same(fan, "above a shared vertex"), 0u);
 }
 
+// Degenerate faces (collinear or coincident corners, zero area): CGAL counts each as intersecting
+// and tests it against nothing (its triangle tests require proper triangles). Found by the
+// pipeline fuzzer (fuzz/regressions/pipeline-degenerate-face-*), which aborted in CGAL here.
+TEST(SelfIntersections, DegenerateFaces) {
+    TriangleMesh s = inkline::make_sphere({0, 0, 0}, 1, 8, 4);
+    const auto& t0 = s.triangles[0];
+    s.positions[t0[2]] = s.positions[t0[1]];  // two corners at one point
+    EXPECT_GE(expect_same(s, "sphere with a collapsed face"), 1u);
+    TriangleMesh line;  // corners exactly on a line (representable midpoint), and a proper face
+    line.positions = {{0, 0, 0}, {2, 0, 0}, {1, 0, 0}, {1, 1, 0}};
+    line.triangles = {{0, 1, 2}, {1, 0, 3}};
+    EXPECT_EQ(expect_same(line, "collinear corners"), 1u);
+    s = inkline::make_sphere({0, 0, 0}, 1, 6, 3);
+    for (auto& p : s.positions) p = {std::round(p.x), std::round(p.y), std::round(p.z)};  // many collapse
+    EXPECT_GE(expect_same(s, "sphere rounded to the unit grid"), 1u);
+}
+
 // Spheres whose vertices are moved at random by about an edge length: many folds, of every kind above.
 TEST(SelfIntersections, CrumpledSpheres) {
     std::mt19937 rng(7);

@@ -265,6 +265,30 @@ TEST(StyleFile, ErrorsNameFileKeyAndExpectedValues) {
     EXPECT_THROW(inkline::load_style_file("/nonexistent/dir/s.json"), inkline::Error);
 }
 
+// A number too large for a double is nlohmann's out_of_range, not a parse_error: it was let
+// through and aborted the program (found by fuzz/run.sh style; fuzz/regressions/style-*).
+TEST(StyleFile, NumberTooLargeIsAOneLineError) {
+    for (const char* text : {R"({"base_width": 1e999})", R"({"description": 2222e2222222222222222})"}) {
+        const std::string e = error_of(text);
+        EXPECT_NE(e.find("/tmp/s/mine.json: not valid JSON: number overflow"), std::string::npos) << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+}
+
+// A brush or table name longer than the file system allows made std::filesystem throw its own
+// exception (found by fuzz/run.sh style; fuzz/regressions/style-name-too-long).
+TEST(StyleFile, NameTooLongIsNoSuchFile) {
+    const std::string name(5000, 'x');
+    for (const std::string key : {"brush", "offsets"}) {
+        const std::string text = key == "brush" ? R"({"lines": {"default": {"brush": ")" + name + "\"}}}"
+                                                : R"({"lines": {"default": {"offsets": {"table": ")" + name + "\"}}}}";
+        const std::string e = error_of(text);
+        EXPECT_NE(e.find("/tmp/s/mine.json: key 'lines.default." + std::string(key == "brush" ? "brush" : "offsets.table") +
+                         "': no such file"), std::string::npos) << e.substr(0, 200);
+    }
+    EXPECT_THROW(inkline::load_style(name), inkline::Error);
+}
+
 // ---- Offset tables ---------------------------------------------------------------------------
 
 namespace {
@@ -298,6 +322,29 @@ TEST(OffsetTable, ParsesVerticesPeriodAndBreaks) {
     // Every shipped table parses.
     for (const auto& e : std::filesystem::directory_iterator(inkline::styles_dir() + "/offsets"))
         EXPECT_NO_THROW(inkline::load_offset_table(e.path().string())) << e.path();
+}
+
+// Valid-looking tables that made strokes of non-finite or millions of points (fuzz/run.sh offsets;
+// fuzz/regressions/offsets-*): offsets beyond +-1000 px (1e307 px times a scale of 100 is
+// infinite), more than 1000 vertices, more than 100 vertices per px of period, in the table or
+// through a style's period override.
+TEST(OffsetTable, BoundsKeepStrokesFiniteAndSmall) {
+    EXPECT_EQ(table_error("period 1\n0 1e307 0\n1 0 0\n"), "t.txt:2: offsets must be within +-1000 px, got '0 1e307 0'");
+    EXPECT_EQ(table_error("period 1\n0 0 0\n1 0 -1000.5\n"), "t.txt:3: offsets must be within +-1000 px, got '1 0 -1000.5'");
+    EXPECT_EQ(table_error("period 1\n0 -1000 1000\n1 0 0\n"), "");  // the limit itself is fine
+    std::string many = "period 100\n";
+    for (int i = 0; i < 1001; ++i) many += "0.5 " + std::to_string(i % 7) + " 0\n";
+    EXPECT_EQ(table_error(many), "t.txt:1002: more than 1000 vertices");
+    std::string dense = "period 1\n";
+    for (int i = 0; i < 101; ++i) dense += "0.5 " + std::to_string(i % 7) + " 0\n";
+    EXPECT_EQ(table_error(dense), "t.txt: 101 vertices in a period of 1.000000 px (at most 100 per px of period)");
+    // The shipped jittery table (25 vertices) with a 0.2 px override: 125 per px.
+    const std::string e = error_of(R"({"lines": {"default": {"offsets": {"table": "jittery", "period": 0.2}}}})",
+                                   inkline::styles_dir() + "/dense.json");
+    EXPECT_NE(e.find("key 'lines.default.offsets.period': table 'jittery' has 25 vertices, more than 100 per px of a 0.2 px period"),
+              std::string::npos) << e;
+    EXPECT_EQ(error_of(R"({"lines": {"default": {"offsets": {"table": "jittery", "period": 0.25}}}})",
+                       inkline::styles_dir() + "/dense.json"), "");
 }
 
 TEST(OffsetTable, MalformedFilesNameFileAndLine) {

@@ -206,7 +206,8 @@ std::vector<SurfaceSample> cover(const SurfaceList& surfaces, std::size_t r, std
             }
     }
     std::vector<SurfaceSample> out;
-    if (!(total > 0.0) || r == 0) return out;
+    // An infinite total (a surface of coordinates near 1e300) would make every share NaN.
+    if (!(total > 0.0) || !std::isfinite(total) || r == 0) return out;
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
     out.reserve(r + all.size());
@@ -240,7 +241,8 @@ std::vector<MeshSample> cover_mesh(const std::vector<glm::dvec3>& positions,
         total += area[f];
     }
     std::vector<MeshSample> out;
-    if (!(total > 0.0) || r == 0) return out;
+    // An infinite total (a surface of coordinates near 1e300) would make every share NaN.
+    if (!(total > 0.0) || !std::isfinite(total) || r == 0) return out;
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
     for (std::size_t f = 0; f < triangles.size(); ++f) {

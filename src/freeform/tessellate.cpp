@@ -40,6 +40,19 @@ Tessellation tessellate(SurfaceList& surfaces, const TessellationOptions& option
     if (options.bezier_segments < 1 || options.bezier_segments > 1024 || options.primitive_segments < 8 ||
         options.primitive_segments > 8192)
         throw Error(where, "tessellation segments out of range");
+    // The grids' size is known before anything is evaluated: refuse what would take gigabytes
+    // (about 200 bytes per grid point by the end: points, welded mesh, topology). The CLI's finest
+    // --tessellation (512) on the teapot's 32 patches needs 8.4 M.
+    constexpr std::size_t kMaxGridPoints = 9000000;
+    std::size_t grid_points = 0;
+    for (const auto& sp : surfaces) {
+        const auto [nu, nv] = grid_size(*sp, options);
+        grid_points += std::size_t(nu + 1) * std::size_t(nv + 1);
+        if (grid_points > kMaxGridPoints)
+            throw Error(where, "tessellating " + std::to_string(surfaces.size()) + " surfaces needs more than " +
+                                   std::to_string(kMaxGridPoints) +
+                                   " grid points (fewer or smaller surfaces, or a lower --tessellation)");
+    }
     Tessellation t;
     // Grid points.
     Bounds3 box{glm::dvec3(1e300), glm::dvec3(-1e300)};
@@ -63,13 +76,16 @@ Tessellation tessellate(SurfaceList& surfaces, const TessellationOptions& option
     }
     // Weld: points within tol share a vertex (hash of tol-sized cells, neighbours checked).
     const double diag = std::max(glm::length(box.hi - box.lo), 1e-300);
+    if (!std::isfinite(diag)) throw Error(where, "the surfaces' bounding box is too large for a double (coordinates near 1e300)");
     const double tol = 1e-7 * diag;
     std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells;
     std::vector<std::uint32_t> vertex_of(t.points.size());
     for (std::size_t k = 0; k < t.points.size(); ++k) {
         const glm::dvec3 p = t.points[k];
-        const CellKey c{std::int64_t(std::floor(p.x / tol)), std::int64_t(std::floor(p.y / tol)),
-                        std::int64_t(std::floor(p.z / tol))};
+        // Cells counted from the box's corner: 0 .. 1e7 whatever the offset (from the origin, a
+        // surface far away, 1e24 with a diagonal of 3, overflowed the integer: fuzz/run.sh surfaces).
+        const glm::dvec3 q = (p - box.lo) / tol;
+        const CellKey c{std::int64_t(std::floor(q.x)), std::int64_t(std::floor(q.y)), std::int64_t(std::floor(q.z))};
         std::uint32_t found = UINT32_MAX;
         for (int dx = -1; dx <= 1 && found == UINT32_MAX; ++dx)
             for (int dy = -1; dy <= 1 && found == UINT32_MAX; ++dy)
@@ -143,7 +159,12 @@ Tessellation tessellate(SurfaceList& surfaces, const TessellationOptions& option
         for (std::size_t q = 0; q < k; ++q) {
             const auto& tr = t.mesh.triangles[by_area[q].second];
             const glm::dvec3 a = t.mesh.positions[tr[0]], b = t.mesh.positions[tr[1]], c = t.mesh.positions[tr[2]];
-            const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+            // A face without a usable normal (collinear corners, or a cross product that underflows
+            // on tiny coordinates) has no vote: Embree aborts on a NaN ray (fuzz/run.sh bpt).
+            const glm::dvec3 cr = glm::cross(b - a, c - a);
+            const double len = glm::length(cr);
+            if (!(len > 0.0) || !std::isfinite(len)) continue;
+            const glm::dvec3 n = cr / len;
             const glm::dvec3 m = (a + b + c) / 3.0;
             const int layers = rays.count_layers(m + 1e-6 * diag * n, m + 4.0 * diag * n, by_area[q].second, UINT32_MAX);
             (layers % 2 == 0 ? outward : inward)++;

@@ -87,6 +87,13 @@ void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out
     boxes.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
+        // A degenerate face (collinear corners) counts as self-intersecting and is tested against
+        // nothing, as in CGAL's PMP::self_intersections (CGAL's triangle tests require a proper
+        // triangle: found by fuzz/run.sh pipeline).
+        if (CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
+            out[f] = 1;
+            continue;
+        }
         float lo[3], hi[3];
         for (int d = 0; d < 3; ++d) {
             const double x0 = mesh.positions[t[0]][d], x1 = mesh.positions[t[1]][d], x2 = mesh.positions[t[2]][d];

@@ -51,6 +51,9 @@ OffsetTable parse_offset_table(const std::string& text, const std::string& file)
             if (w.size() != 3 || !parse_double(w[0], v.t) || !parse_double(w[1], v.vx) || !parse_double(w[2], v.vy))
                 throw fail("expected 't vx vy' (three numbers), 'period P' or 'break', got '" + line + "'");
             if (v.t < 0 || v.t > 1) throw fail("t must be in [0, 1], got " + w[0]);
+            if (std::abs(v.vx) > kMaxOffsetPx || std::abs(v.vy) > kMaxOffsetPx)
+                throw fail("offsets must be within +-1000 px, got '" + line + "'");
+            if (t.vertices.size() == kMaxOffsetVertices) throw fail("more than 1000 vertices");
             if (!t.vertices.empty() && v.t < t.vertices.back().t)
                 throw fail("t must not decrease (" + w[0] + " after " + std::to_string(t.vertices.back().t) + ")");
             v.break_before = pending_break;
@@ -61,6 +64,9 @@ OffsetTable parse_offset_table(const std::string& text, const std::string& file)
     }
     if (!(t.period > 0)) throw Error(file, "no 'period' line (expected 'period P', P >= 0.1 px)");
     if (t.vertices.size() < 2) throw Error(file, "an offset table needs at least two vertices 't vx vy'");
+    if (double(t.vertices.size()) > kMaxOffsetVerticesPerPx * t.period)
+        throw Error(file, std::to_string(t.vertices.size()) + " vertices in a period of " + std::to_string(t.period) +
+                              " px (at most 100 per px of period)");
     // A break after the last vertex leaves repetitions unconnected, as one before the first does.
     if (trailing_break) t.vertices.front().break_before = true;
     const auto slash = file.find_last_of('/');

@@ -8,6 +8,7 @@
 //     break                          no line from the previous vertex to the next one
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ struct OffsetTable {
     double period = 0.0;
     std::vector<Vertex> vertices;
 };
+
+// Bounds that keep a valid table from making strokes of millions of points (found by fuzz/run.sh
+// offsets): offsets within +-1000 px, at most 1000 vertices, at most 100 vertices per px of
+// period (also checked against a style's period override).
+inline constexpr double kMaxOffsetPx = 1000;
+inline constexpr std::size_t kMaxOffsetVertices = 1000;
+inline constexpr double kMaxOffsetVerticesPerPx = 100;
 
 // Throws inkline::Error("<file>:<line>", problem) on a malformed table.
 OffsetTable parse_offset_table(const std::string& text, const std::string& file);

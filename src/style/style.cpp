@@ -109,7 +109,8 @@ struct Parser {
         fs::path p = name.find('/') == std::string::npos && fs::path(name).extension() != ext
                          ? dir / sub / (name + ext)
                          : dir / name;
-        if (!fs::exists(p)) fail(key, "no such file '" + p.string() + "'");
+        std::error_code ec;  // a name too long for the file system is "no such file" too, not an exception
+        if (!fs::exists(p, ec)) fail(key, "no such file '" + p.string() + "'");
         return p.string();
     }
 
@@ -202,6 +203,11 @@ struct Parser {
             } else if (k == "brush_aspect") l.brush_aspect = number(v, key, 0, 1000);
             else l.omit = boolean(v, key);
         }
+        if (l.offsets && l.offset_period > 0 &&
+            double(l.offsets->vertices.size()) > kMaxOffsetVerticesPerPx * l.offset_period)
+            fail(path + ".offsets.period", "table '" + l.offsets->name + "' has " +
+                                               std::to_string(l.offsets->vertices.size()) + " vertices, more than 100 per px of a " +
+                                               fmt(l.offset_period) + " px period");
         if (j.contains("brush") && !j.contains("brush_aspect") && !l.brush.empty())
             l.brush_aspect = png_aspect(l.brush, path + ".brush");
         return l;
@@ -271,9 +277,9 @@ Style parse_style(const std::string& text, const std::string& file) {
     json root;
     try {
         root = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
         std::string what = e.what();
-        if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
+        if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);  // "[json.exception.x.n] "
         throw Error(file, "not valid JSON: " + what);
     }
     Parser p{file, fs::path(file).parent_path()};
@@ -301,7 +307,7 @@ std::string styles_dir() {
 Style load_style(const std::string& name) {
     if (name.find('/') != std::string::npos || fs::path(name).extension() == ".json") return load_style_file(name);
     const fs::path p = fs::path(styles_dir()) / (name + ".json");
-    if (!fs::exists(p)) {
+    if (std::error_code missing; !fs::exists(p, missing)) {
         std::string known;
         std::error_code ec;
         for (const auto& e : fs::directory_iterator(styles_dir(), ec))
