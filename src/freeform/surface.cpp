@@ -2,13 +2,13 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/files.hpp"
 
 namespace inkline::freeform {
 namespace {
@@ -69,14 +69,6 @@ std::string lower_ext(const std::string& path) {
     std::string e = path.substr(dot + 1);
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
     return e;
-}
-
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot open file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 void check_finite(const glm::dvec3& p, const std::string& where, const std::string& what) {
@@ -326,7 +318,7 @@ SurfaceList parse_bpt(const std::string& text, const std::string& where) {
     return out;
 }
 
-SurfaceList load_bpt(const std::string& path) { return parse_bpt(read_file(path), path); }
+SurfaceList load_bpt(const std::string& path) { return parse_bpt(read_whole_file(path, "file"), path); }
 
 SurfaceList parse_surfaces_json(const std::string& text, const std::string& where) {
     nlohmann::json j;
@@ -440,7 +432,7 @@ SurfaceList parse_surfaces_json(const std::string& text, const std::string& wher
     return out;
 }
 
-SurfaceList load_surfaces_json(const std::string& path) { return parse_surfaces_json(read_file(path), path); }
+SurfaceList load_surfaces_json(const std::string& path) { return parse_surfaces_json(read_whole_file(path, "file"), path); }
 
 bool is_freeform_path(const std::string& path) {
     const std::string e = lower_ext(path);

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "style/strokes.hpp"
 
 namespace inkline {
@@ -76,11 +76,7 @@ OffsetTable parse_offset_table(const std::string& text, const std::string& file)
 }
 
 OffsetTable load_offset_table(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot open offset table");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_offset_table(ss.str(), path);
+    return parse_offset_table(read_whole_file(path, "offset table"), path);
 }
 
 std::vector<OffsetRun> apply_offsets(const ArcPolyline& spine, const OffsetTable& table, double scale,

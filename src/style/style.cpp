@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/files.hpp"
 
 #ifndef INKLINE_STYLES_DIR
 #define INKLINE_STYLES_DIR "styles"
@@ -287,11 +288,7 @@ Style parse_style(const std::string& text, const std::string& file) {
 }
 
 Style load_style_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot open style file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_style(ss.str(), path);
+    return parse_style(read_whole_file(path, "style file"), path);
 }
 
 std::string styles_dir() {
