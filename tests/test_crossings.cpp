@@ -756,3 +756,110 @@ TEST(FastOrient, Orient3AndEyeMatchCgal) {
             ASSERT_EQ(inkline::orient_eye_fast(*cam, a, b, c), inkline::orient_eye(*cam, a, b, c)) << i;
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// outer_box and BoxPairs (the batch crossing search of build_pieces)
+
+TEST(OuterBox, ContainsTheDoubleBoxWidenedBySlack) {
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    for (int i = 0; i < 200000; ++i) {
+        // magnitudes from subnormal to beyond float's range, and exact float values
+        const double scale = std::ldexp(1.0, int(rng() % 300) - 160);
+        glm::dvec2 a(U(rng) * scale, U(rng) * scale), b(U(rng) * scale, U(rng) * scale);
+        if (i % 7 == 0) a = glm::dvec2(double(float(a.x)), double(float(a.y)));
+        Segment2 s = seg(a, b, 0);
+        s.slack = i % 3 == 0 ? 0.0 : std::abs(U(rng)) * scale * 1e-6;
+        const inkline::Box2f box = inkline::outer_box(s);
+        const double lo_x = std::min(a.x, b.x) - s.slack, hi_x = std::max(a.x, b.x) + s.slack;
+        const double lo_y = std::min(a.y, b.y) - s.slack, hi_y = std::max(a.y, b.y) + s.slack;
+        ASSERT_LE(double(box.x0), lo_x) << i;
+        ASSERT_GE(double(box.x1), hi_x) << i;
+        ASSERT_LE(double(box.y0), lo_y) << i;
+        ASSERT_GE(double(box.y1), hi_y) << i;
+        ASSERT_EQ(box.v0, s.v0);
+        ASSERT_EQ(box.v1, s.v1);
+    }
+    // beyond float's range: infinite on the outside
+    const inkline::Box2f huge = inkline::outer_box(seg(-1e300, 1e300, 1e300, 2e300, 0));
+    EXPECT_EQ(huge.x0, -INFINITY);
+    EXPECT_EQ(huge.x1, INFINITY);
+    EXPECT_EQ(huge.y1, INFINITY);
+    // an infinite slack (image_slack for a point at the eye plane): the whole plane
+    Segment2 s = seg(1, 2, 3, 4, 0);
+    s.slack = INFINITY;
+    const inkline::Box2f all = inkline::outer_box(s);
+    EXPECT_EQ(all.x0, -INFINITY);
+    EXPECT_EQ(all.y1, INFINITY);
+}
+
+namespace {
+// Every (i, k) with overlapping boxes and no shared vertex, by brute force.
+std::vector<std::uint64_t> brute_pairs(const std::vector<inkline::Box2f>& a, const std::vector<inkline::Box2f>& b) {
+    std::vector<std::uint64_t> out;
+    for (std::uint32_t i = 0; i < a.size(); ++i)
+        for (std::uint32_t k = 0; k < b.size(); ++k) {
+            const auto &p = a[i], &q = b[k];
+            const bool over = p.x0 <= q.x1 && q.x0 <= p.x1 && p.y0 <= q.y1 && q.y0 <= p.y1;
+            const bool shared = p.v0 == q.v0 || p.v0 == q.v1 || p.v1 == q.v0 || p.v1 == q.v1;
+            if (over && !shared) out.push_back(std::uint64_t(i) << 32 | k);
+        }
+    return out;
+}
+void expect_pairs(const std::vector<Segment2>& sa, const std::vector<Segment2>& sb, const std::string& what) {
+    std::vector<inkline::Box2f> a, b;
+    for (const auto& s : sa) a.push_back(inkline::outer_box(s));
+    for (const auto& s : sb) b.push_back(inkline::outer_box(s));
+    inkline::BoxPairs pairs;
+    for (int round = 0; round < 2; ++round) {  // storage reused from call to call
+        std::vector<std::uint64_t> got;
+        pairs.find(a, b, kW, kH, got);
+        std::vector<std::uint64_t> want = brute_pairs(a, b);
+        std::sort(got.begin(), got.end());
+        const auto dup = std::adjacent_find(got.begin(), got.end());
+        EXPECT_TRUE(dup == got.end()) << what << ": pair reported twice";
+        EXPECT_EQ(got.size(), want.size()) << what;
+        EXPECT_TRUE(got == want) << what << ": not the brute-force pairs";
+    }
+}
+}  // namespace
+
+TEST(BoxPairs, EqualsBruteForceOnMixedSegments) {
+    std::mt19937_64 rng(31);
+    std::vector<Segment2> a, b;
+    for (std::uint32_t i = 0; i < 1500; ++i) a.push_back(random_segment(rng, i));
+    for (std::uint32_t i = 0; i < 1500; ++i) b.push_back(random_segment(rng, 5000 + i));
+    // shared vertices: some of b reuse a's vertices (never paired), some are a's own segments
+    for (std::uint32_t i = 0; i < 300; ++i) {
+        Segment2 s = random_segment(rng, 9000 + i);
+        s.v0 = a[i].v1;
+        b.push_back(s);
+        b.push_back(a[i + 300]);
+    }
+    expect_pairs(a, b, "mixed");
+    expect_pairs(b, a, "mixed, swapped");
+}
+
+TEST(BoxPairs, DenseClustersAndDegenerateSets) {
+    std::mt19937_64 rng(8);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    std::vector<Segment2> a, b;
+    // a few hundred tiny segments within a pixel (a dense fold), beside sparse long ones
+    for (std::uint32_t i = 0; i < 400; ++i) {
+        const glm::dvec2 p(100.0 + U(rng), 200.0 + U(rng));
+        (i % 2 ? a : b).push_back(seg(p, p + glm::dvec2(U(rng) - 0.5, U(rng) - 0.5) * 0.3, i));
+    }
+    for (std::uint32_t i = 0; i < 50; ++i)
+        (i % 2 ? a : b).push_back(seg(U(rng) * kW, U(rng) * kH, U(rng) * kW, U(rng) * kH, 1000 + i));
+    expect_pairs(a, b, "dense");
+    // all boxes the same point; one set empty; all segments far outside the image
+    std::vector<Segment2> same, far;
+    for (std::uint32_t i = 0; i < 60; ++i) same.push_back(seg(5, 5, 5, 5, i));
+    for (std::uint32_t i = 0; i < 60; ++i) far.push_back(seg(1e7 + i, -1e7, 1e7 + i + 0.5, -1e7 + 1, 200 + i));
+    expect_pairs(same, same, "one point");
+    expect_pairs(same, {}, "empty");
+    expect_pairs(far, far, "far outside");
+    std::vector<Segment2> inf = {seg(1, 2, 3, 4, 0)};
+    inf[0].slack = INFINITY;
+    expect_pairs(inf, a, "infinite slack");
+}

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
@@ -231,6 +234,168 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     for (std::uint32_t i = 0; i < segments.size(); ++i)
         visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });
     mark_.assign(segments.size(), 0);
+}
+
+}  // namespace inkline
+
+namespace inkline {
+
+Box2f outer_box(const Segment2& s) {
+    // Rounded to float toward the outside: the double widened by 2^-22 of its magnitude (and a
+    // little more than float's least subnormal), more than the 2^-24 relative rounding of the
+    // conversion. Beyond float's range: infinite on the outside, the largest float on the inside.
+    auto down = [](double v) { return std::min(float(v - (std::abs(v) * 0x1p-22 + 0x1p-140)), FLT_MAX); };
+    auto up = [](double v) { return std::max(float(v + (std::abs(v) * 0x1p-22 + 0x1p-140)), -FLT_MAX); };
+    const double m = s.slack >= 0.0 ? s.slack : INFINITY;  // (a NaN slack bounds nothing)
+    return {down(std::min(s.a.x, s.b.x) - m), down(std::min(s.a.y, s.b.y) - m), up(std::max(s.a.x, s.b.x) + m),
+            up(std::max(s.a.y, s.b.y) + m), s.v0, s.v1};
+}
+
+namespace {
+constexpr int kBigCells = 64;  // a box covering more cells is tested against every box instead
+bool overlap(const Box2f& p, const Box2f& q) {
+    return p.x0 <= q.x1 && q.x0 <= p.x1 && p.y0 <= q.y1 && q.y0 <= p.y1 && p.v0 != q.v0 && p.v0 != q.v1 &&
+           p.v1 != q.v0 && p.v1 != q.v1;
+}
+}  // namespace
+
+void BoxPairs::bin(const std::vector<Box2f>& boxes, Bins& bins) {
+    const std::size_t cells = std::size_t(nx_) * ny_;
+    bins.begin.assign(cells + 1, 0);
+    bins.big.clear();
+    // Each box's cells, found once (x0, x1, y0, y1; x0 < 0 for a big box).
+    std::vector<std::array<std::int16_t, 4>>& r = ranges_;
+    r.resize(boxes.size());
+    for (std::uint32_t i = 0; i < boxes.size(); ++i) {
+        const Box2f& b = boxes[i];
+        const int x0 = cx(b.x0), x1 = cx(b.x1), y0 = cy(b.y0), y1 = cy(b.y1);
+        if ((x1 - x0 + 1) * (y1 - y0 + 1) > kBigCells) {
+            bins.big.push_back(i);
+            r[i][0] = -1;
+            continue;
+        }
+        r[i] = {std::int16_t(x0), std::int16_t(x1), std::int16_t(y0), std::int16_t(y1)};
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) ++bins.begin[std::size_t(y) * nx_ + x + 1];
+    }
+    for (std::size_t c = 0; c < cells; ++c) bins.begin[c + 1] += bins.begin[c];
+    const std::size_t n = bins.begin[cells];
+    bins.items.resize(n);
+    bins.x0.resize(n), bins.y0.resize(n), bins.x1.resize(n), bins.y1.resize(n);
+    bins.v0.resize(n), bins.v1.resize(n), bins.cx0.resize(n), bins.cy0.resize(n);
+    for (std::uint32_t i = 0; i < boxes.size(); ++i) {
+        if (r[i][0] < 0) continue;
+        const Box2f& b = boxes[i];
+        for (int y = r[i][2]; y <= r[i][3]; ++y)
+            for (int x = r[i][0]; x <= r[i][1]; ++x) {
+                const std::uint32_t at = bins.begin[std::size_t(y) * nx_ + x]++;
+                bins.items[at] = i;
+                bins.x0[at] = b.x0, bins.y0[at] = b.y0, bins.x1[at] = b.x1, bins.y1[at] = b.y1;
+                bins.v0[at] = b.v0, bins.v1[at] = b.v1;
+                bins.cx0[at] = r[i][0], bins.cy0[at] = r[i][2];
+            }
+    }
+    // (the fill pass moved each start to the next cell's: shift back)
+    for (std::size_t c = cells; c > 0; --c) bins.begin[c] = bins.begin[c - 1];
+    bins.begin[0] = 0;
+}
+
+void BoxPairs::find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, double width, double height,
+                    std::vector<std::uint64_t>& out) {
+    if (a.empty() || b.empty()) return;
+    // The grid: over the finite extent of both sets within the widened image, cells about twice
+    // the mean box side, at most ~4 cells per box and 1024 a side.
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, sum = 0.0;
+    std::size_t counted = 0;
+    for (const auto* set : {&a, &b})
+        for (const Box2f& x : *set) {
+            const double w = double(x.x1) - x.x0, h = double(x.y1) - x.y0;
+            if (!(w <= width && h <= height)) continue;  // huge or not finite: not in the sizing
+            lo[0] = std::min(lo[0], double(x.x0)), hi[0] = std::max(hi[0], double(x.x1));
+            lo[1] = std::min(lo[1], double(x.y0)), hi[1] = std::max(hi[1], double(x.y1));
+            sum += std::max(w, h);
+            ++counted;
+        }
+    lo[0] = std::max(lo[0], -width), hi[0] = std::min(hi[0], 2.0 * width);
+    lo[1] = std::max(lo[1], -height), hi[1] = std::min(hi[1], 2.0 * height);
+    if (!(lo[0] < hi[0]) || !(lo[1] < hi[1])) lo[0] = 0.0, hi[0] = width, lo[1] = 0.0, hi[1] = height;
+    const double ex = hi[0] - lo[0], ey = hi[1] - lo[1];
+    double side = counted ? 2.0 * sum / double(counted) : 0.0;
+    side = std::max({side, std::sqrt(ex * ey / (4.0 * double(a.size() + b.size()))), ex / 1024.0, ey / 1024.0});
+    nx_ = std::clamp(int(std::ceil(ex / side)), 1, 1024);
+    ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);
+    lo_x_ = lo[0], lo_y_ = lo[1];
+    inv_x_ = double(nx_) / ex, inv_y_ = double(ny_) / ey;
+    bin(a, a_);
+    bin(b, b_);
+
+    // Pairs in the grid: found in the cell of their overlap's lower corner, that is the first cell
+    // of both boxes' ranges (the cell of a coordinate is monotone): x = max(first x of either) —
+    // one of the two starts at x — and the same in y. The tests of one box against a cell's
+    // boxes are branch-free; the hits are compacted.
+    const std::size_t cells = std::size_t(nx_) * ny_;
+    std::uint32_t most = 0;
+    for (std::size_t c = 0; c < cells; ++c) most = std::max(most, b_.begin[c + 1] - b_.begin[c]);
+    hits_.resize(most);
+    std::uint32_t* hit = hits_.data();
+    const float *bx0 = b_.x0.data(), *by0 = b_.y0.data(), *bx1 = b_.x1.data(), *by1 = b_.y1.data();
+    const std::uint32_t *bv0 = b_.v0.data(), *bv1 = b_.v1.data();
+    const std::int32_t *bcx = b_.cx0.data(), *bcy = b_.cy0.data();
+    for (std::size_t c = 0; c < cells; ++c) {
+        const std::uint32_t b0 = b_.begin[c], b1 = b_.begin[c + 1];
+        if (b0 == b1) continue;
+        const int x = int(c % std::size_t(nx_)), y = int(c / std::size_t(nx_));
+        for (std::uint32_t p = a_.begin[c]; p < a_.begin[c + 1]; ++p) {
+            const float ax0 = a_.x0[p], ay0 = a_.y0[p], ax1 = a_.x1[p], ay1 = a_.y1[p];
+            const std::uint32_t av0 = a_.v0[p], av1 = a_.v1[p];
+            const bool first_x = a_.cx0[p] == x, first_y = a_.cy0[p] == y;
+            std::uint32_t n = 0, q = b0;
+#if defined(__SSE2__)
+            // Four boxes a step (SSE2 is part of x86-64): the same comparisons as below.
+            const __m128 vx0 = _mm_set1_ps(ax0), vy0 = _mm_set1_ps(ay0), vx1 = _mm_set1_ps(ax1), vy1 = _mm_set1_ps(ay1);
+            const __m128i w0 = _mm_set1_epi32(int(av0)), w1 = _mm_set1_epi32(int(av1));
+            const __m128i cxv = _mm_set1_epi32(x), cyv = _mm_set1_epi32(y);
+            const __m128i all = _mm_set1_epi32(-1);
+            for (; q + 4 <= b1; q += 4) {
+                const __m128 in = _mm_and_ps(
+                    _mm_and_ps(_mm_cmple_ps(vx0, _mm_loadu_ps(bx1 + q)), _mm_cmple_ps(_mm_loadu_ps(bx0 + q), vx1)),
+                    _mm_and_ps(_mm_cmple_ps(vy0, _mm_loadu_ps(by1 + q)), _mm_cmple_ps(_mm_loadu_ps(by0 + q), vy1)));
+                const __m128i u0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bv0 + q));
+                const __m128i u1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bv1 + q));
+                const __m128i shared = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(w0, u0), _mm_cmpeq_epi32(w0, u1)),
+                                                    _mm_or_si128(_mm_cmpeq_epi32(w1, u0), _mm_cmpeq_epi32(w1, u1)));
+                const __m128i okx = first_x ? all : _mm_cmpeq_epi32(cxv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcx + q)));
+                const __m128i oky = first_y ? all : _mm_cmpeq_epi32(cyv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcy + q)));
+                const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(okx, oky));
+                int mask = _mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in));
+                while (mask) {
+                    hit[n++] = q + std::uint32_t(__builtin_ctz(unsigned(mask)));
+                    mask &= mask - 1;
+                }
+            }
+#endif
+            for (; q < b1; ++q) {
+                hit[n] = q;
+                n += (ax0 <= bx1[q]) & (bx0[q] <= ax1) & (ay0 <= by1[q]) & (by0[q] <= ay1) & (av0 != bv0[q]) &
+                     (av0 != bv1[q]) & (av1 != bv0[q]) & (av1 != bv1[q]) & (first_x | (bcx[q] == x)) &
+                     (first_y | (bcy[q] == y));
+            }
+            const std::uint64_t i = std::uint64_t(a_.items[p]) << 32;
+            for (std::uint32_t h = 0; h < n; ++h) out.push_back(i | b_.items[hit[h]]);
+        }
+    }
+    // Big boxes of `a` against all of `b`; big boxes of `b` against the binned boxes of `a`.
+    for (std::uint32_t i : a_.big)
+        for (std::uint32_t k = 0; k < b.size(); ++k)
+            if (overlap(a[i], b[k])) out.push_back(std::uint64_t(i) << 32 | k);
+    if (!b_.big.empty()) {
+        std::vector<std::uint8_t>& a_big = big_mark_;
+        a_big.assign(a.size(), 0);
+        for (std::uint32_t i : a_.big) a_big[i] = 1;
+        for (std::uint32_t k : b_.big)
+            for (std::uint32_t i = 0; i < a.size(); ++i)
+                if (!a_big[i] && overlap(a[i], b[k])) out.push_back(std::uint64_t(i) << 32 | k);
+    }
 }
 
 }  // namespace inkline

@@ -2,6 +2,7 @@
 // borders) and exact 2D predicates (CGAL) deciding whether two projected segments meet.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -51,6 +52,54 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]);
 // coordinates, clamped to [0, 1]. All points must lie in front of the eye plane.
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2]);
+
+// The box of a projected segment widened by its slack, in float, rounded outward: two segments
+// whose exact images meet have overlapping boxes (closed), whatever the rounding. With the mesh
+// vertices of the segment's edge: segments sharing one never "cross" (segment_crossings).
+struct Box2f {
+    float x0, y0, x1, y1;
+    std::uint32_t v0, v1;
+};
+Box2f outer_box(const Segment2& s);
+
+// All overlapping pairs between two sets of boxes, each pair once: a uniform grid with cells
+// about twice the boxes' mean size, both sets binned, and in each cell every pair tested whose
+// overlap's lower corner lies in that cell (so a pair is found in one cell only). Boxes covering
+// many cells (clipped or very long segments) are tested against every box of the other set.
+// Cost: the boxes' cells plus the pairs tested; the storage is reused from call to call.
+class BoxPairs {
+public:
+    // Appends (i << 32 | k) for every i in `a`, k in `b` whose boxes overlap and whose edges share
+    // no vertex, in no fixed order.
+    // `width`, `height`: the image (cells cover at most the image widened by one size each side;
+    // the rim cells hold whatever lies beyond).
+    void find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, double width, double height,
+              std::vector<std::uint64_t>& out);
+
+private:
+    struct Bins {
+        std::vector<std::uint32_t> begin, items, big;
+        std::vector<float> x0, y0, x1, y1;  // the items' boxes, parallel to items
+        std::vector<std::uint32_t> v0, v1;  // and their vertices
+        std::vector<std::int32_t> cx0, cy0;  // and the first cell of their range
+    };
+    void bin(const std::vector<Box2f>& boxes, Bins& bins);
+    // Cell of a coordinate: monotone, clamped to the grid (truncation is the floor for c >= 0).
+    int cx(float x) const {
+        const double c = (double(x) - lo_x_) * inv_x_;
+        return !(c >= 0.0) ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
+    }
+    int cy(float y) const {
+        const double c = (double(y) - lo_y_) * inv_y_;
+        return !(c >= 0.0) ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
+    }
+    double lo_x_ = 0.0, lo_y_ = 0.0, inv_x_ = 1.0, inv_y_ = 1.0;
+    int nx_ = 1, ny_ = 1;
+    Bins a_, b_;
+    std::vector<std::uint8_t> big_mark_;
+    std::vector<std::uint32_t> hits_;
+    std::vector<std::array<std::int16_t, 4>> ranges_;
+};
 
 class SegmentGrid {
 public:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <glm/geometric.hpp>
 
@@ -113,7 +114,6 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             }
         }
     g.grid.emplace(occluders, camera.width(), camera.height());
-    const SegmentGrid& grid = *g.grid;
 
     // The extreme points of the occluders' image (the bounding-box rule of the fast method).
     g.extreme_vertices.fill(UINT32_MAX);
@@ -133,16 +133,19 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     for (const auto& c : features.curves)
         for (std::uint32_t e : c.edges) in_curves[e] = 1;
 
-    std::vector<ClipSeg> segs;
-    std::vector<Split> splits;
-    struct Pending {
-        std::uint32_t seg, occluder;
-        double t;
-    };
-    std::vector<Pending> pending, wrap;  // crossings at the cut being made / at a closed curve's start
-    for (std::uint32_t ci = 0; ci < features.curves.size(); ++ci) {
+    // 1. Every curve clipped to the near plane and projected: segments of all curves in one array,
+    // curve ci's in [seg_begin[ci], seg_begin[ci + 1]).
+    const std::size_t ncurves = features.curves.size();
+    std::vector<ClipSeg> all_segs;
+    std::vector<std::uint32_t> seg_begin(ncurves + 1, 0);
+    {
+        std::size_t edges = 0;
+        for (const auto& c : features.curves) edges += c.edges.size();
+        all_segs.reserve(edges);
+    }
+    for (std::uint32_t ci = 0; ci < ncurves; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
-        segs.clear();
+        const std::size_t first = all_segs.size();
         bool interrupted = false;
         for (std::size_t i = 0; i < curve.edges.size(); ++i) {
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
@@ -157,32 +160,47 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             s.LA = &mesh.positions[va];
             s.LB = &mesh.positions[vb];
             // A clipped start also interrupts the curve.
-            s.run_start = segs.empty() || interrupted || s.A != mesh.positions[va] || segs.back().B != mesh.positions[va];
+            s.run_start = all_segs.size() == first || interrupted || s.A != mesh.positions[va] ||
+                          all_segs.back().B != mesh.positions[va];
             interrupted = s.B != mesh.positions[vb];
-            segs.push_back(s);
+            all_segs.push_back(s);
         }
-        if (segs.empty()) continue;
+        seg_begin[ci + 1] = std::uint32_t(all_segs.size());
+    }
 
-        // Crossings with occluding edges, split parameters per segment.
-        splits.clear();
-        for (std::uint32_t j = 0; j < segs.size(); ++j) {
-            const ClipSeg& s = segs[j];
-            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
-            const Segment3 q3 = s.in_3d();
-            grid.candidates(q, [&](std::uint32_t k) {
-                const Segment2& o = occluders[k];
-                // (segments sharing a vertex never cross: the usual case, the curve's own
-                // neighbours, decided here without the call)
-                if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return;
-                double t[2];
-                const int n = segment_crossings(camera, q, q3, o, occ_clip[k].in_3d(), t);
-                if (n == 0) return;
-                if (!in_curves[occluders[k].edge] || s.edge < occluders[k].edge) ++out.crossings;
-                for (int i = 0; i < n; ++i) splits.push_back({j, t[i], k});
-            });
-            // Where the edge meets another face (the surface passes through itself, or touches
-            // itself), inside the clipped segment: no occluder, but the QI may change.
-            if (cuts && !cuts->empty()) {
+    // 2. Crossings of every curve segment with every occluding edge, in one search: pairs whose
+    // boxes overlap (BoxPairs), then the exact test. Splits sorted by segment, then parameter.
+    std::vector<Split> all_splits;
+    {
+        thread_local BoxPairs pairs;
+        thread_local std::vector<Box2f> qbox, obox;
+        thread_local std::vector<std::uint64_t> found;
+        qbox.resize(all_segs.size());
+        for (std::size_t j = 0; j < all_segs.size(); ++j) {
+            const ClipSeg& s = all_segs[j];
+            qbox[j] = outer_box({s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack});
+        }
+        obox.resize(occluders.size());
+        for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
+        found.clear();
+        pairs.find(qbox, obox, camera.width(), camera.height(), found);
+        for (const std::uint64_t f : found) {
+            const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
+            const ClipSeg& s = all_segs[j];
+            const Segment2& o = occluders[k];
+            // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
+            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
+            double t[2];
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t);
+            if (n == 0) continue;
+            if (!in_curves[o.edge] || s.edge < o.edge) ++out.crossings;
+            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k});
+        }
+        // Where an edge meets another face (the surface passes through itself, or touches
+        // itself), inside the clipped segment: no occluder, but the QI may change.
+        if (cuts && !cuts->empty())
+            for (std::uint32_t j = 0; j < all_segs.size(); ++j) {
+                const ClipSeg& s = all_segs[j];
                 auto it = std::lower_bound(cuts->begin(), cuts->end(), EdgeCut{s.edge, -1.0});
                 for (; it != cuts->end() && it->edge == s.edge; ++it) {
                     const double lo = std::min(s.sA, s.sB), hi = std::max(s.sA, s.sB);
@@ -193,10 +211,35 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
                         const double den = (1.0 - u) * s.zA + u * s.zB;
                         t = den > 0.0 ? u * s.zB / den : u;
                     }
-                    splits.push_back({j, std::clamp(t, 0.0, 1.0), kNoOccluder});
+                    all_splits.push_back({j, std::clamp(t, 0.0, 1.0), kNoOccluder});
                 }
             }
+        // (by segment, parameter, then occluder: the same order whatever the order of the pairs)
+        std::sort(all_splits.begin(), all_splits.end(), [](const Split& x, const Split& y) {
+            return x.seg != y.seg ? x.seg < y.seg : x.t != y.t ? x.t < y.t : x.occluder < y.occluder;
+        });
+    }
+
+    // 3. Per curve: pieces cut at the splits.
+    std::vector<Split> splits;
+    struct Pending {
+        std::uint32_t seg, occluder;
+        double t;
+    };
+    std::vector<Pending> pending, wrap;  // crossings at the cut being made / at a closed curve's start
+    std::size_t next_split = 0;
+    for (std::uint32_t ci = 0; ci < ncurves; ++ci) {
+        const FeatureCurve& curve = features.curves[ci];
+        const std::uint32_t sb = seg_begin[ci], se = seg_begin[ci + 1];
+        if (sb == se) continue;
+        const std::span<const ClipSeg> segs(all_segs.data() + sb, se - sb);
+        splits.clear();
+        for (; next_split < all_splits.size() && all_splits[next_split].seg < se; ++next_split) {
+            Split sp = all_splits[next_split];
+            sp.seg -= sb;
+            splits.push_back(sp);
         }
+
         for (auto& sp : splits)  // a split at a segment's end is the next segment's start
             if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0, sp.occluder};
         std::sort(splits.begin(), splits.end());
