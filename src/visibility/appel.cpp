@@ -187,7 +187,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
     };
     thread_local std::vector<Crossed> crossed;  // (reused from walk to walk)
     crossed.clear();
-    g.grid->candidates(path, [&](std::uint32_t k) {
+    g.occluder_grid().candidates(path, [&](std::uint32_t k) {
         if (result != Walk::Visible) return;
         const Segment2& o = g.occluders[k];
         if (o.edge == own_edge) return;
@@ -571,7 +571,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         box[3] = std::max({box[3], o.a.y, o.b.y});
     }
     box[0] -= 1.0, box[1] += 1.0, box[2] -= 1.0, box[3] += 1.0;
-    for (std::size_t c = 0; c < nc && options.walk && graph.grid; ++c) {
+    for (std::size_t c = 0; c < nc && options.walk; ++c) {
         if (state[c] != kBound || zero[c] == UINT32_MAX) continue;
         const std::uint32_t p = zero[c];
         const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);

@@ -24,16 +24,21 @@ struct ClipSeg {
     Segment3 in_3d() const { return {A, B, LA, LB}; }
 };
 
-// Clips edge (P,Q) to depth >= n; returns false when nothing is left.
-bool clip_edge(const Camera& cam, double n, glm::dvec3 P, glm::dvec3 Q, double sP, double sQ, ClipSeg& out) {
+// Clips edge (P,Q) (mesh vertices vP, vQ) to depth >= n; returns false when nothing is left. The
+// images of unclipped ends come from `images` (each vertex projected once per view).
+bool clip_edge(const Camera& cam, double n, const VertexImages& images, std::uint32_t vP, std::uint32_t vQ,
+               glm::dvec3 P, glm::dvec3 Q, double sP, double sQ, ClipSeg& out) {
     double zP = cam.depth(P), zQ = cam.depth(Q);
     if (!(zP >= n) && !(zQ >= n)) return false;
+    bool keepP = true, keepQ = true;
     if (zP < n) {
+        keepP = false;
         const double u = (n - zP) / (zQ - zP);
         P = P + u * (Q - P);
         sP = sP + u * (sQ - sP);
         zP = n;
     } else if (zQ < n) {
+        keepQ = false;
         const double u = (n - zQ) / (zP - zQ);
         Q = Q + u * (P - Q);
         sQ = sQ + u * (sP - sQ);
@@ -45,8 +50,8 @@ bool clip_edge(const Camera& cam, double n, glm::dvec3 P, glm::dvec3 Q, double s
     out.zB = zQ;
     out.sA = sP;
     out.sB = sQ;
-    out.a = cam.project(P);
-    out.b = cam.project(Q);
+    out.a = keepP ? images(vP) : cam.project(P);
+    out.b = keepQ ? images(vQ) : cam.project(Q);
     out.slack = std::max(image_slack(cam, P, out.a), image_slack(cam, Q, out.b));
     return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
 }
@@ -106,14 +111,14 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         for (std::uint32_t e : *list) {
             const auto [v0, v1] = mesh.edge_vertex[e];
             ClipSeg s;
-            if (clip_edge(camera, occluder_near, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
+            if (clip_edge(camera, occluder_near, g.images, v0, v1, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
                 s.LA = &mesh.positions[v0];
                 s.LB = &mesh.positions[v1];
                 occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
                 occ_clip.push_back(s);
             }
         }
-    g.grid.emplace(occluders, camera.width(), camera.height());
+    g.image_size = glm::dvec2(camera.width(), camera.height());
 
     // The extreme points of the occluders' image (the bounding-box rule of the fast method).
     g.extreme_vertices.fill(UINT32_MAX);
@@ -129,9 +134,9 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             }
     }
 
-    std::vector<std::uint8_t> in_curves(mesh.edge_count(), 0);
+    std::vector<std::uint64_t> in_curves(mesh.edge_count() / 64 + 1, 0);  // a bit per edge
     for (const auto& c : features.curves)
-        for (std::uint32_t e : c.edges) in_curves[e] = 1;
+        for (std::uint32_t e : c.edges) in_curves[e >> 6] |= std::uint64_t(1) << (e & 63);
 
     // 1. Every curve clipped to the near plane and projected: segments of all curves in one array,
     // curve ci's in [seg_begin[ci], seg_begin[ci + 1]).
@@ -151,7 +156,8 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             ClipSeg s;
-            if (!clip_edge(camera, camera.near_distance(), mesh.positions[va], mesh.positions[vb], forward ? 0.0 : 1.0,
+            if (!clip_edge(camera, camera.near_distance(), g.images, va, vb, mesh.positions[va], mesh.positions[vb],
+                           forward ? 0.0 : 1.0,
                            forward ? 1.0 : 0.0, s)) {
                 interrupted = true;
                 continue;
@@ -193,7 +199,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             double t[2];
             const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t);
             if (n == 0) continue;
-            if (!in_curves[o.edge] || s.edge < o.edge) ++out.crossings;
+            if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++out.crossings;
             for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
@@ -214,10 +220,26 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
                     all_splits.push_back({j, std::clamp(t, 0.0, 1.0), kNoOccluder});
                 }
             }
-        // (by segment, parameter, then occluder: the same order whatever the order of the pairs)
-        std::sort(all_splits.begin(), all_splits.end(), [](const Split& x, const Split& y) {
-            return x.seg != y.seg ? x.seg < y.seg : x.t != y.t ? x.t < y.t : x.occluder < y.occluder;
-        });
+        // By segment (a counting sort), then parameter and occluder (an insertion sort of each
+        // segment's few splits): the same order whatever the order of the pairs.
+        std::vector<std::uint32_t> at(all_segs.size() + 1, 0);
+        for (const Split& sp : all_splits) ++at[sp.seg + 1];
+        for (std::size_t j = 0; j < all_segs.size(); ++j) at[j + 1] += at[j];
+        std::vector<Split> sorted(all_splits.size());
+        {
+            std::vector<std::uint32_t> next(at.begin(), at.end() - 1);
+            for (const Split& sp : all_splits) sorted[next[sp.seg]++] = sp;
+        }
+        auto before = [](const Split& x, const Split& y) { return x.t != y.t ? x.t < y.t : x.occluder < y.occluder; };
+        for (std::size_t j = 0; j < all_segs.size(); ++j) {
+            if (at[j + 1] - at[j] > 16) {  // (a long segment crossing many edges)
+                std::sort(sorted.begin() + at[j], sorted.begin() + at[j + 1], before);
+                continue;
+            }
+            for (std::uint32_t i = at[j] + 1; i < at[j + 1]; ++i)
+                for (std::uint32_t k = i; k > at[j] && before(sorted[k], sorted[k - 1]); --k) std::swap(sorted[k], sorted[k - 1]);
+        }
+        all_splits = std::move(sorted);
     }
 
     // 3. Per curve: pieces cut at the splits.

@@ -83,10 +83,18 @@ struct PieceGraph {
     };
     std::vector<End> ends;
     std::vector<Segment2> occluders;   // silhouette and border edges in the image (clipped)
-    std::optional<SegmentGrid> grid;   // their grid index
+    // Their grid index, built on first use (walks need it; most views make none).
+    const SegmentGrid& occluder_grid() const {
+        if (!grid_) grid_.emplace(occluders, image_size.x, image_size.y);
+        return *grid_;
+    }
+    glm::dvec2 image_size{0.0};  // the camera's image, pixels
     bool immersive = false;  // geometry at or behind the near plane
     std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
     VertexImages images;  // the mesh vertices in the image (walks project the faces they cross)
+
+private:
+    mutable std::optional<SegmentGrid> grid_;
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
