@@ -72,6 +72,21 @@ struct Split {
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
+// build_pieces' working arrays, kept per thread from view to view.
+struct Scratch {
+    struct Pending {
+        std::uint32_t seg, occluder;
+        double t;
+    };
+    std::vector<ClipSeg> occ_clip, all_segs;
+    std::vector<std::uint64_t> in_curves, found;
+    std::vector<std::uint32_t> seg_begin, at, next;
+    std::vector<Split> all_splits, sorted, splits;
+    std::vector<Pending> pending, wrap;
+    std::vector<Box2f> qbox, obox;
+    BoxPairs pairs;
+};
+
 // True when some geometry lies at or behind the near plane (the camera is among the geometry).
 bool geometry_behind_near(const MeshTopology& mesh, const Camera& camera) {
     const Bounds3& b = mesh.bounds;
@@ -104,7 +119,10 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     // camera's, if nearer).
     const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
     std::vector<Segment2>& occluders = g.occluders;
-    std::vector<ClipSeg> occ_clip;
+    // Scratch arrays kept from view to view (no allocation per view once they are large enough).
+    thread_local Scratch scratch;
+    std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
+    occ_clip.clear();
     occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
     occ_clip.reserve(occluders.capacity());
     for (const auto* list : {&features.silhouette_edges, &features.border_edges})
@@ -134,15 +152,18 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             }
     }
 
-    std::vector<std::uint64_t> in_curves(mesh.edge_count() / 64 + 1, 0);  // a bit per edge
+    std::vector<std::uint64_t>& in_curves = scratch.in_curves;  // a bit per edge
+    in_curves.assign(mesh.edge_count() / 64 + 1, 0);
     for (const auto& c : features.curves)
         for (std::uint32_t e : c.edges) in_curves[e >> 6] |= std::uint64_t(1) << (e & 63);
 
     // 1. Every curve clipped to the near plane and projected: segments of all curves in one array,
     // curve ci's in [seg_begin[ci], seg_begin[ci + 1]).
     const std::size_t ncurves = features.curves.size();
-    std::vector<ClipSeg> all_segs;
-    std::vector<std::uint32_t> seg_begin(ncurves + 1, 0);
+    std::vector<ClipSeg>& all_segs = scratch.all_segs;
+    std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;
+    all_segs.clear();
+    seg_begin.assign(ncurves + 1, 0);
     {
         std::size_t edges = 0;
         for (const auto& c : features.curves) edges += c.edges.size();
@@ -176,11 +197,12 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 
     // 2. Crossings of every curve segment with every occluding edge, in one search: pairs whose
     // boxes overlap (BoxPairs), then the exact test. Splits sorted by segment, then parameter.
-    std::vector<Split> all_splits;
+    std::vector<Split>& all_splits = scratch.all_splits;
+    all_splits.clear();
     {
-        thread_local BoxPairs pairs;
-        thread_local std::vector<Box2f> qbox, obox;
-        thread_local std::vector<std::uint64_t> found;
+        BoxPairs& pairs = scratch.pairs;
+        std::vector<Box2f>&qbox = scratch.qbox, &obox = scratch.obox;
+        std::vector<std::uint64_t>& found = scratch.found;
         qbox.resize(all_segs.size());
         for (std::size_t j = 0; j < all_segs.size(); ++j) {
             const ClipSeg& s = all_segs[j];
@@ -222,14 +244,14 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             }
         // By segment (a counting sort), then parameter and occluder (an insertion sort of each
         // segment's few splits): the same order whatever the order of the pairs.
-        std::vector<std::uint32_t> at(all_segs.size() + 1, 0);
+        std::vector<std::uint32_t>&at = scratch.at, &next = scratch.next;
+        at.assign(all_segs.size() + 1, 0);
         for (const Split& sp : all_splits) ++at[sp.seg + 1];
         for (std::size_t j = 0; j < all_segs.size(); ++j) at[j + 1] += at[j];
-        std::vector<Split> sorted(all_splits.size());
-        {
-            std::vector<std::uint32_t> next(at.begin(), at.end() - 1);
-            for (const Split& sp : all_splits) sorted[next[sp.seg]++] = sp;
-        }
+        std::vector<Split>& sorted = scratch.sorted;
+        sorted.resize(all_splits.size());
+        next.assign(at.begin(), at.end() - 1);
+        for (const Split& sp : all_splits) sorted[next[sp.seg]++] = sp;
         auto before = [](const Split& x, const Split& y) { return x.t != y.t ? x.t < y.t : x.occluder < y.occluder; };
         for (std::size_t j = 0; j < all_segs.size(); ++j) {
             if (at[j + 1] - at[j] > 16) {  // (a long segment crossing many edges)
@@ -239,17 +261,19 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             for (std::uint32_t i = at[j] + 1; i < at[j + 1]; ++i)
                 for (std::uint32_t k = i; k > at[j] && before(sorted[k], sorted[k - 1]); --k) std::swap(sorted[k], sorted[k - 1]);
         }
-        all_splits = std::move(sorted);
+        std::swap(all_splits, sorted);
     }
 
     // 3. Per curve: pieces cut at the splits.
-    std::vector<Split> splits;
-    struct Pending {
-        std::uint32_t seg, occluder;
-        double t;
-    };
-    std::vector<Pending> pending, wrap;  // crossings at the cut being made / at a closed curve's start
+    std::vector<Split>& splits = scratch.splits;
+    using Pending = Scratch::Pending;
+    std::vector<Pending>&pending = scratch.pending, &wrap = scratch.wrap;
+    pending.clear();  // crossings at the cut being made / at a closed curve's start
     std::size_t next_split = 0;
+    Piece cur;  // the piece being built (its storage reused from piece to piece)
+    std::vector<EdgeSpan> cur_spans;
+    out.pieces.reserve(all_splits.size() + ncurves);
+    out.spans.reserve(all_splits.size() + ncurves);
     for (std::uint32_t ci = 0; ci < ncurves; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
         const std::uint32_t sb = seg_begin[ci], se = seg_begin[ci + 1];
@@ -270,8 +294,8 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         // become links carrying the crossings made there.
         const std::uint32_t first_piece = std::uint32_t(out.pieces.size());
         const std::size_t first_link = g.links.size(), first_lc = g.link_crossings.size();
-        Piece cur;
-        std::vector<EdgeSpan> cur_spans;
+        cur.points.clear();
+        cur_spans.clear();
         bool linked = false;  // the next piece emitted continues the last one across `pending`
         auto emit = [&]() {
             if (!cur_spans.empty() && cur.points.size() >= 2) {
