@@ -320,7 +320,7 @@ void BoxPairs::find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, do
     lo[1] = std::max(lo[1], -height), hi[1] = std::min(hi[1], 2.0 * height);
     if (!(lo[0] < hi[0]) || !(lo[1] < hi[1])) lo[0] = 0.0, hi[0] = width, lo[1] = 0.0, hi[1] = height;
     const double ex = hi[0] - lo[0], ey = hi[1] - lo[1];
-    double side = counted ? 2.0 * sum / double(counted) : 0.0;
+    double side = counted ? 4.0 * sum / double(counted) : 0.0;
     side = std::max({side, std::sqrt(ex * ey / (4.0 * double(a.size() + b.size()))), ex / 1024.0, ey / 1024.0});
     nx_ = std::clamp(int(std::ceil(ex / side)), 1, 1024);
     ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);

@@ -63,7 +63,7 @@ struct Box2f {
 Box2f outer_box(const Segment2& s);
 
 // All overlapping pairs between two sets of boxes, each pair once: a uniform grid with cells
-// about twice the boxes' mean size, both sets binned, and in each cell every pair tested whose
+// about four times the boxes' mean size, both sets binned, and in each cell every pair tested whose
 // overlap's lower corner lies in that cell (so a pair is found in one cell only). Boxes covering
 // many cells (clipped or very long segments) are tested against every box of the other set.
 // Cost: the boxes' cells plus the pairs tested; the storage is reused from call to call.

@@ -52,7 +52,8 @@ bool clip_edge(const Camera& cam, double n, const VertexImages& images, std::uin
     out.sB = sQ;
     out.a = keepP ? images(vP) : cam.project(P);
     out.b = keepQ ? images(vQ) : cam.project(Q);
-    out.slack = std::max(image_slack(cam, P, out.a), image_slack(cam, Q, out.b));
+    out.slack = std::max(keepP ? images.slack(vP) : image_slack(cam, P, out.a),
+                         keepQ ? images.slack(vQ) : image_slack(cam, Q, out.b));
     return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
 }
 

@@ -40,7 +40,8 @@ public:
     VertexImages() = default;
     VertexImages(const MeshTopology& mesh, const Camera& camera)
         : positions_(&mesh.positions), camera_(camera), p_(new glm::dvec2[mesh.vertex_count()]),
-          done_(mesh.vertex_count() / 64 + 1, 0) {}
+          slack_(new double[mesh.vertex_count()]), done_(mesh.vertex_count() / 64 + 1, 0),
+          slack_done_(done_.size(), 0) {}
     glm::dvec2 operator()(std::uint32_t v) const {
         std::uint64_t& w = done_[v >> 6];
         const std::uint64_t bit = std::uint64_t(1) << (v & 63);
@@ -50,12 +51,23 @@ public:
         }
         return p_[v];
     }
+    // image_slack (crossings.hpp) of the vertex's image, computed at most once.
+    double slack(std::uint32_t v) const {
+        std::uint64_t& w = slack_done_[v >> 6];
+        const std::uint64_t bit = std::uint64_t(1) << (v & 63);
+        if (!(w & bit)) {
+            w |= bit;
+            slack_[v] = image_slack(camera_, (*positions_)[v], (*this)(v));
+        }
+        return slack_[v];
+    }
 
 private:
     const std::vector<glm::dvec3>* positions_ = nullptr;
     Camera camera_;
     std::unique_ptr<glm::dvec2[]> p_;
-    mutable std::vector<std::uint64_t> done_;
+    std::unique_ptr<double[]> slack_;
+    mutable std::vector<std::uint64_t> done_, slack_done_;
 };
 
 // The pieces of a view before they get their QI, and what the fast method needs to propagate QI
