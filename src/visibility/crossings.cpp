@@ -140,7 +140,7 @@ int image_order(const Camera& camera, const Segment3& l, const glm::dvec3& x, co
 // unclipped l (a clipped end is a construction, off the edge's line by its own rounding).
 int orient_filtered(const Camera& camera, const Segment2& l, const Segment3& l3, glm::dvec2 p, double p_slack,
                     const glm::dvec3& P) {
-    if (l3.A == *l3.LA && l3.B == *l3.LB) {
+    if (l3.unclipped >= 0 ? l3.unclipped == 1 : l3.A == *l3.LA && l3.B == *l3.LB) {
         constexpr double kEps = 0x1p-53;
         const glm::dvec2 u = l.b - l.a, v = p - l.a;
         const double det = u.x * v.y - u.y * v.x;

@@ -31,6 +31,8 @@ struct Segment2 {
 struct Segment3 {
     glm::dvec3 A, B;
     const glm::dvec3 *LA, *LB;
+    // Whether A == *LA and B == *LB (not clipped), if known (1 / 0); -1: compare them when needed.
+    std::int8_t unclipped = -1;
 };
 
 // Bound on the rounding error of camera.project(P) (pixels), for a point in front of the eye

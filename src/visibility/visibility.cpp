@@ -21,7 +21,8 @@ struct ClipSeg {
     std::uint32_t edge;
     bool run_start;  // the curve is interrupted (clipped) before this segment
     const glm::dvec3 *LA = nullptr, *LB = nullptr;  // the mesh vertices at the ends, before clipping
-    Segment3 in_3d() const { return {A, B, LA, LB}; }
+    bool unclipped = false;                          // A == *LA and B == *LB
+    Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
 };
 
 // Clips edge (P,Q) (mesh vertices vP, vQ) to depth >= n; returns false when nothing is left. The
@@ -133,6 +134,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             if (clip_edge(camera, occluder_near, g.images, v0, v1, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
                 s.LA = &mesh.positions[v0];
                 s.LB = &mesh.positions[v1];
+                s.unclipped = s.A == *s.LA && s.B == *s.LB;
                 occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
                 occ_clip.push_back(s);
             }
@@ -187,6 +189,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             s.edge = e;
             s.LA = &mesh.positions[va];
             s.LB = &mesh.positions[vb];
+            s.unclipped = s.A == *s.LA && s.B == *s.LB;
             // A clipped start also interrupts the curve.
             s.run_start = all_segs.size() == first || interrupted || s.A != mesh.positions[va] ||
                           all_segs.back().B != mesh.positions[va];
