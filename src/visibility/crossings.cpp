@@ -326,13 +326,13 @@ void BoxPairs::find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, do
     ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);
     lo_x_ = lo[0], lo_y_ = lo[1];
     inv_x_ = double(nx_) / ex, inv_y_ = double(ny_) / ey;
-    bin(a, a_);
     bin(b, b_);
 
     // Pairs in the grid: found in the cell of their overlap's lower corner, that is the first cell
     // of both boxes' ranges (the cell of a coordinate is monotone): x = max(first x of either) —
-    // one of the two starts at x — and the same in y. The tests of one box against a cell's
-    // boxes are branch-free; the hits are compacted.
+    // one of the two starts at x — and the same in y. Only `b` is binned; each box of `a` visits
+    // its cells. The tests of one box against a cell's boxes are branch-free; the hits are
+    // compacted.
     const std::size_t cells = std::size_t(nx_) * ny_;
     std::uint32_t most = 0;
     for (std::size_t c = 0; c < cells; ++c) most = std::max(most, b_.begin[c + 1] - b_.begin[c]);
@@ -341,57 +341,67 @@ void BoxPairs::find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, do
     const float *bx0 = b_.x0.data(), *by0 = b_.y0.data(), *bx1 = b_.x1.data(), *by1 = b_.y1.data();
     const std::uint32_t *bv0 = b_.v0.data(), *bv1 = b_.v1.data();
     const std::int32_t *bcx = b_.cx0.data(), *bcy = b_.cy0.data();
-    for (std::size_t c = 0; c < cells; ++c) {
-        const std::uint32_t b0 = b_.begin[c], b1 = b_.begin[c + 1];
-        if (b0 == b1) continue;
-        const int x = int(c % std::size_t(nx_)), y = int(c / std::size_t(nx_));
-        for (std::uint32_t p = a_.begin[c]; p < a_.begin[c + 1]; ++p) {
-            const float ax0 = a_.x0[p], ay0 = a_.y0[p], ax1 = a_.x1[p], ay1 = a_.y1[p];
-            const std::uint32_t av0 = a_.v0[p], av1 = a_.v1[p];
-            const bool first_x = a_.cx0[p] == x, first_y = a_.cy0[p] == y;
-            std::uint32_t n = 0, q = b0;
-#if defined(__SSE2__)
-            // Four boxes a step (SSE2 is part of x86-64): the same comparisons as below.
-            const __m128 vx0 = _mm_set1_ps(ax0), vy0 = _mm_set1_ps(ay0), vx1 = _mm_set1_ps(ax1), vy1 = _mm_set1_ps(ay1);
-            const __m128i w0 = _mm_set1_epi32(int(av0)), w1 = _mm_set1_epi32(int(av1));
-            const __m128i cxv = _mm_set1_epi32(x), cyv = _mm_set1_epi32(y);
-            const __m128i all = _mm_set1_epi32(-1);
-            for (; q + 4 <= b1; q += 4) {
-                const __m128 in = _mm_and_ps(
-                    _mm_and_ps(_mm_cmple_ps(vx0, _mm_loadu_ps(bx1 + q)), _mm_cmple_ps(_mm_loadu_ps(bx0 + q), vx1)),
-                    _mm_and_ps(_mm_cmple_ps(vy0, _mm_loadu_ps(by1 + q)), _mm_cmple_ps(_mm_loadu_ps(by0 + q), vy1)));
-                const __m128i u0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bv0 + q));
-                const __m128i u1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bv1 + q));
-                const __m128i shared = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(w0, u0), _mm_cmpeq_epi32(w0, u1)),
-                                                    _mm_or_si128(_mm_cmpeq_epi32(w1, u0), _mm_cmpeq_epi32(w1, u1)));
-                const __m128i okx = first_x ? all : _mm_cmpeq_epi32(cxv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcx + q)));
-                const __m128i oky = first_y ? all : _mm_cmpeq_epi32(cyv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcy + q)));
-                const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(okx, oky));
-                int mask = _mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in));
-                while (mask) {
-                    hit[n++] = q + std::uint32_t(__builtin_ctz(unsigned(mask)));
-                    mask &= mask - 1;
-                }
-            }
-#endif
-            for (; q < b1; ++q) {
-                hit[n] = q;
-                n += (ax0 <= bx1[q]) & (bx0[q] <= ax1) & (ay0 <= by1[q]) & (by0[q] <= ay1) & (av0 != bv0[q]) &
-                     (av0 != bv1[q]) & (av1 != bv0[q]) & (av1 != bv1[q]) & (first_x | (bcx[q] == x)) &
-                     (first_y | (bcy[q] == y));
-            }
-            const std::uint64_t i = std::uint64_t(a_.items[p]) << 32;
-            for (std::uint32_t h = 0; h < n; ++h) out.push_back(i | b_.items[hit[h]]);
+    a_big_.clear();
+    // Each box of `a` against the binned boxes of `b` in its cells.
+    for (std::uint32_t i = 0; i < a.size(); ++i) {
+        const Box2f& A = a[i];
+        const int ax0c = cx(A.x0), ax1c = cx(A.x1), ay0c = cy(A.y0), ay1c = cy(A.y1);
+        if ((ax1c - ax0c + 1) * (ay1c - ay0c + 1) > kBigCells) {
+            a_big_.push_back(i);
+            continue;
         }
+        const std::uint64_t i_hi = std::uint64_t(i) << 32;
+        for (int y = ay0c; y <= ay1c; ++y)
+            for (int x = ax0c; x <= ax1c; ++x) {
+                const std::size_t c = std::size_t(y) * nx_ + x;
+                const std::uint32_t b0 = b_.begin[c], b1 = b_.begin[c + 1];
+                if (b0 == b1) continue;
+                const bool first_x = ax0c == x, first_y = ay0c == y;
+                std::uint32_t n = 0, q = b0;
+#if defined(__SSE2__)
+                // Four boxes a step (SSE2 is part of x86-64): the same comparisons as below.
+                const __m128 vx0 = _mm_set1_ps(A.x0), vy0 = _mm_set1_ps(A.y0), vx1 = _mm_set1_ps(A.x1),
+                             vy1 = _mm_set1_ps(A.y1);
+                const __m128i w0 = _mm_set1_epi32(int(A.v0)), w1 = _mm_set1_epi32(int(A.v1));
+                const __m128i cxv = _mm_set1_epi32(x), cyv = _mm_set1_epi32(y);
+                const __m128i all = _mm_set1_epi32(-1);
+                for (; q + 4 <= b1; q += 4) {
+                    const __m128 in = _mm_and_ps(
+                        _mm_and_ps(_mm_cmple_ps(vx0, _mm_loadu_ps(bx1 + q)), _mm_cmple_ps(_mm_loadu_ps(bx0 + q), vx1)),
+                        _mm_and_ps(_mm_cmple_ps(vy0, _mm_loadu_ps(by1 + q)), _mm_cmple_ps(_mm_loadu_ps(by0 + q), vy1)));
+                    const __m128i u0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bv0 + q));
+                    const __m128i u1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bv1 + q));
+                    const __m128i shared = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(w0, u0), _mm_cmpeq_epi32(w0, u1)),
+                                                        _mm_or_si128(_mm_cmpeq_epi32(w1, u0), _mm_cmpeq_epi32(w1, u1)));
+                    const __m128i okx =
+                        first_x ? all : _mm_cmpeq_epi32(cxv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcx + q)));
+                    const __m128i oky =
+                        first_y ? all : _mm_cmpeq_epi32(cyv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcy + q)));
+                    const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(okx, oky));
+                    int mask = _mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in));
+                    while (mask) {
+                        hit[n++] = q + std::uint32_t(__builtin_ctz(unsigned(mask)));
+                        mask &= mask - 1;
+                    }
+                }
+#endif
+                for (; q < b1; ++q) {
+                    hit[n] = q;
+                    n += (A.x0 <= bx1[q]) & (bx0[q] <= A.x1) & (A.y0 <= by1[q]) & (by0[q] <= A.y1) & (A.v0 != bv0[q]) &
+                         (A.v0 != bv1[q]) & (A.v1 != bv0[q]) & (A.v1 != bv1[q]) & (first_x | (bcx[q] == x)) &
+                         (first_y | (bcy[q] == y));
+                }
+                for (std::uint32_t h = 0; h < n; ++h) out.push_back(i_hi | b_.items[hit[h]]);
+            }
     }
-    // Big boxes of `a` against all of `b`; big boxes of `b` against the binned boxes of `a`.
-    for (std::uint32_t i : a_.big)
+    // Big boxes of `a` against all of `b`; big boxes of `b` against the other boxes of `a`.
+    for (std::uint32_t i : a_big_)
         for (std::uint32_t k = 0; k < b.size(); ++k)
             if (overlap(a[i], b[k])) out.push_back(std::uint64_t(i) << 32 | k);
     if (!b_.big.empty()) {
         std::vector<std::uint8_t>& a_big = big_mark_;
         a_big.assign(a.size(), 0);
-        for (std::uint32_t i : a_.big) a_big[i] = 1;
+        for (std::uint32_t i : a_big_) a_big[i] = 1;
         for (std::uint32_t k : b_.big)
             for (std::uint32_t i = 0; i < a.size(); ++i)
                 if (!a_big[i] && overlap(a[i], b[k])) out.push_back(std::uint64_t(i) << 32 | k);

@@ -65,8 +65,8 @@ struct Box2f {
 Box2f outer_box(const Segment2& s);
 
 // All overlapping pairs between two sets of boxes, each pair once: a uniform grid with cells
-// about four times the boxes' mean size, both sets binned, and in each cell every pair tested whose
-// overlap's lower corner lies in that cell (so a pair is found in one cell only). Boxes covering
+// about four times the boxes' mean size, the second set binned, each box of the first tested in
+// its cells against the pairs whose overlap's lower corner lies in that cell (so a pair is found in one cell only). Boxes covering
 // many cells (clipped or very long segments) are tested against every box of the other set.
 // Cost: the boxes' cells plus the pairs tested; the storage is reused from call to call.
 class BoxPairs {
@@ -97,7 +97,8 @@ private:
     }
     double lo_x_ = 0.0, lo_y_ = 0.0, inv_x_ = 1.0, inv_y_ = 1.0;
     int nx_ = 1, ny_ = 1;
-    Bins a_, b_;
+    Bins b_;
+    std::vector<std::uint32_t> a_big_;
     std::vector<std::uint8_t> big_mark_;
     std::vector<std::uint32_t> hits_;
     std::vector<std::array<std::int16_t, 4>> ranges_;
