@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include <unistd.h>
 #include <sys/wait.h>
 
 namespace inkline_test {
@@ -27,10 +29,12 @@ inline std::string slurp(const fs::path& p) {
     return ss.str();
 }
 
-// An empty directory named after the running test (and `prefix`, the test file's).
+// An empty directory named after the running test (and `prefix`, the test file's) and the
+// process (test suites of several checkouts may run at once on one machine).
 inline fs::path scratch(const std::string& prefix) {
     const fs::path d = fs::path(::testing::TempDir()) /
-                       (prefix + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+                       (prefix + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                        std::to_string(::getpid()));
     fs::remove_all(d);
     fs::create_directories(d);
     return d;
