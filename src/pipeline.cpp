@@ -95,7 +95,7 @@ void ViewSession::finish(const Camera& camera) {
     VisibleCurves curves;
     AppelStats as;
     if (appel) {
-        PieceGraph g = build_pieces(model.topology(), v.features, camera, &si.cuts);
+        PieceGraph g = build_pieces(model.topology(), v.features, camera, &si.cuts, options.threads);
         as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g, {options.exact_hidden, pierced, options.walk});
         curves = std::move(g.curves);
         curves.ray_tests = as.ray_tests;

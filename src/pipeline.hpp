@@ -51,6 +51,9 @@ struct ViewOptions {
     bool exact_hidden = true;
     // The fast method walks the surface (section 4.4) before it makes a ray test.
     bool walk = true;
+    // Threads for the visibility stage's crossing search and pieces (large views only; the same
+    // pieces as with one).
+    int threads = 1;
 };
 
 struct View {

@@ -178,5 +178,56 @@ TEST(BorderCusps, CurvedSheet) {
     EXPECT_GT(cusps, 0u);
 }
 
+
+// build_pieces on two threads (the curves split in two ranges, the second's pieces and links
+// appended) gives exactly the pieces, spans, links, crossings and curve ends of one thread.
+TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
+    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const MeshTopology& mesh = model.topology();
+    const SelfIntersections& si = model.self_intersections();
+    std::mt19937 rng(7u);
+    for (int k = 0; k < 6; ++k) {
+        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        cam.set_near(default_near(mesh));
+        const Features f = extract_features(mesh, cam);
+        const PieceGraph one = build_pieces(mesh, f, cam, &si.cuts, 1);
+        const PieceGraph two = build_pieces(mesh, f, cam, &si.cuts, 2, /*parallel_edges=*/0);
+        ASSERT_GT(one.curves.pieces.size(), 100u) << k;
+        ASSERT_EQ(one.curves.pieces.size(), two.curves.pieces.size()) << k;
+        EXPECT_EQ(one.curves.crossings, two.curves.crossings) << k;
+        for (std::size_t p = 0; p < one.curves.pieces.size(); ++p) {
+            const Piece &a = one.curves.pieces[p], &b = two.curves.pieces[p];
+            ASSERT_TRUE(a.kind == b.kind && a.curve == b.curve && a.points == b.points) << k << " piece " << p;
+            const auto &sa = one.curves.spans[p], &sb = two.curves.spans[p];
+            ASSERT_EQ(sa.size(), sb.size()) << k << " piece " << p;
+            for (std::size_t i = 0; i < sa.size(); ++i)
+                ASSERT_TRUE(sa[i].edge == sb[i].edge && sa[i].s0 == sb[i].s0 && sa[i].s1 == sb[i].s1) << k << " " << p;
+        }
+        ASSERT_EQ(one.links.size(), two.links.size()) << k;
+        for (std::size_t l = 0; l < one.links.size(); ++l)
+            ASSERT_TRUE(one.links[l].before == two.links[l].before && one.links[l].after == two.links[l].after) << k;
+        ASSERT_EQ(one.link_crossings.size(), two.link_crossings.size()) << k;
+        for (std::size_t c = 0; c < one.link_crossings.size(); ++c) {
+            const auto &x = one.link_crossings[c], &y = two.link_crossings[c];
+            ASSERT_TRUE(x.link == y.link && x.occluder == y.occluder && x.t == y.t && x.occluder_s == y.occluder_s &&
+                        x.occluder_edge == y.occluder_edge && x.c1 == y.c1 && x.c2 == y.c2)
+                << k << " crossing " << c;
+        }
+        ASSERT_EQ(one.ends.size(), two.ends.size()) << k;
+        for (std::size_t e = 0; e < one.ends.size(); ++e)
+            ASSERT_TRUE(one.ends[e].piece == two.ends[e].piece && one.ends[e].vertex == two.ends[e].vertex &&
+                        one.ends[e].edge == two.ends[e].edge)
+                << k;
+    }
+    // Through the pipeline: the same drawing.
+    ViewOptions o1, o2;
+    o2.threads = 2;
+    const Camera cam = Camera::framing(mesh.bounds, 1024, 1024);
+    const View v1 = render_view(model, cam, o1), v2 = render_view(model, cam, o2);
+    ASSERT_EQ(v1.drawing.pieces.size(), v2.drawing.pieces.size());
+    for (std::size_t p = 0; p < v1.drawing.pieces.size(); ++p)
+        ASSERT_TRUE(v1.drawing.pieces[p].points == v2.drawing.pieces[p].points && v1.drawing.pieces[p].qi == v2.drawing.pieces[p].qi);
+}
+
 }  // namespace
 }  // namespace inkline

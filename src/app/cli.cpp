@@ -58,7 +58,7 @@ const char* kUsage =
     "                      [--first-view=random|exhaustive]\n"
     "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading] [--style=NAME|FILE]\n"
     "                      [--no-coherence] [--no-panel] [--recall] [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
-    "                      [--export=F.{svg,pdf,png,json}] [--fps]]\n"
+    "                      [--export=F.{svg,pdf,png,json}] [--fps]] [--threads=N]\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh), or SURFACES (below).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"

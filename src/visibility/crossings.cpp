@@ -300,57 +300,61 @@ void BoxPairs::bin(const std::vector<Box2f>& boxes, Bins& bins) {
     bins.begin[0] = 0;
 }
 
-void BoxPairs::find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, double width, double height,
-                    std::vector<std::uint64_t>& out) {
-    if (a.empty() || b.empty()) return;
-    // The grid: over the finite extent of both sets within the widened image, cells about twice
-    // the mean box side, at most ~4 cells per box and 1024 a side.
+void BoxPairs::prepare(const std::vector<Box2f>& b, double width, double height) {
+    b_boxes_ = &b;
+    // The grid: over the finite extent of the boxes within the widened image, cells about four
+    // times the mean box side, at most ~4 cells per box and 1024 a side.
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, sum = 0.0;
     std::size_t counted = 0;
-    for (const auto* set : {&a, &b})
-        for (const Box2f& x : *set) {
-            const double w = double(x.x1) - x.x0, h = double(x.y1) - x.y0;
-            if (!(w <= width && h <= height)) continue;  // huge or not finite: not in the sizing
-            lo[0] = std::min(lo[0], double(x.x0)), hi[0] = std::max(hi[0], double(x.x1));
-            lo[1] = std::min(lo[1], double(x.y0)), hi[1] = std::max(hi[1], double(x.y1));
-            sum += std::max(w, h);
-            ++counted;
-        }
+    for (const Box2f& x : b) {
+        const double w = double(x.x1) - x.x0, h = double(x.y1) - x.y0;
+        if (!(w <= width && h <= height)) continue;  // huge or not finite: not in the sizing
+        lo[0] = std::min(lo[0], double(x.x0)), hi[0] = std::max(hi[0], double(x.x1));
+        lo[1] = std::min(lo[1], double(x.y0)), hi[1] = std::max(hi[1], double(x.y1));
+        sum += std::max(w, h);
+        ++counted;
+    }
     lo[0] = std::max(lo[0], -width), hi[0] = std::min(hi[0], 2.0 * width);
     lo[1] = std::max(lo[1], -height), hi[1] = std::min(hi[1], 2.0 * height);
     if (!(lo[0] < hi[0]) || !(lo[1] < hi[1])) lo[0] = 0.0, hi[0] = width, lo[1] = 0.0, hi[1] = height;
     const double ex = hi[0] - lo[0], ey = hi[1] - lo[1];
     double side = counted ? 4.0 * sum / double(counted) : 0.0;
-    side = std::max({side, std::sqrt(ex * ey / (4.0 * double(a.size() + b.size()))), ex / 1024.0, ey / 1024.0});
+    side = std::max({side, std::sqrt(ex * ey / (4.0 * double(b.size() + 1))), ex / 1024.0, ey / 1024.0});
     nx_ = std::clamp(int(std::ceil(ex / side)), 1, 1024);
     ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);
     lo_x_ = lo[0], lo_y_ = lo[1];
     inv_x_ = double(nx_) / ex, inv_y_ = double(ny_) / ey;
     bin(b, b_);
+    most_ = 0;
+    for (std::size_t c = 0; c + 1 < b_.begin.size(); ++c) most_ = std::max(most_, b_.begin[c + 1] - b_.begin[c]);
+}
 
+void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& out,
+                     std::vector<std::uint32_t>& hits) const {
+    if (a.empty() || !b_boxes_ || b_boxes_->empty()) return;
+    const std::vector<Box2f>& b = *b_boxes_;
     // Pairs in the grid: found in the cell of their overlap's lower corner, that is the first cell
     // of both boxes' ranges (the cell of a coordinate is monotone): x = max(first x of either) —
     // one of the two starts at x — and the same in y. Only `b` is binned; each box of `a` visits
     // its cells. The tests of one box against a cell's boxes are branch-free; the hits are
     // compacted.
-    const std::size_t cells = std::size_t(nx_) * ny_;
-    std::uint32_t most = 0;
-    for (std::size_t c = 0; c < cells; ++c) most = std::max(most, b_.begin[c + 1] - b_.begin[c]);
-    hits_.resize(most);
-    std::uint32_t* hit = hits_.data();
+    hits.resize(most_);
+    std::uint32_t* hit = hits.data();
     const float *bx0 = b_.x0.data(), *by0 = b_.y0.data(), *bx1 = b_.x1.data(), *by1 = b_.y1.data();
     const std::uint32_t *bv0 = b_.v0.data(), *bv1 = b_.v1.data();
     const std::int32_t *bcx = b_.cx0.data(), *bcy = b_.cy0.data();
-    a_big_.clear();
-    // Each box of `a` against the binned boxes of `b` in its cells.
+    // Each box of `a` against the binned boxes of `b` in its cells, and against the big ones.
     for (std::uint32_t i = 0; i < a.size(); ++i) {
         const Box2f& A = a[i];
         const int ax0c = cx(A.x0), ax1c = cx(A.x1), ay0c = cy(A.y0), ay1c = cy(A.y1);
-        if ((ax1c - ax0c + 1) * (ay1c - ay0c + 1) > kBigCells) {
-            a_big_.push_back(i);
+        const std::uint64_t i_hi = std::uint64_t(i) << 32;
+        if ((ax1c - ax0c + 1) * (ay1c - ay0c + 1) > kBigCells) {  // a big box: against every box
+            for (std::uint32_t k = 0; k < b.size(); ++k)
+                if (overlap(A, b[k])) out.push_back(i_hi | k);
             continue;
         }
-        const std::uint64_t i_hi = std::uint64_t(i) << 32;
+        for (std::uint32_t k : b_.big)
+            if (overlap(A, b[k])) out.push_back(i_hi | k);
         for (int y = ay0c; y <= ay1c; ++y)
             for (int x = ax0c; x <= ax1c; ++x) {
                 const std::size_t c = std::size_t(y) * nx_ + x;
@@ -393,18 +397,6 @@ void BoxPairs::find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, do
                 }
                 for (std::uint32_t h = 0; h < n; ++h) out.push_back(i_hi | b_.items[hit[h]]);
             }
-    }
-    // Big boxes of `a` against all of `b`; big boxes of `b` against the other boxes of `a`.
-    for (std::uint32_t i : a_big_)
-        for (std::uint32_t k = 0; k < b.size(); ++k)
-            if (overlap(a[i], b[k])) out.push_back(std::uint64_t(i) << 32 | k);
-    if (!b_.big.empty()) {
-        std::vector<std::uint8_t>& a_big = big_mark_;
-        a_big.assign(a.size(), 0);
-        for (std::uint32_t i : a_big_) a_big[i] = 1;
-        for (std::uint32_t k : b_.big)
-            for (std::uint32_t i = 0; i < a.size(); ++i)
-                if (!a_big[i] && overlap(a[i], b[k])) out.push_back(std::uint64_t(i) << 32 | k);
     }
 }
 

@@ -72,11 +72,17 @@ Box2f outer_box(const Segment2& s);
 class BoxPairs {
 public:
     // Appends (i << 32 | k) for every i in `a`, k in `b` whose boxes overlap and whose edges share
-    // no vertex, in no fixed order.
-    // `width`, `height`: the image (cells cover at most the image widened by one size each side;
-    // the rim cells hold whatever lies beyond).
+    // no vertex, in no fixed order. `width`, `height`: the image (cells cover at most the image
+    // widened by one size each side; the rim cells hold whatever lies beyond).
     void find(const std::vector<Box2f>& a, const std::vector<Box2f>& b, double width, double height,
-              std::vector<std::uint64_t>& out);
+              std::vector<std::uint64_t>& out) {
+        prepare(b, width, height);
+        pairs(a, out, hits_);
+    }
+    // The same in two steps: bin `b` (kept by reference: it must outlive the queries), then find
+    // the pairs of a set `a` (const: several threads may query at once, each with its own `hits`).
+    void prepare(const std::vector<Box2f>& b, double width, double height);
+    void pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& out, std::vector<std::uint32_t>& hits) const;
 
 private:
     struct Bins {
@@ -86,6 +92,8 @@ private:
         std::vector<std::int32_t> cx0, cy0;  // and the first cell of their range
     };
     void bin(const std::vector<Box2f>& boxes, Bins& bins);
+    const std::vector<Box2f>* b_boxes_ = nullptr;
+    std::uint32_t most_ = 0;  // the most boxes in a cell
     // Cell of a coordinate: monotone, clamped to the grid (truncation is the floor for c >= 0).
     int cx(float x) const {
         const double c = (double(x) - lo_x_) * inv_x_;
@@ -98,8 +106,6 @@ private:
     double lo_x_ = 0.0, lo_y_ = 0.0, inv_x_ = 1.0, inv_y_ = 1.0;
     int nx_ = 1, ny_ = 1;
     Bins b_;
-    std::vector<std::uint32_t> a_big_;
-    std::vector<std::uint8_t> big_mark_;
     std::vector<std::uint32_t> hits_;
     std::vector<std::array<std::int16_t, 4>> ranges_;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -86,8 +87,20 @@ struct Scratch {
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
     std::vector<Box2f> qbox, obox;
-    BoxPairs pairs;
+    std::vector<std::uint32_t> hits;
+    BoxPairs grid;
+    struct Parts {  // a second range's output, before it is appended
+        std::vector<Piece> pieces;
+        std::vector<std::vector<EdgeSpan>> spans;
+        std::vector<PieceGraph::Link> links;
+        std::vector<PieceGraph::LinkCrossing> link_crossings;
+        std::vector<PieceGraph::End> ends;
+        void clear() {
+            pieces.clear(), spans.clear(), links.clear(), link_crossings.clear(), ends.clear();
+        }
+    } parts;
 };
+using Parts2 = Scratch::Parts;
 
 // True when some geometry lies at or behind the near plane (the camera is among the geometry).
 bool geometry_behind_near(const MeshTopology& mesh, const Camera& camera) {
@@ -108,71 +121,38 @@ double default_near(const MeshTopology& mesh) {
     return 1e-6 * (r > 0.0 ? r : 1.0);
 }
 
-PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                        const std::vector<EdgeCut>* cuts) {
-    PieceGraph g;
-    VisibleCurves& out = g.curves;
-    g.immersive = geometry_behind_near(mesh, camera);
-    g.images = VertexImages(mesh, camera);
+namespace {
 
-    // Occluding edges in the image: silhouettes and borders. QI counts the layers between a point
-    // and the eye (DESIGN.md), so the near plane clips the curves drawn, not the occluders: those
-    // are clipped only where they could not be projected, at the default near plane (or the
-    // camera's, if nearer).
-    const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
-    std::vector<Segment2>& occluders = g.occluders;
-    // Scratch arrays kept from view to view (no allocation per view once they are large enough).
-    thread_local Scratch scratch;
-    std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
-    occ_clip.clear();
-    occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
-    occ_clip.reserve(occluders.capacity());
-    for (const auto* list : {&features.silhouette_edges, &features.border_edges})
-        for (std::uint32_t e : *list) {
-            const auto [v0, v1] = mesh.edge_vertex[e];
-            ClipSeg s;
-            if (clip_edge(camera, occluder_near, g.images, v0, v1, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
-                s.LA = &mesh.positions[v0];
-                s.LB = &mesh.positions[v1];
-                s.unclipped = s.A == *s.LA && s.B == *s.LB;
-                occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
-                occ_clip.push_back(s);
-            }
-        }
-    g.image_size = glm::dvec2(camera.width(), camera.height());
+// What build_range gives for one range of curves.
+struct Part {
+    std::vector<Piece>& pieces;
+    std::vector<std::vector<EdgeSpan>>& spans;
+    std::vector<PieceGraph::Link>& links;
+    std::vector<PieceGraph::LinkCrossing>& link_crossings;
+    std::vector<PieceGraph::End>& ends;
+    std::size_t crossings = 0;
+};
 
-    // The extreme points of the occluders' image (the bounding-box rule of the fast method).
-    g.extreme_vertices.fill(UINT32_MAX);
-    if (!g.immersive) {
-        double ext[4] = {1e300, -1e300, 1e300, -1e300};
-        for (const Segment2& o : occluders)
-            for (int end = 0; end < 2; ++end) {
-                const glm::dvec2 p = end ? o.b : o.a;
-                const std::uint32_t v = end ? o.v1 : o.v0;
-                const double val[4] = {p.x, p.x, p.y, p.y};
-                for (int k = 0; k < 4; ++k)
-                    if (k % 2 == 0 ? val[k] < ext[k] : val[k] > ext[k]) ext[k] = val[k], g.extreme_vertices[k] = v;
-            }
-    }
-
-    std::vector<std::uint64_t>& in_curves = scratch.in_curves;  // a bit per edge
-    in_curves.assign(mesh.edge_count() / 64 + 1, 0);
-    for (const auto& c : features.curves)
-        for (std::uint32_t e : c.edges) in_curves[e >> 6] |= std::uint64_t(1) << (e & 63);
-
-    // 1. Every curve clipped to the near plane and projected: segments of all curves in one array,
-    // curve ci's in [seg_begin[ci], seg_begin[ci + 1]).
-    const std::size_t ncurves = features.curves.size();
+// The pieces of curves [c0, c1) (build_pieces' work after the occluders), appended to P; piece
+// and link indices local to P. `images` must hold every curve vertex already when this runs on
+// several threads (it is then only read).
+void build_range(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const std::vector<Segment2>& occluders,
+                 const std::vector<ClipSeg>& occ_clip, const std::vector<std::uint64_t>& in_curves,
+                 const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1, Scratch& scratch, Part& P) {
+    // 1. Every curve of the range clipped to the near plane and projected: their segments in one
+    // array, curve ci's in [seg_begin[ci - c0], seg_begin[ci - c0 + 1]).
+    const std::uint32_t ncurves = c1 - c0;
     std::vector<ClipSeg>& all_segs = scratch.all_segs;
-    std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;
+    std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;  // indexed by ci - c0
     all_segs.clear();
     seg_begin.assign(ncurves + 1, 0);
     {
         std::size_t edges = 0;
-        for (const auto& c : features.curves) edges += c.edges.size();
+        for (std::uint32_t ci = c0; ci < c1; ++ci) edges += features.curves[ci].edges.size();
         all_segs.reserve(edges);
     }
-    for (std::uint32_t ci = 0; ci < ncurves; ++ci) {
+    for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
         const std::size_t first = all_segs.size();
         bool interrupted = false;
@@ -180,7 +160,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             ClipSeg s;
-            if (!clip_edge(camera, camera.near_distance(), g.images, va, vb, mesh.positions[va], mesh.positions[vb],
+            if (!clip_edge(camera, camera.near_distance(), images, va, vb, mesh.positions[va], mesh.positions[vb],
                            forward ? 0.0 : 1.0,
                            forward ? 1.0 : 0.0, s)) {
                 interrupted = true;
@@ -196,7 +176,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             interrupted = s.B != mesh.positions[vb];
             all_segs.push_back(s);
         }
-        seg_begin[ci + 1] = std::uint32_t(all_segs.size());
+        seg_begin[ci - c0 + 1] = std::uint32_t(all_segs.size());
     }
 
     // 2. Crossings of every curve segment with every occluding edge, in one search: pairs whose
@@ -204,18 +184,15 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     std::vector<Split>& all_splits = scratch.all_splits;
     all_splits.clear();
     {
-        BoxPairs& pairs = scratch.pairs;
-        std::vector<Box2f>&qbox = scratch.qbox, &obox = scratch.obox;
+        std::vector<Box2f>& qbox = scratch.qbox;
         std::vector<std::uint64_t>& found = scratch.found;
         qbox.resize(all_segs.size());
         for (std::size_t j = 0; j < all_segs.size(); ++j) {
             const ClipSeg& s = all_segs[j];
             qbox[j] = outer_box({s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack});
         }
-        obox.resize(occluders.size());
-        for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
         found.clear();
-        pairs.find(qbox, obox, camera.width(), camera.height(), found);
+        grid.pairs(qbox, found, scratch.hits);
         for (const std::uint64_t f : found) {
             const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
             const ClipSeg& s = all_segs[j];
@@ -225,7 +202,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             double t[2];
             const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t);
             if (n == 0) continue;
-            if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++out.crossings;
+            if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
             for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
@@ -276,11 +253,11 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     std::size_t next_split = 0;
     Piece cur;  // the piece being built (its storage reused from piece to piece)
     std::vector<EdgeSpan> cur_spans;
-    out.pieces.reserve(all_splits.size() + ncurves);
-    out.spans.reserve(all_splits.size() + ncurves);
-    for (std::uint32_t ci = 0; ci < ncurves; ++ci) {
+    P.pieces.reserve(P.pieces.size() + all_splits.size() + ncurves);
+    P.spans.reserve(P.spans.size() + all_splits.size() + ncurves);
+    for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
-        const std::uint32_t sb = seg_begin[ci], se = seg_begin[ci + 1];
+        const std::uint32_t sb = seg_begin[ci - c0], se = seg_begin[ci - c0 + 1];
         if (sb == se) continue;
         const std::span<const ClipSeg> segs(all_segs.data() + sb, se - sb);
         splits.clear();
@@ -296,21 +273,21 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 
         // Walk the segments, cutting pieces at splits and interruptions. Cuts between two pieces
         // become links carrying the crossings made there.
-        const std::uint32_t first_piece = std::uint32_t(out.pieces.size());
-        const std::size_t first_link = g.links.size(), first_lc = g.link_crossings.size();
+        const std::uint32_t first_piece = std::uint32_t(P.pieces.size());
+        const std::size_t first_link = P.links.size(), first_lc = P.link_crossings.size();
         cur.points.clear();
         cur_spans.clear();
         bool linked = false;  // the next piece emitted continues the last one across `pending`
         auto emit = [&]() {
             if (!cur_spans.empty() && cur.points.size() >= 2) {
-                const std::uint32_t p = std::uint32_t(out.pieces.size());
+                const std::uint32_t p = std::uint32_t(P.pieces.size());
                 if (linked) {
-                    const std::uint32_t l = std::uint32_t(g.links.size());
-                    g.links.push_back({p - 1, p});
-                    for (const Pending& c : pending) g.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                    const std::uint32_t l = std::uint32_t(P.links.size());
+                    P.links.push_back({p - 1, p});
+                    for (const Pending& c : pending) P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
                 }
-                out.pieces.push_back(cur);
-                out.spans.push_back(cur_spans);
+                P.pieces.push_back(cur);
+                P.spans.push_back(cur_spans);
             }
             pending.clear();
             linked = false;
@@ -359,38 +336,38 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 
         // A closed curve that was not cut at its start vertex: the last piece continues the first
         // (a loop from a junction or cusp back to it is not closed: the QI can change there).
-        const std::uint32_t np = std::uint32_t(out.pieces.size()) - first_piece;
+        const std::uint32_t np = std::uint32_t(P.pieces.size()) - first_piece;
         const bool unbroken = segs.size() == curve.edges.size() &&
                               std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
                               segs.back().B == segs.front().A;
         const std::uint32_t last_piece = first_piece + np - 1;
         if (curve.closed && unbroken && np >= 2 && !split_at_start) {
-            Piece& first = out.pieces[first_piece];
-            Piece last = std::move(out.pieces.back());
-            auto last_spans = std::move(out.spans.back());
-            out.pieces.pop_back();
-            out.spans.pop_back();
+            Piece& first = P.pieces[first_piece];
+            Piece last = std::move(P.pieces.back());
+            auto last_spans = std::move(P.spans.back());
+            P.pieces.pop_back();
+            P.spans.pop_back();
             last.points.insert(last.points.end(), first.points.begin() + 1, first.points.end());
-            last_spans.insert(last_spans.end(), out.spans[first_piece].begin(), out.spans[first_piece].end());
+            last_spans.insert(last_spans.end(), P.spans[first_piece].begin(), P.spans[first_piece].end());
             first.points = std::move(last.points);
-            out.spans[first_piece] = std::move(last_spans);
-            for (std::size_t l = first_link; l < g.links.size(); ++l)
-                if (g.links[l].after == last_piece) g.links[l].after = first_piece;
+            P.spans[first_piece] = std::move(last_spans);
+            for (std::size_t l = first_link; l < P.links.size(); ++l)
+                if (P.links[l].after == last_piece) P.links[l].after = first_piece;
         } else if (np >= 1 && curve.closed && unbroken) {
             // Cut at its start: the last piece goes on into the first across those crossings.
-            const std::uint32_t l = std::uint32_t(g.links.size());
-            g.links.push_back({last_piece, first_piece});
-            for (const Pending& c : wrap) g.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+            const std::uint32_t l = std::uint32_t(P.links.size());
+            P.links.push_back({last_piece, first_piece});
+            for (const Pending& c : wrap) P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
         } else if (np >= 1) {
             // Curve ends at vertices (junctions, cusps, ends of open lines), where not clipped.
             if (segs.front().A == mesh.positions[curve.vertices.front()])
-                g.ends.push_back({first_piece, curve.vertices.front(), curve.edges.front()});
+                P.ends.push_back({first_piece, curve.vertices.front(), curve.edges.front()});
             if (segs.back().B == mesh.positions[curve.vertices.back()])
-                g.ends.push_back({last_piece, curve.vertices.back(), curve.edges.back()});
+                P.ends.push_back({last_piece, curve.vertices.back(), curve.edges.back()});
         }
         // Crossings in 3D: the curve's segment in travel order, and the occluder's edge parameter.
-        for (std::size_t i = first_lc; i < g.link_crossings.size(); ++i) {
-            auto& c = g.link_crossings[i];
+        for (std::size_t i = first_lc; i < P.link_crossings.size(); ++i) {
+            auto& c = P.link_crossings[i];
             const ClipSeg& s = segs[c.seg];
             const ClipSeg& o = occ_clip[c.occluder];
             c.c1 = s.A;
@@ -402,6 +379,111 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
             c.occluder_edge = occluders[c.occluder].edge;
         }
     }
+}
+
+}  // namespace
+
+PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                        const std::vector<EdgeCut>* cuts, int threads,
+                        std::size_t parallel_edges) {
+    PieceGraph g;
+    VisibleCurves& out = g.curves;
+    g.immersive = geometry_behind_near(mesh, camera);
+    g.images = VertexImages(mesh, camera);
+
+    // Occluding edges in the image: silhouettes and borders. QI counts the layers between a point
+    // and the eye (DESIGN.md), so the near plane clips the curves drawn, not the occluders: those
+    // are clipped only where they could not be projected, at the default near plane (or the
+    // camera's, if nearer).
+    const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
+    std::vector<Segment2>& occluders = g.occluders;
+    // Scratch arrays kept from view to view (no allocation per view once they are large enough).
+    thread_local Scratch scratch;
+    std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
+    occ_clip.clear();
+    occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
+    occ_clip.reserve(occluders.capacity());
+    for (const auto* list : {&features.silhouette_edges, &features.border_edges})
+        for (std::uint32_t e : *list) {
+            const auto [v0, v1] = mesh.edge_vertex[e];
+            ClipSeg s;
+            if (clip_edge(camera, occluder_near, g.images, v0, v1, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
+                s.LA = &mesh.positions[v0];
+                s.LB = &mesh.positions[v1];
+                s.unclipped = s.A == *s.LA && s.B == *s.LB;
+                occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
+                occ_clip.push_back(s);
+            }
+        }
+    g.image_size = glm::dvec2(camera.width(), camera.height());
+
+    // The extreme points of the occluders' image (the bounding-box rule of the fast method).
+    g.extreme_vertices.fill(UINT32_MAX);
+    if (!g.immersive) {
+        double ext[4] = {1e300, -1e300, 1e300, -1e300};
+        for (const Segment2& o : occluders)
+            for (int end = 0; end < 2; ++end) {
+                const glm::dvec2 p = end ? o.b : o.a;
+                const std::uint32_t v = end ? o.v1 : o.v0;
+                const double val[4] = {p.x, p.x, p.y, p.y};
+                for (int k = 0; k < 4; ++k)
+                    if (k % 2 == 0 ? val[k] < ext[k] : val[k] > ext[k]) ext[k] = val[k], g.extreme_vertices[k] = v;
+            }
+    }
+
+    std::vector<std::uint64_t>& in_curves = scratch.in_curves;  // a bit per edge
+    in_curves.assign(mesh.edge_count() / 64 + 1, 0);
+    for (const auto& c : features.curves)
+        for (std::uint32_t e : c.edges) in_curves[e >> 6] |= std::uint64_t(1) << (e & 63);
+
+    // The occluders binned once for the crossing search of every range.
+    BoxPairs& grid = scratch.grid;
+    {
+        std::vector<Box2f>& obox = scratch.obox;
+        obox.resize(occluders.size());
+        for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
+        grid.prepare(obox, camera.width(), camera.height());
+    }
+
+    // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
+    // second on its own thread; its pieces and links are appended after the first's.
+    const std::uint32_t ncurves = std::uint32_t(features.curves.size());
+    std::size_t total_edges = 0;
+    for (const auto& c : features.curves) total_edges += c.edges.size();
+    Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends};
+    if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
+        build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, ncurves, scratch, first);
+    } else {
+        std::uint32_t mid = 0;
+        for (std::size_t edges = 0; mid < ncurves && 2 * edges < total_edges; ++mid) edges += features.curves[mid].edges.size();
+        mid = std::clamp<std::uint32_t>(mid, 1, ncurves - 1);
+        for (const auto& c : features.curves)  // (every image the ranges read, made before they run)
+            for (std::uint32_t v : c.vertices) g.images.slack(v);
+        thread_local Scratch scratch2;
+        Parts2& p2 = scratch2.parts;
+        p2.clear();
+        Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};
+        std::thread worker([&] {
+            build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, mid, ncurves,
+                        scratch2, second);
+        });
+        build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, mid, scratch, first);
+        worker.join();
+        // Append the second range, its indices shifted.
+        const std::uint32_t np = std::uint32_t(out.pieces.size()), nl = std::uint32_t(g.links.size());
+        for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
+        for (auto& c : p2.link_crossings) {
+            g.link_crossings.push_back(c);
+            g.link_crossings.back().link += nl;
+        }
+        for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
+        out.pieces.reserve(out.pieces.size() + p2.pieces.size());
+        out.spans.reserve(out.spans.size() + p2.spans.size());
+        for (auto& x : p2.pieces) out.pieces.push_back(std::move(x));
+        for (auto& x : p2.spans) out.spans.push_back(std::move(x));
+        first.crossings += second.crossings;
+    }
+    out.crossings = first.crossings;
     out.pieces.shrink_to_fit();
     return g;
 }

@@ -110,9 +110,12 @@ private:
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
-// curve edges meet other faces: model/self_intersections.hpp), if given.
+// curve edges meet other faces: model/self_intersections.hpp), if given. With threads > 1 a large
+// view's curves (at least `parallel_edges` curve edges) are split between two threads (the same
+// pieces, in the same order).
 PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                        const std::vector<EdgeCut>* cuts = nullptr);
+                        const std::vector<EdgeCut>* cuts = nullptr, int threads = 1,
+                        std::size_t parallel_edges = 20000);
 
 // Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
 struct PieceProbe {
