@@ -36,5 +36,7 @@ run "randomized 0.002, coherence" --finder=randomized --fraction=0.002
 run "randomized 0.002, no coherence" --finder=randomized --fraction=0.002 --no-coherence
 run "exhaustive, no panel" --finder=exhaustive --no-panel
 run "exhaustive, shading" --finder=exhaustive --shading
+run "exhaustive, 2 threads" --finder=exhaustive --threads=2
+run "randomized 0.002, coherence, 2 threads" --finder=randomized --fraction=0.002 --threads=2
 mv "$OUT.tmp" "$OUT"
 cat "$OUT"
