@@ -138,14 +138,14 @@ void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, s
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t nf,
-                                                            const FacingFilter& flt, float limit,
+__attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
+                                                            std::uint32_t nf, const FacingFilter& flt, float limit,
                                                             std::vector<std::uint32_t>& out) {
     Eye8 eye;
     load_eye8(flt, eye);
     const __m256 lim = _mm256_set1_ps(limit);
     const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    std::uint32_t f = 0;
+    std::uint32_t f = f0;
     for (; f + 8 <= nf; f += 8) {
         Planes8 p8;
         load_planes8(&p[f].nx, p8);
@@ -224,12 +224,147 @@ bool cpu_has_avx2() {
 #endif
 }
 
-void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out) {
+std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
+                         const FaceBlocks* blocks) {
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
+    auto run = [&](std::uint32_t f0, std::uint32_t f1) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), nf, filter, limit, out);
+        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out);
 #endif
-    faces_within_scalar(mesh.facing.data(), 0, nf, filter, limit, out);
+        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out);
+    };
+    if (!blocks || !blocks->built_for(mesh)) {
+        run(0, nf);
+        return nf;
+    }
+    // Blocks whose every float distance is beyond +-limit hold no face of the band; runs of the
+    // other blocks are streamed as before (so the same faces, in order).
+    std::size_t read = 0;
+    std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
+    const std::size_t nb = blocks->size();
+    for (std::size_t b = 0; b <= nb; ++b) {
+        bool skip = true;
+        if (b < nb) {
+            double lo, hi;
+            blocks->distance_range(b, filter, lo, hi);
+            skip = lo > double(limit) || hi < -double(limit);  // false for NaN ranges
+        }
+        const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
+        if (!skip && open == UINT32_MAX) open = f;
+        if (skip && open != UINT32_MAX) {
+            run(open, f);
+            read += f - open;
+            open = UINT32_MAX;
+        }
+    }
+    return read;
+}
+
+void FaceBlocks::build(const MeshTopology& mesh) {
+    mesh_ = &mesh;
+    nf_ = mesh.face_count();
+    const std::size_t nb = (nf_ + kFaces - 1) / kFaces;
+    bounds_.assign(nb, Bounds{});
+    for (std::size_t b = 0; b < nb; ++b) {
+        Bounds& r = bounds_[b];
+        const std::size_t f0 = b * kFaces, f1 = std::min(nf_, f0 + kFaces);
+        // Centre: the middle of the box of the faces' corners, relative to the facing origin.
+        glm::dvec3 lo(INFINITY), hi(-INFINITY);
+        for (std::size_t f = f0; f < f1; ++f)
+            for (std::uint32_t v : mesh.faces[f]) lo = glm::min(lo, mesh.positions[v]), hi = glm::max(hi, mesh.positions[v]);
+        const glm::dvec3 c = 0.5 * (lo + hi) - mesh.facing_origin;
+        for (int i = 0; i < 3; ++i) r.c[i] = float(c[i]);
+        const double cx = r.c[0], cy = r.c[1], cz = r.c[2];
+        double dlo = INFINITY, dhi = -INFINITY, dabs = 0.0;
+        for (int i = 0; i < 3; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
+        bool nan = false;
+        for (std::size_t f = f0; f < f1; ++f) {
+            const auto& p = mesh.facing[f];
+            const float v[3] = {p.nx, p.ny, p.nz};
+            nan = nan || std::isnan(p.nx) || std::isnan(p.ny) || std::isnan(p.nz) || std::isnan(p.d);
+            for (int i = 0; i < 3; ++i) {
+                r.lo[i] = std::min(r.lo[i], v[i]);
+                r.hi[i] = std::max(r.hi[i], v[i]);
+            }
+            const double dp = double(p.d) - (double(p.nx) * cx + double(p.ny) * cy + double(p.nz) * cz);
+            dlo = std::min(dlo, dp);
+            dhi = std::max(dhi, dp);
+            dabs = std::max(dabs, std::abs(double(p.d)));
+        }
+        // d' in double errs by about 2^-52 (|d| + |n|_1 |c|_1); rounded outward by far more.
+        const double err = 0x1p-40 * (dabs + std::abs(cx) + std::abs(cy) + std::abs(cz));
+        r.lo[3] = std::nextafter(float(dlo - err), -INFINITY);
+        r.hi[3] = std::nextafter(float(dhi + err), INFINITY);
+        r.dabs = std::nextafter(float(dabs), INFINITY);
+        if (nan || f0 == f1) r.lo[0] = r.hi[0] = NAN;  // never decided as a whole
+    }
+    // Edges are numbered in the order of their first face (topology.cpp); anything else: no
+    // edge ranges.
+    const std::size_t ne = mesh.edge_count();
+    edge_begin_.clear();
+    nbr_begin_.clear();
+    nbr_.clear();
+    for (std::size_t e = 1; e < ne; ++e)
+        if (mesh.edge_face[e][0] < mesh.edge_face[e - 1][0] || mesh.edge_face[e][0] >= nf_) return;
+    edge_begin_.assign(nb + 1, std::uint32_t(ne));
+    nbr_begin_.assign(nb + 1, 0);
+    std::vector<std::uint32_t> list;
+    std::size_t e = 0;
+    for (std::size_t b = 0; b < nb; ++b) {
+        edge_begin_[b] = std::uint32_t(e);
+        nbr_begin_[b] = std::uint32_t(nbr_.size());
+        list.clear();
+        for (; e < ne && mesh.edge_face[e][0] / kFaces == b; ++e) {
+            const std::uint32_t f1 = mesh.edge_face[e][1];
+            const std::uint32_t nbk = f1 == kNoFace ? kBorderBlock : f1 / kFaces;
+            if (nbk != b) list.push_back(nbk);
+        }
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        nbr_.insert(nbr_.end(), list.begin(), list.end());
+    }
+    nbr_begin_[nb] = std::uint32_t(nbr_.size());
+    nbr_.shrink_to_fit();
+}
+
+std::size_t FaceBlocks::bytes() const {
+    return bounds_.capacity() * sizeof(Bounds) +
+           (edge_begin_.capacity() + nbr_begin_.capacity() + nbr_.capacity()) * sizeof(std::uint32_t);
+}
+
+// The filter's float distance is fl(fl(fl(nx ex) + fl(ny ey)) + fl(nz ez)) - fl(w d); its real
+// value r = dot(n, E) - w d = dot(n, E - w c) - w d' lies in the interval sum of the products'
+// ranges (computed in double: E - w c and the sums err by about 2^-52 relative, the products of
+// floats are exact), and the float evaluation errs from r by at most 4 * 2^-24 * (|nx ex| +
+// |ny ey| + |nz ez| + |w d|); the range is widened by 2^-20 times that sum's bound.
+void FaceBlocks::distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const {
+    const Bounds& r = bounds_[b];
+    const double w = f.w, e[3] = {f.ex, f.ey, f.ez};
+    double l = 0.0, h = 0.0, mag = w * double(r.dabs);
+    for (int i = 0; i < 3; ++i) {
+        const double ei = e[i] - w * double(r.c[i]);
+        const double a = double(r.lo[i]) * ei, c = double(r.hi[i]) * ei;
+        l += std::min(a, c);
+        h += std::max(a, c);
+        mag += std::max(std::abs(double(r.lo[i])), std::abs(double(r.hi[i]))) * std::abs(e[i]);
+    }
+    l -= w * double(r.hi[3]);
+    h -= w * double(r.lo[3]);
+    const double slack = mag * 0x1p-20;
+    if (std::isnan(l) || std::isnan(h) || std::isnan(slack)) {
+        lo = hi = NAN;
+        return;
+    }
+    lo = l - slack;
+    hi = h + slack;
+}
+
+std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
+    double lo, hi;
+    distance_range(b, f, lo, hi);
+    if (lo > double(f.bound)) return FaceFacing::kFront;  // every det > bound
+    if (hi < -double(f.bound)) return FaceFacing::kBack;  // every det < -bound
+    return FaceFacing::kUnknown;                          // (also NaN)
 }
 
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
@@ -241,27 +376,62 @@ void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* i
     band_states_scalar(planes, ids, 0, n, now, before, front_bits, check);
 }
 
-void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads) {
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
     bind(mesh, camera);
     const std::size_t nf = mesh.face_count();
     state_.resize(nf + kPad);
     std::fill(state_.begin() + std::ptrdiff_t(nf), state_.end(), kSentinel);
     touched_.clear();
     full_ = true;
+    if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
+    block_state_.clear();
+    planes_read_ = nf;
     auto run = [&](std::size_t lo, std::size_t hi) {
 #if defined(__x86_64__) && defined(__GNUC__)
         if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
 #endif
         facing_states_scalar(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
     };
+    constexpr std::size_t kB = FaceBlocks::kFaces;
+    std::vector<std::size_t> part_read;
+    // Faces [lo, hi) (lo a block start): blocks decided as a whole are filled with their state,
+    // runs of the others streamed. Returns the faces whose planes were read.
+    auto run_blocks = [&](std::size_t lo, std::size_t hi) -> std::size_t {
+        if (!blocks) {
+            run(lo, hi);
+            return hi - lo;
+        }
+        std::size_t read = 0, open = SIZE_MAX;
+        for (std::size_t b = lo / kB; b * kB < hi; ++b) {
+            const std::uint8_t s = blocks->classify(b, filter_);
+            block_state_[b] = s;
+            const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
+            if (s == kUnknown) {
+                if (open == SIZE_MAX) open = f0;
+                continue;
+            }
+            if (open != SIZE_MAX) run(open, f0), read += f0 - open, open = SIZE_MAX;
+            std::memset(state_.data() + f0, s, f1 - f0);
+        }
+        if (open != SIZE_MAX) run(open, hi), read += hi - open;
+        return read;
+    };
+    if (blocks) block_state_.resize(blocks->size());
     const std::size_t parts = std::size_t(std::clamp(threads, 1, 64));
-    if (parts == 1 || nf < 65536) return run(0, nf);
+    if (parts == 1 || nf < 65536) {
+        planes_read_ = run_blocks(0, nf);
+        return;
+    }
     std::vector<std::thread> pool;
-    const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line aligned parts
+    part_read.assign(parts, 0);
+    const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line (and block) aligned parts
     for (std::size_t i = 1; i < parts; ++i)
-        if (i * step < nf) pool.emplace_back(run, i * step, std::min(nf, (i + 1) * step));
-    run(0, std::min(nf, step));
+        if (i * step < nf)
+            pool.emplace_back([&, i] { part_read[i] = run_blocks(i * step, std::min(nf, (i + 1) * step)); });
+    part_read[0] = run_blocks(0, std::min(nf, step));
     for (auto& t : pool) t.join();
+    planes_read_ = 0;
+    for (std::size_t r : part_read) planes_read_ += r;
 }
 
 float FaceFacing::signed_distance(std::uint32_t f) const { return filter_.signed_distance(mesh_->facing[f]); }
