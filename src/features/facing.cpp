@@ -162,15 +162,68 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
 }
 #endif
 
+void planes_within_scalar(const MeshTopology::FacingPlane* p, const std::uint32_t* ids, std::size_t i0, std::size_t n,
+                          const FacingFilter& flt, float limit, std::vector<std::uint32_t>& out_ids,
+                          std::vector<MeshTopology::FacingPlane>& out_planes) {
+    for (std::size_t i = i0; i < n; ++i)
+        if (!(std::abs(flt.signed_distance(p[i])) > limit)) out_ids.push_back(ids[i]), out_planes.push_back(p[i]);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2,bmi2"))) void planes_within_avx2(const MeshTopology::FacingPlane* p, const std::uint32_t* ids,
+                                                             std::size_t n, const FacingFilter& flt, float limit,
+                                                             std::vector<std::uint32_t>& out_ids,
+                                                             std::vector<MeshTopology::FacingPlane>& out_planes) {
+    Eye8 eye;
+    load_eye8(flt, eye);
+    const __m256 lim = _mm256_set1_ps(limit);
+    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        Planes8 p8;
+        load_planes8(&p[i].nx, p8);
+        __m256 det;
+        eye_distance8(p8, eye, det);
+        unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
+        while (m) {
+            const std::size_t k = i + unsigned(__builtin_ctz(m));
+            out_ids.push_back(ids[k]);
+            out_planes.push_back(p[k]);
+            m &= m - 1;
+        }
+    }
+    planes_within_scalar(p, ids, i, n, flt, limit, out_ids, out_planes);
+}
+#endif
+
+// Sets or clears the bits of ascending face ids in a bit set, one word at a time (band faces are
+// sorted and clustered: most share their word with the previous one, so the word is written
+// once rather than read and written per face).
+struct BitWriter {
+    std::uint64_t* bits;
+    std::uint32_t word = UINT32_MAX;
+    std::uint64_t mask = 0, set = 0;
+    void put(std::uint32_t f, bool on) {
+        if ((f >> 6) != word) {
+            flush();
+            word = f >> 6;
+        }
+        const std::uint64_t m = std::uint64_t(1) << (f & 63);
+        mask |= m;
+        set |= on ? m : 0;
+    }
+    void flush() {
+        if (word != UINT32_MAX) bits[word] = (bits[word] & ~mask) | set;
+        mask = set = 0;
+    }
+};
+
 void band_states_scalar(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t i0, std::size_t n,
-                        const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                        const FacingFilter& now, const FacingFilter& before, BitWriter& front,
                         std::vector<std::uint32_t>& check) {
     for (std::size_t i = i0; i < n; ++i) {
         const std::uint8_t a = now(planes[i]), b = before(planes[i]);
-        const std::uint32_t f = ids[i];
-        const std::uint64_t m = std::uint64_t(1) << (f & 63);
-        std::uint64_t& w = front_bits[f >> 6];
-        w = a == FaceFacing::kFront ? (w | m) : (w & ~m);
+        front.put(ids[i], a == FaceFacing::kFront);
         if (a != b || a == FaceFacing::kUnknown) check.push_back(std::uint32_t(i));
     }
 }
@@ -179,7 +232,7 @@ void band_states_scalar(const MeshTopology::FacingPlane* planes, const std::uint
 __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::FacingPlane* planes,
                                                            const std::uint32_t* ids, std::size_t n,
                                                            const FacingFilter& now, const FacingFilter& before,
-                                                           std::uint64_t* front_bits, std::vector<std::uint32_t>& check) {
+                                                           BitWriter& front, std::vector<std::uint32_t>& check) {
     Eye8 eye_now, eye_before;
     load_eye8(now, eye_now);
     load_eye8(before, eye_before);
@@ -198,18 +251,13 @@ __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::F
         const unsigned kb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bnb, _CMP_NLT_UQ)));
         // states differ, or "now" undecided (not back and not front)
         unsigned odd = (fa ^ fb) | (ka ^ kb) | (ka & ~fa);
-        for (unsigned j = 0; j < 8; ++j) {
-            const std::uint32_t f = ids[i + j];
-            const std::uint64_t m = std::uint64_t(1) << (f & 63);
-            std::uint64_t& w = front_bits[f >> 6];
-            w = (fa >> j) & 1 ? (w | m) : (w & ~m);
-        }
+        for (unsigned j = 0; j < 8; ++j) front.put(ids[i + j], (fa >> j) & 1);
         while (odd) {
             check.push_back(std::uint32_t(i + unsigned(__builtin_ctz(odd))));
             odd &= odd - 1;
         }
     }
-    band_states_scalar(planes, ids, i, n, now, before, front_bits, check);
+    band_states_scalar(planes, ids, i, n, now, before, front, check);
 }
 #endif
 
@@ -262,66 +310,85 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
 
 void FaceBlocks::build(const MeshTopology& mesh) {
     mesh_ = &mesh;
+    edges_tried_ = false;
     nf_ = mesh.face_count();
     const std::size_t nb = (nf_ + kFaces - 1) / kFaces;
     bounds_.assign(nb, Bounds{});
     for (std::size_t b = 0; b < nb; ++b) {
         Bounds& r = bounds_[b];
         const std::size_t f0 = b * kFaces, f1 = std::min(nf_, f0 + kFaces);
-        // Centre: the middle of the box of the faces' corners, relative to the facing origin.
-        glm::dvec3 lo(INFINITY), hi(-INFINITY);
-        for (std::size_t f = f0; f < f1; ++f)
-            for (std::uint32_t v : mesh.faces[f]) lo = glm::min(lo, mesh.positions[v]), hi = glm::max(hi, mesh.positions[v]);
-        const glm::dvec3 c = 0.5 * (lo + hi) - mesh.facing_origin;
-        for (int i = 0; i < 3; ++i) r.c[i] = float(c[i]);
-        const double cx = r.c[0], cy = r.c[1], cz = r.c[2];
-        double dlo = INFINITY, dhi = -INFINITY, dabs = 0.0;
-        for (int i = 0; i < 3; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
+        for (int i = 0; i < 4; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
         bool nan = false;
+#if defined(__x86_64__) && defined(__GNUC__)
+        __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY), un = _mm_setzero_ps();
+        for (std::size_t f = f0; f < f1; ++f) {
+            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);  // FacingPlane is 16-byte aligned
+            lo = _mm_min_ps(lo, p);
+            hi = _mm_max_ps(hi, p);
+            un = _mm_or_ps(un, _mm_cmpunord_ps(p, p));
+        }
+        _mm_storeu_ps(r.lo, lo);
+        _mm_storeu_ps(r.hi, hi);
+        nan = _mm_movemask_ps(un) != 0;
+#else
         for (std::size_t f = f0; f < f1; ++f) {
             const auto& p = mesh.facing[f];
-            const float v[3] = {p.nx, p.ny, p.nz};
-            nan = nan || std::isnan(p.nx) || std::isnan(p.ny) || std::isnan(p.nz) || std::isnan(p.d);
-            for (int i = 0; i < 3; ++i) {
+            const float v[4] = {p.nx, p.ny, p.nz, p.d};
+            for (int i = 0; i < 4; ++i) {
+                nan = nan || std::isnan(v[i]);
                 r.lo[i] = std::min(r.lo[i], v[i]);
                 r.hi[i] = std::max(r.hi[i], v[i]);
             }
-            const double dp = double(p.d) - (double(p.nx) * cx + double(p.ny) * cy + double(p.nz) * cz);
-            dlo = std::min(dlo, dp);
-            dhi = std::max(dhi, dp);
-            dabs = std::max(dabs, std::abs(double(p.d)));
         }
-        // d' in double errs by about 2^-52 (|d| + |n|_1 |c|_1); rounded outward by far more.
-        const double err = 0x1p-40 * (dabs + std::abs(cx) + std::abs(cy) + std::abs(cz));
-        r.lo[3] = std::nextafter(float(dlo - err), -INFINITY);
-        r.hi[3] = std::nextafter(float(dhi + err), INFINITY);
-        r.dabs = std::nextafter(float(dabs), INFINITY);
+#endif
         if (nan || f0 == f1) r.lo[0] = r.hi[0] = NAN;  // never decided as a whole
     }
-    // Edges are numbered in the order of their first face (topology.cpp); anything else: no
-    // edge ranges.
-    const std::size_t ne = mesh.edge_count();
     edge_begin_.clear();
     nbr_begin_.clear();
     nbr_.clear();
-    for (std::size_t e = 1; e < ne; ++e)
-        if (mesh.edge_face[e][0] < mesh.edge_face[e - 1][0] || mesh.edge_face[e][0] >= nf_) return;
+}
+
+void FaceBlocks::build_edges() {
+    // Edges are numbered in the order of their first face (topology.cpp); anything else: no
+    // edge ranges.
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t ne = mesh.edge_count(), nb = bounds_.size();
+    edges_tried_ = true;
     edge_begin_.assign(nb + 1, std::uint32_t(ne));
     nbr_begin_.assign(nb + 1, 0);
-    std::vector<std::uint32_t> list;
+    std::vector<std::uint32_t> list, seen(nb, UINT32_MAX);  // seen[k]: last block that listed k
     std::size_t e = 0;
+    std::uint32_t last = 0;
     for (std::size_t b = 0; b < nb; ++b) {
         edge_begin_[b] = std::uint32_t(e);
         nbr_begin_[b] = std::uint32_t(nbr_.size());
         list.clear();
-        for (; e < ne && mesh.edge_face[e][0] / kFaces == b; ++e) {
-            const std::uint32_t f1 = mesh.edge_face[e][1];
-            const std::uint32_t nbk = f1 == kNoFace ? kBorderBlock : f1 / kFaces;
-            if (nbk != b) list.push_back(nbk);
+        bool border = false;
+        const std::uint32_t end = std::uint32_t(std::min(nf_, (b + 1) * kFaces));
+        for (; e < ne; ++e) {
+            const auto& ef = mesh.edge_face[e];
+            if (ef[0] >= end) break;
+            if (ef[0] < last) {  // not numbered by first face
+                edge_begin_.clear();
+                nbr_begin_.clear();
+                nbr_.clear();
+                return;
+            }
+            last = ef[0];
+            if (ef[1] == kNoFace) {
+                if (!border) list.push_back(kBorderBlock), border = true;
+                continue;
+            }
+            const std::uint32_t nbk = ef[1] / kFaces;
+            if (nbk != b && seen[nbk] != b) seen[nbk] = std::uint32_t(b), list.push_back(nbk);
         }
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
         nbr_.insert(nbr_.end(), list.begin(), list.end());
+    }
+    if (e != ne) {  // edges whose first face is out of range
+        edge_begin_.clear();
+        nbr_begin_.clear();
+        nbr_.clear();
+        return;
     }
     nbr_begin_[nb] = std::uint32_t(nbr_.size());
     nbr_.shrink_to_fit();
@@ -333,23 +400,20 @@ std::size_t FaceBlocks::bytes() const {
 }
 
 // The filter's float distance is fl(fl(fl(nx ex) + fl(ny ey)) + fl(nz ez)) - fl(w d); its real
-// value r = dot(n, E) - w d = dot(n, E - w c) - w d' lies in the interval sum of the products'
-// ranges (computed in double: E - w c and the sums err by about 2^-52 relative, the products of
-// floats are exact), and the float evaluation errs from r by at most 4 * 2^-24 * (|nx ex| +
-// |ny ey| + |nz ez| + |w d|); the range is widened by 2^-20 times that sum's bound.
+// value over the block lies in the interval sum of the four products' ranges (computed in double:
+// the products of two floats are exact, the sums err by 2^-52 relative), and the float
+// evaluation errs from it by at most 4 * 2^-24 * (|nx ex| + |ny ey| + |nz ez| + |w d|); the range
+// is widened by 2^-20 times that sum's bound.
 void FaceBlocks::distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const {
     const Bounds& r = bounds_[b];
-    const double w = f.w, e[3] = {f.ex, f.ey, f.ez};
-    double l = 0.0, h = 0.0, mag = w * double(r.dabs);
-    for (int i = 0; i < 3; ++i) {
-        const double ei = e[i] - w * double(r.c[i]);
-        const double a = double(r.lo[i]) * ei, c = double(r.hi[i]) * ei;
+    const double e[4] = {f.ex, f.ey, f.ez, -double(f.w)};
+    double l = 0.0, h = 0.0, mag = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        const double a = double(r.lo[i]) * e[i], c = double(r.hi[i]) * e[i];
         l += std::min(a, c);
         h += std::max(a, c);
-        mag += std::max(std::abs(double(r.lo[i])), std::abs(double(r.hi[i]))) * std::abs(e[i]);
+        mag += std::max(std::abs(a), std::abs(c));
     }
-    l -= w * double(r.hi[3]);
-    h -= w * double(r.lo[3]);
     const double slack = mag * 0x1p-20;
     if (std::isnan(l) || std::isnan(h) || std::isnan(slack)) {
         lo = hi = NAN;
@@ -367,13 +431,26 @@ std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
     return FaceFacing::kUnknown;                          // (also NaN)
 }
 
+void planes_within(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
+                   const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out_ids,
+                   std::vector<MeshTopology::FacingPlane>& out_planes) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) return planes_within_avx2(planes, ids, n, filter, limit, out_ids, out_planes);
+#endif
+    planes_within_scalar(planes, ids, 0, n, filter, limit, out_ids, out_planes);
+}
+
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
                  const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                  std::vector<std::uint32_t>& check) {
+    BitWriter front{front_bits};
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpu_has_avx2()) return band_states_avx2(planes, ids, n, now, before, front_bits, check);
+    if (cpu_has_avx2()) band_states_avx2(planes, ids, n, now, before, front, check);
+    else band_states_scalar(planes, ids, 0, n, now, before, front, check);
+#else
+    band_states_scalar(planes, ids, 0, n, now, before, front, check);
 #endif
-    band_states_scalar(planes, ids, 0, n, now, before, front_bits, check);
+    front.flush();
 }
 
 void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
