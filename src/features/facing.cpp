@@ -146,53 +146,25 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
     const __m256 lim = _mm256_set1_ps(limit);
     const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
     std::uint32_t f = f0;
+    // Written branch-free into a small buffer, appended in bulk.
+    std::uint32_t buf[256];
+    std::size_t n = 0;
     for (; f + 8 <= nf; f += 8) {
         Planes8 p8;
         load_planes8(&p[f].nx, p8);
         __m256 det;
         eye_distance8(p8, eye, det);
         // not (|det| > limit): NaN included
-        unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
-        while (m) {
-            out.push_back(f + unsigned(__builtin_ctz(m)));
-            m &= m - 1;
+        const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
+        if (!m) continue;
+        for (unsigned j = 0; j < 8; ++j) {
+            buf[n] = f + j;
+            n += (m >> j) & 1;
         }
+        if (n > 256 - 8) out.insert(out.end(), buf, buf + n), n = 0;
     }
+    out.insert(out.end(), buf, buf + n);
     faces_within_scalar(p, f, nf, flt, limit, out);
-}
-#endif
-
-void planes_within_scalar(const MeshTopology::FacingPlane* p, const std::uint32_t* ids, std::size_t i0, std::size_t n,
-                          const FacingFilter& flt, float limit, std::vector<std::uint32_t>& out_ids,
-                          std::vector<MeshTopology::FacingPlane>& out_planes) {
-    for (std::size_t i = i0; i < n; ++i)
-        if (!(std::abs(flt.signed_distance(p[i])) > limit)) out_ids.push_back(ids[i]), out_planes.push_back(p[i]);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2,bmi2"))) void planes_within_avx2(const MeshTopology::FacingPlane* p, const std::uint32_t* ids,
-                                                             std::size_t n, const FacingFilter& flt, float limit,
-                                                             std::vector<std::uint32_t>& out_ids,
-                                                             std::vector<MeshTopology::FacingPlane>& out_planes) {
-    Eye8 eye;
-    load_eye8(flt, eye);
-    const __m256 lim = _mm256_set1_ps(limit);
-    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        Planes8 p8;
-        load_planes8(&p[i].nx, p8);
-        __m256 det;
-        eye_distance8(p8, eye, det);
-        unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
-        while (m) {
-            const std::size_t k = i + unsigned(__builtin_ctz(m));
-            out_ids.push_back(ids[k]);
-            out_planes.push_back(p[k]);
-            m &= m - 1;
-        }
-    }
-    planes_within_scalar(p, ids, i, n, flt, limit, out_ids, out_planes);
 }
 #endif
 
@@ -429,15 +401,6 @@ std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
     if (lo > double(f.bound)) return FaceFacing::kFront;  // every det > bound
     if (hi < -double(f.bound)) return FaceFacing::kBack;  // every det < -bound
     return FaceFacing::kUnknown;                          // (also NaN)
-}
-
-void planes_within(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
-                   const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out_ids,
-                   std::vector<MeshTopology::FacingPlane>& out_planes) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (cpu_has_avx2()) return planes_within_avx2(planes, ids, n, filter, limit, out_ids, out_planes);
-#endif
-    planes_within_scalar(planes, ids, 0, n, filter, limit, out_ids, out_planes);
 }
 
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,

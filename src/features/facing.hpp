@@ -87,12 +87,6 @@ private:
 std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
                          const FaceBlocks* blocks = nullptr);
 
-// The same selection from plane copies: appends ids[i] and planes[i] where the float distance is
-// not above `limit` (NaN planes included), in order.
-void planes_within(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
-                   const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out_ids,
-                   std::vector<MeshTopology::FacingPlane>& out_planes);
-
 // For faces ids[0..n) (ascending) with copies of their planes: sets each face's bit in front_bits where
 // `now` says front and clears it elsewhere; appends to `check` the positions i where the two
 // filters disagree or `now` cannot decide (the caller decides those exactly; where both filters

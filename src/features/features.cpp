@@ -482,44 +482,24 @@ std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
 // float distance within bound/2 of the exact one (facing.cpp) and a unit normal, the exact
 // distance moves by at most |e' - e| when the eye moves to e', so a face outside the band keeps
 // its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
-// The band is selected from an outer band (kOuter times its margin, plane copies too) while that
-// holds every face the band can need, so that most rebuilds stream the outer band rather than
-// the mesh; the outer band is rebuilt from the mesh (its blocks) when the eye leaves it.
-bool SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
+// The face blocks skip the blocks whose planes are all beyond the margin. (Selecting the band
+// from an outer band of 2.5-4 times its margin, rebuilt from the mesh more rarely, was tried:
+// no faster on armadillo@2, since each rebuild then streams the larger outer band.)
+void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
     const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
-    // A face in the band has |exact distance at eye| <= limit + bound/2, so at the outer eye
-    // e2 <= limit + |eye - e2| + bound/2, and its float distance there is within that plus
-    // bound2/2: in the outer band if that is not above the outer band's limit (with slack).
-    const double d = std::sqrt((eye[0] - outer_eye_[0]) * (eye[0] - outer_eye_[0]) +
-                               (eye[1] - outer_eye_[1]) * (eye[1] - outer_eye_[1]) +
-                               (eye[2] - outer_eye_[2]) * (eye[2] - outer_eye_[2]));
-    const double scale = std::sqrt(eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]);
-    const bool from_outer = outer_limit_ >= 0.0 && w == outer_w_ &&
-                            (double(limit) + d + double(filter_.bound) + outer_bound_) * (1.0 + 0x1p-16) + 1e-12 * scale <=
-                                outer_limit_;
-    if (!from_outer) {
-        const float outer_limit = float((kOuter * margin + double(filter_.bound)) * (1.0 + 0x1p-20));
-        outer_faces_.clear();
-        planes_read_ += faces_within(mesh, filter_, outer_limit, outer_faces_, blocks());
-        outer_planes_.resize(outer_faces_.size());
-        for (std::size_t i = 0; i < outer_faces_.size(); ++i) outer_planes_[i] = mesh.facing[outer_faces_[i]];
-        for (int i = 0; i < 3; ++i) outer_eye_[i] = eye[i];
-        outer_w_ = w;
-        outer_bound_ = filter_.bound;
-        outer_limit_ = outer_limit;
-    }
     band_faces_.clear();
-    band_planes_.clear();
-    planes_within(outer_planes_.data(), outer_faces_.data(), outer_faces_.size(), filter_, limit, band_faces_,
-                  band_planes_);
-    rebuild_cost_ = from_outer ? outer_faces_.size() : mesh.face_count();
+    planes_read_ += faces_within(mesh, filter_, limit, band_faces_, blocks());
+    band_planes_.resize(band_faces_.size());
     std::fill(band_bits_.begin(), band_bits_.end(), 0);
-    for (std::uint32_t f : band_faces_) band_bits_[f >> 6] |= std::uint64_t(1) << (f & 63);
+    for (std::size_t i = 0; i < band_faces_.size(); ++i) {
+        const std::uint32_t f = band_faces_[i];
+        band_planes_[i] = mesh.facing[f];
+        band_bits_[f >> 6] |= std::uint64_t(1) << (f & 63);
+    }
     for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
     band_w_ = w;
     band_margin_ = margin;
-    return from_outer;
 }
 
 // Frame coherence (exact). Every face that changed facing since the previous view lies in the band
@@ -535,7 +515,6 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         face_state_.assign(nf, 0);
         face_touched_.clear();
         band_margin_ = -1.0;
-        outer_limit_ = -1.0;
         for (auto* bits : {&band_bits_, &front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
     }
     camera_ = camera;
@@ -553,13 +532,13 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
           dist(p, band_eye_) <= band_margin_)) {
         const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
         const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
-        out.stats.band_from_outer = build_band(e, w, steps * (step * (1.0 + 1e-9) + 1e-12 * scale));
+        build_band(e, w, steps * (step * (1.0 + 1e-9) + 1e-12 * scale));
         out.stats.band_rebuilt = true;
-        // Per frame the band costs about its size, a rebuild about the faces it reads (the outer
-        // band, or the face count) once per `steps` frames (a band face costs about 4 faces of
-        // a rebuild, measured): balanced at steps = sqrt(rebuild faces / band faces per step) / 2.
+        // Per frame the band costs about its size, a rebuild about the face count once per
+        // `steps` frames (a band face costs about 4 faces of a rebuild, measured): balanced at
+        // steps = sqrt(faces / band faces per step) / 2.
         const double per_step = std::max(1.0, double(band_faces_.size()) / steps);
-        auto_steps_ = std::clamp(0.5 * std::sqrt(double(rebuild_cost_) / per_step), 2.0, 64.0);
+        auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / per_step), 2.0, 64.0);
     }
     out.stats.band_faces = band_faces_.size();
 

@@ -73,7 +73,6 @@ struct FinderStats {
     std::size_t seeks = 0, seek_steps = 0, seek_hits = 0;
     std::size_t band_faces = 0, faces_turned = 0;  // coherence: faces checked, faces that changed facing
     bool band_rebuilt = false;                      // coherence: the band was rebuilt this view
-    bool band_from_outer = false;                   // coherence: ... from the outer band (not the mesh)
     std::size_t faces_decided = 0, exact_facing_tests = 0;
     std::size_t edges_read = 0;   // exhaustive scan: edges whose face pairs were read
     std::size_t planes_read = 0;  // exhaustive facing pass and band rebuilds: faces whose planes were read
@@ -132,7 +131,7 @@ private:
     void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
     void follow(const Camera& camera, Features& out);
-    bool build_band(const double eye[3], double w, double margin);  // true: from the outer band
+    void build_band(const double eye[3], double w, double margin);
     std::uint8_t face_state(std::uint32_t f);
     void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
 
@@ -171,13 +170,7 @@ private:
     // Bit per face: in the band; front now (band faces); turned since the previous view.
     std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
-    // The outer band (kOuter times the band's margin when built), the band's source.
-    static constexpr double kOuter = 4.0;
-    std::vector<MeshTopology::FacingPlane> outer_planes_;
-    std::vector<std::uint32_t> outer_faces_;
-    double outer_eye_[3] = {0, 0, 0}, outer_limit_ = -1.0, outer_w_ = 0.0, outer_bound_ = 0.0;  // limit < 0: none
-    std::size_t rebuild_cost_ = 0;  // faces read by the last band rebuild
-    double auto_steps_ = 8.0;
+    double auto_steps_ = 4.0;  // the first band: 4 steps (8 read 2x more planes for the first rebuild)
 };
 
 }  // namespace inkline
