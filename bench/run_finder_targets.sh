@@ -27,9 +27,9 @@ run() {  # name, then inkline bench arguments
 row() {  # file, finder, coherence -> "search_ms sil_edges recall median_search_ms"
     awk -F'|' -v f="$2" -v c="$3" '$2 ~ " "f" " && $4 ~ " "c" " {gsub(/ /, ""); print $13, $8, $10, $16; exit}' "$1"
 }
-# Columns 17, 18: band faces/frame, faces turned/frame (coherence).
+# Columns 18, 19: band faces/frame, faces turned/frame (coherence).
 band() {  # file -> "band_faces faces_turned" of the coherence row
-    awk -F'|' '$2 ~ " randomized " && $4 ~ " yes " {gsub(/ /, ""); print $17, $18; exit}' "$1"
+    awk -F'|' '$2 ~ " randomized " && $4 ~ " yes " {gsub(/ /, ""); print $18, $19; exit}' "$1"
 }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
 summary="$OUT/finder_targets.md"
