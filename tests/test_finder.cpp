@@ -386,6 +386,29 @@ TEST(Finder, ExhaustiveBlocksSameResult) {
     }
 }
 
+// The same with the facing pass and the edge scan split over threads (parts of whole blocks).
+TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
+    Model sub = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off", 40.0, 1);  // 208 k faces: threads run
+    const MeshTopology& t = sub.topology();
+    std::vector<Camera> path = cameras(t.bounds);
+    path.push_back(path.front());
+    FinderOptions threaded, plain;
+    threaded.threads = 3;
+    plain.blocks = false;
+    SilhouetteFinder with(t, threaded), without(t, plain);
+    Features a, b;
+    std::size_t read = 0;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+        SCOPED_TRACE(testing::Message() << "view " << i);
+        with.find(path[i], {}, a);
+        without.find(path[i], {}, b);
+        EXPECT_EQ(a.silhouette_edges, b.silhouette_edges);
+        EXPECT_TRUE(std::equal(a.face_front.states(), a.face_front.states() + t.face_count(), b.face_front.states()));
+        if (i > 0) read += a.stats.planes_read;
+    }
+    EXPECT_LT(read, (path.size() - 1) * t.face_count());
+}
+
 // Band rebuilds with blocks find the same band as without (coherence from an exhaustive view).
 TEST(Finder, CoherenceBandSameWithBlocks) {
     const Model& m = mesh_model("armadillo");
