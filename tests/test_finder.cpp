@@ -361,6 +361,26 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
     EXPECT_GT(skipped, 0u);  // blocks were decided as a whole
 }
 
+// A block holding an untrusted (NaN) plane is never decided as a whole: that face goes to the
+// exact predicate, as in the plain pass.
+TEST(Facing, BlocksWithAnUntrustedPlane) {
+    Model m(make_sphere({0, 0, 0}, 1.0, 96, 48));
+    MeshTopology& t = m.topology();
+    const std::uint32_t bad = 3 * FaceBlocks::kFaces + 5;
+    t.facing[bad].nx = NAN;
+    FaceBlocks blocks;
+    blocks.build(t);
+    for (const Camera& cam : cameras(t.bounds)) {
+        FaceFacing plain, blocked;
+        plain.begin_full(t, cam);
+        blocked.begin_full(t, cam, 1, &blocks);
+        EXPECT_EQ(blocked.block_states()[3], FaceFacing::kUnknown);
+        EXPECT_TRUE(std::equal(plain.states(), plain.states() + t.face_count(), blocked.states()));
+        EXPECT_EQ(blocked[bad], face_is_front(t, bad, cam) ? 1 : 0);
+        EXPECT_LT(blocked.planes_read(), t.face_count());
+    }
+}
+
 // The exhaustive finder with blocks (from its second view) against the one without, along a
 // path: the same silhouette edges in the same order, every view, and fewer edges read.
 TEST(Finder, ExhaustiveBlocksSameResult) {
