@@ -27,6 +27,10 @@ run() {  # name, then inkline bench arguments
 row() {  # file, finder, coherence -> "search_ms sil_edges recall median_search_ms"
     awk -F'|' -v f="$2" -v c="$3" '$2 ~ " "f" " && $4 ~ " "c" " {gsub(/ /, ""); print $13, $8, $10, $16; exit}' "$1"
 }
+# Columns 18, 19: band faces/frame, faces turned/frame (coherence).
+band() {  # file -> "band_faces faces_turned" of the coherence row
+    awk -F'|' '$2 ~ " randomized " && $4 ~ " yes " {gsub(/ /, ""); print $18, $19; exit}' "$1"
+}
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
 summary="$OUT/finder_targets.md"
 {
@@ -54,8 +58,8 @@ done
     echo
     echo "## Over subdivision levels (armadillo, 1 degree per frame, 30 frames), one core"
     echo
-    echo "| level | triangles | silhouette edges/frame | exhaustive search ms (median) | coherence search ms (median) | speed-up (median) | coherence ns per silhouette edge | exhaustive ns per triangle |"
-    echo "|---:|---:|---:|---:|---:|---:|---:|---:|"
+    echo "| level | triangles | silhouette edges/frame | exhaustive search ms (median) | coherence search ms (median) | speed-up (median) | coherence ns per silhouette edge | exhaustive ns per triangle | band faces/frame | faces turned/frame | turned faces per silhouette edge |"
+    echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } >> "$summary.tmp"
 for level in 0 1 2 3; do
     name="levels-$level"
@@ -63,9 +67,11 @@ for level in 0 1 2 3; do
     tri=$(awk -F, 'NR == 2 {print $2}' "$OUT/$name.csv")
     read -r _ sil _ ex < <(row "$OUT/$name.md" exhaustive no)
     read -r _ _ _ co < <(row "$OUT/$name.md" randomized yes)
+    read -r bf tu < <(band "$OUT/$name.md")
     echo "| @$level | $tri | $sil | $ex | $co | $(ratio "$ex" "$co") |" \
          "$(awk -v c="$co" -v s="$sil" 'BEGIN {printf "%.1f", 1e6 * c / s}') |" \
-         "$(awk -v e="$ex" -v t="$tri" 'BEGIN {printf "%.2f", 1e6 * e / t}') |" >> "$summary.tmp"
+         "$(awk -v e="$ex" -v t="$tri" 'BEGIN {printf "%.2f", 1e6 * e / t}') |" \
+         "$bf | $tu | $(awk -v t="$tu" -v s="$sil" 'BEGIN {printf "%.2f", t / s}') |" >> "$summary.tmp"
 done
 {
     echo

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "model/primitives.hpp"
+#include "model/reorder.hpp"
 #include "pipeline.hpp"
 
 namespace inkline {
@@ -305,6 +306,150 @@ TEST(Facing, FloatFilterAgreesWithExactPredicate) {
                 }
             }
         }
+}
+
+}  // namespace
+}  // namespace inkline
+
+namespace inkline {
+namespace {
+
+// Face blocks (FaceBlocks): a full view that decides whole blocks from their plane ranges gives
+// byte for byte the states of the plain pass, with blocks decided as a whole (fewer planes
+// read) on a smooth mesh; the band search gives the same faces; at extreme scales and offsets,
+// and for a grazing eye in the plane of a face.
+TEST(Facing, BlocksGiveTheSameStatesAndBand) {
+    std::size_t skipped = 0;
+    for (double scale : {1e-6, 1.0, 1e6})
+        for (double offset : {0.0, 1e6}) {
+            TriangleMesh s = make_sphere({0, 0, 0}, 1.0, 96, 48);
+            for (auto& p : s.positions) p = p * scale + glm::dvec3(offset, -offset, 0.5 * offset);
+            const Model m(s);
+            const MeshTopology& t = m.topology();
+            FaceBlocks blocks;
+            blocks.build(t);
+            ASSERT_TRUE(blocks.built_for(t));
+            EXPECT_FALSE(blocks.has_edges());
+            blocks.build_edges();
+            ASSERT_TRUE(blocks.has_edges());
+            std::vector<Camera> cams = cameras(t.bounds);
+            const auto& f5 = t.faces[5];
+            const glm::dvec3 a = t.positions[f5[0]], b = t.positions[f5[1]];
+            cams.push_back(Camera::perspective(a + 3.0 * (a - b), t.bounds.center(), {0, 1, 0}, 40, 256, 256));
+            for (const Camera& cam : cams) {
+                SCOPED_TRACE(testing::Message() << "scale " << scale << " offset " << offset);
+                FaceFacing plain, blocked;
+                plain.begin_full(t, cam);
+                blocked.begin_full(t, cam, 1, &blocks);
+                const std::size_t nf = t.face_count();
+                EXPECT_TRUE(std::equal(plain.states(), plain.states() + nf, blocked.states()));
+                EXPECT_EQ(plain.planes_read(), nf);
+                EXPECT_LE(blocked.planes_read(), nf);
+                EXPECT_EQ(blocked.block_states().size(), blocks.size());
+                skipped += nf - blocked.planes_read();
+                FacingFilter filter;
+                filter.bind(t, cam);
+                for (float limit : {0.0f, 0.01f * float(scale), 0.3f * float(scale)}) {
+                    std::vector<std::uint32_t> all, some;
+                    faces_within(t, filter, limit, all);
+                    const std::size_t read = faces_within(t, filter, limit, some, &blocks);
+                    EXPECT_EQ(all, some);
+                    EXPECT_LE(read, nf);
+                }
+            }
+        }
+    EXPECT_GT(skipped, 0u);  // blocks were decided as a whole
+}
+
+// A block holding an untrusted (NaN) plane is never decided as a whole: that face goes to the
+// exact predicate, as in the plain pass.
+TEST(Facing, BlocksWithAnUntrustedPlane) {
+    Model m(make_sphere({0, 0, 0}, 1.0, 96, 48));
+    MeshTopology& t = m.topology();
+    const std::uint32_t bad = 3 * FaceBlocks::kFaces + 5;
+    t.facing[bad].nx = NAN;
+    FaceBlocks blocks;
+    blocks.build(t);
+    for (const Camera& cam : cameras(t.bounds)) {
+        FaceFacing plain, blocked;
+        plain.begin_full(t, cam);
+        blocked.begin_full(t, cam, 1, &blocks);
+        EXPECT_EQ(blocked.block_states()[3], FaceFacing::kUnknown);
+        EXPECT_TRUE(std::equal(plain.states(), plain.states() + t.face_count(), blocked.states()));
+        EXPECT_EQ(blocked[bad], face_is_front(t, bad, cam) ? 1 : 0);
+        EXPECT_LT(blocked.planes_read(), t.face_count());
+    }
+}
+
+// The exhaustive finder with blocks (from its second view) against the one without, along a
+// path: the same silhouette edges in the same order, every view, and fewer edges read.
+TEST(Finder, ExhaustiveBlocksSameResult) {
+    const Model torus(hilbert_ordered(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 192, 96)));
+    for (const Model* m : {&torus, &mesh_model("armadillo"), &mesh_model("fandisk"), &mesh_model("bunny00")}) {
+        std::vector<Camera> path = cameras(m->topology().bounds);
+        path.push_back(path.front());
+        FinderOptions plain_opt;
+        plain_opt.blocks = false;
+        SilhouetteFinder with(m->topology()), without(m->topology(), plain_opt);
+        Features a, b;
+        std::size_t read = 0, edges = 0;
+        for (std::size_t i = 0; i < path.size(); ++i) {
+            SCOPED_TRACE(testing::Message() << "view " << i);
+            with.find(path[i], {}, a);
+            without.find(path[i], {}, b);
+            EXPECT_EQ(a.silhouette_edges, b.silhouette_edges);
+            expect_same(a, b);
+            EXPECT_EQ(b.stats.edges_read, m->topology().edge_count());
+            if (i > 0) read += a.stats.edges_read, edges += m->topology().edge_count();
+        }
+        EXPECT_LT(read, edges);
+    }
+}
+
+// The same with the facing pass and the edge scan split over threads (parts of whole blocks).
+TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
+    Model sub = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off", 40.0, 1);  // 208 k faces: threads run
+    const MeshTopology& t = sub.topology();
+    std::vector<Camera> path = cameras(t.bounds);
+    path.push_back(path.front());
+    FinderOptions threaded, plain;
+    threaded.threads = 3;
+    plain.blocks = false;
+    SilhouetteFinder with(t, threaded), without(t, plain);
+    Features a, b;
+    std::size_t read = 0;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+        SCOPED_TRACE(testing::Message() << "view " << i);
+        with.find(path[i], {}, a);
+        without.find(path[i], {}, b);
+        EXPECT_EQ(a.silhouette_edges, b.silhouette_edges);
+        EXPECT_TRUE(std::equal(a.face_front.states(), a.face_front.states() + t.face_count(), b.face_front.states()));
+        if (i > 0) read += a.stats.planes_read;
+    }
+    EXPECT_LT(read, (path.size() - 1) * t.face_count());
+}
+
+// Band rebuilds with blocks find the same band as without (coherence from an exhaustive view).
+TEST(Finder, CoherenceBandSameWithBlocks) {
+    const Model& m = mesh_model("armadillo");
+    const Bounds3 box = m.topology().bounds;
+    const glm::dvec3 c = box.center();
+    const double d = 3.0 * box.half_diagonal();
+    FinderOptions o = randomized(0.0, true);
+    o.first_full = true;
+    FinderOptions p = o;
+    p.blocks = false;
+    SilhouetteFinder with(m.topology(), o), without(m.topology(), p);
+    Features a, b;
+    for (int i = 0; i < 20; ++i) {
+        const double az = 0.3 + 0.0175 * i;
+        const Camera cam = Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.4, std::cos(az)), c, {0, 1, 0}, 30, 640, 480);
+        with.find(cam, {}, a);
+        without.find(cam, {}, b);
+        EXPECT_EQ(a.stats.band_faces, b.stats.band_faces);
+        EXPECT_EQ(a.stats.band_rebuilt, b.stats.band_rebuilt);
+        EXPECT_EQ(a.silhouette_edges, b.silhouette_edges);
+    }
 }
 
 }  // namespace

@@ -179,6 +179,7 @@ struct Row {
     bool coherence = false;
     double features_s = 0.0, search_s = 0.0, visibility_s = 0.0;
     double silhouette_edges = 0.0, found_length = 0.0, wrong_px = 0.0;
+    double band_faces = 0.0, faces_turned = 0.0;  // coherence: per frame, summed
     std::vector<double> search_frames;  // per frame, for the median (robust on a shared machine)
 };
 
@@ -259,6 +260,8 @@ int run_bench(int argc, char** argv) {
             r.search_s += f.stats.seconds_search;
             r.search_frames.push_back(f.stats.seconds_search);
             r.silhouette_edges += double(f.silhouette_edges.size());
+            r.band_faces += double(f.stats.band_faces);
+            r.faces_turned += double(f.stats.faces_turned);
             r.found_length += edges_length(mesh, f.silhouette_edges);
             View& v = session.visibility(cams[i]);
             r.visibility_s += v.drawing.stats.seconds_visibility;
@@ -285,8 +288,8 @@ int run_bench(int argc, char** argv) {
                      "| finder | fraction | coherence | ms/frame | frames/s | triangles/s | silhouette edges/frame | "
                      "silhouette edges/s | recall (length) | wrong visible px/frame | slowdown of exhaustive | "
                      "search ms/frame | search slowdown of exhaustive | visibility ms/frame | median search ms/frame | "
-                     "median search slowdown of exhaustive |\n"
-                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+                     "median search slowdown of exhaustive | band faces/frame | faces turned/frame |\n"
+                     "|---|---:|:---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     std::vector<PlotPoint> points;
     for (const Row& r : rows) {
         const double ms = 1e3 * r.features_s / n, fps = ms > 0.0 ? 1e3 / ms : 0.0;
@@ -303,7 +306,8 @@ int run_bench(int argc, char** argv) {
               fmt("%.3f", 1e3 * r.search_s / n) + " | " +
               fmt("%.2f", r.search_s > 0.0 ? exhaustive_search_ms / (1e3 * r.search_s / n) : 0.0) + " | " +
               fmt("%.2f", 1e3 * r.visibility_s / n) + " | " + fmt("%.3f", 1e3 * median(r.search_frames)) + " | " +
-              fmt("%.2f", median(r.search_frames) > 0.0 ? exhaustive_median / median(r.search_frames) : 0.0) + " |\n";
+              fmt("%.2f", median(r.search_frames) > 0.0 ? exhaustive_median / median(r.search_frames) : 0.0) + " | " +
+              fmt("%.0f", r.band_faces / n) + " | " + fmt("%.0f", r.faces_turned / n) + " |\n";
         PlotPoint p;
         p.x = recall;
         p.y = ms;

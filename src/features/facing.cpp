@@ -138,39 +138,64 @@ void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, s
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t nf,
-                                                            const FacingFilter& flt, float limit,
+__attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
+                                                            std::uint32_t nf, const FacingFilter& flt, float limit,
                                                             std::vector<std::uint32_t>& out) {
     Eye8 eye;
     load_eye8(flt, eye);
     const __m256 lim = _mm256_set1_ps(limit);
     const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    std::uint32_t f = 0;
+    std::uint32_t f = f0;
+    // Written branch-free into a small buffer, appended in bulk.
+    std::uint32_t buf[256];
+    std::size_t n = 0;
     for (; f + 8 <= nf; f += 8) {
         Planes8 p8;
         load_planes8(&p[f].nx, p8);
         __m256 det;
         eye_distance8(p8, eye, det);
         // not (|det| > limit): NaN included
-        unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
-        while (m) {
-            out.push_back(f + unsigned(__builtin_ctz(m)));
-            m &= m - 1;
+        const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
+        if (!m) continue;
+        for (unsigned j = 0; j < 8; ++j) {
+            buf[n] = f + j;
+            n += (m >> j) & 1;
         }
+        if (n > 256 - 8) out.insert(out.end(), buf, buf + n), n = 0;
     }
+    out.insert(out.end(), buf, buf + n);
     faces_within_scalar(p, f, nf, flt, limit, out);
 }
 #endif
 
+// Sets or clears the bits of ascending face ids in a bit set, one word at a time (band faces are
+// sorted and clustered: most share their word with the previous one, so the word is written
+// once rather than read and written per face).
+struct BitWriter {
+    std::uint64_t* bits;
+    std::uint32_t word = UINT32_MAX;
+    std::uint64_t mask = 0, set = 0;
+    void put(std::uint32_t f, bool on) {
+        if ((f >> 6) != word) {
+            flush();
+            word = f >> 6;
+        }
+        const std::uint64_t m = std::uint64_t(1) << (f & 63);
+        mask |= m;
+        set |= on ? m : 0;
+    }
+    void flush() {
+        if (word != UINT32_MAX) bits[word] = (bits[word] & ~mask) | set;
+        mask = set = 0;
+    }
+};
+
 void band_states_scalar(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t i0, std::size_t n,
-                        const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                        const FacingFilter& now, const FacingFilter& before, BitWriter& front,
                         std::vector<std::uint32_t>& check) {
     for (std::size_t i = i0; i < n; ++i) {
         const std::uint8_t a = now(planes[i]), b = before(planes[i]);
-        const std::uint32_t f = ids[i];
-        const std::uint64_t m = std::uint64_t(1) << (f & 63);
-        std::uint64_t& w = front_bits[f >> 6];
-        w = a == FaceFacing::kFront ? (w | m) : (w & ~m);
+        front.put(ids[i], a == FaceFacing::kFront);
         if (a != b || a == FaceFacing::kUnknown) check.push_back(std::uint32_t(i));
     }
 }
@@ -179,7 +204,7 @@ void band_states_scalar(const MeshTopology::FacingPlane* planes, const std::uint
 __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::FacingPlane* planes,
                                                            const std::uint32_t* ids, std::size_t n,
                                                            const FacingFilter& now, const FacingFilter& before,
-                                                           std::uint64_t* front_bits, std::vector<std::uint32_t>& check) {
+                                                           BitWriter& front, std::vector<std::uint32_t>& check) {
     Eye8 eye_now, eye_before;
     load_eye8(now, eye_now);
     load_eye8(before, eye_before);
@@ -198,18 +223,13 @@ __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::F
         const unsigned kb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bnb, _CMP_NLT_UQ)));
         // states differ, or "now" undecided (not back and not front)
         unsigned odd = (fa ^ fb) | (ka ^ kb) | (ka & ~fa);
-        for (unsigned j = 0; j < 8; ++j) {
-            const std::uint32_t f = ids[i + j];
-            const std::uint64_t m = std::uint64_t(1) << (f & 63);
-            std::uint64_t& w = front_bits[f >> 6];
-            w = (fa >> j) & 1 ? (w | m) : (w & ~m);
-        }
+        for (unsigned j = 0; j < 8; ++j) front.put(ids[i + j], (fa >> j) & 1);
         while (odd) {
             check.push_back(std::uint32_t(i + unsigned(__builtin_ctz(odd))));
             odd &= odd - 1;
         }
     }
-    band_states_scalar(planes, ids, i, n, now, before, front_bits, check);
+    band_states_scalar(planes, ids, i, n, now, before, front, check);
 }
 #endif
 
@@ -224,44 +244,234 @@ bool cpu_has_avx2() {
 #endif
 }
 
-void faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out) {
+std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
+                         const FaceBlocks* blocks) {
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
+    auto run = [&](std::uint32_t f0, std::uint32_t f1) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), nf, filter, limit, out);
+        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out);
 #endif
-    faces_within_scalar(mesh.facing.data(), 0, nf, filter, limit, out);
+        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out);
+    };
+    if (!blocks || !blocks->built_for(mesh)) {
+        run(0, nf);
+        return nf;
+    }
+    // Blocks whose every float distance is beyond +-limit hold no face of the band; runs of the
+    // other blocks are streamed as before (so the same faces, in order).
+    std::size_t read = 0;
+    std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
+    const std::size_t nb = blocks->size();
+    for (std::size_t b = 0; b <= nb; ++b) {
+        bool skip = true;
+        if (b < nb) {
+            double lo, hi;
+            blocks->distance_range(b, filter, lo, hi);
+            skip = lo > double(limit) || hi < -double(limit);  // false for NaN ranges
+        }
+        const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
+        if (!skip && open == UINT32_MAX) open = f;
+        if (skip && open != UINT32_MAX) {
+            run(open, f);
+            read += f - open;
+            open = UINT32_MAX;
+        }
+    }
+    return read;
+}
+
+void FaceBlocks::build(const MeshTopology& mesh) {
+    mesh_ = &mesh;
+    edges_tried_ = false;
+    nf_ = mesh.face_count();
+    const std::size_t nb = (nf_ + kFaces - 1) / kFaces;
+    bounds_.assign(nb, Bounds{});
+    for (std::size_t b = 0; b < nb; ++b) {
+        Bounds& r = bounds_[b];
+        const std::size_t f0 = b * kFaces, f1 = std::min(nf_, f0 + kFaces);
+        for (int i = 0; i < 4; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
+        bool nan = false;
+#if defined(__x86_64__) && defined(__GNUC__)
+        __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY), un = _mm_setzero_ps();
+        for (std::size_t f = f0; f < f1; ++f) {
+            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);  // FacingPlane is 16-byte aligned
+            lo = _mm_min_ps(lo, p);
+            hi = _mm_max_ps(hi, p);
+            un = _mm_or_ps(un, _mm_cmpunord_ps(p, p));
+        }
+        _mm_storeu_ps(r.lo, lo);
+        _mm_storeu_ps(r.hi, hi);
+        nan = _mm_movemask_ps(un) != 0;
+#else
+        for (std::size_t f = f0; f < f1; ++f) {
+            const auto& p = mesh.facing[f];
+            const float v[4] = {p.nx, p.ny, p.nz, p.d};
+            for (int i = 0; i < 4; ++i) {
+                nan = nan || std::isnan(v[i]);
+                r.lo[i] = std::min(r.lo[i], v[i]);
+                r.hi[i] = std::max(r.hi[i], v[i]);
+            }
+        }
+#endif
+        if (nan || f0 == f1) r.lo[0] = r.hi[0] = NAN;  // never decided as a whole
+    }
+    edge_begin_.clear();
+    nbr_begin_.clear();
+    nbr_.clear();
+}
+
+void FaceBlocks::build_edges() {
+    // Edges are numbered in the order of their first face (topology.cpp); anything else: no
+    // edge ranges.
+    const MeshTopology& mesh = *mesh_;
+    const std::size_t ne = mesh.edge_count(), nb = bounds_.size();
+    edges_tried_ = true;
+    edge_begin_.assign(nb + 1, std::uint32_t(ne));
+    nbr_begin_.assign(nb + 1, 0);
+    std::vector<std::uint32_t> list, seen(nb, UINT32_MAX);  // seen[k]: last block that listed k
+    std::size_t e = 0;
+    std::uint32_t last = 0;
+    for (std::size_t b = 0; b < nb; ++b) {
+        edge_begin_[b] = std::uint32_t(e);
+        nbr_begin_[b] = std::uint32_t(nbr_.size());
+        list.clear();
+        bool border = false;
+        const std::uint32_t end = std::uint32_t(std::min(nf_, (b + 1) * kFaces));
+        for (; e < ne; ++e) {
+            const auto& ef = mesh.edge_face[e];
+            if (ef[0] >= end) break;
+            if (ef[0] < last) {  // not numbered by first face
+                edge_begin_.clear();
+                nbr_begin_.clear();
+                nbr_.clear();
+                return;
+            }
+            last = ef[0];
+            if (ef[1] == kNoFace) {
+                if (!border) list.push_back(kBorderBlock), border = true;
+                continue;
+            }
+            const std::uint32_t nbk = ef[1] / kFaces;
+            if (nbk != b && seen[nbk] != b) seen[nbk] = std::uint32_t(b), list.push_back(nbk);
+        }
+        nbr_.insert(nbr_.end(), list.begin(), list.end());
+    }
+    if (e != ne) {  // edges whose first face is out of range
+        edge_begin_.clear();
+        nbr_begin_.clear();
+        nbr_.clear();
+        return;
+    }
+    nbr_begin_[nb] = std::uint32_t(nbr_.size());
+    nbr_.shrink_to_fit();
+}
+
+std::size_t FaceBlocks::bytes() const {
+    return bounds_.capacity() * sizeof(Bounds) +
+           (edge_begin_.capacity() + nbr_begin_.capacity() + nbr_.capacity()) * sizeof(std::uint32_t);
+}
+
+// The filter's float distance is fl(fl(fl(nx ex) + fl(ny ey)) + fl(nz ez)) - fl(w d); its real
+// value over the block lies in the interval sum of the four products' ranges (computed in double:
+// the products of two floats are exact, the sums err by 2^-52 relative), and the float
+// evaluation errs from it by at most 4 * 2^-24 * (|nx ex| + |ny ey| + |nz ez| + |w d|); the range
+// is widened by 2^-20 times that sum's bound.
+void FaceBlocks::distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const {
+    const Bounds& r = bounds_[b];
+    const double e[4] = {f.ex, f.ey, f.ez, -double(f.w)};
+    double l = 0.0, h = 0.0, mag = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        const double a = double(r.lo[i]) * e[i], c = double(r.hi[i]) * e[i];
+        l += std::min(a, c);
+        h += std::max(a, c);
+        mag += std::max(std::abs(a), std::abs(c));
+    }
+    const double slack = mag * 0x1p-20;
+    if (std::isnan(l) || std::isnan(h) || std::isnan(slack)) {
+        lo = hi = NAN;
+        return;
+    }
+    lo = l - slack;
+    hi = h + slack;
+}
+
+std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
+    double lo, hi;
+    distance_range(b, f, lo, hi);
+    if (lo > double(f.bound)) return FaceFacing::kFront;  // every det > bound
+    if (hi < -double(f.bound)) return FaceFacing::kBack;  // every det < -bound
+    return FaceFacing::kUnknown;                          // (also NaN)
 }
 
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
                  const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                  std::vector<std::uint32_t>& check) {
+    BitWriter front{front_bits};
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpu_has_avx2()) return band_states_avx2(planes, ids, n, now, before, front_bits, check);
+    if (cpu_has_avx2()) band_states_avx2(planes, ids, n, now, before, front, check);
+    else band_states_scalar(planes, ids, 0, n, now, before, front, check);
+#else
+    band_states_scalar(planes, ids, 0, n, now, before, front, check);
 #endif
-    band_states_scalar(planes, ids, 0, n, now, before, front_bits, check);
+    front.flush();
 }
 
-void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads) {
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
     bind(mesh, camera);
     const std::size_t nf = mesh.face_count();
     state_.resize(nf + kPad);
     std::fill(state_.begin() + std::ptrdiff_t(nf), state_.end(), kSentinel);
     touched_.clear();
     full_ = true;
+    if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
+    block_state_.clear();
+    planes_read_ = nf;
     auto run = [&](std::size_t lo, std::size_t hi) {
 #if defined(__x86_64__) && defined(__GNUC__)
         if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
 #endif
         facing_states_scalar(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
     };
+    constexpr std::size_t kB = FaceBlocks::kFaces;
+    std::vector<std::size_t> part_read;
+    // Faces [lo, hi) (lo a block start): blocks decided as a whole are filled with their state,
+    // runs of the others streamed. Returns the faces whose planes were read.
+    auto run_blocks = [&](std::size_t lo, std::size_t hi) -> std::size_t {
+        if (!blocks) {
+            run(lo, hi);
+            return hi - lo;
+        }
+        std::size_t read = 0, open = SIZE_MAX;
+        for (std::size_t b = lo / kB; b * kB < hi; ++b) {
+            const std::uint8_t s = blocks->classify(b, filter_);
+            block_state_[b] = s;
+            const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
+            if (s == kUnknown) {
+                if (open == SIZE_MAX) open = f0;
+                continue;
+            }
+            if (open != SIZE_MAX) run(open, f0), read += f0 - open, open = SIZE_MAX;
+            std::memset(state_.data() + f0, s, f1 - f0);
+        }
+        if (open != SIZE_MAX) run(open, hi), read += hi - open;
+        return read;
+    };
+    if (blocks) block_state_.resize(blocks->size());
     const std::size_t parts = std::size_t(std::clamp(threads, 1, 64));
-    if (parts == 1 || nf < 65536) return run(0, nf);
+    if (parts == 1 || nf < 65536) {
+        planes_read_ = run_blocks(0, nf);
+        return;
+    }
     std::vector<std::thread> pool;
-    const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line aligned parts
+    part_read.assign(parts, 0);
+    const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line (and block) aligned parts
     for (std::size_t i = 1; i < parts; ++i)
-        if (i * step < nf) pool.emplace_back(run, i * step, std::min(nf, (i + 1) * step));
-    run(0, std::min(nf, step));
+        if (i * step < nf)
+            pool.emplace_back([&, i] { part_read[i] = run_blocks(i * step, std::min(nf, (i + 1) * step)); });
+    part_read[0] = run_blocks(0, std::min(nf, step));
     for (auto& t : pool) t.join();
+    planes_read_ = 0;
+    for (std::size_t r : part_read) planes_read_ += r;
 }
 
 float FaceFacing::signed_distance(std::uint32_t f) const { return filter_.signed_distance(mesh_->facing[f]); }

@@ -176,12 +176,17 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     out.stats = {};
     out.stats.finder = opt_.kind;
 
+    planes_read_ = 0;
     const auto t0 = std::chrono::steady_clock::now();
     if (opt_.kind == FinderKind::Exhaustive) {
-        out.face_front.begin_full(mesh, camera, opt_.threads);
+        // One view alone (extract_features) does not build the blocks; a finder that lives
+        // across views does, on its second.
+        out.face_front.begin_full(mesh, camera, opt_.threads, ++full_views_ > 1 ? blocks() : nullptr);
+        planes_read_ += out.face_front.planes_read();
         scan_exhaustive(out);
     } else if (opt_.coherence && opt_.first_full && previous_.empty()) {
         out.face_front.begin_full(mesh, camera, opt_.threads);
+        planes_read_ += out.face_front.planes_read();
         scan_exhaustive(out);
         out.stats.finder = FinderKind::Randomized;
         out.stats.fraction = opt_.fraction;
@@ -195,6 +200,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         search_randomized(camera, out);
     }
     const auto t1 = std::chrono::steady_clock::now();
+    out.stats.planes_read = planes_read_;
     cusps_and_curves(mesh, options, out);
     out.stats.seconds_search = std::chrono::duration<double>(t1 - t0).count();
     out.stats.seconds_chain = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
@@ -253,6 +259,12 @@ __attribute__((target("avx2,bmi2"))) std::uint32_t scan_block_avx2(const std::ar
 
 }  // namespace
 
+const FaceBlocks* SilhouetteFinder::blocks() {
+    if (!opt_.blocks) return nullptr;
+    if (!blocks_.built_for(*mesh_)) blocks_.build(*mesh_);
+    return &blocks_;
+}
+
 void SilhouetteFinder::scan_exhaustive(Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::uint32_t ne = std::uint32_t(mesh.edge_count()), nf = std::uint32_t(mesh.face_count());
@@ -267,8 +279,7 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
 #else
     const bool avx2 = false;
 #endif
-    auto collect = [&](std::uint32_t lo, std::uint32_t hi, std::vector<std::uint32_t>& cand) {
-        cand.clear();
+    auto collect_range = [&](std::uint32_t lo, std::uint32_t hi, std::vector<std::uint32_t>& cand) {
         for (std::uint32_t e0 = lo; e0 < hi; e0 += kBlock) {
             const std::uint32_t e1 = std::min(hi, e0 + kBlock), n0 = std::uint32_t(cand.size());
             cand.resize(n0 + (e1 - e0));
@@ -281,14 +292,39 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
             cand.resize(n0 + n);
         }
     };
+    // With the facing decided by blocks, the edges of a block whose faces and neighbour blocks
+    // all have one state (FaceBlocks::edges_uniform) are not read: none is a candidate. The
+    // other edges are scanned in runs, in edge order (the same candidates).
+    const std::vector<std::uint8_t>& cls = out.face_front.block_states();
+    if (!cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
+    const FaceBlocks* fb = !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
+    const std::uint32_t units = fb ? std::uint32_t(fb->size()) : ne;  // edges, or blocks of faces
     const std::uint32_t parts = ne < 65536 ? 1u : std::uint32_t(std::clamp(opt_.threads, 1, 64));
     auto& lists = out.thread_candidates;
     if (lists.size() < parts) lists.resize(parts);
-    const std::uint32_t step = (ne + parts - 1) / parts;
+    std::vector<std::size_t> read(parts, 0);  // edges read, per part
+    auto collect = [&](std::uint32_t lo, std::uint32_t hi, std::uint32_t part) {
+        std::vector<std::uint32_t>& cand = lists[part];
+        cand.clear();
+        if (!fb) return collect_range(lo, hi, cand);
+        // lo, hi are block numbers here
+        std::uint32_t open = UINT32_MAX;
+        for (std::uint32_t b = lo; b <= hi; ++b) {
+            const bool skip = b == hi || fb->edges_uniform(b, cls.data());
+            const std::uint32_t e = fb->edge_begin(b);
+            if (!skip && open == UINT32_MAX) open = e;
+            if (skip && open != UINT32_MAX) {
+                read[part] += e - open;
+                collect_range(open, e, cand);
+                open = UINT32_MAX;
+            }
+        }
+    };
+    const std::uint32_t step = (units + parts - 1) / parts;
     std::vector<std::thread> pool;
     for (std::uint32_t i = 1; i < parts; ++i)
-        pool.emplace_back(collect, std::min(ne, i * step), std::min(ne, (i + 1) * step), std::ref(lists[i]));
-    collect(0, std::min(ne, step), lists[0]);
+        pool.emplace_back(collect, std::min(units, i * step), std::min(units, (i + 1) * step), i);
+    collect(0, std::min(units, step), 0);
     for (auto& t : pool) t.join();
     for (std::uint32_t i = 0; i < parts; ++i)
         for (std::uint32_t e : lists[i])
@@ -299,6 +335,11 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     classify_static(mesh, out, [](std::uint32_t) {});  // crease silhouettes were scanned already
     out.stats.fraction = 1.0;
     out.stats.edges_examined = ne;
+    out.stats.edges_read = ne;
+    if (fb) {
+        out.stats.edges_read = 0;
+        for (std::size_t r : read) out.stats.edges_read += r;
+    }
 }
 
 // Vose's alias method: O(edges) once, O(1) per draw.
@@ -441,11 +482,14 @@ std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
 // float distance within bound/2 of the exact one (facing.cpp) and a unit normal, the exact
 // distance moves by at most |e' - e| when the eye moves to e', so a face outside the band keeps
 // its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
+// The face blocks skip the blocks whose planes are all beyond the margin. (Selecting the band
+// from an outer band of 2.5-4 times its margin, rebuilt from the mesh more rarely, was tried:
+// no faster on armadillo@2, since each rebuild then streams the larger outer band.)
 void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
     const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
     band_faces_.clear();
-    faces_within(mesh, filter_, limit, band_faces_);
+    planes_read_ += faces_within(mesh, filter_, limit, band_faces_, blocks());
     band_planes_.resize(band_faces_.size());
     std::fill(band_bits_.begin(), band_bits_.end(), 0);
     for (std::size_t i = 0; i < band_faces_.size(); ++i) {
@@ -530,9 +574,17 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     // Edges of turned faces; an edge between two turned faces is decided by the lower one.
     // Their neighbours mostly lie in the band; the others kept their facing and are decided here.
     const std::size_t nt = turned_.size();
+    // Turned faces are scattered over the mesh: their face edges are fetched 16 faces ahead, and
+    // the edges' face pairs (and kinds, written if silhouettes) 8 ahead, so that the cache
+    // misses overlap instead of following each other.
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
-        if (i + kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + kAhead]]);
+        if (i + 2 * kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + 2 * kAhead]]);
+        if (i + kAhead < nt)
+            for (std::uint32_t e : mesh.face_edges[turned_[i + kAhead]]) {
+                __builtin_prefetch(&mesh.edge_face[e]);
+                __builtin_prefetch(&out.edge_kind[e], 1);
+            }
         const std::uint32_t x = turned_[i];
         const bool fx = bit(front, x);
         for (int k = 0; k < 3; ++k) {

@@ -61,6 +61,9 @@ struct FinderOptions {
                                   // rebuilding it balanced: sqrt(faces / band faces per step) / 2)
     int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
                                   // (the result and its order do not depend on it)
+    bool blocks = true;           // exhaustive scan (from its second view) and band rebuilds: decide
+                                  // blocks of faces as a whole where their plane ranges allow (FaceBlocks;
+                                  // the same result)
 };
 
 struct FinderStats {
@@ -71,6 +74,8 @@ struct FinderStats {
     std::size_t band_faces = 0, faces_turned = 0;  // coherence: faces checked, faces that changed facing
     bool band_rebuilt = false;                      // coherence: the band was rebuilt this view
     std::size_t faces_decided = 0, exact_facing_tests = 0;
+    std::size_t edges_read = 0;   // exhaustive scan: edges whose face pairs were read
+    std::size_t planes_read = 0;  // exhaustive facing pass and band rebuilds: faces whose planes were read
     double seconds_search = 0.0;  // finding the silhouette edges (and classifying creases, borders)
     double seconds_chain = 0.0;   // cusps and chaining into curves (the same work for every finder)
 };
@@ -130,8 +135,13 @@ private:
     std::uint8_t face_state(std::uint32_t f);
     void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
 
+    const FaceBlocks* blocks();  // built on first use (if opt_.blocks), else null
+
     const MeshTopology* mesh_;
     FinderOptions opt_;
+    FaceBlocks blocks_;
+    std::size_t full_views_ = 0;
+    std::size_t planes_read_ = 0;  // this view  // exhaustive scans run so far (blocks are built for the second)
     std::mt19937_64 rng_;
     std::vector<float> alias_prob_;  // Vose's alias table over edges, weights pi - dihedral
     std::vector<std::uint32_t> alias_;
@@ -160,7 +170,7 @@ private:
     // Bit per face: in the band; front now (band faces); turned since the previous view.
     std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
-    double auto_steps_ = 8.0;
+    double auto_steps_ = 4.0;  // the first band: 4 steps (8 read 2x more planes for the first rebuild)
 };
 
 }  // namespace inkline

@@ -1,0 +1,105 @@
+// The silhouette search alone (no chaining, no visibility) of the finders along a smooth orbit
+// of armadillo Loop-subdivided twice (832 k triangles), storage reused as an interactive viewer
+// runs it: exhaustive with and without the face blocks (FaceBlocks), and the randomized finder
+// with coherence from an exhaustive first view. Counters: search ms per frame (mean), share of
+// face planes read. Usage: taskset -c 1 bench_finder [--benchmark_filter=...]; meshes come from
+// INKLINE_DATA_DIR. Arguments: degrees per frame x 100 (0: a static camera).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "features/features.hpp"
+#include "pipeline.hpp"
+
+namespace {
+
+const inkline::Model* model(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<inkline::Model>> cache;
+    auto& m = cache[name];
+    if (!m) {
+        const auto at = name.find('@');
+        const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
+        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name.substr(0, at) + ".off";
+        if (!std::filesystem::exists(path)) return nullptr;
+        m = std::make_unique<inkline::Model>(inkline::Model::load(path, 40.0, levels));
+    }
+    return m.get();
+}
+
+// The bench's orbit (src/app/bench.cpp): 20 degrees above the equator at the framing distance.
+inkline::Camera orbit(const inkline::MeshTopology& t, double degrees) {
+    const double fov = 30.0, R = t.bounds.half_diagonal(), D = R / std::sin(fov * M_PI / 360.0);
+    const double az = degrees * M_PI / 180.0, el = 20.0 * M_PI / 180.0;
+    const glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    return inkline::Camera::perspective(t.bounds.center() + D * dir, t.bounds.center(), {0, 1, 0}, fov, 1024, 1024);
+}
+
+void run(benchmark::State& state, const char* name, inkline::FinderOptions o) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    const inkline::MeshTopology& t = m->topology();
+    const double dpf = double(state.range(0)) / 100.0;
+    inkline::SilhouetteFinder finder(t, o);
+    inkline::Features f;
+    inkline::FeatureOptions fo;
+    double search = 0.0, read = 0.0, edges = 0.0, frame = 0.0, band = 0.0, turned = 0.0, rebuilds = 0.0, sil = 0.0;
+    for (auto _ : state) {
+        finder.find(orbit(t, frame * dpf), fo, f);
+        frame += 1.0;
+        search += f.stats.seconds_search;
+        read += double(f.stats.planes_read);
+        edges += double(f.stats.edges_read);
+        band += double(f.stats.band_faces);
+        turned += double(f.stats.faces_turned);
+        rebuilds += f.stats.band_rebuilt ? 1.0 : 0.0;
+        sil += double(f.silhouette_edges.size());
+    }
+    const double n = double(std::max<std::int64_t>(1, state.iterations()));
+    state.counters["search_ms"] = 1e3 * search / n;
+    state.counters["planes_read"] = read / n / double(t.face_count());
+    state.counters["edges_read"] = edges / n / double(t.edge_count());
+    state.counters["silhouette_edges"] = sil / n;
+    if (o.kind == inkline::FinderKind::Randomized) {
+        state.counters["band_faces"] = band / n;
+        state.counters["faces_turned"] = turned / n;
+        state.counters["rebuilds"] = rebuilds / n;
+    }
+}
+
+void BM_Exhaustive(benchmark::State& state, const char* name, bool blocks) {
+    inkline::FinderOptions o;
+    o.blocks = blocks;
+    run(state, name, o);
+}
+
+void BM_Coherence(benchmark::State& state, const char* name, bool blocks) {
+    inkline::FinderOptions o;
+    o.kind = inkline::FinderKind::Randomized;
+    o.fraction = 0.0005;
+    o.coherence = true;
+    o.first_full = true;
+    o.blocks = blocks;
+    run(state, name, o);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    for (const char* n : {"armadillo@2"}) {
+        for (bool blocks : {false, true}) {
+            const std::string b = blocks ? "/blocks" : "/noblocks";
+            benchmark::RegisterBenchmark(("exhaustive" + b + "/" + n).c_str(), BM_Exhaustive, n, blocks)
+                ->Arg(0)->Arg(100)->Unit(benchmark::kMillisecond);
+            benchmark::RegisterBenchmark(("coherence" + b + "/" + n).c_str(), BM_Coherence, n, blocks)
+                ->Arg(100)->Unit(benchmark::kMillisecond);
+        }
+    }
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
