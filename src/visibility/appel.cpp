@@ -78,6 +78,35 @@ int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
     return orient3_fast(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
 }
 
+// Sorts keys (high 32 bits: the sort key, below 2^bits; low 32 bits: increasing in input order)
+// by their high bits, stably: the same order as std::sort on the whole keys, by LSD radix passes.
+void sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& tmp, int bits) {
+    if (keys.size() < 256) {
+        std::sort(keys.begin(), keys.end());
+        return;
+    }
+    constexpr int kDigit = 11;
+    tmp.resize(keys.size());
+    std::vector<std::uint32_t> count(std::size_t(1) << kDigit);
+    for (int shift = 32; shift < 32 + bits; shift += kDigit) {
+        std::fill(count.begin(), count.end(), 0u);
+        for (const std::uint64_t k : keys) ++count[(k >> shift) & ((1u << kDigit) - 1)];
+        std::uint32_t sum = 0;
+        for (auto& c : count) {
+            const std::uint32_t n = c;
+            c = sum;
+            sum += n;
+        }
+        for (const std::uint64_t k : keys) tmp[count[(k >> shift) & ((1u << kDigit) - 1)]++] = k;
+        keys.swap(tmp);
+    }
+}
+int bit_width(std::size_t n) {
+    int b = 0;
+    while (n >> b) ++b;
+    return b;
+}
+
 // A set of mesh edges, one bit each.
 class EdgeMarks {
 public:
@@ -90,17 +119,58 @@ private:
     std::vector<std::uint64_t> bits_;
 };
 
+// A cross product p x q kept for exact sign tests of x . (p x q) = det[x, p, q]: the products'
+// magnitudes give the forward error bound of orient3_fast (the same evaluation with the rows
+// cyclically permuted: the bound does not depend on which row is outside the cross product).
+struct Cross {
+    glm::dvec3 c{0.0};     // p x q, rounded
+    glm::dvec3 perm{0.0};  // |p.y q.z| + |p.z q.y|, |p.z q.x| + |p.x q.z|, |p.x q.y| + |p.y q.x|
+};
+inline Cross cross_of(const glm::dvec3& p, const glm::dvec3& q) {
+    const double m0 = p.y * q.z, m1 = p.z * q.y, m2 = p.z * q.x, m3 = p.x * q.z, m4 = p.x * q.y, m5 = p.y * q.x;
+    return {{m0 - m1, m2 - m3, m4 - m5},
+            {std::abs(m0) + std::abs(m1), std::abs(m2) + std::abs(m3), std::abs(m4) + std::abs(m5)}};
+}
+// Sign of x . (p x q) where the float evaluation decides (orient3_fast's bound), 2 otherwise.
+inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
+    const double det = x.x * k.c.x + x.y * k.c.y + x.z * k.c.z;
+    const double perm = std::abs(x.x) * k.perm.x + std::abs(x.y) * k.perm.y + std::abs(x.z) * k.perm.z;
+    const double bound = 16.0 * 1.1102230246251565e-16 * perm + 0x1p-1022 * (1.0 + std::abs(x.x) + std::abs(x.y) + std::abs(x.z));
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    return 2;
+}
+
 // The faces around a vertex v, each with its facing, its other corners A, B in the face's order
 // (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
+// Perspective views also keep the cross products that make the tests of local_occlusion dot
+// products (with W the far end of the curve's edge and E the eye):
+//   orient3(v, A, B, W) = sign (W - v) . ((A - v) x (B - v))       (n)
+//   orient3(v, A, W, E) = sign (W - v) . ((E - v) x (A - v))       (ea, made on first use)
+//   orient3(v, B, W, E) = sign (W - v) . ((E - v) x (B - v))       (eb, made on first use)
+// each decided by the float filter, else by the exact orient3 on the same points.
 struct RingFace {
     std::uint32_t face;
     bool front;
     int eye;
     const glm::dvec3 *A, *B;
+    Cross n, ea, eb;
+    bool has_ea = false, has_eb = false;
+};
+struct Ring {
+    std::vector<RingFace> store;  // faces [0, size) are the ring (storage reused from ring to ring)
+    std::size_t size = 0;
+    bool fast = false;  // perspective: the cross products are set
+    glm::dvec3 to_eye{0.0};  // E - v
+    RingFace* begin() { return store.data(); }
+    RingFace* end() { return store.data() + size; }
 };
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
-             std::vector<RingFace>& ring) {
-    ring.clear();
+             Ring& ring) {
+    ring.size = 0;
+    ring.fast = !camera.is_ortho();
+    const glm::dvec3& V = mesh.positions[v];
+    if (ring.fast) ring.to_eye = camera.eye() - V;
     for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
         const std::uint32_t g = mesh.vertex_edges[k];
         // each face around v once: the one traversing g away from v
@@ -110,23 +180,41 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
         const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
         const bool front = face_front[f];
         const glm::dvec3 *A = &mesh.positions[c[(i + 1) % 3]], *B = &mesh.positions[c[(i + 2) % 3]];
-        ring.push_back({f, front, front ? 1 : orient_eye_fast(camera, mesh.positions[v], *A, *B), A, B});
+        if (ring.size == ring.store.size()) ring.store.emplace_back();
+        RingFace& r = ring.store[ring.size++];
+        r.face = f, r.front = front, r.eye = 1, r.A = A, r.B = B;
+        r.has_ea = r.has_eb = false;
+        if (ring.fast) {
+            r.n = cross_of(*A - V, *B - V);
+            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . n
+                const int s = filtered_sign(ring.to_eye, r.n);
+                r.eye = s != 2 ? s : orient3(V, *A, *B, camera.eye());
+            }
+        } else if (!front) {
+            r.eye = orient_eye_fast(camera, V, *A, *B);
+        }
     }
 }
 
 // local_occlusion (appel.hpp) with the ring of faces around v.
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<RingFace>& ring, std::uint32_t v,
-                    std::uint32_t edge) {
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
     const auto& ef = mesh.edge_face[edge];
     const glm::dvec3& V = mesh.positions[v];
     const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
+    const glm::dvec3 w = W - V;
     int count = 0;
-    for (const RingFace& r : ring) {
+    for (RingFace& r : ring) {
         if (r.face == ef[0] || r.face == ef[1]) continue;
         // The eye and the points of the edge near V on opposite sides of the face's plane (the
         // eye's side is the face's facing, known) ...
-        const int edge_side = plane_side(mesh, r.face, W);
+        int edge_side;
+        if (ring.fast) {
+            edge_side = filtered_sign(w, r.n);
+            if (edge_side == 2) edge_side = orient3(V, *r.A, *r.B, W);
+        } else {
+            edge_side = plane_side(mesh, r.face, W);
+        }
         if (edge_side == 0 || (edge_side > 0) == r.front) continue;
         // ... and the line of sight through them inside the face's corner at V: W seen between
         // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each. The
@@ -134,8 +222,20 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::v
         // front may still hold the eye in its plane (0: it hides nothing). The second is its
         // opposite, orient_eye(V, B, A).
         const int ba = r.eye;
-        if (ba == 0 || eye_side(camera, V, *r.A, W) != ba) continue;
-        if (eye_side(camera, V, *r.B, W) == -ba) ++count;
+        if (ba == 0) continue;
+        if (ring.fast) {
+            if (!r.has_ea) r.ea = cross_of(ring.to_eye, *r.A - V), r.has_ea = true;
+            int s = filtered_sign(w, r.ea);
+            if (s == 2) s = orient3(V, *r.A, W, camera.eye());
+            if (s != ba) continue;
+            if (!r.has_eb) r.eb = cross_of(ring.to_eye, *r.B - V), r.has_eb = true;
+            s = filtered_sign(w, r.eb);
+            if (s == 2) s = orient3(V, *r.B, W, camera.eye());
+            if (s == -ba) ++count;
+        } else {
+            if (eye_side(camera, V, *r.A, W) != ba) continue;
+            if (eye_side(camera, V, *r.B, W) == -ba) ++count;
+        }
     }
     return count;
 }
@@ -300,7 +400,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
 
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                     std::uint32_t v, std::uint32_t edge) {
-    std::vector<RingFace> ring;
+    Ring ring;
     ring_of(mesh, camera, face_front, v, ring);
     return local_occlusion(mesh, camera, ring, v, edge);
 }
@@ -362,7 +462,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     const auto& ends = graph.ends;
     std::vector<std::uint64_t> end_order(ends.size());
     for (std::size_t i = 0; i < ends.size(); ++i) end_order[i] = std::uint64_t(ends[i].vertex) << 32 | i;
-    std::sort(end_order.begin(), end_order.end());
+    std::vector<std::uint64_t> sort_tmp;
+    sort_keys(end_order, sort_tmp, bit_width(mesh.vertex_count()));
     std::vector<std::uint32_t> verts;
     verts.reserve(ends.size());
     for (const std::uint64_t k : end_order)
@@ -399,7 +500,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion. All ends at
     // one vertex share its ring of faces.
-    std::vector<RingFace> ring;
+    Ring ring;
     for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
         const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
         std::size_t j = i;
@@ -496,36 +597,54 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
 
     // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both sides.
     // Occluder pieces are found from the spans on the occluder's edge.
+    // (The spans on those edges sorted by edge as 64-bit keys: edge, then the span's index.)
     struct EdgePiece {
-        std::uint32_t edge, piece;
+        std::uint32_t piece;
         double s0, s1;
     };
     marked.clear();  // occluder edges of crossings between clusters
     for (const auto& c : graph.link_crossings)
         if (c.delta != 0) marked.set(c.occluder_edge);
-    std::vector<EdgePiece> by_edge;
+    std::vector<EdgePiece> on_edge;
+    std::vector<std::uint64_t> by_edge;
     for (std::uint32_t p = 0; p < np; ++p)
         for (const EdgeSpan& s : spans[p])
-            if (marked.test(s.edge)) by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
-    std::sort(by_edge.begin(), by_edge.end(), [](const EdgePiece& a, const EdgePiece& b) {
-        return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
-    });
-    auto piece_at = [&](std::uint32_t edge, double s) -> std::uint32_t {
-        auto it = std::lower_bound(by_edge.begin(), by_edge.end(), edge,
-                                   [](const EdgePiece& a, std::uint32_t e) { return a.edge < e; });
-        std::uint32_t best = UINT32_MAX;
-        double best_d = 1e300;
-        for (; it != by_edge.end() && it->edge == edge; ++it) {
-            const double d = s < it->s0 ? it->s0 - s : s > it->s1 ? s - it->s1 : 0.0;
-            if (d < best_d) best_d = d, best = it->piece;
+            if (marked.test(s.edge)) {
+                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
+                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+            }
+    sort_keys(by_edge, sort_tmp, bit_width(mesh.edge_count()));
+    // The crossings between clusters by occluder edge, matched with the spans on that edge: the
+    // piece nearest to the crossing's parameter (it lies in it, up to rounding); among equally
+    // near ones, the one starting first, then the lowest piece.
+    std::vector<std::uint64_t> lc_by_edge;
+    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i)
+        if (graph.link_crossings[i].delta != 0) lc_by_edge.push_back(std::uint64_t(graph.link_crossings[i].occluder_edge) << 32 | i);
+    sort_keys(lc_by_edge, sort_tmp, bit_width(mesh.edge_count()));
+    std::vector<std::uint32_t> occluder_piece(graph.link_crossings.size(), UINT32_MAX);
+    {
+        std::size_t j = 0;
+        for (const std::uint64_t key : lc_by_edge) {
+            const std::uint32_t edge = std::uint32_t(key >> 32);
+            while (j < by_edge.size() && std::uint32_t(by_edge[j] >> 32) < edge) ++j;
+            const double s = graph.link_crossings[std::uint32_t(key)].occluder_s;
+            const EdgePiece* best = nullptr;
+            double best_d = 1e300;
+            for (std::size_t k = j; k < by_edge.size() && std::uint32_t(by_edge[k] >> 32) == edge; ++k) {
+                const EdgePiece& x = on_edge[std::uint32_t(by_edge[k])];
+                const double d = s < x.s0 ? x.s0 - s : s > x.s1 ? s - x.s1 : 0.0;
+                if (!best || d < best_d || (d == best_d && (x.s0 < best->s0 || (x.s0 == best->s0 && x.piece < best->piece))))
+                    best_d = d, best = &x;
+            }
+            if (best) occluder_piece[std::uint32_t(key)] = best->piece;
         }
-        return best;
-    };
+    }
     auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
     std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
-    for (const auto& c : graph.link_crossings) {
+    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i) {
+        const auto& c = graph.link_crossings[i];
         if (c.delta == 0) continue;
-        const std::uint32_t op = piece_at(c.occluder_edge, c.occluder_s);
+        const std::uint32_t op = occluder_piece[i];
         if (op == UINT32_MAX || comp[op] == comp[graph.links[c.link].before]) continue;
         constraints.push_back({op, c.link});
     }
