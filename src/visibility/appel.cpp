@@ -146,8 +146,8 @@ inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
 // Perspective views also keep the cross products that make the tests of local_occlusion dot
 // products (with W the far end of the curve's edge and E the eye):
 //   orient3(v, A, B, W) = sign (W - v) . ((A - v) x (B - v))       (n)
-//   orient3(v, A, W, E) = sign (W - v) . ((E - v) x (A - v))       (ea, made on first use)
-//   orient3(v, B, W, E) = sign (W - v) . ((E - v) x (B - v))       (eb, made on first use)
+//   orient3(v, A, W, E) = sign (W - v) . ((E - v) x (A - v))       (ea)
+//   orient3(v, B, W, E) = sign (W - v) . ((E - v) x (B - v))       (eb)
 // each decided by the float filter, else by the exact orient3 on the same points.
 struct RingFace {
     std::uint32_t face;
@@ -155,15 +155,18 @@ struct RingFace {
     int eye;
     const glm::dvec3 *A, *B;
     Cross n, ea, eb;
-    bool has_ea = false, has_eb = false;
 };
 struct Ring {
     std::vector<RingFace> store;  // faces [0, size) are the ring (storage reused from ring to ring)
     std::size_t size = 0;
     bool fast = false;  // perspective: the cross products are set
     glm::dvec3 to_eye{0.0};  // E - v
-    RingFace* begin() { return store.data(); }
-    RingFace* end() { return store.data() + size; }
+    struct Faces {
+        const RingFace *b, *e;
+        const RingFace* begin() const { return b; }
+        const RingFace* end() const { return e; }
+    };
+    Faces faces() const { return {store.data(), store.data() + size}; }
 };
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              Ring& ring) {
@@ -183,9 +186,11 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
         if (ring.size == ring.store.size()) ring.store.emplace_back();
         RingFace& r = ring.store[ring.size++];
         r.face = f, r.front = front, r.eye = 1, r.A = A, r.B = B;
-        r.has_ea = r.has_eb = false;
         if (ring.fast) {
-            r.n = cross_of(*A - V, *B - V);
+            const glm::dvec3 a = *A - V, b = *B - V;
+            r.n = cross_of(a, b);
+            r.ea = cross_of(ring.to_eye, a);
+            r.eb = cross_of(ring.to_eye, b);
             if (!front) {  // orient_eye(V, A, B) = sign (E - V) . n
                 const int s = filtered_sign(ring.to_eye, r.n);
                 r.eye = s != 2 ? s : orient3(V, *A, *B, camera.eye());
@@ -196,46 +201,68 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
     }
 }
 
-// local_occlusion (appel.hpp) with the ring of faces around v.
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, Ring& ring, std::uint32_t v, std::uint32_t edge) {
+// Whether ring face r hides the points of edge (V, W) near V: the eye and those points on opposite
+// sides of the face's plane (the eye's side is the face's facing, known), and the line of sight
+// through them inside the face's corner at V: W seen between the planes (eye, V, A) and
+// (eye, V, B), on the side of the other corner of each. The first is the face's facing,
+// orient_eye(V, A, B): 1 for a front face; a face not in front may still hold the eye in its
+// plane (0: it hides nothing). The second is its opposite, orient_eye(V, B, A).
+bool face_hides(const MeshTopology& mesh, const Camera& camera, const Ring& ring, const RingFace& r,
+                const glm::dvec3& V, const glm::dvec3& W) {
+    int edge_side;
+    if (ring.fast) {
+        edge_side = filtered_sign(W - V, r.n);
+        if (edge_side == 2) edge_side = orient3(V, *r.A, *r.B, W);
+    } else {
+        edge_side = plane_side(mesh, r.face, W);
+    }
+    if (edge_side == 0 || (edge_side > 0) == r.front) return false;
+    const int ba = r.eye;
+    if (ba == 0) return false;
+    if (ring.fast) {
+        int s = filtered_sign(W - V, r.ea);
+        if (s == 2) s = orient3(V, *r.A, W, camera.eye());
+        if (s != ba) return false;
+        s = filtered_sign(W - V, r.eb);
+        if (s == 2) s = orient3(V, *r.B, W, camera.eye());
+        return s == -ba;
+    }
+    return eye_side(camera, V, *r.A, W) == ba && eye_side(camera, V, *r.B, W) == -ba;
+}
+
+// local_occlusion (appel.hpp) with the ring of faces around v. With the cross products (perspective)
+// the three tests of every face are evaluated at once, without branches (the outcome of each is
+// data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
-    const auto& ef = mesh.edge_face[edge];
+    const std::uint32_t f0 = mesh.edge_face[edge][0], f1 = mesh.edge_face[edge][1];
     const glm::dvec3& V = mesh.positions[v];
     const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
-    const glm::dvec3 w = W - V;
     int count = 0;
-    for (RingFace& r : ring) {
-        if (r.face == ef[0] || r.face == ef[1]) continue;
-        // The eye and the points of the edge near V on opposite sides of the face's plane (the
-        // eye's side is the face's facing, known) ...
-        int edge_side;
-        if (ring.fast) {
-            edge_side = filtered_sign(w, r.n);
-            if (edge_side == 2) edge_side = orient3(V, *r.A, *r.B, W);
-        } else {
-            edge_side = plane_side(mesh, r.face, W);
+    if (!ring.fast) {
+        for (const RingFace& r : ring.faces())
+            if (r.face != f0 && r.face != f1) count += face_hides(mesh, camera, ring, r, V, W);
+        return count;
+    }
+    const glm::dvec3 w = W - V, aw = glm::abs(w);
+    // orient3_fast's bound (see filtered_sign): the absolute term depends on w only.
+    constexpr double kRel = 16.0 * 1.1102230246251565e-16;
+    const double abs_term = 0x1p-1022 * (1.0 + aw.x + aw.y + aw.z);
+    for (const RingFace& r : ring.faces()) {
+        const double dn = glm::dot(w, r.n.c), da = glm::dot(w, r.ea.c), db = glm::dot(w, r.eb.c);
+        const double bn = kRel * glm::dot(aw, r.n.perm) + abs_term, ba_ = kRel * glm::dot(aw, r.ea.perm) + abs_term,
+                     bb = kRel * glm::dot(aw, r.eb.perm) + abs_term;
+        const bool own = (r.face == f0) | (r.face == f1);
+        if (!(std::abs(dn) > bn) | !(std::abs(da) > ba_) | !(std::abs(db) > bb)) {
+            if (!own) count += face_hides(mesh, camera, ring, r, V, W);
+            continue;
         }
-        if (edge_side == 0 || (edge_side > 0) == r.front) continue;
-        // ... and the line of sight through them inside the face's corner at V: W seen between
-        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each. The
-        // first is the face's facing, orient_eye(V, A, B): 1 for a front face; a face not in
-        // front may still hold the eye in its plane (0: it hides nothing). The second is its
-        // opposite, orient_eye(V, B, A).
-        const int ba = r.eye;
-        if (ba == 0) continue;
-        if (ring.fast) {
-            if (!r.has_ea) r.ea = cross_of(ring.to_eye, *r.A - V), r.has_ea = true;
-            int s = filtered_sign(w, r.ea);
-            if (s == 2) s = orient3(V, *r.A, W, camera.eye());
-            if (s != ba) continue;
-            if (!r.has_eb) r.eb = cross_of(ring.to_eye, *r.B - V), r.has_eb = true;
-            s = filtered_sign(w, r.eb);
-            if (s == 2) s = orient3(V, *r.B, W, camera.eye());
-            if (s == -ba) ++count;
-        } else {
-            if (eye_side(camera, V, *r.A, W) != ba) continue;
-            if (eye_side(camera, V, *r.B, W) == -ba) ++count;
-        }
+        // All three signs decided: the face hides the edge when W is behind its plane (the side
+        // opposite its facing), and inside its corner (sides eye, -eye of its two edges at V).
+        const bool behind = (dn > 0.0) != r.front;
+        const int e = r.eye;
+        const int sa = da > 0.0 ? 1 : -1, sb = db > 0.0 ? 1 : -1;
+        count += int(!own & behind & (e != 0) & (sa == e) & (sb == -e));
     }
     return count;
 }
@@ -509,7 +536,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
         // the local occlusion at v undefined; the pieces ending at v take the reference ray test
         // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
-        const bool edge_on = std::any_of(ring.begin(), ring.end(), [](const RingFace& r) { return r.eye == 0; });
+        const bool edge_on = std::any_of(ring.faces().begin(), ring.faces().end(), [](const RingFace& r) { return r.eye == 0; });
         for (; i < j; ++i) {
             const auto& e = ends[std::uint32_t(end_order[i])];
             if (edge_on) pierced[e.piece] = 1;
