@@ -698,8 +698,10 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     std::vector<int> min_piece(nc, 1 << 30);
     std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
     std::vector<double> zero_len(nc, -1.0);
+    // (Only clusters still bounded need them: the others are decided.)
     for (std::uint32_t p = 0; p < np; ++p) {
         const std::uint32_t c = comp[p];
+        if (state[c] != kBound) continue;
         min_piece[c] = std::min(min_piece[c], value(p));
         double len = 0.0;
         const auto& pts = pieces[p].points;
