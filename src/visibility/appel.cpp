@@ -13,16 +13,19 @@ namespace inkline {
 namespace {
 
 // Weighted union-find: value(x) = value(find(x)) + offset(x); unite(a, b, d) records
-// value(b) - value(a) = d and reports a contradiction with what is already known.
+// value(b) - value(a) = d and reports a contradiction with what is already known. Union by size
+// (the root of a set is arbitrary: only differences of values within a set have meaning).
 class OffsetForest {
 public:
-    explicit OffsetForest(std::size_t n) : parent_(n), diff_(n, 0) {
+    explicit OffsetForest(std::size_t n) : parent_(n), diff_(n, 0), size_(n, 1) {
         for (std::size_t i = 0; i < n; ++i) parent_[i] = std::uint32_t(i);
     }
-    std::uint32_t find(std::uint32_t x) {
+    // The root of x, and offset = value(x) - value(root).
+    std::uint32_t find(std::uint32_t x, int& offset) {
         std::uint32_t r = x;
         int d = 0;
         while (parent_[r] != r) d += diff_[r], r = parent_[r];
+        offset = d;
         // path compression, keeping offsets relative to the root
         while (parent_[x] != r) {
             const std::uint32_t next = parent_[x];
@@ -34,23 +37,27 @@ public:
         }
         return r;
     }
-    int offset(std::uint32_t x) {
-        find(x);
-        return parent_[x] == x ? 0 : diff_[x];
-    }
     bool unite(std::uint32_t a, std::uint32_t b, int d) {
-        const std::uint32_t ra = find(a), rb = find(b);
-        const int oa = offset(a), ob = offset(b);
+        int oa, ob;
+        const std::uint32_t ra = find(a, oa), rb = find(b, ob);
         if (ra == rb) return ob - oa == d;
         // value(b) = value(a) + d  =>  value(rb) = value(ra) + oa + d - ob
-        parent_[rb] = ra;
-        diff_[rb] = oa + d - ob;
+        if (size_[ra] >= size_[rb]) {
+            parent_[rb] = ra;
+            diff_[rb] = oa + d - ob;
+            size_[ra] += size_[rb];
+        } else {
+            parent_[ra] = rb;
+            diff_[ra] = ob - d - oa;
+            size_[rb] += size_[ra];
+        }
         return true;
     }
 
 private:
     std::vector<std::uint32_t> parent_;
     std::vector<int> diff_;
+    std::vector<std::uint32_t> size_;
 };
 
 glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint32_t edge) {
@@ -549,10 +556,9 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
     std::vector<int> off(nn);
     for (std::uint32_t x = 0; x < nn; ++x) {
-        const std::uint32_t r = forest.find(x);
+        const std::uint32_t r = forest.find(x, off[x]);
         if (root_comp[r] == UINT32_MAX) root_comp[r] = std::uint32_t(st.clusters++);
         comp[x] = root_comp[r];
-        off[x] = forest.offset(x);
     }
     const std::size_t nc = st.clusters;
     enum : std::uint8_t { kBound = 0, kFixed = 1, kInconsistent = 2 };
