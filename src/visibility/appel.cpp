@@ -13,16 +13,19 @@ namespace inkline {
 namespace {
 
 // Weighted union-find: value(x) = value(find(x)) + offset(x); unite(a, b, d) records
-// value(b) - value(a) = d and reports a contradiction with what is already known.
+// value(b) - value(a) = d and reports a contradiction with what is already known. Union by size
+// (the root of a set is arbitrary: only differences of values within a set have meaning).
 class OffsetForest {
 public:
-    explicit OffsetForest(std::size_t n) : parent_(n), diff_(n, 0) {
+    explicit OffsetForest(std::size_t n) : parent_(n), diff_(n, 0), size_(n, 1) {
         for (std::size_t i = 0; i < n; ++i) parent_[i] = std::uint32_t(i);
     }
-    std::uint32_t find(std::uint32_t x) {
+    // The root of x, and offset = value(x) - value(root).
+    std::uint32_t find(std::uint32_t x, int& offset) {
         std::uint32_t r = x;
         int d = 0;
         while (parent_[r] != r) d += diff_[r], r = parent_[r];
+        offset = d;
         // path compression, keeping offsets relative to the root
         while (parent_[x] != r) {
             const std::uint32_t next = parent_[x];
@@ -34,23 +37,27 @@ public:
         }
         return r;
     }
-    int offset(std::uint32_t x) {
-        find(x);
-        return parent_[x] == x ? 0 : diff_[x];
-    }
     bool unite(std::uint32_t a, std::uint32_t b, int d) {
-        const std::uint32_t ra = find(a), rb = find(b);
-        const int oa = offset(a), ob = offset(b);
+        int oa, ob;
+        const std::uint32_t ra = find(a, oa), rb = find(b, ob);
         if (ra == rb) return ob - oa == d;
         // value(b) = value(a) + d  =>  value(rb) = value(ra) + oa + d - ob
-        parent_[rb] = ra;
-        diff_[rb] = oa + d - ob;
+        if (size_[ra] >= size_[rb]) {
+            parent_[rb] = ra;
+            diff_[rb] = oa + d - ob;
+            size_[ra] += size_[rb];
+        } else {
+            parent_[ra] = rb;
+            diff_[ra] = ob - d - oa;
+            size_[rb] += size_[ra];
+        }
         return true;
     }
 
 private:
     std::vector<std::uint32_t> parent_;
     std::vector<int> diff_;
+    std::vector<std::uint32_t> size_;
 };
 
 glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint32_t edge) {
@@ -78,6 +85,35 @@ int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
     return orient3_fast(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
 }
 
+// Sorts keys (high 32 bits: the sort key, below 2^bits; low 32 bits: increasing in input order)
+// by their high bits, stably: the same order as std::sort on the whole keys, by LSD radix passes.
+void sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& tmp, int bits) {
+    if (keys.size() < 256) {
+        std::sort(keys.begin(), keys.end());
+        return;
+    }
+    constexpr int kDigit = 11;
+    tmp.resize(keys.size());
+    std::vector<std::uint32_t> count(std::size_t(1) << kDigit);
+    for (int shift = 32; shift < 32 + bits; shift += kDigit) {
+        std::fill(count.begin(), count.end(), 0u);
+        for (const std::uint64_t k : keys) ++count[(k >> shift) & ((1u << kDigit) - 1)];
+        std::uint32_t sum = 0;
+        for (auto& c : count) {
+            const std::uint32_t n = c;
+            c = sum;
+            sum += n;
+        }
+        for (const std::uint64_t k : keys) tmp[count[(k >> shift) & ((1u << kDigit) - 1)]++] = k;
+        keys.swap(tmp);
+    }
+}
+int bit_width(std::size_t n) {
+    int b = 0;
+    while (n >> b) ++b;
+    return b;
+}
+
 // A set of mesh edges, one bit each.
 class EdgeMarks {
 public:
@@ -90,17 +126,61 @@ private:
     std::vector<std::uint64_t> bits_;
 };
 
+// A cross product p x q kept for exact sign tests of x . (p x q) = det[x, p, q]: the products'
+// magnitudes give the forward error bound of orient3_fast (the same evaluation with the rows
+// cyclically permuted: the bound does not depend on which row is outside the cross product).
+struct Cross {
+    glm::dvec3 c{0.0};     // p x q, rounded
+    glm::dvec3 perm{0.0};  // |p.y q.z| + |p.z q.y|, |p.z q.x| + |p.x q.z|, |p.x q.y| + |p.y q.x|
+};
+inline Cross cross_of(const glm::dvec3& p, const glm::dvec3& q) {
+    const double m0 = p.y * q.z, m1 = p.z * q.y, m2 = p.z * q.x, m3 = p.x * q.z, m4 = p.x * q.y, m5 = p.y * q.x;
+    return {{m0 - m1, m2 - m3, m4 - m5},
+            {std::abs(m0) + std::abs(m1), std::abs(m2) + std::abs(m3), std::abs(m4) + std::abs(m5)}};
+}
+// Sign of x . (p x q) where the float evaluation decides (orient3_fast's bound), 2 otherwise.
+inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
+    const double det = x.x * k.c.x + x.y * k.c.y + x.z * k.c.z;
+    const double perm = std::abs(x.x) * k.perm.x + std::abs(x.y) * k.perm.y + std::abs(x.z) * k.perm.z;
+    const double bound = 16.0 * 1.1102230246251565e-16 * perm + 0x1p-1022 * (1.0 + std::abs(x.x) + std::abs(x.y) + std::abs(x.z));
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    return 2;
+}
+
 // The faces around a vertex v, each with its facing, its other corners A, B in the face's order
 // (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
+// Perspective views also keep the cross products that make the tests of local_occlusion dot
+// products (with W the far end of the curve's edge and E the eye):
+//   orient3(v, A, B, W) = sign (W - v) . ((A - v) x (B - v))       (n)
+//   orient3(v, A, W, E) = sign (W - v) . ((E - v) x (A - v))       (ea)
+//   orient3(v, B, W, E) = sign (W - v) . ((E - v) x (B - v))       (eb)
+// each decided by the float filter, else by the exact orient3 on the same points.
 struct RingFace {
     std::uint32_t face;
     bool front;
     int eye;
     const glm::dvec3 *A, *B;
+    Cross n, ea, eb;
+};
+struct Ring {
+    std::vector<RingFace> store;  // faces [0, size) are the ring (storage reused from ring to ring)
+    std::size_t size = 0;
+    bool fast = false;  // perspective: the cross products are set
+    glm::dvec3 to_eye{0.0};  // E - v
+    struct Faces {
+        const RingFace *b, *e;
+        const RingFace* begin() const { return b; }
+        const RingFace* end() const { return e; }
+    };
+    Faces faces() const { return {store.data(), store.data() + size}; }
 };
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
-             std::vector<RingFace>& ring) {
-    ring.clear();
+             Ring& ring) {
+    ring.size = 0;
+    ring.fast = !camera.is_ortho();
+    const glm::dvec3& V = mesh.positions[v];
+    if (ring.fast) ring.to_eye = camera.eye() - V;
     for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
         const std::uint32_t g = mesh.vertex_edges[k];
         // each face around v once: the one traversing g away from v
@@ -110,32 +190,86 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
         const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
         const bool front = face_front[f];
         const glm::dvec3 *A = &mesh.positions[c[(i + 1) % 3]], *B = &mesh.positions[c[(i + 2) % 3]];
-        ring.push_back({f, front, front ? 1 : orient_eye_fast(camera, mesh.positions[v], *A, *B), A, B});
+        if (ring.size == ring.store.size()) ring.store.emplace_back();
+        RingFace& r = ring.store[ring.size++];
+        r.face = f, r.front = front, r.eye = 1, r.A = A, r.B = B;
+        if (ring.fast) {
+            const glm::dvec3 a = *A - V, b = *B - V;
+            r.n = cross_of(a, b);
+            r.ea = cross_of(ring.to_eye, a);
+            r.eb = cross_of(ring.to_eye, b);
+            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . n
+                const int s = filtered_sign(ring.to_eye, r.n);
+                r.eye = s != 2 ? s : orient3(V, *A, *B, camera.eye());
+            }
+        } else if (!front) {
+            r.eye = orient_eye_fast(camera, V, *A, *B);
+        }
     }
 }
 
-// local_occlusion (appel.hpp) with the ring of faces around v.
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, const std::vector<RingFace>& ring, std::uint32_t v,
-                    std::uint32_t edge) {
+// Whether ring face r hides the points of edge (V, W) near V: the eye and those points on opposite
+// sides of the face's plane (the eye's side is the face's facing, known), and the line of sight
+// through them inside the face's corner at V: W seen between the planes (eye, V, A) and
+// (eye, V, B), on the side of the other corner of each. The first is the face's facing,
+// orient_eye(V, A, B): 1 for a front face; a face not in front may still hold the eye in its
+// plane (0: it hides nothing). The second is its opposite, orient_eye(V, B, A).
+bool face_hides(const MeshTopology& mesh, const Camera& camera, const Ring& ring, const RingFace& r,
+                const glm::dvec3& V, const glm::dvec3& W) {
+    int edge_side;
+    if (ring.fast) {
+        edge_side = filtered_sign(W - V, r.n);
+        if (edge_side == 2) edge_side = orient3(V, *r.A, *r.B, W);
+    } else {
+        edge_side = plane_side(mesh, r.face, W);
+    }
+    if (edge_side == 0 || (edge_side > 0) == r.front) return false;
+    const int ba = r.eye;
+    if (ba == 0) return false;
+    if (ring.fast) {
+        int s = filtered_sign(W - V, r.ea);
+        if (s == 2) s = orient3(V, *r.A, W, camera.eye());
+        if (s != ba) return false;
+        s = filtered_sign(W - V, r.eb);
+        if (s == 2) s = orient3(V, *r.B, W, camera.eye());
+        return s == -ba;
+    }
+    return eye_side(camera, V, *r.A, W) == ba && eye_side(camera, V, *r.B, W) == -ba;
+}
+
+// local_occlusion (appel.hpp) with the ring of faces around v. With the cross products (perspective)
+// the three tests of every face are evaluated at once, without branches (the outcome of each is
+// data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
-    const auto& ef = mesh.edge_face[edge];
+    const std::uint32_t f0 = mesh.edge_face[edge][0], f1 = mesh.edge_face[edge][1];
     const glm::dvec3& V = mesh.positions[v];
     const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
     int count = 0;
-    for (const RingFace& r : ring) {
-        if (r.face == ef[0] || r.face == ef[1]) continue;
-        // The eye and the points of the edge near V on opposite sides of the face's plane (the
-        // eye's side is the face's facing, known) ...
-        const int edge_side = plane_side(mesh, r.face, W);
-        if (edge_side == 0 || (edge_side > 0) == r.front) continue;
-        // ... and the line of sight through them inside the face's corner at V: W seen between
-        // the planes (eye, V, A) and (eye, V, B), on the side of the other corner of each. The
-        // first is the face's facing, orient_eye(V, A, B): 1 for a front face; a face not in
-        // front may still hold the eye in its plane (0: it hides nothing). The second is its
-        // opposite, orient_eye(V, B, A).
-        const int ba = r.eye;
-        if (ba == 0 || eye_side(camera, V, *r.A, W) != ba) continue;
-        if (eye_side(camera, V, *r.B, W) == -ba) ++count;
+    if (!ring.fast) {
+        for (const RingFace& r : ring.faces())
+            if (r.face != f0 && r.face != f1) count += face_hides(mesh, camera, ring, r, V, W);
+        return count;
+    }
+    const glm::dvec3 w = W - V, aw = glm::abs(w);
+    // orient3_fast's bound (see filtered_sign): the absolute term depends on w only.
+    constexpr double kRel = 16.0 * 1.1102230246251565e-16;
+    const double abs_term = 0x1p-1022 * (1.0 + aw.x + aw.y + aw.z);
+    for (const RingFace& r : ring.faces()) {
+        const double dn = glm::dot(w, r.n.c), da = glm::dot(w, r.ea.c), db = glm::dot(w, r.eb.c);
+        const double bn = kRel * glm::dot(aw, r.n.perm) + abs_term, ba_ = kRel * glm::dot(aw, r.ea.perm) + abs_term,
+                     bb = kRel * glm::dot(aw, r.eb.perm) + abs_term;
+        const bool own = (r.face == f0) | (r.face == f1);
+        if (!(std::abs(dn) > bn) | !(std::abs(da) > ba_) | !(std::abs(db) > bb)) {
+            if (!own) count += face_hides(mesh, camera, ring, r, V, W);
+            continue;
+        }
+        // All three signs decided: the face hides the edge when W is behind its plane (the side
+        // opposite its facing), and inside its corner (sides eye, -eye of its two edges at V).
+        const bool behind = (dn > 0.0) != r.front;
+        const int e = r.eye;
+        const int sa = da > 0.0 ? 1 : -1, sb = db > 0.0 ? 1 : -1;
+        count += int(!own & behind & (e != 0) & (sa == e) & (sb == -e));
     }
     return count;
 }
@@ -300,7 +434,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
 
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
                     std::uint32_t v, std::uint32_t edge) {
-    std::vector<RingFace> ring;
+    Ring ring;
     ring_of(mesh, camera, face_front, v, ring);
     return local_occlusion(mesh, camera, ring, v, edge);
 }
@@ -362,7 +496,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     const auto& ends = graph.ends;
     std::vector<std::uint64_t> end_order(ends.size());
     for (std::size_t i = 0; i < ends.size(); ++i) end_order[i] = std::uint64_t(ends[i].vertex) << 32 | i;
-    std::sort(end_order.begin(), end_order.end());
+    std::vector<std::uint64_t> sort_tmp;
+    sort_keys(end_order, sort_tmp, bit_width(mesh.vertex_count()));
     std::vector<std::uint32_t> verts;
     verts.reserve(ends.size());
     for (const std::uint64_t k : end_order)
@@ -399,7 +534,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion. All ends at
     // one vertex share its ring of faces.
-    std::vector<RingFace> ring;
+    Ring ring;
     for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
         const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
         std::size_t j = i;
@@ -408,7 +543,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
         // the local occlusion at v undefined; the pieces ending at v take the reference ray test
         // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
-        const bool edge_on = std::any_of(ring.begin(), ring.end(), [](const RingFace& r) { return r.eye == 0; });
+        const bool edge_on = std::any_of(ring.faces().begin(), ring.faces().end(), [](const RingFace& r) { return r.eye == 0; });
         for (; i < j; ++i) {
             const auto& e = ends[std::uint32_t(end_order[i])];
             if (edge_on) pierced[e.piece] = 1;
@@ -421,10 +556,9 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
     std::vector<int> off(nn);
     for (std::uint32_t x = 0; x < nn; ++x) {
-        const std::uint32_t r = forest.find(x);
+        const std::uint32_t r = forest.find(x, off[x]);
         if (root_comp[r] == UINT32_MAX) root_comp[r] = std::uint32_t(st.clusters++);
         comp[x] = root_comp[r];
-        off[x] = forest.offset(x);
     }
     const std::size_t nc = st.clusters;
     enum : std::uint8_t { kBound = 0, kFixed = 1, kInconsistent = 2 };
@@ -496,36 +630,54 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
 
     // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both sides.
     // Occluder pieces are found from the spans on the occluder's edge.
+    // (The spans on those edges sorted by edge as 64-bit keys: edge, then the span's index.)
     struct EdgePiece {
-        std::uint32_t edge, piece;
+        std::uint32_t piece;
         double s0, s1;
     };
     marked.clear();  // occluder edges of crossings between clusters
     for (const auto& c : graph.link_crossings)
         if (c.delta != 0) marked.set(c.occluder_edge);
-    std::vector<EdgePiece> by_edge;
+    std::vector<EdgePiece> on_edge;
+    std::vector<std::uint64_t> by_edge;
     for (std::uint32_t p = 0; p < np; ++p)
         for (const EdgeSpan& s : spans[p])
-            if (marked.test(s.edge)) by_edge.push_back({s.edge, p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
-    std::sort(by_edge.begin(), by_edge.end(), [](const EdgePiece& a, const EdgePiece& b) {
-        return a.edge != b.edge ? a.edge < b.edge : a.s0 < b.s0;
-    });
-    auto piece_at = [&](std::uint32_t edge, double s) -> std::uint32_t {
-        auto it = std::lower_bound(by_edge.begin(), by_edge.end(), edge,
-                                   [](const EdgePiece& a, std::uint32_t e) { return a.edge < e; });
-        std::uint32_t best = UINT32_MAX;
-        double best_d = 1e300;
-        for (; it != by_edge.end() && it->edge == edge; ++it) {
-            const double d = s < it->s0 ? it->s0 - s : s > it->s1 ? s - it->s1 : 0.0;
-            if (d < best_d) best_d = d, best = it->piece;
+            if (marked.test(s.edge)) {
+                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
+                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+            }
+    sort_keys(by_edge, sort_tmp, bit_width(mesh.edge_count()));
+    // The crossings between clusters by occluder edge, matched with the spans on that edge: the
+    // piece nearest to the crossing's parameter (it lies in it, up to rounding); among equally
+    // near ones, the one starting first, then the lowest piece.
+    std::vector<std::uint64_t> lc_by_edge;
+    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i)
+        if (graph.link_crossings[i].delta != 0) lc_by_edge.push_back(std::uint64_t(graph.link_crossings[i].occluder_edge) << 32 | i);
+    sort_keys(lc_by_edge, sort_tmp, bit_width(mesh.edge_count()));
+    std::vector<std::uint32_t> occluder_piece(graph.link_crossings.size(), UINT32_MAX);
+    {
+        std::size_t j = 0;
+        for (const std::uint64_t key : lc_by_edge) {
+            const std::uint32_t edge = std::uint32_t(key >> 32);
+            while (j < by_edge.size() && std::uint32_t(by_edge[j] >> 32) < edge) ++j;
+            const double s = graph.link_crossings[std::uint32_t(key)].occluder_s;
+            const EdgePiece* best = nullptr;
+            double best_d = 1e300;
+            for (std::size_t k = j; k < by_edge.size() && std::uint32_t(by_edge[k] >> 32) == edge; ++k) {
+                const EdgePiece& x = on_edge[std::uint32_t(by_edge[k])];
+                const double d = s < x.s0 ? x.s0 - s : s > x.s1 ? s - x.s1 : 0.0;
+                if (!best || d < best_d || (d == best_d && (x.s0 < best->s0 || (x.s0 == best->s0 && x.piece < best->piece))))
+                    best_d = d, best = &x;
+            }
+            if (best) occluder_piece[std::uint32_t(key)] = best->piece;
         }
-        return best;
-    };
+    }
     auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
     std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
-    for (const auto& c : graph.link_crossings) {
+    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i) {
+        const auto& c = graph.link_crossings[i];
         if (c.delta == 0) continue;
-        const std::uint32_t op = piece_at(c.occluder_edge, c.occluder_s);
+        const std::uint32_t op = occluder_piece[i];
         if (op == UINT32_MAX || comp[op] == comp[graph.links[c.link].before]) continue;
         constraints.push_back({op, c.link});
     }
@@ -552,8 +704,10 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     std::vector<int> min_piece(nc, 1 << 30);
     std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
     std::vector<double> zero_len(nc, -1.0);
+    // (Only clusters still bounded need them: the others are decided.)
     for (std::uint32_t p = 0; p < np; ++p) {
         const std::uint32_t c = comp[p];
+        if (state[c] != kBound) continue;
         min_piece[c] = std::min(min_piece[c], value(p));
         double len = 0.0;
         const auto& pts = pieces[p].points;
