@@ -96,7 +96,8 @@ void ViewSession::finish(const Camera& camera) {
     AppelStats as;
     if (appel) {
         PieceGraph g = build_pieces(model.topology(), v.features, camera, &si.cuts, options.threads);
-        as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g, {options.exact_hidden, pierced, options.walk});
+        as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g,
+                             {options.exact_hidden, pierced, options.walk, options.threads});
         curves = std::move(g.curves);
         curves.ray_tests = as.ray_tests;
         // Drop what was chained only to propagate QI.

@@ -305,5 +305,35 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
         ASSERT_TRUE(v1.drawing.pieces[p].points == v2.drawing.pieces[p].points && v1.drawing.pieces[p].qi == v2.drawing.pieces[p].qi);
 }
 
+
+// The fast method on two threads (local occlusion at curve ends and walks split, then applied in
+// order; build_pieces split too at 0 edges): the same QI, walks and ray tests as on one.
+TEST(AssignQiAppel, TwoThreadsGiveTheSameQi) {
+    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const MeshTopology& mesh = model.topology();
+    const SelfIntersections& si = model.self_intersections();
+    std::mt19937 rng(11u);
+    std::size_t walks = 0;
+    for (int k = 0; k < 5; ++k) {
+        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        cam.set_near(default_near(mesh));
+        const Features f = extract_features(mesh, cam);
+        auto rays = [&]() -> const RayCaster& { return model.rays(); };
+        PieceGraph one = build_pieces(mesh, f, cam, &si.cuts, 1);
+        PieceGraph two = build_pieces(mesh, f, cam, &si.cuts, 2, /*parallel_edges=*/0);
+        const AppelStats s1 = assign_qi_appel(mesh, cam, f.face_front, rays, one, {false, &si.faces, true, 1});
+        const AppelStats s2 = assign_qi_appel(mesh, cam, f.face_front, rays, two, {false, &si.faces, true, 2});
+        EXPECT_EQ(s1.walks, s2.walks) << k;
+        EXPECT_EQ(s1.ray_tests, s2.ray_tests) << k;
+        EXPECT_EQ(s1.clusters, s2.clusters) << k;
+        EXPECT_EQ(s1.clusters_occluded, s2.clusters_occluded) << k;
+        walks += s1.walks;
+        ASSERT_EQ(one.curves.pieces.size(), two.curves.pieces.size()) << k;
+        for (std::size_t p = 0; p < one.curves.pieces.size(); ++p)
+            ASSERT_EQ(one.curves.pieces[p].qi, two.curves.pieces[p].qi) << k << " piece " << p;
+    }
+    EXPECT_GT(walks, 200u);  // (the walks ran on two threads: at least 64 in a view)
+}
+
 }  // namespace
 }  // namespace inkline

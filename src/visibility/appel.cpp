@@ -1,6 +1,9 @@
 #include "visibility/appel.hpp"
 
 #include <algorithm>
+#include <climits>
+#include <functional>
+#include <thread>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -302,8 +305,8 @@ struct PathFrame {
 // layer over u. The path is axis-parallel, so whether a projected vertex lies above or below it is
 // an exact comparison; where the path meets an edge, before or after u, is an exact orientation.
 // Degenerate paths (through a vertex, u on an edge) fail: the caller then makes a ray test.
-Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
-             const PieceGraph& g, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
+Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, const PieceGraph& g,
+             const VertexImages& proj, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
     const double dist[4] = {u.x - box[0], box[1] - u.x, u.y - box[2], box[3] - u.y};
     const int dir = int(std::min_element(dist, dist + 4) - dist);
     const PathFrame T{dir};
@@ -311,7 +314,6 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
     const Segment2 path{u, end, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
     const glm::dvec2 ut = T(u);
     const int front_sign = T.det();
-    const VertexImages& proj = g.images;
     const auto& own_faces = mesh.edge_face[own_edge];
     Walk result = Walk::Visible;
     struct Crossed {
@@ -534,21 +536,45 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion. All ends at
     // one vertex share its ring of faces.
-    Ring ring;
+    // The local occlusion of every end first (per vertex group; on two threads for a large view),
+    // then the unions in order.
+    // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
+    // the local occlusion at v undefined; the pieces ending at v take the reference ray test
+    // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
+    constexpr int kEdgeOn = INT32_MIN, kSkipped = INT32_MIN + 1;
+    std::vector<int> end_occlusion(end_order.size());
+    auto occlusion_of_ends = [&](std::size_t i0, std::size_t i1) {
+        Ring ring;
+        for (std::size_t i = i0; i < i1;) {
+            const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
+            std::size_t j = i;
+            while (j < i1 && std::uint32_t(end_order[j] >> 32) == v) ++j;
+            ring_of(mesh, camera, face_front, v, ring);
+            const bool edge_on =
+                std::any_of(ring.faces().begin(), ring.faces().end(), [](const RingFace& r) { return r.eye == 0; });
+            for (; i < j; ++i) {
+                const auto& e = ends[std::uint32_t(end_order[i])];
+                end_occlusion[i] = edge_on ? kEdgeOn : pierced[e.piece] ? kSkipped : local_occlusion(mesh, camera, ring, v, e.edge);
+            }
+        }
+    };
+    const bool two_threads = options.threads > 1;
+    if (two_threads && end_order.size() >= 2000) {
+        std::size_t mid = end_order.size() / 2;  // at a vertex's first end
+        while (mid < end_order.size() && mid > 0 && (end_order[mid] >> 32) == (end_order[mid - 1] >> 32)) ++mid;
+        std::thread worker(occlusion_of_ends, mid, end_order.size());
+        occlusion_of_ends(0, mid);
+        worker.join();
+    } else {
+        occlusion_of_ends(0, end_order.size());
+    }
     for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
         const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
-        std::size_t j = i;
-        while (j < end_order.size() && std::uint32_t(end_order[j] >> 32) == v) ++j;
-        ring_of(mesh, camera, face_front, v, ring);
-        // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
-        // the local occlusion at v undefined; the pieces ending at v take the reference ray test
-        // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
-        const bool edge_on = std::any_of(ring.faces().begin(), ring.faces().end(), [](const RingFace& r) { return r.eye == 0; });
-        for (; i < j; ++i) {
+        for (; i < end_order.size() && std::uint32_t(end_order[i] >> 32) == v; ++i) {
             const auto& e = ends[std::uint32_t(end_order[i])];
-            if (edge_on) pierced[e.piece] = 1;
+            if (end_occlusion[i] == kEdgeOn) pierced[e.piece] = 1;
             if (pierced[e.piece]) continue;
-            if (!forest.unite(std::uint32_t(node), e.piece, local_occlusion(mesh, camera, ring, v, e.edge))) bad[e.piece] = 1;
+            if (!forest.unite(std::uint32_t(node), e.piece, end_occlusion[i])) bad[e.piece] = 1;
         }
     }
 
@@ -725,12 +751,33 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         box[3] = std::max({box[3], o.a.y, o.b.y});
     }
     box[0] -= 1.0, box[1] += 1.0, box[2] -= 1.0, box[3] += 1.0;
-    for (std::size_t c = 0; c < nc && options.walk; ++c) {
-        if (state[c] != kBound || zero[c] == UINT32_MAX) continue;
-        const std::uint32_t p = zero[c];
-        const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
+    // The walks are independent of each other: made first (on two threads for many walks, the
+    // second with its own vertex images), then applied in cluster order.
+    std::vector<std::uint32_t> walkers;
+    for (std::size_t c = 0; c < nc && options.walk; ++c)
+        if (state[c] == kBound && zero[c] != UINT32_MAX) walkers.push_back(std::uint32_t(c));
+    std::vector<Walk> walked(walkers.size());
+    auto walk_range = [&](std::size_t w0, std::size_t w1, const VertexImages& proj) {
+        for (std::size_t w = w0; w < w1; ++w) {
+            const std::uint32_t p = zero[walkers[w]];
+            const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
+            walked[w] = walk_to(mesh, camera, face_front, graph, proj, q.P, q.p, q.edge, box);
+        }
+    };
+    if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
+    if (two_threads && walkers.size() >= 64) {
+        const std::size_t mid = walkers.size() / 2;
+        const VertexImages own(mesh, camera);
+        std::thread worker(walk_range, mid, walkers.size(), std::cref(own));
+        walk_range(0, mid, graph.images);
+        worker.join();
+    } else {
+        walk_range(0, walkers.size(), graph.images);
+    }
+    for (std::size_t wi = 0; wi < walkers.size(); ++wi) {
+        const std::uint32_t c = walkers[wi];
         ++st.walks;
-        const Walk w = walk_to(mesh, camera, face_front, graph, q.P, q.p, q.edge, box);
+        const Walk w = walked[wi];
         if (w == Walk::Visible) {
             state[c] = kFixed;  // value(p) == 0 already
         } else if (w == Walk::Occluded) {

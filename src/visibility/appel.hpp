@@ -25,6 +25,9 @@ struct AppelOptions {
     const std::vector<std::uint8_t>* pierced_faces = nullptr;
     // Walk the surface (section 4.4) before falling back to a ray test.
     bool walk = true;
+    // With 2 or more: the local occlusion at curve ends and the walks of a large view on two
+    // threads (the same results).
+    int threads = 1;
 };
 
 struct AppelStats {

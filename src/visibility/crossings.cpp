@@ -233,7 +233,7 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     items_.resize(count.back());
     for (std::uint32_t i = 0; i < segments.size(); ++i)
         visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });
-    mark_.assign(segments.size(), 0);
+    count_ = segments.size();
 }
 
 }  // namespace inkline

@@ -118,15 +118,22 @@ public:
     SegmentGrid(const std::vector<Segment2>& segments, double width, double height);
 
     // Calls fn(index) once for every indexed segment whose cells overlap q's cells (a superset of
-    // the segments that can meet q; the caller decides with segment_crossings).
+    // the segments that can meet q; the caller decides with segment_crossings). Several threads
+    // may query one grid at once (the marks of the segments already reported are per thread).
     template <class Fn>
     void candidates(const Segment2& q, Fn&& fn) const {
-        stamp_ = stamp_ + 1 == 0 ? (mark_.assign(mark_.size(), 0), 1u) : stamp_ + 1;
+        thread_local std::vector<std::uint32_t> mark;
+        thread_local std::uint32_t stamp = 0;
+        if (mark.size() < count_) mark.resize(count_, 0);
+        if (++stamp == 0) {  // (stamps of every earlier query, of any grid, are older)
+            std::fill(mark.begin(), mark.end(), 0);
+            stamp = 1;
+        }
         visit_cells(q.a, q.b, q.slack, [&](std::size_t cell) {
             for (std::uint32_t k = cell_begin_[cell]; k < cell_begin_[cell + 1]; ++k) {
                 const std::uint32_t s = items_[k];
-                if (mark_[s] == stamp_) continue;
-                mark_[s] = stamp_;
+                if (mark[s] == stamp) continue;
+                mark[s] = stamp;
                 fn(s);
             }
         });
@@ -149,8 +156,7 @@ private:
     glm::dvec2 lo_{0.0}, cell_{1.0};
     int nx_ = 1, ny_ = 1;
     std::vector<std::uint32_t> cell_begin_, items_;
-    mutable std::vector<std::uint32_t> mark_;
-    mutable std::uint32_t stamp_ = 0;
+    std::size_t count_ = 0;  // segments indexed
 };
 
 template <class Fn>
