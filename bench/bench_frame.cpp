@@ -119,7 +119,7 @@ void BM_Visibility(benchmark::State& state, const char* name, bool walk, int thr
         inkline::PieceGraph g = inkline::build_pieces(m->topology(), f, cam, nullptr, threads);
         const auto st = inkline::assign_qi_appel(
             m->topology(), cam, f.face_front, [&]() -> const inkline::RayCaster& { return m->rays(); }, g,
-            {false, &m->self_intersecting_faces(), walk});
+            {false, &m->self_intersecting_faces(), walk, threads});
         rays = st.ray_tests;
         walks = st.walks;
         benchmark::DoNotOptimize(g);
@@ -145,7 +145,7 @@ int reg = [] {
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("visibility_appel_nowalk/") + n).c_str(), BM_Visibility, n, false, 1)
             ->Unit(benchmark::kMillisecond);
-        // build_pieces on two threads (large views; wall time is the measure: UseRealTime)
+        // build_pieces and assign_qi_appel on two threads (large views; wall time: UseRealTime)
         benchmark::RegisterBenchmark((std::string("visibility_appel_2threads/") + n).c_str(), BM_Visibility, n, true, 2)
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
