@@ -2,7 +2,7 @@
 # Speed of the fast visibility (--visibility=appel) against the reference (rays): bench_frame's
 # frame_appel (features + visibility), frame_rays and visibility_appel (visibility alone) on each
 # sample mesh, pinned to one core; on the subdivided armadillo also visibility_appel_2threads
-# (build_pieces on two threads, wall time, not pinned). With a second binary (an older build of
+# (build_pieces and assign_qi_appel on two threads, wall time, not pinned). With a second binary (an older build of
 # bench_frame), the two run one after the other per mesh, so that both see the same machine load:
 # compare within a run.
 # Usage: bench/run_visibility.sh [bench_frame] [older bench_frame]   (a few minutes)
