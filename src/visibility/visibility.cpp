@@ -459,7 +459,10 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         mid = std::clamp<std::uint32_t>(mid, 1, ncurves - 1);
         for (const auto& c : features.curves)  // (every image the ranges read, made before they run)
             for (std::uint32_t v : c.vertices) g.images.slack(v);
-        thread_local Scratch scratch2;
+        // (the second range's arrays belong to this thread, kept from view to view; the worker is
+        // given them by reference: a thread_local named inside it would be the worker's own)
+        thread_local Scratch scratch_second;
+        Scratch& scratch2 = scratch_second;
         Parts2& p2 = scratch2.parts;
         p2.clear();
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};
