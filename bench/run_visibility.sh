@@ -15,7 +15,7 @@ run() {  # label, binary, mesh
     echo "== $3 $1 ($2)"
     taskset -c 1 "$2" --benchmark_filter="$f" 2>/dev/null | grep -E "^(frame|visibility)" || true
     case "$3" in *@*)
-        "$2" --benchmark_filter="^visibility_appel_2threads/$3\$" 2>/dev/null | grep -E "^visibility" || true ;;
+        "$2" --benchmark_filter="^visibility_appel_2threads/$3/real_time\$" 2>/dev/null | grep -E "^visibility" || true ;;
     esac
 }
 for m in fandisk bunny00 armadillo elephant ChineseDragon-10kv knot1 armadillo@1 armadillo@2; do

@@ -115,7 +115,7 @@ private:
 // pieces, in the same order).
 PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
                         const std::vector<EdgeCut>* cuts = nullptr, int threads = 1,
-                        std::size_t parallel_edges = 20000);
+                        std::size_t parallel_edges = 4000);
 
 // Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
 struct PieceProbe {
