@@ -335,5 +335,38 @@ TEST(AssignQiAppel, TwoThreadsGiveTheSameQi) {
     EXPECT_GT(walks, 200u);  // (the walks ran on two threads: at least 64 in a view)
 }
 
+
+// Along a camera path with the randomized finder (lazy facing, frame coherence): visibility on
+// two threads reads the lazy facing from both threads, which must leave it as one thread does
+// (the next view's coherence builds on it). Same silhouette edges and QI, view after view.
+TEST(AssignQiAppel, TwoThreadsKeepTheLazyFacingOfACameraPath) {
+    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const MeshTopology& mesh = model.topology();
+    ViewOptions o1, o2;
+    o1.finder.kind = o2.finder.kind = FinderKind::Randomized;
+    o1.finder.fraction = o2.finder.fraction = 0.01;
+    o1.exact_hidden = o2.exact_hidden = false;
+    o2.threads = 2;
+    ViewSession s1(model, o1), s2(model, o2);
+    const Camera home = Camera::framing(mesh.bounds, 1024, 1024);
+    std::size_t walks = 0;
+    for (int k = 0; k < 8; ++k) {
+        const double a = 0.05 * k;
+        const glm::dvec3 d = home.eye() - home.target();
+        const glm::dvec3 eye(home.target().x + d.x * std::cos(a) + d.z * std::sin(a), home.eye().y,
+                             home.target().z - d.x * std::sin(a) + d.z * std::cos(a));
+        const Camera cam = Camera::perspective(eye, home.target(), home.up(), home.fov_deg(), 1024, 1024);
+        const View& v1 = s1.render(cam);
+        const View& v2 = s2.render(cam);
+        ASSERT_EQ(v1.features.silhouette_edges, v2.features.silhouette_edges) << "view " << k;
+        ASSERT_EQ(v1.drawing.pieces.size(), v2.drawing.pieces.size()) << "view " << k;
+        for (std::size_t p = 0; p < v1.drawing.pieces.size(); ++p)
+            ASSERT_EQ(v1.drawing.pieces[p].qi, v2.drawing.pieces[p].qi) << "view " << k << " piece " << p;
+        EXPECT_EQ(v1.drawing.stats.walks, v2.drawing.stats.walks) << "view " << k;
+        walks += v2.drawing.stats.walks;
+    }
+    EXPECT_GT(walks, 8u * 64u);  // (walks on two threads in every view)
+}
+
 }  // namespace
 }  // namespace inkline

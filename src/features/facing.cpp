@@ -483,9 +483,10 @@ std::uint8_t FaceFacing::resolve(std::uint32_t f) const {
     if (s == kUnknown) {
         const MeshTopology& m = *mesh_;
         const auto& v = m.faces[f];
-        ++exact_;
+        if (!shared_) ++exact_;
         s = orient_eye(camera_, m.positions[v[0]], m.positions[v[1]], m.positions[v[2]]) > 0 ? kFront : kBack;
     }
+    if (shared_) return s;  // (read by several threads: nothing written)
     state_[f] = s;
     if (!full_) touched_.push_back(f);
     return s;

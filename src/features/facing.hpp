@@ -114,8 +114,12 @@ public:
     const std::vector<std::uint8_t>& block_states() const { return block_state_; }
     std::size_t planes_read() const { return planes_read_; }
 
+    // While several threads read this view (set before they start, cleared after they join):
+    // a face not decided yet is decided on each read and not cached, so reads are thread-safe.
+    void set_shared(bool shared) const { shared_ = shared; }
     // 1 if the eye is strictly on the front side of face f, else 0 (also for degenerate faces and
-    // faces whose plane contains the eye). Not thread-safe: it caches what it computes.
+    // faces whose plane contains the eye). Not thread-safe (it caches what it computes) unless
+    // set_shared(true).
     std::uint8_t operator[](std::uint32_t f) const {
         const std::uint8_t s = state_[f];
         return (s == kUnknown ? resolve(f) : s) >> 1;
@@ -150,6 +154,7 @@ private:
     std::vector<std::uint8_t> block_state_;       // full views with blocks: kBack, kUnknown, kFront
     std::size_t planes_read_ = 0;
     mutable std::size_t exact_ = 0;
+    mutable bool shared_ = false;
 };
 
 }  // namespace inkline

@@ -562,9 +562,11 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     if (two_threads && end_order.size() >= 2000) {
         std::size_t mid = end_order.size() / 2;  // at a vertex's first end
         while (mid < end_order.size() && mid > 0 && (end_order[mid] >> 32) == (end_order[mid - 1] >> 32)) ++mid;
+        face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
         std::thread worker(occlusion_of_ends, mid, end_order.size());
         occlusion_of_ends(0, mid);
         worker.join();
+        face_front.set_shared(false);
     } else {
         occlusion_of_ends(0, end_order.size());
     }
@@ -768,9 +770,11 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     if (two_threads && walkers.size() >= 64) {
         const std::size_t mid = walkers.size() / 2;
         const VertexImages own(mesh, camera);
+        face_front.set_shared(true);
         std::thread worker(walk_range, mid, walkers.size(), std::cref(own));
         walk_range(0, mid, graph.images);
         worker.join();
+        face_front.set_shared(false);
     } else {
         walk_range(0, walkers.size(), graph.images);
     }
