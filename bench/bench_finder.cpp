@@ -13,22 +13,12 @@
 #include <string>
 
 #include "features/features.hpp"
+#include "bench_models.hpp"
 #include "pipeline.hpp"
 
 namespace {
 
-const inkline::Model* model(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<inkline::Model>> cache;
-    auto& m = cache[name];
-    if (!m) {
-        const auto at = name.find('@');
-        const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
-        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name.substr(0, at) + ".off";
-        if (!std::filesystem::exists(path)) return nullptr;
-        m = std::make_unique<inkline::Model>(inkline::Model::load(path, 40.0, levels));
-    }
-    return m.get();
-}
+const inkline::Model* model(const std::string& name) { return bench_model(name); }
 
 // The bench's orbit (src/app/bench.cpp): 20 degrees above the equator at the framing distance.
 inkline::Camera orbit(const inkline::MeshTopology& t, double degrees) {

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_models.hpp"
 #include "pipeline.hpp"
 
 namespace {
@@ -17,19 +18,15 @@ namespace {
 const char* kMeshes[] = {"fandisk", "bunny00",  "armadillo",   "elephant",
                          "ChineseDragon-10kv", "knot1", "armadillo@1", "armadillo@2"};
 
+// The mesh, with its ray-test index and self-intersections built (once per model, outside the
+// frames measured).
 const inkline::Model* model(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<inkline::Model>> cache;
-    auto& m = cache[name];
-    if (!m) {
-        const auto at = name.find('@');
-        const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
-        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name.substr(0, at) + ".off";
-        if (!std::filesystem::exists(path)) return nullptr;
-        m = std::make_unique<inkline::Model>(inkline::Model::load(path, 40.0, levels));
+    const inkline::Model* m = bench_model(name);
+    if (m) {
         m->rays();
         m->self_intersecting_faces();
     }
-    return m.get();
+    return m;
 }
 
 void BM_Features(benchmark::State& state, const char* name) {
