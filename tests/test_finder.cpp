@@ -38,6 +38,21 @@ std::vector<Camera> cameras(const Bounds3& box) {
     return out;
 }
 
+// A UV sphere scaled and moved far from the origin (the filters' extremes), and its cameras plus
+// one with the eye in the plane of face 5 up to rounding (on the line through two of its corners).
+Model scaled_sphere(int slices, int stacks, double scale, double offset) {
+    TriangleMesh s = make_sphere({0, 0, 0}, 1.0, slices, stacks);
+    for (auto& p : s.positions) p = p * scale + glm::dvec3(offset, -offset, 0.5 * offset);
+    return Model(s);
+}
+std::vector<Camera> cameras_with_grazing(const MeshTopology& t) {
+    std::vector<Camera> cams = cameras(t.bounds);
+    const auto& f5 = t.faces[5];
+    const glm::dvec3 a = t.positions[f5[0]], b = t.positions[f5[1]];
+    cams.push_back(Camera::perspective(a + 3.0 * (a - b), t.bounds.center(), {0, 1, 0}, 40, 256, 256));
+    return cams;
+}
+
 std::vector<std::uint32_t> sorted(std::vector<std::uint32_t> v) {
     std::sort(v.begin(), v.end());
     return v;
@@ -281,15 +296,9 @@ namespace {
 TEST(Facing, FloatFilterAgreesWithExactPredicate) {
     for (double scale : {1e-6, 1.0, 1e6})
         for (double offset : {0.0, 1e6}) {
-            TriangleMesh s = make_sphere({0, 0, 0}, 1.0, 24, 12);
-            for (auto& p : s.positions) p = p * scale + glm::dvec3(offset, -offset, 0.5 * offset);
-            const Model m(s);
+            const Model m = scaled_sphere(24, 12, scale, offset);
             const MeshTopology& t = m.topology();
-            std::vector<Camera> cams = cameras(t.bounds);
-            // The eye in the plane of face 5 up to rounding (on the line through two of its corners).
-            const auto& f5 = t.faces[5];
-            const glm::dvec3 a = t.positions[f5[0]], b = t.positions[f5[1]];
-            cams.push_back(Camera::perspective(a + 3.0 * (a - b), t.bounds.center(), {0, 1, 0}, 40, 256, 256));
+            const std::vector<Camera> cams = cameras_with_grazing(t);
             for (const Camera& cam : cams) {
                 SCOPED_TRACE(testing::Message() << "scale " << scale << " offset " << offset);
                 FaceFacing full, lazy;
@@ -322,9 +331,7 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
     std::size_t skipped = 0;
     for (double scale : {1e-6, 1.0, 1e6})
         for (double offset : {0.0, 1e6}) {
-            TriangleMesh s = make_sphere({0, 0, 0}, 1.0, 96, 48);
-            for (auto& p : s.positions) p = p * scale + glm::dvec3(offset, -offset, 0.5 * offset);
-            const Model m(s);
+            const Model m = scaled_sphere(96, 48, scale, offset);
             const MeshTopology& t = m.topology();
             FaceBlocks blocks;
             blocks.build(t);
@@ -332,10 +339,7 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
             EXPECT_FALSE(blocks.has_edges());
             blocks.build_edges();
             ASSERT_TRUE(blocks.has_edges());
-            std::vector<Camera> cams = cameras(t.bounds);
-            const auto& f5 = t.faces[5];
-            const glm::dvec3 a = t.positions[f5[0]], b = t.positions[f5[1]];
-            cams.push_back(Camera::perspective(a + 3.0 * (a - b), t.bounds.center(), {0, 1, 0}, 40, 256, 256));
+            const std::vector<Camera> cams = cameras_with_grazing(t);
             for (const Camera& cam : cams) {
                 SCOPED_TRACE(testing::Message() << "scale " << scale << " offset " << offset);
                 FaceFacing plain, blocked;

@@ -26,10 +26,12 @@ struct ClipSeg {
     Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
 };
 
-// Clips edge (P,Q) (mesh vertices vP, vQ) to depth >= n; returns false when nothing is left. The
-// images of unclipped ends come from `images` (each vertex projected once per view).
-bool clip_edge(const Camera& cam, double n, const VertexImages& images, std::uint32_t vP, std::uint32_t vQ,
-               glm::dvec3 P, glm::dvec3 Q, double sP, double sQ, ClipSeg& out) {
+// Clips the edge from mesh vertex vP to vQ (edge parameters sP, sQ) to depth >= n; returns false
+// when nothing is left. The images of unclipped ends come from `images` (each vertex projected
+// once per view). Sets everything but `edge` and `run_start`.
+bool clip_edge(const Camera& cam, double n, const VertexImages& images, const std::vector<glm::dvec3>& positions,
+               std::uint32_t vP, std::uint32_t vQ, double sP, double sQ, ClipSeg& out) {
+    glm::dvec3 P = positions[vP], Q = positions[vQ];
     double zP = cam.depth(P), zQ = cam.depth(Q);
     if (!(zP >= n) && !(zQ >= n)) return false;
     bool keepP = true, keepQ = true;
@@ -56,6 +58,9 @@ bool clip_edge(const Camera& cam, double n, const VertexImages& images, std::uin
     out.b = keepQ ? images(vQ) : cam.project(Q);
     out.slack = std::max(keepP ? images.slack(vP) : image_slack(cam, P, out.a),
                          keepQ ? images.slack(vQ) : image_slack(cam, Q, out.b));
+    out.LA = &positions[vP];
+    out.LB = &positions[vQ];
+    out.unclipped = out.A == *out.LA && out.B == *out.LB;
     return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
 }
 
@@ -100,7 +105,6 @@ struct Scratch {
         }
     } parts;
 };
-using Parts2 = Scratch::Parts;
 
 // True when some geometry lies at or behind the near plane (the camera is among the geometry).
 bool geometry_behind_near(const MeshTopology& mesh, const Camera& camera) {
@@ -160,16 +164,12 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             ClipSeg s;
-            if (!clip_edge(camera, camera.near_distance(), images, va, vb, mesh.positions[va], mesh.positions[vb],
-                           forward ? 0.0 : 1.0,
+            if (!clip_edge(camera, camera.near_distance(), images, mesh.positions, va, vb, forward ? 0.0 : 1.0,
                            forward ? 1.0 : 0.0, s)) {
                 interrupted = true;
                 continue;
             }
             s.edge = e;
-            s.LA = &mesh.positions[va];
-            s.LB = &mesh.positions[vb];
-            s.unclipped = s.A == *s.LA && s.B == *s.LB;
             // A clipped start also interrupts the curve.
             s.run_start = all_segs.size() == first || interrupted || s.A != mesh.positions[va] ||
                           all_segs.back().B != mesh.positions[va];
@@ -407,10 +407,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         for (std::uint32_t e : *list) {
             const auto [v0, v1] = mesh.edge_vertex[e];
             ClipSeg s;
-            if (clip_edge(camera, occluder_near, g.images, v0, v1, mesh.positions[v0], mesh.positions[v1], 0.0, 1.0, s)) {
-                s.LA = &mesh.positions[v0];
-                s.LB = &mesh.positions[v1];
-                s.unclipped = s.A == *s.LA && s.B == *s.LB;
+            if (clip_edge(camera, occluder_near, g.images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
                 occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
                 occ_clip.push_back(s);
             }
@@ -463,7 +460,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         // given them by reference: a thread_local named inside it would be the worker's own)
         thread_local Scratch scratch_second;
         Scratch& scratch2 = scratch_second;
-        Parts2& p2 = scratch2.parts;
+        Scratch::Parts& p2 = scratch2.parts;
         p2.clear();
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};
         std::thread worker([&] {
