@@ -57,27 +57,67 @@ void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_si
 // A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
 // two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
 // pass over the feature edges (counts, kinds, and the xor of its feature edges, which at a vertex
-// of degree two gives the other edge), so no vertex ring is scanned.
+// of degree two gives the other edge), so no vertex ring is scanned. That pass numbers the
+// feature edges (in list order) and their vertices (in order of first use) locally; the cusps and
+// the chaining then read only those compact arrays (the mesh's per-vertex and per-edge arrays are
+// read once per edge: this stage is bound by the latency of scattered reads).
 void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, Features& out) {
-    auto& vs = out.vertex_scratch;
-    auto& used = out.edge_scratch;
     const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
-    for (const auto* list : lists)
-        for (std::uint32_t e : *list) {
-            const std::uint8_t kind = out.edge_kind[e];
-            const bool sil = kind == kSil, front = sil && mesh.is_convex(e);
-            for (std::uint32_t v : mesh.edge_vertex[e]) {
-                VertexScratch& s = vs[v];
-                s.edge_xor ^= e;
-                if (s.degree < 255) ++s.degree;
-                if (sil && s.silhouettes < 255) ++s.silhouettes;
-                if (front && s.front < 255) ++s.front;
-                s.kinds |= std::uint8_t(1u << kind);
+    const std::uint8_t list_kind[3] = {kSil, kBorder, kCrease};
+    const std::size_t ns = out.silhouette_edges.size();
+    const std::size_t n = ns + out.border_edges.size() + out.crease_edges.size();
+    auto& local = out.vertex_local;
+    if (local.size() != mesh.vertex_count()) local.assign(mesh.vertex_count(), UINT32_MAX);
+    auto& verts = out.chain_vertices;
+    auto& ends = out.chain_ends;
+    auto& eid = out.chain_edges;
+    auto& used = out.chain_used;
+    verts.clear();
+    ends.resize(n);
+    eid.resize(n);
+    used.assign(n, 0);
+    std::size_t list_end[3];
+    {
+        std::uint32_t i = 0;
+        for (int l = 0; l < 3; ++l) {
+            const std::uint8_t kind = list_kind[l];
+            const std::uint32_t* list = lists[l]->data();
+            const std::size_t m = lists[l]->size();
+            for (std::size_t j = 0; j < m; ++j) {
+                // The edges are scattered over the mesh: their vertices are fetched 16 edges
+                // ahead and those vertices' local numbers 8 ahead, so that the misses overlap.
+                if (j + 16 < m) __builtin_prefetch(&mesh.edge_vertex[list[j + 16]]);
+                if (j + 8 < m) {
+                    const auto& ahead = mesh.edge_vertex[list[j + 8]];
+                    __builtin_prefetch(&local[ahead[0]], 1);
+                    __builtin_prefetch(&local[ahead[1]], 1);
+                }
+                const std::uint32_t e = list[j];
+                const bool front = kind == kSil && mesh.is_convex(e);
+                eid[i] = e;
+                for (int k = 0; k < 2; ++k) {
+                    const std::uint32_t v = mesh.edge_vertex[e][k];
+                    std::uint32_t lv = local[v];
+                    if (lv == UINT32_MAX) {
+                        lv = local[v] = std::uint32_t(verts.size());
+                        verts.push_back({v, 0, 0, 0, 0, 0, 0});
+                    }
+                    Features::ChainVertex& s = verts[lv];
+                    ends[i][k] = lv;
+                    s.edge_xor ^= i;
+                    if (s.degree < 255) ++s.degree;
+                    if (kind == kSil && s.silhouettes < 255) ++s.silhouettes;
+                    if (front && s.front < 255) ++s.front;
+                    s.kinds |= std::uint8_t(1u << kind);
+                }
+                ++i;
             }
+            list_end[l] = i;
         }
-    for (std::uint32_t e : out.silhouette_edges) {
-        for (std::uint32_t v : mesh.edge_vertex[e]) {
-            VertexScratch& s = vs[v];
+    }
+    for (std::size_t i = 0; i < ns; ++i) {
+        for (std::uint32_t lv : ends[i]) {
+            Features::ChainVertex& s = verts[lv];
             if (s.cusp) continue;
             CuspCase c = CuspCase::None;
             if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
@@ -85,58 +125,55 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
             else if (s.silhouettes == 2 && s.front == 1) c = CuspCase::FrontBackMeet;
             if (c != CuspCase::None) {
                 s.cusp = 1;
-                out.cusp_vertices.push_back(v);
+                out.cusp_vertices.push_back(s.id);
                 out.cusp_cases.push_back(c);
             }
         }
     }
 
-    auto is_break = [&](std::uint32_t v) {
-        const VertexScratch& s = vs[v];
+    auto is_break = [&](std::uint32_t lv) {
+        const Features::ChainVertex& s = verts[lv];
         return s.cusp || s.degree != 2 || (s.kinds & (s.kinds - 1)) != 0;
     };
+    auto kind_of = [&](std::uint32_t i) { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; };
     std::size_t n_curves = 0;  // curves are reused from the previous view (their storage kept)
-    auto walk = [&](std::uint32_t start_v, std::uint32_t start_e) {
+    auto walk = [&](std::uint32_t start_v, std::uint32_t start_i) {
         if (n_curves == out.curves.size()) out.curves.emplace_back();
         FeatureCurve& c = out.curves[n_curves++];
         c.vertices.clear();
         c.edges.clear();
-        c.kind = LineKind(out.edge_kind[start_e]);
+        c.kind = LineKind(kind_of(start_i));
         c.closed = false;
-        c.vertices.push_back(start_v);
-        std::uint32_t v = start_v, e = start_e;
+        c.vertices.push_back(verts[start_v].id);
+        std::uint32_t v = start_v, i = start_i;
         while (true) {
-            used[e] = 1;
-            c.edges.push_back(e);
-            v = mesh.edge_vertex[e][0] == v ? mesh.edge_vertex[e][1] : mesh.edge_vertex[e][0];
-            c.vertices.push_back(v);
+            used[i] = 1;
+            c.edges.push_back(eid[i]);
+            v = ends[i][0] == v ? ends[i][1] : ends[i][0];
+            c.vertices.push_back(verts[v].id);
             if (v == start_v) {  // a loop; closed only if it may continue through its start
                 c.closed = !is_break(v);
                 break;
             }
             if (is_break(v)) break;
-            e = vs[v].edge_xor ^ e;  // the other of its two feature edges
-            if (used[e]) break;
+            i = verts[v].edge_xor ^ i;  // the other of its two feature edges
+            if (used[i]) break;
         }
     };
-    for (const auto* list : lists) {
-        for (std::uint32_t e : *list) {
-            if (used[e] || !options.wants(LineKind(out.edge_kind[e]))) continue;
-            for (std::uint32_t v : mesh.edge_vertex[e])
-                if (!used[e] && is_break(v)) walk(v, e);
-        }
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (used[i] || !options.wants(LineKind(kind_of(i)))) continue;
+        for (std::uint32_t v : ends[i])
+            if (!used[i] && is_break(v)) walk(v, i);
     }
-    for (const auto* list : lists)  // what is left are closed loops without a break
-        for (std::uint32_t e : *list)
-            if (!used[e] && options.wants(LineKind(out.edge_kind[e]))) walk(mesh.edge_vertex[e][0], e);
+    for (std::uint32_t i = 0; i < n; ++i)  // what is left are closed loops without a break
+        if (!used[i] && options.wants(LineKind(kind_of(i)))) walk(ends[i][0], i);
     out.curves.resize(n_curves);
 
-    // Leave the scratch all zero for the next view.
-    for (const auto* list : lists)
-        for (std::uint32_t e : *list) {
-            used[e] = 0;
-            for (std::uint32_t v : mesh.edge_vertex[e]) vs[v] = {};
-        }
+    // Leave the per-vertex arrays as they were before the view (the finder's marks cleared).
+    for (const Features::ChainVertex& s : verts) {
+        local[s.id] = UINT32_MAX;
+        out.vertex_scratch[s.id] = {};
+    }
 }
 
 }  // namespace
@@ -162,7 +199,6 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     // Recycle: reset what the previous view of `out` marked.
     if (out.edge_kind.size() != ne) {
         out.edge_kind.assign(ne, kNoKind);
-        out.edge_scratch.assign(ne, 0);
     } else {
         for (const auto* list : {&out.silhouette_edges, &out.border_edges, &out.crease_edges})
             for (std::uint32_t e : *list) out.edge_kind[e] = kNoKind;

@@ -92,16 +92,27 @@ struct Features {
     std::vector<FeatureCurve> curves;           // only the requested kinds
     FinderStats stats;
 
-    // Scratch per edge and per vertex, all zero between views (reset through the lists above).
+    // Scratch per vertex, all zero between views (reset through the chained vertices): the
+    // randomized finder's marks.
     struct VertexScratch {
-        std::uint32_t edge_xor = 0;  // xor of the vertex's feature edges
-        std::uint8_t degree = 0, silhouettes = 0, front = 0;
-        std::uint8_t kinds = 0;  // bit per LineKind of its feature edges
-        std::uint8_t cusp = 0, traced = 0, sought = 0;
+        std::uint8_t traced = 0, sought = 0;
     };
-    std::vector<std::uint8_t> edge_scratch;
     std::vector<std::vector<std::uint32_t>> thread_candidates;  // exhaustive scan: candidate edges, per thread
     std::vector<VertexScratch> vertex_scratch;
+    // Chaining: the view's feature edges (the three lists in a row) and their vertices numbered
+    // locally, so that counting, cusps and chaining read compact arrays instead of the mesh's.
+    struct ChainVertex {
+        std::uint32_t id;            // mesh vertex
+        std::uint32_t edge_xor;      // xor of the local numbers of its feature edges
+        std::uint8_t degree, silhouettes, front;
+        std::uint8_t kinds;          // bit per LineKind of its feature edges
+        std::uint8_t cusp;
+    };
+    std::vector<std::uint32_t> vertex_local;  // per mesh vertex: its local number, UINT32_MAX between views
+    std::vector<ChainVertex> chain_vertices;
+    std::vector<std::array<std::uint32_t, 2>> chain_ends;  // per feature edge: local numbers of its vertices
+    std::vector<std::uint32_t> chain_edges;                // per feature edge: mesh edge
+    std::vector<std::uint8_t> chain_used;
 };
 
 // Exact facing of one face: orientation of the eye against the face's oriented plane (CGAL's
