@@ -11,6 +11,7 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include <CGAL/Exact_rational.h>
@@ -708,4 +709,37 @@ TEST(Cusps, ManySilhouettesAtAMonkeySaddle) {
     EXPECT_EQ(count_kind(f, LineKind::Border), 6u);
     EXPECT_EQ(count_kind(f, LineKind::Crease), 2u);
     EXPECT_EQ(f.curves.size(), 12u);
+}
+
+// Curves are views into their list's flat arrays: a copy of a view's features keeps its own
+// curves when the original's storage is reused by the next view (and a moved list keeps them).
+TEST(CurveList, CopiesAndMovesKeepTheirCurves) {
+    const MeshTopology torus = topology(inkline::make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.4, 48, 24));
+    const Camera a = persp({0.31, 0.2, 2.5}), b = persp({2.0, 1.5, 0.3});
+    auto snapshot = [](const Features& f) {
+        std::vector<std::tuple<int, bool, std::vector<std::uint32_t>, std::vector<std::uint32_t>>> out;
+        for (const auto& c : f.curves)
+            out.emplace_back(int(c.kind), c.closed, std::vector<std::uint32_t>(c.vertices.begin(), c.vertices.end()),
+                             std::vector<std::uint32_t>(c.edges.begin(), c.edges.end()));
+        return out;
+    };
+    const auto want_a = snapshot(extract_features(torus, a)), want_b = snapshot(extract_features(torus, b));
+    ASSERT_GT(want_a.size(), 1u);
+    ASSERT_NE(want_a, want_b);
+    inkline::SilhouetteFinder finder(torus);
+    Features f;
+    finder.find(a, {}, f);
+    const Features copy = f;  // copy construction
+    Features assigned;
+    assigned = f;  // copy assignment
+    finder.find(b, {}, f);  // the original's arrays now hold view b
+    EXPECT_EQ(snapshot(f), want_b);
+    EXPECT_EQ(snapshot(copy), want_a);
+    EXPECT_EQ(snapshot(assigned), want_a);
+    for (const auto& c : copy.curves) {  // the views point into the copy's own arrays
+        ASSERT_FALSE(c.edges.empty());
+        EXPECT_EQ(c.vertices.size(), c.edges.size() + 1);
+    }
+    const Features moved = std::move(f);
+    EXPECT_EQ(snapshot(moved), want_b);
 }

@@ -62,7 +62,7 @@ std::vector<std::uint32_t> sorted(std::vector<std::uint32_t> v) {
 // list order depend on the order edges were found in).
 std::vector<std::tuple<int, bool, std::vector<std::uint32_t>>> canonical_curves(const Features& f) {
     std::vector<std::tuple<int, bool, std::vector<std::uint32_t>>> out;
-    for (const auto& c : f.curves) out.emplace_back(int(c.kind), c.closed, sorted(c.edges));
+    for (const auto& c : f.curves) out.emplace_back(int(c.kind), c.closed, sorted({c.edges.begin(), c.edges.end()}));
     std::sort(out.begin(), out.end());
     return out;
 }

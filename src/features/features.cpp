@@ -136,23 +136,17 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
         return s.cusp || s.degree != 2 || (s.kinds & (s.kinds - 1)) != 0;
     };
     auto kind_of = [&](std::uint32_t i) { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; };
-    std::size_t n_curves = 0;  // curves are reused from the previous view (their storage kept)
+    auto& curves = out.curves;  // (its arrays keep their storage from view to view)
+    curves.clear();
     auto walk = [&](std::uint32_t start_v, std::uint32_t start_i) {
-        if (n_curves == out.curves.size()) out.curves.emplace_back();
-        FeatureCurve& c = out.curves[n_curves++];
-        c.vertices.clear();
-        c.edges.clear();
-        c.kind = LineKind(kind_of(start_i));
-        c.closed = false;
-        c.vertices.push_back(verts[start_v].id);
+        curves.start(LineKind(kind_of(start_i)), verts[start_v].id);
         std::uint32_t v = start_v, i = start_i;
         while (true) {
             used[i] = 1;
-            c.edges.push_back(eid[i]);
             v = ends[i][0] == v ? ends[i][1] : ends[i][0];
-            c.vertices.push_back(verts[v].id);
+            curves.add(eid[i], verts[v].id);
             if (v == start_v) {  // a loop; closed only if it may continue through its start
-                c.closed = !is_break(v);
+                curves.set_closed(!is_break(v));
                 break;
             }
             if (is_break(v)) break;
@@ -167,7 +161,7 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
     }
     for (std::uint32_t i = 0; i < n; ++i)  // what is left are closed loops without a break
         if (!used[i] && options.wants(LineKind(kind_of(i)))) walk(ends[i][0], i);
-    out.curves.resize(n_curves);
+    curves.finish();
 
     // Leave the per-vertex arrays as they were before the view (the finder's marks cleared).
     for (const Features::ChainVertex& s : verts) {

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "core/camera.hpp"
@@ -31,11 +32,79 @@ enum class CuspCase : std::uint8_t {
 
 inline constexpr std::uint8_t kNoKind = 0xff;
 
+// A chain of feature edges; its vertices and edges are views into the CurveList that holds it.
 struct FeatureCurve {
     LineKind kind = LineKind::Silhouette;
-    std::vector<std::uint32_t> vertices;  // n+1 vertices for n edges (first == last if closed)
-    std::vector<std::uint32_t> edges;
+    std::span<const std::uint32_t> vertices;  // n+1 vertices for n edges (first == last if closed)
+    std::span<const std::uint32_t> edges;
     bool closed = false;  // a loop whose start is an ordinary vertex (a loop from a junction back to it is open)
+};
+
+// The curves of a view, their vertices and edges stored in two flat arrays (written in order as
+// the chains are walked, reused from view to view). Copies point into their own arrays.
+class CurveList {
+public:
+    CurveList() = default;
+    CurveList(const CurveList& o) : curves_(o.curves_), vertices_(o.vertices_), edges_(o.edges_) { repoint(); }
+    CurveList& operator=(const CurveList& o) {
+        if (this != &o) {
+            curves_ = o.curves_, vertices_ = o.vertices_, edges_ = o.edges_;
+            repoint();
+        }
+        return *this;
+    }
+    CurveList(CurveList&&) noexcept = default;  // (moved vectors keep their storage: the views hold)
+    CurveList& operator=(CurveList&&) noexcept = default;
+
+    std::size_t size() const { return curves_.size(); }
+    bool empty() const { return curves_.empty(); }
+    const FeatureCurve& operator[](std::size_t i) const { return curves_[i]; }
+    std::vector<FeatureCurve>::const_iterator begin() const { return curves_.begin(); }
+    std::vector<FeatureCurve>::const_iterator end() const { return curves_.end(); }
+
+    // Building: clear(), then per curve start() and add() (vertices and edges alternating from
+    // the first vertex), then finish() to make the views.
+    void clear() {
+        curves_.clear();
+        vertices_.clear();
+        edges_.clear();
+    }
+    void start(LineKind kind, std::uint32_t vertex) {
+        // (the views hold offsets until finish(): the arrays may still grow)
+        curves_.push_back({kind, {}, {}, false});
+        starts_.push_back({std::uint32_t(vertices_.size()), std::uint32_t(edges_.size())});
+        vertices_.push_back(vertex);
+    }
+    void add(std::uint32_t edge, std::uint32_t vertex) {
+        edges_.push_back(edge);
+        vertices_.push_back(vertex);
+    }
+    void set_closed(bool closed) { curves_.back().closed = closed; }
+    void finish() {
+        starts_.push_back({std::uint32_t(vertices_.size()), std::uint32_t(edges_.size())});
+        for (std::size_t i = 0; i < curves_.size(); ++i) {
+            curves_[i].vertices = {vertices_.data() + starts_[i].v, starts_[i + 1].v - starts_[i].v};
+            curves_[i].edges = {edges_.data() + starts_[i].e, starts_[i + 1].e - starts_[i].e};
+        }
+        starts_.clear();
+    }
+
+private:
+    void repoint() {
+        std::size_t v = 0, e = 0;
+        for (FeatureCurve& c : curves_) {
+            const std::size_t nv = c.vertices.size(), ne = c.edges.size();
+            c.vertices = {vertices_.data() + v, nv};
+            c.edges = {edges_.data() + e, ne};
+            v += nv, e += ne;
+        }
+    }
+    struct Start {
+        std::uint32_t v, e;
+    };
+    std::vector<FeatureCurve> curves_;
+    std::vector<std::uint32_t> vertices_, edges_;
+    std::vector<Start> starts_;
 };
 
 enum class FinderKind : std::uint8_t { Exhaustive, Randomized };
@@ -89,7 +158,7 @@ struct Features {
     std::vector<std::uint32_t> crease_edges;    // creases that are not silhouettes
     std::vector<std::uint32_t> cusp_vertices;
     std::vector<CuspCase> cusp_cases;           // parallel to cusp_vertices
-    std::vector<FeatureCurve> curves;           // only the requested kinds
+    CurveList curves;                           // only the requested kinds
     FinderStats stats;
 
     // Scratch per vertex, all zero between views (reset through the chained vertices): the
