@@ -206,7 +206,7 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
     return 1;
 }
 
-SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, double height) {
+void SegmentGrid::build(const std::vector<Segment2>& segments, double width, double height) {
     glm::dvec2 lo(INFINITY), hi(-INFINITY);
     for (const auto& s : segments) {
         lo = glm::min(lo, glm::min(s.a, s.b));
@@ -226,10 +226,11 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     lo_ = lo;
     cell_ = glm::dvec2(ext.x / nx_, ext.y / ny_);
 
-    std::vector<std::uint32_t> count(cells() + 1, 0);
+    std::vector<std::uint32_t>& count = fill_;
+    count.assign(cells() + 1, 0);
     for (const auto& s : segments) visit_cells(s.a, s.b, s.slack, [&](std::size_t c) { ++count[c + 1]; });
     for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
-    cell_begin_ = count;
+    cell_begin_.assign(count.begin(), count.end());
     items_.resize(count.back());
     for (std::uint32_t i = 0; i < segments.size(); ++i)
         visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });

@@ -115,7 +115,10 @@ public:
     // Indexes `segments` in a uniform grid over their bounding box, limited to the image
     // rectangle widened by one image size on each side; cells on the grid's rim also hold
     // whatever lies beyond it, so queries stay exact anywhere.
-    SegmentGrid(const std::vector<Segment2>& segments, double width, double height);
+    SegmentGrid(const std::vector<Segment2>& segments, double width, double height) { build(segments, width, height); }
+    SegmentGrid() = default;  // indexes nothing until build()
+    // Indexes `segments` instead of what it held (its storage reused).
+    void build(const std::vector<Segment2>& segments, double width, double height);
 
     // Calls fn(index) once for every indexed segment whose cells overlap q's cells (a superset of
     // the segments that can meet q; the caller decides with segment_crossings). Several threads
@@ -155,7 +158,7 @@ private:
 
     glm::dvec2 lo_{0.0}, cell_{1.0};
     int nx_ = 1, ny_ = 1;
-    std::vector<std::uint32_t> cell_begin_, items_;
+    std::vector<std::uint32_t> cell_begin_{0, 0}, items_, fill_;
     std::size_t count_ = 0;  // segments indexed
 };
 
