@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "core/predicates.hpp"
 #include "pipeline.hpp"
 #include "visibility/appel.hpp"
+#include "visibility/crossings.hpp"
 
 namespace inkline {
 namespace {
@@ -152,6 +154,52 @@ TEST(ViewSession, RecycledViewsEqualRenderView) {
             EXPECT_GT(fewer, 0u) << "variant " << variant;
         }
     }
+}
+
+// The crossing search gives where a crossing lies along the occluder too (build_pieces then
+// skips the swapped call): exactly the swapped call's parameter, on lattice points (touches,
+// T-junctions, collinear images) and random ones; NaN only for collinear images.
+TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
+    std::mt19937_64 rng(4);
+    const Camera cams[] = {
+        Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
+        Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+    };
+    int touches = 0, proper = 0;
+    for (const auto& cam : cams) {
+        std::uniform_int_distribution<int> L(-3, 3);
+        std::uniform_real_distribution<double> U(-3.0, 3.0);
+        for (int i = 0; i < 20000; ++i) {
+            glm::dvec3 P[4];
+            for (auto& p : P) p = i % 2 ? glm::dvec3(L(rng), L(rng), L(rng)) : glm::dvec3(U(rng), U(rng), U(rng));
+            if (P[0] == P[1] || P[2] == P[3]) continue;
+            auto seg2 = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t id) {
+                const glm::dvec2 pa = cam.project(a), pb = cam.project(b);
+                return Segment2{pa, pb, 2 * id, 2 * id + 1, id,
+                                std::max(image_slack(cam, a, pa), image_slack(cam, b, pb))};
+            };
+            const Segment2 q = seg2(P[0], P[1], 0), o = seg2(P[2], P[3], 1);
+            const Segment3 q3{P[0], P[1], &P[0], &P[1]}, o3{P[2], P[3], &P[2], &P[3]};
+            double t[2], t_plain[2], to[2], ot;
+            const int n = segment_crossings(cam, q, q3, o, o3, t, &ot);
+            ASSERT_EQ(n, segment_crossings(cam, q, q3, o, o3, t_plain)) << i;
+            for (int k = 0; k < n; ++k) ASSERT_EQ(t[k], t_plain[k]) << i;
+            const int n2 = segment_crossings(cam, o, o3, q, q3, to);
+            ASSERT_EQ(n > 0, n2 > 0) << i;
+            const bool collinear = image_orientation(cam, P[2], P[3], P[0]) == 0 && image_orientation(cam, P[2], P[3], P[1]) == 0;
+            if (n == 0 || collinear) {
+                ASSERT_TRUE(std::isnan(ot)) << i;
+                continue;
+            }
+            ASSERT_EQ(ot, to[0]) << i;
+            const bool touch = image_orientation(cam, P[0], P[1], P[2]) * image_orientation(cam, P[0], P[1], P[3]) *
+                                   image_orientation(cam, P[2], P[3], P[0]) * image_orientation(cam, P[2], P[3], P[1]) ==
+                               0;
+            (touch ? touches : proper) += 1;
+        }
+    }
+    EXPECT_GT(touches, 100);
+    EXPECT_GT(proper, 1000);
 }
 
 }  // namespace

@@ -163,6 +163,12 @@ double param_on(const Segment2& q, glm::dvec2 p) {
 
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2]) {
+    return segment_crossings(camera, q, q3, o, o3, t, nullptr);
+}
+
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, double t[2], double* o_t) {
+    if (o_t) *o_t = NAN;
     if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
     if (q.a == q.b || o.a == o.b) return 0;
     // Bounding boxes apart by more than the rounding of the images: the exact images are apart.
@@ -190,6 +196,21 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
         t[0] = std::min(u[0], u[1]);
         t[1] = std::max(u[0], u[1]);
         return t[0] == t[1] ? 1 : 2;
+    }
+    if (o_t && !(s2 == 0 && s3 == 0)) {
+        // Along o: what the call with q and o swapped computes (its orientations are these, q's
+        // ends against o's line first; it would take the collinear branch when s2 = s3 = 0).
+        double w;
+        if (s2 == 0) w = param_on(o, q.a);
+        else if (s3 == 0) w = param_on(o, q.b);
+        else if (s0 == 0) w = 0.0;
+        else if (s1 == 0) w = 1.0;
+        else {
+            const glm::dvec2 d = o.b - o.a, e = q.b - q.a;
+            w = quotient(cross(q.a - o.a, e), cross(d, e), [&] { return qcross(q.a, o.a, q.a, q.b); },
+                         [&] { return qcross(o.b, o.a, q.a, q.b); });
+        }
+        *o_t = std::clamp(w, 0.0, 1.0);
     }
     // Proper crossing or touch: the parameter is a construction in the image coordinates.
     double u;
@@ -226,14 +247,25 @@ void SegmentGrid::build(const std::vector<Segment2>& segments, double width, dou
     lo_ = lo;
     cell_ = glm::dvec2(ext.x / nx_, ext.y / ny_);
 
+    // Each segment's cells visited once (listed in segment order, with a cell's count), then
+    // placed by a counting sort: in each cell the segments in increasing order.
     std::vector<std::uint32_t>& count = fill_;
     count.assign(cells() + 1, 0);
-    for (const auto& s : segments) visit_cells(s.a, s.b, s.slack, [&](std::size_t c) { ++count[c + 1]; });
+    visits_.clear();
+    visit_end_.resize(segments.size());
+    for (std::uint32_t i = 0; i < segments.size(); ++i) {
+        const Segment2& s = segments[i];
+        visit_cells(s.a, s.b, s.slack, [&](std::size_t c) {
+            ++count[c + 1];
+            visits_.push_back(std::uint32_t(c));
+        });
+        visit_end_[i] = std::uint32_t(visits_.size());
+    }
     for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
     cell_begin_.assign(count.begin(), count.end());
     items_.resize(count.back());
-    for (std::uint32_t i = 0; i < segments.size(); ++i)
-        visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });
+    for (std::uint32_t i = 0, v = 0; i < segments.size(); ++i)
+        for (; v < visit_end_[i]; ++v) items_[count[visits_[v]]++] = i;
     count_ = segments.size();
 }
 

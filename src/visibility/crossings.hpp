@@ -54,6 +54,10 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]);
 // coordinates, clamped to [0, 1]. All points must lie in front of the eye plane.
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2]);
+// The same, and *o_t: where they meet along `o`, exactly the first parameter the call with q and o
+// swapped gives, when they meet and their images are not collinear; otherwise NaN.
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, double t[2], double* o_t);
 
 // The box of a projected segment widened by its slack, in float, rounded outward: two segments
 // whose exact images meet have overlapping boxes (closed), whatever the rounding. With the mesh
@@ -158,7 +162,8 @@ private:
 
     glm::dvec2 lo_{0.0}, cell_{1.0};
     int nx_ = 1, ny_ = 1;
-    std::vector<std::uint32_t> cell_begin_{0, 0}, items_, fill_;
+    std::vector<std::uint32_t> cell_begin_{0, 0}, items_;
+    std::vector<std::uint32_t> fill_, visits_, visit_end_;  // build()'s working arrays
     std::size_t count_ = 0;  // segments indexed
 };
 

@@ -77,6 +77,7 @@ struct Split {
     std::uint32_t seg;
     double t;
     std::uint32_t occluder;  // index into the occluders, or kNoOccluder
+    double ot = NAN;         // where along the occluder, if the search found it (segment_crossings)
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
@@ -84,13 +85,14 @@ struct Split {
 struct Scratch {
     struct Pending {
         std::uint32_t seg, occluder;
-        double t;
+        double t, ot;  // (ot: Split::ot)
     };
     std::vector<ClipSeg> occ_clip, all_segs;
     std::vector<std::uint64_t> in_curves, found;
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
+    std::vector<double> lc_ot;  // Split::ot of a curve's link crossings
     std::vector<Box2f> qbox, obox;
     std::vector<std::uint32_t> hits;
     BoxPairs grid;
@@ -216,11 +218,11 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
             const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
-            double t[2];
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t);
+            double t[2], ot;
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t, &ot);
             if (n == 0) continue;
             if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
-            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k});
+            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k, ot});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
         // itself), inside the clipped segment: no occluder, but the QI may change.
@@ -266,6 +268,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
     std::vector<Split>& splits = scratch.splits;
     using Pending = Scratch::Pending;
     std::vector<Pending>&pending = scratch.pending, &wrap = scratch.wrap;
+    std::vector<double>& lc_ot = scratch.lc_ot;
     pending.clear();  // crossings at the cut being made / at a closed curve's start
     std::size_t next_split = 0;
     // The piece being built is always slot P.n (pieces[P.n], spans[P.n]), filled in place.
@@ -294,6 +297,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         // become links carrying the crossings made there.
         const std::uint32_t first_piece = P.n;
         const std::size_t first_link = P.links.size(), first_lc = P.link_crossings.size();
+        lc_ot.clear();
         auto start_piece = [&]() {
             cur = &P.pieces[P.n];
             cur_spans = &P.spans[P.n];
@@ -311,7 +315,10 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 if (linked) {
                     const std::uint32_t l = std::uint32_t(P.links.size());
                     P.links.push_back({p - 1, p});
-                    for (const Pending& c : pending) P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                    for (const Pending& c : pending) {
+                        P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                        lc_ot.push_back(c.ot);
+                    }
                 }
                 ++P.n;
                 P.open_slot();
@@ -342,7 +349,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) {
                     split_at_start = true;
                     for (std::size_t i = k0; i < k; ++i)
-                        if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t});
+                        if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t, splits[i].ot});
                 }
                 if (t >= 1.0) continue;  // the end of the run: nothing follows
                 if (t > t0) add_span(t);
@@ -350,7 +357,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 emit();
                 linked = true;
                 for (std::size_t i = k0; i < k; ++i)
-                    if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t});
+                    if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t, splits[i].ot});
                 cur->points.push_back(s.a + t * (s.b - s.a));
                 t0 = t;
             }
@@ -382,7 +389,10 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             // Cut at its start: the last piece goes on into the first across those crossings.
             const std::uint32_t l = std::uint32_t(P.links.size());
             P.links.push_back({last_piece, first_piece});
-            for (const Pending& c : wrap) P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+            for (const Pending& c : wrap) {
+                P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                lc_ot.push_back(c.ot);
+            }
         } else if (np >= 1) {
             // Curve ends at vertices (junctions, cusps, ends of open lines), where not clipped.
             if (segs.front().A == mesh.positions[curve.vertices.front()])
@@ -397,9 +407,14 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const ClipSeg& o = occ_clip[c.occluder];
             c.c1 = s.A;
             c.c2 = s.B;
-            double to[2];
-            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
-            const double ot = segment_crossings(camera, occluders[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
+            // (found by the search, unless the split moved to the next segment's start or the
+            // images are collinear)
+            double ot = lc_ot[i - first_lc];
+            if (std::isnan(ot)) {
+                double to[2];
+                const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
+                ot = segment_crossings(camera, occluders[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
+            }
             c.occluder_s = o.sA + to_3d(camera, o, ot) * (o.sB - o.sA);
             c.occluder_edge = occluders[c.occluder].edge;
         }
