@@ -158,14 +158,15 @@ TEST(ViewSession, RecycledViewsEqualRenderView) {
 
 // The crossing search gives where a crossing lies along the occluder too (build_pieces then
 // skips the swapped call): exactly the swapped call's parameter, on lattice points (touches,
-// T-junctions, collinear images) and random ones; NaN only for collinear images.
+// T-junctions, collinear images) and random ones; NaN only for collinear images. Its quick reject
+// (apart_by_filter) rejects only pairs that do not meet.
 TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
     std::mt19937_64 rng(4);
     const Camera cams[] = {
         Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
         Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
     };
-    int touches = 0, proper = 0;
+    int touches = 0, proper = 0, rejected = 0;
     for (const auto& cam : cams) {
         std::uniform_int_distribution<int> L(-3, 3);
         std::uniform_real_distribution<double> U(-3.0, 3.0);
@@ -185,6 +186,11 @@ TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
             ASSERT_EQ(n, segment_crossings(cam, q, q3, o, o3, t_plain)) << i;
             for (int k = 0; k < n; ++k) ASSERT_EQ(t[k], t_plain[k]) << i;
             const int n2 = segment_crossings(cam, o, o3, q, q3, to);
+            // The quick reject of the search only rejects pairs that do not meet.
+            if (apart_by_filter(q, true, o, true)) {
+                ++rejected;
+                ASSERT_EQ(n, 0) << i;
+            }
             ASSERT_EQ(n > 0, n2 > 0) << i;
             const bool collinear = image_orientation(cam, P[2], P[3], P[0]) == 0 && image_orientation(cam, P[2], P[3], P[1]) == 0;
             if (n == 0 || collinear) {
@@ -200,6 +206,7 @@ TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
     }
     EXPECT_GT(touches, 100);
     EXPECT_GT(proper, 1000);
+    EXPECT_GT(rejected, 1000);
 }
 
 }  // namespace

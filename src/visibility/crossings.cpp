@@ -134,21 +134,12 @@ int image_order(const Camera& camera, const Segment3& l, const glm::dvec3& x, co
 }
 
 // image_orientation(camera, *l3.LA, *l3.LB, P), from the rounded image coordinates when they decide
-// it: each coordinate of l.a, l.b and p is within its slack d of the exact image, so moving them
-// changes the determinant u x v (u = b - a, v = p - a) by at most 2 d (|u|_1 + |v|_1) + 8 d^2;
-// computing it from the rounded coordinates errs by at most 5 eps |u|_1 |v|_1 more. Only for an
-// unclipped l (a clipped end is a construction, off the edge's line by its own rounding).
+// it (image_side_filter, crossings.hpp); only for an unclipped l.
 int orient_filtered(const Camera& camera, const Segment2& l, const Segment3& l3, glm::dvec2 p, double p_slack,
                     const glm::dvec3& P) {
     if (l3.unclipped >= 0 ? l3.unclipped == 1 : l3.A == *l3.LA && l3.B == *l3.LB) {
-        constexpr double kEps = 0x1p-53;
-        const glm::dvec2 u = l.b - l.a, v = p - l.a;
-        const double det = u.x * v.y - u.y * v.x;
-        const double d = std::max(l.slack, p_slack);
-        const double nu = std::abs(u.x) + std::abs(u.y), nv = std::abs(v.x) + std::abs(v.y);
-        const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
-        if (det > bound) return 1;
-        if (det < -bound) return -1;
+        const int side = image_side_filter(l.a, l.b, l.slack, p, p_slack);
+        if (side != 0) return side;
     }
     return image_orientation(camera, *l3.LA, *l3.LB, P);
 }

@@ -218,6 +218,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
             const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
+            if (apart_by_filter(q, s.unclipped, o, occ_clip[k].unclipped)) continue;  // (most pairs)
             double t[2], ot;
             const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t, &ot);
             if (n == 0) continue;
