@@ -112,8 +112,9 @@ void BM_Visibility(benchmark::State& state, const char* name, bool walk, int thr
     cam.set_near(inkline::default_near(m->topology()));
     const inkline::Features f = inkline::extract_features(m->topology(), cam);
     std::size_t rays = 0, walks = 0;
+    inkline::PieceGraph g;  // storage kept from frame to frame, as a ViewSession does
     for (auto _ : state) {
-        inkline::PieceGraph g = inkline::build_pieces(m->topology(), f, cam, nullptr, threads);
+        inkline::build_pieces(g, m->topology(), f, cam, nullptr, threads);
         const auto st = inkline::assign_qi_appel(
             m->topology(), cam, f.face_front, [&]() -> const inkline::RayCaster& { return m->rays(); }, g,
             {false, &m->self_intersecting_faces(), walk, threads});

@@ -2,8 +2,10 @@
 // statistics of the view and a hash of every piece (kind, curve, QI, point bits, spans), and how
 // many pieces' QI differ from the reference method. Two builds that print the same lines gave the
 // same results (for views without exact hidden QI: the same visible pieces).
-// Usage: vis_check [mesh ...] (default: the bench meshes without subdivision, and armadillo@1);
-// meshes come from INKLINE_DATA_DIR.
+// Usage: vis_check [--session] [mesh ...] (default: the bench meshes without subdivision, and
+// armadillo@1); meshes come from INKLINE_DATA_DIR. With --session the views of each variant come
+// from one ViewSession per mesh (storage reused from camera to camera) instead of render_view:
+// the same lines are expected.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -42,7 +44,10 @@ inkline::Camera random_camera(std::mt19937& rng, const inkline::Bounds3& box, bo
 
 int main(int argc, char** argv) {
     std::vector<std::string> meshes;
-    for (int i = 1; i < argc; ++i) meshes.push_back(argv[i]);
+    bool session = false;
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--session") == 0) session = true;
+        else meshes.push_back(argv[i]);
     if (meshes.empty())
         meshes = {"armadillo", "bunny00", "fandisk", "elephant", "knot1", "ChineseDragon-10kv", "armadillo@1"};
     for (const std::string& name : meshes) {
@@ -51,19 +56,24 @@ int main(int argc, char** argv) {
         const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name.substr(0, at) + ".off";
         const inkline::Model model = inkline::Model::load(path, 40.0, levels);
         std::mt19937 rng(7u);
+        auto options = [](int variant) {
+            inkline::ViewOptions o;
+            o.visibility = variant == 4 ? inkline::VisibilityMethod::Rays : inkline::VisibilityMethod::Appel;
+            o.exact_hidden = variant == 0 || variant == 4;
+            o.walk = variant != 2;
+            if (variant == 3) o.features.kinds[int(inkline::LineKind::Crease)] = false;
+            return o;
+        };
+        std::vector<inkline::ViewSession> sessions;
+        for (int variant = 0; variant < 5; ++variant) sessions.emplace_back(model, options(variant));
         for (int k = 0; k < 16; ++k) {
             const inkline::Camera cam = k == 0 ? inkline::Camera::framing(model.topology().bounds, 1024, 1024)
                                                : random_camera(rng, model.topology().bounds, k >= 13);
-            inkline::ViewOptions ro;
-            ro.visibility = inkline::VisibilityMethod::Rays;
-            const inkline::View ref = inkline::render_view(model, cam, ro);
+            const inkline::View ref = session ? sessions[4].render(cam) : inkline::render_view(model, cam, options(4));
             for (int variant = 0; variant < 5; ++variant) {
-                inkline::ViewOptions o;
-                o.visibility = variant == 4 ? inkline::VisibilityMethod::Rays : inkline::VisibilityMethod::Appel;
-                o.exact_hidden = variant == 0 || variant == 4;
-                o.walk = variant != 2;
-                if (variant == 3) o.features.kinds[int(inkline::LineKind::Crease)] = false;
-                const inkline::View v = variant == 4 ? ref : inkline::render_view(model, cam, o);
+                const inkline::ViewOptions o = options(variant);
+                const inkline::View& v =
+                    variant == 4 ? ref : session ? sessions[variant].render(cam) : inkline::render_view(model, cam, o);
                 std::uint64_t h = 0;
                 std::size_t differ = 0, differ_vis = 0;
                 for (std::size_t i = 0; i < v.drawing.pieces.size(); ++i) {

@@ -92,31 +92,37 @@ void ViewSession::finish(const Camera& camera) {
     const SelfIntersections& si = model.self_intersections();
     const std::vector<std::uint8_t>* pierced = appel ? &si.faces : nullptr;
     const auto t1 = std::chrono::steady_clock::now();
+    Drawing& d = v.drawing;
     VisibleCurves curves;
     AppelStats as;
     if (appel) {
-        PieceGraph g = build_pieces(model.topology(), v.features, camera, &si.cuts, options.threads);
+        // Into the session's graph: its storage (and the previous drawing's) reused.
+        PieceGraph& g = graph_;
+        build_pieces(g, model.topology(), v.features, camera, &si.cuts, options.threads);
         as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g,
                              {options.exact_hidden, pierced, options.walk, options.threads});
-        curves = std::move(g.curves);
-        curves.ray_tests = as.ray_tests;
-        // Drop what was chained only to propagate QI.
+        // Drop what was chained only to propagate QI (their storage stays in the graph).
+        auto& pieces = g.curves.pieces;
+        auto& spans = g.curves.spans;
         std::size_t k = 0;
-        for (std::size_t i = 0; i < curves.pieces.size(); ++i)
-            if (options.features.wants(curves.pieces[i].kind)) {
-                if (k != i) curves.pieces[k] = std::move(curves.pieces[i]), curves.spans[k] = std::move(curves.spans[i]);
+        for (std::size_t i = 0; i < pieces.size(); ++i)
+            if (options.features.wants(pieces[i].kind)) {
+                if (k != i) std::swap(pieces[k], pieces[i]), std::swap(spans[k], spans[i]);
                 ++k;
             }
-        curves.pieces.resize(k);
-        curves.spans.resize(k);
+        g.truncate(k);
+        // The drawing takes the pieces; the graph keeps the previous drawing's storage for the next view.
+        d.pieces.swap(pieces);
+        v.spans.swap(spans);
+        curves.crossings = g.curves.crossings;
+        curves.ray_tests = as.ray_tests;
     } else {
         curves = compute_visibility(model.topology(), v.features, camera, rays(), &si.cuts);
+        d.pieces = std::move(curves.pieces);
+        v.spans = std::move(curves.spans);
     }
 
-    Drawing& d = v.drawing;
     d.camera = camera;
-    d.pieces = std::move(curves.pieces);
-    v.spans = std::move(curves.spans);
     DrawingStats& s = d.stats;
     s.triangles = model.topology().face_count();
     s.silhouette_edges = v.features.silhouette_edges.size();

@@ -86,6 +86,7 @@ private:
     ViewOptions options_;
     SilhouetteFinder finder_;
     View view_;
+    PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
     double features_seconds_ = 0.0;
 };
 

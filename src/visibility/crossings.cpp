@@ -134,21 +134,12 @@ int image_order(const Camera& camera, const Segment3& l, const glm::dvec3& x, co
 }
 
 // image_orientation(camera, *l3.LA, *l3.LB, P), from the rounded image coordinates when they decide
-// it: each coordinate of l.a, l.b and p is within its slack d of the exact image, so moving them
-// changes the determinant u x v (u = b - a, v = p - a) by at most 2 d (|u|_1 + |v|_1) + 8 d^2;
-// computing it from the rounded coordinates errs by at most 5 eps |u|_1 |v|_1 more. Only for an
-// unclipped l (a clipped end is a construction, off the edge's line by its own rounding).
+// it (image_side_filter, crossings.hpp); only for an unclipped l.
 int orient_filtered(const Camera& camera, const Segment2& l, const Segment3& l3, glm::dvec2 p, double p_slack,
                     const glm::dvec3& P) {
     if (l3.unclipped >= 0 ? l3.unclipped == 1 : l3.A == *l3.LA && l3.B == *l3.LB) {
-        constexpr double kEps = 0x1p-53;
-        const glm::dvec2 u = l.b - l.a, v = p - l.a;
-        const double det = u.x * v.y - u.y * v.x;
-        const double d = std::max(l.slack, p_slack);
-        const double nu = std::abs(u.x) + std::abs(u.y), nv = std::abs(v.x) + std::abs(v.y);
-        const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
-        if (det > bound) return 1;
-        if (det < -bound) return -1;
+        const int side = image_side_filter(l.a, l.b, l.slack, p, p_slack);
+        if (side != 0) return side;
     }
     return image_orientation(camera, *l3.LA, *l3.LB, P);
 }
@@ -163,6 +154,12 @@ double param_on(const Segment2& q, glm::dvec2 p) {
 
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2]) {
+    return segment_crossings(camera, q, q3, o, o3, t, nullptr);
+}
+
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, double t[2], double* o_t) {
+    if (o_t) *o_t = NAN;
     if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
     if (q.a == q.b || o.a == o.b) return 0;
     // Bounding boxes apart by more than the rounding of the images: the exact images are apart.
@@ -191,6 +188,21 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
         t[1] = std::max(u[0], u[1]);
         return t[0] == t[1] ? 1 : 2;
     }
+    if (o_t && !(s2 == 0 && s3 == 0)) {
+        // Along o: what the call with q and o swapped computes (its orientations are these, q's
+        // ends against o's line first; it would take the collinear branch when s2 = s3 = 0).
+        double w;
+        if (s2 == 0) w = param_on(o, q.a);
+        else if (s3 == 0) w = param_on(o, q.b);
+        else if (s0 == 0) w = 0.0;
+        else if (s1 == 0) w = 1.0;
+        else {
+            const glm::dvec2 d = o.b - o.a, e = q.b - q.a;
+            w = quotient(cross(q.a - o.a, e), cross(d, e), [&] { return qcross(q.a, o.a, q.a, q.b); },
+                         [&] { return qcross(o.b, o.a, q.a, q.b); });
+        }
+        *o_t = std::clamp(w, 0.0, 1.0);
+    }
     // Proper crossing or touch: the parameter is a construction in the image coordinates.
     double u;
     if (s0 == 0) u = param_on(q, o.a);
@@ -206,7 +218,7 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
     return 1;
 }
 
-SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, double height) {
+void SegmentGrid::build(const std::vector<Segment2>& segments, double width, double height) {
     glm::dvec2 lo(INFINITY), hi(-INFINITY);
     for (const auto& s : segments) {
         lo = glm::min(lo, glm::min(s.a, s.b));
@@ -226,13 +238,25 @@ SegmentGrid::SegmentGrid(const std::vector<Segment2>& segments, double width, do
     lo_ = lo;
     cell_ = glm::dvec2(ext.x / nx_, ext.y / ny_);
 
-    std::vector<std::uint32_t> count(cells() + 1, 0);
-    for (const auto& s : segments) visit_cells(s.a, s.b, s.slack, [&](std::size_t c) { ++count[c + 1]; });
+    // Each segment's cells visited once (listed in segment order, with a cell's count), then
+    // placed by a counting sort: in each cell the segments in increasing order.
+    std::vector<std::uint32_t>& count = fill_;
+    count.assign(cells() + 1, 0);
+    visits_.clear();
+    visit_end_.resize(segments.size());
+    for (std::uint32_t i = 0; i < segments.size(); ++i) {
+        const Segment2& s = segments[i];
+        visit_cells(s.a, s.b, s.slack, [&](std::size_t c) {
+            ++count[c + 1];
+            visits_.push_back(std::uint32_t(c));
+        });
+        visit_end_[i] = std::uint32_t(visits_.size());
+    }
     for (std::size_t c = 0; c < cells(); ++c) count[c + 1] += count[c];
-    cell_begin_ = count;
+    cell_begin_.assign(count.begin(), count.end());
     items_.resize(count.back());
-    for (std::uint32_t i = 0; i < segments.size(); ++i)
-        visit_cells(segments[i].a, segments[i].b, segments[i].slack, [&](std::size_t c) { items_[count[c]++] = i; });
+    for (std::uint32_t i = 0, v = 0; i < segments.size(); ++i)
+        for (; v < visit_end_[i]; ++v) items_[count[visits_[v]]++] = i;
     count_ = segments.size();
 }
 

@@ -54,6 +54,42 @@ int segment_crossings(const Segment2& q, const Segment2& o, double t[2]);
 // coordinates, clamped to [0, 1]. All points must lie in front of the eye plane.
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2]);
+// The same, and *o_t: where they meet along `o`, exactly the first parameter the call with q and o
+// swapped gives, when they meet and their images are not collinear; otherwise NaN.
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, double t[2], double* o_t);
+
+// The side of line (a, b) the exact image of p lies on (1 left, -1 right), when the rounded image
+// coordinates decide it; 0 when they do not. For a and b the images of the ends of an unclipped
+// segment (a clipped end is a construction, off the edge's line by its own rounding) and p the
+// image of a point, each within its slack (l_slack, p_slack: image_slack) of the exact image:
+// moving them changes the determinant u x v (u = b - a, v = p - a) by at most
+// 2 d (|u|_1 + |v|_1) + 8 d^2 (d the larger slack); computing it from the rounded coordinates errs
+// by at most 5 eps |u|_1 |v|_1 more. The 3D-exact segment_crossings decides by this first.
+inline int image_side_filter(glm::dvec2 a, glm::dvec2 b, double l_slack, glm::dvec2 p, double p_slack) {
+    constexpr double kEps = 0x1p-53;
+    const glm::dvec2 u = b - a, v = p - a;
+    const double det = u.x * v.y - u.y * v.x;
+    const double d = std::max(l_slack, p_slack);
+    const double nu = std::abs(u.x) + std::abs(u.y), nv = std::abs(v.x) + std::abs(v.y);
+    const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
+    return det > bound ? 1 : det < -bound ? -1 : 0;
+}
+
+// True only when the 3D-exact segment_crossings(camera, q, q3, o, o3) finds no crossing, decided
+// by image_side_filter alone (o's ends on one side of q's line, or q's on one side of o's; a
+// segment's line used only if it is unclipped): a quick reject before the full test.
+inline bool apart_by_filter(const Segment2& q, bool q_unclipped, const Segment2& o, bool o_unclipped) {
+    if (q_unclipped) {
+        const int s0 = image_side_filter(q.a, q.b, q.slack, o.a, o.slack);
+        if (s0 != 0 && s0 == image_side_filter(q.a, q.b, q.slack, o.b, o.slack)) return true;
+    }
+    if (o_unclipped) {
+        const int s2 = image_side_filter(o.a, o.b, o.slack, q.a, q.slack);
+        if (s2 != 0 && s2 == image_side_filter(o.a, o.b, o.slack, q.b, q.slack)) return true;
+    }
+    return false;
+}
 
 // The box of a projected segment widened by its slack, in float, rounded outward: two segments
 // whose exact images meet have overlapping boxes (closed), whatever the rounding. With the mesh
@@ -115,7 +151,10 @@ public:
     // Indexes `segments` in a uniform grid over their bounding box, limited to the image
     // rectangle widened by one image size on each side; cells on the grid's rim also hold
     // whatever lies beyond it, so queries stay exact anywhere.
-    SegmentGrid(const std::vector<Segment2>& segments, double width, double height);
+    SegmentGrid(const std::vector<Segment2>& segments, double width, double height) { build(segments, width, height); }
+    SegmentGrid() = default;  // indexes nothing until build()
+    // Indexes `segments` instead of what it held (its storage reused).
+    void build(const std::vector<Segment2>& segments, double width, double height);
 
     // Calls fn(index) once for every indexed segment whose cells overlap q's cells (a superset of
     // the segments that can meet q; the caller decides with segment_crossings). Several threads
@@ -155,7 +194,8 @@ private:
 
     glm::dvec2 lo_{0.0}, cell_{1.0};
     int nx_ = 1, ny_ = 1;
-    std::vector<std::uint32_t> cell_begin_, items_;
+    std::vector<std::uint32_t> cell_begin_{0, 0}, items_;
+    std::vector<std::uint32_t> fill_, visits_, visit_end_;  // build()'s working arrays
     std::size_t count_ = 0;  // segments indexed
 };
 

@@ -77,6 +77,7 @@ struct Split {
     std::uint32_t seg;
     double t;
     std::uint32_t occluder;  // index into the occluders, or kNoOccluder
+    double ot = NAN;         // where along the occluder, if the search found it (segment_crossings)
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
@@ -84,25 +85,24 @@ struct Split {
 struct Scratch {
     struct Pending {
         std::uint32_t seg, occluder;
-        double t;
+        double t, ot;  // (ot: Split::ot)
     };
     std::vector<ClipSeg> occ_clip, all_segs;
     std::vector<std::uint64_t> in_curves, found;
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
+    std::vector<double> lc_ot;  // Split::ot of a curve's link crossings
     std::vector<Box2f> qbox, obox;
     std::vector<std::uint32_t> hits;
     BoxPairs grid;
-    struct Parts {  // a second range's output, before it is appended
+    struct Parts {  // a second range's output, before it is appended (pieces: storage kept)
         std::vector<Piece> pieces;
         std::vector<std::vector<EdgeSpan>> spans;
         std::vector<PieceGraph::Link> links;
         std::vector<PieceGraph::LinkCrossing> link_crossings;
         std::vector<PieceGraph::End> ends;
-        void clear() {
-            pieces.clear(), spans.clear(), links.clear(), link_crossings.clear(), ends.clear();
-        }
+        void clear() { links.clear(), link_crossings.clear(), ends.clear(); }
     } parts;
 };
 
@@ -127,14 +127,33 @@ double default_near(const MeshTopology& mesh) {
 
 namespace {
 
-// What build_range gives for one range of curves.
+// What build_range gives for one range of curves. The pieces are pieces[0, n) (and spans[0, n));
+// the slots after them hold storage of earlier views, reused in place: a slot's point and span
+// vectors keep their capacity.
 struct Part {
     std::vector<Piece>& pieces;
     std::vector<std::vector<EdgeSpan>>& spans;
     std::vector<PieceGraph::Link>& links;
     std::vector<PieceGraph::LinkCrossing>& link_crossings;
     std::vector<PieceGraph::End>& ends;
+    // Where new slots come from before they are made (the graph's spare storage), if anywhere.
+    std::vector<Piece>* spare_pieces = nullptr;
+    std::vector<std::vector<EdgeSpan>>* spare_spans = nullptr;
+    std::uint32_t n = 0;
     std::size_t crossings = 0;
+    // Makes slot n (the next piece) exist; its contents are whatever it held.
+    void open_slot() {
+        if (pieces.size() > n) return;
+        if (spare_pieces && !spare_pieces->empty()) {
+            pieces.push_back(std::move(spare_pieces->back()));
+            spans.push_back(std::move(spare_spans->back()));
+            spare_pieces->pop_back();
+            spare_spans->pop_back();
+        } else {
+            pieces.emplace_back();
+            spans.emplace_back();
+        }
+    }
 };
 
 // The pieces of curves [c0, c1) (build_pieces' work after the occluders), appended to P; piece
@@ -199,11 +218,12 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
             const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
-            double t[2];
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t);
+            if (apart_by_filter(q, s.unclipped, o, occ_clip[k].unclipped)) continue;  // (most pairs)
+            double t[2], ot;
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t, &ot);
             if (n == 0) continue;
             if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
-            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k});
+            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k, ot});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
         // itself), inside the clipped segment: no occluder, but the QI may change.
@@ -249,12 +269,15 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
     std::vector<Split>& splits = scratch.splits;
     using Pending = Scratch::Pending;
     std::vector<Pending>&pending = scratch.pending, &wrap = scratch.wrap;
+    std::vector<double>& lc_ot = scratch.lc_ot;
     pending.clear();  // crossings at the cut being made / at a closed curve's start
     std::size_t next_split = 0;
-    Piece cur;  // the piece being built (its storage reused from piece to piece)
-    std::vector<EdgeSpan> cur_spans;
-    P.pieces.reserve(P.pieces.size() + all_splits.size() + ncurves);
-    P.spans.reserve(P.spans.size() + all_splits.size() + ncurves);
+    // The piece being built is always slot P.n (pieces[P.n], spans[P.n]), filled in place.
+    P.pieces.reserve(P.n + all_splits.size() + ncurves + 1);
+    P.spans.reserve(P.n + all_splits.size() + ncurves + 1);
+    P.open_slot();
+    Piece* cur = &P.pieces[P.n];
+    std::vector<EdgeSpan>* cur_spans = &P.spans[P.n];
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
         const std::uint32_t sb = seg_begin[ci - c0], se = seg_begin[ci - c0 + 1];
@@ -273,29 +296,38 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
 
         // Walk the segments, cutting pieces at splits and interruptions. Cuts between two pieces
         // become links carrying the crossings made there.
-        const std::uint32_t first_piece = std::uint32_t(P.pieces.size());
+        const std::uint32_t first_piece = P.n;
         const std::size_t first_link = P.links.size(), first_lc = P.link_crossings.size();
-        cur.points.clear();
-        cur_spans.clear();
+        lc_ot.clear();
+        auto start_piece = [&]() {
+            cur = &P.pieces[P.n];
+            cur_spans = &P.spans[P.n];
+            cur->kind = curve.kind;
+            cur->qi = 0;
+            cur->curve = ci;
+            cur->points.clear();
+            cur_spans->clear();
+        };
+        start_piece();
         bool linked = false;  // the next piece emitted continues the last one across `pending`
         auto emit = [&]() {
-            if (!cur_spans.empty() && cur.points.size() >= 2) {
-                const std::uint32_t p = std::uint32_t(P.pieces.size());
+            if (!cur_spans->empty() && cur->points.size() >= 2) {
+                const std::uint32_t p = P.n;
                 if (linked) {
                     const std::uint32_t l = std::uint32_t(P.links.size());
                     P.links.push_back({p - 1, p});
-                    for (const Pending& c : pending) P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                    for (const Pending& c : pending) {
+                        P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                        lc_ot.push_back(c.ot);
+                    }
                 }
-                P.pieces.push_back(cur);
-                P.spans.push_back(cur_spans);
+                ++P.n;
+                P.open_slot();
             }
             pending.clear();
             linked = false;
-            cur.points.clear();
-            cur_spans.clear();
+            start_piece();
         };
-        cur.kind = curve.kind;
-        cur.curve = ci;
         wrap.clear();
         std::size_t k = 0;
         bool split_at_start = false;
@@ -303,13 +335,13 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const ClipSeg& s = segs[j];
             if (s.run_start) {
                 emit();
-                cur.points.push_back(s.a);
+                cur->points.push_back(s.a);
             }
             double t0 = 0.0;
             auto add_span = [&](double t1) {
                 const double u0 = to_3d(camera, s, t0), u1 = to_3d(camera, s, t1);
-                cur_spans.push_back({s.edge, s.sA + u0 * (s.sB - s.sA), s.sA + u1 * (s.sB - s.sA)});
-                cur.points.push_back(s.a + t1 * (s.b - s.a));
+                cur_spans->push_back({s.edge, s.sA + u0 * (s.sB - s.sA), s.sA + u1 * (s.sB - s.sA)});
+                cur->points.push_back(s.a + t1 * (s.b - s.a));
             };
             for (; k < splits.size() && splits[k].seg == j;) {
                 const double t = splits[k].t;
@@ -318,16 +350,16 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) {
                     split_at_start = true;
                     for (std::size_t i = k0; i < k; ++i)
-                        if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t});
+                        if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t, splits[i].ot});
                 }
                 if (t >= 1.0) continue;  // the end of the run: nothing follows
                 if (t > t0) add_span(t);
-                if (cur_spans.empty()) continue;  // nothing to cut yet (split at the run start)
+                if (cur_spans->empty()) continue;  // nothing to cut yet (split at the run start)
                 emit();
                 linked = true;
                 for (std::size_t i = k0; i < k; ++i)
-                    if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t});
-                cur.points.push_back(s.a + t * (s.b - s.a));
+                    if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t, splits[i].ot});
+                cur->points.push_back(s.a + t * (s.b - s.a));
                 t0 = t;
             }
             add_span(1.0);
@@ -336,28 +368,32 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
 
         // A closed curve that was not cut at its start vertex: the last piece continues the first
         // (a loop from a junction or cusp back to it is not closed: the QI can change there).
-        const std::uint32_t np = std::uint32_t(P.pieces.size()) - first_piece;
+        const std::uint32_t np = P.n - first_piece;
         const bool unbroken = segs.size() == curve.edges.size() &&
                               std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
                               segs.back().B == segs.front().A;
         const std::uint32_t last_piece = first_piece + np - 1;
         if (curve.closed && unbroken && np >= 2 && !split_at_start) {
-            Piece& first = P.pieces[first_piece];
-            Piece last = std::move(P.pieces.back());
-            auto last_spans = std::move(P.spans.back());
-            P.pieces.pop_back();
-            P.spans.pop_back();
+            // The last piece followed by the first: into the last's storage, swapped into the
+            // first's slot; the last slot becomes the one being built.
+            Piece &first = P.pieces[first_piece], &last = P.pieces[last_piece];
+            std::vector<EdgeSpan>&first_spans = P.spans[first_piece], &last_spans = P.spans[last_piece];
             last.points.insert(last.points.end(), first.points.begin() + 1, first.points.end());
-            last_spans.insert(last_spans.end(), P.spans[first_piece].begin(), P.spans[first_piece].end());
-            first.points = std::move(last.points);
-            P.spans[first_piece] = std::move(last_spans);
+            last_spans.insert(last_spans.end(), first_spans.begin(), first_spans.end());
+            std::swap(first.points, last.points);
+            std::swap(first_spans, last_spans);
+            --P.n;
+            start_piece();
             for (std::size_t l = first_link; l < P.links.size(); ++l)
                 if (P.links[l].after == last_piece) P.links[l].after = first_piece;
         } else if (np >= 1 && curve.closed && unbroken) {
             // Cut at its start: the last piece goes on into the first across those crossings.
             const std::uint32_t l = std::uint32_t(P.links.size());
             P.links.push_back({last_piece, first_piece});
-            for (const Pending& c : wrap) P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+            for (const Pending& c : wrap) {
+                P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                lc_ot.push_back(c.ot);
+            }
         } else if (np >= 1) {
             // Curve ends at vertices (junctions, cusps, ends of open lines), where not clipped.
             if (segs.front().A == mesh.positions[curve.vertices.front()])
@@ -372,9 +408,14 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const ClipSeg& o = occ_clip[c.occluder];
             c.c1 = s.A;
             c.c2 = s.B;
-            double to[2];
-            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
-            const double ot = segment_crossings(camera, occluders[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
+            // (found by the search, unless the split moved to the next segment's start or the
+            // images are collinear)
+            double ot = lc_ot[i - first_lc];
+            if (std::isnan(ot)) {
+                double to[2];
+                const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
+                ot = segment_crossings(camera, occluders[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
+            }
             c.occluder_s = o.sA + to_3d(camera, o, ot) * (o.sB - o.sA);
             c.occluder_edge = occluders[c.occluder].edge;
         }
@@ -383,13 +424,37 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
 
 }  // namespace
 
+void PieceGraph::truncate(std::size_t k) {
+    for (std::size_t i = k; i < curves.pieces.size(); ++i) {
+        spare_pieces_.push_back(std::move(curves.pieces[i]));
+        spare_spans_.push_back(std::move(curves.spans[i]));
+    }
+    curves.pieces.resize(std::min(k, curves.pieces.size()));
+    curves.spans.resize(curves.pieces.size());
+}
+
 PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
                         const std::vector<EdgeCut>* cuts, int threads,
                         std::size_t parallel_edges) {
     PieceGraph g;
+    build_pieces(g, mesh, features, camera, cuts, threads, parallel_edges);
+    g.curves.pieces.shrink_to_fit();
+    return g;
+}
+
+void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges) {
     VisibleCurves& out = g.curves;
+    // Everything of the previous view goes; the pieces' slots are refilled in place below.
+    out.crossings = 0;
+    out.ray_tests = 0;
+    g.links.clear();
+    g.link_crossings.clear();
+    g.ends.clear();
+    g.occluders.clear();
+    g.grid_built_ = false;
     g.immersive = geometry_behind_near(mesh, camera);
-    g.images = VertexImages(mesh, camera);
+    g.images.reset(mesh, camera);
 
     // Occluding edges in the image: silhouettes and borders. QI counts the layers between a point
     // and the eye (DESIGN.md), so the near plane clips the curves drawn, not the occluders: those
@@ -447,7 +512,8 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     const std::uint32_t ncurves = std::uint32_t(features.curves.size());
     std::size_t total_edges = 0;
     for (const auto& c : features.curves) total_edges += c.edges.size();
-    Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends};
+    out.spans.resize(out.pieces.size());  // (slots are pairs)
+    Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends, &g.spare_pieces_, &g.spare_spans_};
     if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
         build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, ncurves, scratch, first);
     } else {
@@ -462,30 +528,34 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
         Scratch& scratch2 = scratch_second;
         Scratch::Parts& p2 = scratch2.parts;
         p2.clear();
-        Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};
+        Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
         std::thread worker([&] {
             build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, mid, ncurves,
                         scratch2, second);
         });
         build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, mid, scratch, first);
         worker.join();
-        // Append the second range, its indices shifted.
-        const std::uint32_t np = std::uint32_t(out.pieces.size()), nl = std::uint32_t(g.links.size());
+        // Append the second range, its indices shifted; its pieces swapped into the graph's slots
+        // (each side keeps storage).
+        const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
         for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
         for (auto& c : p2.link_crossings) {
             g.link_crossings.push_back(c);
             g.link_crossings.back().link += nl;
         }
         for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
-        out.pieces.reserve(out.pieces.size() + p2.pieces.size());
-        out.spans.reserve(out.spans.size() + p2.spans.size());
-        for (auto& x : p2.pieces) out.pieces.push_back(std::move(x));
-        for (auto& x : p2.spans) out.spans.push_back(std::move(x));
+        out.pieces.reserve(first.n + second.n + 1);
+        out.spans.reserve(first.n + second.n + 1);
+        for (std::uint32_t i = 0; i < second.n; ++i) {
+            first.open_slot();
+            std::swap(out.pieces[first.n], p2.pieces[i]);
+            std::swap(out.spans[first.n], p2.spans[i]);
+            ++first.n;
+        }
         first.crossings += second.crossings;
     }
     out.crossings = first.crossings;
-    out.pieces.shrink_to_fit();
-    return g;
+    g.truncate(first.n);  // (the slots after the pieces: kept as spare storage)
 }
 
 PieceProbe probe_point(const MeshTopology& mesh, const Camera& camera, const Piece& piece,

@@ -38,10 +38,19 @@ struct VisibleCurves {
 class VertexImages {
 public:
     VertexImages() = default;
-    VertexImages(const MeshTopology& mesh, const Camera& camera)
-        : positions_(&mesh.positions), camera_(camera), p_(new glm::dvec2[mesh.vertex_count()]),
-          slack_(new double[mesh.vertex_count()]), done_(mesh.vertex_count() / 64 + 1, 0),
-          slack_done_(done_.size(), 0) {}
+    VertexImages(const MeshTopology& mesh, const Camera& camera) { reset(mesh, camera); }
+    // Starts a new view: nothing projected yet (the arrays kept when the vertex count is the same).
+    void reset(const MeshTopology& mesh, const Camera& camera) {
+        positions_ = &mesh.positions;
+        camera_ = camera;
+        if (count_ != mesh.vertex_count() || !p_) {
+            count_ = mesh.vertex_count();
+            p_.reset(new glm::dvec2[count_]);
+            slack_.reset(new double[count_]);
+        }
+        done_.assign(count_ / 64 + 1, 0);
+        slack_done_.assign(done_.size(), 0);
+    }
     glm::dvec2 operator()(std::uint32_t v) const {
         std::uint64_t& w = done_[v >> 6];
         const std::uint64_t bit = std::uint64_t(1) << (v & 63);
@@ -65,6 +74,7 @@ public:
 private:
     const std::vector<glm::dvec3>* positions_ = nullptr;
     Camera camera_;
+    std::size_t count_ = 0;
     std::unique_ptr<glm::dvec2[]> p_;
     std::unique_ptr<double[]> slack_;
     mutable std::vector<std::uint64_t> done_, slack_done_;
@@ -97,16 +107,29 @@ struct PieceGraph {
     std::vector<Segment2> occluders;   // silhouette and border edges in the image (clipped)
     // Their grid index, built on first use (walks need it; most views make none).
     const SegmentGrid& occluder_grid() const {
-        if (!grid_) grid_.emplace(occluders, image_size.x, image_size.y);
-        return *grid_;
+        if (!grid_built_) {
+            grid_.build(occluders, image_size.x, image_size.y);
+            grid_built_ = true;
+        }
+        return grid_;
     }
     glm::dvec2 image_size{0.0};  // the camera's image, pixels
     bool immersive = false;  // geometry at or behind the near plane
     std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
     VertexImages images;  // the mesh vertices in the image (walks project the faces they cross)
 
+    // Keeps pieces [0, k) (and their spans); the storage of the others is kept for the next build.
+    void truncate(std::size_t k);
+
 private:
-    mutable std::optional<SegmentGrid> grid_;
+    friend void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
+                             const Camera& camera, const std::vector<EdgeCut>* cuts, int threads,
+                             std::size_t parallel_edges);
+    mutable SegmentGrid grid_;
+    mutable bool grid_built_ = false;
+    // Storage of pieces no longer in the graph (their point and span vectors keep their capacity).
+    std::vector<Piece> spare_pieces_;
+    std::vector<std::vector<EdgeSpan>> spare_spans_;
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
@@ -116,6 +139,12 @@ private:
 PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
                         const std::vector<EdgeCut>* cuts = nullptr, int threads = 1,
                         std::size_t parallel_edges = 4000);
+// The same into `graph`, which is overwritten: its storage (every vector, the pieces' point and
+// span vectors, the vertex images, the occluder grid) is reused, so a view along a camera path
+// allocates (nearly) nothing once the graph has seen a view as large. The result equals a fresh
+// build_pieces, whatever the graph held before.
+void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                  const std::vector<EdgeCut>* cuts = nullptr, int threads = 1, std::size_t parallel_edges = 4000);
 
 // Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
 struct PieceProbe {

@@ -1,0 +1,213 @@
+// build_pieces into a recycled PieceGraph (the storage of earlier views reused, as ViewSession and
+// the benchmarks run it) gives exactly what a fresh build gives, view after view: more pieces, then
+// fewer, another mesh in between, one or two threads; and the pipeline's session views equal
+// render_view's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/predicates.hpp"
+#include "pipeline.hpp"
+#include "visibility/appel.hpp"
+#include "visibility/crossings.hpp"
+
+namespace inkline {
+namespace {
+
+Camera random_camera(std::mt19937& rng, const Bounds3& box) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double z = 2.0 * u(rng) - 1.0, phi = 2.0 * M_PI * u(rng), s = std::sqrt(1.0 - z * z);
+    const glm::dvec3 dir(s * std::cos(phi), z, s * std::sin(phi));
+    const double fov = 25.0 + 25.0 * u(rng), R = box.half_diagonal();
+    // Some cameras close in (part of the model in the image: fewer pieces), some far.
+    const double dist = R / std::sin(fov * M_PI / 360.0) * (0.3 + 1.2 * u(rng));
+    const glm::dvec3 target = box.center() + 0.2 * R * glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    const glm::dvec3 up = std::abs(dir.y) > 0.95 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    return Camera::perspective(target + dist * dir, target, up, fov, 1024, 1024);
+}
+
+bool same_spans(const std::vector<EdgeSpan>& a, const std::vector<EdgeSpan>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].edge != b[i].edge || a[i].s0 != b[i].s0 || a[i].s1 != b[i].s1) return false;
+    return true;
+}
+
+bool same_piece(const Piece& a, const Piece& b) {
+    return a.kind == b.kind && a.qi == b.qi && a.curve == b.curve && a.points == b.points;
+}
+
+// Every field of the two graphs (pieces with their QI, spans, links, crossings, ends, occluders).
+void expect_same_graph(const PieceGraph& a, const PieceGraph& b, const std::string& at) {
+    ASSERT_EQ(a.curves.pieces.size(), b.curves.pieces.size()) << at;
+    ASSERT_EQ(a.curves.spans.size(), b.curves.spans.size()) << at;
+    EXPECT_EQ(a.curves.crossings, b.curves.crossings) << at;
+    for (std::size_t p = 0; p < a.curves.pieces.size(); ++p) {
+        ASSERT_TRUE(same_piece(a.curves.pieces[p], b.curves.pieces[p])) << at << " piece " << p;
+        ASSERT_TRUE(same_spans(a.curves.spans[p], b.curves.spans[p])) << at << " piece " << p;
+    }
+    ASSERT_EQ(a.links.size(), b.links.size()) << at;
+    for (std::size_t l = 0; l < a.links.size(); ++l)
+        ASSERT_TRUE(a.links[l].before == b.links[l].before && a.links[l].after == b.links[l].after) << at;
+    ASSERT_EQ(a.link_crossings.size(), b.link_crossings.size()) << at;
+    for (std::size_t c = 0; c < a.link_crossings.size(); ++c) {
+        const auto &x = a.link_crossings[c], &y = b.link_crossings[c];
+        ASSERT_TRUE(x.link == y.link && x.occluder == y.occluder && x.seg == y.seg && x.t == y.t && x.c1 == y.c1 &&
+                    x.c2 == y.c2 && x.occluder_edge == y.occluder_edge && x.occluder_s == y.occluder_s &&
+                    x.delta == y.delta)
+            << at << " crossing " << c;
+    }
+    ASSERT_EQ(a.ends.size(), b.ends.size()) << at;
+    for (std::size_t e = 0; e < a.ends.size(); ++e)
+        ASSERT_TRUE(a.ends[e].piece == b.ends[e].piece && a.ends[e].vertex == b.ends[e].vertex &&
+                    a.ends[e].edge == b.ends[e].edge)
+            << at;
+    ASSERT_EQ(a.occluders.size(), b.occluders.size()) << at;
+    for (std::size_t k = 0; k < a.occluders.size(); ++k)
+        ASSERT_TRUE(a.occluders[k].a == b.occluders[k].a && a.occluders[k].b == b.occluders[k].b &&
+                    a.occluders[k].edge == b.occluders[k].edge && a.occluders[k].slack == b.occluders[k].slack)
+            << at;
+    EXPECT_EQ(a.extreme_vertices, b.extreme_vertices) << at;
+    EXPECT_EQ(a.immersive, b.immersive) << at;
+    EXPECT_EQ(a.image_size, b.image_size) << at;
+}
+
+TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {
+    const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const Model bunny = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/bunny00.off");
+    std::mt19937 rng(5u);
+    PieceGraph recycled;  // one graph through every view
+    std::size_t previous = 0, fewer = 0, more = 0, walks = 0;
+    for (int k = 0; k < 12; ++k) {
+        const Model& model = k == 5 ? bunny : armadillo;  // (another vertex count in between)
+        const MeshTopology& mesh = model.topology();
+        const SelfIntersections& si = model.self_intersections();
+        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        cam.set_near(default_near(mesh));
+        const Features f = extract_features(mesh, cam);
+        const int threads = k % 3 == 2 ? 2 : 1;  // (two threads: the second range's slots swapped in)
+        const std::string at = "view " + std::to_string(k);
+        PieceGraph fresh = build_pieces(mesh, f, cam, &si.cuts, threads, 0);
+        build_pieces(recycled, mesh, f, cam, &si.cuts, threads, 0);
+        expect_same_graph(fresh, recycled, at + " (pieces)");
+        // The QI by propagation on each (walks use the occluder grid, rebuilt for the view).
+        auto rays = [&]() -> const RayCaster& { return model.rays(); };
+        const AppelStats s1 = assign_qi_appel(mesh, cam, f.face_front, rays, fresh, {false, &si.faces, true, 1});
+        const AppelStats s2 = assign_qi_appel(mesh, cam, f.face_front, rays, recycled, {false, &si.faces, true, 1});
+        EXPECT_EQ(s1.walks, s2.walks) << at;
+        EXPECT_EQ(s1.ray_tests, s2.ray_tests) << at;
+        EXPECT_EQ(s1.clusters, s2.clusters) << at;
+        expect_same_graph(fresh, recycled, at + " (QI)");
+        const std::size_t n = fresh.curves.pieces.size();
+        if (k > 0) (n < previous ? fewer : more) += 1;
+        previous = n;
+        walks += s1.walks;
+    }
+    // The sequence had views with fewer pieces than the one before, and with more.
+    EXPECT_GT(fewer, 0u);
+    EXPECT_GT(more, 0u);
+    EXPECT_GT(walks, 0u);
+}
+
+// A ViewSession along a camera path (the graph and the drawing's storage swapped from view to
+// view) gives the drawing render_view gives, also with hidden lines' exact QI, and when the
+// silhouettes are chained only for propagation and then dropped (fandisk's creases drawn).
+TEST(ViewSession, RecycledViewsEqualRenderView) {
+    const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const Model fandisk = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off");
+    for (int variant = 0; variant < 3; ++variant) {
+        const Model& model = variant == 2 ? fandisk : armadillo;
+        ViewOptions o;
+        o.exact_hidden = variant == 1;
+        if (variant == 2) o.features.kinds[int(LineKind::Silhouette)] = false;
+        ViewSession session(model, o);
+        std::mt19937 rng(9u);
+        std::size_t previous = 0, fewer = 0;
+        for (int k = 0; k < 6; ++k) {
+            const Camera cam = k == 0 ? Camera::framing(model.topology().bounds, 1024, 1024)
+                                      : random_camera(rng, model.topology().bounds);
+            const std::string at = "variant " + std::to_string(variant) + " view " + std::to_string(k);
+            const View fresh = render_view(model, cam, o);
+            const View& v = session.render(cam);
+            ASSERT_EQ(v.drawing.pieces.size(), fresh.drawing.pieces.size()) << at;
+            ASSERT_EQ(v.spans.size(), fresh.spans.size()) << at;
+            for (std::size_t p = 0; p < v.drawing.pieces.size(); ++p) {
+                ASSERT_TRUE(same_piece(v.drawing.pieces[p], fresh.drawing.pieces[p])) << at << " piece " << p;
+                ASSERT_TRUE(same_spans(v.spans[p], fresh.spans[p])) << at << " piece " << p;
+            }
+            EXPECT_EQ(v.drawing.stats.pieces, fresh.drawing.stats.pieces) << at;
+            EXPECT_EQ(v.drawing.stats.crossings, fresh.drawing.stats.crossings) << at;
+            EXPECT_EQ(v.drawing.stats.walks, fresh.drawing.stats.walks) << at;
+            EXPECT_EQ(v.drawing.stats.ray_tests, fresh.drawing.stats.ray_tests) << at;
+            if (variant != 2) {
+                if (k > 0 && fresh.drawing.pieces.size() < previous) ++fewer;
+                previous = fresh.drawing.pieces.size();
+            } else {
+                EXPECT_GT(v.drawing.pieces.size(), 0u) << at;
+                for (const Piece& p : v.drawing.pieces) ASSERT_NE(p.kind, LineKind::Silhouette) << at;
+            }
+        }
+        if (variant != 2) {
+            EXPECT_GT(fewer, 0u) << "variant " << variant;
+        }
+    }
+}
+
+// The crossing search gives where a crossing lies along the occluder too (build_pieces then
+// skips the swapped call): exactly the swapped call's parameter, on lattice points (touches,
+// T-junctions, collinear images) and random ones; NaN only for collinear images. Its quick reject
+// (apart_by_filter) rejects only pairs that do not meet.
+TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
+    std::mt19937_64 rng(4);
+    const Camera cams[] = {
+        Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
+        Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+    };
+    int touches = 0, proper = 0, rejected = 0;
+    for (const auto& cam : cams) {
+        std::uniform_int_distribution<int> L(-3, 3);
+        std::uniform_real_distribution<double> U(-3.0, 3.0);
+        for (int i = 0; i < 20000; ++i) {
+            glm::dvec3 P[4];
+            for (auto& p : P) p = i % 2 ? glm::dvec3(L(rng), L(rng), L(rng)) : glm::dvec3(U(rng), U(rng), U(rng));
+            if (P[0] == P[1] || P[2] == P[3]) continue;
+            auto seg2 = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t id) {
+                const glm::dvec2 pa = cam.project(a), pb = cam.project(b);
+                return Segment2{pa, pb, 2 * id, 2 * id + 1, id,
+                                std::max(image_slack(cam, a, pa), image_slack(cam, b, pb))};
+            };
+            const Segment2 q = seg2(P[0], P[1], 0), o = seg2(P[2], P[3], 1);
+            const Segment3 q3{P[0], P[1], &P[0], &P[1]}, o3{P[2], P[3], &P[2], &P[3]};
+            double t[2], t_plain[2], to[2], ot;
+            const int n = segment_crossings(cam, q, q3, o, o3, t, &ot);
+            ASSERT_EQ(n, segment_crossings(cam, q, q3, o, o3, t_plain)) << i;
+            for (int k = 0; k < n; ++k) ASSERT_EQ(t[k], t_plain[k]) << i;
+            const int n2 = segment_crossings(cam, o, o3, q, q3, to);
+            // The quick reject of the search only rejects pairs that do not meet.
+            if (apart_by_filter(q, true, o, true)) {
+                ++rejected;
+                ASSERT_EQ(n, 0) << i;
+            }
+            ASSERT_EQ(n > 0, n2 > 0) << i;
+            const bool collinear = image_orientation(cam, P[2], P[3], P[0]) == 0 && image_orientation(cam, P[2], P[3], P[1]) == 0;
+            if (n == 0 || collinear) {
+                ASSERT_TRUE(std::isnan(ot)) << i;
+                continue;
+            }
+            ASSERT_EQ(ot, to[0]) << i;
+            const bool touch = image_orientation(cam, P[0], P[1], P[2]) * image_orientation(cam, P[0], P[1], P[3]) *
+                                   image_orientation(cam, P[2], P[3], P[0]) * image_orientation(cam, P[2], P[3], P[1]) ==
+                               0;
+            (touch ? touches : proper) += 1;
+        }
+    }
+    EXPECT_GT(touches, 100);
+    EXPECT_GT(proper, 1000);
+    EXPECT_GT(rejected, 1000);
+}
+
+}  // namespace
+}  // namespace inkline
