@@ -375,14 +375,25 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
             // from face to face.
             const bool front = face_front[f];
             const int want = front ? -front_sign : front_sign;
-            std::uint32_t face = f, va = fv[i_in], vb = fv[(i_in + 1) % 3];
-            glm::dvec2 pa = T(proj(va)), pb = T(proj(vb));
+            std::uint32_t face = f, va = fv[i_in];
+            glm::dvec2 pa = T(proj(va)), pb = T(proj(fv[(i_in + 1) % 3]));
             int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
+            // The step is written with few data-dependent branches (which way the path leaves a
+            // face is as good as random): each choice below is a select of values that are all
+            // computed, and every test is the same exact predicate as a plain evaluation would
+            // make (see the comments), so the walk takes the same faces and gives the same result.
+            static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
             for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
                 const auto& c = mesh.faces[face];
-                const std::uint32_t v0 = c[entry], v1 = c[(entry + 1) % 3], v2 = c[(entry + 2) % 3];
-                auto image = [&](std::uint32_t w) { return w == va ? pa : w == vb ? pb : T(proj(w)); };
-                const glm::dvec2 p0 = image(v0), p1 = image(v1), p2 = T(proj(v2));
+                const auto& fe = mesh.face_edges[face];
+                const int e1 = kNext[entry], e2 = kNext[entry + 1];
+                // (The faces across both possible exit edges, fetched while p2 is projected.)
+                __builtin_prefetch(&mesh.edge_face[fe[e1]]);
+                __builtin_prefetch(&mesh.edge_face[fe[e2]]);
+                const std::uint32_t v0 = c[entry], v1 = c[e1], v2 = c[e2];
+                // The entry edge's ends are va and the other one, in either order (v0 is one of them).
+                const bool same = v0 == va;
+                const glm::dvec2 p0 = same ? pa : pb, p1 = same ? pb : pa, p2 = T(proj(v2));
                 if (p2.y == ut.y) {
                     result = Walk::Failed;  // the path through a vertex
                     return result;
@@ -391,13 +402,15 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                     result = Walk::Failed;
                     return result;
                 }
-                // The exit edge joins the third corner p2 to the entry corner across the path.
+                // The exit edge (q0, q1) joins the third corner p2 to the entry corner across the path.
                 const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
-                glm::dvec2 lo = via1 ? p1 : p2, hi = via1 ? p2 : p0;
-                if (lo.y > hi.y) std::swap(lo, hi);
-                const int exit_corner = via1 ? (entry + 1) % 3 : (entry + 2) % 3;
-                const std::uint32_t exit = mesh.face_edges[face][exit_corner];
-                const int se = orient2(lo, hi, ut);
+                const glm::dvec2 q0 = via1 ? p1 : p2, q1 = via1 ? p2 : p0;
+                const std::uint32_t exit = fe[via1 ? e1 : e2];
+                // Where the path meets it, before or after u: the orientation of (end below the path,
+                // end above, u). orient2 is exact, so swapping its first two points exactly negates
+                // it: the sign with (q0, q1) in their order, negated when q0 is the end above.
+                const int sq = orient2(q0, q1, ut);
+                const int se = q0.y < q1.y ? sq : -sq;
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge
@@ -419,12 +432,13 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 }
                 const auto [f0, f1] = mesh.edge_face[exit];
                 if (f1 == kNoFace) break;  // the layer ends before u
-                face = f0 == face ? f1 : f0;
+                face ^= f0 ^ f1;  // the other face of the exit edge (face is f0 or f1)
                 if (bool(face_front[face]) != front) break;  // or folds
+                // The exit edge's corner in the next face (the three edges of a face differ).
                 const auto& ne = mesh.face_edges[face];
-                entry = ne[0] == exit ? 0 : ne[1] == exit ? 1 : 2;
-                va = via1 ? v1 : v2, vb = via1 ? v2 : v0;
-                pa = via1 ? p1 : p2, pb = via1 ? p2 : p0;
+                entry = int(ne[1] == exit) + 2 * int(ne[2] == exit);
+                va = via1 ? v1 : v2;
+                pa = q0, pb = q1;
             }
             if (result != Walk::Visible) return result;
         }
