@@ -81,13 +81,6 @@ int eye_side(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, con
     return orient_eye_fast(camera, a, b, c);
 }
 
-// orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (exact, with an
-// inlined float filter).
-int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
-    const auto& c = mesh.faces[f];
-    return orient3_fast(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
-}
-
 // Sorts keys (high 32 bits: the sort key, below 2^bits; low 32 bits: increasing in input order)
 // by their high bits, stably: the same order as std::sort on the whole keys, by LSD radix passes.
 void sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& tmp, int bits) {
@@ -153,23 +146,22 @@ inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
 
 // The faces around a vertex v, each with its facing, its other corners A, B in the face's order
 // (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
-// Perspective views also keep the cross products that make the tests of local_occlusion dot
-// products (with W the far end of the curve's edge and E the eye):
-//   orient3(v, A, B, W) = sign (W - v) . ((A - v) x (B - v))       (n)
-//   orient3(v, A, W, E) = sign (W - v) . ((E - v) x (A - v))       (ea)
-//   orient3(v, B, W, E) = sign (W - v) . ((E - v) x (B - v))       (eb)
-// each decided by the float filter, else by the exact orient3 on the same points.
+// Perspective views also keep A - v and B - v (rounded, with their magnitudes and the absolute
+// term of the filter's bound for each): the wedge tests of local_occlusion are then one dot
+// product each (see there).
 struct RingFace {
     std::uint32_t face;
     bool front;
     int eye;
     const glm::dvec3 *A, *B;
-    Cross n, ea, eb;
+    glm::dvec3 a{0.0}, b{0.0}, abs_a{0.0}, abs_b{0.0};  // A - v, B - v, |A - v|, |B - v| (perspective)
+    double tiny_a = 0.0, tiny_b = 0.0;  // the bound's absolute terms (filtered_sign) for x = a, x = b
+    Cross n;                            // (A - v) x (B - v) (perspective)
 };
 struct Ring {
     std::vector<RingFace> store;  // faces [0, size) are the ring (storage reused from ring to ring)
     std::size_t size = 0;
-    bool fast = false;  // perspective: the cross products are set
+    bool fast = false;  // perspective: a, b and their magnitudes are set
     glm::dvec3 to_eye{0.0};  // E - v
     struct Faces {
         const RingFace *b, *e;
@@ -178,6 +170,11 @@ struct Ring {
     };
     Faces faces() const { return {store.data(), store.data() + size}; }
 };
+// filtered_sign's absolute term for the row x outside the cross product.
+// |x| per component (std::abs: without branches, unlike glm::abs, whose sign tests of data are
+// mispredicted).
+inline glm::dvec3 abs3(const glm::dvec3& x) { return {std::abs(x.x), std::abs(x.y), std::abs(x.z)}; }
+inline double tiny_term(const glm::dvec3& abs_x) { return 0x1p-1022 * (1.0 + abs_x.x + abs_x.y + abs_x.z); }
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              Ring& ring) {
     ring.size = 0;
@@ -197,11 +194,11 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
         RingFace& r = ring.store[ring.size++];
         r.face = f, r.front = front, r.eye = 1, r.A = A, r.B = B;
         if (ring.fast) {
-            const glm::dvec3 a = *A - V, b = *B - V;
-            r.n = cross_of(a, b);
-            r.ea = cross_of(ring.to_eye, a);
-            r.eb = cross_of(ring.to_eye, b);
-            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . n
+            r.a = *A - V, r.b = *B - V;
+            r.abs_a = abs3(r.a), r.abs_b = abs3(r.b);
+            r.tiny_a = tiny_term(r.abs_a), r.tiny_b = tiny_term(r.abs_b);
+            r.n = cross_of(r.a, r.b);
+            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . ((A - V) x (B - V))
                 const int s = filtered_sign(ring.to_eye, r.n);
                 r.eye = s != 2 ? s : orient3(V, *A, *B, camera.eye());
             }
@@ -217,32 +214,26 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
 // (eye, V, B), on the side of the other corner of each. The first is the face's facing,
 // orient_eye(V, A, B): 1 for a front face; a face not in front may still hold the eye in its
 // plane (0: it hides nothing). The second is its opposite, orient_eye(V, B, A).
-bool face_hides(const MeshTopology& mesh, const Camera& camera, const Ring& ring, const RingFace& r,
-                const glm::dvec3& V, const glm::dvec3& W) {
-    int edge_side;
-    if (ring.fast) {
-        edge_side = filtered_sign(W - V, r.n);
-        if (edge_side == 2) edge_side = orient3(V, *r.A, *r.B, W);
-    } else {
-        edge_side = plane_side(mesh, r.face, W);
-    }
+bool face_hides(const Camera& camera, const RingFace& r, const glm::dvec3& V,
+                const glm::dvec3& W) {
+    const int edge_side = orient3_fast(V, *r.A, *r.B, W);  // (V, A, B): the face's corners in its order
     if (edge_side == 0 || (edge_side > 0) == r.front) return false;
     const int ba = r.eye;
     if (ba == 0) return false;
-    if (ring.fast) {
-        int s = filtered_sign(W - V, r.ea);
-        if (s == 2) s = orient3(V, *r.A, W, camera.eye());
-        if (s != ba) return false;
-        s = filtered_sign(W - V, r.eb);
-        if (s == 2) s = orient3(V, *r.B, W, camera.eye());
-        return s == -ba;
-    }
     return eye_side(camera, V, *r.A, W) == ba && eye_side(camera, V, *r.B, W) == -ba;
 }
 
-// local_occlusion (appel.hpp) with the ring of faces around v. With the cross products (perspective)
-// the three tests of every face are evaluated at once, without branches (the outcome of each is
-// data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
+// local_occlusion (appel.hpp) with the ring of faces around v.
+// Perspective: the two wedge tests of a face are
+//   orient3(V, A, W, E) = sign det[A - V, W - V, E - V] = sign (A - V) . m,
+//   orient3(V, B, W, E) = sign (B - V) . m,    with m = (W - V) x (E - V),
+// one cross product per curve end, then one dot product per corner, each decided by
+// filtered_sign (the bound of orient3_fast, whose rows are these same rounded differences from V
+// in another cyclic order: the determinant and its bound do not depend on the order) or else by
+// the exact orient3 on the same points. So each sign is the exact one, as in face_hides, and the
+// count is the same. Both wedge signs of every face are computed without branches (their outcome
+// is data, hard to predict); the plane test (exact, orient3_fast) only for the rare faces whose
+// wedge holds W's line of sight.
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
     const std::uint32_t f0 = mesh.edge_face[edge][0], f1 = mesh.edge_face[edge][1];
@@ -251,20 +242,20 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& 
     int count = 0;
     if (!ring.fast) {
         for (const RingFace& r : ring.faces())
-            if (r.face != f0 && r.face != f1) count += face_hides(mesh, camera, ring, r, V, W);
+            if (r.face != f0 && r.face != f1) count += face_hides(camera, r, V, W);
         return count;
     }
-    const glm::dvec3 w = W - V, aw = glm::abs(w);
-    // orient3_fast's bound (see filtered_sign): the absolute term depends on w only.
-    constexpr double kRel = 16.0 * 1.1102230246251565e-16;
-    const double abs_term = 0x1p-1022 * (1.0 + aw.x + aw.y + aw.z);
+    const glm::dvec3 w = W - V, aw = abs3(w);
+    const Cross m = cross_of(w, ring.to_eye);
+    constexpr double kRel = 16.0 * 1.1102230246251565e-16;  // filtered_sign's relative bound
+    const double tiny_w = tiny_term(aw);
     for (const RingFace& r : ring.faces()) {
-        const double dn = glm::dot(w, r.n.c), da = glm::dot(w, r.ea.c), db = glm::dot(w, r.eb.c);
-        const double bn = kRel * glm::dot(aw, r.n.perm) + abs_term, ba_ = kRel * glm::dot(aw, r.ea.perm) + abs_term,
-                     bb = kRel * glm::dot(aw, r.eb.perm) + abs_term;
+        const double da = glm::dot(r.a, m.c), db = glm::dot(r.b, m.c), dn = glm::dot(w, r.n.c);
+        const double ba = kRel * glm::dot(r.abs_a, m.perm) + r.tiny_a, bb = kRel * glm::dot(r.abs_b, m.perm) + r.tiny_b,
+                     bn = kRel * glm::dot(aw, r.n.perm) + tiny_w;
         const bool own = (r.face == f0) | (r.face == f1);
-        if (!(std::abs(dn) > bn) | !(std::abs(da) > ba_) | !(std::abs(db) > bb)) {
-            if (!own) count += face_hides(mesh, camera, ring, r, V, W);
+        if (!(std::abs(da) > ba) | !(std::abs(db) > bb) | !(std::abs(dn) > bn)) {
+            if (!own) count += face_hides(camera, r, V, W);
             continue;
         }
         // All three signs decided: the face hides the edge when W is behind its plane (the side
