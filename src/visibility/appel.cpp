@@ -732,21 +732,26 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
 
     // What is still unknown: a ray test at one piece of the cluster (the longest).
-    std::vector<std::uint32_t> rep(nc, UINT32_MAX);
-    std::vector<double> rep_len(nc, -1.0);
-    std::vector<int> min_piece(nc, 1 << 30);
-    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
-    std::vector<double> zero_len(nc, -1.0);
-    // (Only clusters still bounded need them: the others are decided.)
-    for (std::uint32_t p = 0; p < np; ++p) {
-        const std::uint32_t c = comp[p];
-        if (state[c] != kBound) continue;
-        min_piece[c] = std::min(min_piece[c], value(p));
+    // (Only clusters still bounded need them: the others are decided. The longest piece of a
+    // cluster is found after the walks, for the clusters that still need a ray test.)
+    auto piece_length = [&](std::uint32_t p) {
         double len = 0.0;
         const auto& pts = pieces[p].points;
         for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
-        if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
-        if (value(p) == 0 && len > zero_len[c]) zero_len[c] = len, zero[c] = p;
+        return len;
+    };
+    std::vector<std::uint8_t> has_piece(nc, 0);
+    std::vector<int> min_piece(nc, 1 << 30);
+    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
+    std::vector<double> zero_len(nc, -1.0);
+    for (std::uint32_t p = 0; p < np; ++p) {
+        const std::uint32_t c = comp[p];
+        if (state[c] != kBound) continue;
+        has_piece[c] = 1;
+        min_piece[c] = std::min(min_piece[c], value(p));
+        if (value(p) != 0) continue;
+        const double len = piece_length(p);
+        if (len > zero_len[c]) zero_len[c] = len, zero[c] = p;
     }
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
     // the cluster; proved hidden raises its bound.
@@ -795,12 +800,26 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             min_piece[c] += raise;
         }
     }
+    std::vector<std::uint8_t> needs_ray(nc, 0);
+    bool any_ray = false;
     for (std::size_t c = 0; c < nc; ++c) {
-        if (state[c] != kBound || rep[c] == UINT32_MAX) continue;
+        if (state[c] != kBound || !has_piece[c]) continue;
         if (min_piece[c] > 0) {
             ++st.clusters_occluded;
             if (!options.exact_hidden) continue;
         }
+        needs_ray[c] = 1, any_ray = true;
+    }
+    std::vector<std::uint32_t> rep(any_ray ? nc : 0, UINT32_MAX);  // the longest piece (the first of equals)
+    std::vector<double> rep_len(rep.size(), -1.0);
+    for (std::uint32_t p = 0; p < np && any_ray; ++p) {
+        const std::uint32_t c = comp[p];
+        if (!needs_ray[c]) continue;
+        const double len = piece_length(p);
+        if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
+    }
+    for (std::size_t c = 0; c < nc; ++c) {
+        if (!needs_ray[c]) continue;
         const std::uint32_t p = rep[c];
         base[c] = ray_qi(p) - off[p];
         state[c] = kFixed;
