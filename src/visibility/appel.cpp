@@ -147,8 +147,8 @@ inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
 // The faces around a vertex v, each with its facing, its other corners A, B in the face's order
 // (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
 // Perspective views also keep A - v and B - v (rounded, with their magnitudes and the absolute
-// term of the filter's bound for each): the wedge tests of local_occlusion are then one dot
-// product each (see there).
+// term of the filter's bound for each) and the cross product n = (A - v) x (B - v): the three
+// tests of local_occlusion are then one dot product each (see there).
 struct RingFace {
     std::uint32_t face;
     bool front;
@@ -170,10 +170,10 @@ struct Ring {
     };
     Faces faces() const { return {store.data(), store.data() + size}; }
 };
-// filtered_sign's absolute term for the row x outside the cross product.
 // |x| per component (std::abs: without branches, unlike glm::abs, whose sign tests of data are
 // mispredicted).
 inline glm::dvec3 abs3(const glm::dvec3& x) { return {std::abs(x.x), std::abs(x.y), std::abs(x.z)}; }
+// filtered_sign's absolute term for the row x outside the cross product, from |x|.
 inline double tiny_term(const glm::dvec3& abs_x) { return 0x1p-1022 * (1.0 + abs_x.x + abs_x.y + abs_x.z); }
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              Ring& ring) {
@@ -224,16 +224,17 @@ bool face_hides(const Camera& camera, const RingFace& r, const glm::dvec3& V,
 }
 
 // local_occlusion (appel.hpp) with the ring of faces around v.
-// Perspective: the two wedge tests of a face are
-//   orient3(V, A, W, E) = sign det[A - V, W - V, E - V] = sign (A - V) . m,
-//   orient3(V, B, W, E) = sign (B - V) . m,    with m = (W - V) x (E - V),
-// one cross product per curve end, then one dot product per corner, each decided by
-// filtered_sign (the bound of orient3_fast, whose rows are these same rounded differences from V
-// in another cyclic order: the determinant and its bound do not depend on the order) or else by
-// the exact orient3 on the same points. So each sign is the exact one, as in face_hides, and the
-// count is the same. Both wedge signs of every face are computed without branches (their outcome
-// is data, hard to predict); the plane test (exact, orient3_fast) only for the rare faces whose
-// wedge holds W's line of sight.
+// Perspective: the three tests of a face (with W the far end of the curve's edge, E the eye) are
+//   orient3(V, A, B, W) = sign det[W - V, A - V, B - V] = sign (W - V) . n,   n = (A - V) x (B - V),
+//   orient3(V, A, W, E) = sign det[A - V, W - V, E - V] = sign (A - V) . m,   m = (W - V) x (E - V),
+//   orient3(V, B, W, E) = sign (B - V) . m,
+// n per ring face, m per curve end (one cross product, where the wedge tests had one per corner),
+// then one dot product per test, each decided by the float filter (filtered_sign's bound: the
+// bound of orient3_fast on these same rounded differences from V, whose rows are here in another
+// cyclic order, which changes neither the determinant nor the bound) or else by the exact orient3
+// on the same points (face_hides). So each sign is the exact one and the count is the same. The
+// three tests of every face are evaluated at once, without branches (the outcome of each is
+// data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
     const std::uint32_t f0 = mesh.edge_face[edge][0], f1 = mesh.edge_face[edge][1];
@@ -397,11 +398,11 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
                 const glm::dvec2 q0 = via1 ? p1 : p2, q1 = via1 ? p2 : p0;
                 const std::uint32_t exit = fe[via1 ? e1 : e2];
-                // Where the path meets it, before or after u: the orientation of (end below the path,
-                // end above, u). orient2 is exact, so swapping its first two points exactly negates
-                // it: the sign with (q0, q1) in their order, negated when q0 is the end above.
+                // Where the path meets it, before or after u: the orientation of (lower end, upper
+                // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
+                // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
                 const int sq = orient2(q0, q1, ut);
-                const int se = q0.y < q1.y ? sq : -sq;
+                const int se = q0.y > q1.y ? -sq : sq;
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge
