@@ -136,6 +136,73 @@ TEST(LocalOcclusion, MatchesTheDefinition) {
         }
 }
 
+// The filters of local_occlusion's wedge tests (orient3(V, X, W, E) as (X - V) . ((W - V) x (E - V)))
+// where they cannot decide: fans of faces around V whose corners X lie in the plane of the eye,
+// V and W (rounded onto it: exactly on it or off by a rounding error) or one ulp off it, folded
+// so that faces overlap in the image. A filter that decided a sign wrongly would change a count.
+TEST(LocalOcclusion, NearlyDegenerateWedgesMatchTheDefinition) {
+    std::mt19937 rng(5u);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const glm::dvec3 eye(0.25, 0.125, 6.0);
+    // Dyadic coordinates (few bits) keep the corners built in the plane exactly in it.
+    auto dyadic = [&](double scale) { return std::round(u(rng) * 64.0) / 64.0 * scale; };
+    const Camera cam = Camera::perspective(eye, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 40.0, 512, 512);
+    std::size_t tested = 0, nonzero = 0, in_plane = 0, near_plane = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const glm::dvec3 V(dyadic(0.125), dyadic(0.125), dyadic(0.125));
+        const glm::dvec3 W = V + glm::dvec3(dyadic(1.0), dyadic(1.0), dyadic(0.5));
+        const int n = 5 + int(rng() % 4);
+        TriangleMesh fan;
+        fan.positions.push_back(V);
+        fan.positions.push_back(W);  // the ring's first corner: the curve's edge is (V, W)
+        for (int k = 1; k < n; ++k) {
+            const double phi = 2.0 * M_PI * (k + 0.3 * u(rng)) / n;
+            glm::dvec3 X = V + glm::dvec3(std::cos(phi), std::sin(phi), 0.8 * u(rng));
+            const unsigned kind = rng() % 4;
+            if (kind == 1 || kind == 2) {  // in the plane (eye, V, W) exactly; maybe then one ulp off
+                X = V + dyadic(1.0) * (W - V) + dyadic(0.25) * (eye - V);
+                const int i = int(rng() % 3);
+                if (kind == 2) X[i] = std::nextafter(X[i], rng() % 2 ? 1e9 : -1e9);
+            } else if (kind == 3) {  // onto the plane, rounded
+                X = V + u(rng) * (W - V) + 0.2 * u(rng) * (eye - V);
+            }
+            fan.positions.push_back(X);
+        }
+        for (int k = 0; k < n; ++k) {
+            const std::uint32_t a = 1 + k, b = 1 + (k + 1) % n;
+            fan.triangles.push_back({0u, a, b});
+        }
+        const MeshTopology mesh = build_topology(fan);
+        const Features f = extract_features(mesh, cam);
+        for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+            for (std::uint32_t j = mesh.vertex_edge_begin[v]; j < mesh.vertex_edge_begin[v + 1]; ++j) {
+                const std::uint32_t e = mesh.vertex_edges[j];
+                const int expected = local_occlusion_direct(mesh, cam, f.face_front, v, e);
+                ASSERT_EQ(local_occlusion(mesh, cam, f.face_front, v, e), expected) << "trial " << trial << " vertex " << v;
+                ++tested;
+                nonzero += expected != 0;
+            }
+        // How degenerate the wedge tests at V were: corners exactly in the plane, or so near that
+        // the float evaluation is within its error bound (the exact predicate decides).
+        for (std::uint32_t x = 2; x < mesh.vertex_count(); ++x) {
+            const glm::dvec3 &X = mesh.positions[x], &P = mesh.positions[0], &Q = mesh.positions[1];
+            if (orient3(P, X, Q, eye) == 0) {
+                ++in_plane;
+                continue;
+            }
+            const glm::dvec3 a = X - P, w = Q - P, c = eye - P;
+            const double det = glm::dot(a, glm::cross(w, c));
+            near_plane += std::abs(det) < 1e-14 * glm::length(a) * glm::length(w) * glm::length(c);
+        }
+    }
+    EXPECT_GT(tested, 4000u);
+    EXPECT_GT(nonzero, 50u);
+    EXPECT_GT(in_plane, 20u);
+    EXPECT_GT(near_plane, 100u);
+    std::printf("local occlusion: %zu tested, %zu nonzero, %zu corners in the plane, %zu near it\n", tested, nonzero,
+                in_plane, near_plane);
+}
+
 class RandomCameras : public testing::TestWithParam<const char*> {};
 
 // At least 20 random cameras per mesh (fixed seeds), plus orthographic ones: >= 99.9% of the

@@ -81,13 +81,6 @@ int eye_side(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, con
     return orient_eye_fast(camera, a, b, c);
 }
 
-// orient3(a, b, c, x) for the corners (a, b, c) of face f in their order (exact, with an
-// inlined float filter).
-int plane_side(const MeshTopology& mesh, std::uint32_t f, const glm::dvec3& x) {
-    const auto& c = mesh.faces[f];
-    return orient3_fast(mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], x);
-}
-
 // Sorts keys (high 32 bits: the sort key, below 2^bits; low 32 bits: increasing in input order)
 // by their high bits, stably: the same order as std::sort on the whole keys, by LSD radix passes.
 void sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& tmp, int bits) {
@@ -153,23 +146,22 @@ inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
 
 // The faces around a vertex v, each with its facing, its other corners A, B in the face's order
 // (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
-// Perspective views also keep the cross products that make the tests of local_occlusion dot
-// products (with W the far end of the curve's edge and E the eye):
-//   orient3(v, A, B, W) = sign (W - v) . ((A - v) x (B - v))       (n)
-//   orient3(v, A, W, E) = sign (W - v) . ((E - v) x (A - v))       (ea)
-//   orient3(v, B, W, E) = sign (W - v) . ((E - v) x (B - v))       (eb)
-// each decided by the float filter, else by the exact orient3 on the same points.
+// Perspective views also keep A - v and B - v (rounded, with their magnitudes and the absolute
+// term of the filter's bound for each) and the cross product n = (A - v) x (B - v): the three
+// tests of local_occlusion are then one dot product each (see there).
 struct RingFace {
     std::uint32_t face;
     bool front;
     int eye;
     const glm::dvec3 *A, *B;
-    Cross n, ea, eb;
+    glm::dvec3 a{0.0}, b{0.0}, abs_a{0.0}, abs_b{0.0};  // A - v, B - v, |A - v|, |B - v| (perspective)
+    double tiny_a = 0.0, tiny_b = 0.0;  // the bound's absolute terms (filtered_sign) for x = a, x = b
+    Cross n;                            // (A - v) x (B - v) (perspective)
 };
 struct Ring {
     std::vector<RingFace> store;  // faces [0, size) are the ring (storage reused from ring to ring)
     std::size_t size = 0;
-    bool fast = false;  // perspective: the cross products are set
+    bool fast = false;  // perspective: a, b and their magnitudes are set
     glm::dvec3 to_eye{0.0};  // E - v
     struct Faces {
         const RingFace *b, *e;
@@ -178,6 +170,11 @@ struct Ring {
     };
     Faces faces() const { return {store.data(), store.data() + size}; }
 };
+// |x| per component (std::abs: without branches, unlike glm::abs, whose sign tests of data are
+// mispredicted).
+inline glm::dvec3 abs3(const glm::dvec3& x) { return {std::abs(x.x), std::abs(x.y), std::abs(x.z)}; }
+// filtered_sign's absolute term for the row x outside the cross product, from |x|.
+inline double tiny_term(const glm::dvec3& abs_x) { return 0x1p-1022 * (1.0 + abs_x.x + abs_x.y + abs_x.z); }
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              Ring& ring) {
     ring.size = 0;
@@ -197,11 +194,11 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
         RingFace& r = ring.store[ring.size++];
         r.face = f, r.front = front, r.eye = 1, r.A = A, r.B = B;
         if (ring.fast) {
-            const glm::dvec3 a = *A - V, b = *B - V;
-            r.n = cross_of(a, b);
-            r.ea = cross_of(ring.to_eye, a);
-            r.eb = cross_of(ring.to_eye, b);
-            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . n
+            r.a = *A - V, r.b = *B - V;
+            r.abs_a = abs3(r.a), r.abs_b = abs3(r.b);
+            r.tiny_a = tiny_term(r.abs_a), r.tiny_b = tiny_term(r.abs_b);
+            r.n = cross_of(r.a, r.b);
+            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . ((A - V) x (B - V))
                 const int s = filtered_sign(ring.to_eye, r.n);
                 r.eye = s != 2 ? s : orient3(V, *A, *B, camera.eye());
             }
@@ -217,31 +214,26 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
 // (eye, V, B), on the side of the other corner of each. The first is the face's facing,
 // orient_eye(V, A, B): 1 for a front face; a face not in front may still hold the eye in its
 // plane (0: it hides nothing). The second is its opposite, orient_eye(V, B, A).
-bool face_hides(const MeshTopology& mesh, const Camera& camera, const Ring& ring, const RingFace& r,
-                const glm::dvec3& V, const glm::dvec3& W) {
-    int edge_side;
-    if (ring.fast) {
-        edge_side = filtered_sign(W - V, r.n);
-        if (edge_side == 2) edge_side = orient3(V, *r.A, *r.B, W);
-    } else {
-        edge_side = plane_side(mesh, r.face, W);
-    }
+bool face_hides(const Camera& camera, const RingFace& r, const glm::dvec3& V,
+                const glm::dvec3& W) {
+    const int edge_side = orient3_fast(V, *r.A, *r.B, W);  // (V, A, B): the face's corners in its order
     if (edge_side == 0 || (edge_side > 0) == r.front) return false;
     const int ba = r.eye;
     if (ba == 0) return false;
-    if (ring.fast) {
-        int s = filtered_sign(W - V, r.ea);
-        if (s == 2) s = orient3(V, *r.A, W, camera.eye());
-        if (s != ba) return false;
-        s = filtered_sign(W - V, r.eb);
-        if (s == 2) s = orient3(V, *r.B, W, camera.eye());
-        return s == -ba;
-    }
     return eye_side(camera, V, *r.A, W) == ba && eye_side(camera, V, *r.B, W) == -ba;
 }
 
-// local_occlusion (appel.hpp) with the ring of faces around v. With the cross products (perspective)
-// the three tests of every face are evaluated at once, without branches (the outcome of each is
+// local_occlusion (appel.hpp) with the ring of faces around v.
+// Perspective: the three tests of a face (with W the far end of the curve's edge, E the eye) are
+//   orient3(V, A, B, W) = sign det[W - V, A - V, B - V] = sign (W - V) . n,   n = (A - V) x (B - V),
+//   orient3(V, A, W, E) = sign det[A - V, W - V, E - V] = sign (A - V) . m,   m = (W - V) x (E - V),
+//   orient3(V, B, W, E) = sign (B - V) . m,
+// n per ring face, m per curve end (one cross product, where the wedge tests had one per corner),
+// then one dot product per test, each decided by the float filter (filtered_sign's bound: the
+// bound of orient3_fast on these same rounded differences from V, whose rows are here in another
+// cyclic order, which changes neither the determinant nor the bound) or else by the exact orient3
+// on the same points (face_hides). So each sign is the exact one and the count is the same. The
+// three tests of every face are evaluated at once, without branches (the outcome of each is
 // data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
 int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
@@ -251,20 +243,20 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& 
     int count = 0;
     if (!ring.fast) {
         for (const RingFace& r : ring.faces())
-            if (r.face != f0 && r.face != f1) count += face_hides(mesh, camera, ring, r, V, W);
+            if (r.face != f0 && r.face != f1) count += face_hides(camera, r, V, W);
         return count;
     }
-    const glm::dvec3 w = W - V, aw = glm::abs(w);
-    // orient3_fast's bound (see filtered_sign): the absolute term depends on w only.
-    constexpr double kRel = 16.0 * 1.1102230246251565e-16;
-    const double abs_term = 0x1p-1022 * (1.0 + aw.x + aw.y + aw.z);
+    const glm::dvec3 w = W - V, aw = abs3(w);
+    const Cross m = cross_of(w, ring.to_eye);
+    constexpr double kRel = 16.0 * 1.1102230246251565e-16;  // filtered_sign's relative bound
+    const double tiny_w = tiny_term(aw);
     for (const RingFace& r : ring.faces()) {
-        const double dn = glm::dot(w, r.n.c), da = glm::dot(w, r.ea.c), db = glm::dot(w, r.eb.c);
-        const double bn = kRel * glm::dot(aw, r.n.perm) + abs_term, ba_ = kRel * glm::dot(aw, r.ea.perm) + abs_term,
-                     bb = kRel * glm::dot(aw, r.eb.perm) + abs_term;
+        const double da = glm::dot(r.a, m.c), db = glm::dot(r.b, m.c), dn = glm::dot(w, r.n.c);
+        const double ba = kRel * glm::dot(r.abs_a, m.perm) + r.tiny_a, bb = kRel * glm::dot(r.abs_b, m.perm) + r.tiny_b,
+                     bn = kRel * glm::dot(aw, r.n.perm) + tiny_w;
         const bool own = (r.face == f0) | (r.face == f1);
-        if (!(std::abs(dn) > bn) | !(std::abs(da) > ba_) | !(std::abs(db) > bb)) {
-            if (!own) count += face_hides(mesh, camera, ring, r, V, W);
+        if (!(std::abs(da) > ba) | !(std::abs(db) > bb) | !(std::abs(dn) > bn)) {
+            if (!own) count += face_hides(camera, r, V, W);
             continue;
         }
         // All three signs decided: the face hides the edge when W is behind its plane (the side
@@ -375,14 +367,25 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
             // from face to face.
             const bool front = face_front[f];
             const int want = front ? -front_sign : front_sign;
-            std::uint32_t face = f, va = fv[i_in], vb = fv[(i_in + 1) % 3];
-            glm::dvec2 pa = T(proj(va)), pb = T(proj(vb));
+            std::uint32_t face = f, va = fv[i_in];
+            glm::dvec2 pa = T(proj(va)), pb = T(proj(fv[(i_in + 1) % 3]));
             int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
+            // The step is written with few data-dependent branches (which way the path leaves a
+            // face is as good as random): each choice below is a select of values that are all
+            // computed, and every test is the same exact predicate as a plain evaluation would
+            // make (see the comments), so the walk takes the same faces and gives the same result.
+            static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
             for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
                 const auto& c = mesh.faces[face];
-                const std::uint32_t v0 = c[entry], v1 = c[(entry + 1) % 3], v2 = c[(entry + 2) % 3];
-                auto image = [&](std::uint32_t w) { return w == va ? pa : w == vb ? pb : T(proj(w)); };
-                const glm::dvec2 p0 = image(v0), p1 = image(v1), p2 = T(proj(v2));
+                const auto& fe = mesh.face_edges[face];
+                const int e1 = kNext[entry], e2 = kNext[entry + 1];
+                // (The faces across both possible exit edges, fetched while p2 is projected.)
+                __builtin_prefetch(&mesh.edge_face[fe[e1]]);
+                __builtin_prefetch(&mesh.edge_face[fe[e2]]);
+                const std::uint32_t v0 = c[entry], v1 = c[e1], v2 = c[e2];
+                // The entry edge's ends are va and the other one, in either order (v0 is one of them).
+                const bool same = v0 == va;
+                const glm::dvec2 p0 = same ? pa : pb, p1 = same ? pb : pa, p2 = T(proj(v2));
                 if (p2.y == ut.y) {
                     result = Walk::Failed;  // the path through a vertex
                     return result;
@@ -391,13 +394,15 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                     result = Walk::Failed;
                     return result;
                 }
-                // The exit edge joins the third corner p2 to the entry corner across the path.
+                // The exit edge (q0, q1) joins the third corner p2 to the entry corner across the path.
                 const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
-                glm::dvec2 lo = via1 ? p1 : p2, hi = via1 ? p2 : p0;
-                if (lo.y > hi.y) std::swap(lo, hi);
-                const int exit_corner = via1 ? (entry + 1) % 3 : (entry + 2) % 3;
-                const std::uint32_t exit = mesh.face_edges[face][exit_corner];
-                const int se = orient2(lo, hi, ut);
+                const glm::dvec2 q0 = via1 ? p1 : p2, q1 = via1 ? p2 : p0;
+                const std::uint32_t exit = fe[via1 ? e1 : e2];
+                // Where the path meets it, before or after u: the orientation of (lower end, upper
+                // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
+                // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
+                const int sq = orient2(q0, q1, ut);
+                const int se = q0.y > q1.y ? -sq : sq;
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge
@@ -419,12 +424,13 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 }
                 const auto [f0, f1] = mesh.edge_face[exit];
                 if (f1 == kNoFace) break;  // the layer ends before u
-                face = f0 == face ? f1 : f0;
+                face ^= f0 ^ f1;  // the other face of the exit edge (face is f0 or f1)
                 if (bool(face_front[face]) != front) break;  // or folds
+                // The exit edge's corner in the next face (the three edges of a face differ).
                 const auto& ne = mesh.face_edges[face];
-                entry = ne[0] == exit ? 0 : ne[1] == exit ? 1 : 2;
-                va = via1 ? v1 : v2, vb = via1 ? v2 : v0;
-                pa = via1 ? p1 : p2, pb = via1 ? p2 : p0;
+                entry = int(ne[1] == exit) + 2 * int(ne[2] == exit);
+                va = via1 ? v1 : v2;
+                pa = q0, pb = q1;
             }
             if (result != Walk::Visible) return result;
         }
@@ -727,21 +733,26 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
 
     // What is still unknown: a ray test at one piece of the cluster (the longest).
-    std::vector<std::uint32_t> rep(nc, UINT32_MAX);
-    std::vector<double> rep_len(nc, -1.0);
-    std::vector<int> min_piece(nc, 1 << 30);
-    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
-    std::vector<double> zero_len(nc, -1.0);
-    // (Only clusters still bounded need them: the others are decided.)
-    for (std::uint32_t p = 0; p < np; ++p) {
-        const std::uint32_t c = comp[p];
-        if (state[c] != kBound) continue;
-        min_piece[c] = std::min(min_piece[c], value(p));
+    // (Only clusters still bounded need them: the others are decided. The longest piece of a
+    // cluster is found after the walks, for the clusters that still need a ray test.)
+    auto piece_length = [&](std::uint32_t p) {
         double len = 0.0;
         const auto& pts = pieces[p].points;
         for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
-        if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
-        if (value(p) == 0 && len > zero_len[c]) zero_len[c] = len, zero[c] = p;
+        return len;
+    };
+    std::vector<std::uint8_t> has_piece(nc, 0);
+    std::vector<int> min_piece(nc, 1 << 30);
+    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
+    std::vector<double> zero_len(nc, -1.0);
+    for (std::uint32_t p = 0; p < np; ++p) {
+        const std::uint32_t c = comp[p];
+        if (state[c] != kBound) continue;
+        has_piece[c] = 1;
+        min_piece[c] = std::min(min_piece[c], value(p));
+        if (value(p) != 0) continue;
+        const double len = piece_length(p);
+        if (len > zero_len[c]) zero_len[c] = len, zero[c] = p;
     }
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
     // the cluster; proved hidden raises its bound.
@@ -790,12 +801,26 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             min_piece[c] += raise;
         }
     }
+    std::vector<std::uint8_t> needs_ray(nc, 0);
+    bool any_ray = false;
     for (std::size_t c = 0; c < nc; ++c) {
-        if (state[c] != kBound || rep[c] == UINT32_MAX) continue;
+        if (state[c] != kBound || !has_piece[c]) continue;
         if (min_piece[c] > 0) {
             ++st.clusters_occluded;
             if (!options.exact_hidden) continue;
         }
+        needs_ray[c] = 1, any_ray = true;
+    }
+    std::vector<std::uint32_t> rep(any_ray ? nc : 0, UINT32_MAX);  // the longest piece (the first of equals)
+    std::vector<double> rep_len(rep.size(), -1.0);
+    for (std::uint32_t p = 0; p < np && any_ray; ++p) {
+        const std::uint32_t c = comp[p];
+        if (!needs_ray[c]) continue;
+        const double len = piece_length(p);
+        if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
+    }
+    for (std::size_t c = 0; c < nc; ++c) {
+        if (!needs_ray[c]) continue;
         const std::uint32_t p = rep[c];
         base[c] = ray_qi(p) - off[p];
         state[c] = kFixed;
