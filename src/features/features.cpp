@@ -72,7 +72,9 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
     auto& ends = out.chain_ends;
     auto& eid = out.chain_edges;
     auto& used = out.chain_used;
-    verts.clear();
+    // (at most two vertices per edge; slot nv is written on every first-use test, so it must exist)
+    if (verts.size() < 2 * n + 1) verts.resize(2 * n + 1);
+    std::uint32_t nv = 0;  // vertices numbered so far
     ends.resize(n);
     eid.resize(n);
     used.assign(n, 0);
@@ -97,11 +99,14 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
                 eid[i] = e;
                 for (int k = 0; k < 2; ++k) {
                     const std::uint32_t v = mesh.edge_vertex[e][k];
-                    std::uint32_t lv = local[v];
-                    if (lv == UINT32_MAX) {
-                        lv = local[v] = std::uint32_t(verts.size());
-                        verts.push_back({v, 0, 0, 0, 0, 0, 0});
-                    }
+                    // First use without a branch (it would be mispredicted about half the
+                    // time): the next slot is always written, and kept only for a new vertex.
+                    const std::uint32_t old = local[v];
+                    const bool fresh = old == UINT32_MAX;
+                    const std::uint32_t lv = fresh ? nv : old;
+                    local[v] = lv;
+                    verts[nv] = {v, 0, 0, 0, 0, 0, 0};
+                    nv += fresh;
                     Features::ChainVertex& s = verts[lv];
                     ends[i][k] = lv;
                     s.edge_xor ^= i;
@@ -164,7 +169,8 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
     curves.finish();
 
     // Leave the per-vertex arrays as they were before the view (the finder's marks cleared).
-    for (const Features::ChainVertex& s : verts) {
+    for (std::uint32_t k = 0; k < nv; ++k) {
+        const Features::ChainVertex& s = verts[k];
         local[s.id] = UINT32_MAX;
         out.vertex_scratch[s.id] = {};
     }
