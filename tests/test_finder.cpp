@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <tuple>
 
 #include "model/primitives.hpp"
@@ -394,6 +395,7 @@ TEST(Finder, ExhaustiveBlocksSameResult) {
         path.push_back(path.front());
         FinderOptions plain_opt;
         plain_opt.blocks = false;
+        plain_opt.edge_windows = false;
         SilhouetteFinder with(m->topology()), without(m->topology(), plain_opt);
         Features a, b;
         std::size_t read = 0, edges = 0;
@@ -419,6 +421,7 @@ TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
     FinderOptions threaded, plain;
     threaded.threads = 3;
     plain.blocks = false;
+    plain.edge_windows = false;
     SilhouetteFinder with(t, threaded), without(t, plain);
     Features a, b;
     std::size_t read = 0;
@@ -431,6 +434,99 @@ TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
         if (i > 0) read += a.stats.planes_read;
     }
     EXPECT_LT(read, (path.size() - 1) * t.face_count());
+}
+
+// The gather-free edge layout (BlockEdges) against a plain scan of every edge: candidates are
+// the interior edges whose faces' states differ or include an undecided face (those flagged
+// kCheck), in edge order; from the AVX-512 kernel (where the CPU has it) and the portable loop,
+// whole or split in parts of blocks.
+std::vector<std::uint32_t> plain_candidates(const MeshTopology& t, const std::uint8_t* st) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
+        const auto [f0, f1] = t.edge_face[e];
+        if (f1 == kNoFace) continue;
+        const std::uint8_t a = st[f0], b = st[f1];
+        const bool undecided = a == FaceFacing::kUnknown || b == FaceFacing::kUnknown;
+        if (a != b || undecided) out.push_back(e | (undecided ? BlockEdges::kCheck : 0));
+    }
+    return out;
+}
+
+void expect_block_edges_match(const MeshTopology& t, const BlockEdges& be, const std::uint8_t* st) {
+    const std::vector<std::uint32_t> want = plain_candidates(t, st);
+    const auto none = [](std::uint32_t) { return false; };
+    const std::uint32_t nb = std::uint32_t(be.size());
+    for (bool simd : {true, false}) {
+        SCOPED_TRACE(simd ? "simd" : "portable");
+        std::vector<std::uint32_t> got, parts;
+        be.scan(st, 0, nb, none, got, simd);
+        EXPECT_EQ(got, want);
+        for (std::uint32_t b = 0; b < nb; b += 7) be.scan(st, b, std::min(nb, b + 7), none, parts, simd);
+        EXPECT_EQ(parts, want);
+    }
+}
+
+TEST(Facing, BlockEdgesMatchThePlainScan) {
+    const Model torus(hilbert_ordered(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 192, 96)));
+    const Model sphere = scaled_sphere(96, 48, 1e6, 1e6);
+    const Model sheet(make_sheet(1.0, 0.0, 40));  // borders; coplanar faces (edge-on from +x: undecided)
+    std::size_t escapes = 0, candidates = 0, checked = 0;
+    for (const Model* m : {&torus, &sphere, &sheet, &mesh_model("armadillo"), &mesh_model("fandisk"),
+                           &mesh_model("bunny00"), &mesh_model("knot1"), &mesh_model("elephant")}) {
+        const MeshTopology& t = m->topology();
+        BlockEdges be;
+        ASSERT_TRUE(be.build(t));
+        ASSERT_TRUE(be.built_for(t));
+        EXPECT_EQ(be.size(), (t.face_count() + BlockEdges::kFaces - 1) / BlockEdges::kFaces);
+        escapes += be.escapes();
+        std::vector<Camera> cams = cameras_with_grazing(t);
+        const glm::dvec3 c = t.bounds.center();  // axis-aligned orthographic views (coplanar faces edge-on)
+        cams.push_back(Camera::orthographic(c + glm::dvec3(0, 0, 5), c, {0, 1, 0}, 3.0 * t.bounds.half_diagonal(), 256, 256));
+        cams.push_back(Camera::orthographic(c + glm::dvec3(5, 0, 0), c, {0, 1, 0}, 3.0 * t.bounds.half_diagonal(), 256, 256));
+        for (const Camera& cam : cams) {
+            FaceFacing facing;
+            facing.begin_full(t, cam);
+            expect_block_edges_match(t, be, facing.states());
+            for (std::uint32_t e : plain_candidates(t, facing.states())) ++candidates, checked += (e & BlockEdges::kCheck) != 0;
+        }
+        // Synthetic states with many undecided faces (each state at random; the padding as in a view).
+        std::mt19937 rng(5);
+        std::vector<std::uint8_t> st(t.face_count() + FaceFacing::kPad, FaceFacing::kSentinel);
+        for (int round = 0; round < 3; ++round) {
+            for (std::size_t f = 0; f < t.face_count(); ++f) {
+                const std::uint32_t r = rng() % 100;
+                st[f] = r < 10 ? FaceFacing::kUnknown : round == 0 ? (r < 55 ? FaceFacing::kFront : FaceFacing::kBack)
+                                                                   : std::uint8_t(r % 2 ? FaceFacing::kFront : FaceFacing::kBack);
+                if (round == 2 && r >= 10) st[f] = FaceFacing::kFront;  // uniform but for the undecided
+            }
+            expect_block_edges_match(t, be, st.data());
+        }
+    }
+    EXPECT_GT(escapes, 0u);
+    EXPECT_GT(candidates, 0u);
+    EXPECT_GT(checked, 0u);
+}
+
+// Skipped blocks give no candidates; a mesh whose edges are not numbered by their first corner
+// gets no layout.
+TEST(Facing, BlockEdgesSkipAndRefuse) {
+    const MeshTopology& t = mesh_model("bunny00").topology();
+    BlockEdges be;
+    ASSERT_TRUE(be.build(t));
+    FaceFacing facing;
+    facing.begin_full(t, Camera::framing(t.bounds, 512, 512));
+    std::vector<std::uint32_t> odd, all;
+    be.scan(facing.states(), 0, std::uint32_t(be.size()), [](std::uint32_t b) { return b % 2 == 0; }, odd);
+    for (std::uint32_t e : plain_candidates(t, facing.states()))
+        if ((t.edge_face[e & ~BlockEdges::kCheck][0] / BlockEdges::kFaces) % 2 == 1) all.push_back(e);
+    EXPECT_EQ(odd, all);
+    EXPECT_FALSE(odd.empty());
+    MeshTopology swapped = t;
+    std::swap(swapped.edge_face[10], swapped.edge_face[200]);
+    BlockEdges bad;
+    EXPECT_FALSE(bad.build(swapped));
+    EXPECT_FALSE(bad.built_for(swapped));
+    EXPECT_EQ(bad.size(), 0u);
 }
 
 // Band rebuilds with blocks find the same band as without (coherence from an exhaustive view).

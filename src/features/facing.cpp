@@ -46,8 +46,8 @@ void FaceFacing::bind(const MeshTopology& mesh, const Camera& camera) {
 void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
     const std::size_t nf = mesh.face_count();
     if (full_ || state_.size() != nf + kPad || mesh_ != &mesh) {
-        state_.assign(nf + kPad, kUnknown);
-        state_[nf] = kSentinel;
+        state_.assign(nf + kPad, kSentinel);
+        std::fill(state_.begin(), state_.begin() + std::ptrdiff_t(nf), kUnknown);
     } else {
         for (std::uint32_t f : touched_) state_[f] = kUnknown;
     }
@@ -401,6 +401,242 @@ std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
     if (lo > double(f.bound)) return FaceFacing::kFront;  // every det > bound
     if (hi < -double(f.bound)) return FaceFacing::kBack;  // every det < -bound
     return FaceFacing::kUnknown;                          // (also NaN)
+}
+
+bool BlockEdges::build(const MeshTopology& mesh) {
+    mesh_ = &mesh;
+    nf_ = mesh.face_count();
+    const std::size_t ne = mesh.edge_count(), nb = (nf_ + kFaces - 1) / kFaces;
+    auto fail = [&] {
+        index_.clear(), owned_.clear(), edge_begin_.clear(), base2_.clear(), esc_begin_.clear();
+        esc_self_.clear(), esc_far_.clear(), esc_corner_.clear();
+        return false;
+    };
+    if (ne >= kCheck || nf_ >= kCheck) return fail();
+    index_.resize(nb * 3 * kFaces);
+    for (std::size_t b = 0; b < nb; ++b)
+        for (std::uint32_t k = 0; k < 3; ++k)
+            for (std::uint32_t j = 0; j < kFaces; ++j) index_[(3 * b + k) * kFaces + j] = std::uint8_t(j);
+    owned_.assign(3 * nb, 0);
+    edge_begin_.assign(nb + 1, std::uint32_t(ne));
+    base2_.assign(nb, 0);
+    esc_begin_.assign(nb + 1, 0);
+    esc_self_.clear(), esc_far_.clear(), esc_corner_.clear();
+    struct Far {
+        std::uint32_t face, corner;  // neighbour, k * 64 + j
+    };
+    std::vector<Far> far;
+    std::size_t e = 0;
+    std::uint64_t last_corner = 0;
+    for (std::size_t b = 0; b < nb; ++b) {
+        const std::uint32_t base = std::uint32_t(b * kFaces), end = std::uint32_t(std::min(nf_, b * kFaces + kFaces));
+        edge_begin_[b] = std::uint32_t(e);
+        esc_begin_[b] = std::uint32_t(esc_self_.size());
+        far.clear();
+        for (; e < ne; ++e) {
+            const auto [f, n] = mesh.edge_face[e];
+            if (f >= end) break;
+            if (f < base) return fail();
+            // The corner that numbers e: the first corner of f on it; edge order must be corner order.
+            const auto& fe = mesh.face_edges[f];
+            const std::uint32_t k = fe[0] == e ? 0 : fe[1] == e ? 1 : fe[2] == e ? 2 : 3;
+            const std::uint64_t corner = 3 * std::uint64_t(f) + k;
+            if (k == 3 || (e > 0 && corner <= last_corner)) return fail();
+            last_corner = corner;
+            const std::uint32_t j = f - base, bit = 3 * j + k;
+            owned_[3 * b + bit / 64] |= std::uint64_t(1) << (bit % 64);
+            if (n == kNoFace) continue;  // borders: never a silhouette
+            if (n > f && n < base + 128) index_[(3 * b + k) * kFaces + j] = std::uint8_t(n - base);
+            else far.push_back({n, k * kFaces + j});
+        }
+        // The second window: the 128 faces from a far neighbour that hold the most of them.
+        std::sort(far.begin(), far.end(), [](const Far& a, const Far& c) { return a.face < c.face; });
+        std::size_t best = 0, at = 0;
+        for (std::size_t i = 0, i1 = 0; i < far.size(); ++i) {
+            while (i1 < far.size() && far[i1].face < std::uint64_t(far[i].face) + 128) ++i1;
+            if (i1 - i > best) best = i1 - i, at = i;
+        }
+        const std::uint32_t b2 = far.empty() ? base : std::min(far[at].face, std::uint32_t(nf_ - 1));
+        base2_[b] = b2;
+        std::sort(far.begin(), far.end(), [](const Far& a, const Far& c) { return a.corner < c.corner; });
+        for (const Far& x : far) {
+            const std::uint32_t j = x.corner % kFaces, k = x.corner / kFaces;
+            if (x.face > base + j && x.face >= b2 && x.face < std::uint64_t(b2) + 128) {
+                index_[(3 * b + k) * kFaces + j] = std::uint8_t(128 + (x.face - b2));
+            } else {  // (also a neighbour that is the face itself: only its exact test differs)
+                esc_self_.push_back(base + j);
+                esc_far_.push_back(x.face);
+                esc_corner_.push_back(std::uint8_t(x.corner));
+            }
+        }
+    }
+    if (e != ne) return fail();
+    esc_begin_[nb] = std::uint32_t(esc_self_.size());
+    esc_self_.shrink_to_fit(), esc_far_.shrink_to_fit(), esc_corner_.shrink_to_fit();
+    return true;
+}
+
+std::size_t BlockEdges::bytes() const {
+    return index_.capacity() + esc_corner_.capacity() + owned_.capacity() * 8 +
+           (edge_begin_.capacity() + base2_.capacity() + esc_begin_.capacity() + esc_self_.capacity() +
+            esc_far_.capacity()) * 4;
+}
+
+bool BlockEdges::has_simd() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                            __builtin_cpu_supports("avx512vbmi") && __builtin_cpu_supports("bmi2");
+    return has;
+#else
+    return false;
+#endif
+}
+
+namespace {
+
+// Escape i is a candidate where its face is decided and differs from its neighbour (an undecided
+// face makes all its edges candidates anyway, BlockEdges::scan_block).
+inline bool escape_candidate(std::uint8_t a, std::uint8_t c) { return a != c && !(a & FaceFacing::kUnknown); }
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define INKLINE_AVX512 __attribute__((target("avx512f,avx512bw,avx512vbmi,bmi2")))
+// Sixteen escapes a step: both states gathered (as 32-bit words, masked to their low byte).
+INKLINE_AVX512 void escape_bits_avx512(const std::uint8_t* st, const std::uint32_t* self, const std::uint32_t* far,
+                                       std::size_t n, std::uint16_t* bits) {
+    const int* s = reinterpret_cast<const int*>(st);
+    const __m512i low = _mm512_set1_epi32(0xff), unknown = _mm512_set1_epi32(FaceFacing::kUnknown);
+    for (std::size_t i = 0; i < n; i += 16) {
+        const __mmask16 live = n - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - i)) - 1);
+        const __m512i fa = _mm512_maskz_loadu_epi32(live, self + i), fc = _mm512_maskz_loadu_epi32(live, far + i);
+        const __m512i a = _mm512_and_si512(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, fa, s, 1), low);
+        const __m512i c = _mm512_and_si512(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, fc, s, 1), low);
+        bits[i / 16] = std::uint16_t(_mm512_mask_cmpneq_epi32_mask(live, a, c) & ~_mm512_test_epi32_mask(a, unknown));
+    }
+}
+
+// Corner masks (corner-major, bit j of word k) of one block: neighbour's state differs from the
+// face's, both decided (sure), or the neighbour undecided (check).
+INKLINE_AVX512 void block_masks_avx512(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
+                                       const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
+                                       std::uint64_t& undecided) {
+    const __m512i one = _mm512_set1_epi8(FaceFacing::kUnknown);
+    const __m512i t0 = _mm512_loadu_si512(st + base), t1 = _mm512_loadu_si512(st + base + 64);
+    const __m512i u0 = _mm512_loadu_si512(st + base2), u1 = _mm512_loadu_si512(st + base2 + 64);
+    undecided = _mm512_test_epi8_mask(t0, one);
+    for (int k = 0; k < 3; ++k) {
+        const __m512i ix = _mm512_loadu_si512(index + 64 * k);
+        const __m512i v = _mm512_mask_blend_epi8(_mm512_movepi8_mask(ix), _mm512_permutex2var_epi8(t0, ix, t1),
+                                                 _mm512_permutex2var_epi8(u0, ix, u1));
+        const std::uint64_t differ = _mm512_cmpneq_epi8_mask(t0, v), vu = _mm512_test_epi8_mask(v, one);
+        sure[k] = differ & ~vu & ~undecided;
+        check[k] = differ & vu & ~undecided;
+    }
+}
+#endif
+
+void block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2, const std::uint8_t* index,
+                        std::uint64_t sure[3], std::uint64_t check[3], std::uint64_t& undecided) {
+    undecided = 0;
+    for (std::uint32_t j = 0; j < 64; ++j) undecided |= std::uint64_t(st[base + j] & FaceFacing::kUnknown) << j;
+    for (int k = 0; k < 3; ++k) {
+        sure[k] = check[k] = 0;
+        for (std::uint32_t j = 0; j < 64; ++j) {
+            const std::uint8_t i = index[64 * k + j], a = st[base + j];
+            const std::uint8_t v = i < 128 ? st[base + i] : st[base2 + (i - 128)];
+            const std::uint64_t bit = std::uint64_t(a != v && !(a & FaceFacing::kUnknown)) << j;
+            (v & FaceFacing::kUnknown ? check : sure)[k] |= bit;
+        }
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The corner-major masks (bit j of word k) interleaved to corner order (bit 3 j + k of three
+// words), then compressed to the owned corners (pext): bit r of word w is the edge numbered
+// r-th in that word's corners.
+INKLINE_AVX512 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
+    constexpr std::uint64_t k0 = 0x9249249249249249ull, k1 = k0 << 1, k2 = k0 << 2;  // bits = 0, 1, 2 mod 3
+    out[0] = _pdep_u64(m[0], k0) | _pdep_u64(m[1], k1) | _pdep_u64(m[2], k2);
+    out[1] = _pdep_u64(m[0] >> 22, k2) | _pdep_u64(m[1] >> 21, k0) | _pdep_u64(m[2] >> 21, k1);  // bit 64: j 21, k 1
+    out[2] = _pdep_u64(m[0] >> 43, k1) | _pdep_u64(m[1] >> 43, k2) | _pdep_u64(m[2] >> 42, k0);  // bit 128: j 42, k 2
+}
+INKLINE_AVX512 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
+                              std::uint32_t e0, std::vector<std::uint32_t>& out) {
+    std::uint64_t all[3], chk[3];
+    const std::uint64_t any[3] = {sure[0] | check[0], sure[1] | check[1], sure[2] | check[2]};
+    corner_order(any, all);
+    corner_order(check, chk);
+    for (int w = 0; w < 3; ++w) {
+        for (std::uint64_t r = _pext_u64(all[w], owned[w]), c = _pext_u64(chk[w], owned[w]); r; r &= r - 1) {
+            const unsigned i = unsigned(__builtin_ctzll(r));
+            out.push_back((e0 + i) | (((c >> i) & 1) ? BlockEdges::kCheck : 0));
+        }
+        e0 += std::uint32_t(__builtin_popcountll(owned[w]));
+    }
+}
+#endif
+
+}  // namespace
+
+void BlockEdges::escape_bits(const std::uint8_t* st, std::uint32_t b0, std::uint32_t b1, std::vector<std::uint16_t>& bits,
+                             bool simd) const {
+    const std::size_t i0 = esc_begin_[b0], n = esc_begin_[b1] - i0;
+    bits.assign((n + 15) / 16, 0);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simd && has_simd()) return escape_bits_avx512(st, esc_self_.data() + i0, esc_far_.data() + i0, n, bits.data());
+#endif
+    for (std::size_t i = 0; i < n; ++i)
+        bits[i / 16] |= std::uint16_t(escape_candidate(st[esc_self_[i0 + i]], st[esc_far_[i0 + i]]) << (i % 16));
+}
+
+void BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
+                            std::vector<std::uint32_t>& out, bool simd) const {
+    const std::uint32_t base = b * kFaces;
+    const std::uint8_t* index = index_.data() + std::size_t(b) * 3 * kFaces;
+    std::uint64_t sure[3], check[3], undecided;
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simd && has_simd()) block_masks_avx512(st, base, base2_[b], index, sure, check, undecided);
+    else block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+#else
+    block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+#endif
+    // Escapes: the rare candidates among them set their corner's bit.
+    for (std::uint32_t i = esc_begin_[b]; i < esc_begin_[b + 1]; ++i) {
+        const std::uint32_t r = i - esc0;
+        if (!((esc[r / 16] >> (r % 16)) & 1)) continue;
+        const std::uint32_t c = esc_corner_[i], k = c / kFaces, j = c % kFaces;
+        ((st[esc_far_[i]] & FaceFacing::kUnknown) ? check : sure)[k] |= std::uint64_t(1) << j;
+    }
+    // Undecided faces (past the last face: the sentinel, not a face): every interior edge they
+    // number is checked.
+    const std::uint32_t live = std::uint32_t(std::min<std::size_t>(kFaces, nf_ - base));
+    if (live < 64) undecided &= (std::uint64_t(1) << live) - 1;
+    for (std::uint64_t u = undecided; u; u &= u - 1) {
+        const std::uint32_t j = std::uint32_t(__builtin_ctzll(u));
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const std::uint32_t bit = 3 * j + k;
+            if (!((owned_[3 * b + bit / 64] >> (bit % 64)) & 1)) continue;
+            if (mesh_->edge_face[mesh_->face_edges[base + j][k]][1] == kNoFace) continue;
+            check[k] |= std::uint64_t(1) << j;
+        }
+    }
+    if (!((sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]))) return;
+    // Corner order (bit 3 j + k), then the owned corners' ranks: edge ids.
+    const std::uint64_t* owned = owned_.data() + 3 * std::size_t(b);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simd && has_simd()) return emit_bmi2(sure, check, owned, edge_begin_[b], out);
+#endif
+    const std::uint32_t before[3] = {0, std::uint32_t(__builtin_popcountll(owned[0])),
+                                     std::uint32_t(__builtin_popcountll(owned[0]) + __builtin_popcountll(owned[1]))};
+    for (std::uint64_t any = sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]; any; any &= any - 1) {
+        const std::uint32_t j = std::uint32_t(__builtin_ctzll(any));
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const bool chk = (check[k] >> j) & 1;
+            if (!(((sure[k] >> j) & 1) || chk)) continue;
+            const std::uint32_t bit = 3 * j + k, w = bit / 64;
+            const std::uint64_t below = owned[w] & ((std::uint64_t(1) << (bit % 64)) - 1);
+            out.push_back((edge_begin_[b] + before[w] + std::uint32_t(__builtin_popcountll(below))) | (chk ? kCheck : 0));
+        }
+    }
 }
 
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
