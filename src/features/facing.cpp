@@ -516,13 +516,21 @@ INKLINE_AVX512 void escape_bits_avx512(const std::uint8_t* st, const std::uint32
 
 // Corner masks (corner-major, bit j of word k) of one block: neighbour's state differs from the
 // face's, both decided (sure), or the neighbour undecided (check).
-INKLINE_AVX512 void block_masks_avx512(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
+// Returns false (all masks zero, the index not read) where both windows hold one decided state.
+INKLINE_AVX512 bool block_masks_avx512(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
                                        const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
                                        std::uint64_t& undecided) {
     const __m512i one = _mm512_set1_epi8(FaceFacing::kUnknown);
     const __m512i t0 = _mm512_loadu_si512(st + base), t1 = _mm512_loadu_si512(st + base + 64);
     const __m512i u0 = _mm512_loadu_si512(st + base2), u1 = _mm512_loadu_si512(st + base2 + 64);
     undecided = _mm512_test_epi8_mask(t0, one);
+    const __m512i s = _mm512_set1_epi8(char(st[base]));
+    if (!(st[base] & FaceFacing::kUnknown) &&
+        (_mm512_cmpeq_epi8_mask(t0, s) & _mm512_cmpeq_epi8_mask(t1, s) & _mm512_cmpeq_epi8_mask(u0, s) &
+         _mm512_cmpeq_epi8_mask(u1, s)) == ~std::uint64_t(0)) {
+        sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
+        return false;
+    }
     for (int k = 0; k < 3; ++k) {
         const __m512i ix = _mm512_loadu_si512(index + 64 * k);
         const __m512i v = _mm512_mask_blend_epi8(_mm512_movepi8_mask(ix), _mm512_permutex2var_epi8(t0, ix, t1),
@@ -531,12 +539,19 @@ INKLINE_AVX512 void block_masks_avx512(const std::uint8_t* st, std::uint32_t bas
         sure[k] = differ & ~vu & ~undecided;
         check[k] = differ & vu & ~undecided;
     }
+    return true;
 }
 #endif
 
-void block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2, const std::uint8_t* index,
+bool block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2, const std::uint8_t* index,
                         std::uint64_t sure[3], std::uint64_t check[3], std::uint64_t& undecided) {
     undecided = 0;
+    bool uniform = !(st[base] & FaceFacing::kUnknown);
+    for (std::uint32_t j = 0; j < 128; ++j) uniform = uniform && st[base + j] == st[base] && st[base2 + j] == st[base];
+    if (uniform) {
+        sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
+        return false;
+    }
     for (std::uint32_t j = 0; j < 64; ++j) undecided |= std::uint64_t(st[base + j] & FaceFacing::kUnknown) << j;
     for (int k = 0; k < 3; ++k) {
         sure[k] = check[k] = 0;
@@ -547,6 +562,7 @@ void block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_
             (v & FaceFacing::kUnknown ? check : sure)[k] |= bit;
         }
     }
+    return true;
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -559,19 +575,22 @@ INKLINE_AVX512 inline void corner_order(const std::uint64_t m[3], std::uint64_t 
     out[1] = _pdep_u64(m[0] >> 22, k2) | _pdep_u64(m[1] >> 21, k0) | _pdep_u64(m[2] >> 21, k1);  // bit 64: j 21, k 1
     out[2] = _pdep_u64(m[0] >> 43, k1) | _pdep_u64(m[1] >> 43, k2) | _pdep_u64(m[2] >> 42, k0);  // bit 128: j 42, k 2
 }
+static_assert(BlockEdges::kCheck == 1u << 31);
 INKLINE_AVX512 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
                               std::uint32_t e0, std::vector<std::uint32_t>& out) {
     std::uint64_t all[3], chk[3];
     const std::uint64_t any[3] = {sure[0] | check[0], sure[1] | check[1], sure[2] | check[2]};
     corner_order(any, all);
     corner_order(check, chk);
+    std::uint32_t buf[3 * 64], n = 0;
     for (int w = 0; w < 3; ++w) {
         for (std::uint64_t r = _pext_u64(all[w], owned[w]), c = _pext_u64(chk[w], owned[w]); r; r &= r - 1) {
             const unsigned i = unsigned(__builtin_ctzll(r));
-            out.push_back((e0 + i) | (((c >> i) & 1) ? BlockEdges::kCheck : 0));
+            buf[n++] = (e0 + i) | (std::uint32_t((c >> i) & 1) << 31);  // (BlockEdges::kCheck)
         }
         e0 += std::uint32_t(__builtin_popcountll(owned[w]));
     }
+    out.insert(out.end(), buf, buf + n);
 }
 #endif
 
@@ -588,16 +607,16 @@ void BlockEdges::escape_bits(const std::uint8_t* st, std::uint32_t b0, std::uint
         bits[i / 16] |= std::uint16_t(escape_candidate(st[esc_self_[i0 + i]], st[esc_far_[i0 + i]]) << (i % 16));
 }
 
-void BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
+bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
                             std::vector<std::uint32_t>& out, bool simd) const {
     const std::uint32_t base = b * kFaces;
     const std::uint8_t* index = index_.data() + std::size_t(b) * 3 * kFaces;
     std::uint64_t sure[3], check[3], undecided;
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && has_simd()) block_masks_avx512(st, base, base2_[b], index, sure, check, undecided);
-    else block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+    const bool read = simd && has_simd() ? block_masks_avx512(st, base, base2_[b], index, sure, check, undecided)
+                                         : block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
 #else
-    block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+    const bool read = block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
 #endif
     // Escapes: the rare candidates among them set their corner's bit.
     for (std::uint32_t i = esc_begin_[b]; i < esc_begin_[b + 1]; ++i) {
@@ -619,11 +638,14 @@ void BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
             check[k] |= std::uint64_t(1) << j;
         }
     }
-    if (!((sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]))) return;
+    if (!((sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]))) return read;
     // Corner order (bit 3 j + k), then the owned corners' ranks: edge ids.
     const std::uint64_t* owned = owned_.data() + 3 * std::size_t(b);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && has_simd()) return emit_bmi2(sure, check, owned, edge_begin_[b], out);
+    if (simd && has_simd()) {
+        emit_bmi2(sure, check, owned, edge_begin_[b], out);
+        return read;
+    }
 #endif
     const std::uint32_t before[3] = {0, std::uint32_t(__builtin_popcountll(owned[0])),
                                      std::uint32_t(__builtin_popcountll(owned[0]) + __builtin_popcountll(owned[1]))};
@@ -637,6 +659,7 @@ void BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
             out.push_back((edge_begin_[b] + before[w] + std::uint32_t(__builtin_popcountll(below))) | (chk ? kCheck : 0));
         }
     }
+    return read;
 }
 
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,

@@ -108,15 +108,20 @@ public:
     // decides exactly: the same edges as a scan of every edge for "states differ or the first
     // face is undecided", borders left out. `states` are FaceFacing::states() of a full view
     // (padded by FaceFacing::kPad). Blocks for which skip(b) holds are not read (the caller's
-    // proof that none of their edges is a candidate). `simd`: the AVX-512 kernel where the CPU
-    // has it (else, and with false, the portable loop; the same result).
+    // proof that none of their edges is a candidate), nor the index of blocks whose two windows
+    // hold one decided state. `simd`: the AVX-512 kernel where the CPU has it (else, and with
+    // false, the portable loop; the same result). Returns the number of edges of the blocks
+    // whose index was read.
     template <class Skip>
-    void scan(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, Skip skip, std::vector<std::uint32_t>& out,
-              bool simd = true) const {
+    std::size_t scan(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, Skip skip,
+                     std::vector<std::uint32_t>& out, bool simd = true) const {
         std::vector<std::uint16_t> esc;
         escape_bits(states, b0, b1, esc, simd);
+        std::size_t read = 0;
         for (std::uint32_t b = b0; b < b1; ++b)
-            if (!skip(b)) scan_block(states, b, esc.data(), esc_begin_[b0], out, simd);
+            if (!skip(b) && scan_block(states, b, esc.data(), esc_begin_[b0], out, simd))
+                read += edge_begin_[b + 1] - edge_begin_[b];
+        return read;
     }
     // Whether this CPU runs the AVX-512 (VBMI) kernel.
     static bool has_simd();
@@ -125,7 +130,7 @@ private:
     // Candidate bits of the escapes of blocks [b0, b1) (16 a word, from the first escape of b0).
     void escape_bits(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, std::vector<std::uint16_t>& bits,
                      bool simd) const;
-    void scan_block(const std::uint8_t* states, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
+    bool scan_block(const std::uint8_t* states, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
                     std::vector<std::uint32_t>& out, bool simd) const;
     const MeshTopology* mesh_ = nullptr;
     std::size_t nf_ = 0;

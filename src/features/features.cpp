@@ -295,16 +295,17 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     // With the facing decided by blocks, the edges of a block whose faces and neighbour blocks
     // all have one state (FaceBlocks::edges_uniform) are not read: none is a candidate. The
     // other edges are scanned in runs, in edge order (the same candidates).
-    const std::vector<std::uint8_t>& cls = out.face_front.block_states();
-    if (!cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
-    const FaceBlocks* fb = !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
     // From the second view, where the CPU has the kernel: the gather-free layout (BlockEdges),
-    // block by block (skipping the same blocks); its candidates of decided faces are silhouettes.
+    // block by block (it skips the blocks whose windows hold one state itself; skipping by the
+    // block states as below measured no faster); its candidates of decided faces are silhouettes.
     if (opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
         block_edges_tried_ = true;
         block_edges_.build(mesh);
     }
     const BlockEdges* be = opt_.edge_windows && full_views_ > 1 && block_edges_.built_for(mesh) ? &block_edges_ : nullptr;
+    const std::vector<std::uint8_t>& cls = out.face_front.block_states();
+    if (!be && !cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
+    const FaceBlocks* fb = !be && !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
     const std::uint32_t units = be ? std::uint32_t(be->size()) : fb ? std::uint32_t(fb->size()) : ne;  // edges, or blocks of faces
     const std::uint32_t parts = ne < 65536 ? 1u : std::uint32_t(std::clamp(opt_.threads, 1, 64));
     auto& lists = out.thread_candidates;
@@ -314,12 +315,8 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
         std::vector<std::uint32_t>& cand = lists[part];
         cand.clear();
         if (be) {
-            auto skip = [&](std::uint32_t b) {
-                if (fb && fb->edges_uniform(b, cls.data())) return true;
-                read[part] += be->edge_begin(b + 1) - be->edge_begin(b);
-                return false;
-            };
-            return be->scan(st, lo, hi, skip, cand);
+            read[part] = be->scan(st, lo, hi, [](std::uint32_t) { return false; }, cand);
+            return;
         }
         if (!fb) return collect_range(lo, hi, cand);
         // lo, hi are block numbers here
