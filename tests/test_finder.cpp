@@ -386,6 +386,57 @@ TEST(Facing, BlocksWithAnUntrustedPlane) {
     }
 }
 
+// Block states four at a time (FaceBlocks::classify over a range) equal those one at a time, for
+// every start and length modulo four, at extreme scales and offsets, a grazing eye, a block with
+// an untrusted (NaN) plane and an eye out of float range (every block undecided).
+TEST(Facing, BlockStatesFourAtATime) {
+    std::size_t decided = 0, total = 0;
+    for (double scale : {1e-6, 1.0, 1e6})
+        for (double offset : {0.0, 1e6}) {
+            Model m = scaled_sphere(96, 48, scale, offset);
+            MeshTopology& t = m.topology();
+            t.facing[2 * FaceBlocks::kFaces + 7].ny = NAN;
+            FaceBlocks blocks;
+            blocks.build(t);
+            std::vector<Camera> cams = cameras_with_grazing(t);
+            cams.push_back(Camera::perspective(t.bounds.center() + glm::dvec3(1e39, 0, 0), t.bounds.center(), {0, 1, 0}, 30, 64, 64));
+            for (const Camera& cam : cams) {
+                FacingFilter filter;
+                filter.bind(t, cam);
+                for (std::size_t b0 : {0, 1, 2, 3})
+                    for (std::size_t cut : {0, 1, 2, 3}) {
+                        const std::size_t b1 = blocks.size() - cut;
+                        std::vector<std::uint8_t> got(b1 - b0, 9);
+                        blocks.classify(b0, b1, filter, got.data());
+                        for (std::size_t b = b0; b < b1; ++b) {
+                            ASSERT_EQ(got[b - b0], blocks.classify(b, filter)) << "block " << b;
+                            decided += got[b - b0] != FaceFacing::kUnknown;
+                            ++total;
+                        }
+                    }
+                EXPECT_EQ(blocks.classify(2, filter), FaceFacing::kUnknown);
+                // Bounds just at a block's widened range: undecided, as one at a time.
+                for (std::size_t b = 4; b + 4 <= blocks.size(); b += 5) {
+                    double lo, hi;
+                    blocks.distance_range(b, filter, lo, hi);
+                    if (!std::isfinite(lo) || !std::isfinite(hi)) continue;
+                    for (double edge : {lo, -hi}) {
+                        FacingFilter f = filter;
+                        f.bound = std::nextafter(float(edge), INFINITY);
+                        if (!(f.bound > 0.0f)) continue;
+                        std::uint8_t got[4];
+                        blocks.classify(b, b + 4, f, got);
+                        ASSERT_EQ(got[0], blocks.classify(b, f));
+                        EXPECT_EQ(got[0], FaceFacing::kUnknown);
+                        ++total;
+                    }
+                }
+            }
+        }
+    EXPECT_GT(decided, 0u);
+    EXPECT_LT(decided, total);
+}
+
 // The exhaustive finder with blocks (from its second view) against the one without, along a
 // path: the same silhouette edges in the same order, every view, and fewer edges read.
 TEST(Finder, ExhaustiveBlocksSameResult) {

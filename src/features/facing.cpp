@@ -662,6 +662,56 @@ bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
     return read;
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+namespace {
+// FaceBlocks::classify for four blocks a step (AVX2 doubles): the same products, sums, min and
+// max in the same order (MINPD(c, a) is std::min(a, c) and MAXPD(c, a) std::max(a, c), NaN
+// included), so the same states.
+__attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::size_t n, const FacingFilter& f,
+                                                   std::uint8_t* out) {
+    const __m256d e[4] = {_mm256_set1_pd(f.ex), _mm256_set1_pd(f.ey), _mm256_set1_pd(f.ez), _mm256_set1_pd(-double(f.w))};
+    const __m256d sign = _mm256_set1_pd(-0.0), scale = _mm256_set1_pd(0x1p-20);
+    const __m256d bound = _mm256_set1_pd(double(f.bound)), nbound = _mm256_set1_pd(-double(f.bound));
+    for (std::size_t b = 0; b < n; b += 4) {
+        const float* q = bounds + 8 * b;  // lo[4], hi[4] per block
+        __m128 l0 = _mm_loadu_ps(q), l1 = _mm_loadu_ps(q + 8), l2 = _mm_loadu_ps(q + 16), l3 = _mm_loadu_ps(q + 24);
+        __m128 h0 = _mm_loadu_ps(q + 4), h1 = _mm_loadu_ps(q + 12), h2 = _mm_loadu_ps(q + 20), h3 = _mm_loadu_ps(q + 28);
+        _MM_TRANSPOSE4_PS(l0, l1, l2, l3);  // l_i: component i of the four blocks
+        _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
+        const __m128 ls[4] = {l0, l1, l2, l3}, hs[4] = {h0, h1, h2, h3};
+        __m256d lo = _mm256_setzero_pd(), hi = _mm256_setzero_pd(), mag = _mm256_setzero_pd();
+        for (int i = 0; i < 4; ++i) {
+            const __m256d a = _mm256_mul_pd(_mm256_cvtps_pd(ls[i]), e[i]), c = _mm256_mul_pd(_mm256_cvtps_pd(hs[i]), e[i]);
+            lo = _mm256_add_pd(lo, _mm256_min_pd(c, a));
+            hi = _mm256_add_pd(hi, _mm256_max_pd(c, a));
+            mag = _mm256_add_pd(mag, _mm256_max_pd(_mm256_andnot_pd(sign, c), _mm256_andnot_pd(sign, a)));
+        }
+        const __m256d slack = _mm256_mul_pd(mag, scale);
+        const __m256d nan = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(lo, lo, _CMP_UNORD_Q), _mm256_cmp_pd(hi, hi, _CMP_UNORD_Q)),
+                                         _mm256_cmp_pd(slack, slack, _CMP_UNORD_Q));
+        const unsigned odd = unsigned(_mm256_movemask_pd(nan));
+        const unsigned front = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(lo, slack), bound, _CMP_GT_OQ))) & ~odd;
+        const unsigned back = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_add_pd(hi, slack), nbound, _CMP_LT_OQ))) & ~odd;
+        for (std::size_t i = 0; i < 4 && b + i < n; ++i)
+            out[b + i] = (front >> i) & 1 ? FaceFacing::kFront : (back >> i) & 1 ? FaceFacing::kBack : FaceFacing::kUnknown;
+    }
+}
+}  // namespace
+#endif
+
+void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const {
+    std::size_t b = b0;
+#if defined(__x86_64__) && defined(__GNUC__)
+    static_assert(sizeof(Bounds) == 32);
+    if (cpu_has_avx2()) {
+        const std::size_t n = (b1 - b0) & ~std::size_t(3);
+        classify_avx2(bounds_[b0].lo, n, f, out);
+        b += n;
+    }
+#endif
+    for (; b < b1; ++b) out[b - b0] = classify(b, f);
+}
+
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
                  const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                  std::vector<std::uint32_t>& check) {
@@ -701,9 +751,9 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int 
             return hi - lo;
         }
         std::size_t read = 0, open = SIZE_MAX;
+        blocks->classify(lo / kB, (hi + kB - 1) / kB, filter_, block_state_.data() + lo / kB);
         for (std::size_t b = lo / kB; b * kB < hi; ++b) {
-            const std::uint8_t s = blocks->classify(b, filter_);
-            block_state_[b] = s;
+            const std::uint8_t s = block_state_[b];
             const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
             if (s == kUnknown) {
                 if (open == SIZE_MAX) open = f0;
