@@ -613,6 +613,12 @@ bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
     const std::uint8_t* index = index_.data() + std::size_t(b) * 3 * kFaces;
     std::uint64_t sure[3], check[3], undecided;
 #if defined(__x86_64__) && defined(__GNUC__)
+    if (b + 8 < base2_.size()) {  // the second window is elsewhere in the states: fetch it ahead
+        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8]), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 64), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 127), _MM_HINT_T0);
+        for (int i = 0; i < 3; ++i) _mm_prefetch(reinterpret_cast<const char*>(index + 8 * 3 * kFaces + 64 * i), _MM_HINT_T0);
+    }
     const bool read = simd && has_simd() ? block_masks_avx512(st, base, base2_[b], index, sure, check, undecided)
                                          : block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
 #else
