@@ -41,7 +41,8 @@ class FaceBlocks {
 public:
     static constexpr std::uint32_t kFaces = 64;
     void build(const MeshTopology& mesh);  // the plane ranges
-    void build_edges();                    // the edge ranges (after build; tried once)
+    void build_edges();                    // the edge ranges (after build; tried once; the exhaustive
+                                           // finder builds them only where it does not use BlockEdges)
     bool edges_tried() const { return edges_tried_; }
     bool built_for(const MeshTopology& mesh) const { return mesh_ == &mesh && nf_ == mesh.face_count(); }
     std::size_t size() const { return bounds_.size(); }
