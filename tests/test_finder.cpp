@@ -558,6 +558,40 @@ TEST(Facing, BlockEdgesMatchThePlainScan) {
     EXPECT_GT(checked, 0u);
 }
 
+// The exhaustive finder with the layout (from its second view) against the plain scan where
+// faces are left to the exact predicate: extreme scales and offsets, a grazing eye, a sheet seen
+// edge-on (orthographic, every face undecided by the filter): the same silhouette edges in the
+// same order, the same states and the same exact tests.
+TEST(Finder, ExhaustiveWindowsSameResultWithUndecidedFaces) {
+    std::vector<Model> models;
+    for (double scale : {1e-6, 1e6})
+        for (double offset : {0.0, 1e6}) models.push_back(scaled_sphere(96, 48, scale, offset));
+    models.emplace_back(make_sheet(1.0, 0.0, 40));
+    std::size_t exact = 0;
+    for (const Model& m : models) {
+        const MeshTopology& t = m.topology();
+        std::vector<Camera> cams = cameras_with_grazing(t);
+        const glm::dvec3 c = t.bounds.center();
+        cams.push_back(Camera::orthographic(c + glm::dvec3(5, 0, 0), c, {0, 1, 0}, 3.0 * t.bounds.half_diagonal(), 256, 256));
+        FinderOptions plain;
+        plain.blocks = false;
+        plain.edge_windows = false;
+        SilhouetteFinder with(t), without(t, plain);
+        Features a, b;
+        for (int round = 0; round < 2; ++round)  // (the layout is used from the second view)
+            for (const Camera& cam : cams) {
+                with.find(cam, {}, a);
+                without.find(cam, {}, b);
+                EXPECT_EQ(a.silhouette_edges, b.silhouette_edges);
+                EXPECT_TRUE(std::equal(a.face_front.states(), a.face_front.states() + t.face_count(), b.face_front.states()));
+                EXPECT_EQ(a.stats.exact_facing_tests, b.stats.exact_facing_tests);
+                expect_same(a, b);
+                exact += a.stats.exact_facing_tests;
+            }
+    }
+    EXPECT_GT(exact, 0u);
+}
+
 // Skipped blocks give no candidates; a mesh whose edges are not numbered by their first corner
 // gets no layout.
 TEST(Facing, BlockEdgesSkipAndRefuse) {
