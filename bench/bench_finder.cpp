@@ -1,16 +1,21 @@
 // The silhouette search alone (no chaining, no visibility) of the finders along a smooth orbit
 // of armadillo Loop-subdivided twice (832 k triangles), storage reused as an interactive viewer
-// runs it: exhaustive with and without the face blocks (FaceBlocks), and the randomized finder
-// with coherence from an exhaustive first view. Counters: search ms per frame (mean), share of
-// face planes read. Usage: taskset -c 1 bench_finder [--benchmark_filter=...]; meshes come from
-// INKLINE_DATA_DIR. Arguments: degrees per frame x 100 (0: a static camera).
+// runs it: exhaustive as a plain scan, with the face blocks (FaceBlocks), and with the face
+// blocks and the gather-free edge layout (BlockEdges, the default; also on two threads), and the
+// randomized finder with coherence from an exhaustive first view. Counters: search ms per frame
+// (mean, with the first views' set-up of blocks and layout, and median), share of face planes
+// read. Usage: taskset -c 1 bench_finder [--benchmark_filter=...] (taskset -c 0,1 for the two
+// threads); meshes come from INKLINE_DATA_DIR. Arguments: degrees per frame x 100 (0: a static
+// camera).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "features/features.hpp"
 #include "bench_models.hpp"
@@ -36,11 +41,13 @@ void run(benchmark::State& state, const char* name, inkline::FinderOptions o) {
     inkline::SilhouetteFinder finder(t, o);
     inkline::Features f;
     inkline::FeatureOptions fo;
+    std::vector<double> times;  // search per frame (the median is robust to the shared machine's load)
     double search = 0.0, read = 0.0, edges = 0.0, frame = 0.0, band = 0.0, turned = 0.0, rebuilds = 0.0, sil = 0.0;
     for (auto _ : state) {
         finder.find(orbit(t, frame * dpf), fo, f);
         frame += 1.0;
         search += f.stats.seconds_search;
+        times.push_back(f.stats.seconds_search);
         read += double(f.stats.planes_read);
         edges += double(f.stats.edges_read);
         band += double(f.stats.band_faces);
@@ -50,6 +57,10 @@ void run(benchmark::State& state, const char* name, inkline::FinderOptions o) {
     }
     const double n = double(std::max<std::int64_t>(1, state.iterations()));
     state.counters["search_ms"] = 1e3 * search / n;
+    if (!times.empty()) {
+        std::nth_element(times.begin(), times.begin() + std::ptrdiff_t(times.size() / 2), times.end());
+        state.counters["search_median_ms"] = 1e3 * times[times.size() / 2];
+    }
     state.counters["planes_read"] = read / n / double(t.face_count());
     state.counters["edges_read"] = edges / n / double(t.edge_count());
     state.counters["silhouette_edges"] = sil / n;
@@ -60,9 +71,12 @@ void run(benchmark::State& state, const char* name, inkline::FinderOptions o) {
     }
 }
 
-void BM_Exhaustive(benchmark::State& state, const char* name, bool blocks) {
+// layout: 0 plain scan, 1 face blocks, 2 face blocks and the gather-free edge layout (the default).
+void BM_Exhaustive(benchmark::State& state, const char* name, int layout, int threads) {
     inkline::FinderOptions o;
-    o.blocks = blocks;
+    o.blocks = layout >= 1;
+    o.edge_windows = layout >= 2;
+    o.threads = threads;
     run(state, name, o);
 }
 
@@ -80,10 +94,17 @@ void BM_Coherence(benchmark::State& state, const char* name, bool blocks) {
 
 int main(int argc, char** argv) {
     for (const char* n : {"armadillo@2"}) {
+        const char* layouts[] = {"/noblocks", "/blocks", "/windows"};
+        for (int layout : {0, 1, 2})
+            for (int threads : {1, 2}) {
+                if (threads == 2 && layout != 2) continue;
+                const std::string t = threads == 2 ? "/2threads" : "";
+                benchmark::RegisterBenchmark(("exhaustive" + std::string(layouts[layout]) + t + "/" + n).c_str(),
+                                             BM_Exhaustive, n, layout, threads)
+                    ->Arg(0)->Arg(100)->Unit(benchmark::kMillisecond);
+            }
         for (bool blocks : {false, true}) {
             const std::string b = blocks ? "/blocks" : "/noblocks";
-            benchmark::RegisterBenchmark(("exhaustive" + b + "/" + n).c_str(), BM_Exhaustive, n, blocks)
-                ->Arg(0)->Arg(100)->Unit(benchmark::kMillisecond);
             benchmark::RegisterBenchmark(("coherence" + b + "/" + n).c_str(), BM_Coherence, n, blocks)
                 ->Arg(100)->Unit(benchmark::kMillisecond);
         }

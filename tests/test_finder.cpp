@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <tuple>
 
 #include "model/primitives.hpp"
@@ -385,6 +386,57 @@ TEST(Facing, BlocksWithAnUntrustedPlane) {
     }
 }
 
+// Block states four at a time (FaceBlocks::classify over a range) equal those one at a time, for
+// every start and length modulo four, at extreme scales and offsets, a grazing eye, a block with
+// an untrusted (NaN) plane and an eye out of float range (every block undecided).
+TEST(Facing, BlockStatesFourAtATime) {
+    std::size_t decided = 0, total = 0;
+    for (double scale : {1e-6, 1.0, 1e6})
+        for (double offset : {0.0, 1e6}) {
+            Model m = scaled_sphere(96, 48, scale, offset);
+            MeshTopology& t = m.topology();
+            t.facing[2 * FaceBlocks::kFaces + 7].ny = NAN;
+            FaceBlocks blocks;
+            blocks.build(t);
+            std::vector<Camera> cams = cameras_with_grazing(t);
+            cams.push_back(Camera::perspective(t.bounds.center() + glm::dvec3(1e39, 0, 0), t.bounds.center(), {0, 1, 0}, 30, 64, 64));
+            for (const Camera& cam : cams) {
+                FacingFilter filter;
+                filter.bind(t, cam);
+                for (std::size_t b0 : {0, 1, 2, 3})
+                    for (std::size_t cut : {0, 1, 2, 3}) {
+                        const std::size_t b1 = blocks.size() - cut;
+                        std::vector<std::uint8_t> got(b1 - b0, 9);
+                        blocks.classify(b0, b1, filter, got.data());
+                        for (std::size_t b = b0; b < b1; ++b) {
+                            ASSERT_EQ(got[b - b0], blocks.classify(b, filter)) << "block " << b;
+                            decided += got[b - b0] != FaceFacing::kUnknown;
+                            ++total;
+                        }
+                    }
+                EXPECT_EQ(blocks.classify(2, filter), FaceFacing::kUnknown);
+                // Bounds just at a block's widened range: undecided, as one at a time.
+                for (std::size_t b = 4; b + 4 <= blocks.size(); b += 5) {
+                    double lo, hi;
+                    blocks.distance_range(b, filter, lo, hi);
+                    if (!std::isfinite(lo) || !std::isfinite(hi)) continue;
+                    for (double edge : {lo, -hi}) {
+                        FacingFilter f = filter;
+                        f.bound = std::nextafter(float(edge), INFINITY);
+                        if (!(f.bound > 0.0f)) continue;
+                        std::uint8_t got[4];
+                        blocks.classify(b, b + 4, f, got);
+                        ASSERT_EQ(got[0], blocks.classify(b, f));
+                        EXPECT_EQ(got[0], FaceFacing::kUnknown);
+                        ++total;
+                    }
+                }
+            }
+        }
+    EXPECT_GT(decided, 0u);
+    EXPECT_LT(decided, total);
+}
+
 // The exhaustive finder with blocks (from its second view) against the one without, along a
 // path: the same silhouette edges in the same order, every view, and fewer edges read.
 TEST(Finder, ExhaustiveBlocksSameResult) {
@@ -394,6 +446,7 @@ TEST(Finder, ExhaustiveBlocksSameResult) {
         path.push_back(path.front());
         FinderOptions plain_opt;
         plain_opt.blocks = false;
+        plain_opt.edge_windows = false;
         SilhouetteFinder with(m->topology()), without(m->topology(), plain_opt);
         Features a, b;
         std::size_t read = 0, edges = 0;
@@ -419,6 +472,7 @@ TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
     FinderOptions threaded, plain;
     threaded.threads = 3;
     plain.blocks = false;
+    plain.edge_windows = false;
     SilhouetteFinder with(t, threaded), without(t, plain);
     Features a, b;
     std::size_t read = 0;
@@ -431,6 +485,133 @@ TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
         if (i > 0) read += a.stats.planes_read;
     }
     EXPECT_LT(read, (path.size() - 1) * t.face_count());
+}
+
+// The gather-free edge layout (BlockEdges) against a plain scan of every edge: candidates are
+// the interior edges whose faces' states differ or include an undecided face (those flagged
+// kCheck), in edge order; from the AVX-512 kernel (where the CPU has it) and the portable loop,
+// whole or split in parts of blocks.
+std::vector<std::uint32_t> plain_candidates(const MeshTopology& t, const std::uint8_t* st) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
+        const auto [f0, f1] = t.edge_face[e];
+        if (f1 == kNoFace) continue;
+        const std::uint8_t a = st[f0], b = st[f1];
+        const bool undecided = a == FaceFacing::kUnknown || b == FaceFacing::kUnknown;
+        if (a != b || undecided) out.push_back(e | (undecided ? BlockEdges::kCheck : 0));
+    }
+    return out;
+}
+
+void expect_block_edges_match(const MeshTopology& t, const BlockEdges& be, const std::uint8_t* st) {
+    const std::vector<std::uint32_t> want = plain_candidates(t, st);
+    const auto none = [](std::uint32_t) { return false; };
+    const std::uint32_t nb = std::uint32_t(be.size());
+    for (bool simd : {true, false}) {
+        SCOPED_TRACE(simd ? "simd" : "portable");
+        std::vector<std::uint32_t> got, parts;
+        be.scan(st, 0, nb, none, got, simd);
+        EXPECT_EQ(got, want);
+        for (std::uint32_t b = 0; b < nb; b += 7) be.scan(st, b, std::min(nb, b + 7), none, parts, simd);
+        EXPECT_EQ(parts, want);
+    }
+}
+
+TEST(Facing, BlockEdgesMatchThePlainScan) {
+    const Model torus(hilbert_ordered(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 192, 96)));
+    const Model sphere = scaled_sphere(96, 48, 1e6, 1e6);
+    const Model sheet(make_sheet(1.0, 0.0, 40));  // borders; coplanar faces (edge-on from +x: undecided)
+    std::size_t escapes = 0, candidates = 0, checked = 0;
+    for (const Model* m : {&torus, &sphere, &sheet, &mesh_model("armadillo"), &mesh_model("fandisk"),
+                           &mesh_model("bunny00"), &mesh_model("knot1"), &mesh_model("elephant")}) {
+        const MeshTopology& t = m->topology();
+        BlockEdges be;
+        ASSERT_TRUE(be.build(t));
+        ASSERT_TRUE(be.built_for(t));
+        EXPECT_EQ(be.size(), (t.face_count() + BlockEdges::kFaces - 1) / BlockEdges::kFaces);
+        escapes += be.escapes();
+        std::vector<Camera> cams = cameras_with_grazing(t);
+        const glm::dvec3 c = t.bounds.center();  // axis-aligned orthographic views (coplanar faces edge-on)
+        cams.push_back(Camera::orthographic(c + glm::dvec3(0, 0, 5), c, {0, 1, 0}, 3.0 * t.bounds.half_diagonal(), 256, 256));
+        cams.push_back(Camera::orthographic(c + glm::dvec3(5, 0, 0), c, {0, 1, 0}, 3.0 * t.bounds.half_diagonal(), 256, 256));
+        for (const Camera& cam : cams) {
+            FaceFacing facing;
+            facing.begin_full(t, cam);
+            expect_block_edges_match(t, be, facing.states());
+            for (std::uint32_t e : plain_candidates(t, facing.states())) ++candidates, checked += (e & BlockEdges::kCheck) != 0;
+        }
+        // Synthetic states with many undecided faces (each state at random; the padding as in a view).
+        std::mt19937 rng(5);
+        std::vector<std::uint8_t> st(t.face_count() + FaceFacing::kPad, FaceFacing::kSentinel);
+        for (int round = 0; round < 3; ++round) {
+            for (std::size_t f = 0; f < t.face_count(); ++f) {
+                const std::uint32_t r = rng() % 100;
+                st[f] = r < 10 ? FaceFacing::kUnknown : round == 0 ? (r < 55 ? FaceFacing::kFront : FaceFacing::kBack)
+                                                                   : std::uint8_t(r % 2 ? FaceFacing::kFront : FaceFacing::kBack);
+                if (round == 2 && r >= 10) st[f] = FaceFacing::kFront;  // uniform but for the undecided
+            }
+            expect_block_edges_match(t, be, st.data());
+        }
+    }
+    EXPECT_GT(escapes, 0u);
+    EXPECT_GT(candidates, 0u);
+    EXPECT_GT(checked, 0u);
+}
+
+// The exhaustive finder with the layout (from its second view) against the plain scan where
+// faces are left to the exact predicate: extreme scales and offsets, a grazing eye, a sheet seen
+// edge-on (orthographic, every face undecided by the filter): the same silhouette edges in the
+// same order, the same states and the same exact tests.
+TEST(Finder, ExhaustiveWindowsSameResultWithUndecidedFaces) {
+    std::vector<Model> models;
+    for (double scale : {1e-6, 1e6})
+        for (double offset : {0.0, 1e6}) models.push_back(scaled_sphere(96, 48, scale, offset));
+    models.emplace_back(make_sheet(1.0, 0.0, 40));
+    std::size_t exact = 0;
+    for (const Model& m : models) {
+        const MeshTopology& t = m.topology();
+        std::vector<Camera> cams = cameras_with_grazing(t);
+        const glm::dvec3 c = t.bounds.center();
+        cams.push_back(Camera::orthographic(c + glm::dvec3(5, 0, 0), c, {0, 1, 0}, 3.0 * t.bounds.half_diagonal(), 256, 256));
+        FinderOptions plain;
+        plain.blocks = false;
+        plain.edge_windows = false;
+        SilhouetteFinder with(t), without(t, plain);
+        Features a, b;
+        for (int round = 0; round < 2; ++round)  // (the layout is used from the second view)
+            for (const Camera& cam : cams) {
+                with.find(cam, {}, a);
+                without.find(cam, {}, b);
+                EXPECT_EQ(a.silhouette_edges, b.silhouette_edges);
+                EXPECT_TRUE(std::equal(a.face_front.states(), a.face_front.states() + t.face_count(), b.face_front.states()));
+                EXPECT_EQ(a.stats.exact_facing_tests, b.stats.exact_facing_tests);
+                expect_same(a, b);
+                exact += a.stats.exact_facing_tests;
+            }
+    }
+    EXPECT_GT(exact, 0u);
+}
+
+// Skipped blocks give no candidates; a mesh whose edges are not numbered by their first corner
+// gets no layout.
+TEST(Facing, BlockEdgesSkipAndRefuse) {
+    const MeshTopology& t = mesh_model("bunny00").topology();
+    BlockEdges be;
+    ASSERT_TRUE(be.build(t));
+    FaceFacing facing;
+    facing.begin_full(t, Camera::framing(t.bounds, 512, 512));
+    std::vector<std::uint32_t> odd, all;
+    be.scan(facing.states(), 0, std::uint32_t(be.size()), [](std::uint32_t b) { return b % 2 == 0; }, odd);
+    for (std::uint32_t e : plain_candidates(t, facing.states()))
+        if ((t.edge_face[e & ~BlockEdges::kCheck][0] / BlockEdges::kFaces) % 2 == 1) all.push_back(e);
+    EXPECT_EQ(odd, all);
+    EXPECT_FALSE(odd.empty());
+    MeshTopology swapped = t;
+    std::swap(swapped.edge_face[10], swapped.edge_face[200]);
+    BlockEdges bad;
+    EXPECT_FALSE(bad.build(swapped));
+    EXPECT_FALSE(bad.built_for(swapped));
+    EXPECT_EQ(bad.size(), 0u);
 }
 
 // Band rebuilds with blocks find the same band as without (coherence from an exhaustive view).

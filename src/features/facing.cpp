@@ -46,8 +46,8 @@ void FaceFacing::bind(const MeshTopology& mesh, const Camera& camera) {
 void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
     const std::size_t nf = mesh.face_count();
     if (full_ || state_.size() != nf + kPad || mesh_ != &mesh) {
-        state_.assign(nf + kPad, kUnknown);
-        state_[nf] = kSentinel;
+        state_.assign(nf + kPad, kSentinel);
+        std::fill(state_.begin(), state_.begin() + std::ptrdiff_t(nf), kUnknown);
     } else {
         for (std::uint32_t f : touched_) state_[f] = kUnknown;
     }
@@ -403,6 +403,321 @@ std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
     return FaceFacing::kUnknown;                          // (also NaN)
 }
 
+bool BlockEdges::build(const MeshTopology& mesh) {
+    mesh_ = &mesh;
+    nf_ = mesh.face_count();
+    const std::size_t ne = mesh.edge_count(), nb = (nf_ + kFaces - 1) / kFaces;
+    auto fail = [&] {
+        index_.clear(), owned_.clear(), edge_begin_.clear(), base2_.clear(), esc_begin_.clear();
+        esc_self_.clear(), esc_far_.clear(), esc_corner_.clear();
+        return false;
+    };
+    if (ne >= kCheck || nf_ >= kCheck) return fail();
+    index_.resize(nb * 3 * kFaces);
+    for (std::size_t b = 0; b < nb; ++b)
+        for (std::uint32_t k = 0; k < 3; ++k)
+            for (std::uint32_t j = 0; j < kFaces; ++j) index_[(3 * b + k) * kFaces + j] = std::uint8_t(j);
+    owned_.assign(3 * nb, 0);
+    edge_begin_.assign(nb + 1, std::uint32_t(ne));
+    base2_.assign(nb, 0);
+    esc_begin_.assign(nb + 1, 0);
+    esc_self_.clear(), esc_far_.clear(), esc_corner_.clear();
+    struct Far {
+        std::uint32_t face, corner;  // neighbour, k * 64 + j
+    };
+    std::vector<Far> far;
+    std::size_t e = 0;
+    std::uint64_t last_corner = 0;
+    for (std::size_t b = 0; b < nb; ++b) {
+        const std::uint32_t base = std::uint32_t(b * kFaces), end = std::uint32_t(std::min(nf_, b * kFaces + kFaces));
+        edge_begin_[b] = std::uint32_t(e);
+        esc_begin_[b] = std::uint32_t(esc_self_.size());
+        far.clear();
+        for (; e < ne; ++e) {
+            const auto [f, n] = mesh.edge_face[e];
+            if (f >= end) break;
+            if (f < base) return fail();
+            // The corner that numbers e: the first corner of f on it; edge order must be corner order.
+            const auto& fe = mesh.face_edges[f];
+            const std::uint32_t k = fe[0] == e ? 0 : fe[1] == e ? 1 : fe[2] == e ? 2 : 3;
+            const std::uint64_t corner = 3 * std::uint64_t(f) + k;
+            if (k == 3 || (e > 0 && corner <= last_corner)) return fail();
+            last_corner = corner;
+            const std::uint32_t j = f - base, bit = 3 * j + k;
+            owned_[3 * b + bit / 64] |= std::uint64_t(1) << (bit % 64);
+            if (n == kNoFace) continue;  // borders: never a silhouette
+            if (n > f && n < base + 128) index_[(3 * b + k) * kFaces + j] = std::uint8_t(n - base);
+            else far.push_back({n, k * kFaces + j});
+        }
+        // The second window: the 128 faces from a far neighbour that hold the most of them.
+        std::sort(far.begin(), far.end(), [](const Far& a, const Far& c) { return a.face < c.face; });
+        std::size_t best = 0, at = 0;
+        for (std::size_t i = 0, i1 = 0; i < far.size(); ++i) {
+            while (i1 < far.size() && far[i1].face < std::uint64_t(far[i].face) + 128) ++i1;
+            if (i1 - i > best) best = i1 - i, at = i;
+        }
+        const std::uint32_t b2 = far.empty() ? base : std::min(far[at].face, std::uint32_t(nf_ - 1));
+        base2_[b] = b2;
+        std::sort(far.begin(), far.end(), [](const Far& a, const Far& c) { return a.corner < c.corner; });
+        for (const Far& x : far) {
+            const std::uint32_t j = x.corner % kFaces, k = x.corner / kFaces;
+            if (x.face > base + j && x.face >= b2 && x.face < std::uint64_t(b2) + 128) {
+                index_[(3 * b + k) * kFaces + j] = std::uint8_t(128 + (x.face - b2));
+            } else {  // (also a neighbour that is the face itself: only its exact test differs)
+                esc_self_.push_back(base + j);
+                esc_far_.push_back(x.face);
+                esc_corner_.push_back(std::uint8_t(x.corner));
+            }
+        }
+    }
+    if (e != ne) return fail();
+    esc_begin_[nb] = std::uint32_t(esc_self_.size());
+    esc_self_.shrink_to_fit(), esc_far_.shrink_to_fit(), esc_corner_.shrink_to_fit();
+    return true;
+}
+
+std::size_t BlockEdges::bytes() const {
+    return index_.capacity() + esc_corner_.capacity() + owned_.capacity() * 8 +
+           (edge_begin_.capacity() + base2_.capacity() + esc_begin_.capacity() + esc_self_.capacity() +
+            esc_far_.capacity()) * 4;
+}
+
+bool BlockEdges::has_simd() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                            __builtin_cpu_supports("avx512vbmi") && __builtin_cpu_supports("bmi2");
+    return has;
+#else
+    return false;
+#endif
+}
+
+namespace {
+
+// Escape i is a candidate where its face is decided and differs from its neighbour (an undecided
+// face makes all its edges candidates anyway, BlockEdges::scan_block).
+inline bool escape_candidate(std::uint8_t a, std::uint8_t c) { return a != c && !(a & FaceFacing::kUnknown); }
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define INKLINE_AVX512 __attribute__((target("avx512f,avx512bw,avx512vbmi,bmi2")))
+// Sixteen escapes a step: both states gathered (as 32-bit words, masked to their low byte).
+INKLINE_AVX512 void escape_bits_avx512(const std::uint8_t* st, const std::uint32_t* self, const std::uint32_t* far,
+                                       std::size_t n, std::uint16_t* bits) {
+    const int* s = reinterpret_cast<const int*>(st);
+    const __m512i low = _mm512_set1_epi32(0xff), unknown = _mm512_set1_epi32(FaceFacing::kUnknown);
+    for (std::size_t i = 0; i < n; i += 16) {
+        const __mmask16 live = n - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - i)) - 1);
+        const __m512i fa = _mm512_maskz_loadu_epi32(live, self + i), fc = _mm512_maskz_loadu_epi32(live, far + i);
+        const __m512i a = _mm512_and_si512(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, fa, s, 1), low);
+        const __m512i c = _mm512_and_si512(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, fc, s, 1), low);
+        bits[i / 16] = std::uint16_t(_mm512_mask_cmpneq_epi32_mask(live, a, c) & ~_mm512_test_epi32_mask(a, unknown));
+    }
+}
+
+// Corner masks (corner-major, bit j of word k) of one block: neighbour's state differs from the
+// face's, both decided (sure), or the neighbour undecided (check).
+// Returns false (all masks zero, the index not read) where both windows hold one decided state.
+INKLINE_AVX512 bool block_masks_avx512(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
+                                       const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
+                                       std::uint64_t& undecided) {
+    const __m512i one = _mm512_set1_epi8(FaceFacing::kUnknown);
+    const __m512i t0 = _mm512_loadu_si512(st + base), t1 = _mm512_loadu_si512(st + base + 64);
+    const __m512i u0 = _mm512_loadu_si512(st + base2), u1 = _mm512_loadu_si512(st + base2 + 64);
+    undecided = _mm512_test_epi8_mask(t0, one);
+    const __m512i s = _mm512_set1_epi8(char(st[base]));
+    if (!(st[base] & FaceFacing::kUnknown) &&
+        (_mm512_cmpeq_epi8_mask(t0, s) & _mm512_cmpeq_epi8_mask(t1, s) & _mm512_cmpeq_epi8_mask(u0, s) &
+         _mm512_cmpeq_epi8_mask(u1, s)) == ~std::uint64_t(0)) {
+        sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
+        return false;
+    }
+    for (int k = 0; k < 3; ++k) {
+        const __m512i ix = _mm512_loadu_si512(index + 64 * k);
+        const __m512i v = _mm512_mask_blend_epi8(_mm512_movepi8_mask(ix), _mm512_permutex2var_epi8(t0, ix, t1),
+                                                 _mm512_permutex2var_epi8(u0, ix, u1));
+        const std::uint64_t differ = _mm512_cmpneq_epi8_mask(t0, v), vu = _mm512_test_epi8_mask(v, one);
+        sure[k] = differ & ~vu & ~undecided;
+        check[k] = differ & vu & ~undecided;
+    }
+    return true;
+}
+#endif
+
+bool block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2, const std::uint8_t* index,
+                        std::uint64_t sure[3], std::uint64_t check[3], std::uint64_t& undecided) {
+    undecided = 0;
+    bool uniform = !(st[base] & FaceFacing::kUnknown);
+    for (std::uint32_t j = 0; j < 128; ++j) uniform = uniform && st[base + j] == st[base] && st[base2 + j] == st[base];
+    if (uniform) {
+        sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
+        return false;
+    }
+    for (std::uint32_t j = 0; j < 64; ++j) undecided |= std::uint64_t(st[base + j] & FaceFacing::kUnknown) << j;
+    for (int k = 0; k < 3; ++k) {
+        sure[k] = check[k] = 0;
+        for (std::uint32_t j = 0; j < 64; ++j) {
+            const std::uint8_t i = index[64 * k + j], a = st[base + j];
+            const std::uint8_t v = i < 128 ? st[base + i] : st[base2 + (i - 128)];
+            const std::uint64_t bit = std::uint64_t(a != v && !(a & FaceFacing::kUnknown)) << j;
+            (v & FaceFacing::kUnknown ? check : sure)[k] |= bit;
+        }
+    }
+    return true;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The corner-major masks (bit j of word k) interleaved to corner order (bit 3 j + k of three
+// words), then compressed to the owned corners (pext): bit r of word w is the edge numbered
+// r-th in that word's corners.
+INKLINE_AVX512 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
+    constexpr std::uint64_t k0 = 0x9249249249249249ull, k1 = k0 << 1, k2 = k0 << 2;  // bits = 0, 1, 2 mod 3
+    out[0] = _pdep_u64(m[0], k0) | _pdep_u64(m[1], k1) | _pdep_u64(m[2], k2);
+    out[1] = _pdep_u64(m[0] >> 22, k2) | _pdep_u64(m[1] >> 21, k0) | _pdep_u64(m[2] >> 21, k1);  // bit 64: j 21, k 1
+    out[2] = _pdep_u64(m[0] >> 43, k1) | _pdep_u64(m[1] >> 43, k2) | _pdep_u64(m[2] >> 42, k0);  // bit 128: j 42, k 2
+}
+static_assert(BlockEdges::kCheck == 1u << 31);
+INKLINE_AVX512 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
+                              std::uint32_t e0, std::vector<std::uint32_t>& out) {
+    std::uint64_t all[3], chk[3];
+    const std::uint64_t any[3] = {sure[0] | check[0], sure[1] | check[1], sure[2] | check[2]};
+    corner_order(any, all);
+    corner_order(check, chk);
+    std::uint32_t buf[3 * 64], n = 0;
+    for (int w = 0; w < 3; ++w) {
+        for (std::uint64_t r = _pext_u64(all[w], owned[w]), c = _pext_u64(chk[w], owned[w]); r; r &= r - 1) {
+            const unsigned i = unsigned(__builtin_ctzll(r));
+            buf[n++] = (e0 + i) | (std::uint32_t((c >> i) & 1) << 31);  // (BlockEdges::kCheck)
+        }
+        e0 += std::uint32_t(__builtin_popcountll(owned[w]));
+    }
+    out.insert(out.end(), buf, buf + n);
+}
+#endif
+
+}  // namespace
+
+void BlockEdges::escape_bits(const std::uint8_t* st, std::uint32_t b0, std::uint32_t b1, std::vector<std::uint16_t>& bits,
+                             bool simd) const {
+    const std::size_t i0 = esc_begin_[b0], n = esc_begin_[b1] - i0;
+    bits.assign((n + 15) / 16, 0);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simd && has_simd()) return escape_bits_avx512(st, esc_self_.data() + i0, esc_far_.data() + i0, n, bits.data());
+#endif
+    for (std::size_t i = 0; i < n; ++i)
+        bits[i / 16] |= std::uint16_t(escape_candidate(st[esc_self_[i0 + i]], st[esc_far_[i0 + i]]) << (i % 16));
+}
+
+bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
+                            std::vector<std::uint32_t>& out, bool simd) const {
+    const std::uint32_t base = b * kFaces;
+    const std::uint8_t* index = index_.data() + std::size_t(b) * 3 * kFaces;
+    std::uint64_t sure[3], check[3], undecided;
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (b + 8 < base2_.size()) {  // the second window is elsewhere in the states: fetch it ahead
+        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8]), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 64), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 127), _MM_HINT_T0);
+        for (int i = 0; i < 3; ++i) _mm_prefetch(reinterpret_cast<const char*>(index + 8 * 3 * kFaces + 64 * i), _MM_HINT_T0);
+    }
+    const bool read = simd && has_simd() ? block_masks_avx512(st, base, base2_[b], index, sure, check, undecided)
+                                         : block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+#else
+    const bool read = block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+#endif
+    // Escapes: the rare candidates among them set their corner's bit.
+    for (std::uint32_t i = esc_begin_[b]; i < esc_begin_[b + 1]; ++i) {
+        const std::uint32_t r = i - esc0;
+        if (!((esc[r / 16] >> (r % 16)) & 1)) continue;
+        const std::uint32_t c = esc_corner_[i], k = c / kFaces, j = c % kFaces;
+        ((st[esc_far_[i]] & FaceFacing::kUnknown) ? check : sure)[k] |= std::uint64_t(1) << j;
+    }
+    // Undecided faces (past the last face: the sentinel, not a face): every interior edge they
+    // number is checked.
+    const std::uint32_t live = std::uint32_t(std::min<std::size_t>(kFaces, nf_ - base));
+    if (live < 64) undecided &= (std::uint64_t(1) << live) - 1;
+    for (std::uint64_t u = undecided; u; u &= u - 1) {
+        const std::uint32_t j = std::uint32_t(__builtin_ctzll(u));
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const std::uint32_t bit = 3 * j + k;
+            if (!((owned_[3 * b + bit / 64] >> (bit % 64)) & 1)) continue;
+            if (mesh_->edge_face[mesh_->face_edges[base + j][k]][1] == kNoFace) continue;
+            check[k] |= std::uint64_t(1) << j;
+        }
+    }
+    if (!((sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]))) return read;
+    // Corner order (bit 3 j + k), then the owned corners' ranks: edge ids.
+    const std::uint64_t* owned = owned_.data() + 3 * std::size_t(b);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simd && has_simd()) {
+        emit_bmi2(sure, check, owned, edge_begin_[b], out);
+        return read;
+    }
+#endif
+    const std::uint32_t before[3] = {0, std::uint32_t(__builtin_popcountll(owned[0])),
+                                     std::uint32_t(__builtin_popcountll(owned[0]) + __builtin_popcountll(owned[1]))};
+    for (std::uint64_t any = sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]; any; any &= any - 1) {
+        const std::uint32_t j = std::uint32_t(__builtin_ctzll(any));
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const bool chk = (check[k] >> j) & 1;
+            if (!(((sure[k] >> j) & 1) || chk)) continue;
+            const std::uint32_t bit = 3 * j + k, w = bit / 64;
+            const std::uint64_t below = owned[w] & ((std::uint64_t(1) << (bit % 64)) - 1);
+            out.push_back((edge_begin_[b] + before[w] + std::uint32_t(__builtin_popcountll(below))) | (chk ? kCheck : 0));
+        }
+    }
+    return read;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+namespace {
+// FaceBlocks::classify for four blocks a step (AVX2 doubles): the same products, sums, min and
+// max in the same order (MINPD(c, a) is std::min(a, c) and MAXPD(c, a) std::max(a, c), NaN
+// included), so the same states.
+__attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::size_t n, const FacingFilter& f,
+                                                   std::uint8_t* out) {
+    const __m256d e[4] = {_mm256_set1_pd(f.ex), _mm256_set1_pd(f.ey), _mm256_set1_pd(f.ez), _mm256_set1_pd(-double(f.w))};
+    const __m256d sign = _mm256_set1_pd(-0.0), scale = _mm256_set1_pd(0x1p-20);
+    const __m256d bound = _mm256_set1_pd(double(f.bound)), nbound = _mm256_set1_pd(-double(f.bound));
+    for (std::size_t b = 0; b < n; b += 4) {
+        const float* q = bounds + 8 * b;  // lo[4], hi[4] per block
+        __m128 l0 = _mm_loadu_ps(q), l1 = _mm_loadu_ps(q + 8), l2 = _mm_loadu_ps(q + 16), l3 = _mm_loadu_ps(q + 24);
+        __m128 h0 = _mm_loadu_ps(q + 4), h1 = _mm_loadu_ps(q + 12), h2 = _mm_loadu_ps(q + 20), h3 = _mm_loadu_ps(q + 28);
+        _MM_TRANSPOSE4_PS(l0, l1, l2, l3);  // l_i: component i of the four blocks
+        _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
+        const __m128 ls[4] = {l0, l1, l2, l3}, hs[4] = {h0, h1, h2, h3};
+        __m256d lo = _mm256_setzero_pd(), hi = _mm256_setzero_pd(), mag = _mm256_setzero_pd();
+        for (int i = 0; i < 4; ++i) {
+            const __m256d a = _mm256_mul_pd(_mm256_cvtps_pd(ls[i]), e[i]), c = _mm256_mul_pd(_mm256_cvtps_pd(hs[i]), e[i]);
+            lo = _mm256_add_pd(lo, _mm256_min_pd(c, a));
+            hi = _mm256_add_pd(hi, _mm256_max_pd(c, a));
+            mag = _mm256_add_pd(mag, _mm256_max_pd(_mm256_andnot_pd(sign, c), _mm256_andnot_pd(sign, a)));
+        }
+        const __m256d slack = _mm256_mul_pd(mag, scale);
+        const __m256d nan = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(lo, lo, _CMP_UNORD_Q), _mm256_cmp_pd(hi, hi, _CMP_UNORD_Q)),
+                                         _mm256_cmp_pd(slack, slack, _CMP_UNORD_Q));
+        const unsigned odd = unsigned(_mm256_movemask_pd(nan));
+        const unsigned front = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(lo, slack), bound, _CMP_GT_OQ))) & ~odd;
+        const unsigned back = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_add_pd(hi, slack), nbound, _CMP_LT_OQ))) & ~odd;
+        for (std::size_t i = 0; i < 4 && b + i < n; ++i)
+            out[b + i] = (front >> i) & 1 ? FaceFacing::kFront : (back >> i) & 1 ? FaceFacing::kBack : FaceFacing::kUnknown;
+    }
+}
+}  // namespace
+#endif
+
+void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const {
+    std::size_t b = b0;
+#if defined(__x86_64__) && defined(__GNUC__)
+    static_assert(sizeof(Bounds) == 32);
+    if (cpu_has_avx2()) {
+        const std::size_t n = (b1 - b0) & ~std::size_t(3);
+        classify_avx2(bounds_[b0].lo, n, f, out);
+        b += n;
+    }
+#endif
+    for (; b < b1; ++b) out[b - b0] = classify(b, f);
+}
+
 void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
                  const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                  std::vector<std::uint32_t>& check) {
@@ -442,9 +757,9 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int 
             return hi - lo;
         }
         std::size_t read = 0, open = SIZE_MAX;
+        blocks->classify(lo / kB, (hi + kB - 1) / kB, filter_, block_state_.data() + lo / kB);
         for (std::size_t b = lo / kB; b * kB < hi; ++b) {
-            const std::uint8_t s = blocks->classify(b, filter_);
-            block_state_[b] = s;
+            const std::uint8_t s = block_state_[b];
             const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
             if (s == kUnknown) {
                 if (open == SIZE_MAX) open = f0;

@@ -41,7 +41,8 @@ class FaceBlocks {
 public:
     static constexpr std::uint32_t kFaces = 64;
     void build(const MeshTopology& mesh);  // the plane ranges
-    void build_edges();                    // the edge ranges (after build; tried once)
+    void build_edges();                    // the edge ranges (after build; tried once; the exhaustive
+                                           // finder builds them only where it does not use BlockEdges)
     bool edges_tried() const { return edges_tried_; }
     bool built_for(const MeshTopology& mesh) const { return mesh_ == &mesh && nf_ == mesh.face_count(); }
     std::size_t size() const { return bounds_.size(); }
@@ -52,6 +53,8 @@ public:
     void distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const;
     // kFront / kBack where the filter gives that state for every face of block b, else kUnknown.
     std::uint8_t classify(std::size_t b, const FacingFilter& f) const;
+    // classify(b, f) for blocks [b0, b1) into out[b - b0] (the same operations, four blocks a step).
+    void classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const;
     // Edges by block: [edge_begin(b), edge_begin(b + 1)) are the edges whose first face lies in
     // block b (edges are numbered in the order of their first face). has_edges() is false before
     // build_edges() or when the mesh numbers its edges otherwise (then no edge range is skipped).
@@ -78,6 +81,69 @@ private:
     bool edges_tried_ = false;
     std::vector<Bounds> bounds_;
     std::vector<std::uint32_t> edge_begin_, nbr_begin_, nbr_;
+};
+
+// The edges of each block of FaceBlocks::kFaces faces, laid out for a scan of a full view's
+// states without gathers (the exhaustive finder's edge scan). Each edge is checked from the
+// corner that numbers it (edges are numbered in the order of their first corner: topology.cpp),
+// so the candidates come out in edge order. Per block (base = its first face): a byte per
+// corner (corner-major, 192 bytes) indexes the state of the corner's neighbour face in two
+// windows of 128 faces, [base, base + 128) (0..127) and [base2, base2 + 128) (128..255, base2
+// chosen per block to hold most of the other neighbours); a corner that does not number its
+// edge, or whose edge is a border, indexes its own face (never a candidate). The neighbours in
+// neither window (about 4 % of the edges on armadillo@2) are listed as escapes (face,
+// neighbour, corner). A bit per corner says which corners number an edge, so a candidate's
+// edge id is the block's first edge plus the owned corners before it. About 3.5 bytes per face
+// (192 + 24 + 12 bytes per block of 64 faces, 9 bytes per escape).
+class BlockEdges {
+public:
+    static constexpr std::uint32_t kFaces = FaceBlocks::kFaces;
+    static constexpr std::uint32_t kCheck = 0x80000000u;  // candidate flag: a face is undecided
+    // False (and empty) where the mesh numbers its edges otherwise or has 2^31 edges or more.
+    bool build(const MeshTopology& mesh);
+    bool built_for(const MeshTopology& mesh) const { return mesh_ == &mesh && nf_ == mesh.face_count() && !base2_.empty(); }
+    std::size_t size() const { return base2_.size(); }  // blocks
+    std::size_t escapes() const { return esc_self_.size(); }
+    std::uint32_t edge_begin(std::size_t b) const { return edge_begin_[b]; }  // edges numbered in block b: [b, b + 1)
+    std::size_t bytes() const;
+    // Appends the candidate edges of blocks [b0, b1) in edge order: edges whose two faces are
+    // decided and differ, and (flagged kCheck) edges with an undecided face, which the caller
+    // decides exactly: the same edges as a scan of every edge for "states differ or the first
+    // face is undecided", borders left out. `states` are FaceFacing::states() of a full view
+    // (padded by FaceFacing::kPad). Blocks for which skip(b) holds are not read (the caller's
+    // proof that none of their edges is a candidate), nor the index of blocks whose two windows
+    // hold one decided state. `simd`: the AVX-512 kernel where the CPU has it (else, and with
+    // false, the portable loop; the same result). Returns the number of edges of the blocks
+    // whose index was read.
+    template <class Skip>
+    std::size_t scan(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, Skip skip,
+                     std::vector<std::uint32_t>& out, bool simd = true) const {
+        std::vector<std::uint16_t> esc;
+        escape_bits(states, b0, b1, esc, simd);
+        std::size_t read = 0;
+        for (std::uint32_t b = b0; b < b1; ++b)
+            if (!skip(b) && scan_block(states, b, esc.data(), esc_begin_[b0], out, simd))
+                read += edge_begin_[b + 1] - edge_begin_[b];
+        return read;
+    }
+    // Whether this CPU runs the AVX-512 (VBMI) kernel.
+    static bool has_simd();
+
+private:
+    // Candidate bits of the escapes of blocks [b0, b1) (16 a word, from the first escape of b0).
+    void escape_bits(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, std::vector<std::uint16_t>& bits,
+                     bool simd) const;
+    bool scan_block(const std::uint8_t* states, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
+                    std::vector<std::uint32_t>& out, bool simd) const;
+    const MeshTopology* mesh_ = nullptr;
+    std::size_t nf_ = 0;
+    std::vector<std::uint8_t> index_;             // 192 per block: corner k of face j at k * 64 + j
+    std::vector<std::uint64_t> owned_;            // 3 per block: bit 3 j + k, the corner numbers its edge
+    std::vector<std::uint32_t> edge_begin_;       // first edge of each block (+ the end)
+    std::vector<std::uint32_t> base2_;            // second window of each block
+    std::vector<std::uint32_t> esc_begin_;        // escapes of each block (+ the end)
+    std::vector<std::uint32_t> esc_self_, esc_far_;  // the corner's face and its neighbour
+    std::vector<std::uint8_t> esc_corner_;        // k * 64 + j
 };
 
 // Appends the faces whose float distance to the eye (FacingFilter::signed_distance) is not above
@@ -132,9 +198,10 @@ public:
     std::size_t faces_decided() const { return full_ ? size() : touched_.size(); }
     // Raw states (kBack, kUnknown, kFront) of a full view, for scans that resolve kUnknown
     // themselves; index face_count() holds kSentinel (so a border's kNoFace, clamped, differs),
-    // followed by 3 readable bytes (so a 4-byte gather at any index <= face_count() stays inside).
+    // and so do the kPad - 1 bytes after it (so a 4-byte gather at any index <= face_count(), or
+    // a 128-byte window from any face, stays inside: BlockEdges).
     static constexpr std::uint8_t kSentinel = 3;
-    static constexpr std::size_t kPad = 4;
+    static constexpr std::size_t kPad = 128;
     const std::uint8_t* states() const { return state_.data(); }
     std::size_t exact_tests() const { return exact_; }
     // Every face decided, as 0/1 (for tests and tools; O(faces)).

@@ -331,10 +331,18 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     // With the facing decided by blocks, the edges of a block whose faces and neighbour blocks
     // all have one state (FaceBlocks::edges_uniform) are not read: none is a candidate. The
     // other edges are scanned in runs, in edge order (the same candidates).
+    // From the second view, where the CPU has the kernel: the gather-free layout (BlockEdges),
+    // block by block (it skips the blocks whose windows hold one state itself; skipping by the
+    // block states as below measured no faster); its candidates of decided faces are silhouettes.
+    if (opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
+        block_edges_tried_ = true;
+        block_edges_.build(mesh);
+    }
+    const BlockEdges* be = opt_.edge_windows && full_views_ > 1 && block_edges_.built_for(mesh) ? &block_edges_ : nullptr;
     const std::vector<std::uint8_t>& cls = out.face_front.block_states();
-    if (!cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
-    const FaceBlocks* fb = !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
-    const std::uint32_t units = fb ? std::uint32_t(fb->size()) : ne;  // edges, or blocks of faces
+    if (!be && !cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
+    const FaceBlocks* fb = !be && !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
+    const std::uint32_t units = be ? std::uint32_t(be->size()) : fb ? std::uint32_t(fb->size()) : ne;  // edges, or blocks of faces
     const std::uint32_t parts = ne < 65536 ? 1u : std::uint32_t(std::clamp(opt_.threads, 1, 64));
     auto& lists = out.thread_candidates;
     if (lists.size() < parts) lists.resize(parts);
@@ -342,6 +350,10 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     auto collect = [&](std::uint32_t lo, std::uint32_t hi, std::uint32_t part) {
         std::vector<std::uint32_t>& cand = lists[part];
         cand.clear();
+        if (be) {
+            read[part] = be->scan(st, lo, hi, [](std::uint32_t) { return false; }, cand);
+            return;
+        }
         if (!fb) return collect_range(lo, hi, cand);
         // lo, hi are block numbers here
         std::uint32_t open = UINT32_MAX;
@@ -363,16 +375,22 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     collect(0, std::min(units, step), 0);
     for (auto& t : pool) t.join();
     for (std::uint32_t i = 0; i < parts; ++i)
-        for (std::uint32_t e : lists[i])
-            if (is_silhouette(mesh, out, e)) {
-                out.edge_kind[e] = kSil;
-                out.silhouette_edges.push_back(e);
+        for (std::uint32_t e : lists[i]) {
+            if (be) {  // unflagged: decided faces that differ
+                const bool check = e & BlockEdges::kCheck;
+                e &= ~BlockEdges::kCheck;
+                if (check && !is_silhouette(mesh, out, e)) continue;
+            } else if (!is_silhouette(mesh, out, e)) {
+                continue;
             }
+            out.edge_kind[e] = kSil;
+            out.silhouette_edges.push_back(e);
+        }
     classify_static(mesh, out, [](std::uint32_t) {});  // crease silhouettes were scanned already
     out.stats.fraction = 1.0;
     out.stats.edges_examined = ne;
     out.stats.edges_read = ne;
-    if (fb) {
+    if (fb || be) {
         out.stats.edges_read = 0;
         for (std::size_t r : read) out.stats.edges_read += r;
     }

@@ -133,6 +133,9 @@ struct FinderOptions {
     bool blocks = true;           // exhaustive scan (from its second view) and band rebuilds: decide
                                   // blocks of faces as a whole where their plane ranges allow (FaceBlocks;
                                   // the same result)
+    bool edge_windows = true;     // exhaustive scan (from its second view), where the CPU runs the AVX-512
+                                  // kernel: the edge scan over the gather-free layout (BlockEdges; the
+                                  // same result)
 };
 
 struct FinderStats {
@@ -220,6 +223,8 @@ private:
     const MeshTopology* mesh_;
     FinderOptions opt_;
     FaceBlocks blocks_;
+    BlockEdges block_edges_;  // built on the second exhaustive view (if opt_.edge_windows)
+    bool block_edges_tried_ = false;
     std::size_t full_views_ = 0;
     std::size_t planes_read_ = 0;  // this view  // exhaustive scans run so far (blocks are built for the second)
     std::mt19937_64 rng_;
