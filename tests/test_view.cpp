@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -274,13 +275,13 @@ void expect_screenshot_is_render(const std::string& model, const std::string& fl
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingFandisk) { expect_screenshot_is_render("fandisk.off", ""); }
 
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
-    // Randomized finder with coherence along the orbit; render runs the exhaustive finder at the
-    // last camera, so this also checks the window's finder misses little.
+    // Randomized finder with coherence along the orbit from a random first view; render runs the
+    // exhaustive finder at the last camera, so this also checks the window's finder misses little.
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png";
     const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
-                                    "--finder=randomized --screenshot=" + shot.string(), d);
+                                    "--finder=randomized --first-view=random --screenshot=" + shot.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
     const Result r = run("", "render " + mesh("bunny00.off") + " " + camera_line(v.out) + " -o " + drawn.string() + " --quiet", d);
     ASSERT_EQ(r.code, 0) << r.err;
@@ -291,6 +292,52 @@ TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
                 recall, precision);
     EXPECT_GE(recall, 0.9);
     EXPECT_GE(precision, 0.9);
+}
+
+TEST(ViewWindow, RandomizedFinderFollowsAnExhaustiveFirstViewExactly) {
+    // The window's default for the randomized finder: an exhaustive first view, then followed
+    // exactly along the orbit, so the export at the last frame draws what the printed render
+    // command (the exhaustive finder) writes: the same silhouette and the same line length at each
+    // kind and QI, with as many ray tests (a finder that missed edges would leave clusters
+    // inconsistent, each decided by a ray test per piece).
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    const fs::path mine = d / "view.json", theirs = d / "render.json";
+    const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
+                                    "--finder=randomized --fraction=0.002 --hidden --export=" + mine.string(), d);
+    ASSERT_EQ(v.code, 0) << v.err;
+    const std::string said = "; the same with: inkline ";
+    const auto at = v.out.find(said);
+    ASSERT_NE(at, std::string::npos) << v.out;
+    std::string command = v.out.substr(at + said.size(), v.out.find('\n', at) - at - said.size());
+    EXPECT_EQ(command.find("--finder=randomized"), std::string::npos) << command;
+    command = command.substr(0, command.rfind(" -o ")) + " -o " + theirs.string() + " --quiet";
+    const Result r = run("", command, d);
+    ASSERT_EQ(r.code, 0) << command << "\n" << r.err;
+    const auto a = nlohmann::json::parse(slurp(mine)), b = nlohmann::json::parse(slurp(theirs));
+    EXPECT_EQ(a["stats"]["finder"], "randomized");
+    EXPECT_EQ(a["stats"]["silhouette_edges"], b["stats"]["silhouette_edges"]);
+    EXPECT_EQ(a["stats"]["ray_tests"], b["stats"]["ray_tests"]);  // (hidden lines: the occluded clusters')
+    // (The finders list their edges in different orders, so chains start and run differently:
+    // compared as line length per kind and QI.)
+    auto lengths = [](const nlohmann::json& j) {
+        std::map<std::pair<std::string, int>, double> out;
+        for (const auto& p : j["polylines"]) {
+            double len = 0.0;
+            for (std::size_t k = 1; k < p["points"].size(); ++k)
+                len += std::hypot(double(p["points"][k][0]) - double(p["points"][k - 1][0]),
+                                  double(p["points"][k][1]) - double(p["points"][k - 1][1]));
+            out[{p["kind"].get<std::string>(), p["qi"].get<int>()}] += len;
+        }
+        return out;
+    };
+    const auto la = lengths(a), lb = lengths(b);
+    ASSERT_EQ(la.size(), lb.size());
+    ASSERT_GE(la.size(), 2u);  // visible and hidden lines
+    for (const auto& [key, len] : lb) {
+        ASSERT_TRUE(la.count(key)) << key.first << " qi " << key.second;
+        EXPECT_NEAR(la.at(key), len, 1e-9 * len) << key.first << " qi " << key.second;
+    }
 }
 
 TEST(ViewWindow, StyledScreenshotIsWhatRenderWritesWithTheStyle) {
@@ -448,6 +495,9 @@ TEST(ViewWindow, UsageErrors) {
     const fs::path d = scratch();
     EXPECT_EQ(run("", "view " + mesh("fandisk.off") + " --orbit", d).code, 2);  // --orbit needs --frames
     EXPECT_EQ(run("", "view", d).code, 2);
+    const Result first = run("", "view " + mesh("fandisk.off") + " --first-view=sideways --frames=1", d);
+    EXPECT_NE(first.code, 0);
+    EXPECT_NE(first.err.find("--first-view"), std::string::npos) << first.err;
     const Result bad = run("", "view " + (d / "missing.off").string() + " --frames=1", d);
     EXPECT_EQ(bad.code, 1);
     EXPECT_NE(bad.err.find("missing.off"), std::string::npos) << bad.err;

@@ -20,6 +20,10 @@ int run_view(int argc, char** argv) {
     std::map<std::string, std::string> camera;
     double crease = 40.0;
     bool frames_given = false;
+    // A window follows one camera path: its randomized finder starts from an exhaustive view by
+    // default (then follows it exactly), since a first view with holes keeps them, and each hole
+    // leaves a cluster inconsistent, decided by a ray test per piece.
+    o.view.finder.first_full = true;
     for (int i = 2; i < argc; ++i) {
         const std::string arg = argv[i];
         if (arg == "--hidden") { o.hidden = true; continue; }
@@ -73,6 +77,10 @@ int run_view(int argc, char** argv) {
             o.view.finder.fraction = parse_number(key, value);
             if (!(o.view.finder.fraction > 0.0 && o.view.finder.fraction <= 1.0))
                 throw Error(key, "expected a share in (0, 1]");
+        } else if (key == "--first-view") {
+            if (value == "exhaustive") o.view.finder.first_full = true;
+            else if (value == "random") o.view.finder.first_full = false;
+            else throw Error(key, "unknown first view '" + value + "' (expected exhaustive or random)");
         } else if (key == "--seed") {
             o.view.finder.seed = std::uint64_t(integer(0, 2147483647));
         } else if (key == "--lines") {

@@ -754,7 +754,9 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
     c += " --lines=" + kinds;
     if (vopt_.visibility == VisibilityMethod::Rays) c += " --visibility=rays";
     if (!vopt_.walk) c += " --no-walk";
-    if (vopt_.finder.kind == FinderKind::Randomized) {
+    // (Followed exactly from an exhaustive first view, the randomized finder's silhouette is the
+    // exhaustive one: render's default finder draws it.)
+    if (vopt_.finder.kind == FinderKind::Randomized && !(vopt_.finder.coherence && vopt_.finder.first_full)) {
         std::snprintf(buf, sizeof buf, " --finder=randomized --fraction=%g --seed=%llu", double(fraction_),
                       static_cast<unsigned long long>(vopt_.finder.seed));
         c += buf;
@@ -809,6 +811,8 @@ void Viewer::draw_panel() {
             if (ImGui::SliderFloat("fraction", &fraction_, 0.0001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic))
                 fraction_dirty_ = true;  // applied when the session is idle
             dirty_ |= ImGui::Checkbox("frame coherence", &vopt_.finder.coherence);
+            if (vopt_.finder.coherence)
+                dirty_ |= ImGui::Checkbox("exhaustive first view (then followed exactly)", &vopt_.finder.first_full);
         }
         int vis = vopt_.visibility == VisibilityMethod::Rays ? 1 : 0;
         changed = ImGui::RadioButton("appel (QI propagation)", &vis, 0);
