@@ -12,6 +12,7 @@
 #include "core/predicates.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
+#include "random_camera.hpp"
 #include "visibility/appel.hpp"
 
 namespace inkline {
@@ -49,17 +50,6 @@ Agreement compare(const Model& model, const Camera& cam, bool exact_hidden = tru
         if (!same) g.wrong += l;
     }
     return g;
-}
-
-Camera random_camera(std::mt19937& rng, const Bounds3& box) {
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    const double z = 2.0 * u(rng) - 1.0, phi = 2.0 * M_PI * u(rng), s = std::sqrt(1.0 - z * z);
-    const glm::dvec3 dir(s * std::cos(phi), z, s * std::sin(phi));
-    const double fov = 25.0 + 25.0 * u(rng), R = box.half_diagonal();
-    const double dist = R / std::sin(fov * M_PI / 360.0) * (0.7 + 0.8 * u(rng));
-    const glm::dvec3 target = box.center() + 0.2 * R * glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
-    const glm::dvec3 up = std::abs(dir.y) > 0.95 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    return Camera::perspective(target + dist * dir, target, up, fov, 1024, 1024);
 }
 
 // local_occlusion by its definition, each face around the vertex tested with the exact predicates

@@ -618,6 +618,29 @@ TEST(ImageSlack, BoundsTheProjectionError) {
     }
 }
 
+namespace {
+// Pairs of 3D segments seen by `cam`, n draws: on odd draws their ends are lattice points (integers
+// in [-3, 3]: many lines of sight through several points, touches, T-junctions, collinear
+// images), on even ones random; fn(i, P, q, o) gets the four ends and the two segments' images
+// (pairs with a zero-length segment are skipped).
+template <class Fn>
+void segment_pairs(const inkline::Camera& cam, std::mt19937_64& rng, int n, Fn fn) {
+    std::uniform_int_distribution<int> L(-3, 3);
+    std::uniform_real_distribution<double> U(-3.0, 3.0);
+    for (int i = 0; i < n; ++i) {
+        glm::dvec3 P[4];
+        for (auto& p : P) p = i % 2 ? glm::dvec3(L(rng), L(rng), L(rng)) : glm::dvec3(U(rng), U(rng), U(rng));
+        if (P[0] == P[1] || P[2] == P[3]) continue;
+        auto seg2 = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t id) {
+            const glm::dvec2 pa = cam.project(a), pb = cam.project(b);
+            return Segment2{pa, pb, 2 * id, 2 * id + 1, id,
+                            std::max(inkline::image_slack(cam, a, pa), inkline::image_slack(cam, b, pb))};
+        };
+        fn(i, P, seg2(P[0], P[1], 0), seg2(P[2], P[3], 1));
+    }
+}
+}  // namespace
+
 // The 3D-exact segment_crossings (with its filter on the rounded image coordinates) against a
 // reference made of exact 3D orientations only, on lattice points seen from a lattice eye (many
 // lines of sight through several points: touches, T-junctions, collinear images) and at random.
@@ -630,20 +653,9 @@ TEST(SegmentCrossings, ThreeDimensionalMatchesExactOrientations) {
         inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
     };
     int degenerate = 0, crossing = 0;
-    for (const auto& cam : cams) {
-        std::uniform_int_distribution<int> L(-3, 3);
-        std::uniform_real_distribution<double> U(-3.0, 3.0);
-        for (int i = 0; i < 20000; ++i) {
-            glm::dvec3 P[4];
-            for (auto& p : P) p = i % 2 ? glm::dvec3(L(rng), L(rng), L(rng)) : glm::dvec3(U(rng), U(rng), U(rng));
-            if (P[0] == P[1] || P[2] == P[3]) continue;
-            auto seg2 = [&](const glm::dvec3& a, const glm::dvec3& b, std::uint32_t id) {
-                const glm::dvec2 pa = cam.project(a), pb = cam.project(b);
-                return Segment2{pa, pb, 2 * id, 2 * id + 1, id,
-                                std::max(inkline::image_slack(cam, a, pa), inkline::image_slack(cam, b, pb))};
-            };
-            const Segment2 q = seg2(P[0], P[1], 0), o = seg2(P[2], P[3], 1);
-            if (q.a == q.b || o.a == o.b) continue;
+    for (const auto& cam : cams)
+        segment_pairs(cam, rng, 20000, [&](int i, const glm::dvec3* P, const Segment2& q, const Segment2& o) {
+            if (q.a == q.b || o.a == o.b) return;
             const inkline::Segment3 q3{P[0], P[1], &P[0], &P[1]}, o3{P[2], P[3], &P[2], &P[3]};
             const int s0 = inkline::image_orientation(cam, P[0], P[1], P[2]), s1 = inkline::image_orientation(cam, P[0], P[1], P[3]);
             const int s2 = inkline::image_orientation(cam, P[2], P[3], P[0]), s3 = inkline::image_orientation(cam, P[2], P[3], P[1]);
@@ -653,16 +665,57 @@ TEST(SegmentCrossings, ThreeDimensionalMatchesExactOrientations) {
                 ++degenerate;
                 EXPECT_LE(n, 2);
                 for (int k = 0; k < n; ++k) EXPECT_TRUE(t[k] >= 0.0 && t[k] <= 1.0);
-                continue;
+                return;
             }
             const bool meet = !(s0 != 0 && s0 == s1) && !(s2 != 0 && s2 == s3);
             if (s0 * s1 * s2 * s3 == 0) ++degenerate;
             crossing += meet;
             ASSERT_EQ(n, meet ? 1 : 0) << i << " signs " << s0 << s1 << s2 << s3;
-        }
-    }
+        });
     EXPECT_GT(degenerate, 1000);
     EXPECT_GT(crossing, 1000);
+}
+
+// The crossing search gives where a crossing lies along the occluder too (build_pieces then
+// skips the swapped call): exactly the swapped call's parameter, on lattice points (touches,
+// T-junctions, collinear images) and random ones; NaN only for collinear images. Its quick reject
+// (apart_by_filter) rejects only pairs that do not meet.
+TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
+    std::mt19937_64 rng(4);
+    const inkline::Camera cams[] = {
+        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
+        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+    };
+    int touches = 0, proper = 0, rejected = 0;
+    for (const auto& cam : cams)
+        segment_pairs(cam, rng, 20000, [&](int i, const glm::dvec3* P, const Segment2& q, const Segment2& o) {
+            using namespace inkline;
+            const Segment3 q3{P[0], P[1], &P[0], &P[1]}, o3{P[2], P[3], &P[2], &P[3]};
+            double t[2], t_plain[2], to[2], ot;
+            const int n = segment_crossings(cam, q, q3, o, o3, t, &ot);
+            ASSERT_EQ(n, segment_crossings(cam, q, q3, o, o3, t_plain)) << i;
+            for (int k = 0; k < n; ++k) ASSERT_EQ(t[k], t_plain[k]) << i;
+            const int n2 = segment_crossings(cam, o, o3, q, q3, to);
+            // The quick reject of the search only rejects pairs that do not meet.
+            if (apart_by_filter(q, true, o, true)) {
+                ++rejected;
+                ASSERT_EQ(n, 0) << i;
+            }
+            ASSERT_EQ(n > 0, n2 > 0) << i;
+            const bool collinear = image_orientation(cam, P[2], P[3], P[0]) == 0 && image_orientation(cam, P[2], P[3], P[1]) == 0;
+            if (n == 0 || collinear) {
+                ASSERT_TRUE(std::isnan(ot)) << i;
+                return;
+            }
+            ASSERT_EQ(ot, to[0]) << i;
+            const bool touch = image_orientation(cam, P[0], P[1], P[2]) * image_orientation(cam, P[0], P[1], P[3]) *
+                                   image_orientation(cam, P[2], P[3], P[0]) * image_orientation(cam, P[2], P[3], P[1]) ==
+                               0;
+            (touch ? touches : proper) += 1;
+        });
+    EXPECT_GT(touches, 100);
+    EXPECT_GT(proper, 1000);
+    EXPECT_GT(rejected, 1000);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -239,6 +239,18 @@ std::string camera_line(const std::string& out) {
     return out.substr(at + 8, end == std::string::npos ? std::string::npos : end - at - 8);
 }
 
+// The render command the window printed for its export to `exported` ("...; the same with:
+// inkline render ... -o EXPORTED"), without its " -o EXPORTED"; empty if it did not print one.
+std::string printed_render_command(const std::string& out, const fs::path& exported) {
+    const std::string said = "; the same with: inkline ";
+    const auto at = out.find(said);
+    if (at == std::string::npos) return "";
+    const std::string command = out.substr(at + said.size(), out.find('\n', at) - at - said.size());
+    const std::string target = " -o " + exported.string();
+    if (command.size() < target.size() || command.substr(command.size() - target.size()) != target) return "";
+    return command.substr(0, command.size() - target.size());
+}
+
 void expect_screenshot_is_render(const std::string& model, const std::string& flags) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
@@ -306,12 +318,10 @@ TEST(ViewWindow, RandomizedFinderFollowsAnExhaustiveFirstViewExactly) {
     const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
                                     "--finder=randomized --fraction=0.002 --hidden --export=" + mine.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
-    const std::string said = "; the same with: inkline ";
-    const auto at = v.out.find(said);
-    ASSERT_NE(at, std::string::npos) << v.out;
-    std::string command = v.out.substr(at + said.size(), v.out.find('\n', at) - at - said.size());
+    std::string command = printed_render_command(v.out, mine);
+    ASSERT_FALSE(command.empty()) << v.out;
     EXPECT_EQ(command.find("--finder=randomized"), std::string::npos) << command;
-    command = command.substr(0, command.rfind(" -o ")) + " -o " + theirs.string() + " --quiet";
+    command += " -o " + theirs.string() + " --quiet";
     const Result r = run("", command, d);
     ASSERT_EQ(r.code, 0) << command << "\n" << r.err;
     const auto a = nlohmann::json::parse(slurp(mine)), b = nlohmann::json::parse(slurp(theirs));
@@ -434,14 +444,9 @@ TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {
     const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=4 --orbit --arc=30 --size=500x400 "
                                     "--hidden --crease=30 --export=" + exported.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
-    const std::string said = "; the same with: inkline ";
-    const auto at = v.out.find(said);
-    ASSERT_NE(at, std::string::npos) << v.out;
-    std::string command = v.out.substr(at + said.size(), v.out.find('\n', at) - at - said.size());
-    const std::string target = " -o " + exported.string();
-    ASSERT_GE(command.size(), target.size());
-    ASSERT_EQ(command.substr(command.size() - target.size()), target) << command;
-    command = command.substr(0, command.size() - target.size()) + " -o " + rendered.string() + " --quiet";
+    std::string command = printed_render_command(v.out, exported);
+    ASSERT_FALSE(command.empty()) << v.out;
+    command += " -o " + rendered.string() + " --quiet";
     EXPECT_NE(command.find("--hidden"), std::string::npos) << command;
     EXPECT_NE(command.find("--crease=30"), std::string::npos) << command;
     const Result r = run("", command, d);
