@@ -601,6 +601,13 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
 
     // Along curves: the change behind occluders in front.
     std::vector<int> link_delta(graph.links.size(), 0);
+    // The crossings that change QI (delta != 0), in order, compactly: what the constraints between
+    // clusters need of them (a crossing record is ~100 bytes; these are read several times).
+    struct Occluding {
+        std::uint32_t edge, link;
+        double s;
+    };
+    std::vector<Occluding> occluding;
     {
         // (The occluders' edges are scattered over the mesh: their vertices and faces are
         // prefetched a few crossings ahead, in two levels; no effect on results.)
@@ -620,6 +627,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             auto& c = lcs[i];
             c.delta = occluder_delta(mesh, camera, &face_front, c.occluder_edge, c.c1, c.c2);
             link_delta[c.link] += c.delta;
+            if (c.delta != 0) occluding.push_back({c.occluder_edge, c.link, c.occluder_s});
         }
     }
     for (std::size_t l = 0; l < graph.links.size(); ++l) {
@@ -760,8 +768,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         double s0, s1;
     };
     marked.clear();  // occluder edges of crossings between clusters
-    for (const auto& c : graph.link_crossings)
-        if (c.delta != 0) marked.set(c.occluder_edge);
+    for (const Occluding& c : occluding) marked.set(c.edge);
     std::vector<EdgePiece> on_edge;
     std::vector<std::uint64_t> by_edge;
     for (std::uint32_t p = 0; p < np; ++p)
@@ -774,17 +781,17 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // The crossings between clusters by occluder edge, matched with the spans on that edge: the
     // piece nearest to the crossing's parameter (it lies in it, up to rounding); among equally
     // near ones, the one starting first, then the lowest piece.
-    std::vector<std::uint64_t> lc_by_edge;
-    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i)
-        if (graph.link_crossings[i].delta != 0) lc_by_edge.push_back(std::uint64_t(graph.link_crossings[i].occluder_edge) << 32 | i);
+    // (Keys: edge, then the index among `occluding`, increasing with the crossing's index.)
+    std::vector<std::uint64_t> lc_by_edge(occluding.size());
+    for (std::size_t i = 0; i < occluding.size(); ++i) lc_by_edge[i] = std::uint64_t(occluding[i].edge) << 32 | i;
     sort_keys(lc_by_edge, sort_tmp, bit_width(mesh.edge_count()));
-    std::vector<std::uint32_t> occluder_piece(graph.link_crossings.size(), UINT32_MAX);
+    std::vector<std::uint32_t> occluder_piece(occluding.size(), UINT32_MAX);
     {
         std::size_t j = 0;
         for (const std::uint64_t key : lc_by_edge) {
             const std::uint32_t edge = std::uint32_t(key >> 32);
             while (j < by_edge.size() && std::uint32_t(by_edge[j] >> 32) < edge) ++j;
-            const double s = graph.link_crossings[std::uint32_t(key)].occluder_s;
+            const double s = occluding[std::uint32_t(key)].s;
             const EdgePiece* best = nullptr;
             double best_d = 1e300;
             for (std::size_t k = j; k < by_edge.size() && std::uint32_t(by_edge[k] >> 32) == edge; ++k) {
@@ -798,12 +805,10 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
     std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
-    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i) {
-        const auto& c = graph.link_crossings[i];
-        if (c.delta == 0) continue;
-        const std::uint32_t op = occluder_piece[i];
-        if (op == UINT32_MAX || comp[op] == comp[graph.links[c.link].before]) continue;
-        constraints.push_back({op, c.link});
+    for (std::size_t i = 0; i < occluding.size(); ++i) {
+        const std::uint32_t op = occluder_piece[i], link = occluding[i].link;
+        if (op == UINT32_MAX || comp[op] == comp[graph.links[link].before]) continue;
+        constraints.push_back({op, link});
     }
     // (Raises only go up and are bounded by consistent data; the round limit guards against
     // contradictory input from non-generic views.)
