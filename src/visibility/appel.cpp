@@ -727,19 +727,30 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         if (std::binary_search(verts.begin(), verts.end(), v)) fix(vnode(v), 0);
         else inner_extremes.push_back(v);
     }
-    EdgeMarks marked(mesh.edge_count());
-    if (!inner_extremes.empty()) {
-        for (std::uint32_t v : inner_extremes)
-            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
-                marked.set(mesh.vertex_edges[k]);
-        for (std::uint32_t p = 0; p < np; ++p)
-            for (const EdgeSpan& s : spans[p]) {
-                if (!marked.test(s.edge)) continue;
-                const auto& ev = mesh.edge_vertex[s.edge];
-                for (std::uint32_t v : inner_extremes)
-                    if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+    // (One pass over the spans serves this rule and the constraints between clusters below: the
+    // spans on occluder edges of crossings that change QI are collected here, in the same order.)
+    struct EdgePiece {
+        std::uint32_t piece;
+        double s0, s1;
+    };
+    std::vector<EdgePiece> on_edge;
+    std::vector<std::uint64_t> by_edge;  // (edge, index in on_edge)
+    EdgeMarks extreme_edges(mesh.edge_count()), occluder_edges(mesh.edge_count());
+    for (std::uint32_t v : inner_extremes)
+        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
+            extreme_edges.set(mesh.vertex_edges[k]);
+    for (const Occluding& c : occluding) occluder_edges.set(c.edge);
+    for (std::uint32_t p = 0; p < np; ++p)
+        for (const EdgeSpan& s : spans[p]) {
+            if (occluder_edges.test(s.edge)) {
+                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
+                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
             }
-    }
+            if (!extreme_edges.test(s.edge)) continue;
+            const auto& ev = mesh.edge_vertex[s.edge];
+            for (std::uint32_t v : inner_extremes)
+                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+        }
 
     // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd.
     const bool parity = mesh.closed;
@@ -763,20 +774,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both sides.
     // Occluder pieces are found from the spans on the occluder's edge.
     // (The spans on those edges sorted by edge as 64-bit keys: edge, then the span's index.)
-    struct EdgePiece {
-        std::uint32_t piece;
-        double s0, s1;
-    };
-    marked.clear();  // occluder edges of crossings between clusters
-    for (const Occluding& c : occluding) marked.set(c.edge);
-    std::vector<EdgePiece> on_edge;
-    std::vector<std::uint64_t> by_edge;
-    for (std::uint32_t p = 0; p < np; ++p)
-        for (const EdgeSpan& s : spans[p])
-            if (marked.test(s.edge)) {
-                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
-                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
-            }
+    // (on_edge and by_edge: collected with the bounding-box rule above.)
     sort_keys(by_edge, sort_tmp, bit_width(mesh.edge_count()));
     // The crossings between clusters by occluder edge, matched with the spans on that edge: the
     // piece nearest to the crossing's parameter (it lies in it, up to rounding); among equally
