@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstring>
 #include <functional>
 #include <thread>
 #include <glm/common.hpp>
@@ -110,6 +111,27 @@ int bit_width(std::size_t n) {
     return b;
 }
 
+// Whether any byte of `flags` is nonzero: a sequential scan, 8 bytes at a time (most meshes have
+// no self-intersecting face: a scan of the per-face flags is then far cheaper than looking up the
+// faces of every span, which are scattered in memory).
+bool any_set(const std::vector<std::uint8_t>& flags) {
+    const std::uint8_t* p = flags.data();
+    const std::size_t n = flags.size();
+    std::size_t i = 0;
+    for (; i + 64 <= n; i += 64) {
+        std::uint64_t acc = 0;
+        for (std::size_t k = 0; k < 64; k += 8) {
+            std::uint64_t w;
+            std::memcpy(&w, p + i + k, 8);
+            acc |= w;
+        }
+        if (acc) return true;
+    }
+    for (; i < n; ++i)
+        if (p[i]) return true;
+    return false;
+}
+
 // A set of mesh edges, one bit each.
 class EdgeMarks {
 public:
@@ -175,6 +197,54 @@ struct Ring {
 inline glm::dvec3 abs3(const glm::dvec3& x) { return {std::abs(x.x), std::abs(x.y), std::abs(x.z)}; }
 // filtered_sign's absolute term for the row x outside the cross product, from |x|.
 inline double tiny_term(const glm::dvec3& abs_x) { return 0x1p-1022 * (1.0 + abs_x.x + abs_x.y + abs_x.z); }
+// Prefetches (no effect on results) what ring_of reads for the vertices verts[g + d] ahead of the
+// one at verts[g], one level of its chain of dependent loads per distance (vertex -> its edges ->
+// their faces -> the faces' corners -> their positions): the rings' vertices are scattered over a
+// large mesh, and each level's addresses come from the level before, which ring_of would
+// otherwise wait for one load at a time. Each level reads only what the level before prefetched
+// two steps earlier.
+inline void prefetch_rings(const MeshTopology& mesh, const std::vector<std::uint32_t>& verts, std::size_t g) {
+    const std::size_t n = verts.size();
+    if (g + 8 < n) {
+        const std::uint32_t v = verts[g + 8];
+        __builtin_prefetch(&mesh.vertex_edge_begin[v]);
+        __builtin_prefetch(&mesh.positions[v]);
+    }
+    if (g + 6 < n) {
+        const std::uint32_t v = verts[g + 6];
+        const std::uint32_t b = mesh.vertex_edge_begin[v], e = mesh.vertex_edge_begin[v + 1];
+        __builtin_prefetch(&mesh.vertex_edges[b]);
+        __builtin_prefetch(&mesh.vertex_edges[e - 1]);
+    }
+    if (g + 4 < n) {
+        const std::uint32_t v = verts[g + 4];
+        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+            const std::uint32_t e = mesh.vertex_edges[k];
+            __builtin_prefetch(&mesh.edge_vertex[e]);
+            __builtin_prefetch(&mesh.edge_face[e]);
+        }
+    }
+    if (g + 2 < n) {
+        const std::uint32_t v = verts[g + 2];
+        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+            const std::uint32_t e = mesh.vertex_edges[k];
+            const std::uint32_t f = mesh.edge_vertex[e][0] == v ? mesh.edge_face[e][0] : mesh.edge_face[e][1];
+            if (f != kNoFace) __builtin_prefetch(&mesh.faces[f]);
+        }
+    }
+    if (g + 1 < n) {
+        const std::uint32_t v = verts[g + 1];
+        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+            const std::uint32_t e = mesh.vertex_edges[k];
+            const std::uint32_t f = mesh.edge_vertex[e][0] == v ? mesh.edge_face[e][0] : mesh.edge_face[e][1];
+            if (f == kNoFace) continue;
+            // the corner after v in the face (the one before is the corner after v in another face)
+            const auto& c = mesh.faces[f];
+            __builtin_prefetch(&mesh.positions[c[0] == v ? c[1] : c[1] == v ? c[2] : c[0]]);
+        }
+    }
+}
+
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              Ring& ring) {
     ring.size = 0;
@@ -520,7 +590,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // Pieces on faces that cut through other faces: the QI can change inside them unseen, so they
     // take no part in propagation (each gets its own ray test).
     std::vector<std::uint8_t> pierced(np, 0);
-    if (options.pierced_faces) {
+    if (options.pierced_faces && any_set(*options.pierced_faces)) {
         const auto& pf = *options.pierced_faces;
         for (std::uint32_t p = 0; p < np; ++p)
             for (const EdgeSpan& s : spans[p]) {
@@ -531,9 +601,34 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
 
     // Along curves: the change behind occluders in front.
     std::vector<int> link_delta(graph.links.size(), 0);
-    for (auto& c : graph.link_crossings) {
-        c.delta = occluder_delta(mesh, camera, &face_front, c.occluder_edge, c.c1, c.c2);
-        link_delta[c.link] += c.delta;
+    // The crossings that change QI (delta != 0), in order, compactly: what the constraints between
+    // clusters need of them (a crossing record is ~100 bytes; these are read several times).
+    struct Occluding {
+        std::uint32_t edge, link;
+        double s;
+    };
+    std::vector<Occluding> occluding;
+    {
+        // (The occluders' edges are scattered over the mesh: their vertices and faces are
+        // prefetched a few crossings ahead, in two levels; no effect on results.)
+        auto& lcs = graph.link_crossings;
+        const std::size_t n = lcs.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            if (i + 16 < n) {
+                const std::uint32_t e = lcs[i + 16].occluder_edge;
+                __builtin_prefetch(&mesh.edge_vertex[e]);
+                __builtin_prefetch(&mesh.edge_face[e]);
+            }
+            if (i + 8 < n) {
+                const auto& ev = mesh.edge_vertex[lcs[i + 8].occluder_edge];
+                __builtin_prefetch(&mesh.positions[ev[0]]);
+                __builtin_prefetch(&mesh.positions[ev[1]]);
+            }
+            auto& c = lcs[i];
+            c.delta = occluder_delta(mesh, camera, &face_front, c.occluder_edge, c.c1, c.c2);
+            link_delta[c.link] += c.delta;
+            if (c.delta != 0) occluding.push_back({c.occluder_edge, c.link, c.occluder_s});
+        }
     }
     for (std::size_t l = 0; l < graph.links.size(); ++l) {
         const auto [b, a] = graph.links[l];
@@ -551,10 +646,13 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     std::vector<int> end_occlusion(end_order.size());
     auto occlusion_of_ends = [&](std::size_t i0, std::size_t i1) {
         Ring ring;
-        for (std::size_t i = i0; i < i1;) {
+        // (verts[g] is the vertex of the group at i)
+        std::size_t g = i0 < i1 ? std::size_t(std::lower_bound(verts.begin(), verts.end(), std::uint32_t(end_order[i0] >> 32)) - verts.begin()) : 0;
+        for (std::size_t i = i0; i < i1; ++g) {
             const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
             std::size_t j = i;
             while (j < i1 && std::uint32_t(end_order[j] >> 32) == v) ++j;
+            prefetch_rings(mesh, verts, g);
             ring_of(mesh, camera, face_front, v, ring);
             const bool edge_on =
                 std::any_of(ring.faces().begin(), ring.faces().end(), [](const RingFace& r) { return r.eye == 0; });
@@ -629,19 +727,30 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         if (std::binary_search(verts.begin(), verts.end(), v)) fix(vnode(v), 0);
         else inner_extremes.push_back(v);
     }
-    EdgeMarks marked(mesh.edge_count());
-    if (!inner_extremes.empty()) {
-        for (std::uint32_t v : inner_extremes)
-            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
-                marked.set(mesh.vertex_edges[k]);
-        for (std::uint32_t p = 0; p < np; ++p)
-            for (const EdgeSpan& s : spans[p]) {
-                if (!marked.test(s.edge)) continue;
-                const auto& ev = mesh.edge_vertex[s.edge];
-                for (std::uint32_t v : inner_extremes)
-                    if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+    // (One pass over the spans serves this rule and the constraints between clusters below: the
+    // spans on occluder edges of crossings that change QI are collected here, in the same order.)
+    struct EdgePiece {
+        std::uint32_t piece;
+        double s0, s1;
+    };
+    std::vector<EdgePiece> on_edge;
+    std::vector<std::uint64_t> by_edge;  // (edge, index in on_edge)
+    EdgeMarks extreme_edges(mesh.edge_count()), occluder_edges(mesh.edge_count());
+    for (std::uint32_t v : inner_extremes)
+        for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
+            extreme_edges.set(mesh.vertex_edges[k]);
+    for (const Occluding& c : occluding) occluder_edges.set(c.edge);
+    for (std::uint32_t p = 0; p < np; ++p)
+        for (const EdgeSpan& s : spans[p]) {
+            if (occluder_edges.test(s.edge)) {
+                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
+                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
             }
-    }
+            if (!extreme_edges.test(s.edge)) continue;
+            const auto& ev = mesh.edge_vertex[s.edge];
+            for (std::uint32_t v : inner_extremes)
+                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
+        }
 
     // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd.
     const bool parity = mesh.closed;
@@ -665,36 +774,22 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both sides.
     // Occluder pieces are found from the spans on the occluder's edge.
     // (The spans on those edges sorted by edge as 64-bit keys: edge, then the span's index.)
-    struct EdgePiece {
-        std::uint32_t piece;
-        double s0, s1;
-    };
-    marked.clear();  // occluder edges of crossings between clusters
-    for (const auto& c : graph.link_crossings)
-        if (c.delta != 0) marked.set(c.occluder_edge);
-    std::vector<EdgePiece> on_edge;
-    std::vector<std::uint64_t> by_edge;
-    for (std::uint32_t p = 0; p < np; ++p)
-        for (const EdgeSpan& s : spans[p])
-            if (marked.test(s.edge)) {
-                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
-                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
-            }
+    // (on_edge and by_edge: collected with the bounding-box rule above.)
     sort_keys(by_edge, sort_tmp, bit_width(mesh.edge_count()));
     // The crossings between clusters by occluder edge, matched with the spans on that edge: the
     // piece nearest to the crossing's parameter (it lies in it, up to rounding); among equally
     // near ones, the one starting first, then the lowest piece.
-    std::vector<std::uint64_t> lc_by_edge;
-    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i)
-        if (graph.link_crossings[i].delta != 0) lc_by_edge.push_back(std::uint64_t(graph.link_crossings[i].occluder_edge) << 32 | i);
+    // (Keys: edge, then the index among `occluding`, increasing with the crossing's index.)
+    std::vector<std::uint64_t> lc_by_edge(occluding.size());
+    for (std::size_t i = 0; i < occluding.size(); ++i) lc_by_edge[i] = std::uint64_t(occluding[i].edge) << 32 | i;
     sort_keys(lc_by_edge, sort_tmp, bit_width(mesh.edge_count()));
-    std::vector<std::uint32_t> occluder_piece(graph.link_crossings.size(), UINT32_MAX);
+    std::vector<std::uint32_t> occluder_piece(occluding.size(), UINT32_MAX);
     {
         std::size_t j = 0;
         for (const std::uint64_t key : lc_by_edge) {
             const std::uint32_t edge = std::uint32_t(key >> 32);
             while (j < by_edge.size() && std::uint32_t(by_edge[j] >> 32) < edge) ++j;
-            const double s = graph.link_crossings[std::uint32_t(key)].occluder_s;
+            const double s = occluding[std::uint32_t(key)].s;
             const EdgePiece* best = nullptr;
             double best_d = 1e300;
             for (std::size_t k = j; k < by_edge.size() && std::uint32_t(by_edge[k] >> 32) == edge; ++k) {
@@ -708,12 +803,10 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     }
     auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
     std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
-    for (std::size_t i = 0; i < graph.link_crossings.size(); ++i) {
-        const auto& c = graph.link_crossings[i];
-        if (c.delta == 0) continue;
-        const std::uint32_t op = occluder_piece[i];
-        if (op == UINT32_MAX || comp[op] == comp[graph.links[c.link].before]) continue;
-        constraints.push_back({op, c.link});
+    for (std::size_t i = 0; i < occluding.size(); ++i) {
+        const std::uint32_t op = occluder_piece[i], link = occluding[i].link;
+        if (op == UINT32_MAX || comp[op] == comp[graph.links[link].before]) continue;
+        constraints.push_back({op, link});
     }
     // (Raises only go up and are bounded by consistent data; the round limit guards against
     // contradictory input from non-generic views.)
