@@ -329,7 +329,7 @@ namespace {
 // read) on a smooth mesh; the band search gives the same faces; at extreme scales and offsets,
 // and for a grazing eye in the plane of a face.
 TEST(Facing, BlocksGiveTheSameStatesAndBand) {
-    std::size_t skipped = 0;
+    std::size_t skipped = 0, exact_outside = 0;
     for (double scale : {1e-6, 1.0, 1e6})
         for (double offset : {0.0, 1e6}) {
             const Model m = scaled_sphere(96, 48, scale, offset);
@@ -360,10 +360,88 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
                     const std::size_t read = faces_within(t, filter, limit, some, &blocks);
                     EXPECT_EQ(all, some);
                     EXPECT_LE(read, nf);
+                    // The front bits outside the band: the same with and without blocks (bits
+                    // preset to the opposite pattern, so every one must be written), and the
+                    // exact facing where the limit is at least the filter's bound.
+                    std::vector<std::uint64_t> plain_bits(nf / 64 + 1, 0), block_bits(nf / 64 + 1, ~std::uint64_t(0));
+                    std::vector<std::uint32_t> again;
+                    faces_within(t, filter, limit, again, nullptr, plain_bits.data());
+                    EXPECT_EQ(again, all);
+                    again.clear();
+                    faces_within(t, filter, limit, again, &blocks, block_bits.data());
+                    EXPECT_EQ(again, all);
+                    std::vector<std::uint8_t> in_band(nf, 0);
+                    for (std::uint32_t f : all) in_band[f] = 1;
+                    for (std::uint32_t f = 0; f < nf; ++f) {
+                        if (in_band[f]) continue;
+                        const bool a = (plain_bits[f >> 6] >> (f & 63)) & 1, b = (block_bits[f >> 6] >> (f & 63)) & 1;
+                        ASSERT_EQ(a, b) << "face " << f << " limit " << limit;
+                        if (limit >= filter.bound) {
+                            ASSERT_EQ(a, face_is_front(t, f, cam)) << "face " << f;
+                            ++exact_outside;
+                        }
+                    }
                 }
             }
         }
     EXPECT_GT(skipped, 0u);  // blocks were decided as a whole
+    EXPECT_GT(exact_outside, 10000u);  // front bits outside the band compared with the exact facing
+}
+
+// The band's per-view states (FacingBand::states, AVX2 and portable): each band face's front
+// bit is the filter's "front" now and no other bit changes; the positions to check are those
+// where the two views' filter states differ or the current one is undecided. Bands of every
+// density (sparse and dense words, lengths not a multiple of 8), at extreme scales and offsets,
+// with a grazing eye and an untrusted (NaN) plane.
+TEST(Facing, BandStatesMatchTheFilter) {
+    std::mt19937_64 rng(11);
+    std::size_t checked = 0, fronts = 0;
+    for (double scale : {1e-6, 1.0, 1e6})
+        for (double offset : {0.0, 1e6}) {
+            Model m = scaled_sphere(96, 48, scale, offset);
+            MeshTopology& t = m.topology();
+            t.facing[130].nz = NAN;
+            const std::size_t nf = t.face_count();
+            const std::vector<Camera> cams = cameras_with_grazing(t);
+            for (double keep : {0.03, 0.5, 1.0}) {
+                std::vector<std::uint32_t> faces;
+                for (std::uint32_t f = 0; f < nf; ++f)
+                    if (std::uniform_real_distribution<double>(0, 1)(rng) < keep) faces.push_back(f);
+                if (faces.size() % 8 == 0) faces.pop_back();
+                FacingBand band;
+                band.assign(t, faces);
+                ASSERT_EQ(band.size(), faces.size());
+                for (std::size_t a = 0; a < cams.size(); ++a)
+                    for (std::size_t b = 0; b < cams.size(); ++b) {
+                        FacingFilter now, before;
+                        now.bind(t, cams[a]);
+                        before.bind(t, cams[b]);
+                        std::vector<std::uint64_t> preset(nf / 64 + 1);
+                        for (auto& w : preset) w = rng();
+                        std::vector<std::uint64_t> bits[2] = {preset, preset};
+                        std::vector<std::uint32_t> check[2];
+                        for (int simd : {0, 1}) band.states(now, before, bits[simd].data(), check[simd], simd == 1);
+                        EXPECT_EQ(bits[0], bits[1]);
+                        EXPECT_EQ(check[0], check[1]);
+                        std::vector<std::uint32_t> want;
+                        std::vector<std::uint64_t> want_bits = preset;
+                        for (std::size_t i = 0; i < faces.size(); ++i) {
+                            const std::uint32_t f = faces[i];
+                            ASSERT_EQ(band.face(i), f);
+                            const std::uint8_t sa = now(t.facing[f]), sb = before(t.facing[f]);
+                            const std::uint64_t bit = std::uint64_t(1) << (f & 63);
+                            want_bits[f >> 6] = sa == FaceFacing::kFront ? want_bits[f >> 6] | bit : want_bits[f >> 6] & ~bit;
+                            if (sa != sb || sa == FaceFacing::kUnknown) want.push_back(std::uint32_t(i));
+                            fronts += sa == FaceFacing::kFront;
+                        }
+                        ASSERT_EQ(bits[1], want_bits);
+                        ASSERT_EQ(check[1], want);
+                        checked += want.size();
+                    }
+            }
+        }
+    EXPECT_GT(checked, 1000u);  // positions to check, and front faces, did occur
+    EXPECT_GT(fronts, 1000u);
 }
 
 // A block holding an untrusted (NaN) plane is never decided as a whole: that face goes to the
