@@ -280,10 +280,48 @@ TEST(Finder, CoherenceFromExhaustiveFirstViewIsExact) {
             const Features ex = extract_features(m->topology(), path[i]);
             ASSERT_FALSE(ex.silhouette_edges.empty());
             expect_same(ex, f);
+            // The facing the visibility stage reads: carried on as a full view, every face exact.
+            EXPECT_TRUE(f.face_front.full());
+            EXPECT_EQ(f.face_front.all(), ex.face_front.all());
             rebuilt += f.stats.band_rebuilt;
         }
         EXPECT_GE(rebuilt, 3u);                  // the orbit's first, the jump, the camera kind
         EXPECT_LT(rebuilt, path.size() - 2);     // and the band kept across orbit views
+    }
+}
+
+// The carried facing where the float filter cannot decide: a far, scaled sphere, the eye moving
+// into the plane of a face (decided only by the exact predicate) and out again, small steps
+// (faces turn one by one), and faces read in between (undecided faces resolved and cached for one
+// camera, then carried to the next). Every face's facing equals a fresh exhaustive view's.
+TEST(Finder, CoherenceCarriesTheFacingThroughUndecidedFaces) {
+    for (double scale : {1e-3, 1.0, 1e4}) {
+        SCOPED_TRACE(testing::Message() << "scale " << scale);
+        const Model m = scaled_sphere(48, 24, scale, 3.0 * scale);
+        const MeshTopology& t = m.topology();
+        const auto& f5 = t.faces[5];
+        const glm::dvec3 a = t.positions[f5[0]], b = t.positions[f5[1]], c = t.bounds.center();
+        std::vector<Camera> path;
+        for (int i = -3; i <= 3; ++i) {  // through the plane of face 5 (i == 0: in it, up to rounding)
+            const glm::dvec3 off = double(i) * 1e-3 * scale * glm::dvec3(0.3, 0.7, -0.2);
+            path.push_back(Camera::perspective(a + 3.0 * (a - b) + off, c, {0, 1, 0}, 40, 256, 256));
+        }
+        path.push_back(Camera::orthographic(c + glm::dvec3(0.2, 1.0, 0.4) * (4.0 * scale), c, {0, 0, 1}, 2.5 * scale, 256, 256));
+        path.push_back(path[3]);
+        FinderOptions o = randomized(0.0, true);
+        o.first_full = true;
+        SilhouetteFinder finder(t, o);
+        Features f;
+        for (std::size_t i = 0; i < path.size(); ++i) {
+            SCOPED_TRACE(testing::Message() << "view " << i);
+            finder.find(path[i], {}, f);
+            const Features ex = extract_features(t, path[i]);
+            expect_same(ex, f);
+            EXPECT_TRUE(f.face_front.full());
+            EXPECT_EQ(f.face_front.all(), ex.face_front.all());
+            // Read every other face now (caching the undecided ones for this camera only).
+            for (std::uint32_t x = 0; x < t.face_count(); x += 2) (void)f.face_front[x];
+        }
     }
 }
 

@@ -37,6 +37,7 @@ void FacingFilter::bind(const MeshTopology& mesh, const Camera& camera) {
 }
 
 void FaceFacing::bind(const MeshTopology& mesh, const Camera& camera) {
+    ++generation_;
     mesh_ = &mesh;
     camera_ = camera;
     exact_ = 0;
@@ -832,6 +833,17 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int 
     for (auto& t : pool) t.join();
     planes_read_ = 0;
     for (std::size_t r : part_read) planes_read_ += r;
+}
+
+void FaceFacing::carry(const Camera& camera, const std::uint32_t* turned, std::size_t n) {
+    bind(*mesh_, camera);
+    block_state_.clear();
+    planes_read_ = 0;
+    std::uint8_t* st = state_.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint8_t s = st[turned[i]];
+        st[turned[i]] = s == kUnknown ? kUnknown : std::uint8_t(kFront - s);
+    }
 }
 
 float FaceFacing::signed_distance(std::uint32_t f) const { return filter_.signed_distance(mesh_->facing[f]); }

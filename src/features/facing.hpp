@@ -199,6 +199,16 @@ public:
     // reading its planes (the same states); block_states() then gives each block's state.
     void begin_full(const MeshTopology& mesh, const Camera& camera, int threads = 1, const FaceBlocks* blocks = nullptr);
     const std::vector<std::uint8_t>& block_states() const { return block_state_; }
+    // Moves a full view on to `camera` given every face whose facing differs between the two
+    // cameras (turned[0..n), exact: a coherent finder's follow): their decided states flip, faces
+    // not decided yet stay undecided (decided on first read, for `camera`), everything else is
+    // kept. Requires full(); the view stays full, so its reads cost what a full pass's do, at the
+    // price of the turned faces only. Block states are dropped (they were the old camera's).
+    void carry(const Camera& camera, const std::uint32_t* turned, std::size_t n);
+    bool full() const { return full_; }
+    // Bumped by every begin_full, begin_lazy and carry: a caller that left this view full for a
+    // camera knows, by the generation it saw, that nobody started another view since.
+    std::uint64_t generation() const { return generation_; }
     std::size_t planes_read() const { return planes_read_; }
 
     // While several threads read this view (set before they start, cleared after they join):
@@ -237,6 +247,7 @@ private:
     Camera camera_;
     FacingFilter filter_;
     bool full_ = false;
+    std::uint64_t generation_ = 0;
     mutable std::vector<std::uint8_t> state_;
     mutable std::vector<std::uint32_t> touched_;  // lazy views: faces decided so far
     std::vector<std::uint8_t> block_state_;       // full views with blocks: kBack, kUnknown, kFront

@@ -190,6 +190,7 @@ SilhouetteFinder::SilhouetteFinder(const MeshTopology& mesh, const FinderOptions
 void SilhouetteFinder::reset() {
     previous_.clear();
     complete_ = false;
+    carried_ = {};
     rng_.seed(opt_.seed);
 }
 
@@ -231,9 +232,16 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         previous_camera_ = camera;
         previous_filter_.bind(mesh, camera);
         complete_ = true;
+        carried_ = {&out.face_front, out.face_front.generation()};
     } else {
-        out.face_front.begin_lazy(mesh, camera);
-        search_randomized(camera, out);
+        // Following a complete silhouette, the previous view's full facing (still in `out`, as
+        // left there) is carried on by flipping the faces that turned: the visibility stage then
+        // reads a full view instead of deciding faces on first use.
+        const bool carry = complete_ && opt_.coherence && !previous_.empty() && carried_.facing == &out.face_front &&
+                           carried_.generation == out.face_front.generation() && out.face_front.full();
+        carried_ = {};
+        if (!carry) out.face_front.begin_lazy(mesh, camera);
+        search_randomized(camera, out, carry);
     }
     const auto t1 = std::chrono::steady_clock::now();
     out.stats.planes_read = planes_read_;
@@ -555,7 +563,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
     };
     const double step = dist(e, p);
-    if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
+    if (w != pw) {
+        // Between a perspective and an orthographic view (an eye point and a view direction) no
+        // distance bounds the change of the faces' signed distances: every face is in the band,
+        // for this view only (the next view builds a band about its eye).
+        build_band(e, w, INFINITY);
+        band_margin_ = -1.0;
+        out.stats.band_rebuilt = true;
+    } else if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
           dist(p, band_eye_) <= band_margin_)) {
         const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
         const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
@@ -645,7 +660,7 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     for (std::uint32_t f : turned_) turned[f >> 6] = 0;
 }
 
-void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
+void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bool carry) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count();
     out.stats.fraction = opt_.fraction;
@@ -658,6 +673,10 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out) {
     // Following a complete silhouette exactly leaves it complete: nothing is left to draw or seek.
     complete_ = complete_ && opt_.coherence && had_previous;
     if (complete_) {
+        if (carry) {
+            out.face_front.carry(camera, turned_.data(), turned_.size());
+            carried_ = {&out.face_front, out.face_front.generation()};
+        }
         classify_static(mesh, out, [&](std::uint32_t) {});  // crease silhouettes were followed
         previous_.swap(current_);
         previous_camera_ = camera;

@@ -209,7 +209,9 @@ public:
 
 private:
     void scan_exhaustive(Features& out);
-    void search_randomized(const Camera& camera, Features& out);
+    // carry: the view of out.face_front was left full for the previous camera by this finder
+    // (then carried on after following; otherwise begun lazily by the caller).
+    void search_randomized(const Camera& camera, Features& out, bool carry = false);
     void trace(std::uint32_t e, Features& out);
     void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
@@ -244,6 +246,10 @@ private:
     };
     std::vector<EdgeRecord> previous_, current_;
     bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
+    struct Carried {
+        const FaceFacing* facing = nullptr;  // a full view this finder left for previous_camera_
+        std::uint64_t generation = 0;        // its generation then
+    } carried_;
     Camera previous_camera_, camera_;
     FacingFilter previous_filter_, filter_;
     std::vector<std::uint32_t> turned_;
