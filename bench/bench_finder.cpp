@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
         for (bool blocks : {false, true}) {
             const std::string b = blocks ? "/blocks" : "/noblocks";
             benchmark::RegisterBenchmark(("coherence" + b + "/" + n).c_str(), BM_Coherence, n, blocks)
-                ->Arg(100)->Unit(benchmark::kMillisecond);
+                ->Arg(25)->Arg(100)->Unit(benchmark::kMillisecond);
         }
     }
     benchmark::Initialize(&argc, argv);

@@ -10,6 +10,8 @@
 #include <random>
 #include <tuple>
 
+#include <glm/geometric.hpp>
+
 #include "model/primitives.hpp"
 #include "model/reorder.hpp"
 #include "pipeline.hpp"
@@ -367,7 +369,7 @@ namespace {
 // read) on a smooth mesh; the band search gives the same faces; at extreme scales and offsets,
 // and for a grazing eye in the plane of a face.
 TEST(Facing, BlocksGiveTheSameStatesAndBand) {
-    std::size_t skipped = 0;
+    std::size_t skipped = 0, exact_outside = 0;
     for (double scale : {1e-6, 1.0, 1e6})
         for (double offset : {0.0, 1e6}) {
             const Model m = scaled_sphere(96, 48, scale, offset);
@@ -398,10 +400,88 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
                     const std::size_t read = faces_within(t, filter, limit, some, &blocks);
                     EXPECT_EQ(all, some);
                     EXPECT_LE(read, nf);
+                    // The front bits outside the band: the same with and without blocks (bits
+                    // preset to the opposite pattern, so every one must be written), and the
+                    // exact facing where the limit is at least the filter's bound.
+                    std::vector<std::uint64_t> plain_bits(nf / 64 + 1, 0), block_bits(nf / 64 + 1, ~std::uint64_t(0));
+                    std::vector<std::uint32_t> again;
+                    faces_within(t, filter, limit, again, nullptr, plain_bits.data());
+                    EXPECT_EQ(again, all);
+                    again.clear();
+                    faces_within(t, filter, limit, again, &blocks, block_bits.data());
+                    EXPECT_EQ(again, all);
+                    std::vector<std::uint8_t> in_band(nf, 0);
+                    for (std::uint32_t f : all) in_band[f] = 1;
+                    for (std::uint32_t f = 0; f < nf; ++f) {
+                        if (in_band[f]) continue;
+                        const bool a = (plain_bits[f >> 6] >> (f & 63)) & 1, b = (block_bits[f >> 6] >> (f & 63)) & 1;
+                        ASSERT_EQ(a, b) << "face " << f << " limit " << limit;
+                        if (limit >= filter.bound) {
+                            ASSERT_EQ(a, face_is_front(t, f, cam)) << "face " << f;
+                            ++exact_outside;
+                        }
+                    }
                 }
             }
         }
     EXPECT_GT(skipped, 0u);  // blocks were decided as a whole
+    EXPECT_GT(exact_outside, 10000u);  // front bits outside the band compared with the exact facing
+}
+
+// The band's per-view states (FacingBand::states, AVX2 and portable): each band face's front
+// bit is the filter's "front" now and no other bit changes; the positions to check are those
+// where the two views' filter states differ or the current one is undecided. Bands of every
+// density (sparse and dense words, lengths not a multiple of 8), at extreme scales and offsets,
+// with a grazing eye and an untrusted (NaN) plane.
+TEST(Facing, BandStatesMatchTheFilter) {
+    std::mt19937_64 rng(11);
+    std::size_t checked = 0, fronts = 0;
+    for (double scale : {1e-6, 1.0, 1e6})
+        for (double offset : {0.0, 1e6}) {
+            Model m = scaled_sphere(96, 48, scale, offset);
+            MeshTopology& t = m.topology();
+            t.facing[130].nz = NAN;
+            const std::size_t nf = t.face_count();
+            const std::vector<Camera> cams = cameras_with_grazing(t);
+            for (double keep : {0.03, 0.5, 1.0}) {
+                std::vector<std::uint32_t> faces;
+                for (std::uint32_t f = 0; f < nf; ++f)
+                    if (std::uniform_real_distribution<double>(0, 1)(rng) < keep) faces.push_back(f);
+                if (faces.size() % 8 == 0) faces.pop_back();
+                FacingBand band;
+                band.assign(t, faces);
+                ASSERT_EQ(band.size(), faces.size());
+                for (std::size_t a = 0; a < cams.size(); ++a)
+                    for (std::size_t b = 0; b < cams.size(); ++b) {
+                        FacingFilter now, before;
+                        now.bind(t, cams[a]);
+                        before.bind(t, cams[b]);
+                        std::vector<std::uint64_t> preset(nf / 64 + 1);
+                        for (auto& w : preset) w = rng();
+                        std::vector<std::uint64_t> bits[2] = {preset, preset};
+                        std::vector<std::uint32_t> check[2];
+                        for (int simd : {0, 1}) band.states(now, before, bits[simd].data(), check[simd], simd == 1);
+                        EXPECT_EQ(bits[0], bits[1]);
+                        EXPECT_EQ(check[0], check[1]);
+                        std::vector<std::uint32_t> want;
+                        std::vector<std::uint64_t> want_bits = preset;
+                        for (std::size_t i = 0; i < faces.size(); ++i) {
+                            const std::uint32_t f = faces[i];
+                            ASSERT_EQ(band.face(i), f);
+                            const std::uint8_t sa = now(t.facing[f]), sb = before(t.facing[f]);
+                            const std::uint64_t bit = std::uint64_t(1) << (f & 63);
+                            want_bits[f >> 6] = sa == FaceFacing::kFront ? want_bits[f >> 6] | bit : want_bits[f >> 6] & ~bit;
+                            if (sa != sb || sa == FaceFacing::kUnknown) want.push_back(std::uint32_t(i));
+                            fronts += sa == FaceFacing::kFront;
+                        }
+                        ASSERT_EQ(bits[1], want_bits);
+                        ASSERT_EQ(check[1], want);
+                        checked += want.size();
+                    }
+            }
+        }
+    EXPECT_GT(checked, 1000u);  // positions to check, and front faces, did occur
+    EXPECT_GT(fronts, 1000u);
 }
 
 // A block holding an untrusted (NaN) plane is never decided as a whole: that face goes to the
@@ -653,6 +733,56 @@ TEST(Facing, BlockEdgesSkipAndRefuse) {
 }
 
 // Band rebuilds with blocks find the same band as without (coherence from an exhaustive view).
+// Following exactly on a smooth subdivided mesh (armadillo@1, 208 k faces: thin silhouettes,
+// many faces turning per view) at a quarter degree per view, with the eye brought into the plane
+// of a face (grazing: the filters cannot decide it, the exact checks do), then an orthographic
+// stretch: every view equals the exhaustive finder's, and the band is both kept and rebuilt
+// (the front bits of the faces outside it come from the rebuilds).
+TEST(Finder, CoherenceFollowsASubdividedMeshExactly) {
+    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off";
+    ASSERT_TRUE(std::filesystem::exists(path));
+    const Model m = Model::load(path, 40.0, 1);
+    const MeshTopology& t = m.topology();
+    const Bounds3 box = t.bounds;
+    const glm::dvec3 c = box.center();
+    const double d = 3.0 * box.half_diagonal();
+    std::vector<Camera> path_cams;
+    for (int i = 0; i < 40; ++i) {
+        const double az = 0.3 + 0.25 * M_PI / 180.0 * i;
+        path_cams.push_back(Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.4, std::cos(az)), c, {0, 1, 0}, 30, 640, 480));
+    }
+    // Grazing: the eye on the line through two corners of a face, and two small steps from there.
+    const auto& f = t.faces[t.face_count() / 3];
+    const glm::dvec3 a = t.positions[f[0]], b = t.positions[f[1]];
+    const glm::dvec3 graze = a + (d / glm::length(a - b)) * (a - b);
+    for (int i = 0; i < 3; ++i)
+        path_cams.push_back(Camera::perspective(graze + 1e-4 * d * double(i) * glm::dvec3(0, 1, 0), c, {0, 1, 0}, 30, 640, 480));
+    for (int i = 0; i < 6; ++i)
+        path_cams.push_back(Camera::orthographic(c + d * glm::dvec3(0.3 + 0.004 * i, 1.0, 0.4), c, {0, 0, 1},
+                                                 2.2 * box.half_diagonal(), 640, 640));
+    FinderOptions o = randomized(0.0, true);
+    o.first_full = true;
+    SilhouetteFinder finder(t, o);
+    Features got;
+    std::size_t rebuilt = 0, kept = 0, turned = 0;
+    for (std::size_t i = 0; i < path_cams.size(); ++i) {
+        SCOPED_TRACE(testing::Message() << "view " << i);
+        finder.find(path_cams[i], {}, got);
+        const Features ex = extract_features(t, path_cams[i]);
+        ASSERT_FALSE(ex.silhouette_edges.empty());
+        ASSERT_EQ(sorted(got.silhouette_edges), sorted(ex.silhouette_edges));
+        for (std::uint32_t e : got.silhouette_edges) ASSERT_EQ(got.edge_kind[e], ex.edge_kind[e]) << "edge " << e;
+        if (i > 0) {
+            rebuilt += got.stats.band_rebuilt;
+            kept += !got.stats.band_rebuilt;
+            turned += got.stats.faces_turned;
+        }
+    }
+    EXPECT_GE(rebuilt, 4u);  // along the orbit, at the graze, at the camera kind
+    EXPECT_GE(kept, 20u);
+    EXPECT_GT(turned, 1000u);
+}
+
 TEST(Finder, CoherenceBandSameWithBlocks) {
     const Model& m = mesh_model("armadillo");
     const Bounds3 box = m.topology().bounds;

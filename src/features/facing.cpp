@@ -132,29 +132,42 @@ __attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology:
 #endif
 
 // Faces whose float distance to the eye is not above limit (NaN planes included), appended.
+// With `front`: the bit of each face in [f0, f1) (f0 a multiple of 64) set where its float
+// distance is above zero, cleared elsewhere.
 void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, std::uint32_t f1, const FacingFilter& flt,
-                         float limit, std::vector<std::uint32_t>& out) {
-    for (std::uint32_t f = f0; f < f1; ++f)
-        if (!(std::abs(flt.signed_distance(p[f])) > limit)) out.push_back(f);
+                         float limit, std::vector<std::uint32_t>& out, std::uint64_t* front) {
+    for (std::uint32_t f = f0; f < f1; ++f) {
+        const float det = flt.signed_distance(p[f]);
+        if (!(std::abs(det) > limit)) out.push_back(f);
+        if (front) {
+            const std::uint64_t m = std::uint64_t(1) << (f & 63);
+            front[f >> 6] = det > 0.0f ? (front[f >> 6] | m) : (front[f >> 6] & ~m);
+        }
+    }
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
                                                             std::uint32_t nf, const FacingFilter& flt, float limit,
-                                                            std::vector<std::uint32_t>& out) {
+                                                            std::vector<std::uint32_t>& out, std::uint64_t* front) {
     Eye8 eye;
     load_eye8(flt, eye);
-    const __m256 lim = _mm256_set1_ps(limit);
+    const __m256 lim = _mm256_set1_ps(limit), zero = _mm256_setzero_ps();
     const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
     std::uint32_t f = f0;
     // Written branch-free into a small buffer, appended in bulk.
     std::uint32_t buf[256];
     std::size_t n = 0;
+    std::uint64_t word = 0;  // front bits of the current 64 faces
     for (; f + 8 <= nf; f += 8) {
         Planes8 p8;
         load_planes8(&p[f].nx, p8);
         __m256 det;
         eye_distance8(p8, eye, det);
+        if (front) {
+            word |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, zero, _CMP_GT_OQ)))) << (f & 56);
+            if ((f & 56) == 56) front[f >> 6] = word, word = 0;
+        }
         // not (|det| > limit): NaN included
         const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
         if (!m) continue;
@@ -164,48 +177,35 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
         }
         if (n > 256 - 8) out.insert(out.end(), buf, buf + n), n = 0;
     }
+    if (front && (f & 63)) {  // a word begun: its first faces from here, the rest by the scalar loop
+        const std::uint64_t keep = (std::uint64_t(1) << (f & 63)) - 1;
+        front[f >> 6] = (front[f >> 6] & ~keep) | word;
+    }
     out.insert(out.end(), buf, buf + n);
-    faces_within_scalar(p, f, nf, flt, limit, out);
+    faces_within_scalar(p, f, nf, flt, limit, out, front);
 }
 #endif
 
-// Sets or clears the bits of ascending face ids in a bit set, one word at a time (band faces are
-// sorted and clustered: most share their word with the previous one, so the word is written
-// once rather than read and written per face).
-struct BitWriter {
-    std::uint64_t* bits;
-    std::uint32_t word = UINT32_MAX;
-    std::uint64_t mask = 0, set = 0;
-    void put(std::uint32_t f, bool on) {
-        if ((f >> 6) != word) {
-            flush();
-            word = f >> 6;
-        }
-        const std::uint64_t m = std::uint64_t(1) << (f & 63);
-        mask |= m;
-        set |= on ? m : 0;
-    }
-    void flush() {
-        if (word != UINT32_MAX) bits[word] = (bits[word] & ~mask) | set;
-        mask = set = 0;
-    }
-};
-
-void band_states_scalar(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t i0, std::size_t n,
-                        const FacingFilter& now, const FacingFilter& before, BitWriter& front,
+// The band's front bits (8 faces a byte) and check positions, for positions [i0, n).
+void band_states_scalar(const float* nx, const float* ny, const float* nz, const float* d, std::size_t i0,
+                        std::size_t n, const FacingFilter& now, const FacingFilter& before, std::uint8_t* front,
                         std::vector<std::uint32_t>& check) {
     for (std::size_t i = i0; i < n; ++i) {
-        const std::uint8_t a = now(planes[i]), b = before(planes[i]);
-        front.put(ids[i], a == FaceFacing::kFront);
+        const MeshTopology::FacingPlane p{nx[i], ny[i], nz[i], d[i]};
+        const std::uint8_t a = now(p), b = before(p);
+        const std::uint8_t m = std::uint8_t(1u << (i & 7));
+        front[i >> 3] = a == FaceFacing::kFront ? std::uint8_t(front[i >> 3] | m) : std::uint8_t(front[i >> 3] & ~m);
         if (a != b || a == FaceFacing::kUnknown) check.push_back(std::uint32_t(i));
     }
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::FacingPlane* planes,
-                                                           const std::uint32_t* ids, std::size_t n,
-                                                           const FacingFilter& now, const FacingFilter& before,
-                                                           BitWriter& front, std::vector<std::uint32_t>& check) {
+// The same 8 faces a step from the four rows (the same products and sums in the same order as
+// FacingFilter::signed_distance, no FMA, so the same floats).
+__attribute__((target("avx2,bmi2"))) std::size_t band_states_avx2(const float* nx, const float* ny, const float* nz,
+                                                                  const float* d, std::size_t n,
+                                                                  const FacingFilter& now, const FacingFilter& before,
+                                                                  std::uint8_t* front, std::vector<std::uint32_t>& check) {
     Eye8 eye_now, eye_before;
     load_eye8(now, eye_now);
     load_eye8(before, eye_before);
@@ -213,8 +213,7 @@ __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::F
     const __m256 bb = _mm256_set1_ps(before.bound), bnb = _mm256_set1_ps(-before.bound);
     std::size_t i = 0;
     for (; i + 8 <= n; i += 8) {
-        Planes8 p8;
-        load_planes8(&planes[i].nx, p8);
+        const Planes8 p8{_mm256_loadu_ps(nx + i), _mm256_loadu_ps(ny + i), _mm256_loadu_ps(nz + i), _mm256_loadu_ps(d + i)};
         __m256 da, db;
         eye_distance8(p8, eye_now, da);
         eye_distance8(p8, eye_before, db);
@@ -224,13 +223,29 @@ __attribute__((target("avx2,bmi2"))) void band_states_avx2(const MeshTopology::F
         const unsigned kb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bnb, _CMP_NLT_UQ)));
         // states differ, or "now" undecided (not back and not front)
         unsigned odd = (fa ^ fb) | (ka ^ kb) | (ka & ~fa);
-        for (unsigned j = 0; j < 8; ++j) front.put(ids[i + j], (fa >> j) & 1);
+        front[i >> 3] = std::uint8_t(fa);
         while (odd) {
             check.push_back(std::uint32_t(i + unsigned(__builtin_ctz(odd))));
             odd &= odd - 1;
         }
     }
-    band_states_scalar(planes, ids, i, n, now, before, front, check);
+    return i;
+}
+
+// Scatters the band's front bits into the words of the face bit set (pdep per word).
+__attribute__((target("bmi2"))) void band_words_bmi2(const std::uint32_t* words, const std::uint64_t* masks,
+                                                     std::size_t nw, const std::uint8_t* front, std::uint64_t* bits) {
+    std::size_t o = 0;  // band position of the word's first face
+    for (std::size_t k = 0; k < nw; ++k) {
+        const std::uint64_t mask = masks[k];
+        std::uint64_t lo, hi;
+        std::memcpy(&lo, front + (o >> 3), 8);
+        std::memcpy(&hi, front + (o >> 3) + 8, 8);
+        const unsigned sh = unsigned(o & 7);
+        const std::uint64_t run = sh ? (lo >> sh) | (hi << (64 - sh)) : lo;
+        bits[words[k]] = (bits[words[k]] & ~mask) | _pdep_u64(run, mask);
+        o += std::size_t(__builtin_popcountll(mask));
+    }
 }
 #endif
 
@@ -246,20 +261,22 @@ bool cpu_has_avx2() {
 }
 
 std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
-                         const FaceBlocks* blocks) {
+                         const FaceBlocks* blocks, std::uint64_t* front) {
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
     auto run = [&](std::uint32_t f0, std::uint32_t f1) {
 #if defined(__x86_64__) && defined(__GNUC__)
-        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out);
+        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out, front);
 #endif
-        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out);
+        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out, front);
     };
     if (!blocks || !blocks->built_for(mesh)) {
         run(0, nf);
         return nf;
     }
     // Blocks whose every float distance is beyond +-limit hold no face of the band; runs of the
-    // other blocks are streamed as before (so the same faces, in order).
+    // other blocks are streamed as before (so the same faces, in order). A skipped block's faces
+    // are all front (every distance above limit) or all back (every one below -limit).
+    static_assert(FaceBlocks::kFaces == 64);  // a block's front bits are one word
     std::size_t read = 0;
     std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
     const std::size_t nb = blocks->size();
@@ -269,6 +286,7 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
             double lo, hi;
             blocks->distance_range(b, filter, lo, hi);
             skip = lo > double(limit) || hi < -double(limit);  // false for NaN ranges
+            if (skip && front) front[b] = lo > double(limit) ? ~std::uint64_t(0) : 0;
         }
         const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
         if (!skip && open == UINT32_MAX) open = f;
@@ -719,17 +737,44 @@ void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f,
     for (; b < b1; ++b) out[b - b0] = classify(b, f);
 }
 
-void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
-                 const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
-                 std::vector<std::uint32_t>& check) {
-    BitWriter front{front_bits};
+void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces) {
+    const std::size_t n = faces.size(), padded = (n + 7) / 8 * 8;
+    ids_ = faces;
+    for (auto* row : {&nx_, &ny_, &nz_, &d_}) row->assign(padded, 0.0f);
+    words_.clear();
+    masks_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t f = faces[i];
+        const MeshTopology::FacingPlane& p = mesh.facing[f];
+        nx_[i] = p.nx, ny_[i] = p.ny, nz_[i] = p.nz, d_[i] = p.d;
+        if (words_.empty() || words_.back() != f >> 6) words_.push_back(f >> 6), masks_.push_back(0);
+        masks_.back() |= std::uint64_t(1) << (f & 63);
+    }
+    front_.assign(padded / 8 + 16, 0);  // (+16: the word loop reads 16 bytes from any position)
+}
+
+void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                        std::vector<std::uint32_t>& check, bool simd) {
+    const std::size_t n = ids_.size();
+    std::uint8_t* front = front_.data();
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpu_has_avx2()) band_states_avx2(planes, ids, n, now, before, front, check);
-    else band_states_scalar(planes, ids, 0, n, now, before, front, check);
-#else
-    band_states_scalar(planes, ids, 0, n, now, before, front, check);
+    if (simd && cpu_has_avx2()) {
+        const std::size_t i = band_states_avx2(nx_.data(), ny_.data(), nz_.data(), d_.data(), n, now, before, front, check);
+        band_states_scalar(nx_.data(), ny_.data(), nz_.data(), d_.data(), i, n, now, before, front, check);
+        band_words_bmi2(words_.data(), masks_.data(), words_.size(), front, front_bits);
+        return;
+    }
 #endif
-    front.flush();
+    band_states_scalar(nx_.data(), ny_.data(), nz_.data(), d_.data(), 0, n, now, before, front, check);
+    std::size_t o = 0;
+    for (std::size_t k = 0; k < words_.size(); ++k) {
+        std::uint64_t w = front_bits[words_[k]];
+        for (std::uint64_t m = masks_[k]; m; m &= m - 1, ++o) {
+            const std::uint64_t bit = m & (~m + 1);
+            w = (front[o >> 3] >> (o & 7)) & 1 ? (w | bit) : (w & ~bit);
+        }
+        front_bits[words_[k]] = w;
+    }
 }
 
 void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {

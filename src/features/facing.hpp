@@ -149,17 +149,38 @@ private:
 // Appends the faces whose float distance to the eye (FacingFilter::signed_distance) is not above
 // `limit`, in order; faces with an untrusted (NaN) plane are always included.
 // With blocks (built for this mesh), blocks whose range is beyond the limit are not read. Returns
-// the number of faces whose planes were read.
+// the number of faces whose planes were read. With `front` (face_count() / 64 + 1 words): sets
+// the bit of every face outside the band whose float distance is above zero (above the limit)
+// and clears it for the others outside (below -limit); bits of faces in the band are left
+// arbitrary. With limit >= the filter's bound, a bit outside the band is the exact facing.
 std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
-                         const FaceBlocks* blocks = nullptr);
+                         const FaceBlocks* blocks = nullptr, std::uint64_t* front = nullptr);
 
-// For faces ids[0..n) (ascending) with copies of their planes: sets each face's bit in front_bits where
-// `now` says front and clears it elsewhere; appends to `check` the positions i where the two
-// filters disagree or `now` cannot decide (the caller decides those exactly; where both filters
-// agree and decide, the face kept its facing).
-void band_states(const MeshTopology::FacingPlane* planes, const std::uint32_t* ids, std::size_t n,
-                 const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
-                 std::vector<std::uint32_t>& check);
+// The faces of a coherence band (ascending ids) with copies of their planes as four float rows
+// (padded to a multiple of 8) and the 64-face words of a per-face bit set they fall in (word,
+// mask of the band's faces in it), so that a view streams the rows and writes each word once.
+// 20 bytes per band face plus 12 per word.
+class FacingBand {
+public:
+    void assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces);
+    std::size_t size() const { return ids_.size(); }
+    std::uint32_t face(std::size_t i) const { return ids_[i]; }
+    MeshTopology::FacingPlane plane(std::size_t i) const { return {nx_[i], ny_[i], nz_[i], d_[i]}; }
+    // Sets each band face's bit in front_bits where `now` says front and clears it elsewhere
+    // (other bits untouched); appends to `check` the positions i where the two filters disagree
+    // or `now` cannot decide (the caller decides those exactly; where both filters agree and
+    // decide, the face kept its facing). `simd`: the AVX2 + BMI2 kernel where the CPU has it
+    // (else, and with false, the portable loop; the same result).
+    void states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                std::vector<std::uint32_t>& check, bool simd = true);
+
+private:
+    std::vector<std::uint32_t> ids_;
+    std::vector<float> nx_, ny_, nz_, d_;
+    std::vector<std::uint32_t> words_;
+    std::vector<std::uint64_t> masks_;
+    std::vector<std::uint8_t> front_;  // scratch: front bit per band face, 8 per byte (padded)
+};
 
 // Whether this CPU runs the AVX2 + BMI2 kernels (checked once; otherwise the scalar loops run).
 bool cpu_has_avx2();

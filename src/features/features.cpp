@@ -508,11 +508,6 @@ void SilhouetteFinder::add_silhouette(std::uint32_t e, std::uint32_t f0, std::ui
 }
 
 namespace {
-// face_state bits: decided in this view, front now, front in the previous view.
-constexpr std::uint8_t kDecided = 1, kFrontNow = 2;
-inline bool flipped(std::uint8_t s) { return ((s >> 1) ^ (s >> 2)) & 1; }
-inline bool front_now(std::uint8_t s) { return s & kFrontNow; }
-
 // The vector the facing filter dots the planes with (eye - facing_origin, or -forward for an
 // orthographic camera) in double, and w (1 perspective, 0 orthographic).
 void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], double& w) {
@@ -523,42 +518,22 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
 }
 }  // namespace
 
-// Facing of face f now and in the previous view: the float filter, and the exact predicate where
-// the filter cannot decide (so always the exact answer, as FaceFacing gives).
-std::uint8_t SilhouetteFinder::face_state(std::uint32_t f) {
-    std::uint8_t s = face_state_[f];
-    if (s) return s;
-    const MeshTopology::FacingPlane& p = mesh_->facing[f];
-    std::uint8_t now = filter_(p), before = previous_filter_(p);
-    if (now == FaceFacing::kUnknown) now = face_is_front(*mesh_, f, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
-    if (before == FaceFacing::kUnknown)
-        before = face_is_front(*mesh_, f, previous_camera_) ? FaceFacing::kFront : FaceFacing::kBack;
-    static_assert(FaceFacing::kFront == kFrontNow);
-    s = std::uint8_t(kDecided | (now & kFrontNow) | ((before & kFrontNow) << 1));
-    face_state_[f] = s;
-    face_touched_.push_back(f);
-    return s;
-}
-
 // The band: every face whose float distance to the eye e is within margin + bound. With the
 // float distance within bound/2 of the exact one (facing.cpp) and a unit normal, the exact
 // distance moves by at most |e' - e| when the eye moves to e', so a face outside the band keeps
 // its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
-// The face blocks skip the blocks whose planes are all beyond the margin. (Selecting the band
+// The face blocks skip the blocks whose planes are all beyond the margin. The faces outside the
+// band get their front bit here, from the sign of their float distance (beyond the filter's
+// bound, so exact), which they keep for every such eye; the band's bits are set per view.
+// (Selecting the band
 // from an outer band of 2.5-4 times its margin, rebuilt from the mesh more rarely, was tried:
 // no faster on armadillo@2, since each rebuild then streams the larger outer band.)
 void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
     const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
     band_faces_.clear();
-    planes_read_ += faces_within(mesh, filter_, limit, band_faces_, blocks());
-    band_planes_.resize(band_faces_.size());
-    std::fill(band_bits_.begin(), band_bits_.end(), 0);
-    for (std::size_t i = 0; i < band_faces_.size(); ++i) {
-        const std::uint32_t f = band_faces_[i];
-        band_planes_[i] = mesh.facing[f];
-        band_bits_[f >> 6] |= std::uint64_t(1) << (f & 63);
-    }
+    planes_read_ += faces_within(mesh, filter_, limit, band_faces_, blocks(), front_bits_.data());
+    band_.assign(mesh, band_faces_);
     for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
     band_w_ = w;
     band_margin_ = margin;
@@ -573,11 +548,9 @@ void SilhouetteFinder::build_band(const double eye[3], double w, double margin) 
 void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t nf = mesh.face_count();
-    if (face_state_.size() != nf) {
-        face_state_.assign(nf, 0);
-        face_touched_.clear();
+    if (front_bits_.size() != nf / 64 + 1) {
         band_margin_ = -1.0;
-        for (auto* bits : {&band_bits_, &front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
+        for (auto* bits : {&front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
     }
     camera_ = camera;
     filter_.bind(mesh, camera);
@@ -606,10 +579,10 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         // Per frame the band costs about its size, a rebuild about the face count once per
         // `steps` frames (a band face costs about 4 faces of a rebuild, measured): balanced at
         // steps = sqrt(faces / band faces per step) / 2.
-        const double per_step = std::max(1.0, double(band_faces_.size()) / steps);
+        const double per_step = std::max(1.0, double(band_.size()) / steps);
         auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / per_step), 2.0, 64.0);
     }
-    out.stats.band_faces = band_faces_.size();
+    out.stats.band_faces = band_.size();
 
     // The band's faces now and before: front-now bits for all, turned ones listed; every other
     // face keeps its facing.
@@ -617,10 +590,11 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     check_.clear();
     std::uint64_t* __restrict front = front_bits_.data();
     std::uint64_t* __restrict turned = turned_bits_.data();
-    band_states(band_planes_.data(), band_faces_.data(), band_faces_.size(), filter_, previous_filter_, front, check_);
+    band_.states(filter_, previous_filter_, front, check_);
     for (std::uint32_t i : check_) {  // the filters disagree or cannot decide: exact
-        const std::uint32_t f = band_faces_[i];
-        std::uint8_t now = filter_(band_planes_[i]), before = previous_filter_(band_planes_[i]);
+        const std::uint32_t f = band_.face(i);
+        const MeshTopology::FacingPlane plane = band_.plane(i);
+        std::uint8_t now = filter_(plane), before = previous_filter_(plane);
         if (now == FaceFacing::kUnknown)
             now = face_is_front(mesh, f, camera_) ? FaceFacing::kFront : FaceFacing::kBack;
         if (before == FaceFacing::kUnknown)
@@ -635,14 +609,33 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     out.stats.faces_turned = turned_.size();
     auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
 
-    for (const EdgeRecord& r : previous_) {
-        if (bit(turned, r.face[0]) || bit(turned, r.face[1])) continue;
-        ++out.stats.edges_examined;
-        add_silhouette(r.edge, r.face[0], r.face[1], out);
+    // The previous edges none of whose faces turned, branch-free through restricted pointers
+    // (edge_kind is all kNoKind here: find() reset the previous view's marks).
+    const std::size_t np = previous_.size(), nt = turned_.size();
+    {
+        const std::size_t s0 = out.silhouette_edges.size(), c0 = current_.size();
+        out.silhouette_edges.resize(s0 + np);
+        current_.resize(c0 + np);
+        std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
+        EdgeRecord* __restrict cur = current_.data() + c0;
+        std::uint8_t* __restrict kind = out.edge_kind.data();
+        const EdgeRecord* __restrict prev = previous_.data();
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < np; ++i) {
+            const EdgeRecord r = prev[i];
+            const bool keep = !(bit(turned, r.face[0]) | bit(turned, r.face[1]));
+            sil[k] = r.edge;
+            cur[k] = r;
+            kind[r.edge] = keep ? kSil : kNoKind;
+            k += keep;
+        }
+        out.silhouette_edges.resize(s0 + k);
+        current_.resize(c0 + k);
+        out.stats.edges_examined += k;
     }
-    // Edges of turned faces; an edge between two turned faces is decided by the lower one.
-    // Their neighbours mostly lie in the band; the others kept their facing and are decided here.
-    const std::size_t nt = turned_.size();
+    // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
+    // other face's front bit is this view's (set by band_states in the band, at the rebuild
+    // outside it).
     // Turned faces are scattered over the mesh: their face edges are fetched 16 faces ahead, and
     // the edges' face pairs (and kinds, written if silhouettes) 8 ahead, so that the cache
     // misses overlap instead of following each other.
@@ -661,13 +654,10 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             const std::uint32_t y = ef[0] == x ? ef[1] : ef[0];
             if (y == kNoFace || (bit(turned, y) && y < x)) continue;
             ++out.stats.edges_examined;
-            const bool fy = bit(band_bits_.data(), y) ? bool(bit(front, y)) : front_now(face_state(y));
-            if (fx != fy) add_silhouette(mesh.face_edges[x][k], ef[0], ef[1], out);
+            if (fx != bool(bit(front, y))) add_silhouette(mesh.face_edges[x][k], ef[0], ef[1], out);
         }
     }
     for (std::uint32_t f : turned_) turned[f >> 6] = 0;
-    for (std::uint32_t f : face_touched_) face_state_[f] = 0;
-    face_touched_.clear();
 }
 
 void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bool carry) {

@@ -217,7 +217,6 @@ private:
     void build_table();
     void follow(const Camera& camera, Features& out);
     void build_band(const double eye[3], double w, double margin);
-    std::uint8_t face_state(std::uint32_t f);
     void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
 
     const FaceBlocks* blocks();  // built on first use (if opt_.blocks), else null
@@ -240,9 +239,8 @@ private:
     // built (their planes copied, 20 bytes each) can change while the eye stays within M of that
     // position; the band is rebuilt by one pass over all faces when the eye leaves. follow() streams
     // the band, and the silhouette is the previous edges whose faces kept their facing plus the
-    // edges of the faces that changed. Adjacency (12 bytes per face), a state byte per face and the
-    // band are built on first use, only by a randomized finder with coherence; with three bits
-    // per face for the band's states.
+    // edges of the faces that changed. Two bits per face (front now, turned) and the band are built
+    // on first use, only by a randomized finder with coherence.
     struct EdgeRecord {
         std::uint32_t edge, face[2];
     };
@@ -254,12 +252,12 @@ private:
     } carried_;
     Camera previous_camera_, camera_;
     FacingFilter previous_filter_, filter_;
-    std::vector<std::uint8_t> face_state_;                 // per face, this view; 0 = not decided
-    std::vector<std::uint32_t> face_touched_, turned_;
-    std::vector<MeshTopology::FacingPlane> band_planes_;  // copies, parallel to band_faces_
-    std::vector<std::uint32_t> band_faces_, check_;
-    // Bit per face: in the band; front now (band faces); turned since the previous view.
-    std::vector<std::uint64_t> band_bits_, front_bits_, turned_bits_;
+    std::vector<std::uint32_t> turned_;
+    FacingBand band_;
+    std::vector<std::uint32_t> band_faces_, check_;  // scratch: the band's faces when it is rebuilt; positions to check
+    // Bit per face: front now (band faces: set per view; the others: at the band's rebuild,
+    // which they keep while the eye stays within the margin); turned since the previous view.
+    std::vector<std::uint64_t> front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
     double auto_steps_ = 4.0;  // the first band: 4 steps (8 read 2x more planes for the first rebuild)
 };
