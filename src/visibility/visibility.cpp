@@ -23,6 +23,7 @@ struct ClipSeg {
     bool run_start;  // the curve is interrupted (clipped) before this segment
     const glm::dvec3 *LA = nullptr, *LB = nullptr;  // the mesh vertices at the ends, before clipping
     bool unclipped = false;                          // A == *LA and B == *LB
+    bool kept_both = false;                          // neither end clipped: A, B the mesh vertices
     Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
 };
 
@@ -61,6 +62,7 @@ bool clip_edge(const Camera& cam, double n, const VertexImages& images, const st
     out.LA = &positions[vP];
     out.LB = &positions[vQ];
     out.unclipped = out.A == *out.LA && out.B == *out.LB;
+    out.kept_both = keepP && keepQ;
     return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
 }
 
@@ -81,6 +83,20 @@ struct Split {
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
+// The view's occluding edges, as build_range reads them: in the image (Segment2), clipped
+// (ClipSeg, edge order), their boxes, and the occluder of a mesh edge (occ_of_edge[e], valid only
+// where occluders[k].edge == e: entries of earlier views are left in place).
+struct OccluderSet {
+    const std::vector<Segment2>& segs;
+    const std::vector<ClipSeg>& clip;
+    const std::vector<Box2f>& boxes;
+    const std::vector<std::uint32_t>& of_edge;
+    std::uint32_t find(std::uint32_t e) const {
+        const std::uint32_t k = e < of_edge.size() ? of_edge[e] : UINT32_MAX;
+        return k < segs.size() && segs[k].edge == e ? k : UINT32_MAX;
+    }
+};
+
 // build_pieces' working arrays, kept per thread from view to view.
 struct Scratch {
     struct Pending {
@@ -90,6 +106,8 @@ struct Scratch {
     std::vector<ClipSeg> occ_clip, all_segs;
     std::vector<std::uint64_t> in_curves, found;
     std::vector<std::uint32_t> seg_begin, at, next;
+    std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
+    std::vector<std::uint32_t> occ_of_edge;  // OccluderSet::of_edge (4 bytes per mesh edge)
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
     std::vector<double> lc_ot;  // Split::ot of a curve's link crossings
@@ -160,20 +178,26 @@ struct Part {
 // and link indices local to P. `images` must hold every curve vertex already when this runs on
 // several threads (it is then only read).
 void build_range(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const std::vector<Segment2>& occluders,
-                 const std::vector<ClipSeg>& occ_clip, const std::vector<std::uint64_t>& in_curves,
-                 const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1, Scratch& scratch, Part& P) {
+                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const OccluderSet& occ,
+                 const std::vector<std::uint64_t>& in_curves, const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1,
+                 Scratch& scratch, Part& P) {
+    const std::vector<Segment2>& occluders = occ.segs;
+    const std::vector<ClipSeg>& occ_clip = occ.clip;
     // 1. Every curve of the range clipped to the near plane and projected: their segments in one
     // array, curve ci's in [seg_begin[ci - c0], seg_begin[ci - c0 + 1]).
     const std::uint32_t ncurves = c1 - c0;
     std::vector<ClipSeg>& all_segs = scratch.all_segs;
     std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;  // indexed by ci - c0
+    std::vector<std::uint32_t>& seg_occ = scratch.seg_occ;  // parallel to all_segs
     all_segs.clear();
+    seg_occ.clear();
     seg_begin.assign(ncurves + 1, 0);
+    const double near = camera.near_distance();
     {
         std::size_t edges = 0;
         for (std::uint32_t ci = c0; ci < c1; ++ci) edges += features.curves[ci].edges.size();
         all_segs.reserve(edges);
+        seg_occ.reserve(edges);
     }
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
@@ -183,10 +207,24 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             ClipSeg s;
-            if (!clip_edge(camera, camera.near_distance(), images, mesh.positions, va, vb, forward ? 0.0 : 1.0,
-                           forward ? 1.0 : 0.0, s)) {
+            // A silhouette or border edge in front of the near plane was clipped and projected as
+            // an occluder already: the same values (clip_edge keeps both ends, as it did there),
+            // in travel order.
+            const std::uint32_t k = occ.find(e);
+            if (k != UINT32_MAX && occ_clip[k].kept_both && occ_clip[k].zA >= near && occ_clip[k].zB >= near) {
+                s = occ_clip[k];
+                if (!forward) {
+                    std::swap(s.A, s.B), std::swap(s.a, s.b), std::swap(s.zA, s.zB), std::swap(s.sA, s.sB);
+                    std::swap(s.LA, s.LB);
+                    s.slack = std::max(images.slack(va), images.slack(vb));  // (clip_edge's order)
+                }
+                seg_occ.push_back(k);
+            } else if (!clip_edge(camera, near, images, mesh.positions, va, vb, forward ? 0.0 : 1.0, forward ? 1.0 : 0.0,
+                                  s)) {
                 interrupted = true;
                 continue;
+            } else {
+                seg_occ.push_back(UINT32_MAX);
             }
             s.edge = e;
             // A clipped start also interrupts the curve.
@@ -208,6 +246,11 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         qbox.resize(all_segs.size());
         for (std::size_t j = 0; j < all_segs.size(); ++j) {
             const ClipSeg& s = all_segs[j];
+            // (a copied occluder's box: outer_box is symmetric in the ends, the slack the same)
+            if (seg_occ[j] != UINT32_MAX && all_segs[j].slack == occ_clip[seg_occ[j]].slack) {
+                qbox[j] = occ.boxes[seg_occ[j]];
+                continue;
+            }
             qbox[j] = outer_box({s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack});
         }
         found.clear();
@@ -500,12 +543,15 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // The occluders binned once for the crossing search of every range.
     BoxPairs& grid = scratch.grid;
-    {
-        std::vector<Box2f>& obox = scratch.obox;
-        obox.resize(occluders.size());
-        for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
-        grid.prepare(obox, camera.width(), camera.height());
-    }
+    std::vector<Box2f>& obox = scratch.obox;
+    obox.resize(occluders.size());
+    for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
+    grid.prepare(obox, camera.width(), camera.height());
+    // The occluder of each silhouette or border edge (curve segments copy its clipping).
+    std::vector<std::uint32_t>& occ_of_edge = scratch.occ_of_edge;
+    if (occ_of_edge.size() != mesh.edge_count()) occ_of_edge.assign(mesh.edge_count(), UINT32_MAX);
+    for (std::uint32_t k = 0; k < occluders.size(); ++k) occ_of_edge[occluders[k].edge] = k;
+    const OccluderSet occ{occluders, occ_clip, obox, occ_of_edge};
 
     // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
     // second on its own thread; its pieces and links are appended after the first's.
@@ -515,7 +561,7 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     out.spans.resize(out.pieces.size());  // (slots are pairs)
     Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends, &g.spare_pieces_, &g.spare_spans_};
     if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
-        build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, ncurves, scratch, first);
+        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, scratch, first);
     } else {
         std::uint32_t mid = 0;
         for (std::size_t edges = 0; mid < ncurves && 2 * edges < total_edges; ++mid) edges += features.curves[mid].edges.size();
@@ -530,10 +576,10 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         p2.clear();
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
         std::thread worker([&] {
-            build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, mid, ncurves,
+            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves,
                         scratch2, second);
         });
-        build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, mid, scratch, first);
+        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, scratch, first);
         worker.join();
         // Append the second range, its indices shifted; its pieces swapped into the graph's slots
         // (each side keeps storage).
