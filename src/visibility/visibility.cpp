@@ -91,6 +91,7 @@ struct OccluderSet {
     const std::vector<ClipSeg>& clip;
     const std::vector<Box2f>& boxes;
     const std::vector<std::uint32_t>& of_edge;
+    const std::vector<std::uint8_t>& unclipped;  // clip[k].unclipped, compact
     std::uint32_t find(std::uint32_t e) const {
         const std::uint32_t k = e < of_edge.size() ? of_edge[e] : UINT32_MAX;
         return k < segs.size() && segs[k].edge == e ? k : UINT32_MAX;
@@ -108,6 +109,7 @@ struct Scratch {
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
     std::vector<std::uint32_t> occ_of_edge;  // OccluderSet::of_edge (4 bytes per mesh edge)
+    std::vector<std::uint8_t> occ_unclipped;
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
     std::vector<double> lc_ot;  // Split::ot of a curve's link crossings
@@ -255,13 +257,17 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         }
         found.clear();
         grid.pairs(qbox, found, scratch.hits);
+        // (the pairs of one curve segment come one after the other: its Segment2 made once)
+        std::uint32_t qj = UINT32_MAX;
+        Segment2 q{};
+        const std::uint8_t* o_unclipped = occ.unclipped.data();
         for (const std::uint64_t f : found) {
             const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
             const ClipSeg& s = all_segs[j];
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
-            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
-            if (apart_by_filter(q, s.unclipped, o, occ_clip[k].unclipped)) continue;  // (most pairs)
+            if (j != qj) q = {s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack}, qj = j;
+            if (apart_by_filter(q, s.unclipped, o, o_unclipped[k])) continue;  // (most pairs)
             double t[2], ot;
             const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t, &ot);
             if (n == 0) continue;
@@ -381,10 +387,12 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 cur->points.push_back(s.a);
             }
             double t0 = 0.0;
+            double e0 = s.sA + to_3d(camera, s, 0.0) * (s.sB - s.sA);  // edge parameter at t0
             auto add_span = [&](double t1) {
-                const double u0 = to_3d(camera, s, t0), u1 = to_3d(camera, s, t1);
-                cur_spans->push_back({s.edge, s.sA + u0 * (s.sB - s.sA), s.sA + u1 * (s.sB - s.sA)});
+                const double e1 = s.sA + to_3d(camera, s, t1) * (s.sB - s.sA);
+                cur_spans->push_back({s.edge, e0, e1});
                 cur->points.push_back(s.a + t1 * (s.b - s.a));
+                e0 = e1;  // (the next span starts here: t0 = t1)
             };
             for (; k < splits.size() && splits[k].seg == j;) {
                 const double t = splits[k].t;
@@ -551,7 +559,10 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     std::vector<std::uint32_t>& occ_of_edge = scratch.occ_of_edge;
     if (occ_of_edge.size() != mesh.edge_count()) occ_of_edge.assign(mesh.edge_count(), UINT32_MAX);
     for (std::uint32_t k = 0; k < occluders.size(); ++k) occ_of_edge[occluders[k].edge] = k;
-    const OccluderSet occ{occluders, occ_clip, obox, occ_of_edge};
+    std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
+    occ_unclipped.resize(occ_clip.size());
+    for (std::size_t k = 0; k < occ_clip.size(); ++k) occ_unclipped[k] = occ_clip[k].unclipped;
+    const OccluderSet occ{occluders, occ_clip, obox, occ_of_edge, occ_unclipped};
 
     // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
     // second on its own thread; its pieces and links are appended after the first's.
