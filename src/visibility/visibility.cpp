@@ -267,9 +267,10 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
             if (j != qj) q = {s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack}, qj = j;
-            if (apart_by_filter(q, s.unclipped, o, o_unclipped[k])) continue;  // (most pairs)
+            std::int8_t sides[4];  // (the quick reject's, apart_by_filter: not computed again)
+            if (filter_sides(q, s.unclipped, o, o_unclipped[k], sides)) continue;  // (most pairs)
             double t[2], ot;
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t, &ot);
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), sides, t, &ot);
             if (n == 0) continue;
             if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
             for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k, ot});
