@@ -1,6 +1,7 @@
 #include "visibility/visibility.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <span>
 #include <thread>
@@ -83,19 +84,45 @@ struct Split {
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
+// The occluder of each silhouette or border edge: a hash table of (edge, occluder) with at least
+// twice the occluders' slots (a few hundred kilobytes where a per-edge array would be megabytes
+// read at random), probed linearly.
+class EdgeOccluders {
+public:
+    void build(const std::vector<Segment2>& occluders) {
+        std::size_t cap = 16;
+        while (cap < 2 * occluders.size()) cap *= 2;
+        shift_ = 64 - std::countr_zero(cap);
+        slots_.assign(cap, {UINT32_MAX, UINT32_MAX});
+        for (std::uint32_t k = 0; k < occluders.size(); ++k) {
+            std::size_t i = slot(occluders[k].edge);
+            while (slots_[i][0] != UINT32_MAX && slots_[i][0] != occluders[k].edge) i = (i + 1) & (cap - 1);
+            slots_[i] = {occluders[k].edge, k};  // (an edge listed twice: its last occluder)
+        }
+    }
+    // The occluder of mesh edge e, or UINT32_MAX.
+    std::uint32_t find(std::uint32_t e) const {
+        for (std::size_t i = slot(e);; i = (i + 1) & (slots_.size() - 1)) {
+            if (slots_[i][0] == e) return slots_[i][1];
+            if (slots_[i][0] == UINT32_MAX) return UINT32_MAX;
+        }
+    }
+
+private:
+    std::size_t slot(std::uint32_t e) const { return std::size_t((std::uint64_t(e) * 0x9E3779B97F4A7C15ull) >> shift_); }
+    std::vector<std::array<std::uint32_t, 2>> slots_;
+    int shift_ = 60;
+};
+
 // The view's occluding edges, as build_range reads them: in the image (Segment2), clipped
-// (ClipSeg, edge order), their boxes, and the occluder of a mesh edge (occ_of_edge[e], valid only
-// where occluders[k].edge == e: entries of earlier views are left in place).
+// (ClipSeg, edge order), their boxes, the occluder of a mesh edge, and whether each is unclipped.
 struct OccluderSet {
     const std::vector<Segment2>& segs;
     const std::vector<ClipSeg>& clip;
     const std::vector<Box2f>& boxes;
-    const std::vector<std::uint32_t>& of_edge;
+    const EdgeOccluders& of_edge;
     const std::vector<std::uint8_t>& unclipped;  // clip[k].unclipped, compact
-    std::uint32_t find(std::uint32_t e) const {
-        const std::uint32_t k = e < of_edge.size() ? of_edge[e] : UINT32_MAX;
-        return k < segs.size() && segs[k].edge == e ? k : UINT32_MAX;
-    }
+    std::uint32_t find(std::uint32_t e) const { return of_edge.find(e); }
 };
 
 // build_pieces' working arrays, kept per thread from view to view.
@@ -108,7 +135,7 @@ struct Scratch {
     std::vector<std::uint64_t> in_curves, found;
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
-    std::vector<std::uint32_t> occ_of_edge;  // OccluderSet::of_edge (4 bytes per mesh edge)
+    EdgeOccluders occ_of_edge;
     std::vector<std::uint8_t> occ_unclipped;
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
@@ -557,9 +584,8 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
     grid.prepare(obox, camera.width(), camera.height());
     // The occluder of each silhouette or border edge (curve segments copy its clipping).
-    std::vector<std::uint32_t>& occ_of_edge = scratch.occ_of_edge;
-    if (occ_of_edge.size() != mesh.edge_count()) occ_of_edge.assign(mesh.edge_count(), UINT32_MAX);
-    for (std::uint32_t k = 0; k < occluders.size(); ++k) occ_of_edge[occluders[k].edge] = k;
+    EdgeOccluders& occ_of_edge = scratch.occ_of_edge;
+    occ_of_edge.build(occluders);
     std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
     occ_unclipped.resize(occ_clip.size());
     for (std::size_t k = 0; k < occ_clip.size(); ++k) occ_unclipped[k] = occ_clip[k].unclipped;
