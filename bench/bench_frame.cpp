@@ -126,6 +126,27 @@ void BM_Visibility(benchmark::State& state, const char* name, bool walk, int thr
     state.counters["walks"] = double(walks);
 }
 
+// build_pieces alone (clipping, projection, the crossing search, the pieces; no QI), storage kept
+// from frame to frame as a ViewSession does.
+void BM_Pieces(benchmark::State& state, const char* name) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    cam.set_near(inkline::default_near(m->topology()));
+    const inkline::Features f = inkline::extract_features(m->topology(), cam);
+    inkline::PieceGraph g;
+    for (auto _ : state) {
+        inkline::build_pieces(g, m->topology(), f, cam, nullptr, 1);
+        benchmark::DoNotOptimize(g);
+    }
+    std::size_t edges = 0;
+    for (const auto& c : f.curves) edges += c.edges.size();
+    state.counters["curve_edges"] = double(edges);
+    state.counters["occluders"] = double(g.occluders.size());
+    state.counters["crossings"] = double(g.curves.crossings);
+    state.counters["pieces"] = double(g.curves.pieces.size());
+}
+
 int reg = [] {
     for (const char* n : kMeshes) {
         benchmark::RegisterBenchmark((std::string("features/") + n).c_str(), BM_Features, n)->Unit(benchmark::kMillisecond);
@@ -140,6 +161,8 @@ int reg = [] {
         benchmark::RegisterBenchmark((std::string("frame_appel_nowalk/") + n).c_str(), BM_Frame, n,
                                      inkline::VisibilityMethod::Appel, false)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("visibility_appel/") + n).c_str(), BM_Visibility, n, true, 1)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("build_pieces/") + n).c_str(), BM_Pieces, n)
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("visibility_appel_nowalk/") + n).c_str(), BM_Visibility, n, false, 1)
             ->Unit(benchmark::kMillisecond);

@@ -718,6 +718,46 @@ TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
     EXPECT_GT(rejected, 1000);
 }
 
+// The crossing search's quick reject hands the sides it decided to segment_crossings
+// (filter_sides): the same answer as the call that decides them itself, on lattice points
+// (touches, T-junctions, collinear images) and random ones, with either segment taken as clipped
+// (its line's sides then not from the filter) or not; and a pair it rejects does not meet.
+TEST(SegmentCrossings, GivenFilterSidesGiveTheSameResults) {
+    std::mt19937_64 rng(6);
+    const inkline::Camera cams[] = {
+        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
+        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+    };
+    int rejected = 0, met = 0, decided = 0;
+    for (const auto& cam : cams)
+        segment_pairs(cam, rng, 20000, [&](int i, const glm::dvec3* P, const Segment2& q, const Segment2& o) {
+            using namespace inkline;
+            for (int clip = 0; clip < 3; ++clip) {  // (none, q, o taken as clipped)
+                const bool qu = clip != 1, ou = clip != 2;
+                const Segment3 q3{P[0], P[1], &P[0], &P[1], std::int8_t(qu)}, o3{P[2], P[3], &P[2], &P[3], std::int8_t(ou)};
+                double t[2], ot, t2[2], ot2;
+                const int n = segment_crossings(cam, q, q3, o, o3, t, &ot);
+                std::int8_t sides[4];
+                const bool apart = filter_sides(q, qu, o, ou, sides);
+                ASSERT_EQ(apart, apart_by_filter(q, qu, o, ou)) << i;
+                if (apart) {
+                    ++rejected;
+                    ASSERT_EQ(n, 0) << i;
+                    continue;
+                }
+                decided += (sides[0] != 0) + (sides[1] != 0) + (sides[2] != 0) + (sides[3] != 0);
+                const int n2 = segment_crossings(cam, q, q3, o, o3, sides, t2, &ot2);
+                ASSERT_EQ(n, n2) << i << " clip " << clip;
+                for (int k = 0; k < n; ++k) ASSERT_EQ(t[k], t2[k]) << i << " clip " << clip;
+                ASSERT_TRUE(ot == ot2 || (std::isnan(ot) && std::isnan(ot2))) << i << " clip " << clip;
+                met += n > 0;
+            }
+        });
+    EXPECT_GT(rejected, 1000);
+    EXPECT_GT(met, 1000);
+    EXPECT_GT(decided, 1000);
+}
+
 // ---------------------------------------------------------------------------------------------
 // fast_orient.hpp: the float-filtered orientations give the exact signs (CGAL's), also where the
 // filter cannot decide (collinear / coplanar points, perturbations in the last bit, coordinates

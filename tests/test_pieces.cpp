@@ -4,6 +4,9 @@
 // render_view's.
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -99,6 +102,61 @@ TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {
     EXPECT_GT(fewer, 0u);
     EXPECT_GT(more, 0u);
     EXPECT_GT(walks, 0u);
+}
+
+// Every piece's stretch is its mesh edge's part clipped to the camera's near plane, in travel
+// order: the image points are the projections of the span's ends on the edge, and no end lies in
+// front of the near plane, and consecutive spans meet on the surface. With the near plane through the model (curves clipped there while the
+// occluders, clipped only at the default near plane, are not) and without; silhouette edges
+// are walked in either direction along their curves.
+TEST(BuildPieces, PiecesAreTheirEdgesClippedAndProjected) {
+    const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const MeshTopology& mesh = armadillo.topology();
+    std::mt19937 rng(11u);
+    std::size_t clipped = 0, spans = 0;
+    for (int k = 0; k < 8; ++k) {
+        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds, 0.3, 1.2);
+        cam.set_near(k % 2 ? std::max(cam.depth(mesh.bounds.center()), default_near(mesh)) : default_near(mesh));
+        const Features f = extract_features(mesh, cam);
+        const PieceGraph g = build_pieces(mesh, f, cam, nullptr, k % 4 == 3 ? 2 : 1, 0);
+        for (std::size_t p = 0; p < g.curves.pieces.size(); ++p) {
+            const Piece& piece = g.curves.pieces[p];
+            const auto& sp = g.curves.spans[p];
+            ASSERT_EQ(piece.points.size(), sp.size() + 1);
+            glm::dvec3 last_end(0.0);
+            for (std::size_t i = 0; i < sp.size(); ++i) {
+                const auto [v0, v1] = mesh.edge_vertex[sp[i].edge];
+                const glm::dvec3 E0 = mesh.positions[v0], E1 = mesh.positions[v1];
+                const glm::dvec3 start = E0 + sp[i].s0 * (E1 - E0);
+                if (i > 0) {
+                    ASSERT_LE(glm::length(start - last_end), 1e-9 * mesh.bounds.half_diagonal())
+                        << "view " << k << " piece " << p << " span " << i;
+                }
+                last_end = E0 + sp[i].s1 * (E1 - E0);
+                // In travel order: along the edge from the curve's vertex before it.
+                const FeatureCurve& curve = f.curves[piece.curve];
+                const auto at = std::find(curve.edges.begin(), curve.edges.end(), sp[i].edge);
+                ASSERT_NE(at, curve.edges.end());
+                const bool forward = curve.vertices[std::size_t(at - curve.edges.begin())] == v0;
+                ASSERT_TRUE(forward ? sp[i].s0 <= sp[i].s1 : sp[i].s0 >= sp[i].s1)
+                    << "view " << k << " piece " << p << " span " << i;
+                for (int end = 0; end < 2; ++end) {
+                    const double s = end ? sp[i].s1 : sp[i].s0;
+                    const glm::dvec3 X = E0 + s * (E1 - E0);
+                    const double z = cam.depth(X);
+                    ASSERT_GE(z, cam.near_distance() * (1.0 - 1e-9)) << "view " << k << " piece " << p;
+                    if (std::abs(z - cam.near_distance()) <= 1e-9 * cam.near_distance()) ++clipped;
+                    const glm::dvec2 x = cam.project(X), q = piece.points[i + end];
+                    const double tol = 1e-7 * (1.0 + std::abs(x.x) + std::abs(x.y));
+                    ASSERT_NEAR(q.x, x.x, tol) << "view " << k << " piece " << p << " span " << i;
+                    ASSERT_NEAR(q.y, x.y, tol) << "view " << k << " piece " << p << " span " << i;
+                }
+                ++spans;
+            }
+        }
+    }
+    EXPECT_GT(clipped, 0u);  // (the near plane cut curves)
+    EXPECT_GT(spans, 10000u);
 }
 
 // A ViewSession along a camera path (the graph and the drawing's storage swapped from view to

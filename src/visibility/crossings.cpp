@@ -159,6 +159,12 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
 
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2], double* o_t) {
+    constexpr std::int8_t unknown[4] = {0, 0, 0, 0};
+    return segment_crossings(camera, q, q3, o, o3, unknown, t, o_t);
+}
+
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, const std::int8_t sides[4], double t[2], double* o_t) {
     if (o_t) *o_t = NAN;
     if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
     if (q.a == q.b || o.a == o.b) return 0;
@@ -167,9 +173,12 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
     if (std::max(q.a.x, q.b.x) + m < std::min(o.a.x, o.b.x) || std::max(o.a.x, o.b.x) + m < std::min(q.a.x, q.b.x) ||
         std::max(q.a.y, q.b.y) + m < std::min(o.a.y, o.b.y) || std::max(o.a.y, o.b.y) + m < std::min(q.a.y, q.b.y))
         return 0;
-    const int s0 = orient_filtered(camera, q, q3, o.a, o.slack, o3.A), s1 = orient_filtered(camera, q, q3, o.b, o.slack, o3.B);
+    // (a side the caller's filter decided is what orient_filtered's filter would give)
+    const int s0 = sides[0] ? sides[0] : orient_filtered(camera, q, q3, o.a, o.slack, o3.A);
+    const int s1 = sides[1] ? sides[1] : orient_filtered(camera, q, q3, o.b, o.slack, o3.B);
     if (s0 != 0 && s0 == s1) return 0;
-    const int s2 = orient_filtered(camera, o, o3, q.a, q.slack, q3.A), s3 = orient_filtered(camera, o, o3, q.b, q.slack, q3.B);
+    const int s2 = sides[2] ? sides[2] : orient_filtered(camera, o, o3, q.a, q.slack, q3.A);
+    const int s3 = sides[3] ? sides[3] : orient_filtered(camera, o, o3, q.b, q.slack, q3.B);
     if (s2 != 0 && s2 == s3) return 0;
     if (s0 == 0 && s1 == 0) {
         // Collinear images: the shared part, its ends ordered exactly along the line (positions

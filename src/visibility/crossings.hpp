@@ -58,6 +58,12 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
 // swapped gives, when they meet and their images are not collinear; otherwise NaN.
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, double t[2], double* o_t);
+// The same, given the sides the caller's quick reject decided already (sides[0], [1]: o's ends
+// against q's line, [2], [3]: q's ends against o's line; each image_side_filter's answer for the
+// pair's coordinates and slacks, taken only if that line's segment is unclipped, as
+// apart_by_filter does; 0: not known): they are not computed again. The same results.
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, const std::int8_t sides[4], double t[2], double* o_t);
 
 // The side of line (a, b) the exact image of p lies on (1 left, -1 right), when the rounded image
 // coordinates decide it; 0 when they do not. For a and b the images of the ends of an unclipped
@@ -87,6 +93,23 @@ inline bool apart_by_filter(const Segment2& q, bool q_unclipped, const Segment2&
     if (o_unclipped) {
         const int s2 = image_side_filter(o.a, o.b, o.slack, q.a, q.slack);
         if (s2 != 0 && s2 == image_side_filter(o.a, o.b, o.slack, q.b, q.slack)) return true;
+    }
+    return false;
+}
+
+// The sides segment_crossings decides first, by image_side_filter alone (0 where it does not decide
+// or the line's segment is clipped), and whether they show the pair apart (apart_by_filter).
+inline bool filter_sides(const Segment2& q, bool q_unclipped, const Segment2& o, bool o_unclipped, std::int8_t sides[4]) {
+    sides[0] = sides[1] = sides[2] = sides[3] = 0;
+    if (q_unclipped) {
+        sides[0] = std::int8_t(image_side_filter(q.a, q.b, q.slack, o.a, o.slack));
+        sides[1] = std::int8_t(image_side_filter(q.a, q.b, q.slack, o.b, o.slack));
+        if (sides[0] != 0 && sides[0] == sides[1]) return true;
+    }
+    if (o_unclipped) {
+        sides[2] = std::int8_t(image_side_filter(o.a, o.b, o.slack, q.a, q.slack));
+        sides[3] = std::int8_t(image_side_filter(o.a, o.b, o.slack, q.b, q.slack));
+        if (sides[2] != 0 && sides[2] == sides[3]) return true;
     }
     return false;
 }

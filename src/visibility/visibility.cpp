@@ -1,6 +1,7 @@
 #include "visibility/visibility.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <span>
 #include <thread>
@@ -23,6 +24,7 @@ struct ClipSeg {
     bool run_start;  // the curve is interrupted (clipped) before this segment
     const glm::dvec3 *LA = nullptr, *LB = nullptr;  // the mesh vertices at the ends, before clipping
     bool unclipped = false;                          // A == *LA and B == *LB
+    bool kept_both = false;                          // neither end clipped: A, B the mesh vertices
     Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
 };
 
@@ -61,6 +63,7 @@ bool clip_edge(const Camera& cam, double n, const VertexImages& images, const st
     out.LA = &positions[vP];
     out.LB = &positions[vQ];
     out.unclipped = out.A == *out.LA && out.B == *out.LB;
+    out.kept_both = keepP && keepQ;
     return std::isfinite(out.a.x) && std::isfinite(out.a.y) && std::isfinite(out.b.x) && std::isfinite(out.b.y);
 }
 
@@ -81,6 +84,47 @@ struct Split {
     bool operator<(const Split& o) const { return seg != o.seg ? seg < o.seg : t < o.t; }
 };
 
+// The occluder of each silhouette or border edge: a hash table of (edge, occluder) with at least
+// twice the occluders' slots (a few hundred kilobytes where a per-edge array would be megabytes
+// read at random), probed linearly.
+class EdgeOccluders {
+public:
+    void build(const std::vector<Segment2>& occluders) {
+        std::size_t cap = 16;
+        while (cap < 2 * occluders.size()) cap *= 2;
+        shift_ = 64 - std::countr_zero(cap);
+        slots_.assign(cap, {UINT32_MAX, UINT32_MAX});
+        for (std::uint32_t k = 0; k < occluders.size(); ++k) {
+            std::size_t i = slot(occluders[k].edge);
+            while (slots_[i][0] != UINT32_MAX && slots_[i][0] != occluders[k].edge) i = (i + 1) & (cap - 1);
+            slots_[i] = {occluders[k].edge, k};  // (an edge listed twice: its last occluder)
+        }
+    }
+    // The occluder of mesh edge e, or UINT32_MAX.
+    std::uint32_t find(std::uint32_t e) const {
+        for (std::size_t i = slot(e);; i = (i + 1) & (slots_.size() - 1)) {
+            if (slots_[i][0] == e) return slots_[i][1];
+            if (slots_[i][0] == UINT32_MAX) return UINT32_MAX;
+        }
+    }
+
+private:
+    std::size_t slot(std::uint32_t e) const { return std::size_t((std::uint64_t(e) * 0x9E3779B97F4A7C15ull) >> shift_); }
+    std::vector<std::array<std::uint32_t, 2>> slots_;
+    int shift_ = 60;
+};
+
+// The view's occluding edges, as build_range reads them: in the image (Segment2), clipped
+// (ClipSeg, edge order), their boxes, the occluder of a mesh edge, and whether each is unclipped.
+struct OccluderSet {
+    const std::vector<Segment2>& segs;
+    const std::vector<ClipSeg>& clip;
+    const std::vector<Box2f>& boxes;
+    const EdgeOccluders& of_edge;
+    const std::vector<std::uint8_t>& unclipped;  // clip[k].unclipped, compact
+    std::uint32_t find(std::uint32_t e) const { return of_edge.find(e); }
+};
+
 // build_pieces' working arrays, kept per thread from view to view.
 struct Scratch {
     struct Pending {
@@ -90,6 +134,9 @@ struct Scratch {
     std::vector<ClipSeg> occ_clip, all_segs;
     std::vector<std::uint64_t> in_curves, found;
     std::vector<std::uint32_t> seg_begin, at, next;
+    std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
+    EdgeOccluders occ_of_edge;
+    std::vector<std::uint8_t> occ_unclipped;
     std::vector<Split> all_splits, sorted, splits;
     std::vector<Pending> pending, wrap;
     std::vector<double> lc_ot;  // Split::ot of a curve's link crossings
@@ -160,20 +207,26 @@ struct Part {
 // and link indices local to P. `images` must hold every curve vertex already when this runs on
 // several threads (it is then only read).
 void build_range(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const std::vector<Segment2>& occluders,
-                 const std::vector<ClipSeg>& occ_clip, const std::vector<std::uint64_t>& in_curves,
-                 const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1, Scratch& scratch, Part& P) {
+                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const OccluderSet& occ,
+                 const std::vector<std::uint64_t>& in_curves, const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1,
+                 Scratch& scratch, Part& P) {
+    const std::vector<Segment2>& occluders = occ.segs;
+    const std::vector<ClipSeg>& occ_clip = occ.clip;
     // 1. Every curve of the range clipped to the near plane and projected: their segments in one
     // array, curve ci's in [seg_begin[ci - c0], seg_begin[ci - c0 + 1]).
     const std::uint32_t ncurves = c1 - c0;
     std::vector<ClipSeg>& all_segs = scratch.all_segs;
     std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;  // indexed by ci - c0
+    std::vector<std::uint32_t>& seg_occ = scratch.seg_occ;  // parallel to all_segs
     all_segs.clear();
+    seg_occ.clear();
     seg_begin.assign(ncurves + 1, 0);
+    const double near = camera.near_distance();
     {
         std::size_t edges = 0;
         for (std::uint32_t ci = c0; ci < c1; ++ci) edges += features.curves[ci].edges.size();
         all_segs.reserve(edges);
+        seg_occ.reserve(edges);
     }
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
@@ -183,10 +236,24 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             ClipSeg s;
-            if (!clip_edge(camera, camera.near_distance(), images, mesh.positions, va, vb, forward ? 0.0 : 1.0,
-                           forward ? 1.0 : 0.0, s)) {
+            // A silhouette or border edge in front of the near plane was clipped and projected as
+            // an occluder already: the same values (clip_edge keeps both ends, as it did there),
+            // in travel order.
+            const std::uint32_t k = occ.find(e);
+            if (k != UINT32_MAX && occ_clip[k].kept_both && occ_clip[k].zA >= near && occ_clip[k].zB >= near) {
+                s = occ_clip[k];
+                if (!forward) {
+                    std::swap(s.A, s.B), std::swap(s.a, s.b), std::swap(s.zA, s.zB), std::swap(s.sA, s.sB);
+                    std::swap(s.LA, s.LB);
+                    s.slack = std::max(images.slack(va), images.slack(vb));  // (clip_edge's order)
+                }
+                seg_occ.push_back(k);
+            } else if (!clip_edge(camera, near, images, mesh.positions, va, vb, forward ? 0.0 : 1.0, forward ? 1.0 : 0.0,
+                                  s)) {
                 interrupted = true;
                 continue;
+            } else {
+                seg_occ.push_back(UINT32_MAX);
             }
             s.edge = e;
             // A clipped start also interrupts the curve.
@@ -208,19 +275,29 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         qbox.resize(all_segs.size());
         for (std::size_t j = 0; j < all_segs.size(); ++j) {
             const ClipSeg& s = all_segs[j];
+            // (a copied occluder's box: outer_box is symmetric in the ends, the slack the same)
+            if (seg_occ[j] != UINT32_MAX && all_segs[j].slack == occ_clip[seg_occ[j]].slack) {
+                qbox[j] = occ.boxes[seg_occ[j]];
+                continue;
+            }
             qbox[j] = outer_box({s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack});
         }
         found.clear();
         grid.pairs(qbox, found, scratch.hits);
+        // (the pairs of one curve segment come one after the other: its Segment2 made once)
+        std::uint32_t qj = UINT32_MAX;
+        Segment2 q{};
+        const std::uint8_t* o_unclipped = occ.unclipped.data();
         for (const std::uint64_t f : found) {
             const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
             const ClipSeg& s = all_segs[j];
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
-            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
-            if (apart_by_filter(q, s.unclipped, o, occ_clip[k].unclipped)) continue;  // (most pairs)
+            if (j != qj) q = {s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack}, qj = j;
+            std::int8_t sides[4];  // (the quick reject's, apart_by_filter: not computed again)
+            if (filter_sides(q, s.unclipped, o, o_unclipped[k], sides)) continue;  // (most pairs)
             double t[2], ot;
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), t, &ot);
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), sides, t, &ot);
             if (n == 0) continue;
             if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
             for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k, ot});
@@ -338,10 +415,12 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 cur->points.push_back(s.a);
             }
             double t0 = 0.0;
+            double e0 = s.sA + to_3d(camera, s, 0.0) * (s.sB - s.sA);  // edge parameter at t0
             auto add_span = [&](double t1) {
-                const double u0 = to_3d(camera, s, t0), u1 = to_3d(camera, s, t1);
-                cur_spans->push_back({s.edge, s.sA + u0 * (s.sB - s.sA), s.sA + u1 * (s.sB - s.sA)});
+                const double e1 = s.sA + to_3d(camera, s, t1) * (s.sB - s.sA);
+                cur_spans->push_back({s.edge, e0, e1});
                 cur->points.push_back(s.a + t1 * (s.b - s.a));
+                e0 = e1;  // (the next span starts here: t0 = t1)
             };
             for (; k < splits.size() && splits[k].seg == j;) {
                 const double t = splits[k].t;
@@ -500,12 +579,17 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // The occluders binned once for the crossing search of every range.
     BoxPairs& grid = scratch.grid;
-    {
-        std::vector<Box2f>& obox = scratch.obox;
-        obox.resize(occluders.size());
-        for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
-        grid.prepare(obox, camera.width(), camera.height());
-    }
+    std::vector<Box2f>& obox = scratch.obox;
+    obox.resize(occluders.size());
+    for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
+    grid.prepare(obox, camera.width(), camera.height());
+    // The occluder of each silhouette or border edge (curve segments copy its clipping).
+    EdgeOccluders& occ_of_edge = scratch.occ_of_edge;
+    occ_of_edge.build(occluders);
+    std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
+    occ_unclipped.resize(occ_clip.size());
+    for (std::size_t k = 0; k < occ_clip.size(); ++k) occ_unclipped[k] = occ_clip[k].unclipped;
+    const OccluderSet occ{occluders, occ_clip, obox, occ_of_edge, occ_unclipped};
 
     // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
     // second on its own thread; its pieces and links are appended after the first's.
@@ -515,7 +599,7 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     out.spans.resize(out.pieces.size());  // (slots are pairs)
     Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends, &g.spare_pieces_, &g.spare_spans_};
     if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
-        build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, ncurves, scratch, first);
+        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, scratch, first);
     } else {
         std::uint32_t mid = 0;
         for (std::size_t edges = 0; mid < ncurves && 2 * edges < total_edges; ++mid) edges += features.curves[mid].edges.size();
@@ -530,10 +614,10 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         p2.clear();
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
         std::thread worker([&] {
-            build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, mid, ncurves,
+            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves,
                         scratch2, second);
         });
-        build_range(mesh, features, camera, cuts, g.images, occluders, occ_clip, in_curves, grid, 0, mid, scratch, first);
+        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, scratch, first);
         worker.join();
         // Append the second range, its indices shifted; its pieces swapped into the graph's slots
         // (each side keeps storage).
