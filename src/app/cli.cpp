@@ -60,6 +60,8 @@ const char* kUsage =
     "                      [--no-coherence] [--first-view=exhaustive|random] [--no-panel] [--recall]\n"
     "                      [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
     "                      [--export=F.{svg,pdf,png,json}] [--fps]] [--threads=N]\n"
+    "view: the randomized finder with frame coherence by default, from an exhaustive first view (exact),\n"
+    "and two threads where there are two cores; --finder=exhaustive scans every view.\n"
     "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh), or SURFACES (below).\n"
     "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
     "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"

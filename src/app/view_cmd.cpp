@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "app/cli.hpp"
 #include "core/error.hpp"
@@ -24,6 +25,13 @@ int run_view(int argc, char** argv) {
     // default (then follows it exactly), since a first view with holes keeps them, and each hole
     // leaves a cluster inconsistent, decided by a ray test per piece.
     o.view.finder.first_full = true;
+    // Frame coherence on by default: that first view, then the silhouette followed from view to
+    // view (exact, so the window still draws what `render` writes, and cheaper than a scan while
+    // the camera moves a few degrees a frame). The visibility of a large view on two threads where
+    // there are two cores (the same drawing).
+    o.view.finder.kind = FinderKind::Randomized;
+    o.view.finder.coherence = true;
+    o.view.threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
     for (int i = 2; i < argc; ++i) {
         const std::string arg = argv[i];
         if (arg == "--hidden") { o.hidden = true; continue; }

@@ -631,6 +631,7 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         }
         out.silhouette_edges.resize(s0 + k);
         current_.resize(c0 + k);
+        kept_ = c0 + k;
         out.stats.edges_examined += k;
     }
     // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
@@ -673,6 +674,18 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
     // Following a complete silhouette exactly leaves it complete: nothing is left to draw or seek.
     complete_ = complete_ && opt_.coherence && had_previous;
     if (complete_) {
+        // In edge order, as the exhaustive scan lists them: then the chains, and the drawing, are
+        // those of the exhaustive finder, edge for edge. The kept edges are in that order already
+        // (the previous view's were); the few new ones are sorted and merged in.
+        if (kept_ < current_.size()) {
+            const auto by_edge = [](const EdgeRecord& a, const EdgeRecord& b) { return a.edge < b.edge; };
+            const auto mid = current_.begin() + std::ptrdiff_t(kept_);
+            std::sort(mid, current_.end(), by_edge);
+            merged_.resize(current_.size());
+            std::merge(current_.begin(), mid, mid, current_.end(), merged_.begin(), by_edge);
+            current_.swap(merged_);
+            for (std::size_t i = 0; i < current_.size(); ++i) out.silhouette_edges[i] = current_[i].edge;
+        }
         if (carry) {
             out.face_front.carry(camera, turned_.data(), turned_.size());
             carried_ = {&out.face_front, out.face_front.generation()};

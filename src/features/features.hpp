@@ -244,7 +244,8 @@ private:
     struct EdgeRecord {
         std::uint32_t edge, face[2];
     };
-    std::vector<EdgeRecord> previous_, current_;
+    std::vector<EdgeRecord> previous_, current_, merged_;
+    std::size_t kept_ = 0;  // follow(): current_[0, kept_) are the previous edges kept, in their order
     bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
     struct Carried {
         const FaceFacing* facing = nullptr;  // a full view this finder left for previous_camera_
