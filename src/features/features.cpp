@@ -1,6 +1,7 @@
 #include "features/features.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -661,6 +662,40 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     for (std::uint32_t f : turned_) turned[f >> 6] = 0;
 }
 
+// current_[k, end) by edge: an LSD radix sort, 11 bits a pass over the bits of the largest edge
+// id (two passes up to 4 M edges; the new edges of a view are thousands, a comparison sort of them
+// cost more than the rest of a coherent view at a degree a frame), std::sort for a few.
+void SilhouetteFinder::sort_new_edges(std::size_t k) {
+    EdgeRecord* a = current_.data() + k;
+    const std::size_t n = current_.size() - k;
+    if (n < 256) {
+        std::sort(a, a + n, [](const EdgeRecord& x, const EdgeRecord& y) { return x.edge < y.edge; });
+        return;
+    }
+    constexpr int kBits = 11;
+    constexpr std::uint32_t kDigits = 1u << kBits;
+    const int bits = std::bit_width(std::uint32_t(std::max<std::size_t>(mesh_->edge_count(), 1) - 1));
+    const int passes = std::max(1, (bits + kBits - 1) / kBits);
+    radix_tmp_.resize(n);
+    EdgeRecord *src = a, *dst = radix_tmp_.data();
+    radix_count_.resize(kDigits);
+    for (int pass = 0; pass < passes; ++pass) {
+        const int shift = pass * kBits;
+        std::fill(radix_count_.begin(), radix_count_.end(), 0u);
+        std::uint32_t* count = radix_count_.data();
+        for (std::size_t i = 0; i < n; ++i) ++count[(src[i].edge >> shift) & (kDigits - 1)];
+        std::uint32_t sum = 0;
+        for (std::uint32_t d = 0; d < kDigits; ++d) {
+            const std::uint32_t c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (std::size_t i = 0; i < n; ++i) dst[count[(src[i].edge >> shift) & (kDigits - 1)]++] = src[i];
+        std::swap(src, dst);
+    }
+    if (src != a) std::copy(src, src + n, a);
+}
+
 void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bool carry) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count();
@@ -678,9 +713,9 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
         // those of the exhaustive finder, edge for edge. The kept edges are in that order already
         // (the previous view's were); the few new ones are sorted and merged in.
         if (kept_ < current_.size()) {
+            sort_new_edges(kept_);
             const auto by_edge = [](const EdgeRecord& a, const EdgeRecord& b) { return a.edge < b.edge; };
             const auto mid = current_.begin() + std::ptrdiff_t(kept_);
-            std::sort(mid, current_.end(), by_edge);
             merged_.resize(current_.size());
             std::merge(current_.begin(), mid, mid, current_.end(), merged_.begin(), by_edge);
             current_.swap(merged_);

@@ -244,7 +244,9 @@ private:
     struct EdgeRecord {
         std::uint32_t edge, face[2];
     };
-    std::vector<EdgeRecord> previous_, current_, merged_;
+    std::vector<EdgeRecord> previous_, current_, merged_, radix_tmp_;
+    std::vector<std::uint32_t> radix_count_;
+    void sort_new_edges(std::size_t k);
     std::size_t kept_ = 0;  // follow(): current_[0, kept_) are the previous edges kept, in their order
     bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
     struct Carried {
