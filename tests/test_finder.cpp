@@ -280,6 +280,8 @@ TEST(Finder, CoherenceFromExhaustiveFirstViewIsExact) {
             const double az = 0.3 + 0.0175 * i;  // 1 degree per view
             path.push_back(Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.4, std::cos(az)), c, {0, 1, 0}, 30, 640, 480));
         }
+        for (int i = 22; i >= 16; --i) path.push_back(path[std::size_t(i)]);  // back (the band was built ahead)
+        for (int i = 0; i < 6; ++i) path.push_back(path[std::size_t(16 + (i % 2))]);  // to and fro
         path.push_back(Camera::perspective(c + d * glm::dvec3(-0.8, -0.3, 0.5), c, {0, 1, 0}, 30, 640, 480));  // a jump
         for (int i = 0; i < 4; ++i)
             path.push_back(Camera::orthographic(c + d * glm::dvec3(0.3 + 0.01 * i, 1.0, 0.4), c, {0, 0, 1},

@@ -25,12 +25,18 @@ namespace inkline {
 // Outside the bound the float sign is the exact sign; inside, the exact predicate decides.
 void FacingFilter::bind(const MeshTopology& mesh, const Camera& camera) {
     const bool ortho = camera.is_ortho();
-    const glm::dvec3 e = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
-    ex = float(e.x);
-    ey = float(e.y);
-    ez = float(e.z);
+    const glm::dvec3 v = ortho ? -camera.forward() : camera.eye() - mesh.facing_origin;
+    const double e[3] = {v.x, v.y, v.z};
+    bind(mesh, e, ortho ? 0.0 : 1.0);
+}
+
+void FacingFilter::bind(const MeshTopology& mesh, const double e[3], double wv) {
+    const bool ortho = wv == 0.0;
+    ex = float(e[0]);
+    ey = float(e[1]);
+    ez = float(e[2]);
     w = ortho ? 0.0f : 1.0f;
-    const double l1 = std::abs(e.x) + std::abs(e.y) + std::abs(e.z);
+    const double l1 = std::abs(e[0]) + std::abs(e[1]) + std::abs(e[2]);
     bound = float(0x1p-18 * (l1 + (ortho ? 0.0 : mesh.facing_radius)) + 1e-36);
     if (!std::isfinite(ex) || !std::isfinite(ey) || !std::isfinite(ez) || !std::isfinite(bound))
         bound = INFINITY;  // out of float range: every face goes to the exact test

@@ -22,6 +22,8 @@ namespace inkline {
 struct FacingFilter {
     float ex = 0, ey = 0, ez = 0, w = 0, bound = 0;
     void bind(const MeshTopology& mesh, const Camera& camera);
+    // The filter of an eye vector e (eye - facing_origin; an orthographic view: -forward, w = 0).
+    void bind(const MeshTopology& mesh, const double e[3], double w);
     float signed_distance(const MeshTopology::FacingPlane& p) const {
         return p.nx * ex + p.ny * ey + p.nz * ez - w * p.d;
     }

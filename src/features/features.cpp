@@ -531,9 +531,11 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
 // no faster on armadillo@2, since each rebuild then streams the larger outer band.)
 void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
-    const float limit = float((margin + double(filter_.bound)) * (1.0 + 0x1p-20));
+    FacingFilter at;  // the filter of the band's eye (not the view's, when the band is built ahead of it)
+    at.bind(mesh, eye, w);
+    const float limit = float((margin + double(at.bound)) * (1.0 + 0x1p-20));
     band_faces_.clear();
-    planes_read_ += faces_within(mesh, filter_, limit, band_faces_, blocks(), front_bits_.data());
+    planes_read_ += faces_within(mesh, at, limit, band_faces_, blocks(), front_bits_.data());
     band_.assign(mesh, band_faces_);
     for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
     band_w_ = w;
@@ -575,13 +577,22 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
           dist(p, band_eye_) <= band_margin_)) {
         const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
         const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
-        build_band(e, w, steps * (step * (1.0 + 1e-9) + 1e-12 * scale));
+        const double margin = steps * (step * (1.0 + 1e-9) + 1e-12 * scale);
+        // Built ahead of the eye, along its last step, as far as keeps the previous eye inside:
+        // a camera moving on (an orbit is straight over a few steps) crosses the whole band,
+        // about 2 * steps views before the next rebuild instead of steps.
+        double c[3] = {e[0], e[1], e[2]};
+        if (step > 0.0 && margin > step) {
+            const double ahead = 0.999 * (margin - step) / step;
+            for (int i = 0; i < 3; ++i) c[i] = e[i] + ahead * (e[i] - p[i]);
+        }
+        build_band(c, w, margin);
         out.stats.band_rebuilt = true;
         // Per frame the band costs about its size, a rebuild about the face count once per
-        // `steps` frames (a band face costs about 4 faces of a rebuild, measured): balanced at
-        // steps = sqrt(faces / band faces per step) / 2.
+        // 2 * steps frames (a band face costs about 4 faces of a rebuild, measured): balanced at
+        // steps = sqrt(faces / (2 * band faces per step)) / 2.
         const double per_step = std::max(1.0, double(band_.size()) / steps);
-        auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / per_step), 2.0, 64.0);
+        auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / (2.0 * per_step)), 2.0, 64.0);
     }
     out.stats.band_faces = band_.size();
 
