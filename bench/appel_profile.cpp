@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
         const double t0 = thread_seconds();
         st = inkline::assign_qi_appel(
             m->topology(), cam, f.face_front, [&]() -> const inkline::RayCaster& { return m->rays(); }, g,
-            {false, &pierced, true, 1});
+            {false, m->pierced_faces(), true, 1});
         seconds += thread_seconds() - t0;
     }
     std::size_t spans = 0;

@@ -117,7 +117,7 @@ void BM_Visibility(benchmark::State& state, const char* name, bool walk, int thr
         inkline::build_pieces(g, m->topology(), f, cam, nullptr, threads);
         const auto st = inkline::assign_qi_appel(
             m->topology(), cam, f.face_front, [&]() -> const inkline::RayCaster& { return m->rays(); }, g,
-            {false, &m->self_intersecting_faces(), walk, threads});
+            {false, m->pierced_faces(), walk, threads});
         rays = st.ray_tests;
         walks = st.walks;
         benchmark::DoNotOptimize(g);

@@ -63,7 +63,7 @@ const Frame* frame(const std::string& name, bool hidden) {
             inkline::PieceGraph g = inkline::build_pieces(mesh, features, f->camera);
             inkline::assign_qi_appel(mesh, f->camera, features.face_front,
                                      [&]() -> const inkline::RayCaster& { return f->model->rays(); }, g,
-                                     {hidden, &f->model->self_intersecting_faces(), true});
+                                     {hidden, f->model->pierced_faces(), true});
             f->vis_ms = std::min(f->vis_ms, 1e3 * (cpu_seconds() - t0));
             benchmark::DoNotOptimize(g);
         }

@@ -32,6 +32,11 @@ const RayCaster& Model::rays() const {
 
 const std::vector<std::uint8_t>& Model::self_intersecting_faces() const { return self_intersections().faces; }
 
+const std::vector<std::uint8_t>* Model::pierced_faces() const {
+    const SelfIntersections& si = self_intersections();
+    return si.flagged > 0 ? &si.faces : nullptr;
+}
+
 const SelfIntersections& Model::self_intersections() const {
     if (!pierced_) pierced_ = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_));
     return *pierced_;
@@ -90,7 +95,7 @@ void ViewSession::finish(const Camera& camera) {
     };
     // Once per model, like the ray-test index: not the view's time.
     const SelfIntersections& si = model.self_intersections();
-    const std::vector<std::uint8_t>* pierced = appel ? &si.faces : nullptr;
+    const std::vector<std::uint8_t>* pierced = appel ? model.pierced_faces() : nullptr;
     const auto t1 = std::chrono::steady_clock::now();
     Drawing& d = v.drawing;
     VisibleCurves curves;

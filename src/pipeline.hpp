@@ -28,6 +28,9 @@ public:
     const RayCaster& rays() const;
     // Per face: intersects another face; computed on first use (the fast visibility needs it).
     const std::vector<std::uint8_t>& self_intersecting_faces() const;
+    // Those flags, or null when no face is flagged (AppelOptions::pierced_faces: a view then looks
+    // up no face of its pieces).
+    const std::vector<std::uint8_t>* pierced_faces() const;
     // Those faces and where edges meet other faces (both visibility methods cut curves there);
     // computed on first use, once.
     const SelfIntersections& self_intersections() const;

@@ -444,7 +444,7 @@ TEST(AssignQiAppel, PiecesOnAFlaggedFaceWhereverItIsInTheFlags) {
     Camera cam = Camera::framing(bunny.topology().bounds, 1024, 1024);
     cam.set_near(default_near(bunny.topology()));
     check_flagged_faces(bunny, cam);
-    // A bent sheet of 32 faces: all in the scan's tail.
+    // A bent sheet of 32 faces (fewer than a 64-face word).
     TriangleMesh m = make_sheet(1.0, 0.0, 4);
     for (auto& p : m.positions) p.y = 0.5 * std::sin(1.4 * p.x) + 0.3 * p.x * p.z;
     const Model sheet(m);

@@ -55,6 +55,7 @@ std::size_t expect_same(const TriangleMesh& m, const std::string& what) {
         if (ours[f] != ref[f] && ++differ <= 5) ADD_FAILURE() << what << ": face " << f << " ours " << int(ours[f]) << " CGAL " << int(ref[f]);
     }
     EXPECT_EQ(differ, 0u) << what;
+    EXPECT_EQ(inkline::self_intersections(t).flagged, flagged) << what;  // (Model::pierced_faces reads it)
     return flagged;
 }
 

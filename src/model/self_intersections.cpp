@@ -162,6 +162,7 @@ SelfIntersections self_intersections(const MeshTopology& mesh) {
     si.cuts.erase(std::unique(si.cuts.begin(), si.cuts.end(),
                               [](const EdgeCut& a, const EdgeCut& b) { return a.edge == b.edge && a.s == b.s; }),
                   si.cuts.end());
+    si.flagged = std::size_t(std::count(si.faces.begin(), si.faces.end(), std::uint8_t(1)));
     return si;
 }
 

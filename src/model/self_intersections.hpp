@@ -19,6 +19,7 @@ struct EdgeCut {
 
 struct SelfIntersections {
     std::vector<std::uint8_t> faces;  // per face: 1 if it intersects another face
+    std::size_t flagged = 0;          // faces set in `faces`
     // Sorted by edge, then s: where edges pass through other faces, and the ends of the stretches
     // where an edge lies on another face (touching or coincident surfaces). Empty for an embedded
     // surface; a few per intersecting pair otherwise (16 bytes each).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <climits>
-#include <cstring>
 #include <functional>
 #include <thread>
 #include <glm/common.hpp>
@@ -109,27 +108,6 @@ int bit_width(std::size_t n) {
     int b = 0;
     while (n >> b) ++b;
     return b;
-}
-
-// Whether any byte of `flags` is nonzero: a sequential scan, 8 bytes at a time (most meshes have
-// no self-intersecting face: a scan of the per-face flags is then far cheaper than looking up the
-// faces of every span, which are scattered in memory).
-bool any_set(const std::vector<std::uint8_t>& flags) {
-    const std::uint8_t* p = flags.data();
-    const std::size_t n = flags.size();
-    std::size_t i = 0;
-    for (; i + 64 <= n; i += 64) {
-        std::uint64_t acc = 0;
-        for (std::size_t k = 0; k < 64; k += 8) {
-            std::uint64_t w;
-            std::memcpy(&w, p + i + k, 8);
-            acc |= w;
-        }
-        if (acc) return true;
-    }
-    for (; i < n; ++i)
-        if (p[i]) return true;
-    return false;
 }
 
 // A set of mesh edges, one bit each.
@@ -590,7 +568,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // Pieces on faces that cut through other faces: the QI can change inside them unseen, so they
     // take no part in propagation (each gets its own ray test).
     std::vector<std::uint8_t> pierced(np, 0);
-    if (options.pierced_faces && any_set(*options.pierced_faces)) {
+    if (options.pierced_faces) {
         const auto& pf = *options.pierced_faces;
         for (std::uint32_t p = 0; p < np; ++p)
             for (const EdgeSpan& s : spans[p]) {

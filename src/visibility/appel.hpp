@@ -22,6 +22,7 @@ struct AppelOptions {
     bool exact_hidden = true;
     // Per face: intersects another face (model/self_intersections.hpp). Pieces on such a face get
     // a ray test each and are kept out of propagation: passing through a face changes QI unseen.
+    // Null where no face is flagged (Model::pierced_faces): the pieces' faces are not looked up.
     const std::vector<std::uint8_t>* pierced_faces = nullptr;
     // Walk the surface (section 4.4) before falling back to a ray test.
     bool walk = true;
