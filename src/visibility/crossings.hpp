@@ -84,7 +84,9 @@ inline int image_side_filter(glm::dvec2 a, glm::dvec2 b, double l_slack, glm::dv
 
 // True only when the 3D-exact segment_crossings(camera, q, q3, o, o3) finds no crossing, decided
 // by image_side_filter alone (o's ends on one side of q's line, or q's on one side of o's; a
-// segment's line used only if it is unclipped): a quick reject before the full test.
+// segment's line used only if it is unclipped): a quick reject before the full test. The
+// reference that filter_sides (below, which build_pieces calls: it also keeps the sides for
+// segment_crossings) is tested against.
 inline bool apart_by_filter(const Segment2& q, bool q_unclipped, const Segment2& o, bool o_unclipped) {
     if (q_unclipped) {
         const int s0 = image_side_filter(q.a, q.b, q.slack, o.a, o.slack);
