@@ -61,25 +61,24 @@ void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_si
 // of degree two gives the other edge), so no vertex ring is scanned. That pass numbers the
 // feature edges (in list order) and their vertices (in order of first use) locally; the cusps and
 // the chaining then read only those compact arrays (the mesh's per-vertex and per-edge arrays are
-// read once per edge: this stage is bound by the latency of scattered reads).
+// read once per edge: this stage is bound by the latency of scattered reads). Before the chains
+// are walked, each feature edge gets, in one pass whose reads are independent of each other, the
+// edge that follows it through each of its vertices: a step of a chain (a chain of dependent
+// reads) then reads one record instead of an edge and then its vertex.
 void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, Features& out) {
     const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
     const std::uint8_t list_kind[3] = {kSil, kBorder, kCrease};
-    const std::size_t ns = out.silhouette_edges.size();
-    const std::size_t n = ns + out.border_edges.size() + out.crease_edges.size();
+    const std::size_t n = out.silhouette_edges.size() + out.border_edges.size() + out.crease_edges.size();
     auto& local = out.vertex_local;
     if (local.size() != mesh.vertex_count()) local.assign(mesh.vertex_count(), UINT32_MAX);
     auto& verts = out.chain_vertices;
-    auto& ends = out.chain_ends;
-    auto& eid = out.chain_edges;
-    auto& used = out.chain_used;
+    auto& links = out.chain_links;
     // (at most two vertices per edge; slot nv is written on every first-use test, so it must exist)
     if (verts.size() < 2 * n + 1) verts.resize(2 * n + 1);
     std::uint32_t nv = 0;  // vertices numbered so far
-    ends.resize(n);
-    eid.resize(n);
-    used.assign(n, 0);
+    links.resize(n);
     std::size_t list_end[3];
+    std::uint32_t silhouette_vertices = 0;  // the vertices of silhouette edges: numbered first
     {
         std::uint32_t i = 0;
         for (int l = 0; l < 3; ++l) {
@@ -87,17 +86,22 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
             const std::uint32_t* list = lists[l]->data();
             const std::size_t m = lists[l]->size();
             for (std::size_t j = 0; j < m; ++j) {
-                // The edges are scattered over the mesh: their vertices are fetched 16 edges
-                // ahead and those vertices' local numbers 8 ahead, so that the misses overlap.
-                if (j + 16 < m) __builtin_prefetch(&mesh.edge_vertex[list[j + 16]]);
-                if (j + 8 < m) {
-                    const auto& ahead = mesh.edge_vertex[list[j + 8]];
+                // The edges are scattered over the mesh: their vertices and flags are fetched 32
+                // edges ahead and those vertices' local numbers 16 ahead, so that the misses overlap.
+                if (j + 32 < m) {
+                    __builtin_prefetch(&mesh.edge_vertex[list[j + 32]]);
+                    __builtin_prefetch(&mesh.edge_flags[list[j + 32]]);
+                }
+                if (j + 16 < m) {
+                    const auto& ahead = mesh.edge_vertex[list[j + 16]];
                     __builtin_prefetch(&local[ahead[0]], 1);
                     __builtin_prefetch(&local[ahead[1]], 1);
                 }
                 const std::uint32_t e = list[j];
                 const bool front = kind == kSil && mesh.is_convex(e);
-                eid[i] = e;
+                Features::ChainLink& link = links[i];
+                link.edge = e;
+                link.used = 0;
                 for (int k = 0; k < 2; ++k) {
                     const std::uint32_t v = mesh.edge_vertex[e][k];
                     // First use without a branch (it would be mispredicted about half the
@@ -109,7 +113,7 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
                     verts[nv] = {v, 0, 0, 0, 0, 0, 0};
                     nv += fresh;
                     Features::ChainVertex& s = verts[lv];
-                    ends[i][k] = lv;
+                    link.end[k] = lv;
                     s.edge_xor ^= i;
                     if (s.degree < 255) ++s.degree;
                     if (kind == kSil && s.silhouettes < 255) ++s.silhouettes;
@@ -119,58 +123,74 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
                 ++i;
             }
             list_end[l] = i;
+            if (l == 0) silhouette_vertices = nv;
         }
     }
-    for (std::size_t i = 0; i < ns; ++i) {
-        for (std::uint32_t lv : ends[i]) {
-            Features::ChainVertex& s = verts[lv];
-            if (s.cusp) continue;
-            CuspCase c = CuspCase::None;
-            if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
-            else if (s.kinds & (1u << kBorder)) c = CuspCase::BorderEdge;
-            else if (s.silhouettes == 2 && s.front == 1) c = CuspCase::FrontBackMeet;
-            if (c != CuspCase::None) {
-                s.cusp = 1;
-                out.cusp_vertices.push_back(s.id);
-                out.cusp_cases.push_back(c);
-            }
+    // The vertices of silhouette edges are those numbered while the silhouette edges were (the
+    // first list), in the order the edges first use them: the cusps are listed in that order.
+    for (std::uint32_t lv = 0; lv < silhouette_vertices; ++lv) {
+        Features::ChainVertex& s = verts[lv];
+        CuspCase c = CuspCase::None;
+        if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
+        else if (s.kinds & (1u << kBorder)) c = CuspCase::BorderEdge;
+        else if (s.silhouettes == 2 && s.front == 1) c = CuspCase::FrontBackMeet;
+        if (c != CuspCase::None) {
+            s.cusp = 1;
+            out.cusp_vertices.push_back(s.id);
+            out.cusp_cases.push_back(c);
         }
     }
 
-    auto is_break = [&](std::uint32_t lv) {
-        const Features::ChainVertex& s = verts[lv];
+    auto is_break = [&](const Features::ChainVertex& s) {
         return s.cusp || s.degree != 2 || (s.kinds & (s.kinds - 1)) != 0;
     };
+    constexpr std::uint32_t kBreak = UINT32_MAX;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        Features::ChainLink& link = links[i];
+        for (int k = 0; k < 2; ++k) {
+            const Features::ChainVertex& s = verts[link.end[k]];
+            link.next[k] = is_break(s) ? kBreak : s.edge_xor ^ i;  // the other of its two feature edges
+            link.id[k] = s.id;
+        }
+    }
     auto kind_of = [&](std::uint32_t i) { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; };
     auto& curves = out.curves;  // (its arrays keep their storage from view to view)
     curves.clear();
+    // A chain from the local vertex start_v along feature edge start_i.
     auto walk = [&](std::uint32_t start_v, std::uint32_t start_i) {
         curves.start(LineKind(kind_of(start_i)), verts[start_v].id);
-        std::uint32_t v = start_v, i = start_i;
+        std::uint32_t i = start_i;
+        int out_end = links[i].end[0] == start_v ? 1 : 0;  // the end of edge i the chain leaves by
         while (true) {
-            used[i] = 1;
-            v = ends[i][0] == v ? ends[i][1] : ends[i][0];
-            curves.add(eid[i], verts[v].id);
+            Features::ChainLink& link = links[i];
+            link.used = 1;
+            const std::uint32_t v = link.end[out_end];
+            curves.add(link.edge, link.id[out_end]);
+            const std::uint32_t next = link.next[out_end];
             if (v == start_v) {  // a loop; closed only if it may continue through its start
-                curves.set_closed(!is_break(v));
+                curves.set_closed(next != kBreak);
                 break;
             }
-            if (is_break(v)) break;
-            i = verts[v].edge_xor ^ i;  // the other of its two feature edges
-            if (used[i]) break;
+            if (next == kBreak || links[next].used) break;
+            i = next;
+            out_end = links[i].end[0] == v ? 1 : 0;
         }
     };
     for (std::uint32_t i = 0; i < n; ++i) {
-        if (used[i] || !options.wants(LineKind(kind_of(i)))) continue;
-        for (std::uint32_t v : ends[i])
-            if (!used[i] && is_break(v)) walk(v, i);
+        if (links[i].used || !options.wants(LineKind(kind_of(i)))) continue;
+        for (int k = 0; k < 2; ++k)
+            if (!links[i].used && links[i].next[k] == kBreak) walk(links[i].end[k], i);
     }
     for (std::uint32_t i = 0; i < n; ++i)  // what is left are closed loops without a break
-        if (!used[i] && options.wants(LineKind(kind_of(i)))) walk(ends[i][0], i);
+        if (!links[i].used && options.wants(LineKind(kind_of(i)))) walk(links[i].end[0], i);
     curves.finish();
 
     // Leave the per-vertex arrays as they were before the view (the finder's marks cleared).
     for (std::uint32_t k = 0; k < nv; ++k) {
+        if (k + 16 < nv) {
+            __builtin_prefetch(&local[verts[k + 16].id], 1);
+            __builtin_prefetch(&out.vertex_scratch[verts[k + 16].id], 1);
+        }
         const Features::ChainVertex& s = verts[k];
         local[s.id] = UINT32_MAX;
         out.vertex_scratch[s.id] = {};

@@ -182,9 +182,17 @@ struct Features {
     };
     std::vector<std::uint32_t> vertex_local;  // per mesh vertex: its local number, UINT32_MAX between views
     std::vector<ChainVertex> chain_vertices;
-    std::vector<std::array<std::uint32_t, 2>> chain_ends;  // per feature edge: local numbers of its vertices
-    std::vector<std::uint32_t> chain_edges;                // per feature edge: mesh edge
-    std::vector<std::uint8_t> chain_used;
+    // Per feature edge, all a step of the chaining reads (one record, half a cache line): its
+    // vertices' local numbers, the feature edge that follows through each (UINT32_MAX where the
+    // vertex breaks chains), their mesh numbers, the mesh edge, and whether a chain took it.
+    struct ChainLink {
+        std::uint32_t end[2];
+        std::uint32_t next[2];
+        std::uint32_t id[2];
+        std::uint32_t edge;
+        std::uint32_t used;
+    };
+    std::vector<ChainLink> chain_links;
 };
 
 // Exact facing of one face: orientation of the eye against the face's oriented plane (CGAL's
