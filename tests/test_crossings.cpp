@@ -745,6 +745,11 @@ TEST(SegmentCrossings, GivenFilterSidesGiveTheSameResults) {
                     ASSERT_EQ(n, 0) << i;
                     continue;
                 }
+                // (each side exactly image_side_filter's, where the segment's line is unclipped)
+                ASSERT_EQ(sides[0], qu ? image_side_filter(q.a, q.b, q.slack, o.a, o.slack) : 0) << i;
+                ASSERT_EQ(sides[1], qu ? image_side_filter(q.a, q.b, q.slack, o.b, o.slack) : 0) << i;
+                ASSERT_EQ(sides[2], ou ? image_side_filter(o.a, o.b, o.slack, q.a, q.slack) : 0) << i;
+                ASSERT_EQ(sides[3], ou ? image_side_filter(o.a, o.b, o.slack, q.b, q.slack) : 0) << i;
                 decided += (sides[0] != 0) + (sides[1] != 0) + (sides[2] != 0) + (sides[3] != 0);
                 const int n2 = segment_crossings(cam, q, q3, o, o3, sides, t2, &ot2);
                 ASSERT_EQ(n, n2) << i << " clip " << clip;
