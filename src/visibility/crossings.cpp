@@ -372,6 +372,13 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
     // one of the two starts at x — and the same in y. Only `b` is binned; each box of `a` visits
     // its cells. The tests of one box against a cell's boxes are branch-free; the hits are
     // compacted (in place, without branches, with SSE2; in `hits` first otherwise).
+    // (`out` sized to its capacity once, at least; the pairs written at n_out, room made when
+    // short, the size set at the end)
+    std::size_t n_out = out.size();
+    out.resize(std::max(out.capacity(), n_out + 1024));
+    auto room = [&](std::size_t need) {
+        if (need > out.size()) out.resize(std::max(need, 2 * out.size()));
+    };
 #if defined(__SSE2__)
     (void)hits;
 #else
@@ -389,11 +396,11 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
         const std::uint64_t i_hi = std::uint64_t(i) << 32;
         if ((ax1c - ax0c + 1) * (ay1c - ay0c + 1) > kBigCells) {  // a big box: against every box
             for (std::uint32_t k = 0; k < b.size(); ++k)
-                if (overlap(A, b[k])) out.push_back(i_hi | k);
+                if (overlap(A, b[k])) room(n_out + 1), out[n_out++] = i_hi | k;
             continue;
         }
         for (std::uint32_t k : b_.big)
-            if (overlap(A, b[k])) out.push_back(i_hi | k);
+            if (overlap(A, b[k])) room(n_out + 1), out[n_out++] = i_hi | k;
         for (int y = ay0c; y <= ay1c; ++y)
             for (int x = ax0c; x <= ax1c; ++x) {
                 const std::size_t c = std::size_t(y) * nx_ + x;
@@ -403,9 +410,8 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                 std::uint32_t n = 0, q = b0;
 #if defined(__SSE2__)
                 // (the pairs written in place: room for every box of the cell and one more)
-                const std::size_t at = out.size();
-                out.resize(at + (b1 - b0) + 1);
-                std::uint64_t* dst = out.data() + at;
+                room(n_out + (b1 - b0) + 1);
+                std::uint64_t* dst = out.data() + n_out;
                 // Four boxes a step (SSE2 is part of x86-64), the last step's lanes past the cell
                 // masked (the arrays are padded); the hits compacted without branches.
                 const __m128 vx0 = _mm_set1_ps(A.x0), vy0 = _mm_set1_ps(A.y0), vx1 = _mm_set1_ps(A.x1),
@@ -434,7 +440,7 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                     dst[n] = i_hi | items[q + 2], n += (mask >> 2) & 1;
                     dst[n] = i_hi | items[q + 3], n += mask >> 3;
                 }
-                out.resize(at + n);
+                n_out += n;
 #else
                 for (; q < b1; ++q) {
                     hit[n] = q;
@@ -442,10 +448,12 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                          (A.v0 != bv1[q]) & (A.v1 != bv0[q]) & (A.v1 != bv1[q]) & (first_x | (bcx[q] == x)) &
                          (first_y | (bcy[q] == y));
                 }
-                for (std::uint32_t h = 0; h < n; ++h) out.push_back(i_hi | b_.items[hit[h]]);
+                room(n_out + n);
+                for (std::uint32_t h = 0; h < n; ++h) out[n_out++] = i_hi | b_.items[hit[h]];
 #endif
             }
     }
+    out.resize(n_out);
 }
 
 }  // namespace inkline

@@ -133,6 +133,11 @@ struct Scratch {
     };
     std::vector<ClipSeg> occ_clip, all_segs;
     std::vector<std::uint64_t> in_curves, found;
+    struct Kept {  // a pair the quick reject kept, and the sides it decided (filter_sides)
+        std::uint64_t pair;
+        std::int8_t sides[4];
+    };
+    std::vector<Kept> kept;
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
     EdgeOccluders occ_of_edge;
@@ -284,23 +289,33 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         }
         found.clear();
         grid.pairs(qbox, found, scratch.hits);
-        // (the pairs of one curve segment come one after the other: its Segment2 made once)
-        std::uint32_t qj = UINT32_MAX;
-        Segment2 q{};
+        // The quick reject first, over all pairs without branches (most pairs are rejected, which
+        // a branch would mispredict often): the pairs it keeps, with the sides it decided, listed.
         const std::uint8_t* o_unclipped = occ.unclipped.data();
-        for (const std::uint64_t f : found) {
+        std::vector<Scratch::Kept>& kept = scratch.kept;
+        kept.resize(found.size());
+        std::size_t nkept = 0;
+        for (std::size_t i = 0; i < found.size(); ++i) {
+            const std::uint64_t f = found[i];
             const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
+            const ClipSeg& s = all_segs[j];
+            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
+            Scratch::Kept& c = kept[nkept];
+            c.pair = f;
+            nkept += !filter_sides(q, s.unclipped, occluders[k], o_unclipped[k], c.sides);
+        }
+        // The exact test of the pairs kept, in the same order.
+        for (std::size_t i = 0; i < nkept; ++i) {
+            const std::uint32_t j = std::uint32_t(kept[i].pair >> 32), k = std::uint32_t(kept[i].pair);
             const ClipSeg& s = all_segs[j];
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
-            if (j != qj) q = {s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack}, qj = j;
-            std::int8_t sides[4];  // (the quick reject's, apart_by_filter: not computed again)
-            if (filter_sides(q, s.unclipped, o, o_unclipped[k], sides)) continue;  // (most pairs)
+            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
             double t[2], ot;
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), sides, t, &ot);
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), kept[i].sides, t, &ot);
             if (n == 0) continue;
             if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
-            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k, ot});
+            for (int h = 0; h < n; ++h) all_splits.push_back({j, t[h], k, ot});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
         // itself), inside the clipped segment: no occluder, but the QI may change.
