@@ -224,12 +224,15 @@ private:
     // The cells of segment (a, b) widened by `margin` (the rounding of its images).
     template <class Fn>
     void visit_cells(glm::dvec2 a, glm::dvec2 b, double margin, Fn&& fn) const;
+    // floor((x - lo) / cell) clamped to the grid, without the floor: the quotient is below 0 exactly
+    // when its floor is, at least n - 1 exactly when its floor is (an integer), and truncated
+    // like floored otherwise (c >= 0).
     int cell_x(double x) const {
-        const double c = std::floor((x - lo_.x) / cell_.x);
+        const double c = (x - lo_.x) / cell_.x;
         return c < 0.0 ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
     }
     int cell_y(double y) const {
-        const double c = std::floor((y - lo_.y) / cell_.y);
+        const double c = (y - lo_.y) / cell_.y;
         return c < 0.0 ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
     }
 
