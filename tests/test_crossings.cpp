@@ -909,9 +909,21 @@ void expect_pairs(const std::vector<Segment2>& sa, const std::vector<Segment2>& 
     for (const auto& s : sa) a.push_back(inkline::outer_box(s));
     for (const auto& s : sb) b.push_back(inkline::outer_box(s));
     inkline::BoxPairs pairs;
-    for (int round = 0; round < 2; ++round) {  // storage reused from call to call
+    std::vector<std::uint64_t> kept_storage;  // (a vector with room left from an earlier call)
+    for (int round = 0; round < 3; ++round) {  // storage reused from call to call
         std::vector<std::uint64_t> got;
+        if (round == 2) {
+            // appended after what the vector holds, its spare capacity reused
+            got.swap(kept_storage);
+            got.assign(3, ~std::uint64_t(0));
+        }
         pairs.find(a, b, kW, kH, got);
+        if (round == 2) {
+            ASSERT_GE(got.size(), 3u) << what;
+            for (int k = 0; k < 3; ++k) EXPECT_EQ(got[k], ~std::uint64_t(0)) << what << ": held pair overwritten";
+            got.erase(got.begin(), got.begin() + 3);
+        }
+        if (round == 0) kept_storage = got, kept_storage.reserve(2 * got.size() + 8);
         std::vector<std::uint64_t> want = brute_pairs(a, b);
         std::sort(got.begin(), got.end());
         const auto dup = std::adjacent_find(got.begin(), got.end());
