@@ -745,6 +745,11 @@ TEST(SegmentCrossings, GivenFilterSidesGiveTheSameResults) {
                     ASSERT_EQ(n, 0) << i;
                     continue;
                 }
+                // (each side exactly image_side_filter's, where the segment's line is unclipped)
+                ASSERT_EQ(sides[0], qu ? image_side_filter(q.a, q.b, q.slack, o.a, o.slack) : 0) << i;
+                ASSERT_EQ(sides[1], qu ? image_side_filter(q.a, q.b, q.slack, o.b, o.slack) : 0) << i;
+                ASSERT_EQ(sides[2], ou ? image_side_filter(o.a, o.b, o.slack, q.a, q.slack) : 0) << i;
+                ASSERT_EQ(sides[3], ou ? image_side_filter(o.a, o.b, o.slack, q.b, q.slack) : 0) << i;
                 decided += (sides[0] != 0) + (sides[1] != 0) + (sides[2] != 0) + (sides[3] != 0);
                 const int n2 = segment_crossings(cam, q, q3, o, o3, sides, t2, &ot2);
                 ASSERT_EQ(n, n2) << i << " clip " << clip;
@@ -904,9 +909,21 @@ void expect_pairs(const std::vector<Segment2>& sa, const std::vector<Segment2>& 
     for (const auto& s : sa) a.push_back(inkline::outer_box(s));
     for (const auto& s : sb) b.push_back(inkline::outer_box(s));
     inkline::BoxPairs pairs;
-    for (int round = 0; round < 2; ++round) {  // storage reused from call to call
+    std::vector<std::uint64_t> kept_storage;  // (a vector with room left from an earlier call)
+    for (int round = 0; round < 3; ++round) {  // storage reused from call to call
         std::vector<std::uint64_t> got;
+        if (round == 2) {
+            // appended after what the vector holds, its spare capacity reused
+            got.swap(kept_storage);
+            got.assign(3, ~std::uint64_t(0));
+        }
         pairs.find(a, b, kW, kH, got);
+        if (round == 2) {
+            ASSERT_GE(got.size(), 3u) << what;
+            for (int k = 0; k < 3; ++k) EXPECT_EQ(got[k], ~std::uint64_t(0)) << what << ": held pair overwritten";
+            got.erase(got.begin(), got.begin() + 3);
+        }
+        if (round == 0) kept_storage = got, kept_storage.reserve(2 * got.size() + 8);
         std::vector<std::uint64_t> want = brute_pairs(a, b);
         std::sort(got.begin(), got.end());
         const auto dup = std::adjacent_find(got.begin(), got.end());

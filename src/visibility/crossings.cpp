@@ -313,9 +313,10 @@ void BoxPairs::bin(const std::vector<Box2f>& boxes, Bins& bins) {
     }
     for (std::size_t c = 0; c < cells; ++c) bins.begin[c + 1] += bins.begin[c];
     const std::size_t n = bins.begin[cells];
-    bins.items.resize(n);
-    bins.x0.resize(n), bins.y0.resize(n), bins.x1.resize(n), bins.y1.resize(n);
-    bins.v0.resize(n), bins.v1.resize(n), bins.cx0.resize(n), bins.cy0.resize(n);
+    bins.items.resize(n + 3);
+    // (padded by 3: pairs() reads the last cell's boxes four at a time, past its end)
+    bins.x0.resize(n + 3), bins.y0.resize(n + 3), bins.x1.resize(n + 3), bins.y1.resize(n + 3);
+    bins.v0.resize(n + 3), bins.v1.resize(n + 3), bins.cx0.resize(n + 3), bins.cy0.resize(n + 3);
     for (std::uint32_t i = 0; i < boxes.size(); ++i) {
         if (r[i][0] < 0) continue;
         const Box2f& b = boxes[i];
@@ -370,12 +371,24 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
     // of both boxes' ranges (the cell of a coordinate is monotone): x = max(first x of either) —
     // one of the two starts at x — and the same in y. Only `b` is binned; each box of `a` visits
     // its cells. The tests of one box against a cell's boxes are branch-free; the hits are
-    // compacted.
+    // compacted (in place, without branches, with SSE2; in `hits` first otherwise).
+    // (`out` sized to its capacity once, at least; the pairs written at n_out, room made when
+    // short, the size set at the end)
+    std::size_t n_out = out.size();
+    out.resize(std::max(out.capacity(), n_out + 1024));
+    auto room = [&](std::size_t need) {
+        if (need > out.size()) out.resize(std::max(need, 2 * out.size()));
+    };
+#if defined(__SSE2__)
+    (void)hits;
+#else
     hits.resize(most_);
     std::uint32_t* hit = hits.data();
+#endif
     const float *bx0 = b_.x0.data(), *by0 = b_.y0.data(), *bx1 = b_.x1.data(), *by1 = b_.y1.data();
     const std::uint32_t *bv0 = b_.v0.data(), *bv1 = b_.v1.data();
     const std::int32_t *bcx = b_.cx0.data(), *bcy = b_.cy0.data();
+    const std::uint32_t* items = b_.items.data();
     // Each box of `a` against the binned boxes of `b` in its cells, and against the big ones.
     for (std::uint32_t i = 0; i < a.size(); ++i) {
         const Box2f& A = a[i];
@@ -383,11 +396,11 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
         const std::uint64_t i_hi = std::uint64_t(i) << 32;
         if ((ax1c - ax0c + 1) * (ay1c - ay0c + 1) > kBigCells) {  // a big box: against every box
             for (std::uint32_t k = 0; k < b.size(); ++k)
-                if (overlap(A, b[k])) out.push_back(i_hi | k);
+                if (overlap(A, b[k])) room(n_out + 1), out[n_out++] = i_hi | k;
             continue;
         }
         for (std::uint32_t k : b_.big)
-            if (overlap(A, b[k])) out.push_back(i_hi | k);
+            if (overlap(A, b[k])) room(n_out + 1), out[n_out++] = i_hi | k;
         for (int y = ay0c; y <= ay1c; ++y)
             for (int x = ax0c; x <= ax1c; ++x) {
                 const std::size_t c = std::size_t(y) * nx_ + x;
@@ -396,13 +409,19 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                 const bool first_x = ax0c == x, first_y = ay0c == y;
                 std::uint32_t n = 0, q = b0;
 #if defined(__SSE2__)
-                // Four boxes a step (SSE2 is part of x86-64): the same comparisons as below.
+                // (the pairs written in place: room for every box of the cell and one more)
+                room(n_out + (b1 - b0) + 1);
+                std::uint64_t* dst = out.data() + n_out;
+                // Four boxes a step (SSE2 is part of x86-64), the last step's lanes past the cell
+                // masked (the arrays are padded); the hits compacted without branches.
                 const __m128 vx0 = _mm_set1_ps(A.x0), vy0 = _mm_set1_ps(A.y0), vx1 = _mm_set1_ps(A.x1),
                              vy1 = _mm_set1_ps(A.y1);
                 const __m128i w0 = _mm_set1_epi32(int(A.v0)), w1 = _mm_set1_epi32(int(A.v1));
                 const __m128i cxv = _mm_set1_epi32(x), cyv = _mm_set1_epi32(y);
                 const __m128i all = _mm_set1_epi32(-1);
-                for (; q + 4 <= b1; q += 4) {
+                const __m128i end = _mm_set1_epi32(int(b1));
+                __m128i lane = _mm_add_epi32(_mm_set1_epi32(int(b0)), _mm_setr_epi32(0, 1, 2, 3));
+                for (; q < b1; q += 4, lane = _mm_add_epi32(lane, _mm_set1_epi32(4))) {
                     const __m128 in = _mm_and_ps(
                         _mm_and_ps(_mm_cmple_ps(vx0, _mm_loadu_ps(bx1 + q)), _mm_cmple_ps(_mm_loadu_ps(bx0 + q), vx1)),
                         _mm_and_ps(_mm_cmple_ps(vy0, _mm_loadu_ps(by1 + q)), _mm_cmple_ps(_mm_loadu_ps(by0 + q), vy1)));
@@ -414,23 +433,27 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                         first_x ? all : _mm_cmpeq_epi32(cxv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcx + q)));
                     const __m128i oky =
                         first_y ? all : _mm_cmpeq_epi32(cyv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcy + q)));
-                    const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(okx, oky));
-                    int mask = _mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in));
-                    while (mask) {
-                        hit[n++] = q + std::uint32_t(__builtin_ctz(unsigned(mask)));
-                        mask &= mask - 1;
-                    }
+                    const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(_mm_and_si128(okx, oky), _mm_cmplt_epi32(lane, end)));
+                    const unsigned mask = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in)));
+                    dst[n] = i_hi | items[q], n += mask & 1;
+                    dst[n] = i_hi | items[q + 1], n += (mask >> 1) & 1;
+                    dst[n] = i_hi | items[q + 2], n += (mask >> 2) & 1;
+                    dst[n] = i_hi | items[q + 3], n += mask >> 3;
                 }
-#endif
+                n_out += n;
+#else
                 for (; q < b1; ++q) {
                     hit[n] = q;
                     n += (A.x0 <= bx1[q]) & (bx0[q] <= A.x1) & (A.y0 <= by1[q]) & (by0[q] <= A.y1) & (A.v0 != bv0[q]) &
                          (A.v0 != bv1[q]) & (A.v1 != bv0[q]) & (A.v1 != bv1[q]) & (first_x | (bcx[q] == x)) &
                          (first_y | (bcy[q] == y));
                 }
-                for (std::uint32_t h = 0; h < n; ++h) out.push_back(i_hi | b_.items[hit[h]]);
+                room(n_out + n);
+                for (std::uint32_t h = 0; h < n; ++h) out[n_out++] = i_hi | b_.items[hit[h]];
+#endif
             }
     }
+    out.resize(n_out);
 }
 
 }  // namespace inkline

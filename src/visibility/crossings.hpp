@@ -99,21 +99,37 @@ inline bool apart_by_filter(const Segment2& q, bool q_unclipped, const Segment2&
     return false;
 }
 
+// The sides of line (a, b)'s points by image_side_filter, with what depends on the line alone
+// (b - a and its norm) computed once: each side() is image_side_filter(a, b, l_slack, p, p_slack),
+// the same operations on the same values.
+struct LineSideFilter {
+    glm::dvec2 a, u;
+    double l_slack, nu;
+    LineSideFilter(glm::dvec2 a_, glm::dvec2 b, double l_slack_)
+        : a(a_), u(b - a_), l_slack(l_slack_), nu(std::abs(u.x) + std::abs(u.y)) {}
+    [[gnu::always_inline]] int side(glm::dvec2 p, double p_slack) const {
+        constexpr double kEps = 0x1p-53;
+        const double vx = p.x - a.x, vy = p.y - a.y;
+        const double det = u.x * vy - u.y * vx;
+        const double d = std::max(l_slack, p_slack);
+        const double nv = std::abs(vx) + std::abs(vy);
+        const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
+        return int(det > bound) - int(det < -bound);  // (NaN: 0)
+    }
+};
+
 // The sides segment_crossings decides first, by image_side_filter alone (0 where it does not decide
-// or the line's segment is clipped), and whether they show the pair apart (apart_by_filter).
+// or the line's segment is clipped), and whether they show the pair apart (apart_by_filter). The
+// four sides are all computed and combined without branches (most pairs are rejected, on either
+// line: a branch per side would be mispredicted often); when the pair is not apart they are
+// exactly what deciding them one by one gives.
 inline bool filter_sides(const Segment2& q, bool q_unclipped, const Segment2& o, bool o_unclipped, std::int8_t sides[4]) {
-    sides[0] = sides[1] = sides[2] = sides[3] = 0;
-    if (q_unclipped) {
-        sides[0] = std::int8_t(image_side_filter(q.a, q.b, q.slack, o.a, o.slack));
-        sides[1] = std::int8_t(image_side_filter(q.a, q.b, q.slack, o.b, o.slack));
-        if (sides[0] != 0 && sides[0] == sides[1]) return true;
-    }
-    if (o_unclipped) {
-        sides[2] = std::int8_t(image_side_filter(o.a, o.b, o.slack, q.a, q.slack));
-        sides[3] = std::int8_t(image_side_filter(o.a, o.b, o.slack, q.b, q.slack));
-        if (sides[2] != 0 && sides[2] == sides[3]) return true;
-    }
-    return false;
+    const LineSideFilter lq(q.a, q.b, q.slack), lo(o.a, o.b, o.slack);
+    const int qm = q_unclipped ? 1 : 0, om = o_unclipped ? 1 : 0;
+    const int s0 = qm * lq.side(o.a, o.slack), s1 = qm * lq.side(o.b, o.slack);
+    const int s2 = om * lo.side(q.a, q.slack), s3 = om * lo.side(q.b, q.slack);
+    sides[0] = std::int8_t(s0), sides[1] = std::int8_t(s1), sides[2] = std::int8_t(s2), sides[3] = std::int8_t(s3);
+    return ((s0 != 0) & (s0 == s1)) | ((s2 != 0) & (s2 == s3));
 }
 
 // The box of a projected segment widened by its slack, in float, rounded outward: two segments
@@ -208,12 +224,15 @@ private:
     // The cells of segment (a, b) widened by `margin` (the rounding of its images).
     template <class Fn>
     void visit_cells(glm::dvec2 a, glm::dvec2 b, double margin, Fn&& fn) const;
+    // floor((x - lo) / cell) clamped to the grid, without the floor: the quotient is below 0 exactly
+    // when its floor is, at least n - 1 exactly when its floor is (an integer), and truncated
+    // like floored otherwise (c >= 0).
     int cell_x(double x) const {
-        const double c = std::floor((x - lo_.x) / cell_.x);
+        const double c = (x - lo_.x) / cell_.x;
         return c < 0.0 ? 0 : c >= nx_ - 1 ? nx_ - 1 : int(c);
     }
     int cell_y(double y) const {
-        const double c = std::floor((y - lo_.y) / cell_.y);
+        const double c = (y - lo_.y) / cell_.y;
         return c < 0.0 ? 0 : c >= ny_ - 1 ? ny_ - 1 : int(c);
     }
 

@@ -20,11 +20,11 @@ struct ClipSeg {
     double slack;   // rounding of a and b (image_slack)
     double zA, zB;  // depths of A and B
     double sA, sB;  // parameters of A and B along the mesh edge
-    std::uint32_t edge;
-    bool run_start;  // the curve is interrupted (clipped) before this segment
     const glm::dvec3 *LA = nullptr, *LB = nullptr;  // the mesh vertices at the ends, before clipping
-    bool unclipped = false;                          // A == *LA and B == *LB
-    bool kept_both = false;                          // neither end clipped: A, B the mesh vertices
+    std::uint32_t edge;
+    bool run_start;          // the curve is interrupted (clipped) before this segment
+    bool unclipped = false;  // A == *LA and B == *LB
+    bool kept_both = false;  // neither end clipped: A, B the mesh vertices
     Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
 };
 
@@ -133,6 +133,11 @@ struct Scratch {
     };
     std::vector<ClipSeg> occ_clip, all_segs;
     std::vector<std::uint64_t> in_curves, found;
+    struct Kept {  // a pair the quick reject kept, and the sides it decided (filter_sides)
+        std::uint64_t pair;
+        std::int8_t sides[4];
+    };
+    std::vector<Kept> kept;
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
     EdgeOccluders occ_of_edge;
@@ -235,7 +240,8 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         for (std::size_t i = 0; i < curve.edges.size(); ++i) {
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
-            ClipSeg s;
+            const std::size_t at = all_segs.size();
+            ClipSeg& s = all_segs.emplace_back();  // (made in place; reserved: no reallocation)
             // A silhouette or border edge in front of the near plane was clipped and projected as
             // an occluder already: the same values (clip_edge keeps both ends, as it did there),
             // in travel order.
@@ -250,6 +256,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                 seg_occ.push_back(k);
             } else if (!clip_edge(camera, near, images, mesh.positions, va, vb, forward ? 0.0 : 1.0, forward ? 1.0 : 0.0,
                                   s)) {
+                all_segs.pop_back();
                 interrupted = true;
                 continue;
             } else {
@@ -257,10 +264,9 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             }
             s.edge = e;
             // A clipped start also interrupts the curve.
-            s.run_start = all_segs.size() == first || interrupted || s.A != mesh.positions[va] ||
-                          all_segs.back().B != mesh.positions[va];
+            s.run_start = at == first || interrupted || s.A != mesh.positions[va] ||
+                          all_segs[at - 1].B != mesh.positions[va];
             interrupted = s.B != mesh.positions[vb];
-            all_segs.push_back(s);
         }
         seg_begin[ci - c0 + 1] = std::uint32_t(all_segs.size());
     }
@@ -284,23 +290,33 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         }
         found.clear();
         grid.pairs(qbox, found, scratch.hits);
-        // (the pairs of one curve segment come one after the other: its Segment2 made once)
-        std::uint32_t qj = UINT32_MAX;
-        Segment2 q{};
+        // The quick reject first, over all pairs without branches (most pairs are rejected, which
+        // a branch would mispredict often): the pairs it keeps, with the sides it decided, listed.
         const std::uint8_t* o_unclipped = occ.unclipped.data();
-        for (const std::uint64_t f : found) {
+        std::vector<Scratch::Kept>& kept = scratch.kept;
+        kept.resize(found.size());
+        std::size_t nkept = 0;
+        for (std::size_t i = 0; i < found.size(); ++i) {
+            const std::uint64_t f = found[i];
             const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
+            const ClipSeg& s = all_segs[j];
+            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
+            Scratch::Kept& c = kept[nkept];
+            c.pair = f;
+            nkept += !filter_sides(q, s.unclipped, occluders[k], o_unclipped[k], c.sides);
+        }
+        // The exact test of the pairs kept, in the same order.
+        for (std::size_t i = 0; i < nkept; ++i) {
+            const std::uint32_t j = std::uint32_t(kept[i].pair >> 32), k = std::uint32_t(kept[i].pair);
             const ClipSeg& s = all_segs[j];
             const Segment2& o = occluders[k];
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
-            if (j != qj) q = {s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack}, qj = j;
-            std::int8_t sides[4];  // (the quick reject's, apart_by_filter: not computed again)
-            if (filter_sides(q, s.unclipped, o, o_unclipped[k], sides)) continue;  // (most pairs)
+            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
             double t[2], ot;
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), sides, t, &ot);
+            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), kept[i].sides, t, &ot);
             if (n == 0) continue;
             if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
-            for (int i = 0; i < n; ++i) all_splits.push_back({j, t[i], k, ot});
+            for (int h = 0; h < n; ++h) all_splits.push_back({j, t[h], k, ot});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
         // itself), inside the clipped segment: no occluder, but the QI may change.
@@ -545,16 +561,28 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     thread_local Scratch scratch;
     std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
     occ_clip.clear();
-    occluders.reserve(features.silhouette_edges.size() + features.border_edges.size());
-    occ_clip.reserve(occluders.capacity());
+    // With their boxes (the crossing search bins them) and whether each is unclipped, in the same
+    // pass (each clipped in place).
+    std::vector<Box2f>& obox = scratch.obox;
+    std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
+    obox.clear();
+    occ_unclipped.clear();
+    const std::size_t most = features.silhouette_edges.size() + features.border_edges.size();
+    occluders.reserve(most);
+    occ_clip.reserve(most);
+    obox.reserve(most);
+    occ_unclipped.reserve(most);
     for (const auto* list : {&features.silhouette_edges, &features.border_edges})
         for (std::uint32_t e : *list) {
             const auto [v0, v1] = mesh.edge_vertex[e];
-            ClipSeg s;
-            if (clip_edge(camera, occluder_near, g.images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
-                occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
-                occ_clip.push_back(s);
+            ClipSeg& s = occ_clip.emplace_back();
+            if (!clip_edge(camera, occluder_near, g.images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
+                occ_clip.pop_back();
+                continue;
             }
+            occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
+            obox.push_back(outer_box(occluders.back()));
+            occ_unclipped.push_back(s.unclipped);
         }
     g.image_size = glm::dvec2(camera.width(), camera.height());
 
@@ -579,16 +607,10 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // The occluders binned once for the crossing search of every range.
     BoxPairs& grid = scratch.grid;
-    std::vector<Box2f>& obox = scratch.obox;
-    obox.resize(occluders.size());
-    for (std::size_t k = 0; k < occluders.size(); ++k) obox[k] = outer_box(occluders[k]);
     grid.prepare(obox, camera.width(), camera.height());
     // The occluder of each silhouette or border edge (curve segments copy its clipping).
     EdgeOccluders& occ_of_edge = scratch.occ_of_edge;
     occ_of_edge.build(occluders);
-    std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
-    occ_unclipped.resize(occ_clip.size());
-    for (std::size_t k = 0; k < occ_clip.size(); ++k) occ_unclipped[k] = occ_clip[k].unclipped;
     const OccluderSet occ{occluders, occ_clip, obox, occ_of_edge, occ_unclipped};
 
     // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
