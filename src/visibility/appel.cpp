@@ -434,6 +434,17 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 // The entry edge's ends are va and the other one, in either order (v0 is one of them).
                 const bool same = v0 == va;
                 const glm::dvec2 p0 = same ? pa : pb, p1 = same ? pb : pa, p2 = T(proj(v2));
+                {
+                    // (The faces after this one, across either exit edge, fetched while the exit
+                    // is decided: on a large mesh the next step's reads then need not wait.)
+                    const auto &g1 = mesh.edge_face[fe[e1]], &g2 = mesh.edge_face[fe[e2]];
+                    const std::uint32_t n1 = g1[1] == kNoFace ? face : g1[0] ^ g1[1] ^ face;
+                    const std::uint32_t n2 = g2[1] == kNoFace ? face : g2[0] ^ g2[1] ^ face;
+                    __builtin_prefetch(&mesh.faces[n1]);
+                    __builtin_prefetch(&mesh.face_edges[n1]);
+                    __builtin_prefetch(&mesh.faces[n2]);
+                    __builtin_prefetch(&mesh.face_edges[n2]);
+                }
                 if (p2.y == ut.y) {
                     result = Walk::Failed;  // the path through a vertex
                     return result;
