@@ -522,6 +522,65 @@ TEST(Facing, BlocksWithAnUntrustedPlane) {
     }
 }
 
+// The facing pass that builds the blocks as it goes (FaceFacing::begin_full_building, the coherent
+// finder's first view) gives the states, block states and planes read of begin_full with blocks
+// built beforehand, and blocks that decide as those do (block states for other views, the bands
+// and front bits of faces_within): face counts that fill the blocks or not (a last block of a few
+// faces), extreme scales and offsets, a grazing eye, an untrusted (NaN) plane in the second chunk.
+TEST(Facing, BuildingPassGivesTheSameStatesAndBlocks) {
+    std::size_t compared = 0;
+    for (const auto& [slices, stacks] : {std::pair{96, 48}, std::pair{131, 67}, std::pair{7, 5}})
+        for (double scale : {1e-6, 1.0, 1e6})
+            for (double offset : {0.0, 1e6})
+                for (bool nan : {false, true}) {
+                    Model m = scaled_sphere(slices, stacks, scale, offset);
+                    MeshTopology& t = m.topology();
+                    const std::size_t nf = t.face_count();
+                    const std::uint32_t bad = std::uint32_t(std::min<std::size_t>(nf - 1, 64 * FaceBlocks::kFaces + 9));
+                    if (nan) t.facing[bad].ny = NAN;
+                    FaceBlocks before;
+                    before.build(t);
+                    const std::vector<Camera> cams = cameras_with_grazing(t);
+                    for (const Camera& cam : cams) {
+                        SCOPED_TRACE(testing::Message() << slices << "x" << stacks << " scale " << scale << " offset "
+                                                        << offset << " nan " << nan);
+                        FaceBlocks built;
+                        FaceFacing plain, fused;
+                        plain.begin_full(t, cam, 1, &before);
+                        fused.begin_full_building(t, cam, built);
+                        ASSERT_TRUE(built.built_for(t));
+                        ASSERT_EQ(built.size(), before.size());
+                        EXPECT_TRUE(std::equal(plain.states(), plain.states() + nf + FaceFacing::kPad, fused.states()));
+                        EXPECT_EQ(plain.block_states(), fused.block_states());
+                        EXPECT_EQ(plain.planes_read(), fused.planes_read());
+                        EXPECT_TRUE(fused.full());
+                        for (std::uint32_t f = 0; f < nf; f += 7) ASSERT_EQ(fused[f], face_is_front(t, f, cam) ? 1 : 0);
+                        if (nan) {  // the untrusted plane's block is never decided as a whole
+                            EXPECT_EQ(fused.block_states()[bad / FaceBlocks::kFaces], FaceFacing::kUnknown);
+                            EXPECT_EQ(fused[bad], face_is_front(t, bad, cam) ? 1 : 0);
+                        }
+                        for (const Camera& other : cams) {
+                            FacingFilter filter;
+                            filter.bind(t, other);
+                            std::vector<std::uint8_t> a(before.size()), b(built.size());
+                            before.classify(0, before.size(), filter, a.data());
+                            built.classify(0, built.size(), filter, b.data());
+                            EXPECT_EQ(a, b);
+                            for (float limit : {0.0f, 0.01f * float(scale), 0.3f * float(scale)}) {
+                                std::vector<std::uint32_t> fa, fb;
+                                std::vector<std::uint64_t> ba(nf / 64 + 1, 0), bb(nf / 64 + 1, 0);
+                                EXPECT_EQ(faces_within(t, filter, limit, fa, &before, ba.data()),
+                                          faces_within(t, filter, limit, fb, &built, bb.data()));
+                                EXPECT_EQ(fa, fb);
+                                EXPECT_EQ(ba, bb);
+                                ++compared;
+                            }
+                        }
+                    }
+                }
+    EXPECT_GT(compared, 500u);
+}
+
 // Block states four at a time (FaceBlocks::classify over a range) equal those one at a time, for
 // every start and length modulo four, at extreme scales and offsets, a grazing eye, a block with
 // an untrusted (NaN) plane and an eye out of float range (every block undecided).

@@ -306,24 +306,49 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
 }
 
 void FaceBlocks::build(const MeshTopology& mesh) {
+    start(mesh);
+    build_range(0, bounds_.size());
+}
+
+void FaceBlocks::start(const MeshTopology& mesh) {
     mesh_ = &mesh;
     edges_tried_ = false;
     nf_ = mesh.face_count();
-    const std::size_t nb = (nf_ + kFaces - 1) / kFaces;
-    bounds_.assign(nb, Bounds{});
-    for (std::size_t b = 0; b < nb; ++b) {
+    bounds_.assign((nf_ + kFaces - 1) / kFaces, Bounds{});
+    edge_begin_.clear();
+    nbr_begin_.clear();
+    nbr_.clear();
+}
+
+void FaceBlocks::build_range(std::size_t b0, std::size_t b1) {
+    const MeshTopology& mesh = *mesh_;
+    for (std::size_t b = b0; b < b1; ++b) {
         Bounds& r = bounds_[b];
         const std::size_t f0 = b * kFaces, f1 = std::min(nf_, f0 + kFaces);
         for (int i = 0; i < 4; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
         bool nan = false;
 #if defined(__x86_64__) && defined(__GNUC__)
+        // Four faces a step into four accumulators (min and max are exact, so any order gives
+        // the same ranges, up to the sign of zero; a NaN plane marks the block, whatever the
+        // ranges say): the chains of dependent min/max no longer bound the speed.
         __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY), un = _mm_setzero_ps();
-        for (std::size_t f = f0; f < f1; ++f) {
-            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);  // FacingPlane is 16-byte aligned
+        __m128 lo1 = lo, lo2 = lo, lo3 = lo, hi1 = hi, hi2 = hi, hi3 = hi;
+        std::size_t f = f0;
+        for (; f + 4 <= f1; f += 4) {
+            const float* q = &mesh.facing[f].nx;  // FacingPlane is 16-byte aligned
+            const __m128 p0 = _mm_load_ps(q), p1 = _mm_load_ps(q + 4), p2 = _mm_load_ps(q + 8), p3 = _mm_load_ps(q + 12);
+            lo = _mm_min_ps(lo, p0), lo1 = _mm_min_ps(lo1, p1), lo2 = _mm_min_ps(lo2, p2), lo3 = _mm_min_ps(lo3, p3);
+            hi = _mm_max_ps(hi, p0), hi1 = _mm_max_ps(hi1, p1), hi2 = _mm_max_ps(hi2, p2), hi3 = _mm_max_ps(hi3, p3);
+            un = _mm_or_ps(un, _mm_or_ps(_mm_cmpunord_ps(p0, p1), _mm_cmpunord_ps(p2, p3)));
+        }
+        for (; f < f1; ++f) {
+            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);
             lo = _mm_min_ps(lo, p);
             hi = _mm_max_ps(hi, p);
             un = _mm_or_ps(un, _mm_cmpunord_ps(p, p));
         }
+        lo = _mm_min_ps(_mm_min_ps(lo, lo1), _mm_min_ps(lo2, lo3));
+        hi = _mm_max_ps(_mm_max_ps(hi, hi1), _mm_max_ps(hi2, hi3));
         _mm_storeu_ps(r.lo, lo);
         _mm_storeu_ps(r.hi, hi);
         nan = _mm_movemask_ps(un) != 0;
@@ -340,9 +365,6 @@ void FaceBlocks::build(const MeshTopology& mesh) {
 #endif
         if (nan || f0 == f1) r.lo[0] = r.hi[0] = NAN;  // never decided as a whole
     }
-    edge_begin_.clear();
-    nbr_begin_.clear();
-    nbr_.clear();
 }
 
 void FaceBlocks::build_edges() {
@@ -783,62 +805,85 @@ void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std
     }
 }
 
-void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
+// Faces [lo, hi) of a full view (lo a block start): with blocks, blocks decided as a whole are
+// filled with their state (block_state_), runs of the others streamed. Returns the faces whose
+// planes were read.
+std::size_t FaceFacing::decide(std::size_t lo, std::size_t hi, const FaceBlocks* blocks) {
+    const MeshTopology& mesh = *mesh_;
+    auto run = [&](std::size_t a, std::size_t b) {
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
+#endif
+        facing_states_scalar(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
+    };
+    if (!blocks) {
+        run(lo, hi);
+        return hi - lo;
+    }
+    constexpr std::size_t kB = FaceBlocks::kFaces;
+    std::size_t read = 0, open = SIZE_MAX;
+    blocks->classify(lo / kB, (hi + kB - 1) / kB, filter_, block_state_.data() + lo / kB);
+    for (std::size_t b = lo / kB; b * kB < hi; ++b) {
+        const std::uint8_t s = block_state_[b];
+        const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
+        if (s == kUnknown) {
+            if (open == SIZE_MAX) open = f0;
+            continue;
+        }
+        if (open != SIZE_MAX) run(open, f0), read += f0 - open, open = SIZE_MAX;
+        std::memset(state_.data() + f0, s, f1 - f0);
+    }
+    if (open != SIZE_MAX) run(open, hi), read += hi - open;
+    return read;
+}
+
+void FaceFacing::start_full(const MeshTopology& mesh, const Camera& camera) {
     bind(mesh, camera);
     const std::size_t nf = mesh.face_count();
     state_.resize(nf + kPad);
     std::fill(state_.begin() + std::ptrdiff_t(nf), state_.end(), kSentinel);
     touched_.clear();
     full_ = true;
-    if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
     block_state_.clear();
     planes_read_ = nf;
-    auto run = [&](std::size_t lo, std::size_t hi) {
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
-#endif
-        facing_states_scalar(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
-    };
-    constexpr std::size_t kB = FaceBlocks::kFaces;
-    std::vector<std::size_t> part_read;
-    // Faces [lo, hi) (lo a block start): blocks decided as a whole are filled with their state,
-    // runs of the others streamed. Returns the faces whose planes were read.
-    auto run_blocks = [&](std::size_t lo, std::size_t hi) -> std::size_t {
-        if (!blocks) {
-            run(lo, hi);
-            return hi - lo;
-        }
-        std::size_t read = 0, open = SIZE_MAX;
-        blocks->classify(lo / kB, (hi + kB - 1) / kB, filter_, block_state_.data() + lo / kB);
-        for (std::size_t b = lo / kB; b * kB < hi; ++b) {
-            const std::uint8_t s = block_state_[b];
-            const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
-            if (s == kUnknown) {
-                if (open == SIZE_MAX) open = f0;
-                continue;
-            }
-            if (open != SIZE_MAX) run(open, f0), read += f0 - open, open = SIZE_MAX;
-            std::memset(state_.data() + f0, s, f1 - f0);
-        }
-        if (open != SIZE_MAX) run(open, hi), read += hi - open;
-        return read;
-    };
+}
+
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
+    start_full(mesh, camera);
+    const std::size_t nf = mesh.face_count();
+    if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
     if (blocks) block_state_.resize(blocks->size());
     const std::size_t parts = std::size_t(std::clamp(threads, 1, 64));
     if (parts == 1 || nf < 65536) {
-        planes_read_ = run_blocks(0, nf);
+        planes_read_ = decide(0, nf, blocks);
         return;
     }
     std::vector<std::thread> pool;
-    part_read.assign(parts, 0);
+    std::vector<std::size_t> part_read(parts, 0);
     const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line (and block) aligned parts
     for (std::size_t i = 1; i < parts; ++i)
         if (i * step < nf)
-            pool.emplace_back([&, i] { part_read[i] = run_blocks(i * step, std::min(nf, (i + 1) * step)); });
-    part_read[0] = run_blocks(0, std::min(nf, step));
+            pool.emplace_back([&, i] { part_read[i] = decide(i * step, std::min(nf, (i + 1) * step), blocks); });
+    part_read[0] = decide(0, std::min(nf, step), blocks);
     for (auto& t : pool) t.join();
     planes_read_ = 0;
     for (std::size_t r : part_read) planes_read_ += r;
+}
+
+void FaceFacing::begin_full_building(const MeshTopology& mesh, const Camera& camera, FaceBlocks& blocks) {
+    start_full(mesh, camera);
+    const std::size_t nf = mesh.face_count();
+    blocks.start(mesh);
+    block_state_.resize(blocks.size());
+    // Chunks of blocks small enough that their planes, read by the ranges, are still in the
+    // cache when the states are decided.
+    constexpr std::size_t kChunk = 64;
+    planes_read_ = 0;
+    for (std::size_t b = 0; b < blocks.size(); b += kChunk) {
+        const std::size_t b1 = std::min(blocks.size(), b + kChunk);
+        blocks.build_range(b, b1);
+        planes_read_ += decide(b * FaceBlocks::kFaces, std::min(nf, b1 * FaceBlocks::kFaces), &blocks);
+    }
 }
 
 void FaceFacing::carry(const Camera& camera, const std::uint32_t* turned, std::size_t n) {

@@ -223,9 +223,15 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         planes_read_ += out.face_front.planes_read();
         scan_exhaustive(out);
     } else if (opt_.coherence && opt_.first_full && previous_.empty()) {
-        out.face_front.begin_full(mesh, camera, opt_.threads);
+        // The band's rebuilds need the face blocks: built here, in the facing pass (the planes
+        // read once); the edge scan reads every edge (ranges of edges by block would cost a pass
+        // over the edges to build, for this one view).
+        if (opt_.blocks && opt_.threads <= 1 && !blocks_.built_for(mesh))
+            out.face_front.begin_full_building(mesh, camera, blocks_);
+        else
+            out.face_front.begin_full(mesh, camera, opt_.threads, blocks());
         planes_read_ += out.face_front.planes_read();
-        scan_exhaustive(out);
+        scan_exhaustive(out, false);
         out.stats.finder = FinderKind::Randomized;
         out.stats.fraction = opt_.fraction;
         previous_.clear();
@@ -310,7 +316,7 @@ const FaceBlocks* SilhouetteFinder::blocks() {
     return &blocks_;
 }
 
-void SilhouetteFinder::scan_exhaustive(Features& out) {
+void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
     const MeshTopology& mesh = *mesh_;
     const std::uint32_t ne = std::uint32_t(mesh.edge_count()), nf = std::uint32_t(mesh.face_count());
     // Branchless pass over blocks of edges: every edge whose two face states differ (or are both
@@ -343,12 +349,13 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     // From the second view, where the CPU has the kernel: the gather-free layout (BlockEdges),
     // block by block (it skips the blocks whose windows hold one state itself; skipping by the
     // block states as below measured no faster); its candidates of decided faces are silhouettes.
-    if (opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
+    if (block_edges && opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
         block_edges_tried_ = true;
         block_edges_.build(mesh);
     }
-    const BlockEdges* be = opt_.edge_windows && full_views_ > 1 && block_edges_.built_for(mesh) ? &block_edges_ : nullptr;
-    const std::vector<std::uint8_t>& cls = out.face_front.block_states();
+    const BlockEdges* be = block_edges && opt_.edge_windows && full_views_ > 1 && block_edges_.built_for(mesh) ? &block_edges_ : nullptr;
+    static const std::vector<std::uint8_t> no_states;
+    const std::vector<std::uint8_t>& cls = block_edges ? out.face_front.block_states() : no_states;
     if (!be && !cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
     const FaceBlocks* fb = !be && !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
     const std::uint32_t units = be ? std::uint32_t(be->size()) : fb ? std::uint32_t(fb->size()) : ne;  // edges, or blocks of faces

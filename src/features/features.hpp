@@ -208,7 +208,9 @@ public:
     void set_fraction(double f) { opt_.fraction = f; }  // e.g. a viewer's slider, keeping coherence
 
 private:
-    void scan_exhaustive(Features& out);
+    // block_edges: the scan may skip the edges of blocks of one state (FaceBlocks edge ranges,
+    // built on first use) or use BlockEdges; false: every edge is read (the same result).
+    void scan_exhaustive(Features& out, bool block_edges = true);
     // carry: the view of out.face_front was left full for the previous camera by this finder
     // (then carried on after following; otherwise begun lazily by the caller).
     void search_randomized(const Camera& camera, Features& out, bool carry = false);
