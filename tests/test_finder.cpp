@@ -861,6 +861,46 @@ TEST(Finder, CoherenceFollowsASubdividedMeshExactly) {
     EXPECT_GT(turned, 1000u);
 }
 
+// A coherent view that follows its own previous view keeps that view's edge kinds and rewrites
+// only those of the edges of faces that turned; every edge's kind must still be the exhaustive
+// finder's (no silhouette mark left on an edge that stopped being one, creases unmarked when they
+// become silhouettes and marked again after). Also with the views written alternately into two
+// Features, and into a new one midway (the marks cannot be kept there).
+TEST(Finder, CoherenceKeepsEveryEdgeKindExact) {
+    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off";
+    ASSERT_TRUE(std::filesystem::exists(path));
+    const Model m = Model::load(path, 40.0, 1);
+    const MeshTopology& t = m.topology();
+    ASSERT_FALSE(t.crease_list.empty());
+    const glm::dvec3 c = t.bounds.center();
+    const double d = 3.0 * t.bounds.half_diagonal();
+    FinderOptions o = randomized(0.0, true);
+    o.first_full = true;
+    SilhouetteFinder same(t, o), alternate(t, o);
+    Features a, b[2];
+    std::size_t turned = 0, crease_changes = 0;
+    std::vector<std::uint32_t> last_creases;
+    for (int i = 0; i < 60; ++i) {
+        SCOPED_TRACE(testing::Message() << "view " << i);
+        const double az = 0.2 + 0.01 * i;
+        const Camera cam = Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.5, std::cos(az)), c, {0, 1, 0}, 30, 640, 480);
+        const Features ex = extract_features(t, cam);
+        same.find(cam, {}, a);
+        EXPECT_EQ(a.edge_kind, ex.edge_kind);
+        expect_identical(ex, a);
+        if (i == 30) b[1] = Features{};  // a new Features midway
+        Features& out = b[i % 2];
+        alternate.find(cam, {}, out);
+        EXPECT_EQ(out.edge_kind, ex.edge_kind);
+        expect_identical(ex, out);
+        if (i > 0) turned += a.stats.faces_turned;
+        crease_changes += ex.crease_edges != last_creases;
+        last_creases = ex.crease_edges;
+    }
+    EXPECT_GT(turned, 500u);
+    EXPECT_GT(crease_changes, 3u);  // creases became silhouettes and stopped being ones along the way
+}
+
 TEST(Finder, CoherenceBandSameWithBlocks) {
     const Model& m = mesh_model("armadillo");
     const Bounds3 box = m.topology().bounds;
