@@ -634,6 +634,52 @@ TEST(Facing, BlockStatesFourAtATime) {
 
 // The exhaustive finder with blocks (from its second view) against the one without, along a
 // path: the same silhouette edges in the same order, every view, and fewer edges read.
+// Block states against a limit (FaceBlocks::classify_within, four a step: faces_within's test)
+// equal the one-at-a-time test of distance_range against +-limit, for limits from zero to beyond
+// every distance, every start and length modulo four, an untrusted (NaN) plane and limits just at
+// a block's range.
+TEST(Facing, BlockStatesWithinALimit) {
+    std::size_t front = 0, back = 0, unknown = 0;
+    for (double scale : {1e-6, 1.0, 1e6}) {
+        Model m = scaled_sphere(96, 48, scale, 0.0);
+        MeshTopology& t = m.topology();
+        t.facing[2 * FaceBlocks::kFaces + 7].ny = NAN;
+        FaceBlocks blocks;
+        blocks.build(t);
+        for (const Camera& cam : cameras_with_grazing(t)) {
+            FacingFilter filter;
+            filter.bind(t, cam);
+            auto one = [&](std::size_t b, double limit) {
+                double lo, hi;
+                blocks.distance_range(b, filter, lo, hi);
+                return lo > limit ? FaceFacing::kFront : hi < -limit ? FaceFacing::kBack : FaceFacing::kUnknown;
+            };
+            std::vector<double> limits = {0.0, double(filter.bound), 0.01 * scale, 0.3 * scale, 100.0 * scale};
+            for (std::size_t b = 5; b + 4 <= blocks.size(); b += 37) {
+                double lo, hi;
+                blocks.distance_range(b, filter, lo, hi);
+                for (double x : {lo, hi, -lo, -hi})
+                    if (std::isfinite(x) && x > 0.0) limits.push_back(x), limits.push_back(std::nextafter(x, -1.0));
+            }
+            for (double limit : limits)
+                for (std::size_t b0 : {0, 1, 2, 3}) {
+                    const std::size_t b1 = blocks.size() - b0;
+                    std::vector<std::uint8_t> got(b1 - b0, 9);
+                    blocks.classify_within(b0, b1, filter, limit, got.data());
+                    for (std::size_t b = b0; b < b1; ++b) {
+                        const std::uint8_t want = one(b, limit);
+                        ASSERT_EQ(got[b - b0], want) << "block " << b << " limit " << limit;
+                        front += want == FaceFacing::kFront, back += want == FaceFacing::kBack, unknown += want == FaceFacing::kUnknown;
+                    }
+                    if (b0 <= 2) EXPECT_EQ(got[2 - b0], FaceFacing::kUnknown);  // the untrusted plane's block
+                }
+        }
+    }
+    EXPECT_GT(front, 0u);
+    EXPECT_GT(back, 0u);
+    EXPECT_GT(unknown, 0u);
+}
+
 TEST(Finder, ExhaustiveBlocksSameResult) {
     const Model torus(hilbert_ordered(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 192, 96)));
     for (const Model* m : {&torus, &mesh_model("armadillo"), &mesh_model("fandisk"), &mesh_model("bunny00")}) {

@@ -283,16 +283,34 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
     // other blocks are streamed as before (so the same faces, in order). A skipped block's faces
     // are all front (every distance above limit) or all back (every one below -limit).
     static_assert(FaceBlocks::kFaces == 64);  // a block's front bits are one word
+    // The blocks are classified a chunk at a time (four a step), and the planes of blocks to
+    // read are fetched a few blocks ahead (the runs between skipped blocks are short).
     std::size_t read = 0;
     std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
     const std::size_t nb = blocks->size();
+    constexpr std::size_t kChunk = 256, kPrefetch = 8;
+    std::uint8_t cls[kChunk + kPrefetch];
+    std::size_t c0 = 0, c1 = 0;  // cls[i]: the state of block c0 + i, for blocks [c0, c1)
     for (std::size_t b = 0; b <= nb; ++b) {
         bool skip = true;
         if (b < nb) {
-            double lo, hi;
-            blocks->distance_range(b, filter, lo, hi);
-            skip = lo > double(limit) || hi < -double(limit);  // false for NaN ranges
-            if (skip && front) front[b] = lo > double(limit) ? ~std::uint64_t(0) : 0;
+            if (b + kPrefetch >= c1 && c1 < nb) {  // the next chunk, keeping the blocks ahead
+                const std::size_t keep = c1 - std::min(c1, b);
+                std::memmove(cls, cls + (b - c0), keep);
+                c0 = b;
+                const std::size_t n1 = std::min(nb, c1 + kChunk);
+                blocks->classify_within(c1, n1, filter, double(limit), cls + keep);
+                c1 = n1;
+            }
+            const std::size_t a = b + kPrefetch;
+            if (a < c1 && cls[a - c0] == FaceFacing::kUnknown) {
+                const char* q = reinterpret_cast<const char*>(mesh.facing.data() + a * FaceBlocks::kFaces);
+                for (std::size_t i = 0; i < FaceBlocks::kFaces * sizeof(MeshTopology::FacingPlane); i += 64)
+                    __builtin_prefetch(q + i);
+            }
+            const std::uint8_t st = cls[b - c0];
+            skip = st != FaceFacing::kUnknown;
+            if (skip && front) front[b] = st == FaceFacing::kFront ? ~std::uint64_t(0) : 0;
         }
         const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
         if (!skip && open == UINT32_MAX) open = f;
@@ -721,10 +739,10 @@ namespace {
 // max in the same order (MINPD(c, a) is std::min(a, c) and MAXPD(c, a) std::max(a, c), NaN
 // included), so the same states.
 __attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::size_t n, const FacingFilter& f,
-                                                   std::uint8_t* out) {
+                                                   double limit, std::uint8_t* out) {
     const __m256d e[4] = {_mm256_set1_pd(f.ex), _mm256_set1_pd(f.ey), _mm256_set1_pd(f.ez), _mm256_set1_pd(-double(f.w))};
     const __m256d sign = _mm256_set1_pd(-0.0), scale = _mm256_set1_pd(0x1p-20);
-    const __m256d bound = _mm256_set1_pd(double(f.bound)), nbound = _mm256_set1_pd(-double(f.bound));
+    const __m256d bound = _mm256_set1_pd(limit), nbound = _mm256_set1_pd(-limit);
     for (std::size_t b = 0; b < n; b += 4) {
         const float* q = bounds + 8 * b;  // lo[4], hi[4] per block
         __m128 l0 = _mm_loadu_ps(q), l1 = _mm_loadu_ps(q + 8), l2 = _mm_loadu_ps(q + 16), l3 = _mm_loadu_ps(q + 24);
@@ -753,16 +771,25 @@ __attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::siz
 #endif
 
 void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const {
+    classify_within(b0, b1, f, double(f.bound), out);
+}
+
+void FaceBlocks::classify_within(std::size_t b0, std::size_t b1, const FacingFilter& f, double limit,
+                                 std::uint8_t* out) const {
     std::size_t b = b0;
 #if defined(__x86_64__) && defined(__GNUC__)
     static_assert(sizeof(Bounds) == 32);
     if (cpu_has_avx2()) {
         const std::size_t n = (b1 - b0) & ~std::size_t(3);
-        classify_avx2(bounds_[b0].lo, n, f, out);
+        classify_avx2(bounds_[b0].lo, n, f, limit, out);
         b += n;
     }
 #endif
-    for (; b < b1; ++b) out[b - b0] = classify(b, f);
+    for (; b < b1; ++b) {
+        double lo, hi;
+        distance_range(b, f, lo, hi);
+        out[b - b0] = lo > limit ? FaceFacing::kFront : hi < -limit ? FaceFacing::kBack : FaceFacing::kUnknown;  // NaN: unknown
+    }
 }
 
 void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces) {
@@ -810,6 +837,7 @@ void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std
 // planes were read.
 std::size_t FaceFacing::decide(std::size_t lo, std::size_t hi, const FaceBlocks* blocks) {
     const MeshTopology& mesh = *mesh_;
+    constexpr std::size_t kPrefetch = 8;  // blocks
     auto run = [&](std::size_t a, std::size_t b) {
 #if defined(__x86_64__) && defined(__GNUC__)
         if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
@@ -822,8 +850,16 @@ std::size_t FaceFacing::decide(std::size_t lo, std::size_t hi, const FaceBlocks*
     }
     constexpr std::size_t kB = FaceBlocks::kFaces;
     std::size_t read = 0, open = SIZE_MAX;
-    blocks->classify(lo / kB, (hi + kB - 1) / kB, filter_, block_state_.data() + lo / kB);
+    const std::size_t bend = (hi + kB - 1) / kB;
+    blocks->classify(lo / kB, bend, filter_, block_state_.data() + lo / kB);
     for (std::size_t b = lo / kB; b * kB < hi; ++b) {
+        // The planes of undecided blocks ahead are fetched now: the runs between decided blocks
+        // are short, too short for the hardware to see a stream (a full view after other work
+        // finds them in memory).
+        if (b + kPrefetch < bend && block_state_[b + kPrefetch] == kUnknown) {
+            const char* q = reinterpret_cast<const char*>(mesh.facing.data() + (b + kPrefetch) * kB);
+            for (std::size_t i = 0; i < kB * sizeof(MeshTopology::FacingPlane); i += 64) __builtin_prefetch(q + i);
+        }
         const std::uint8_t s = block_state_[b];
         const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
         if (s == kUnknown) {

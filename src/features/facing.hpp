@@ -61,6 +61,9 @@ public:
     std::uint8_t classify(std::size_t b, const FacingFilter& f) const;
     // classify(b, f) for blocks [b0, b1) into out[b - b0] (the same operations, four blocks a step).
     void classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const;
+    // The same against +-limit instead of the filter's bound: kFront where every face's float
+    // distance is above limit, kBack where every one is below -limit, else (or NaN) kUnknown.
+    void classify_within(std::size_t b0, std::size_t b1, const FacingFilter& f, double limit, std::uint8_t* out) const;
     // Edges by block: [edge_begin(b), edge_begin(b + 1)) are the edges whose first face lies in
     // block b (edges are numbered in the order of their first face). has_edges() is false before
     // build_edges() or when the mesh numbers its edges otherwise (then no edge range is skipped).
