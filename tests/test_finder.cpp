@@ -671,7 +671,9 @@ TEST(Facing, BlockStatesWithinALimit) {
                         ASSERT_EQ(got[b - b0], want) << "block " << b << " limit " << limit;
                         front += want == FaceFacing::kFront, back += want == FaceFacing::kBack, unknown += want == FaceFacing::kUnknown;
                     }
-                    if (b0 <= 2) EXPECT_EQ(got[2 - b0], FaceFacing::kUnknown);  // the untrusted plane's block
+                    if (b0 <= 2) {
+                        EXPECT_EQ(got[2 - b0], FaceFacing::kUnknown);  // the untrusted plane's block
+                    }
                 }
         }
     }
