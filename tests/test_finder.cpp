@@ -522,6 +522,65 @@ TEST(Facing, BlocksWithAnUntrustedPlane) {
     }
 }
 
+// The facing pass that builds the blocks as it goes (FaceFacing::begin_full_building, the coherent
+// finder's first view) gives the states, block states and planes read of begin_full with blocks
+// built beforehand, and blocks that decide as those do (block states for other views, the bands
+// and front bits of faces_within): face counts that fill the blocks or not (a last block of a few
+// faces), extreme scales and offsets, a grazing eye, an untrusted (NaN) plane in the second chunk.
+TEST(Facing, BuildingPassGivesTheSameStatesAndBlocks) {
+    std::size_t compared = 0;
+    for (const auto& [slices, stacks] : {std::pair{96, 48}, std::pair{131, 67}, std::pair{7, 5}})
+        for (double scale : {1e-6, 1.0, 1e6})
+            for (double offset : {0.0, 1e6})
+                for (bool nan : {false, true}) {
+                    Model m = scaled_sphere(slices, stacks, scale, offset);
+                    MeshTopology& t = m.topology();
+                    const std::size_t nf = t.face_count();
+                    const std::uint32_t bad = std::uint32_t(std::min<std::size_t>(nf - 1, 64 * FaceBlocks::kFaces + 9));
+                    if (nan) t.facing[bad].ny = NAN;
+                    FaceBlocks before;
+                    before.build(t);
+                    const std::vector<Camera> cams = cameras_with_grazing(t);
+                    for (const Camera& cam : cams) {
+                        SCOPED_TRACE(testing::Message() << slices << "x" << stacks << " scale " << scale << " offset "
+                                                        << offset << " nan " << nan);
+                        FaceBlocks built;
+                        FaceFacing plain, fused;
+                        plain.begin_full(t, cam, 1, &before);
+                        fused.begin_full_building(t, cam, built);
+                        ASSERT_TRUE(built.built_for(t));
+                        ASSERT_EQ(built.size(), before.size());
+                        EXPECT_TRUE(std::equal(plain.states(), plain.states() + nf + FaceFacing::kPad, fused.states()));
+                        EXPECT_EQ(plain.block_states(), fused.block_states());
+                        EXPECT_EQ(plain.planes_read(), fused.planes_read());
+                        EXPECT_TRUE(fused.full());
+                        for (std::uint32_t f = 0; f < nf; f += 7) ASSERT_EQ(fused[f], face_is_front(t, f, cam) ? 1 : 0);
+                        if (nan) {  // the untrusted plane's block is never decided as a whole
+                            EXPECT_EQ(fused.block_states()[bad / FaceBlocks::kFaces], FaceFacing::kUnknown);
+                            EXPECT_EQ(fused[bad], face_is_front(t, bad, cam) ? 1 : 0);
+                        }
+                        for (const Camera& other : cams) {
+                            FacingFilter filter;
+                            filter.bind(t, other);
+                            std::vector<std::uint8_t> a(before.size()), b(built.size());
+                            before.classify(0, before.size(), filter, a.data());
+                            built.classify(0, built.size(), filter, b.data());
+                            EXPECT_EQ(a, b);
+                            for (float limit : {0.0f, 0.01f * float(scale), 0.3f * float(scale)}) {
+                                std::vector<std::uint32_t> fa, fb;
+                                std::vector<std::uint64_t> ba(nf / 64 + 1, 0), bb(nf / 64 + 1, 0);
+                                EXPECT_EQ(faces_within(t, filter, limit, fa, &before, ba.data()),
+                                          faces_within(t, filter, limit, fb, &built, bb.data()));
+                                EXPECT_EQ(fa, fb);
+                                EXPECT_EQ(ba, bb);
+                                ++compared;
+                            }
+                        }
+                    }
+                }
+    EXPECT_GT(compared, 500u);
+}
+
 // Block states four at a time (FaceBlocks::classify over a range) equal those one at a time, for
 // every start and length modulo four, at extreme scales and offsets, a grazing eye, a block with
 // an untrusted (NaN) plane and an eye out of float range (every block undecided).
@@ -575,6 +634,54 @@ TEST(Facing, BlockStatesFourAtATime) {
 
 // The exhaustive finder with blocks (from its second view) against the one without, along a
 // path: the same silhouette edges in the same order, every view, and fewer edges read.
+// Block states against a limit (FaceBlocks::classify_within, four a step: faces_within's test)
+// equal the one-at-a-time test of distance_range against +-limit, for limits from zero to beyond
+// every distance, every start and length modulo four, an untrusted (NaN) plane and limits just at
+// a block's range.
+TEST(Facing, BlockStatesWithinALimit) {
+    std::size_t front = 0, back = 0, unknown = 0;
+    for (double scale : {1e-6, 1.0, 1e6}) {
+        Model m = scaled_sphere(96, 48, scale, 0.0);
+        MeshTopology& t = m.topology();
+        t.facing[2 * FaceBlocks::kFaces + 7].ny = NAN;
+        FaceBlocks blocks;
+        blocks.build(t);
+        for (const Camera& cam : cameras_with_grazing(t)) {
+            FacingFilter filter;
+            filter.bind(t, cam);
+            auto one = [&](std::size_t b, double limit) {
+                double lo, hi;
+                blocks.distance_range(b, filter, lo, hi);
+                return lo > limit ? FaceFacing::kFront : hi < -limit ? FaceFacing::kBack : FaceFacing::kUnknown;
+            };
+            std::vector<double> limits = {0.0, double(filter.bound), 0.01 * scale, 0.3 * scale, 100.0 * scale};
+            for (std::size_t b = 5; b + 4 <= blocks.size(); b += 37) {
+                double lo, hi;
+                blocks.distance_range(b, filter, lo, hi);
+                for (double x : {lo, hi, -lo, -hi})
+                    if (std::isfinite(x) && x > 0.0) limits.push_back(x), limits.push_back(std::nextafter(x, -1.0));
+            }
+            for (double limit : limits)
+                for (std::size_t b0 : {0, 1, 2, 3}) {
+                    const std::size_t b1 = blocks.size() - b0;
+                    std::vector<std::uint8_t> got(b1 - b0, 9);
+                    blocks.classify_within(b0, b1, filter, limit, got.data());
+                    for (std::size_t b = b0; b < b1; ++b) {
+                        const std::uint8_t want = one(b, limit);
+                        ASSERT_EQ(got[b - b0], want) << "block " << b << " limit " << limit;
+                        front += want == FaceFacing::kFront, back += want == FaceFacing::kBack, unknown += want == FaceFacing::kUnknown;
+                    }
+                    if (b0 <= 2) {
+                        EXPECT_EQ(got[2 - b0], FaceFacing::kUnknown);  // the untrusted plane's block
+                    }
+                }
+        }
+    }
+    EXPECT_GT(front, 0u);
+    EXPECT_GT(back, 0u);
+    EXPECT_GT(unknown, 0u);
+}
+
 TEST(Finder, ExhaustiveBlocksSameResult) {
     const Model torus(hilbert_ordered(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 192, 96)));
     for (const Model* m : {&torus, &mesh_model("armadillo"), &mesh_model("fandisk"), &mesh_model("bunny00")}) {
@@ -800,6 +907,46 @@ TEST(Finder, CoherenceFollowsASubdividedMeshExactly) {
     EXPECT_GE(rebuilt, 4u);  // along the orbit, at the graze, at the camera kind
     EXPECT_GE(kept, 20u);
     EXPECT_GT(turned, 1000u);
+}
+
+// A coherent view that follows its own previous view keeps that view's edge kinds and rewrites
+// only those of the edges of faces that turned; every edge's kind must still be the exhaustive
+// finder's (no silhouette mark left on an edge that stopped being one, creases unmarked when they
+// become silhouettes and marked again after). Also with the views written alternately into two
+// Features, and into a new one midway (the marks cannot be kept there).
+TEST(Finder, CoherenceKeepsEveryEdgeKindExact) {
+    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off";
+    ASSERT_TRUE(std::filesystem::exists(path));
+    const Model m = Model::load(path, 40.0, 1);
+    const MeshTopology& t = m.topology();
+    ASSERT_FALSE(t.crease_list.empty());
+    const glm::dvec3 c = t.bounds.center();
+    const double d = 3.0 * t.bounds.half_diagonal();
+    FinderOptions o = randomized(0.0, true);
+    o.first_full = true;
+    SilhouetteFinder same(t, o), alternate(t, o);
+    Features a, b[2];
+    std::size_t turned = 0, crease_changes = 0;
+    std::vector<std::uint32_t> last_creases;
+    for (int i = 0; i < 60; ++i) {
+        SCOPED_TRACE(testing::Message() << "view " << i);
+        const double az = 0.2 + 0.01 * i;
+        const Camera cam = Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.5, std::cos(az)), c, {0, 1, 0}, 30, 640, 480);
+        const Features ex = extract_features(t, cam);
+        same.find(cam, {}, a);
+        EXPECT_EQ(a.edge_kind, ex.edge_kind);
+        expect_identical(ex, a);
+        if (i == 30) b[1] = Features{};  // a new Features midway
+        Features& out = b[i % 2];
+        alternate.find(cam, {}, out);
+        EXPECT_EQ(out.edge_kind, ex.edge_kind);
+        expect_identical(ex, out);
+        if (i > 0) turned += a.stats.faces_turned;
+        crease_changes += ex.crease_edges != last_creases;
+        last_creases = ex.crease_edges;
+    }
+    EXPECT_GT(turned, 500u);
+    EXPECT_GT(crease_changes, 3u);  // creases became silhouettes and stopped being ones along the way
 }
 
 TEST(Finder, CoherenceBandSameWithBlocks) {

@@ -283,16 +283,34 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
     // other blocks are streamed as before (so the same faces, in order). A skipped block's faces
     // are all front (every distance above limit) or all back (every one below -limit).
     static_assert(FaceBlocks::kFaces == 64);  // a block's front bits are one word
+    // The blocks are classified a chunk at a time (four a step), and the planes of blocks to
+    // read are fetched a few blocks ahead (the runs between skipped blocks are short).
     std::size_t read = 0;
     std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
     const std::size_t nb = blocks->size();
+    constexpr std::size_t kChunk = 256, kPrefetch = 8;
+    std::uint8_t cls[kChunk + kPrefetch];
+    std::size_t c0 = 0, c1 = 0;  // cls[i]: the state of block c0 + i, for blocks [c0, c1)
     for (std::size_t b = 0; b <= nb; ++b) {
         bool skip = true;
         if (b < nb) {
-            double lo, hi;
-            blocks->distance_range(b, filter, lo, hi);
-            skip = lo > double(limit) || hi < -double(limit);  // false for NaN ranges
-            if (skip && front) front[b] = lo > double(limit) ? ~std::uint64_t(0) : 0;
+            if (b + kPrefetch >= c1 && c1 < nb) {  // the next chunk, keeping the blocks ahead
+                const std::size_t keep = c1 - std::min(c1, b);
+                std::memmove(cls, cls + (b - c0), keep);
+                c0 = b;
+                const std::size_t n1 = std::min(nb, c1 + kChunk);
+                blocks->classify_within(c1, n1, filter, double(limit), cls + keep);
+                c1 = n1;
+            }
+            const std::size_t a = b + kPrefetch;
+            if (a < c1 && cls[a - c0] == FaceFacing::kUnknown) {
+                const char* q = reinterpret_cast<const char*>(mesh.facing.data() + a * FaceBlocks::kFaces);
+                for (std::size_t i = 0; i < FaceBlocks::kFaces * sizeof(MeshTopology::FacingPlane); i += 64)
+                    __builtin_prefetch(q + i);
+            }
+            const std::uint8_t st = cls[b - c0];
+            skip = st != FaceFacing::kUnknown;
+            if (skip && front) front[b] = st == FaceFacing::kFront ? ~std::uint64_t(0) : 0;
         }
         const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
         if (!skip && open == UINT32_MAX) open = f;
@@ -306,24 +324,49 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
 }
 
 void FaceBlocks::build(const MeshTopology& mesh) {
+    start(mesh);
+    build_range(0, bounds_.size());
+}
+
+void FaceBlocks::start(const MeshTopology& mesh) {
     mesh_ = &mesh;
     edges_tried_ = false;
     nf_ = mesh.face_count();
-    const std::size_t nb = (nf_ + kFaces - 1) / kFaces;
-    bounds_.assign(nb, Bounds{});
-    for (std::size_t b = 0; b < nb; ++b) {
+    bounds_.assign((nf_ + kFaces - 1) / kFaces, Bounds{});
+    edge_begin_.clear();
+    nbr_begin_.clear();
+    nbr_.clear();
+}
+
+void FaceBlocks::build_range(std::size_t b0, std::size_t b1) {
+    const MeshTopology& mesh = *mesh_;
+    for (std::size_t b = b0; b < b1; ++b) {
         Bounds& r = bounds_[b];
         const std::size_t f0 = b * kFaces, f1 = std::min(nf_, f0 + kFaces);
         for (int i = 0; i < 4; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
         bool nan = false;
 #if defined(__x86_64__) && defined(__GNUC__)
+        // Four faces a step into four accumulators (min and max are exact, so any order gives
+        // the same ranges, up to the sign of zero; a NaN plane marks the block, whatever the
+        // ranges say): the chains of dependent min/max no longer bound the speed.
         __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY), un = _mm_setzero_ps();
-        for (std::size_t f = f0; f < f1; ++f) {
-            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);  // FacingPlane is 16-byte aligned
+        __m128 lo1 = lo, lo2 = lo, lo3 = lo, hi1 = hi, hi2 = hi, hi3 = hi;
+        std::size_t f = f0;
+        for (; f + 4 <= f1; f += 4) {
+            const float* q = &mesh.facing[f].nx;  // FacingPlane is 16-byte aligned
+            const __m128 p0 = _mm_load_ps(q), p1 = _mm_load_ps(q + 4), p2 = _mm_load_ps(q + 8), p3 = _mm_load_ps(q + 12);
+            lo = _mm_min_ps(lo, p0), lo1 = _mm_min_ps(lo1, p1), lo2 = _mm_min_ps(lo2, p2), lo3 = _mm_min_ps(lo3, p3);
+            hi = _mm_max_ps(hi, p0), hi1 = _mm_max_ps(hi1, p1), hi2 = _mm_max_ps(hi2, p2), hi3 = _mm_max_ps(hi3, p3);
+            un = _mm_or_ps(un, _mm_or_ps(_mm_cmpunord_ps(p0, p1), _mm_cmpunord_ps(p2, p3)));
+        }
+        for (; f < f1; ++f) {
+            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);
             lo = _mm_min_ps(lo, p);
             hi = _mm_max_ps(hi, p);
             un = _mm_or_ps(un, _mm_cmpunord_ps(p, p));
         }
+        lo = _mm_min_ps(_mm_min_ps(lo, lo1), _mm_min_ps(lo2, lo3));
+        hi = _mm_max_ps(_mm_max_ps(hi, hi1), _mm_max_ps(hi2, hi3));
         _mm_storeu_ps(r.lo, lo);
         _mm_storeu_ps(r.hi, hi);
         nan = _mm_movemask_ps(un) != 0;
@@ -340,9 +383,6 @@ void FaceBlocks::build(const MeshTopology& mesh) {
 #endif
         if (nan || f0 == f1) r.lo[0] = r.hi[0] = NAN;  // never decided as a whole
     }
-    edge_begin_.clear();
-    nbr_begin_.clear();
-    nbr_.clear();
 }
 
 void FaceBlocks::build_edges() {
@@ -699,10 +739,10 @@ namespace {
 // max in the same order (MINPD(c, a) is std::min(a, c) and MAXPD(c, a) std::max(a, c), NaN
 // included), so the same states.
 __attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::size_t n, const FacingFilter& f,
-                                                   std::uint8_t* out) {
+                                                   double limit, std::uint8_t* out) {
     const __m256d e[4] = {_mm256_set1_pd(f.ex), _mm256_set1_pd(f.ey), _mm256_set1_pd(f.ez), _mm256_set1_pd(-double(f.w))};
     const __m256d sign = _mm256_set1_pd(-0.0), scale = _mm256_set1_pd(0x1p-20);
-    const __m256d bound = _mm256_set1_pd(double(f.bound)), nbound = _mm256_set1_pd(-double(f.bound));
+    const __m256d bound = _mm256_set1_pd(limit), nbound = _mm256_set1_pd(-limit);
     for (std::size_t b = 0; b < n; b += 4) {
         const float* q = bounds + 8 * b;  // lo[4], hi[4] per block
         __m128 l0 = _mm_loadu_ps(q), l1 = _mm_loadu_ps(q + 8), l2 = _mm_loadu_ps(q + 16), l3 = _mm_loadu_ps(q + 24);
@@ -731,16 +771,25 @@ __attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::siz
 #endif
 
 void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const {
+    classify_within(b0, b1, f, double(f.bound), out);
+}
+
+void FaceBlocks::classify_within(std::size_t b0, std::size_t b1, const FacingFilter& f, double limit,
+                                 std::uint8_t* out) const {
     std::size_t b = b0;
 #if defined(__x86_64__) && defined(__GNUC__)
     static_assert(sizeof(Bounds) == 32);
     if (cpu_has_avx2()) {
         const std::size_t n = (b1 - b0) & ~std::size_t(3);
-        classify_avx2(bounds_[b0].lo, n, f, out);
+        classify_avx2(bounds_[b0].lo, n, f, limit, out);
         b += n;
     }
 #endif
-    for (; b < b1; ++b) out[b - b0] = classify(b, f);
+    for (; b < b1; ++b) {
+        double lo, hi;
+        distance_range(b, f, lo, hi);
+        out[b - b0] = lo > limit ? FaceFacing::kFront : hi < -limit ? FaceFacing::kBack : FaceFacing::kUnknown;  // NaN: unknown
+    }
 }
 
 void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces) {
@@ -783,62 +832,94 @@ void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std
     }
 }
 
-void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
+// Faces [lo, hi) of a full view (lo a block start): with blocks, blocks decided as a whole are
+// filled with their state (block_state_), runs of the others streamed. Returns the faces whose
+// planes were read.
+std::size_t FaceFacing::decide(std::size_t lo, std::size_t hi, const FaceBlocks* blocks) {
+    const MeshTopology& mesh = *mesh_;
+    constexpr std::size_t kPrefetch = 8;  // blocks
+    auto run = [&](std::size_t a, std::size_t b) {
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
+#endif
+        facing_states_scalar(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
+    };
+    if (!blocks) {
+        run(lo, hi);
+        return hi - lo;
+    }
+    constexpr std::size_t kB = FaceBlocks::kFaces;
+    std::size_t read = 0, open = SIZE_MAX;
+    const std::size_t bend = (hi + kB - 1) / kB;
+    blocks->classify(lo / kB, bend, filter_, block_state_.data() + lo / kB);
+    for (std::size_t b = lo / kB; b * kB < hi; ++b) {
+        // The planes of undecided blocks ahead are fetched now: the runs between decided blocks
+        // are short, too short for the hardware to see a stream (a full view after other work
+        // finds them in memory).
+        if (b + kPrefetch < bend && block_state_[b + kPrefetch] == kUnknown) {
+            const char* q = reinterpret_cast<const char*>(mesh.facing.data() + (b + kPrefetch) * kB);
+            for (std::size_t i = 0; i < kB * sizeof(MeshTopology::FacingPlane); i += 64) __builtin_prefetch(q + i);
+        }
+        const std::uint8_t s = block_state_[b];
+        const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
+        if (s == kUnknown) {
+            if (open == SIZE_MAX) open = f0;
+            continue;
+        }
+        if (open != SIZE_MAX) run(open, f0), read += f0 - open, open = SIZE_MAX;
+        std::memset(state_.data() + f0, s, f1 - f0);
+    }
+    if (open != SIZE_MAX) run(open, hi), read += hi - open;
+    return read;
+}
+
+void FaceFacing::start_full(const MeshTopology& mesh, const Camera& camera) {
     bind(mesh, camera);
     const std::size_t nf = mesh.face_count();
     state_.resize(nf + kPad);
     std::fill(state_.begin() + std::ptrdiff_t(nf), state_.end(), kSentinel);
     touched_.clear();
     full_ = true;
-    if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
     block_state_.clear();
     planes_read_ = nf;
-    auto run = [&](std::size_t lo, std::size_t hi) {
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
-#endif
-        facing_states_scalar(mesh.facing.data() + lo, hi - lo, filter_, state_.data() + lo);
-    };
-    constexpr std::size_t kB = FaceBlocks::kFaces;
-    std::vector<std::size_t> part_read;
-    // Faces [lo, hi) (lo a block start): blocks decided as a whole are filled with their state,
-    // runs of the others streamed. Returns the faces whose planes were read.
-    auto run_blocks = [&](std::size_t lo, std::size_t hi) -> std::size_t {
-        if (!blocks) {
-            run(lo, hi);
-            return hi - lo;
-        }
-        std::size_t read = 0, open = SIZE_MAX;
-        blocks->classify(lo / kB, (hi + kB - 1) / kB, filter_, block_state_.data() + lo / kB);
-        for (std::size_t b = lo / kB; b * kB < hi; ++b) {
-            const std::uint8_t s = block_state_[b];
-            const std::size_t f0 = b * kB, f1 = std::min(hi, f0 + kB);
-            if (s == kUnknown) {
-                if (open == SIZE_MAX) open = f0;
-                continue;
-            }
-            if (open != SIZE_MAX) run(open, f0), read += f0 - open, open = SIZE_MAX;
-            std::memset(state_.data() + f0, s, f1 - f0);
-        }
-        if (open != SIZE_MAX) run(open, hi), read += hi - open;
-        return read;
-    };
+}
+
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
+    start_full(mesh, camera);
+    const std::size_t nf = mesh.face_count();
+    if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
     if (blocks) block_state_.resize(blocks->size());
     const std::size_t parts = std::size_t(std::clamp(threads, 1, 64));
     if (parts == 1 || nf < 65536) {
-        planes_read_ = run_blocks(0, nf);
+        planes_read_ = decide(0, nf, blocks);
         return;
     }
     std::vector<std::thread> pool;
-    part_read.assign(parts, 0);
+    std::vector<std::size_t> part_read(parts, 0);
     const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line (and block) aligned parts
     for (std::size_t i = 1; i < parts; ++i)
         if (i * step < nf)
-            pool.emplace_back([&, i] { part_read[i] = run_blocks(i * step, std::min(nf, (i + 1) * step)); });
-    part_read[0] = run_blocks(0, std::min(nf, step));
+            pool.emplace_back([&, i] { part_read[i] = decide(i * step, std::min(nf, (i + 1) * step), blocks); });
+    part_read[0] = decide(0, std::min(nf, step), blocks);
     for (auto& t : pool) t.join();
     planes_read_ = 0;
     for (std::size_t r : part_read) planes_read_ += r;
+}
+
+void FaceFacing::begin_full_building(const MeshTopology& mesh, const Camera& camera, FaceBlocks& blocks) {
+    start_full(mesh, camera);
+    const std::size_t nf = mesh.face_count();
+    blocks.start(mesh);
+    block_state_.resize(blocks.size());
+    // Chunks of blocks small enough that their planes, read by the ranges, are still in the
+    // cache when the states are decided.
+    constexpr std::size_t kChunk = 64;
+    planes_read_ = 0;
+    for (std::size_t b = 0; b < blocks.size(); b += kChunk) {
+        const std::size_t b1 = std::min(blocks.size(), b + kChunk);
+        blocks.build_range(b, b1);
+        planes_read_ += decide(b * FaceBlocks::kFaces, std::min(nf, b1 * FaceBlocks::kFaces), &blocks);
+    }
 }
 
 void FaceFacing::carry(const Camera& camera, const std::uint32_t* turned, std::size_t n) {

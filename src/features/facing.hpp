@@ -43,6 +43,10 @@ class FaceBlocks {
 public:
     static constexpr std::uint32_t kFaces = 64;
     void build(const MeshTopology& mesh);  // the plane ranges
+    // build() in steps: start() sizes the blocks for the mesh (ranges undefined), build_range()
+    // computes the ranges of blocks [b0, b1) (FaceFacing::begin_full_building).
+    void start(const MeshTopology& mesh);
+    void build_range(std::size_t b0, std::size_t b1);
     void build_edges();                    // the edge ranges (after build; tried once; the exhaustive
                                            // finder builds them only where it does not use BlockEdges)
     bool edges_tried() const { return edges_tried_; }
@@ -57,6 +61,9 @@ public:
     std::uint8_t classify(std::size_t b, const FacingFilter& f) const;
     // classify(b, f) for blocks [b0, b1) into out[b - b0] (the same operations, four blocks a step).
     void classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const;
+    // The same against +-limit instead of the filter's bound: kFront where every face's float
+    // distance is above limit, kBack where every one is below -limit, else (or NaN) kUnknown.
+    void classify_within(std::size_t b0, std::size_t b1, const FacingFilter& f, double limit, std::uint8_t* out) const;
     // Edges by block: [edge_begin(b), edge_begin(b + 1)) are the edges whose first face lies in
     // block b (edges are numbered in the order of their first face). has_edges() is false before
     // build_edges() or when the mesh numbers its edges otherwise (then no edge range is skipped).
@@ -201,6 +208,11 @@ public:
     // reading its planes (the same states); block_states() then gives each block's state.
     void begin_full(const MeshTopology& mesh, const Camera& camera, int threads = 1, const FaceBlocks* blocks = nullptr);
     const std::vector<std::uint8_t>& block_states() const { return block_state_; }
+    // begin_full(mesh, camera, 1, &blocks) with `blocks` built for the mesh in the same pass (a
+    // chunk of blocks' ranges, then its states, while its planes are in the cache: the planes are
+    // read from memory once, not once to build the blocks and again to decide). The same states,
+    // blocks and block states.
+    void begin_full_building(const MeshTopology& mesh, const Camera& camera, FaceBlocks& blocks);
     // Moves a full view on to `camera` given every face whose facing differs between the two
     // cameras (turned[0..n), exact: a coherent finder's follow): their decided states flip, faces
     // not decided yet stay undecided (decided on first read, for `camera`), everything else is
@@ -242,6 +254,8 @@ public:
 
 private:
     void bind(const MeshTopology& mesh, const Camera& camera);
+    void start_full(const MeshTopology& mesh, const Camera& camera);
+    std::size_t decide(std::size_t lo, std::size_t hi, const FaceBlocks* blocks);
     std::uint8_t resolve(std::uint32_t f) const;
     std::uint8_t filter(std::uint32_t f) const;
 

@@ -211,6 +211,7 @@ SilhouetteFinder::SilhouetteFinder(const MeshTopology& mesh, const FinderOptions
 void SilhouetteFinder::reset() {
     previous_.clear();
     complete_ = false;
+    marked_ = nullptr;
     carried_ = {};
     rng_.seed(opt_.seed);
 }
@@ -218,12 +219,19 @@ void SilhouetteFinder::reset() {
 void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options, Features& out) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count(), nv = mesh.vertex_count();
-    // Recycle: reset what the previous view of `out` marked.
+    // Recycle: reset what the previous view of `out` marked. A view that follows a complete
+    // silhouette whose marks `out` holds (left by this finder's last view: its silhouette list
+    // is previous_) keeps them: follow() rewrites only the edges of faces that turned.
+    marks_kept_ = opt_.kind == FinderKind::Randomized && opt_.coherence && complete_ && !previous_.empty() &&
+                  marked_ == &out && out.edge_kind.size() == ne && out.silhouette_edges.size() == previous_.size();
+    marked_ = nullptr;
     if (out.edge_kind.size() != ne) {
         out.edge_kind.assign(ne, kNoKind);
     } else {
-        for (const auto* list : {&out.silhouette_edges, &out.border_edges, &out.crease_edges})
+        for (const auto* list : {&out.silhouette_edges, &out.border_edges, &out.crease_edges}) {
+            if (marks_kept_ && list == &out.silhouette_edges) continue;
             for (std::uint32_t e : *list) out.edge_kind[e] = kNoKind;
+        }
     }
     if (out.vertex_scratch.size() != nv) out.vertex_scratch.assign(nv, VertexScratch{});
     out.silhouette_edges.clear();
@@ -243,9 +251,15 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         planes_read_ += out.face_front.planes_read();
         scan_exhaustive(out);
     } else if (opt_.coherence && opt_.first_full && previous_.empty()) {
-        out.face_front.begin_full(mesh, camera, opt_.threads);
+        // The band's rebuilds need the face blocks: built here, in the facing pass (the planes
+        // read once); the edge scan reads every edge (ranges of edges by block would cost a pass
+        // over the edges to build, for this one view).
+        if (opt_.blocks && opt_.threads <= 1 && !blocks_.built_for(mesh))
+            out.face_front.begin_full_building(mesh, camera, blocks_);
+        else
+            out.face_front.begin_full(mesh, camera, opt_.threads, blocks());
         planes_read_ += out.face_front.planes_read();
-        scan_exhaustive(out);
+        scan_exhaustive(out, false);
         out.stats.finder = FinderKind::Randomized;
         out.stats.fraction = opt_.fraction;
         previous_.clear();
@@ -254,6 +268,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         previous_filter_.bind(mesh, camera);
         complete_ = true;
         carried_ = {&out.face_front, out.face_front.generation()};
+        marked_ = &out;
     } else {
         // Following a complete silhouette, the previous view's full facing (still in `out`, as
         // left there) is carried on by flipping the faces that turned: the visibility stage then
@@ -330,7 +345,7 @@ const FaceBlocks* SilhouetteFinder::blocks() {
     return &blocks_;
 }
 
-void SilhouetteFinder::scan_exhaustive(Features& out) {
+void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
     const MeshTopology& mesh = *mesh_;
     const std::uint32_t ne = std::uint32_t(mesh.edge_count()), nf = std::uint32_t(mesh.face_count());
     // Branchless pass over blocks of edges: every edge whose two face states differ (or are both
@@ -363,12 +378,13 @@ void SilhouetteFinder::scan_exhaustive(Features& out) {
     // From the second view, where the CPU has the kernel: the gather-free layout (BlockEdges),
     // block by block (it skips the blocks whose windows hold one state itself; skipping by the
     // block states as below measured no faster); its candidates of decided faces are silhouettes.
-    if (opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
+    if (block_edges && opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
         block_edges_tried_ = true;
         block_edges_.build(mesh);
     }
-    const BlockEdges* be = opt_.edge_windows && full_views_ > 1 && block_edges_.built_for(mesh) ? &block_edges_ : nullptr;
-    const std::vector<std::uint8_t>& cls = out.face_front.block_states();
+    const BlockEdges* be = block_edges && opt_.edge_windows && full_views_ > 1 && block_edges_.built_for(mesh) ? &block_edges_ : nullptr;
+    static const std::vector<std::uint8_t> no_states;
+    const std::vector<std::uint8_t>& cls = block_edges ? out.face_front.block_states() : no_states;
     if (!be && !cls.empty() && blocks_.built_for(mesh) && !blocks_.edges_tried()) blocks_.build_edges();
     const FaceBlocks* fb = !be && !cls.empty() && blocks_.built_for(mesh) && blocks_.has_edges() ? &blocks_ : nullptr;
     const std::uint32_t units = be ? std::uint32_t(be->size()) : fb ? std::uint32_t(fb->size()) : ne;  // edges, or blocks of faces
@@ -641,37 +657,16 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     out.stats.faces_turned = turned_.size();
     auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
 
-    // The previous edges none of whose faces turned, branch-free through restricted pointers
-    // (edge_kind is all kNoKind here: find() reset the previous view's marks).
-    const std::size_t np = previous_.size(), nt = turned_.size();
-    {
-        const std::size_t s0 = out.silhouette_edges.size(), c0 = current_.size();
-        out.silhouette_edges.resize(s0 + np);
-        current_.resize(c0 + np);
-        std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
-        EdgeRecord* __restrict cur = current_.data() + c0;
-        std::uint8_t* __restrict kind = out.edge_kind.data();
-        const EdgeRecord* __restrict prev = previous_.data();
-        std::size_t k = 0;
-        for (std::size_t i = 0; i < np; ++i) {
-            const EdgeRecord r = prev[i];
-            const bool keep = !(bit(turned, r.face[0]) | bit(turned, r.face[1]));
-            sil[k] = r.edge;
-            cur[k] = r;
-            kind[r.edge] = keep ? kSil : kNoKind;
-            k += keep;
-        }
-        out.silhouette_edges.resize(s0 + k);
-        current_.resize(c0 + k);
-        kept_ = c0 + k;
-        out.stats.edges_examined += k;
-    }
-    // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
-    // other face's front bit is this view's (set by band_states in the band, at the rebuild
-    // outside it).
+    // Edges of turned faces (fresh_, then sorted by edge); an edge between two turned faces is
+    // decided by the lower one. The other face's front bit is this view's (set by band_states in
+    // the band, at the rebuild outside it). Every edge of a turned face gets its kind here (the
+    // previous edges among them were silhouettes; with marks_kept_ the others keep theirs).
     // Turned faces are scattered over the mesh: their face edges are fetched 16 faces ahead, and
-    // the edges' face pairs (and kinds, written if silhouettes) 8 ahead, so that the cache
-    // misses overlap instead of following each other.
+    // the edges' face pairs (and kinds, written) 8 ahead, so that the cache misses overlap
+    // instead of following each other.
+    const std::size_t np = previous_.size(), nt = turned_.size();
+    std::uint8_t* __restrict kind = out.edge_kind.data();
+    fresh_.clear();
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
         if (i + 2 * kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + 2 * kAhead]]);
@@ -683,22 +678,55 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         const std::uint32_t x = turned_[i];
         const bool fx = bit(front, x);
         for (int k = 0; k < 3; ++k) {
-            const auto& ef = mesh.edge_face[mesh.face_edges[x][k]];
+            const std::uint32_t e = mesh.face_edges[x][k];
+            const auto& ef = mesh.edge_face[e];
             const std::uint32_t y = ef[0] == x ? ef[1] : ef[0];
             if (y == kNoFace || (bit(turned, y) && y < x)) continue;
             ++out.stats.edges_examined;
-            if (fx != bool(bit(front, y))) add_silhouette(mesh.face_edges[x][k], ef[0], ef[1], out);
+            const bool sil = fx != bool(bit(front, y));
+            kind[e] = sil ? kSil : kNoKind;
+            if (sil) fresh_.push_back({e, {ef[0], ef[1]}});
         }
+    }
+    sort_records(fresh_);
+
+    // The silhouette in edge order: the previous edges none of whose faces turned (in their
+    // order: edge order when the previous view's was) merged with the fresh ones, written to
+    // current_ and the view's list in one pass.
+    const std::size_t nn = fresh_.size();
+    const std::size_t s0 = out.silhouette_edges.size(), c0 = current_.size();
+    out.silhouette_edges.resize(s0 + np + nn);
+    current_.resize(c0 + np + nn);
+    {
+        std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
+        EdgeRecord* __restrict cur = current_.data() + c0;
+        const EdgeRecord* __restrict prev = previous_.data();
+        const EdgeRecord* __restrict add = fresh_.data();
+        std::size_t k = 0, j = 0, kept = 0;
+        for (std::size_t i = 0; i < np; ++i) {
+            const EdgeRecord r = prev[i];
+            if (bit(turned, r.face[0]) | bit(turned, r.face[1])) continue;
+            for (; j < nn && add[j].edge < r.edge; ++j, ++k) sil[k] = add[j].edge, cur[k] = add[j];
+            sil[k] = r.edge;
+            cur[k] = r;
+            ++k, ++kept;
+        }
+        for (; j < nn; ++j, ++k) sil[k] = add[j].edge, cur[k] = add[j];
+        out.silhouette_edges.resize(s0 + k);
+        current_.resize(c0 + k);
+        out.stats.edges_examined += kept;
+        if (!marks_kept_)  // the kinds were reset: the kept edges are marked again
+            for (std::size_t i = 0; i < k; ++i) kind[sil[i]] = kSil;
     }
     for (std::uint32_t f : turned_) turned[f >> 6] = 0;
 }
 
-// current_[k, end) by edge: an LSD radix sort, 11 bits a pass over the bits of the largest edge
-// id (two passes up to 4 M edges; the new edges of a view are thousands, a comparison sort of them
-// cost more than the rest of a coherent view at a degree a frame), std::sort for a few.
-void SilhouetteFinder::sort_new_edges(std::size_t k) {
-    EdgeRecord* a = current_.data() + k;
-    const std::size_t n = current_.size() - k;
+// Records by edge: an LSD radix sort, 11 bits a pass over the bits of the largest edge id (two
+// passes up to 4 M edges; the fresh edges of a view are thousands, a comparison sort of them cost
+// more than the rest of a coherent view at a degree a frame), std::sort for a few.
+void SilhouetteFinder::sort_records(std::vector<EdgeRecord>& v) {
+    EdgeRecord* a = v.data();
+    const std::size_t n = v.size();
     if (n < 256) {
         std::sort(a, a + n, [](const EdgeRecord& x, const EdgeRecord& y) { return x.edge < y.edge; });
         return;
@@ -740,18 +768,8 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
     // Following a complete silhouette exactly leaves it complete: nothing is left to draw or seek.
     complete_ = complete_ && opt_.coherence && had_previous;
     if (complete_) {
-        // In edge order, as the exhaustive scan lists them: then the chains, and the drawing, are
-        // those of the exhaustive finder, edge for edge. The kept edges are in that order already
-        // (the previous view's were); the few new ones are sorted and merged in.
-        if (kept_ < current_.size()) {
-            sort_new_edges(kept_);
-            const auto by_edge = [](const EdgeRecord& a, const EdgeRecord& b) { return a.edge < b.edge; };
-            const auto mid = current_.begin() + std::ptrdiff_t(kept_);
-            merged_.resize(current_.size());
-            std::merge(current_.begin(), mid, mid, current_.end(), merged_.begin(), by_edge);
-            current_.swap(merged_);
-            for (std::size_t i = 0; i < current_.size(); ++i) out.silhouette_edges[i] = current_[i].edge;
-        }
+        // follow() listed the edges in edge order, as the exhaustive scan does: then the chains,
+        // and the drawing, are those of the exhaustive finder, edge for edge.
         if (carry) {
             out.face_front.carry(camera, turned_.data(), turned_.size());
             carried_ = {&out.face_front, out.face_front.generation()};
@@ -760,6 +778,7 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
         previous_.swap(current_);
         previous_camera_ = camera;
         previous_filter_ = filter_;
+        marked_ = &out;
         return;
     }
 

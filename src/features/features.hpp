@@ -216,7 +216,9 @@ public:
     void set_fraction(double f) { opt_.fraction = f; }  // e.g. a viewer's slider, keeping coherence
 
 private:
-    void scan_exhaustive(Features& out);
+    // block_edges: the scan may skip the edges of blocks of one state (FaceBlocks edge ranges,
+    // built on first use) or use BlockEdges; false: every edge is read (the same result).
+    void scan_exhaustive(Features& out, bool block_edges = true);
     // carry: the view of out.face_front was left full for the previous camera by this finder
     // (then carried on after following; otherwise begun lazily by the caller).
     void search_randomized(const Camera& camera, Features& out, bool carry = false);
@@ -252,10 +254,13 @@ private:
     struct EdgeRecord {
         std::uint32_t edge, face[2];
     };
-    std::vector<EdgeRecord> previous_, current_, merged_, radix_tmp_;
+    std::vector<EdgeRecord> previous_, current_, fresh_, radix_tmp_;  // fresh_: follow()'s edges of turned faces
     std::vector<std::uint32_t> radix_count_;
-    void sort_new_edges(std::size_t k);
-    std::size_t kept_ = 0;  // follow(): current_[0, kept_) are the previous edges kept, in their order
+    void sort_records(std::vector<EdgeRecord>& v);
+    // The Features whose edge_kind marks exactly previous_'s edges as silhouettes (and its
+    // lists are this finder's last view), so that the next view may keep the marks.
+    const Features* marked_ = nullptr;
+    bool marks_kept_ = false;  // this view: find() left previous_'s marks in place
     bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
     struct Carried {
         const FaceFacing* facing = nullptr;  // a full view this finder left for previous_camera_
