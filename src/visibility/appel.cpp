@@ -1,7 +1,9 @@
 #include "visibility/appel.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <climits>
+#include <cstring>
 #include <functional>
 #include <thread>
 #include <glm/common.hpp>
@@ -144,31 +146,56 @@ inline int filtered_sign(const glm::dvec3& x, const Cross& k) {
     return 2;
 }
 
+// Two doubles per step (GCC/Clang vector extensions: SSE2 on x86-64, the baseline; plain code
+// elsewhere). Lanes compute exactly what the scalar expressions would, operation by operation.
+using V2 = double __attribute__((vector_size(16)));
+using V2i = decltype(V2{} < V2{});  // the lanes of a comparison: 64-bit integers, -1 or 0
+inline V2 load2(const double* p) {
+    V2 r;
+    std::memcpy(&r, p, sizeof r);
+    return r;
+}
+inline void store2(double* p, V2 x) { std::memcpy(p, &x, sizeof x); }
+inline V2 splat(double x) { return V2{x, x}; }
+inline V2 vabs(V2 x) { return (V2)((V2i)x & (V2i{} + LLONG_MAX)); }
+
 // The faces around a vertex v, each with its facing, its other corners A, B in the face's order
 // (v, A, B), and orient_eye(v, A, B) (1 for a front face; 0: seen exactly edge-on).
 // Perspective views also keep A - v and B - v (rounded, with their magnitudes and the absolute
 // term of the filter's bound for each) and the cross product n = (A - v) x (B - v): the three
-// tests of local_occlusion are then one dot product each (see there).
-struct RingFace {
-    std::uint32_t face;
-    bool front;
-    int eye;
-    const glm::dvec3 *A, *B;
-    glm::dvec3 a{0.0}, b{0.0}, abs_a{0.0}, abs_b{0.0};  // A - v, B - v, |A - v|, |B - v| (perspective)
-    double tiny_a = 0.0, tiny_b = 0.0;  // the bound's absolute terms (filtered_sign) for x = a, x = b
-    Cross n;                            // (A - v) x (B - v) (perspective)
-};
+// tests of local_occlusion are then one dot product each (see there). These are kept field by
+// field for pairs of faces (faces 2p and 2p + 1: block p, each field two doubles; the count padded
+// to even), so that two faces are tested per step.
 struct Ring {
-    std::vector<RingFace> store;  // faces [0, size) are the ring (storage reused from ring to ring)
-    std::size_t size = 0;
-    bool fast = false;  // perspective: a, b and their magnitudes are set
-    glm::dvec3 to_eye{0.0};  // E - v
-    struct Faces {
-        const RingFace *b, *e;
-        const RingFace* begin() const { return b; }
-        const RingFace* end() const { return e; }
+    // The perspective fields (in each block of `data`).
+    enum Field {
+        kAx, kAy, kAz, kBx, kBy, kBz,  // a = A - v, b = B - v
+        kAax, kAay, kAaz, kAbx, kAby, kAbz,  // |a|, |b|
+        kTinyA, kTinyB,  // the bound's absolute terms (filtered_sign) for x = a, x = b
+        kNx, kNy, kNz, kPx, kPy, kPz,  // n = a x b: Cross::c, Cross::perm
+        kFront, kEye,  // 1 front, -1 not; orient_eye(v, A, B)
+        kFields
     };
-    Faces faces() const { return {store.data(), store.data() + size}; }
+    std::size_t size = 0;
+    bool fast = false;  // perspective: the fields are set
+    glm::dvec3 to_eye{0.0};  // E - v
+    std::vector<std::uint32_t> face;
+    std::vector<std::uint32_t> front;  // 1: front (not a char type: stores to it then alias nothing)
+    std::vector<int> eye;
+    std::vector<const glm::dvec3*> A, B;
+    std::vector<double> data;
+    std::size_t cap = 0;
+    static constexpr std::size_t kBlock = 2 * kFields;
+    // Field k of faces i, i + 1 (i even): data[(i / 2) kBlock + 2 k], the next.
+    // Room for n faces (storage reused from ring to ring).
+    void reserve(std::size_t n) {
+        if (n <= cap && n <= face.size()) return;
+        const std::size_t c = std::max<std::size_t>(16, (n + 1) & ~std::size_t(1)) * 2;
+        face.resize(c), front.resize(c), eye.resize(c), A.resize(c), B.resize(c);
+        data.assign(c / 2 * kBlock, 0.0);
+        cap = c;
+    }
+    bool any_edge_on() const { return std::find(eye.begin(), eye.begin() + std::ptrdiff_t(size), 0) != eye.begin() + std::ptrdiff_t(size); }
 };
 // |x| per component (std::abs: without branches, unlike glm::abs, whose sign tests of data are
 // mispredicted).
@@ -225,50 +252,107 @@ inline void prefetch_rings(const MeshTopology& mesh, const std::vector<std::uint
 
 void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, std::uint32_t v,
              Ring& ring) {
+    const bool fast = !camera.is_ortho();
     ring.size = 0;
-    ring.fast = !camera.is_ortho();
-    const glm::dvec3& V = mesh.positions[v];
-    if (ring.fast) ring.to_eye = camera.eye() - V;
-    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-        const std::uint32_t g = mesh.vertex_edges[k];
+    ring.fast = fast;
+    const glm::dvec3 V = mesh.positions[v];  // (a copy: not read again after each store)
+    const std::uint32_t k0 = mesh.vertex_edge_begin[v], k1 = mesh.vertex_edge_begin[v + 1];
+    ring.reserve(k1 - k0 + 1);
+    std::size_t n = 0;
+    // (The arrays' addresses in locals: the stores below would otherwise make the compiler load
+    // them again for every face.)
+    const std::uint32_t* const vertex_edges = mesh.vertex_edges.data();
+    const auto* const edge_vertex = mesh.edge_vertex.data();
+    const auto* const edge_face = mesh.edge_face.data();
+    const auto* const faces = mesh.faces.data();
+    const glm::dvec3* const positions = mesh.positions.data();
+    std::uint32_t* const ring_face = ring.face.data();
+    std::uint32_t* const ring_front = ring.front.data();
+    int* const ring_eye = ring.eye.data();
+    const glm::dvec3** const ring_A = ring.A.data();
+    const glm::dvec3** const ring_B = ring.B.data();
+    double* const ring_data = ring.data.data();
+    for (std::uint32_t k = k0; k < k1; ++k) {
+        const std::uint32_t g = vertex_edges[k];
         // each face around v once: the one traversing g away from v
-        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
+        const std::uint32_t f = edge_vertex[g][0] == v ? edge_face[g][0] : edge_face[g][1];
         if (f == kNoFace) continue;
-        const auto& c = mesh.faces[f];
+        const auto& c = faces[f];
         const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
         const bool front = face_front[f];
-        const glm::dvec3 *A = &mesh.positions[c[(i + 1) % 3]], *B = &mesh.positions[c[(i + 2) % 3]];
-        if (ring.size == ring.store.size()) ring.store.emplace_back();
-        RingFace& r = ring.store[ring.size++];
-        r.face = f, r.front = front, r.eye = 1, r.A = A, r.B = B;
-        if (ring.fast) {
-            r.a = *A - V, r.b = *B - V;
-            r.abs_a = abs3(r.a), r.abs_b = abs3(r.b);
-            r.tiny_a = tiny_term(r.abs_a), r.tiny_b = tiny_term(r.abs_b);
-            r.n = cross_of(r.a, r.b);
-            if (!front) {  // orient_eye(V, A, B) = sign (E - V) . ((A - V) x (B - V))
-                const int s = filtered_sign(ring.to_eye, r.n);
-                r.eye = s != 2 ? s : orient3(V, *A, *B, camera.eye());
-            }
+        const glm::dvec3 *A = &positions[c[(i + 1) % 3]], *B = &positions[c[(i + 2) % 3]];
+        ring_face[n] = f, ring_front[n] = front, ring_eye[n] = 1, ring_A[n] = A, ring_B[n] = B;
+        if (fast) {
+            double* const d = ring_data + (n >> 1) * Ring::kBlock + (n & 1);
+            d[2 * Ring::kAx] = A->x - V.x, d[2 * Ring::kAy] = A->y - V.y, d[2 * Ring::kAz] = A->z - V.z;
+            d[2 * Ring::kBx] = B->x - V.x, d[2 * Ring::kBy] = B->y - V.y, d[2 * Ring::kBz] = B->z - V.z;
+            d[2 * Ring::kFront] = front ? 1.0 : -1.0;
         } else if (!front) {
-            r.eye = orient_eye_fast(camera, V, *A, *B);
+            ring_eye[n] = orient_eye_fast(camera, V, *A, *B);
+        }
+        ++n;
+    }
+    ring.size = n;
+    if (!ring.fast) return;
+    ring.to_eye = camera.eye() - V;
+    if (n & 1)  // the padding face: zero offsets (the filters cannot decide it; never read further)
+        for (int k = Ring::kAx; k <= Ring::kBz; ++k) ring_data[(n >> 1) * Ring::kBlock + 2 * std::size_t(k) + 1] = 0.0;
+    // Per face, two at a time: |a|, |b|, the absolute terms, n = a x b (cross_of), and the filtered
+    // sign of orient_eye(V, A, B) = sign (E - V) . n (filtered_sign), the same operations in the
+    // same order as the scalar functions.
+    const glm::dvec3 te = ring.to_eye, ate = abs3(te);
+    constexpr double kRel = 16.0 * 1.1102230246251565e-16;
+    const V2 tx = splat(te.x), ty = splat(te.y), tz = splat(te.z), atx = splat(ate.x), aty = splat(ate.y), atz = splat(ate.z);
+    const V2 eye_tiny = splat(0x1p-1022 * (1.0 + ate.x + ate.y + ate.z));
+    const V2 rel = splat(kRel), tiny = splat(0x1p-1022), one = splat(1.0);
+    double* const blocks = ring.data.data();
+    for (std::size_t i = 0; i < n; i += 2) {
+        double* const blk = blocks + (i >> 1) * Ring::kBlock;
+        auto at = [&](Ring::Field k) { return blk + 2 * k; };
+        const V2 ax = load2(at(Ring::kAx)), ay = load2(at(Ring::kAy)), az = load2(at(Ring::kAz));
+        const V2 bx = load2(at(Ring::kBx)), by = load2(at(Ring::kBy)), bz = load2(at(Ring::kBz));
+        const V2 aax = vabs(ax), aay = vabs(ay), aaz = vabs(az), abx = vabs(bx), aby = vabs(by), abz = vabs(bz);
+        store2(at(Ring::kAax), aax), store2(at(Ring::kAay), aay), store2(at(Ring::kAaz), aaz);
+        store2(at(Ring::kAbx), abx), store2(at(Ring::kAby), aby), store2(at(Ring::kAbz), abz);
+        store2(at(Ring::kTinyA), tiny * (one + aax + aay + aaz));
+        store2(at(Ring::kTinyB), tiny * (one + abx + aby + abz));
+        const V2 m0 = ay * bz, m1 = az * by, m2 = az * bx, m3 = ax * bz, m4 = ax * by, m5 = ay * bx;
+        const V2 nx = m0 - m1, ny = m2 - m3, nz = m4 - m5;
+        const V2 px = vabs(m0) + vabs(m1), py = vabs(m2) + vabs(m3), pz = vabs(m4) + vabs(m5);
+        store2(at(Ring::kNx), nx), store2(at(Ring::kNy), ny), store2(at(Ring::kNz), nz);
+        store2(at(Ring::kPx), px), store2(at(Ring::kPy), py), store2(at(Ring::kPz), pz);
+        const V2 det = tx * nx + ty * ny + tz * nz;
+        const V2 bound = rel * (atx * px + aty * py + atz * pz) + eye_tiny;
+        const V2i s = (det < -bound) - (det > bound);  // 1, -1, or 0: undecided
+        for (std::size_t l = 0; l < 2; ++l) {
+            const std::size_t j = i + l;
+            if (j == n) {
+                at(Ring::kEye)[l] = 0.0;  // (the padding face)
+                break;
+            }
+            if (!ring_front[j]) {
+                const int e = int(s[l]);
+                ring_eye[j] = e != 0 ? e : orient3(V, *ring_A[j], *ring_B[j], camera.eye());
+            }
+            at(Ring::kEye)[l] = double(ring_eye[j]);
         }
     }
 }
 
-// Whether ring face r hides the points of edge (V, W) near V: the eye and those points on opposite
+// Whether ring face j hides the points of edge (V, W) near V: the eye and those points on opposite
 // sides of the face's plane (the eye's side is the face's facing, known), and the line of sight
 // through them inside the face's corner at V: W seen between the planes (eye, V, A) and
 // (eye, V, B), on the side of the other corner of each. The first is the face's facing,
 // orient_eye(V, A, B): 1 for a front face; a face not in front may still hold the eye in its
 // plane (0: it hides nothing). The second is its opposite, orient_eye(V, B, A).
-bool face_hides(const Camera& camera, const RingFace& r, const glm::dvec3& V,
-                const glm::dvec3& W) {
-    const int edge_side = orient3_fast(V, *r.A, *r.B, W);  // (V, A, B): the face's corners in its order
-    if (edge_side == 0 || (edge_side > 0) == r.front) return false;
-    const int ba = r.eye;
+bool face_hides(const Camera& camera, const Ring& ring, std::size_t j, const glm::dvec3& V, const glm::dvec3& W) {
+    const glm::dvec3 &A = *ring.A[j], &B = *ring.B[j];
+    const bool front = ring.front[j];
+    const int edge_side = orient3_fast(V, A, B, W);  // (V, A, B): the face's corners in its order
+    if (edge_side == 0 || (edge_side > 0) == front) return false;
+    const int ba = ring.eye[j];
     if (ba == 0) return false;
-    return eye_side(camera, V, *r.A, W) == ba && eye_side(camera, V, *r.B, W) == -ba;
+    return eye_side(camera, V, A, W) == ba && eye_side(camera, V, B, W) == -ba;
 }
 
 // local_occlusion (appel.hpp) with the ring of faces around v.
@@ -281,41 +365,70 @@ bool face_hides(const Camera& camera, const RingFace& r, const glm::dvec3& V,
 // bound of orient3_fast on these same rounded differences from V, whose rows are here in another
 // cyclic order, which changes neither the determinant nor the bound) or else by the exact orient3
 // on the same points (face_hides). So each sign is the exact one and the count is the same. The
-// three tests of every face are evaluated at once, without branches (the outcome of each is
-// data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
-int local_occlusion(const MeshTopology& mesh, const Camera& camera, const Ring& ring, std::uint32_t v, std::uint32_t edge) {
+// three tests of two faces at a time are evaluated at once, without branches (the outcome of each
+// is data, hard to predict); a face where a filter cannot decide takes face_hides, exact.
+int local_occlusion(const MeshTopology& mesh, const Camera& camera, Ring& ring, std::uint32_t v, std::uint32_t edge) {
     const auto& ev = mesh.edge_vertex[edge];
     const std::uint32_t f0 = mesh.edge_face[edge][0], f1 = mesh.edge_face[edge][1];
     const glm::dvec3& V = mesh.positions[v];
     const glm::dvec3& W = mesh.positions[ev[0] == v ? ev[1] : ev[0]];
+    const std::size_t n = ring.size;
     int count = 0;
     if (!ring.fast) {
-        for (const RingFace& r : ring.faces())
-            if (r.face != f0 && r.face != f1) count += face_hides(camera, r, V, W);
+        for (std::size_t j = 0; j < n; ++j)
+            if (ring.face[j] != f0 && ring.face[j] != f1) count += face_hides(camera, ring, j, V, W);
         return count;
     }
     const glm::dvec3 w = W - V, aw = abs3(w);
     const Cross m = cross_of(w, ring.to_eye);
     constexpr double kRel = 16.0 * 1.1102230246251565e-16;  // filtered_sign's relative bound
-    const double tiny_w = tiny_term(aw);
-    for (const RingFace& r : ring.faces()) {
-        const double da = glm::dot(r.a, m.c), db = glm::dot(r.b, m.c), dn = glm::dot(w, r.n.c);
-        const double ba = kRel * glm::dot(r.abs_a, m.perm) + r.tiny_a, bb = kRel * glm::dot(r.abs_b, m.perm) + r.tiny_b,
-                     bn = kRel * glm::dot(aw, r.n.perm) + tiny_w;
-        const bool own = (r.face == f0) | (r.face == f1);
-        if (!(std::abs(da) > ba) | !(std::abs(db) > bb) | !(std::abs(dn) > bn)) {
-            if (!own) count += face_hides(camera, r, V, W);
-            continue;
+    const V2 mx = splat(m.c.x), my = splat(m.c.y), mz = splat(m.c.z);
+    const V2 qx = splat(m.perm.x), qy = splat(m.perm.y), qz = splat(m.perm.z);
+    const V2 wx = splat(w.x), wy = splat(w.y), wz = splat(w.z), awx = splat(aw.x), awy = splat(aw.y), awz = splat(aw.z);
+    const V2 rel = splat(kRel), tiny_w = splat(tiny_term(aw)), zero = splat(0.0);
+    const double* const blocks = ring.data.data();
+    const std::uint32_t* const ring_face = ring.face.data();
+    // Faces [c, c + 64) at a time: bit j - c of `hidden` (decided, hiding), `undecided`.
+    // The edge's own faces (f0, f1: W is a corner A or B of theirs) are never decided, exactly as
+    // before: for them w = W - V is bitwise the same rounded difference as a (or b), so the exact
+    // determinants det[w, a, b] and det[a, w, E - V] (or det[b, w, E - V]) of these rounded
+    // values are 0, and a filter's bound is at least the error of its float value: |dn| > bn and
+    // |da| > ba (or |db| > bb) fail. They are skipped where the undecided faces are.
+    for (std::size_t c = 0; c < n; c += 64) {
+        const std::size_t c1 = std::min(n, c + 64);
+        std::uint64_t hidden = 0, undecided = 0;
+        for (std::size_t i = c; i < c1; i += 2) {
+            const double* const blk = blocks + (i >> 1) * Ring::kBlock;
+            auto at = [&](Ring::Field k) { return load2(blk + 2 * k); };
+            const V2 da = at(Ring::kAx) * mx + at(Ring::kAy) * my + at(Ring::kAz) * mz;
+            const V2 db = at(Ring::kBx) * mx + at(Ring::kBy) * my + at(Ring::kBz) * mz;
+            const V2 dn = wx * at(Ring::kNx) + wy * at(Ring::kNy) + wz * at(Ring::kNz);
+            const V2 ba = rel * (at(Ring::kAax) * qx + at(Ring::kAay) * qy + at(Ring::kAaz) * qz) + at(Ring::kTinyA);
+            const V2 bb = rel * (at(Ring::kAbx) * qx + at(Ring::kAby) * qy + at(Ring::kAbz) * qz) + at(Ring::kTinyB);
+            const V2 bn = rel * (awx * at(Ring::kPx) + awy * at(Ring::kPy) + awz * at(Ring::kPz)) + tiny_w;
+            const V2i decided = (vabs(da) > ba) & (vabs(db) > bb) & (vabs(dn) > bn);
+            // All three signs decided (none is 0): the face hides the edge when W is behind its plane
+            // (the side opposite its facing: dn . front < 0), and inside its corner (sides eye, -eye
+            // of its two edges at V: da . eye > 0, db . eye < 0; none with eye 0). Products with
+            // +-1 and 0: exact.
+            const V2 e = at(Ring::kEye);
+            const V2i hides = (dn * at(Ring::kFront) < zero) & (da * e > zero) & (db * e < zero);
+            const V2i lane_bit = {1, 2};
+            const V2i h = hides & decided & lane_bit, u = ~decided & lane_bit;
+            hidden |= std::uint64_t(h[0] | h[1]) << (i - c);
+            undecided |= std::uint64_t(u[0] | u[1]) << (i - c);
         }
-        // All three signs decided: the face hides the edge when W is behind its plane (the side
-        // opposite its facing), and inside its corner (sides eye, -eye of its two edges at V).
-        const bool behind = (dn > 0.0) != r.front;
-        const int e = r.eye;
-        const int sa = da > 0.0 ? 1 : -1, sb = db > 0.0 ? 1 : -1;
-        count += int(!own & behind & (e != 0) & (sa == e) & (sb == -e));
+        // (the padding face's bit, undecided, is past n: masked off)
+        const std::uint64_t live = c1 - c == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << (c1 - c)) - 1;
+        count += std::popcount(hidden);
+        for (std::uint64_t rest = undecided & live; rest != 0; rest &= rest - 1) {
+            const std::size_t j = c + std::size_t(std::countr_zero(rest));
+            if (ring_face[j] != f0 && ring_face[j] != f1) count += face_hides(camera, ring, j, V, W);
+        }
     }
     return count;
 }
+
 
 enum class Walk { Visible, Occluded, Failed };
 
@@ -643,8 +756,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             while (j < i1 && std::uint32_t(end_order[j] >> 32) == v) ++j;
             prefetch_rings(mesh, verts, g);
             ring_of(mesh, camera, face_front, v, ring);
-            const bool edge_on =
-                std::any_of(ring.faces().begin(), ring.faces().end(), [](const RingFace& r) { return r.eye == 0; });
+            const bool edge_on = ring.any_edge_on();
             for (; i < j; ++i) {
                 const auto& e = ends[std::uint32_t(end_order[i])];
                 end_occlusion[i] = edge_on ? kEdgeOn : pierced[e.piece] ? kSkipped : local_occlusion(mesh, camera, ring, v, e.edge);
