@@ -3,6 +3,8 @@
 // segments that meet a query, each reported once, for segments anywhere).
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -761,6 +763,64 @@ TEST(SegmentCrossings, GivenFilterSidesGiveTheSameResults) {
     EXPECT_GT(rejected, 1000);
     EXPECT_GT(met, 1000);
     EXPECT_GT(decided, 1000);
+}
+
+// build_pieces tests a silhouette segment (a copy of its occluder, either way along it) against
+// another's occluder once for both pairs: mirrored_crossings gives the second pair's results from
+// the first's sides, bit for bit what testing it gives (count, parameters, parameter along the
+// occluder), for every direction of the two copies, on lattice points (touches, T-junctions,
+// collinear images) and random ones; pairs the quick reject drops have no mirrored crossing.
+TEST(SegmentCrossings, MirroredPairEqualsItsOwnTest) {
+    std::mt19937_64 rng(8);
+    const inkline::Camera cams[] = {
+        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
+        inkline::Camera::perspective({2, 2, 12}, {2, 2, 0}, {0, 1, 0}, 50, 640, 640),
+        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+    };
+    int touches = 0, proper = 0, collinear = 0, apart = 0;
+    for (const auto& cam : cams)
+        segment_pairs(cam, rng, 20000, [&](int i, const glm::dvec3* P, const Segment2& A, const Segment2& B) {
+            using namespace inkline;
+            const Segment3 A3{P[0], P[1], &P[0], &P[1], 1}, B3{P[2], P[3], &P[2], &P[3], 1};
+            auto copy = [](const Segment2& s, bool forward) {
+                return forward ? s : Segment2{s.b, s.a, s.v0, s.v1, s.edge, s.slack};
+            };
+            auto copy3 = [](const Segment3& s, bool forward) {
+                return forward ? s : Segment3{s.B, s.A, s.LB, s.LA, 1};
+            };
+            for (int dirs = 0; dirs < 4; ++dirs) {
+                const bool fa = dirs & 1, fb = dirs & 2;
+                const Segment2 qa = copy(A, fa), qb = copy(B, fb);
+                const Segment3 qa3 = copy3(A3, fa), qb3 = copy3(B3, fb);
+                // The mirror tested on its own (as the search does without mirroring, and without
+                // the quick reject: the same answers).
+                double t_own[2], ot_own;
+                const int n_own = segment_crossings(cam, qb, qb3, A, A3, t_own, &ot_own);
+                std::int8_t sides[4];
+                if (filter_sides(qa, true, B, true, sides)) {  // (the first pair dropped: the mirror too)
+                    ++apart;
+                    ASSERT_EQ(n_own, 0) << i << " dirs " << dirs;
+                    continue;
+                }
+                double t[2], ot;
+                int exact[4], how;
+                segment_crossings(cam, qa, qa3, B, B3, sides, t, &ot, exact, &how);
+                double tm[2], otm;
+                const int n = mirrored_crossings(cam, qb, qb3, A, A3, fa, fb, how, exact, tm, &otm);
+                ASSERT_EQ(n, n_own) << i << " dirs " << dirs << " how " << how;
+                for (int k = 0; k < n; ++k) ASSERT_EQ(std::bit_cast<std::uint64_t>(tm[k]), std::bit_cast<std::uint64_t>(t_own[k])) << i;
+                ASSERT_TRUE(std::bit_cast<std::uint64_t>(otm) == std::bit_cast<std::uint64_t>(ot_own) ||
+                            (std::isnan(otm) && std::isnan(ot_own)))
+                    << i << " dirs " << dirs;
+                if (how == kCollinear) ++collinear;
+                else if (how == kMeet) (exact[0] * exact[1] * exact[2] * exact[3] == 0 ? touches : proper) += 1;
+            }
+        });
+    EXPECT_GT(touches, 400);
+    EXPECT_GT(proper, 4000);
+    EXPECT_GT(collinear, 40);
+    EXPECT_GT(apart, 4000);
+    std::printf("mirrored pairs: %d touches, %d proper, %d collinear, %d apart\n", touches, proper, collinear, apart);
 }
 
 // ---------------------------------------------------------------------------------------------

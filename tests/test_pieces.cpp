@@ -104,6 +104,47 @@ TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {
     EXPECT_GT(walks, 0u);
 }
 
+// Silhouette-against-silhouette pairs tested once for both segments (mirror_pairs, the default)
+// give exactly the graph of testing each pair on its own: every piece, split parameter, link
+// crossing (with where it lies on the occluder) and crossing count, bit for bit. Random views of
+// several meshes, perspective and orthographic, the near plane through the model in some (curve
+// segments clipped: not mirrored), one thread or two (pairs across the ranges: not mirrored), with
+// the self-intersection cuts.
+TEST(BuildPieces, MirroredSilhouettePairsGiveTheSameGraph) {
+    std::size_t views = 0, silhouette_crossings = 0;
+    for (const char* name : {"armadillo", "bunny00", "knot1", "elephant", "fandisk"}) {
+        const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off");
+        const MeshTopology& mesh = model.topology();
+        const SelfIntersections& si = model.self_intersections();
+        std::mt19937 rng(23u);
+        for (int k = 0; k < 12; ++k) {
+            Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds, 0.3, 1.2);
+            if (k % 4 == 3) {  // (orthographic, from the same eye)
+                const double R = mesh.bounds.half_diagonal();
+                cam = Camera::orthographic(cam.eye(), mesh.bounds.center(), std::abs(cam.forward().y) > 0.95
+                                           ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0), 2.2 * R, 1024, 1024);
+            }
+            cam.set_near(k % 3 == 1 ? std::max(cam.depth(mesh.bounds.center()), default_near(mesh)) : default_near(mesh));
+            const Features f = extract_features(mesh, cam);
+            const int threads = k % 2 ? 2 : 1;
+            const std::string at = std::string(name) + " view " + std::to_string(k);
+            PieceGraph mirrored, each;
+            build_pieces(mirrored, mesh, f, cam, &si.cuts, threads, 0, true);
+            build_pieces(each, mesh, f, cam, &si.cuts, threads, 0, false);
+            expect_same_graph(mirrored, each, at);
+            // (crossings of a silhouette piece with a silhouette occluder: the pairs mirrored)
+            std::vector<std::uint32_t> sil(f.silhouette_edges.begin(), f.silhouette_edges.end());
+            std::sort(sil.begin(), sil.end());
+            for (const auto& c : mirrored.link_crossings)
+                silhouette_crossings += mirrored.curves.pieces[mirrored.links[c.link].before].kind == LineKind::Silhouette &&
+                                        std::binary_search(sil.begin(), sil.end(), c.occluder_edge);
+            ++views;
+        }
+    }
+    EXPECT_EQ(views, 60u);
+    EXPECT_GT(silhouette_crossings, 10000u);
+}
+
 // Every piece's stretch is its mesh edge's part clipped to the camera's near plane, in travel
 // order: the image points are the projections of the span's ends on the edge, and no end lies in
 // front of the near plane, and consecutive spans meet on the surface. With the near plane through the model (curves clipped there while the

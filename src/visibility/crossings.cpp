@@ -165,7 +165,25 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
 
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, const std::int8_t sides[4], double t[2], double* o_t) {
+    int exact[4], how;
+    return segment_crossings(camera, q, q3, o, o3, sides, t, o_t, exact, &how);
+}
+
+double crossing_param(const Segment2& q, const Segment2& o, const int s[4]) {
+    if (s[0] == 0) return param_on(q, o.a);
+    if (s[1] == 0) return param_on(q, o.b);
+    if (s[2] == 0) return 0.0;
+    if (s[3] == 0) return 1.0;
+    const glm::dvec2 d = q.b - q.a, e = o.b - o.a;
+    return quotient(cross(o.a - q.a, e), cross(d, e), [&] { return qcross(o.a, q.a, o.a, o.b); },
+                    [&] { return qcross(q.b, q.a, o.a, o.b); });
+}
+
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, const std::int8_t sides[4], double t[2], double* o_t, int exact[4],
+                      int* how) {
     if (o_t) *o_t = NAN;
+    *how = kDecidedBeforeSides;
     if (q.v0 == o.v0 || q.v0 == o.v1 || q.v1 == o.v0 || q.v1 == o.v1) return 0;
     if (q.a == q.b || o.a == o.b) return 0;
     // Bounding boxes apart by more than the rounding of the images: the exact images are apart.
@@ -176,11 +194,16 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
     // (a side the caller's filter decided is what orient_filtered's filter would give)
     const int s0 = sides[0] ? sides[0] : orient_filtered(camera, q, q3, o.a, o.slack, o3.A);
     const int s1 = sides[1] ? sides[1] : orient_filtered(camera, q, q3, o.b, o.slack, o3.B);
+    exact[0] = s0, exact[1] = s1;
+    *how = kApartOnQsLine;
     if (s0 != 0 && s0 == s1) return 0;
     const int s2 = sides[2] ? sides[2] : orient_filtered(camera, o, o3, q.a, q.slack, q3.A);
     const int s3 = sides[3] ? sides[3] : orient_filtered(camera, o, o3, q.b, q.slack, q3.B);
+    exact[2] = s2, exact[3] = s3;
+    *how = kApartOnOsLine;
     if (s2 != 0 && s2 == s3) return 0;
     if (s0 == 0 && s1 == 0) {
+        *how = kCollinear;
         // Collinear images: the shared part, its ends ordered exactly along the line (positions
         // before q's start are 0, after its end 1, otherwise constructions).
         double u[2];
@@ -197,33 +220,40 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
         t[1] = std::max(u[0], u[1]);
         return t[0] == t[1] ? 1 : 2;
     }
+    *how = kMeet;
     if (o_t && !(s2 == 0 && s3 == 0)) {
         // Along o: what the call with q and o swapped computes (its orientations are these, q's
         // ends against o's line first; it would take the collinear branch when s2 = s3 = 0).
-        double w;
-        if (s2 == 0) w = param_on(o, q.a);
-        else if (s3 == 0) w = param_on(o, q.b);
-        else if (s0 == 0) w = 0.0;
-        else if (s1 == 0) w = 1.0;
-        else {
-            const glm::dvec2 d = o.b - o.a, e = q.b - q.a;
-            w = quotient(cross(q.a - o.a, e), cross(d, e), [&] { return qcross(q.a, o.a, q.a, q.b); },
-                         [&] { return qcross(o.b, o.a, q.a, q.b); });
-        }
-        *o_t = std::clamp(w, 0.0, 1.0);
+        const int swapped[4] = {s2, s3, s0, s1};
+        *o_t = std::clamp(crossing_param(o, q, swapped), 0.0, 1.0);
     }
     // Proper crossing or touch: the parameter is a construction in the image coordinates.
-    double u;
-    if (s0 == 0) u = param_on(q, o.a);
-    else if (s1 == 0) u = param_on(q, o.b);
-    else if (s2 == 0) u = 0.0;
-    else if (s3 == 0) u = 1.0;
-    else {
-        const glm::dvec2 d = q.b - q.a, e = o.b - o.a;
-        u = quotient(cross(o.a - q.a, e), cross(d, e), [&] { return qcross(o.a, q.a, o.a, o.b); },
-                     [&] { return qcross(q.b, q.a, o.a, o.b); });
+    t[0] = std::clamp(crossing_param(q, o, exact), 0.0, 1.0);
+    return 1;
+}
+
+int mirrored_crossings(const Camera& camera, const Segment2& q2, const Segment3& q2_3d, const Segment2& o1,
+                const Segment3& o1_3d, bool q1_forward, bool q2_forward, int how, const int exact[4], double t[2],
+                double* o_t) {
+    *o_t = NAN;
+    if (how == kDecidedBeforeSides || how == kApartOnQsLine || how == kApartOnOsLine) return 0;
+    // exact[0], [1]: o2's ends against q1's line; [2], [3]: q1's ends against o2's line.
+    const int f1 = q1_forward ? 1 : -1, f2 = q2_forward ? 1 : -1;
+    int m[4];  // the mirror's: o1's ends against q2's line, q2's ends against o1's line
+    m[0] = f2 * (q1_forward ? exact[2] : exact[3]);
+    m[1] = f2 * (q1_forward ? exact[3] : exact[2]);
+    m[2] = f1 * (q2_forward ? exact[0] : exact[1]);
+    m[3] = f1 * (q2_forward ? exact[1] : exact[0]);
+    if (how == kCollinear || (m[0] == 0 && m[1] == 0)) {
+        constexpr std::int8_t unknown[4] = {0, 0, 0, 0};
+        return segment_crossings(camera, q2, q2_3d, o1, o1_3d, unknown, t, o_t);
     }
-    t[0] = std::clamp(u, 0.0, 1.0);
+    // (how == kMeet: neither pair's ends lie strictly on one side of the other's line)
+    if (!(m[2] == 0 && m[3] == 0)) {
+        const int swapped[4] = {m[2], m[3], m[0], m[1]};
+        *o_t = std::clamp(crossing_param(o1, q2, swapped), 0.0, 1.0);
+    }
+    t[0] = std::clamp(crossing_param(q2, o1, m), 0.0, 1.0);
     return 1;
 }
 

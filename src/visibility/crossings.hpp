@@ -65,6 +65,41 @@ int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q
 int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
                       const Segment3& o3, const std::int8_t sides[4], double t[2], double* o_t);
 
+// The same, also telling how the pair was decided (*how, below) and the sides it decided
+// (exact[4], in the order of `sides`: each is image_orientation's sign for that end point and line,
+// when image_side_filter is right): exact[0], [1] are set from kApartOnQsLine on, [2], [3] from
+// kApartOnOsLine on.
+enum : int {
+    kDecidedBeforeSides = 0,  // a shared vertex, a degenerate segment, boxes apart: nothing
+    kApartOnQsLine = 1,       // o's ends strictly on one side of q's line: nothing
+    kApartOnOsLine = 2,       // q's ends strictly on one side of o's line: nothing
+    kCollinear = 3,           // exact[0] = exact[1] = 0: the shared part, if any
+    kMeet = 4,                // one crossing or touch, t[0] = crossing_param(q, o, exact) clamped
+};
+int segment_crossings(const Camera& camera, const Segment2& q, const Segment3& q3, const Segment2& o,
+                      const Segment3& o3, const std::int8_t sides[4], double t[2], double* o_t, int exact[4],
+                      int* how);
+// Where the image of o meets q (along q, not clamped), for segments whose images meet and are not
+// collinear, given the four sides of the pair (s[0], [1]: o's ends against q's line, [2], [3]: q's
+// ends against o's line; exact orientations): what segment_crossings computes from them.
+double crossing_param(const Segment2& q, const Segment2& o, const int s[4]);
+
+// What segment_crossings(camera, q2, q2_3d, o1, o1_3d, t, o_t) gives (its return value, t and
+// *o_t, bit for bit) for the mirror of a pair tested already, without testing it: that pair was
+// (q1, o2), q1 a copy of o1's image and ends (in its direction if q1_forward, else reversed),
+// q2 a copy of o2 likewise (q2_forward), all four unclipped (their ends the mesh vertices, LA and
+// LB) with the same slack as their copies; `how` and `exact` are what segment_crossings said of
+// (q1, o2). The early exits before the sides (a shared vertex, a degenerate segment, boxes apart
+// by more than the slacks) are symmetric. Each side is the exact orientation of a mesh vertex
+// against the image line of two others (image_orientation, antisymmetric in the line's ends;
+// image_side_filter decides one only when it agrees with it), so the mirror's four sides are
+// (q1, o2)'s permuted, negated where a copy runs against its occluder. From them the mirror's
+// parameters are computed on its own coordinates by the code its own test runs (crossing_param).
+// Collinear images are tested on their own (segment_crossings).
+int mirrored_crossings(const Camera& camera, const Segment2& q2, const Segment3& q2_3d, const Segment2& o1,
+                       const Segment3& o1_3d, bool q1_forward, bool q2_forward, int how, const int exact[4],
+                       double t[2], double* o_t);
+
 // The side of line (a, b) the exact image of p lies on (1 left, -1 right), when the rounded image
 // coordinates decide it; 0 when they do not. For a and b the images of the ends of an unclipped
 // segment (a clipped end is a construction, off the edge's line by its own rounding) and p the

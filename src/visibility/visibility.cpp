@@ -140,6 +140,7 @@ struct Scratch {
     std::vector<Kept> kept;
     std::vector<std::uint32_t> seg_begin, at, next;
     std::vector<std::uint32_t> seg_occ;       // the occluder a curve segment was copied from, or UINT32_MAX
+    std::vector<std::uint32_t> occ_mirror;    // the mirrorable segment copied from an occluder, or UINT32_MAX
     EdgeOccluders occ_of_edge;
     std::vector<std::uint8_t> occ_unclipped;
     std::vector<Split> all_splits, sorted, splits;
@@ -157,6 +158,13 @@ struct Scratch {
         void clear() { links.clear(), link_crossings.clear(), ends.clear(); }
     } parts;
 };
+
+// Whether curve segment s, copied from occluder k (UINT32_MAX: none), has the occluder's image,
+// box and exact sides: unclipped ends (the mesh vertices) and the same slack; then the pairs
+// (s, k2) and (s2, k) for another such s2 copied from k2 are one question (mirrored_crossings).
+bool mirrorable(const ClipSeg& s, std::uint32_t k, const std::vector<ClipSeg>& occ_clip) {
+    return k != UINT32_MAX && s.unclipped && occ_clip[k].unclipped && s.slack == occ_clip[k].slack;
+}
 
 // True when some geometry lies at or behind the near plane (the camera is among the geometry).
 bool geometry_behind_near(const MeshTopology& mesh, const Camera& camera) {
@@ -214,7 +222,7 @@ struct Part {
 void build_range(const MeshTopology& mesh, const Features& features, const Camera& camera,
                  const std::vector<EdgeCut>* cuts, const VertexImages& images, const OccluderSet& occ,
                  const std::vector<std::uint64_t>& in_curves, const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1,
-                 Scratch& scratch, Part& P) {
+                 bool mirror, Scratch& scratch, Part& P) {
     const std::vector<Segment2>& occluders = occ.segs;
     const std::vector<ClipSeg>& occ_clip = occ.clip;
     // 1. Every curve of the range clipped to the near plane and projected: their segments in one
@@ -290,6 +298,27 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         }
         found.clear();
         grid.pairs(qbox, found, scratch.hits);
+        // Silhouette against silhouette: segment j copied from occluder k (its box, slack and
+        // unclipped ends), occluder k2 copied as segment j2 (occ_mirror[k2] = j2) of this range
+        // make the pairs (j, k2) and (j2, k): the same four points, the same exact sides (up to
+        // the segments' directions). Only the pair with k < k2 is tested; the other's results
+        // come from the same sides (mirrored_crossings). The others kept as they are, in their order.
+        std::vector<std::uint32_t>& occ_mirror = scratch.occ_mirror;
+        occ_mirror.assign(occluders.size(), UINT32_MAX);
+        for (std::uint32_t j = 0; j < all_segs.size() && mirror; ++j)
+            if (mirrorable(all_segs[j], seg_occ[j], occ_clip)) occ_mirror[seg_occ[j]] = j;
+        {
+            std::size_t n = 0;
+            for (std::size_t i = 0; i < found.size(); ++i) {
+                const std::uint64_t f = found[i];
+                const std::uint32_t j = std::uint32_t(f >> 32), k2 = std::uint32_t(f);
+                const std::uint32_t k = seg_occ[j];
+                found[n] = f;
+                // (j mirrorable: occ_mirror of its occluder is j)
+                n += !(k != UINT32_MAX && occ_mirror[k] == j && occ_mirror[k2] != UINT32_MAX && k2 < k);
+            }
+            found.resize(n);
+        }
         // The quick reject first, over all pairs without branches (most pairs are rejected, which
         // a branch would mispredict often): the pairs it keeps, with the sides it decided, listed.
         const std::uint8_t* o_unclipped = occ.unclipped.data();
@@ -313,10 +342,25 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
             const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
             double t[2], ot;
-            const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), kept[i].sides, t, &ot);
-            if (n == 0) continue;
-            if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
-            for (int h = 0; h < n; ++h) all_splits.push_back({j, t[h], k, ot});
+            int exact[4], how;
+            const int n =
+                segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), kept[i].sides, t, &ot, exact, &how);
+            if (n > 0) {
+                if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
+                for (int h = 0; h < n; ++h) all_splits.push_back({j, t[h], k, ot});
+            }
+            const std::uint32_t j2 = occ_mirror[k];
+            if (j2 == UINT32_MAX || seg_occ[j] == UINT32_MAX || occ_mirror[seg_occ[j]] != j) continue;
+            // The mirrored pair (j2, seg_occ[j]), left out of the search.
+            const std::uint32_t k1 = seg_occ[j];
+            const ClipSeg& s2 = all_segs[j2];
+            const Segment2& o1 = occluders[k1];
+            const Segment2 q2{s2.a, s2.b, o.v0, o.v1, s2.edge, s2.slack};  // (qbox[j2]'s vertices: o's)
+            const int n2 = mirrored_crossings(camera, q2, s2.in_3d(), o1, occ_clip[k1].in_3d(), s.LA == occ_clip[k1].LA,
+                                       s2.LA == occ_clip[k].LA, how, exact, t, &ot);
+            if (n2 == 0) continue;
+            if (s2.edge < o1.edge) ++P.crossings;  // (o1's edge is a curve's: segment j's)
+            for (int h = 0; h < n2; ++h) all_splits.push_back({j2, t[h], k1, ot});
         }
         // Where an edge meets another face (the surface passes through itself, or touches
         // itself), inside the clipped segment: no occluder, but the QI may change.
@@ -538,7 +582,7 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 }
 
 void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges) {
+                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges, bool mirror_pairs) {
     VisibleCurves& out = g.curves;
     // Everything of the previous view goes; the pieces' slots are refilled in place below.
     out.crossings = 0;
@@ -621,7 +665,7 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     out.spans.resize(out.pieces.size());  // (slots are pairs)
     Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends, &g.spare_pieces_, &g.spare_spans_};
     if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
-        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, scratch, first);
+        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, mirror_pairs, scratch, first);
     } else {
         std::uint32_t mid = 0;
         for (std::size_t edges = 0; mid < ncurves && 2 * edges < total_edges; ++mid) edges += features.curves[mid].edges.size();
@@ -637,9 +681,9 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
         std::thread worker([&] {
             build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves,
-                        scratch2, second);
+                        mirror_pairs, scratch2, second);
         });
-        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, scratch, first);
+        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs, scratch, first);
         worker.join();
         // Append the second range, its indices shifted; its pieces swapped into the graph's slots
         // (each side keeps storage).

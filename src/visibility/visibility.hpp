@@ -124,7 +124,7 @@ struct PieceGraph {
 private:
     friend void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
                              const Camera& camera, const std::vector<EdgeCut>* cuts, int threads,
-                             std::size_t parallel_edges);
+                             std::size_t parallel_edges, bool mirror_pairs);
     mutable SegmentGrid grid_;
     mutable bool grid_built_ = false;
     // Storage of pieces no longer in the graph (their point and span vectors keep their capacity).
@@ -143,8 +143,14 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 // span vectors, the vertex images, the occluder grid) is reused, so a view along a camera path
 // allocates (nearly) nothing once the graph has seen a view as large. The result equals a fresh
 // build_pieces, whatever the graph held before.
+//
+// mirror_pairs: a silhouette (or border) segment copied from its occluder and crossing another such
+// is tested once for both pairs, (its segment, the other's occluder) and (the other's segment, its
+// occluder): the second pair's sides are the first's exact orientations, permuted (see
+// mirrored_crossings, crossings.hpp). Off: each pair tested on its own (the same results; for tests).
 void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                  const std::vector<EdgeCut>* cuts = nullptr, int threads = 1, std::size_t parallel_edges = 4000);
+                  const std::vector<EdgeCut>* cuts = nullptr, int threads = 1, std::size_t parallel_edges = 4000,
+                  bool mirror_pairs = true);
 
 // Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
 struct PieceProbe {
