@@ -34,9 +34,8 @@ std::string thp_mode() {
 }
 
 // From /proc/self/smaps: the VmFlags line of the mapping holding p ("" if none is found).
-std::string vm_flags(const void* p) {
+std::string vm_flags(std::uintptr_t addr) {
     std::ifstream in("/proc/self/smaps");
-    const auto addr = reinterpret_cast<std::uintptr_t>(p);
     std::string line;
     bool inside = false;
     while (std::getline(in, line)) {
@@ -65,8 +64,11 @@ TEST(HugePages, LargeBlocksAreAlignedAdvisedAndUsable) {
     const std::string mode = thp_mode();
     if (mode == "always" || mode == "madvise") {
         // "hg": the mapping was advised MADV_HUGEPAGE.
-        EXPECT_NE(vm_flags(v.data()).find(" hg"), std::string::npos) << vm_flags(v.data());
+        EXPECT_NE(vm_flags(addr).find(" hg"), std::string::npos) << vm_flags(addr);
     }
+    // Freed, its mapping is gone (given back at once, not kept in malloc's heap).
+    std::vector<std::uint32_t>().swap(v);
+    EXPECT_EQ(vm_flags(addr), "");
 }
 
 TEST(HugePages, SmallBlocksAndArraysAreOrdinary) {

@@ -3,21 +3,24 @@
 //
 // The per-frame loops on a large model read arrays of tens of megabytes at scattered places (the
 // mesh's positions, faces, edges and facing planes; a view's vertex images): with 4 KB pages most
-// of those reads also miss the TLB. Blocks of kLarge bytes and more are therefore aligned to 2 MB,
-// rounded up to it, and marked MADV_HUGEPAGE, so that the kernel backs them with 2 MB pages where
-// transparent huge pages are enabled ("always" or "madvise"; elsewhere madvise does nothing) and
-// the pages are not yet mapped: malloc serves such blocks from fresh mappings (above its mmap
-// threshold) or from new heap. glibc does the same for every block under
-// GLIBC_TUNABLES=glibc.malloc.hugetlb=1; this makes it the programs' default. Measured on
-// armadillo@2 (832 k triangles): bench/results/visibility.md. (malloc's mmap threshold is left to
-// malloc: fixing it made glibc's malloc fail under valgrind, whose brk limit it then could not
-// fall back from.)
+// of those reads also miss the TLB. Blocks of kLarge bytes and more are therefore mapped on their
+// own (mmap), 2 MB-aligned, rounded up to 2 MB and marked MADV_HUGEPAGE before their first use, so
+// that the kernel backs them with 2 MB pages where transparent huge pages are enabled ("always" or
+// "madvise"; elsewhere madvise does nothing), and unmapped when freed (no heap growth, no reuse of
+// heap pages already mapped small). A header just before such a block says so: delete tells them
+// from malloc's blocks by their alignment and a size no malloc chunk can have. Everything smaller
+// comes from malloc. glibc does much the same for every block under
+// GLIBC_TUNABLES=glibc.malloc.hugetlb=1,glibc.malloc.mmap_threshold=4194304; this makes it the
+// programs' default without setting malloc's thresholds (fixing malloc's mmap threshold made it
+// fail under valgrind, past valgrind's brk limit). Measured on armadillo@2 (832 k triangles):
+// bench/results/visibility.md, docs/memory.md.
 //
 // Not in the library: a library must not choose its host program's allocator. Not under
 // AddressSanitizer, which replaces operator new itself.
 #if !defined(__SANITIZE_ADDRESS__)
 
 #include <sys/mman.h>
+#include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -28,17 +31,42 @@ namespace {
 
 constexpr std::size_t kHuge = std::size_t(2) << 20;   // the x86-64 huge page
 constexpr std::size_t kLarge = std::size_t(4) << 20;  // blocks from this size on
+// Just before a mapped block: its rounded size, and a mark where a malloc block has its chunk's
+// size (less than 2^63, so never equal to the mark).
+struct Header {
+    std::size_t rounded;
+    std::uint64_t mark;
+};
+constexpr std::uint64_t kMark = 0xffffffffffffff06u;
 
-void* allocate(std::size_t n) noexcept {
-    if (n >= kLarge && n <= SIZE_MAX - kHuge) {
-        const std::size_t rounded = (n + kHuge - 1) & ~(kHuge - 1);
-        // (posix_memalign: tools that replace malloc, valgrind's memcheck among them, replace it.)
-        void* p = nullptr;
-        if (posix_memalign(&p, kHuge, rounded) != 0) return nullptr;
-        madvise(p, rounded, MADV_HUGEPAGE);  // advice: without huge pages the block is as before
-        return p;
+std::size_t page_size() noexcept { return std::size_t(sysconf(_SC_PAGESIZE)); }
+
+// A block of n >= kLarge bytes on its own mapping: the first 2 MB boundary at least a page into a
+// mapping of the rounded size plus 2 MB, the page before it (the header's) and the block kept.
+void* map_large(std::size_t n) noexcept {
+    if (n > SIZE_MAX - 2 * kHuge) return nullptr;
+    const std::size_t rounded = (n + kHuge - 1) & ~(kHuge - 1), length = rounded + kHuge, page = page_size();
+    void* m = mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) return nullptr;
+    const auto base = reinterpret_cast<std::uintptr_t>(m);
+    const std::uintptr_t p = (base + page + kHuge - 1) & ~std::uintptr_t(kHuge - 1);
+    if (p - page > base) munmap(m, p - page - base);
+    if (p + rounded < base + length) munmap(reinterpret_cast<void*>(p + rounded), base + length - (p + rounded));
+    *(reinterpret_cast<Header*>(p) - 1) = {rounded, kMark};
+    madvise(reinterpret_cast<void*>(p), rounded, MADV_HUGEPAGE);  // advice: without it, 4 KB pages
+    return reinterpret_cast<void*>(p);
+}
+
+void* allocate(std::size_t n) noexcept { return n >= kLarge ? map_large(n) : std::malloc(n == 0 ? 1 : n); }
+
+void release(void* p) noexcept {
+    const auto a = reinterpret_cast<std::uintptr_t>(p);
+    if (p && (a & (kHuge - 1)) == 0 && (reinterpret_cast<const Header*>(p) - 1)->mark == kMark) {
+        const std::size_t page = page_size();
+        munmap(reinterpret_cast<void*>(a - page), page + (reinterpret_cast<const Header*>(p) - 1)->rounded);
+    } else {
+        std::free(p);
     }
-    return std::malloc(n == 0 ? 1 : n);
 }
 
 void* allocate_or_throw(std::size_t n) {
@@ -56,13 +84,12 @@ void* operator new(std::size_t n) { return allocate_or_throw(n); }
 void* operator new[](std::size_t n) { return allocate_or_throw(n); }
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return allocate(n); }
 void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return allocate(n); }
-// Every block above comes from malloc or posix_memalign: free releases either. (The aligned forms
-// of new and delete keep libstdc++'s definitions, which use aligned_alloc and free as well.)
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+// (The aligned forms of new and delete keep libstdc++'s definitions: aligned_alloc and free.)
+void operator delete(void* p) noexcept { release(p); }
+void operator delete[](void* p) noexcept { release(p); }
+void operator delete(void* p, std::size_t) noexcept { release(p); }
+void operator delete[](void* p, std::size_t) noexcept { release(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
 
 #endif
