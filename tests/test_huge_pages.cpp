@@ -104,6 +104,13 @@ TEST(HugePages, ImpossibleRequestsFailAsOperatorNewPromises) {
     });
     EXPECT_THROW((void)::operator new(absurd), std::bad_alloc);
     EXPECT_EQ(calls, 3);
+    // The nothrow form calls it too, then gives null.
+    calls = 0;
+    std::set_new_handler([] {
+        if (++calls == 2) std::set_new_handler(nullptr);
+    });
+    EXPECT_EQ(::operator new[](absurd, std::nothrow), nullptr);
+    EXPECT_EQ(calls, 2);
     std::set_new_handler(nullptr);
 }
 

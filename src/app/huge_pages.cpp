@@ -82,8 +82,15 @@ void* allocate_or_throw(std::size_t n) {
 
 void* operator new(std::size_t n) { return allocate_or_throw(n); }
 void* operator new[](std::size_t n) { return allocate_or_throw(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return allocate(n); }
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return allocate(n); }
+// (The nothrow forms as the standard describes them: the throwing form's result, or null.)
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+    try {
+        return allocate_or_throw(n);
+    } catch (...) {
+        return nullptr;
+    }
+}
+void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
 // (The aligned forms of new and delete keep libstdc++'s definitions: aligned_alloc and free.)
 void operator delete(void* p) noexcept { release(p); }
 void operator delete[](void* p) noexcept { release(p); }
