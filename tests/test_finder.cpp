@@ -949,6 +949,36 @@ TEST(Finder, CoherenceKeepsEveryEdgeKindExact) {
     EXPECT_GT(crease_changes, 3u);  // creases became silhouettes and stopped being ones along the way
 }
 
+// A Features shared by two coherent finders: the second's view, with as many silhouette edges
+// (a view turned by the sphere's symmetry), must not pass for the first's marks when the first
+// finds into it again (the marks are stamped per view, not recognized by the Features' address).
+TEST(Finder, CoherenceKeepsNoOtherFindersMarks) {
+    const Model m(make_sphere({0, 0, 0}, 1.0, 8, 6));  // 8-fold symmetric about y
+    const MeshTopology& t = m.topology();
+    FinderOptions o = randomized(0.0, true);
+    o.first_full = true;
+    SilhouetteFinder a(t, o), b(t, o);
+    auto cam = [](double az) {
+        return Camera::perspective(4.0 * glm::dvec3(std::sin(az), 0.3, std::cos(az)), {0, 0, 0}, {0, 1, 0}, 30, 640, 480);
+    };
+    const double az0 = 0.2, turn = 2.0 * M_PI / 8.0;
+    Features out;
+    a.find(cam(az0), {}, out);
+    b.find(cam(az0 + turn), {}, out);
+    ASSERT_EQ(out.silhouette_edges.size(), extract_features(t, cam(az0)).silhouette_edges.size());
+    ASSERT_NE(out.silhouette_edges, extract_features(t, cam(az0)).silhouette_edges);
+    for (double step : {0.002, 0.004}) {
+        a.find(cam(az0 + step), {}, out);
+        const Features ex = extract_features(t, cam(az0 + step));
+        EXPECT_EQ(out.edge_kind, ex.edge_kind) << step;
+        expect_identical(ex, out);
+    }
+    // A copy of a finder's output keeps its stamp: following into it is exact too.
+    Features copy = out;
+    a.find(cam(az0 + 0.006), {}, copy);
+    EXPECT_EQ(copy.edge_kind, extract_features(t, cam(az0 + 0.006)).edge_kind);
+}
+
 TEST(Finder, CoherenceBandSameWithBlocks) {
     const Model& m = mesh_model("armadillo");
     const Bounds3 box = m.topology().bounds;

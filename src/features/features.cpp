@@ -1,6 +1,7 @@
 #include "features/features.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -211,9 +212,15 @@ SilhouetteFinder::SilhouetteFinder(const MeshTopology& mesh, const FinderOptions
 void SilhouetteFinder::reset() {
     previous_.clear();
     complete_ = false;
-    marked_ = nullptr;
+    stamp_ = 0;
     carried_ = {};
     rng_.seed(opt_.seed);
+}
+
+void SilhouetteFinder::stamp(Features& out) {
+    static std::atomic<std::uint64_t> next{1};  // unique over all finders of the process
+    stamp_ = next.fetch_add(1, std::memory_order_relaxed);
+    out.silhouette_marks = stamp_;
 }
 
 void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options, Features& out) {
@@ -223,8 +230,10 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     // silhouette whose marks `out` holds (left by this finder's last view: its silhouette list
     // is previous_) keeps them: follow() rewrites only the edges of faces that turned.
     marks_kept_ = opt_.kind == FinderKind::Randomized && opt_.coherence && complete_ && !previous_.empty() &&
-                  marked_ == &out && out.edge_kind.size() == ne && out.silhouette_edges.size() == previous_.size();
-    marked_ = nullptr;
+                  stamp_ != 0 && out.silhouette_marks == stamp_ && out.edge_kind.size() == ne &&
+                  out.silhouette_edges.size() == previous_.size();
+    stamp_ = 0;
+    out.silhouette_marks = 0;
     if (out.edge_kind.size() != ne) {
         out.edge_kind.assign(ne, kNoKind);
     } else {
@@ -268,7 +277,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         previous_filter_.bind(mesh, camera);
         complete_ = true;
         carried_ = {&out.face_front, out.face_front.generation()};
-        marked_ = &out;
+        stamp(out);
     } else {
         // Following a complete silhouette, the previous view's full facing (still in `out`, as
         // left there) is carried on by flipping the faces that turned: the visibility stage then
@@ -778,7 +787,7 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
         previous_.swap(current_);
         previous_camera_ = camera;
         previous_filter_ = filter_;
-        marked_ = &out;
+        stamp(out);
         return;
     }
 

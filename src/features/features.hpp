@@ -193,6 +193,9 @@ struct Features {
         std::uint32_t used;
     };
     std::vector<ChainLink> chain_links;
+    // Set by a SilhouetteFinder's view: a stamp unique to that view while edge_kind marks exactly
+    // its silhouette edges (0: unknown). Copied with the rest, so a copy keeps a valid stamp.
+    std::uint64_t silhouette_marks = 0;
 };
 
 // Exact facing of one face: orientation of the eye against the face's oriented plane (CGAL's
@@ -257,9 +260,11 @@ private:
     std::vector<EdgeRecord> previous_, current_, fresh_, radix_tmp_;  // fresh_: follow()'s edges of turned faces
     std::vector<std::uint32_t> radix_count_;
     void sort_records(std::vector<EdgeRecord>& v);
-    // The Features whose edge_kind marks exactly previous_'s edges as silhouettes (and its
-    // lists are this finder's last view), so that the next view may keep the marks.
-    const Features* marked_ = nullptr;
+    // The stamp this finder's last view left in its Features (Features::silhouette_marks): a
+    // Features holding it marks exactly previous_'s edges as silhouettes, so the next view may
+    // keep the marks (any other finder's view, or this one's, stamps it anew or clears it).
+    std::uint64_t stamp_ = 0;
+    void stamp(Features& out);
     bool marks_kept_ = false;  // this view: find() left previous_'s marks in place
     bool complete_ = false;  // previous_ is the whole silhouette (exhaustive first view, then followed)
     struct Carried {
