@@ -107,14 +107,24 @@ int mirrored_crossings(const Camera& camera, const Segment2& q2, const Segment3&
 // moving them changes the determinant u x v (u = b - a, v = p - a) by at most
 // 2 d (|u|_1 + |v|_1) + 8 d^2 (d the larger slack); computing it from the rounded coordinates errs
 // by at most 5 eps |u|_1 |v|_1 more. The 3D-exact segment_crossings decides by this first.
+// LineSideFilter keeps what depends on the line alone (b - a and its norm) for several points.
+struct LineSideFilter {
+    glm::dvec2 a, u;
+    double l_slack, nu;
+    LineSideFilter(glm::dvec2 a_, glm::dvec2 b, double l_slack_)
+        : a(a_), u(b - a_), l_slack(l_slack_), nu(std::abs(u.x) + std::abs(u.y)) {}
+    [[gnu::always_inline]] int side(glm::dvec2 p, double p_slack) const {
+        constexpr double kEps = 0x1p-53;
+        const double vx = p.x - a.x, vy = p.y - a.y;
+        const double det = u.x * vy - u.y * vx;
+        const double d = std::max(l_slack, p_slack);
+        const double nv = std::abs(vx) + std::abs(vy);
+        const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
+        return int(det > bound) - int(det < -bound);  // (NaN: 0)
+    }
+};
 inline int image_side_filter(glm::dvec2 a, glm::dvec2 b, double l_slack, glm::dvec2 p, double p_slack) {
-    constexpr double kEps = 0x1p-53;
-    const glm::dvec2 u = b - a, v = p - a;
-    const double det = u.x * v.y - u.y * v.x;
-    const double d = std::max(l_slack, p_slack);
-    const double nu = std::abs(u.x) + std::abs(u.y), nv = std::abs(v.x) + std::abs(v.y);
-    const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
-    return det > bound ? 1 : det < -bound ? -1 : 0;
+    return LineSideFilter(a, b, l_slack).side(p, p_slack);
 }
 
 // True only when the 3D-exact segment_crossings(camera, q, q3, o, o3) finds no crossing, decided
@@ -133,25 +143,6 @@ inline bool apart_by_filter(const Segment2& q, bool q_unclipped, const Segment2&
     }
     return false;
 }
-
-// The sides of line (a, b)'s points by image_side_filter, with what depends on the line alone
-// (b - a and its norm) computed once: each side() is image_side_filter(a, b, l_slack, p, p_slack),
-// the same operations on the same values.
-struct LineSideFilter {
-    glm::dvec2 a, u;
-    double l_slack, nu;
-    LineSideFilter(glm::dvec2 a_, glm::dvec2 b, double l_slack_)
-        : a(a_), u(b - a_), l_slack(l_slack_), nu(std::abs(u.x) + std::abs(u.y)) {}
-    [[gnu::always_inline]] int side(glm::dvec2 p, double p_slack) const {
-        constexpr double kEps = 0x1p-53;
-        const double vx = p.x - a.x, vy = p.y - a.y;
-        const double det = u.x * vy - u.y * vx;
-        const double d = std::max(l_slack, p_slack);
-        const double nv = std::abs(vx) + std::abs(vy);
-        const double bound = 2.0 * d * (nu + nv) + 8.0 * d * d + 8.0 * kEps * nu * nv;
-        return int(det > bound) - int(det < -bound);  // (NaN: 0)
-    }
-};
 
 // The sides segment_crossings decides first, by image_side_filter alone (0 where it does not decide
 // or the line's segment is clipped), and whether they show the pair apart (apart_by_filter). The
