@@ -465,6 +465,7 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                         first_y ? all : _mm_cmpeq_epi32(cyv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcy + q)));
                     const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(_mm_and_si128(okx, oky), _mm_cmplt_epi32(lane, end)));
                     const unsigned mask = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in)));
+                    if (mask == 0) continue;  // (most steps: no pair)
                     dst[n] = i_hi | items[q], n += mask & 1;
                     dst[n] = i_hi | items[q + 1], n += (mask >> 1) & 1;
                     dst[n] = i_hi | items[q + 2], n += (mask >> 2) & 1;
