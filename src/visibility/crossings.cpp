@@ -382,7 +382,7 @@ void BoxPairs::prepare(const std::vector<Box2f>& b, double width, double height)
     lo[1] = std::max(lo[1], -height), hi[1] = std::min(hi[1], 2.0 * height);
     if (!(lo[0] < hi[0]) || !(lo[1] < hi[1])) lo[0] = 0.0, hi[0] = width, lo[1] = 0.0, hi[1] = height;
     const double ex = hi[0] - lo[0], ey = hi[1] - lo[1];
-    double side = counted ? 4.0 * sum / double(counted) : 0.0;
+    double side = counted ? 2.0 * sum / double(counted) : 0.0;
     side = std::max({side, std::sqrt(ex * ey / (4.0 * double(b.size() + 1))), ex / 1024.0, ey / 1024.0});
     nx_ = std::clamp(int(std::ceil(ex / side)), 1, 1024);
     ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);
