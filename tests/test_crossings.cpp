@@ -1033,3 +1033,23 @@ TEST(BoxPairs, DenseClustersAndDegenerateSets) {
     inf[0].slack = INFINITY;
     expect_pairs(inf, a, "infinite slack");
 }
+
+// Many boxes in each cell, most steps of four with no pair and the pairs at every lane of a step
+// (pairs() compacts a step's hits only when it has some): each query meets exactly the boxes it
+// should, in cells full of boxes it misses.
+TEST(BoxPairs, SparseHitsInFullCells) {
+    std::vector<Segment2> a, b;
+    // rows of 64 short disjoint segments 1 px apart (a few cells each hold many)
+    for (std::uint32_t r = 0; r < 4; ++r)
+        for (std::uint32_t i = 0; i < 64; ++i) {
+            const double x = 100.0 + i, y = 100.0 + 8.0 * r;
+            b.push_back(seg(x, y, x + 0.25, y + 0.25, 2 * (64 * r + i)));
+        }
+    // a query near every fifth box (lanes 0..3 in turn), each meeting that box alone
+    for (std::uint32_t k = 0; k < b.size(); k += 5) {
+        const glm::dvec2 p = b[k].a + glm::dvec2(0.1, 0.1);
+        a.push_back(seg(p, p + glm::dvec2(0.05, 0.05), 10000 + 2 * k));
+    }
+    expect_pairs(a, b, "sparse hits");
+    expect_pairs(b, a, "sparse hits, swapped");
+}

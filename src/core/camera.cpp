@@ -74,16 +74,6 @@ Camera Camera::framing(const Bounds3& box, int width, int height, double fov_deg
     return perspective(eye, t, {0.0, 1.0, 0.0}, fov_deg, width, height);
 }
 
-double Camera::depth(const glm::dvec3& p) const { return glm::dot(p - eye_, f_); }
-
-glm::dvec2 Camera::project(const glm::dvec3& p) const {
-    const glm::dvec3 d = p - eye_;
-    const double x = glm::dot(d, r_), y = glm::dot(d, u_);
-    if (ortho_) return {0.5 * width_ + focal_ * x, 0.5 * height_ - focal_ * y};
-    const double z = glm::dot(d, f_);
-    return {0.5 * width_ + focal_ * x / z, 0.5 * height_ - focal_ * y / z};
-}
-
 glm::dvec3 Camera::ray_origin(const glm::dvec3& p) const {
     if (!ortho_) return eye_;
     return p - f_ * depth(p);

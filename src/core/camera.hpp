@@ -2,6 +2,7 @@
 // perspective or orthographic. Pixel coordinates are continuous, origin top-left, y down.
 #pragma once
 
+#include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -41,9 +42,16 @@ public:
     double focal() const { return focal_; }
 
     // Signed distance along the view direction from the eye plane.
-    double depth(const glm::dvec3& p) const;
+    // (depth and project are inline: the crossing search and the walks call them per vertex)
+    double depth(const glm::dvec3& p) const { return glm::dot(p - eye_, f_); }
     // Pixel coordinates; for perspective only meaningful when depth(p) > 0.
-    glm::dvec2 project(const glm::dvec3& p) const;
+    glm::dvec2 project(const glm::dvec3& p) const {
+        const glm::dvec3 d = p - eye_;
+        const double x = glm::dot(d, r_), y = glm::dot(d, u_);
+        if (ortho_) return {0.5 * width_ + focal_ * x, 0.5 * height_ - focal_ * y};
+        const double z = glm::dot(d, f_);
+        return {0.5 * width_ + focal_ * x / z, 0.5 * height_ - focal_ * y / z};
+    }
     // Near plane distance used to clip geometry behind or at the eye (perspective and ortho).
     // It is a camera parameter: by default a fixed fraction of the scene size (see set_near).
     double near_distance() const { return near_; }

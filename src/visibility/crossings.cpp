@@ -382,7 +382,7 @@ void BoxPairs::prepare(const std::vector<Box2f>& b, double width, double height)
     lo[1] = std::max(lo[1], -height), hi[1] = std::min(hi[1], 2.0 * height);
     if (!(lo[0] < hi[0]) || !(lo[1] < hi[1])) lo[0] = 0.0, hi[0] = width, lo[1] = 0.0, hi[1] = height;
     const double ex = hi[0] - lo[0], ey = hi[1] - lo[1];
-    double side = counted ? 4.0 * sum / double(counted) : 0.0;
+    double side = counted ? 2.0 * sum / double(counted) : 0.0;
     side = std::max({side, std::sqrt(ex * ey / (4.0 * double(b.size() + 1))), ex / 1024.0, ey / 1024.0});
     nx_ = std::clamp(int(std::ceil(ex / side)), 1, 1024);
     ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);
@@ -465,6 +465,7 @@ void BoxPairs::pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& ou
                         first_y ? all : _mm_cmpeq_epi32(cyv, _mm_loadu_si128(reinterpret_cast<const __m128i*>(bcy + q)));
                     const __m128i ok = _mm_andnot_si128(shared, _mm_and_si128(_mm_and_si128(okx, oky), _mm_cmplt_epi32(lane, end)));
                     const unsigned mask = unsigned(_mm_movemask_ps(_mm_and_ps(_mm_castsi128_ps(ok), in)));
+                    if (mask == 0) continue;  // (most steps: no pair)
                     dst[n] = i_hi | items[q], n += mask & 1;
                     dst[n] = i_hi | items[q + 1], n += (mask >> 1) & 1;
                     dst[n] = i_hi | items[q + 2], n += (mask >> 2) & 1;

@@ -149,7 +149,9 @@ inline bool apart_by_filter(const Segment2& q, bool q_unclipped, const Segment2&
 // four sides are all computed and combined without branches (most pairs are rejected, on either
 // line: a branch per side would be mispredicted often); when the pair is not apart they are
 // exactly what deciding them one by one gives.
-inline bool filter_sides(const Segment2& q, bool q_unclipped, const Segment2& o, bool o_unclipped, std::int8_t sides[4]) {
+// (always inlined: build_pieces runs it on every pair the box search finds)
+[[gnu::always_inline]] inline bool filter_sides(const Segment2& q, bool q_unclipped, const Segment2& o, bool o_unclipped,
+                                              std::int8_t sides[4]) {
     const LineSideFilter lq(q.a, q.b, q.slack), lo(o.a, o.b, o.slack);
     const int qm = q_unclipped ? 1 : 0, om = o_unclipped ? 1 : 0;
     const int s0 = qm * lq.side(o.a, o.slack), s1 = qm * lq.side(o.b, o.slack);

@@ -15,14 +15,17 @@ namespace {
 
 // A curve edge after near-plane clipping, in 3D and in the image.
 struct ClipSeg {
+    // (not zeroed: clip_edge or a copy sets every field but edge and run_start, which build_range
+    // sets; value-initialization by emplace_back() would clear the whole segment first)
+    ClipSeg() {}
     glm::dvec3 A, B;
     glm::dvec2 a, b;
     double slack;   // rounding of a and b (image_slack)
     double zA, zB;  // depths of A and B
     double sA, sB;  // parameters of A and B along the mesh edge
     const glm::dvec3 *LA = nullptr, *LB = nullptr;  // the mesh vertices at the ends, before clipping
-    std::uint32_t edge;
-    bool run_start;          // the curve is interrupted (clipped) before this segment
+    std::uint32_t edge = 0;
+    bool run_start = false;  // the curve is interrupted (clipped) before this segment
     bool unclipped = false;  // A == *LA and B == *LB
     bool kept_both = false;  // neither end clipped: A, B the mesh vertices
     Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
