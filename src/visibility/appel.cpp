@@ -531,6 +531,11 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
             const int want = front ? -front_sign : front_sign;
             std::uint32_t face = f, va = fv[i_in];
             glm::dvec2 pa = T(proj(va)), pb = T(proj(fv[(i_in + 1) % 3]));
+            // Whether the entry edge's ends lie strictly on either side of the path's line (they
+            // are a and b unless the occluder was clipped): then so do every exit edge's ends (the
+            // third corner, strictly off the line, and the entry corner across it), as
+            // path_side_fast requires; otherwise orient2 decides every step of this branch.
+            const bool straddles = (pa.y < ut.y && pb.y > ut.y) || (pa.y > ut.y && pb.y < ut.y);
             int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
             // The step is written with few data-dependent branches (which way the path leaves a
             // face is as good as random): each choice below is a select of values that are all
@@ -575,7 +580,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
                 // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
                 // (path_side_fast: comparisons decide it where both ends lie before u, or after it.)
-                const int se = path_side_fast(q0, q1, ut);
+                const int se = straddles ? path_side_fast(q0, q1, ut) : q0.y > q1.y ? -orient2(q0, q1, ut) : orient2(q0, q1, ut);
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge

@@ -34,7 +34,8 @@ inline int orient2_fast(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
 }
 
 // For a segment (q0, q1) with its ends strictly on either side of the horizontal line through u
-// (q0.y < u.y < q1.y or q1.y < u.y < q0.y): orient2(lower end, upper end, u), which is the sign of
+// (q0.y < u.y < q1.y or q1.y < u.y < q0.y; otherwise the result may differ from that orientation):
+// orient2(lower end, upper end, u), which is the sign of
 // x - u.x where the segment meets that line (the orientation is (upper.y - lower.y) (x - u.x),
 // exactly). Where both ends lie before u.x, or both after it, so does the meeting point: decided
 // by comparisons; otherwise by orient2_fast, negated when q0 is the upper end (swapping the first
