@@ -875,6 +875,60 @@ TEST(FastOrient, Orient2MatchesCgal) {
     EXPECT_GT(n, 0);
 }
 
+// path_side_fast (the walks' test of where an edge meets the path, before or after u): the exact
+// orientation of (lower end, upper end, u) for segments straddling the horizontal line through u,
+// also where the comparisons cannot decide (an end at u.x, u on the segment, ulps from it).
+TEST(FastOrient, PathSideMatchesOrient2) {
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    auto want_of = [](glm::dvec2 q0, glm::dvec2 q1, glm::dvec2 u) {
+        return q0.y < q1.y ? cgal_orient2(q0, q1, u) : cgal_orient2(q1, q0, u);
+    };
+    int zeros = 0, compared = 0, n = 0;
+    for (double scale : {1.0, 1024.0, 1e-150, 1e150, 1e-300, 1e300}) {
+        for (int i = 0; i < 20000; ++i) {
+            const glm::dvec2 u(U(rng) * scale, U(rng) * scale);
+            // ends strictly below and above u's line (either first)
+            glm::dvec2 q0(U(rng) * scale, u.y - std::abs(U(rng)) * scale), q1(U(rng) * scale, u.y + std::abs(U(rng)) * scale);
+            if (q0.y >= u.y) q0.y = std::nextafter(u.y, -std::numeric_limits<double>::infinity());
+            if (q1.y <= u.y) q1.y = up_next(u.y);
+            if (i % 2) std::swap(q0, q1);
+            if (i % 3 == 1) q0.x = u.x;  // an end straight above or below u
+            if (i % 5 == 2) {  // u on the segment, rounded, then nudged
+                glm::dvec2 v = u;
+                const double t = (u.y - q0.y) / (q1.y - q0.y);
+                v.x = q0.x + t * (q1.x - q0.x);
+                if (i % 4 == 1) v.x = up_next(v.x);
+                const int want = want_of(q0, q1, v);
+                zeros += want == 0;
+                ++n;
+                ASSERT_EQ(inkline::path_side_fast(q0, q1, v), want) << "scale " << scale << " case " << i;
+                continue;
+            }
+            const int want = want_of(q0, q1, u);
+            compared += (q0.x < u.x) == (q1.x < u.x) && q0.x != u.x && q1.x != u.x;
+            ++n;
+            ASSERT_EQ(inkline::path_side_fast(q0, q1, u), want) << "scale " << scale << " case " << i;
+        }
+    }
+    // Lattice points: segments through u, ends at u.x.
+    for (int i = 0; i < 20000; ++i) {
+        std::uniform_int_distribution<int> L(-4, 4);
+        const glm::dvec2 u(L(rng) * 0.1, L(rng) * 0.1);
+        const int d0 = 1 + (L(rng) + 4) % 4, d1 = 1 + (L(rng) + 4) % 4;
+        glm::dvec2 q0(L(rng) * 0.1, u.y - d0 * 0.1), q1(L(rng) * 0.1, u.y + d1 * 0.1);
+        if (!(q0.y < u.y && u.y < q1.y)) continue;  // (0.1 steps, rounded)
+        if (i % 2) std::swap(q0, q1);
+        const int want = want_of(q0, q1, u);
+        zeros += want == 0;
+        ++n;
+        ASSERT_EQ(inkline::path_side_fast(q0, q1, u), want) << "lattice case " << i;
+    }
+    EXPECT_GT(zeros, 100);      // the exact path was taken, and gave 0
+    EXPECT_GT(compared, 10000);  // the comparisons decided many
+    EXPECT_GT(n, 100000);
+}
+
 TEST(FastOrient, Orient3AndEyeMatchCgal) {
     std::mt19937_64 rng(12);
     std::uniform_real_distribution<double> U(-1.0, 1.0);

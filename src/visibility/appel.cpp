@@ -435,17 +435,17 @@ enum class Walk { Visible, Occluded, Failed };
 // The image turned (by exact sign changes and a swap of the axes) so that the walk's path runs
 // from u toward -x: every test on the path is then a comparison with u.y, or an orientation in
 // these coordinates.
+// (Dir: the turn, a template argument: the walk's inner loop turns every vertex it meets.)
+template <int Dir>
 struct PathFrame {
-    int dir;  // 0: toward min x, 1: max x, 2: min y, 3: max y (in the image)
+    static constexpr int dir = Dir;  // 0: toward min x, 1: max x, 2: min y, 3: max y (in the image)
     // The sign of the turned frame's orientations relative to the image's.
-    int det() const { return dir == 0 || dir == 3 ? 1 : -1; }
+    static constexpr int det() { return dir == 0 || dir == 3 ? 1 : -1; }
     glm::dvec2 operator()(glm::dvec2 p) const {
-        switch (dir) {
-            case 0: return p;
-            case 1: return {-p.x, p.y};
-            case 2: return {p.y, p.x};
-            default: return {-p.y, p.x};
-        }
+        if constexpr (dir == 0) return p;
+        else if constexpr (dir == 1) return {-p.x, p.y};
+        else if constexpr (dir == 2) return {p.y, p.x};
+        else return {-p.y, p.x};
     }
 };
 
@@ -458,16 +458,17 @@ struct PathFrame {
 // layer over u. The path is axis-parallel, so whether a projected vertex lies above or below it is
 // an exact comparison; where the path meets an edge, before or after u, is an exact orientation.
 // Degenerate paths (through a vertex, u on an edge) fail: the caller then makes a ray test.
+template <int Dir>
 Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, const PieceGraph& g,
              const VertexImages& proj, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
-    const double dist[4] = {u.x - box[0], box[1] - u.x, u.y - box[2], box[3] - u.y};
-    const int dir = int(std::min_element(dist, dist + 4) - dist);
-    const PathFrame T{dir};
+    constexpr int dir = Dir;
+    const PathFrame<Dir> T;
     const glm::dvec2 end = dir < 2 ? glm::dvec2(box[dir], u.y) : glm::dvec2(u.x, box[dir]);
     const Segment2 path{u, end, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
     const glm::dvec2 ut = T(u);
     const int front_sign = T.det();
     const auto& own_faces = mesh.edge_face[own_edge];
+    const std::size_t face_count = mesh.face_count();
     Walk result = Walk::Visible;
     struct Crossed {
         double d;
@@ -489,7 +490,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
             return;
         }
         if (a.y > b.y) std::swap(a, b);  // a below the path, b above
-        const int su = orient2(a, b, ut);  // < 0: u right of a -> b, the crossing before u
+        const int su = path_side_fast(a, b, ut);  // < 0: u right of a -> b, the crossing before u
         if (su == 0) {
             result = Walk::Failed;
             return;
@@ -530,13 +531,18 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
             const int want = front ? -front_sign : front_sign;
             std::uint32_t face = f, va = fv[i_in];
             glm::dvec2 pa = T(proj(va)), pb = T(proj(fv[(i_in + 1) % 3]));
+            // Whether the entry edge's ends lie strictly on either side of the path's line (they
+            // are a and b unless the occluder was clipped): then so do every exit edge's ends (the
+            // third corner, strictly off the line, and the entry corner across it), as
+            // path_side_fast requires; otherwise orient2 decides every step of this branch.
+            const bool straddles = (pa.y < ut.y && pb.y > ut.y) || (pa.y > ut.y && pb.y < ut.y);
             int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
             // The step is written with few data-dependent branches (which way the path leaves a
             // face is as good as random): each choice below is a select of values that are all
             // computed, and every test is the same exact predicate as a plain evaluation would
             // make (see the comments), so the walk takes the same faces and gives the same result.
             static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
-            for (std::size_t guard = 0; guard < mesh.face_count(); ++guard) {
+            for (std::size_t guard = 0; guard < face_count; ++guard) {
                 const auto& c = mesh.faces[face];
                 const auto& fe = mesh.face_edges[face];
                 const int e1 = kNext[entry], e2 = kNext[entry + 1];
@@ -573,8 +579,8 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 // Where the path meets it, before or after u: the orientation of (lower end, upper
                 // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
                 // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
-                const int sq = orient2(q0, q1, ut);
-                const int se = q0.y > q1.y ? -sq : sq;
+                // (path_side_fast: comparisons decide it where both ends lie before u, or after it.)
+                const int se = straddles ? path_side_fast(q0, q1, ut) : q0.y > q1.y ? -orient2(q0, q1, ut) : orient2(q0, q1, ut);
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge
@@ -608,6 +614,18 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
         }
     }
     return result;
+}
+
+// walk_to along the path to the nearest side of the box.
+Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, const PieceGraph& g,
+             const VertexImages& proj, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
+    const double dist[4] = {u.x - box[0], box[1] - u.x, u.y - box[2], box[3] - u.y};
+    switch (int(std::min_element(dist, dist + 4) - dist)) {
+        case 0: return walk_to<0>(mesh, camera, face_front, g, proj, P, u, own_edge, box);
+        case 1: return walk_to<1>(mesh, camera, face_front, g, proj, P, u, own_edge, box);
+        case 2: return walk_to<2>(mesh, camera, face_front, g, proj, P, u, own_edge, box);
+        default: return walk_to<3>(mesh, camera, face_front, g, proj, P, u, own_edge, box);
+    }
 }
 
 }  // namespace

@@ -33,6 +33,20 @@ inline int orient2_fast(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
     return orient2_exact(a, b, c);
 }
 
+// For a segment (q0, q1) with its ends strictly on either side of the horizontal line through u
+// (q0.y < u.y < q1.y or q1.y < u.y < q0.y; otherwise the result may differ from that orientation):
+// orient2(lower end, upper end, u), which is the sign of
+// x - u.x where the segment meets that line (the orientation is (upper.y - lower.y) (x - u.x),
+// exactly). Where both ends lie before u.x, or both after it, so does the meeting point: decided
+// by comparisons; otherwise by orient2_fast, negated when q0 is the upper end (swapping the first
+// two points negates an orientation, exactly).
+inline int path_side_fast(glm::dvec2 q0, glm::dvec2 q1, glm::dvec2 u) {
+    if (q0.x < u.x && q1.x < u.x) return -1;
+    if (q0.x > u.x && q1.x > u.x) return 1;
+    const int s = orient2_fast(q0, q1, u);
+    return q0.y > q1.y ? -s : s;
+}
+
 // orient3 (core/predicates.hpp): sign of det[b - a, c - a, d - a].
 inline int orient3_fast(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
     const glm::dvec3 e = b - a, f = c - a, g = d - a;
