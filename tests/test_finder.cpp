@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -428,6 +429,17 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
                     again.clear();
                     faces_within(t, filter, limit, again, &blocks, block_bits.data());
                     EXPECT_EQ(again, all);
+                    // With the planes copied as they are read: the same faces, and each one's
+                    // plane (bit for bit, NaN planes included), with and without blocks.
+                    for (const FaceBlocks* b : std::initializer_list<const FaceBlocks*>{nullptr, &blocks}) {
+                        std::vector<std::uint32_t> listed;
+                        std::vector<MeshTopology::FacingPlane> planes{{1, 2, 3, 4}};  // appended to
+                        faces_within(t, filter, limit, listed, b, nullptr, &planes);
+                        EXPECT_EQ(listed, all);
+                        ASSERT_EQ(planes.size(), listed.size() + 1);
+                        for (std::size_t i = 0; i < listed.size(); ++i)
+                            ASSERT_EQ(std::memcmp(&planes[i + 1], &t.facing[listed[i]], sizeof(planes[i])), 0) << "face " << listed[i];
+                    }
                     std::vector<std::uint8_t> in_band(nf, 0);
                     for (std::uint32_t f : all) in_band[f] = 1;
                     for (std::uint32_t f = 0; f < nf; ++f) {

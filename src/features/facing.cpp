@@ -141,10 +141,14 @@ __attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology:
 // With `front`: the bit of each face in [f0, f1) (f0 a multiple of 64) set where its float
 // distance is above zero, cleared elsewhere.
 void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, std::uint32_t f1, const FacingFilter& flt,
-                         float limit, std::vector<std::uint32_t>& out, std::uint64_t* front) {
+                         float limit, std::vector<std::uint32_t>& out, std::uint64_t* front,
+                         std::vector<MeshTopology::FacingPlane>* planes) {
     for (std::uint32_t f = f0; f < f1; ++f) {
         const float det = flt.signed_distance(p[f]);
-        if (!(std::abs(det) > limit)) out.push_back(f);
+        if (!(std::abs(det) > limit)) {
+            out.push_back(f);
+            if (planes) planes->push_back(p[f]);
+        }
         if (front) {
             const std::uint64_t m = std::uint64_t(1) << (f & 63);
             front[f >> 6] = det > 0.0f ? (front[f >> 6] | m) : (front[f >> 6] & ~m);
@@ -155,7 +159,8 @@ void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, s
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
                                                             std::uint32_t nf, const FacingFilter& flt, float limit,
-                                                            std::vector<std::uint32_t>& out, std::uint64_t* front) {
+                                                            std::vector<std::uint32_t>& out, std::uint64_t* front,
+                                                            std::vector<MeshTopology::FacingPlane>* planes) {
     Eye8 eye;
     load_eye8(flt, eye);
     const __m256 lim = _mm256_set1_ps(limit), zero = _mm256_setzero_ps();
@@ -163,6 +168,7 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
     std::uint32_t f = f0;
     // Written branch-free into a small buffer, appended in bulk.
     std::uint32_t buf[256];
+    MeshTopology::FacingPlane pbuf[256];  // with planes: the selected faces' planes, parallel to buf
     std::size_t n = 0;
     std::uint64_t word = 0;  // front bits of the current 64 faces
     for (; f + 8 <= nf; f += 8) {
@@ -177,18 +183,31 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
         // not (|det| > limit): NaN included
         const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
         if (!m) continue;
-        for (unsigned j = 0; j < 8; ++j) {
-            buf[n] = f + j;
-            n += (m >> j) & 1;
+        if (planes) {
+            for (unsigned j = 0; j < 8; ++j) {
+                buf[n] = f + j;
+                pbuf[n] = p[f + j];
+                n += (m >> j) & 1;
+            }
+        } else {
+            for (unsigned j = 0; j < 8; ++j) {
+                buf[n] = f + j;
+                n += (m >> j) & 1;
+            }
         }
-        if (n > 256 - 8) out.insert(out.end(), buf, buf + n), n = 0;
+        if (n > 256 - 8) {
+            out.insert(out.end(), buf, buf + n);
+            if (planes) planes->insert(planes->end(), pbuf, pbuf + n);
+            n = 0;
+        }
     }
     if (front && (f & 63)) {  // a word begun: its first faces from here, the rest by the scalar loop
         const std::uint64_t keep = (std::uint64_t(1) << (f & 63)) - 1;
         front[f >> 6] = (front[f >> 6] & ~keep) | word;
     }
     out.insert(out.end(), buf, buf + n);
-    faces_within_scalar(p, f, nf, flt, limit, out, front);
+    if (planes) planes->insert(planes->end(), pbuf, pbuf + n);
+    faces_within_scalar(p, f, nf, flt, limit, out, front, planes);
 }
 #endif
 
@@ -267,13 +286,13 @@ bool cpu_has_avx2() {
 }
 
 std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
-                         const FaceBlocks* blocks, std::uint64_t* front) {
+                         const FaceBlocks* blocks, std::uint64_t* front, std::vector<MeshTopology::FacingPlane>* planes) {
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
     auto run = [&](std::uint32_t f0, std::uint32_t f1) {
 #if defined(__x86_64__) && defined(__GNUC__)
-        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out, front);
+        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out, front, planes);
 #endif
-        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out, front);
+        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out, front, planes);
     };
     if (!blocks || !blocks->built_for(mesh)) {
         run(0, nf);
@@ -792,7 +811,8 @@ void FaceBlocks::classify_within(std::size_t b0, std::size_t b1, const FacingFil
     }
 }
 
-void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces) {
+void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces,
+                        const MeshTopology::FacingPlane* planes) {
     const std::size_t n = faces.size(), padded = (n + 7) / 8 * 8;
     ids_ = faces;
     for (auto* row : {&nx_, &ny_, &nz_, &d_}) row->assign(padded, 0.0f);
@@ -800,7 +820,7 @@ void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_
     masks_.clear();
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t f = faces[i];
-        const MeshTopology::FacingPlane& p = mesh.facing[f];
+        const MeshTopology::FacingPlane& p = planes ? planes[i] : mesh.facing[f];
         nx_[i] = p.nx, ny_[i] = p.ny, nz_[i] = p.nz, d_[i] = p.d;
         if (words_.empty() || words_.back() != f >> 6) words_.push_back(f >> 6), masks_.push_back(0);
         masks_.back() |= std::uint64_t(1) << (f & 63);

@@ -162,8 +162,11 @@ private:
 // the bit of every face outside the band whose float distance is above zero (above the limit)
 // and clears it for the others outside (below -limit); bits of faces in the band are left
 // arbitrary. With limit >= the filter's bound, a bit outside the band is the exact facing.
+// With `planes`: the appended faces' planes are appended to it too (copied while they are read,
+// so that a band built from them need not fetch them from the mesh again).
 std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
-                         const FaceBlocks* blocks = nullptr, std::uint64_t* front = nullptr);
+                         const FaceBlocks* blocks = nullptr, std::uint64_t* front = nullptr,
+                         std::vector<MeshTopology::FacingPlane>* planes = nullptr);
 
 // The faces of a coherence band (ascending ids) with copies of their planes as four float rows
 // (padded to a multiple of 8) and the 64-face words of a per-face bit set they fall in (word,
@@ -171,7 +174,9 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
 // 20 bytes per band face plus 12 per word.
 class FacingBand {
 public:
-    void assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces);
+    // `planes`: the faces' planes in the same order (faces_within's), else read from the mesh.
+    void assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces,
+                const MeshTopology::FacingPlane* planes = nullptr);
     std::size_t size() const { return ids_.size(); }
     std::uint32_t face(std::size_t i) const { return ids_[i]; }
     MeshTopology::FacingPlane plane(std::size_t i) const { return {nx_[i], ny_[i], nz_[i], d_[i]}; }
