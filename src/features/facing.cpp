@@ -183,17 +183,10 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
         // not (|det| > limit): NaN included
         const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
         if (!m) continue;
-        if (planes) {
-            for (unsigned j = 0; j < 8; ++j) {
-                buf[n] = f + j;
-                pbuf[n] = p[f + j];
-                n += (m >> j) & 1;
-            }
-        } else {
-            for (unsigned j = 0; j < 8; ++j) {
-                buf[n] = f + j;
-                n += (m >> j) & 1;
-            }
+        for (unsigned j = 0; j < 8; ++j) {
+            buf[n] = f + j;
+            if (planes) pbuf[n] = p[f + j];  // (loop-invariant; the band rebuild, the one caller, passes planes)
+            n += (m >> j) & 1;
         }
         if (n > 256 - 8) {
             out.insert(out.end(), buf, buf + n);

@@ -580,7 +580,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
                 // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
                 // (path_side_fast: comparisons decide it where both ends lie before u, or after it.)
-                const int se = straddles ? path_side_fast(q0, q1, ut) : q0.y > q1.y ? -orient2(q0, q1, ut) : orient2(q0, q1, ut);
+                const int se = straddles ? path_side_fast(q0, q1, ut) : (q0.y > q1.y ? -1 : 1) * orient2(q0, q1, ut);
                 if (se == 0) {
                     if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
                     result = Walk::Failed;        // u on another edge
