@@ -272,7 +272,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         out.stats.finder = FinderKind::Randomized;
         out.stats.fraction = opt_.fraction;
         previous_.clear();
-        for (std::uint32_t e : out.silhouette_edges) previous_.push_back({e, {mesh.edge_face[e][0], mesh.edge_face[e][1]}});
+        for (std::uint32_t e : out.silhouette_edges) previous_.emplace_back(e, mesh.edge_face[e][0], mesh.edge_face[e][1]);
         previous_camera_ = camera;
         previous_filter_.bind(mesh, camera);
         complete_ = true;
@@ -550,7 +550,7 @@ void SilhouetteFinder::seek(std::uint32_t v, bool front, const Camera& camera, F
 void SilhouetteFinder::add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out) {
     out.edge_kind[e] = kSil;
     out.silhouette_edges.push_back(e);
-    current_.push_back({e, {f0, f1}});
+    current_.emplace_back(e, f0, f1);
 }
 
 namespace {
@@ -705,7 +705,7 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             ++out.stats.edges_examined;
             const bool sil = fx != bool(bit(front, y));
             kind[e] = sil ? kSil : kNoKind;
-            if (sil) fresh_.push_back({e, {ef[0], ef[1]}});
+            if (sil) fresh_.emplace_back(e, ef[0], ef[1]);
         }
     }
     sort_records(fresh_);

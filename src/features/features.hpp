@@ -255,6 +255,10 @@ private:
     // edges of the faces that changed. Two bits per face (front now, turned) and the band are built
     // on first use, only by a randomized finder with coherence.
     struct EdgeRecord {
+        // (not zeroed: follow() sizes current_ for the merge, which writes every record; value-
+        // initialization by resize() would clear them first, a pass over 200 KB per view on armadillo@2)
+        EdgeRecord() {}
+        EdgeRecord(std::uint32_t e, std::uint32_t f0, std::uint32_t f1) : edge(e), face{f0, f1} {}
         std::uint32_t edge, face[2];
     };
     std::vector<EdgeRecord> previous_, current_, fresh_, radix_tmp_;  // fresh_: follow()'s edges of turned faces
