@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
         std::printf("%s: %zu faces; streaming every plane (%.1f MB): %.3f ms\n", name.c_str(), nf,
                     double(nf * sizeof(inkline::MeshTopology::FacingPlane)) / 1e6, total / (repeats * 4));
     }
-    const double R = t.bounds.half_diagonal(), D = R / std::sin(15.0 * M_PI / 180.0);
+    const double R = t.bounds.half_diagonal();
     std::vector<std::uint32_t> band;
     std::vector<inkline::MeshTopology::FacingPlane> planes;
     band.reserve(nf);
@@ -68,9 +68,7 @@ int main(int argc, char** argv) {
         int n = 0;
         for (int r = 0; r < repeats; ++r)
             for (int deg = 0; deg < 360; deg += 15, ++n) {
-                const double az = deg * M_PI / 180.0, el = 20.0 * M_PI / 180.0;
-                const glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-                const glm::dvec3 e = t.bounds.center() + D * dir - t.facing_origin;
+                const glm::dvec3 e = orbit_eye(t, deg) - t.facing_origin;
                 const double ev[3] = {e.x, e.y, e.z};
                 inkline::FacingFilter f;
                 f.bind(t, ev, 1.0);

@@ -27,10 +27,7 @@ const inkline::Model* model(const std::string& name) { return bench_model(name);
 
 // The bench's orbit (src/app/bench.cpp): 20 degrees above the equator at the framing distance.
 inkline::Camera orbit(const inkline::MeshTopology& t, double degrees) {
-    const double fov = 30.0, R = t.bounds.half_diagonal(), D = R / std::sin(fov * M_PI / 360.0);
-    const double az = degrees * M_PI / 180.0, el = 20.0 * M_PI / 180.0;
-    const glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-    return inkline::Camera::perspective(t.bounds.center() + D * dir, t.bounds.center(), {0, 1, 0}, fov, 1024, 1024);
+    return inkline::Camera::perspective(orbit_eye(t, degrees), t.bounds.center(), {0, 1, 0}, 30.0, 1024, 1024);
 }
 
 void run(benchmark::State& state, const char* name, inkline::FinderOptions o) {

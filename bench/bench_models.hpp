@@ -2,6 +2,7 @@
 // Loop subdivision: armadillo@1 ~208 k, @2 ~832 k triangles), from INKLINE_DATA_DIR.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -21,4 +22,12 @@ inline const inkline::Model* bench_model(const std::string& name) {
         m = std::make_unique<inkline::Model>(inkline::Model::load(path, 40.0, levels));
     }
     return m.get();
+}
+
+// The eye of the bench's orbit (src/app/bench.cpp) at `degrees` around: 20 degrees above the
+// equator, at the distance that frames the mesh's bounding sphere in a 30-degree view.
+inline glm::dvec3 orbit_eye(const inkline::MeshTopology& t, double degrees) {
+    const double R = t.bounds.half_diagonal(), D = R / std::sin(15.0 * M_PI / 180.0);
+    const double az = degrees * M_PI / 180.0, el = 20.0 * M_PI / 180.0;
+    return t.bounds.center() + D * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
 }

@@ -38,12 +38,9 @@ int main(int argc, char** argv) {
     // The eyes and margins.
     std::vector<glm::dvec3> eyes;
     std::vector<float> margins;
-    const double D = t.bounds.half_diagonal() / std::sin(15.0 * M_PI / 180.0);
     std::vector<float> dist(nf);
     for (int deg = 0; deg < 360; deg += 45) {
-        const double az = deg * M_PI / 180.0, el = 20.0 * M_PI / 180.0;
-        const glm::dvec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-        const glm::dvec3 e = t.bounds.center() + D * dir - t.facing_origin;
+        const glm::dvec3 e = orbit_eye(t, deg) - t.facing_origin;
         for (std::size_t f = 0; f < nf; ++f) {
             const auto& p = t.facing[f];
             dist[f] = std::abs(float(p.nx * e.x + p.ny * e.y + p.nz * e.z - p.d));
