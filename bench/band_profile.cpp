@@ -19,11 +19,8 @@
 int main(int argc, char** argv) {
     const std::string name = argc > 1 ? argv[1] : "armadillo@2";
     const int repeats = argc > 2 ? std::max(1, std::stoi(argv[2])) : 4;
-    const inkline::Model* m = bench_model(name);
-    if (!m) {
-        std::fprintf(stderr, "band_profile: mesh %s not found (run scripts/setup.sh)\n", name.c_str());
-        return 1;
-    }
+    const inkline::Model* m = bench_model_for(name, "band_profile");
+    if (!m) return 1;
     const inkline::MeshTopology& t = m->topology();
     const std::size_t nf = t.face_count();
     inkline::FaceBlocks blocks;

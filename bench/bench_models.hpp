@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -22,6 +23,13 @@ inline const inkline::Model* bench_model(const std::string& name) {
         m = std::make_unique<inkline::Model>(inkline::Model::load(path, 40.0, levels));
     }
     return m.get();
+}
+
+// bench_model for a command-line tool: nullptr with a message naming `tool` when the mesh is not there.
+inline const inkline::Model* bench_model_for(const std::string& name, const char* tool) {
+    const inkline::Model* m = bench_model(name);
+    if (!m) std::fprintf(stderr, "%s: mesh %s not found (run scripts/setup.sh)\n", tool, name.c_str());
+    return m;
 }
 
 // The eye of the bench's orbit (src/app/bench.cpp) at `degrees` around: 20 degrees above the

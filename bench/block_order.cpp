@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench_models.hpp"
+#include "features/facing.hpp"
 
 namespace {
 std::uint64_t spread6(std::uint32_t x) {  // bit i of x (10 bits) to bit 6 i
@@ -25,35 +26,32 @@ std::uint64_t spread6(std::uint32_t x) {  // bit i of x (10 bits) to bit 6 i
 
 int main(int argc, char** argv) {
     const std::string name = argc > 1 ? argv[1] : "armadillo@2";
-    const inkline::Model* m = bench_model(name);
-    if (!m) {
-        std::fprintf(stderr, "block_order: mesh %s not found (run scripts/setup.sh)\n", name.c_str());
-        return 1;
-    }
+    const inkline::Model* m = bench_model_for(name, "block_order");
+    if (!m) return 1;
     const inkline::MeshTopology& t = m->topology();
     const std::size_t nf = t.face_count();
     constexpr std::size_t kBlock = 64;
     const glm::dvec3 lo = t.bounds.lo, hi = t.bounds.hi;
     const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-300});
     // The eyes and margins.
-    std::vector<glm::dvec3> eyes;
+    std::vector<inkline::FacingFilter> eyes;
     std::vector<float> margins;
     std::vector<float> dist(nf);
     for (int deg = 0; deg < 360; deg += 45) {
         const glm::dvec3 e = orbit_eye(t, deg) - t.facing_origin;
-        for (std::size_t f = 0; f < nf; ++f) {
-            const auto& p = t.facing[f];
-            dist[f] = std::abs(float(p.nx * e.x + p.ny * e.y + p.nz * e.z - p.d));
-        }
+        const double ev[3] = {e.x, e.y, e.z};
+        inkline::FacingFilter f;
+        f.bind(t, ev, 1.0);
+        for (std::size_t i = 0; i < nf; ++i) dist[i] = std::abs(f.signed_distance(t.facing[i]));
         const std::size_t k = nf * 44 / 1000;
         std::nth_element(dist.begin(), dist.begin() + std::ptrdiff_t(k), dist.end());
-        eyes.push_back(e);
+        eyes.push_back(f);
         margins.push_back(dist[k]);
     }
     auto share_read = [&](const std::vector<std::uint32_t>& order) {
         double sum = 0.0;
         for (std::size_t v = 0; v < eyes.size(); ++v) {
-            const double ev[4] = {eyes[v].x, eyes[v].y, eyes[v].z, -1.0};
+            const double ev[4] = {eyes[v].ex, eyes[v].ey, eyes[v].ez, -double(eyes[v].w)};
             std::size_t read = 0;
             for (std::size_t b = 0; b < nf; b += kBlock) {
                 const std::size_t b1 = std::min(nf, b + kBlock);

@@ -21,11 +21,8 @@ struct ProfileView {
 // The framing camera of mesh `name` (1024x1024, the default near plane) and its features, or
 // nothing (with a message naming `tool`) when the mesh is not there.
 inline std::optional<ProfileView> profile_view(const std::string& name, const char* tool) {
-    const inkline::Model* m = bench_model(name);
-    if (!m) {
-        std::fprintf(stderr, "%s: mesh %s not found (run scripts/setup.sh)\n", tool, name.c_str());
-        return std::nullopt;
-    }
+    const inkline::Model* m = bench_model_for(name, tool);
+    if (!m) return std::nullopt;
     auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
     cam.set_near(inkline::default_near(m->topology()));
     return ProfileView{m, cam, inkline::extract_features(m->topology(), cam)};

@@ -571,9 +571,8 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
 // The face blocks skip the blocks whose planes are all beyond the margin. The faces outside the
 // band get their front bit here, from the sign of their float distance (beyond the filter's
 // bound, so exact), which they keep for every such eye; the band's bits are set per view.
-// The pass copies the
-// band's planes as it reads them (faces_within's planes), so the band does not gather them from
-// the mesh again (0.85 ms of a 2.3 ms rebuild at a degree a frame on armadillo@2, Zen 3).
+// The pass copies the band's planes as it reads them (faces_within's planes), so the band does not
+// gather them from the mesh again (0.85 ms of a 2.3 ms rebuild at a degree a frame on armadillo@2, Zen 3).
 // (Selecting the band from an outer band of 2.5-4 times its margin, rebuilt from the mesh more
 // rarely, was tried: no faster on armadillo@2, since each rebuild then streams the larger outer
 // band; so was an outer band of 8 times the margin with a key per face (|distance| to the outer
