@@ -559,7 +559,8 @@ std::size_t BlockEdges::bytes() const {
             esc_far_.capacity()) * 4;
 }
 
-bool BlockEdges::has_simd() {
+namespace {
+bool has_avx512_vbmi() {
 #if defined(__x86_64__) && defined(__GNUC__)
     static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
                             __builtin_cpu_supports("avx512vbmi") && __builtin_cpu_supports("bmi2");
@@ -568,6 +569,9 @@ bool BlockEdges::has_simd() {
     return false;
 #endif
 }
+}  // namespace
+
+bool BlockEdges::has_simd() { return has_avx512_vbmi() || cpu_has_avx2(); }
 
 namespace {
 
@@ -620,6 +624,67 @@ INKLINE_AVX512 bool block_masks_avx512(const std::uint8_t* st, std::uint32_t bas
 }
 #endif
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define INKLINE_BMI2 __attribute__((target("avx2,bmi2")))
+// The same masks with AVX2, which has no byte permutation across 128 or 256 entries: the two
+// windows' 256 states as two 256-bit planes (their bit 0 and bit 1, one bit per face), and each
+// index's bits looked up in them (its byte by two in-lane shuffles, its bit by a mask): the same
+// states, so the same masks.
+INKLINE_BMI2 bool block_masks_avx2(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
+                                   const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
+                                   std::uint64_t& undecided) {
+    __m256i w[8];
+    for (int i = 0; i < 4; ++i) {
+        w[i] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st + base + 32 * i));
+        w[4 + i] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st + base2 + 32 * i));
+    }
+    // bit 0 (bit 1) of each state, one bit per face: shifted to the byte's top bit, then movemask
+    std::uint32_t plane0[8], plane1[8];
+    for (int i = 0; i < 8; ++i) {
+        plane0[i] = std::uint32_t(_mm256_movemask_epi8(_mm256_slli_epi16(w[i], 7)));
+        plane1[i] = std::uint32_t(_mm256_movemask_epi8(_mm256_slli_epi16(w[i], 6)));
+    }
+    undecided = std::uint64_t(plane0[0]) | std::uint64_t(plane0[1]) << 32;  // kUnknown is bit 0 (and the sentinel's)
+    const std::uint8_t s0 = st[base];
+    if (!(s0 & FaceFacing::kUnknown)) {
+        const __m256i s = _mm256_set1_epi8(char(s0));
+        __m256i same = _mm256_cmpeq_epi8(w[0], s);
+        for (int i = 1; i < 8; ++i) same = _mm256_and_si256(same, _mm256_cmpeq_epi8(w[i], s));
+        if (_mm256_movemask_epi8(same) == -1) {
+            sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
+            return false;
+        }
+    }
+    const __m256i t0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(plane0));
+    const __m256i t1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(plane1));
+    const __m256i t0lo = _mm256_permute2x128_si256(t0, t0, 0x00), t0hi = _mm256_permute2x128_si256(t0, t0, 0x11);
+    const __m256i t1lo = _mm256_permute2x128_si256(t1, t1, 0x00), t1hi = _mm256_permute2x128_si256(t1, t1, 0x11);
+    const __m256i bit = _mm256_setr_epi8(1, 2, 4, 8, 16, 32, 64, -128, 0, 0, 0, 0, 0, 0, 0, 0, 1, 2, 4, 8, 16, 32, 64, -128,
+                                         0, 0, 0, 0, 0, 0, 0, 0);
+    const __m256i seven = _mm256_set1_epi8(7), low5 = _mm256_set1_epi8(31);
+    std::uint32_t d[2], u[2];
+    for (int k = 0; k < 3; ++k) {
+        for (int h = 0; h < 2; ++h) {
+            const __m256i ix = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + 64 * k + 32 * h));
+            const __m256i byte = _mm256_and_si256(_mm256_srli_epi16(ix, 3), low5);  // 0..31: its byte in a plane
+            const __m256i upper = _mm256_slli_epi16(byte, 3);  // bit 4 (the upper 16 bytes) to the top bit
+            const __m256i r0 = _mm256_blendv_epi8(_mm256_shuffle_epi8(t0lo, byte), _mm256_shuffle_epi8(t0hi, byte), upper);
+            const __m256i r1 = _mm256_blendv_epi8(_mm256_shuffle_epi8(t1lo, byte), _mm256_shuffle_epi8(t1hi, byte), upper);
+            const __m256i m = _mm256_shuffle_epi8(bit, _mm256_and_si256(ix, seven));
+            const std::uint32_t v0 = std::uint32_t(_mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_and_si256(r0, m), m)));
+            const std::uint32_t v1 = std::uint32_t(_mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_and_si256(r1, m), m)));
+            d[h] = (v0 ^ plane0[h]) | (v1 ^ plane1[h]);  // the face's state (the first window's face j) differs
+            u[h] = v0;
+        }
+        const std::uint64_t differ = std::uint64_t(d[0]) | std::uint64_t(d[1]) << 32;
+        const std::uint64_t vu = std::uint64_t(u[0]) | std::uint64_t(u[1]) << 32;
+        sure[k] = differ & ~vu & ~undecided;
+        check[k] = differ & vu & ~undecided;
+    }
+    return true;
+}
+#endif
+
 bool block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2, const std::uint8_t* index,
                         std::uint64_t sure[3], std::uint64_t check[3], std::uint64_t& undecided) {
     undecided = 0;
@@ -646,14 +711,14 @@ bool block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_
 // The corner-major masks (bit j of word k) interleaved to corner order (bit 3 j + k of three
 // words), then compressed to the owned corners (pext): bit r of word w is the edge numbered
 // r-th in that word's corners.
-INKLINE_AVX512 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
+INKLINE_BMI2 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
     constexpr std::uint64_t k0 = 0x9249249249249249ull, k1 = k0 << 1, k2 = k0 << 2;  // bits = 0, 1, 2 mod 3
     out[0] = _pdep_u64(m[0], k0) | _pdep_u64(m[1], k1) | _pdep_u64(m[2], k2);
     out[1] = _pdep_u64(m[0] >> 22, k2) | _pdep_u64(m[1] >> 21, k0) | _pdep_u64(m[2] >> 21, k1);  // bit 64: j 21, k 1
     out[2] = _pdep_u64(m[0] >> 43, k1) | _pdep_u64(m[1] >> 43, k2) | _pdep_u64(m[2] >> 42, k0);  // bit 128: j 42, k 2
 }
 static_assert(BlockEdges::kCheck == 1u << 31);
-INKLINE_AVX512 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
+INKLINE_BMI2 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
                               std::uint32_t e0, std::vector<std::uint32_t>& out) {
     std::uint64_t all[3], chk[3];
     const std::uint64_t any[3] = {sure[0] | check[0], sure[1] | check[1], sure[2] | check[2]};
@@ -678,7 +743,7 @@ void BlockEdges::escape_bits(const std::uint8_t* st, std::uint32_t b0, std::uint
     const std::size_t i0 = esc_begin_[b0], n = esc_begin_[b1] - i0;
     bits.assign((n + 15) / 16, 0);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && has_simd()) return escape_bits_avx512(st, esc_self_.data() + i0, esc_far_.data() + i0, n, bits.data());
+    if (simd && has_avx512_vbmi()) return escape_bits_avx512(st, esc_self_.data() + i0, esc_far_.data() + i0, n, bits.data());
 #endif
     for (std::size_t i = 0; i < n; ++i)
         bits[i / 16] |= std::uint16_t(escape_candidate(st[esc_self_[i0 + i]], st[esc_far_[i0 + i]]) << (i % 16));
@@ -696,8 +761,9 @@ bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
         _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 127), _MM_HINT_T0);
         for (int i = 0; i < 3; ++i) _mm_prefetch(reinterpret_cast<const char*>(index + 8 * 3 * kFaces + 64 * i), _MM_HINT_T0);
     }
-    const bool read = simd && has_simd() ? block_masks_avx512(st, base, base2_[b], index, sure, check, undecided)
-                                         : block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
+    const bool read = simd && has_avx512_vbmi() ? block_masks_avx512(st, base, base2_[b], index, sure, check, undecided)
+                      : simd && cpu_has_avx2()  ? block_masks_avx2(st, base, base2_[b], index, sure, check, undecided)
+                                                : block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
 #else
     const bool read = block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
 #endif
@@ -725,7 +791,7 @@ bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
     // Corner order (bit 3 j + k), then the owned corners' ranks: edge ids.
     const std::uint64_t* owned = owned_.data() + 3 * std::size_t(b);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && has_simd()) {
+    if (simd && cpu_has_avx2()) {
         emit_bmi2(sure, check, owned, edge_begin_[b], out);
         return read;
     }

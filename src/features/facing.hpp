@@ -121,7 +121,7 @@ public:
     // face is undecided", borders left out. `states` are FaceFacing::states() of a full view
     // (padded by FaceFacing::kPad). Blocks for which skip(b) holds are not read (the caller's
     // proof that none of their edges is a candidate), nor the index of blocks whose two windows
-    // hold one decided state. `simd`: the AVX-512 kernel where the CPU has it (else, and with
+    // hold one decided state. `simd`: the AVX-512 or AVX2 kernel where the CPU has it (else, and with
     // false, the portable loop; the same result). Returns the number of edges of the blocks
     // whose index was read.
     template <class Skip>
@@ -135,7 +135,8 @@ public:
                 read += edge_begin_[b + 1] - edge_begin_[b];
         return read;
     }
-    // Whether this CPU runs the AVX-512 (VBMI) kernel.
+    // Whether this CPU runs a vector kernel: AVX-512 VBMI (byte permutations over the windows),
+    // else AVX2 + BMI2 (the windows as bit planes, looked up by in-lane shuffles).
     static bool has_simd();
 
 private:

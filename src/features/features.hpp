@@ -134,8 +134,8 @@ struct FinderOptions {
                                   // blocks of faces as a whole where their plane ranges allow (FaceBlocks;
                                   // the same result)
     bool edge_windows = true;     // exhaustive scan (from its second view), where the CPU runs the AVX-512
-                                  // kernel: the edge scan over the gather-free layout (BlockEdges; the
-                                  // same result)
+                                  // or AVX2 kernel: the edge scan over the gather-free layout (BlockEdges;
+                                  // the same result)
 };
 
 struct FinderStats {
