@@ -625,12 +625,12 @@ INKLINE_AVX512 bool block_masks_avx512(const std::uint8_t* st, std::uint32_t bas
 #endif
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#define INKLINE_BMI2 __attribute__((target("avx2,bmi2")))
+#define INKLINE_AVX2_BMI2 __attribute__((target("avx2,bmi2")))
 // The same masks with AVX2, which has no byte permutation across 128 or 256 entries: the two
 // windows' 256 states as two 256-bit planes (their bit 0 and bit 1, one bit per face), and each
 // index's bits looked up in them (its byte by two in-lane shuffles, its bit by a mask): the same
 // states, so the same masks.
-INKLINE_BMI2 bool block_masks_avx2(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
+INKLINE_AVX2_BMI2 bool block_masks_avx2(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
                                    const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
                                    std::uint64_t& undecided) {
     __m256i w[8];
@@ -711,14 +711,14 @@ bool block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_
 // The corner-major masks (bit j of word k) interleaved to corner order (bit 3 j + k of three
 // words), then compressed to the owned corners (pext): bit r of word w is the edge numbered
 // r-th in that word's corners.
-INKLINE_BMI2 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
+INKLINE_AVX2_BMI2 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
     constexpr std::uint64_t k0 = 0x9249249249249249ull, k1 = k0 << 1, k2 = k0 << 2;  // bits = 0, 1, 2 mod 3
     out[0] = _pdep_u64(m[0], k0) | _pdep_u64(m[1], k1) | _pdep_u64(m[2], k2);
     out[1] = _pdep_u64(m[0] >> 22, k2) | _pdep_u64(m[1] >> 21, k0) | _pdep_u64(m[2] >> 21, k1);  // bit 64: j 21, k 1
     out[2] = _pdep_u64(m[0] >> 43, k1) | _pdep_u64(m[1] >> 43, k2) | _pdep_u64(m[2] >> 42, k0);  // bit 128: j 42, k 2
 }
 static_assert(BlockEdges::kCheck == 1u << 31);
-INKLINE_BMI2 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
+INKLINE_AVX2_BMI2 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
                               std::uint32_t e0, std::vector<std::uint32_t>& out) {
     std::uint64_t all[3], chk[3];
     const std::uint64_t any[3] = {sure[0] | check[0], sure[1] | check[1], sure[2] | check[2]};
