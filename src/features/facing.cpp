@@ -626,6 +626,10 @@ INKLINE_AVX512 bool block_masks_avx512(const std::uint8_t* st, std::uint32_t bas
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define INKLINE_AVX2_BMI2 __attribute__((target("avx2,bmi2")))
+// Bit `shift` of each byte's state (7: bit 0, 6: bit 1) moved to its top bit, one bit per byte.
+INKLINE_AVX2 inline std::uint32_t state_bits(__m256i v, int shift) {
+    return std::uint32_t(_mm256_movemask_epi8(_mm256_slli_epi16(v, shift)));
+}
 // The same masks with AVX2, which has no byte permutation across 128 or 256 entries: the two
 // windows' 256 states as two 256-bit planes (their bit 0 and bit 1, one bit per face), and each
 // index's bits looked up in them (its byte by two in-lane shuffles, its bit by a mask): the same
@@ -638,13 +642,7 @@ INKLINE_AVX2_BMI2 bool block_masks_avx2(const std::uint8_t* st, std::uint32_t ba
         w[i] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st + base + 32 * i));
         w[4 + i] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st + base2 + 32 * i));
     }
-    // bit 0 (bit 1) of each state, one bit per face: shifted to the byte's top bit, then movemask
-    std::uint32_t plane0[8], plane1[8];
-    for (int i = 0; i < 8; ++i) {
-        plane0[i] = std::uint32_t(_mm256_movemask_epi8(_mm256_slli_epi16(w[i], 7)));
-        plane1[i] = std::uint32_t(_mm256_movemask_epi8(_mm256_slli_epi16(w[i], 6)));
-    }
-    undecided = std::uint64_t(plane0[0]) | std::uint64_t(plane0[1]) << 32;  // kUnknown is bit 0 (and the sentinel's)
+    undecided = std::uint64_t(state_bits(w[0], 7)) | std::uint64_t(state_bits(w[1], 7)) << 32;  // kUnknown is bit 0 (and the sentinel's)
     const std::uint8_t s0 = st[base];
     if (!(s0 & FaceFacing::kUnknown)) {
         const __m256i s = _mm256_set1_epi8(char(s0));
@@ -655,6 +653,8 @@ INKLINE_AVX2_BMI2 bool block_masks_avx2(const std::uint8_t* st, std::uint32_t ba
             return false;
         }
     }
+    std::uint32_t plane0[8], plane1[8];  // (only for blocks whose index is read)
+    for (int i = 0; i < 8; ++i) plane0[i] = state_bits(w[i], 7), plane1[i] = state_bits(w[i], 6);
     const __m256i t0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(plane0));
     const __m256i t1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(plane1));
     const __m256i t0lo = _mm256_permute2x128_si256(t0, t0, 0x00), t0hi = _mm256_permute2x128_si256(t0, t0, 0x11);
