@@ -944,6 +944,48 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         }
     }
 
+    // Upper bounds from decided clusters: the occluder's QI at a crossing is at most the QI of
+    // the curve behind it on its nearer side (the same constraint read the other way), so a
+    // bounded cluster passing in front of a decided one is bounded above too; where that bound
+    // leaves only its lower bound (parity: the next value up is 2 away), the cluster is decided
+    // without a walk or a ray test. An upper bound below the lower bound contradicts the
+    // offsets: the reference method decides that cluster. Decided clusters bound others in turn.
+    // Read before the walks, and again after them (from the clusters the walks decided).
+    // (Only the constraints whose occluder is in a bounded cluster are read, listed once and
+    // dropped as their clusters are decided; the clusters bounded in a round are listed too.)
+    std::vector<int> upper(nc, INT_MAX);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> open;
+    std::vector<std::uint32_t> touched;
+    for (const auto& [op, l] : constraints)
+        if (state[comp[op]] == kBound && comp[graph.links[l].after] == comp[graph.links[l].before]) open.push_back({op, l});
+    auto bound_above = [&] {
+        const int step = parity ? 2 : 1;
+        for (bool changed = true; changed;) {
+            changed = false;
+            std::size_t kept = 0;
+            for (const auto& [op, l] : open) {
+                const std::uint32_t c = comp[op], d = comp[graph.links[l].before];
+                if (state[c] != kBound) continue;  // (decided: dropped)
+                open[kept++] = {op, l};
+                if (state[d] != kFixed) continue;
+                const int m = std::min(value(graph.links[l].before), value(graph.links[l].after));
+                if (upper[c] == INT_MAX) touched.push_back(c);
+                upper[c] = std::min(upper[c], m - off[op]);
+            }
+            open.resize(kept);
+            for (const std::uint32_t c : touched) {
+                if (upper[c] < base[c] + step) {
+                    state[c] = upper[c] >= base[c] ? kFixed : kInconsistent;
+                    st.clusters_bounded += state[c] == kFixed;
+                    changed = true;
+                }
+                upper[c] = INT_MAX;
+            }
+            touched.clear();
+        }
+    };
+    bound_above();
+
     // What is still unknown: a ray test at one piece of the cluster (the longest).
     // (Only clusters still bounded need them: the others are decided. The longest piece of a
     // cluster is found after the walks, for the clusters that still need a ray test.)
@@ -1013,6 +1055,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             min_piece[c] += raise;
         }
     }
+    if (!walkers.empty() && !open.empty()) bound_above();
     std::vector<std::uint8_t> needs_ray(nc, 0);
     bool any_ray = false;
     for (std::size_t c = 0; c < nc; ++c) {

@@ -35,6 +35,7 @@ struct AppelStats {
     std::size_t clusters = 0;
     std::size_t clusters_bbox = 0;      // fixed by the bounding-box rule
     std::size_t clusters_occluded = 0;  // proved totally occluded by lower bound, parity, constraints
+    std::size_t clusters_bounded = 0;   // decided by upper bounds from decided clusters (no walk, no ray)
     std::size_t ray_tests = 0;
     std::size_t walks = 0;
     std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
