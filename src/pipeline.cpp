@@ -141,6 +141,10 @@ void ViewSession::finish(const Camera& camera) {
     s.visibility = appel ? "appel" : "rays";
     s.clusters = as.clusters;
     s.walks = as.walks;
+    s.clusters_bbox = as.clusters_bbox;
+    s.clusters_bounded = as.clusters_bounded;
+    s.clusters_occluded = as.clusters_occluded;
+    s.clusters_inconsistent = as.inconsistent;
     s.seconds_load = model.load_seconds();
     s.finder = finder_name(v.features.stats.finder);
     s.fraction = v.features.stats.fraction;

@@ -308,6 +308,8 @@ TEST(UpperBounds, ClusterInFrontOfAVisibleOutlineNeedsNoWalk) {
     EXPECT_GE(v.drawing.stats.clusters, 2u);
     EXPECT_EQ(v.drawing.stats.walks, 0u);
     EXPECT_EQ(v.drawing.stats.ray_tests, 0u);
+    EXPECT_GE(v.drawing.stats.clusters_bbox, 1u);     // the large sphere
+    EXPECT_GE(v.drawing.stats.clusters_bounded, 1u);  // the small one
     // The small sphere's outline (the pieces on its edges) is drawn visible and lies
     // strictly inside the image box of all the pieces (the large sphere's outline).
     glm::dvec2 lo(1e300), hi(-1e300), small_lo(1e300), small_hi(-1e300);

@@ -44,6 +44,7 @@ inkline::Drawing sample_drawing() {
     d.stats.crossings = 3;
     d.stats.pieces = 8;
     d.stats.ray_tests = 4;
+    d.stats.clusters_bbox = 5, d.stats.clusters_bounded = 6, d.stats.clusters_occluded = 7, d.stats.clusters_inconsistent = 1;
     d.stats.seconds_load = 0.5;
     d.stats.seconds_features = 0.25;
     d.stats.seconds_visibility = 0.125;
@@ -133,7 +134,7 @@ TEST(OutputJson, SchemaAndValues) {
     EXPECT_EQ(keys(s), (std::set<std::string>{"triangles", "silhouette_edges", "border_edges",
                                               "crease_edges", "curves", "cusps", "crossings",
                                               "pieces", "ray_tests", "visibility", "clusters", "walks",
-                                              "finder", "fraction", "seconds"}));
+                                              "cluster_decisions", "finder", "fraction", "seconds"}));
     EXPECT_EQ(s["finder"], "exhaustive");
     EXPECT_EQ(s["fraction"], 1.0);
     EXPECT_EQ(s["triangles"], 1234);
@@ -145,6 +146,8 @@ TEST(OutputJson, SchemaAndValues) {
     EXPECT_EQ(s["crossings"], 3);
     EXPECT_EQ(s["pieces"], 8);
     EXPECT_EQ(s["ray_tests"], 4);
+    EXPECT_EQ(s["cluster_decisions"],
+              (json{{"bounding_box", 5}, {"upper_bound", 6}, {"occluded", 7}, {"inconsistent", 1}}));
     EXPECT_EQ(s["seconds"], (json{{"load", 0.5}, {"features", 0.25}, {"visibility", 0.125},
                                   {"output", 0.0625}, {"total", 0.9375}}));
 

@@ -41,6 +41,10 @@ struct DrawingStats {
     std::string visibility = "rays";  // method: "rays" (reference) or "appel" (propagation)
     std::size_t clusters = 0;         // appel: connected sets of curves sharing a base QI
     std::size_t walks = 0;            // appel: surface walks (section 4.4)
+    // appel: clusters decided by the bounding-box rule, by upper bounds from decided clusters,
+    // proved totally occluded (lower bound, parity, constraints, walks), and left to the
+    // reference because their offsets contradict (non-generic views, self-intersections)
+    std::size_t clusters_bbox = 0, clusters_bounded = 0, clusters_occluded = 0, clusters_inconsistent = 0;
     std::string finder = "exhaustive";  // silhouette finder: "exhaustive" or "randomized"
     double fraction = 1.0;            // randomized: share of edges drawn
     double recall = -1.0;             // silhouette length found / exhaustive's (< 0: not measured)

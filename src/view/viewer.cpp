@@ -839,6 +839,8 @@ void Viewer::draw_panel() {
         ImGui::Text("%zu crease, %zu border edges, %zu cusps", s.crease_edges, s.border_edges, s.cusps);
         ImGui::Text("%zu pieces, %zu crossings, %zu clusters", s.pieces, s.crossings, s.clusters);
         ImGui::Text("%zu ray tests, %zu walks", s.ray_tests, s.walks);
+        ImGui::Text("clusters decided: %zu box, %zu upper bound, %zu occluded, %zu inconsistent", s.clusters_bbox,
+                    s.clusters_bounded, s.clusters_occluded, s.clusters_inconsistent);
         if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", recall_);
     }
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) {
