@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
                 "pierced_faces %zu\n",
                 name.c_str(), g.curves.pieces.size(), spans, g.links.size(), g.link_crossings.size(), g.ends.size(),
                 verts.size(), g.occluders.size(), std::size_t(std::count(pierced.begin(), pierced.end(), 1)));
-    std::printf("clusters %zu (bounded above %zu) walks %zu ray_tests %zu; assign_qi_appel %.3f ms CPU per frame (%d frames) min %.3f\n", st.clusters, st.clusters_bounded,
-                st.walks, st.ray_tests, t.mean_ms, frames, t.least_ms);
+    std::printf("clusters %zu (bounded above %zu) walks %zu ray_tests %zu; assign_qi_appel %.3f ms CPU per frame "
+                "(%d frames) min %.3f\n",
+                st.clusters, st.clusters_bounded, st.walks, st.ray_tests, t.mean_ms, frames, t.least_ms);
     return 0;
 }

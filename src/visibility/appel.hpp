@@ -34,7 +34,7 @@ struct AppelOptions {
 struct AppelStats {
     std::size_t clusters = 0;
     std::size_t clusters_bbox = 0;      // fixed by the bounding-box rule
-    std::size_t clusters_occluded = 0;  // proved totally occluded by lower bound, parity, constraints
+    std::size_t clusters_occluded = 0;  // proved totally occluded by lower bound, parity, constraints, walks
     std::size_t clusters_bounded = 0;   // decided by upper bounds from decided clusters (no walk, no ray)
     std::size_t ray_tests = 0;
     std::size_t walks = 0;
