@@ -353,6 +353,48 @@ TEST(UpperBounds, CreasesOffAgreeWithRays) {
     }
 }
 
+// A border that passes through a vertex whose faces fold over in the image: a fan of triangles
+// winding one and a half turns around its centre, rising slowly (a spiral ramp), seen from above.
+// Every face faces the camera, so no silhouette edge meets the centre; but the top turn hides the
+// first radial border edge near the centre, and the border's QI changes there (1 to 0). The chain
+// breaks at the centre, so that the change is measured there: no contradiction, no ray test, and
+// the same QI as the reference. (Before the break, the border's loop contradicted its offsets and
+// every piece of it took a ray test; one piece across the centre could only be half right.)
+TEST(BorderFold, SpiralFanChangesQiAtItsCentre) {
+    TriangleMesh m;
+    const int n = 25;
+    const double turn = 3.0 * M_PI;
+    m.positions.push_back({0.0, 0.0, 0.0});
+    for (int i = 0; i <= n; ++i) {
+        const double a = turn * i / n;
+        m.positions.push_back({std::cos(a), std::sin(a), 0.05 * a});
+    }
+    for (int i = 0; i < n; ++i) m.triangles.push_back({0, std::uint32_t(i + 1), std::uint32_t(i + 2)});
+    const Model model(m);
+    const Camera cam = Camera::perspective({0.1, 0.05, 6.0}, {0, 0, 0.2}, {0, 1, 0}, 30, 800, 800);
+    ViewOptions o;
+    o.exact_hidden = false;
+    const View v = render_view(model, cam, o);
+    EXPECT_EQ(v.features.silhouette_edges.size(), 0u);
+    EXPECT_EQ(v.drawing.stats.clusters_inconsistent, 0u);
+    EXPECT_EQ(v.drawing.stats.ray_tests, 0u);
+    // The centre ends curves (the break), and the border is drawn both visible and hidden.
+    const MeshTopology& t = model.topology();
+    std::uint32_t centre = 0;
+    for (std::uint32_t i = 0; i < t.vertex_count(); ++i)
+        if (t.positions[i] == glm::dvec3(0.0)) centre = i;
+    std::size_t ends_at_centre = 0;
+    for (const FeatureCurve& c : v.features.curves)
+        if (!c.closed) ends_at_centre += (c.vertices.front() == centre) + (c.vertices.back() == centre);
+    EXPECT_EQ(ends_at_centre, 2u);
+    double visible = 0.0, hidden = 0.0;
+    for (const Piece& p : v.drawing.pieces) (p.qi == 0 ? visible : hidden) += length(p);
+    EXPECT_GT(visible, 100.0);
+    EXPECT_GT(hidden, 100.0);
+    EXPECT_EQ(compare(model, cam, /*exact_hidden=*/false).wrong, 0.0);
+    EXPECT_EQ(compare(model, cam).wrong, 0.0);
+}
+
 // An open sheet curved into a cap: border cusps where silhouettes meet the border; odd offsets
 // (+-1 behind a border), no parity rule (the surface is open).
 TEST(BorderCusps, CurvedSheet) {

@@ -55,6 +55,31 @@ void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_si
     }
 }
 
+// Whether the faces around border vertex v (all of one facing: a change of facing would put a
+// silhouette edge at v) turn about v's image by a full turn or more, so that one of them may hide
+// a border edge near v. The sum of the faces' image angles at v, in double: a fan short of a full
+// turn by more than the rounding has disjoint images. A vertex not in front of the near plane
+// counts as folded (its image is not defined).
+bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint32_t v) {
+    const glm::dvec3& V = mesh.positions[v];
+    if (!(camera.depth(V) > camera.near_distance())) return true;
+    const glm::dvec2 pv = camera.project(V);
+    double turn = 0.0;
+    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+        const std::uint32_t g = mesh.vertex_edges[k];
+        // each face around v once: the one traversing g away from v
+        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
+        if (f == kNoFace) continue;
+        const auto& c = mesh.faces[f];
+        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+        const glm::dvec3 &A = mesh.positions[c[(i + 1) % 3]], &B = mesh.positions[c[(i + 2) % 3]];
+        if (!(camera.depth(A) > camera.near_distance()) || !(camera.depth(B) > camera.near_distance())) return true;
+        const glm::dvec2 a = camera.project(A) - pv, b = camera.project(B) - pv;
+        turn += std::abs(std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y));
+    }
+    return !(turn < 2.0 * M_PI - 1e-6);
+}
+
 // Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
 // A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
 // two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
@@ -66,7 +91,7 @@ void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_si
 // are walked, each feature edge gets, in one pass whose reads are independent of each other, the
 // edge that follows it through each of its vertices: a step of a chain (a chain of dependent
 // reads) then reads one record instead of an edge and then its vertex.
-void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, Features& out) {
+void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options, Features& out) {
     const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
     const std::uint8_t list_kind[3] = {kSil, kBorder, kCrease};
     const std::size_t n = out.silhouette_edges.size() + out.border_edges.size() + out.crease_edges.size();
@@ -140,6 +165,16 @@ void cusps_and_curves(const MeshTopology& mesh, const FeatureOptions& options, F
             out.cusp_vertices.push_back(s.id);
             out.cusp_cases.push_back(c);
         }
+    }
+
+    // A border that turns on at a vertex (its only feature edges two borders) may change QI there
+    // too, where the faces around the vertex fold over in the image (a ruffled or folded border;
+    // Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain (marked
+    // as a cusp is, not listed), so that the visibility stage measures the local occlusion of
+    // each side there. (A break where none is needed only adds a curve end.)
+    for (std::uint32_t lv = silhouette_vertices; lv < nv; ++lv) {
+        Features::ChainVertex& s = verts[lv];
+        if (s.degree == 2 && s.kinds == (1u << kBorder) && border_fan_folds(mesh, camera, s.id)) s.cusp = 1;
     }
 
     auto is_break = [&](const Features::ChainVertex& s) {
@@ -290,7 +325,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     }
     const auto t1 = std::chrono::steady_clock::now();
     out.stats.planes_read = planes_read_;
-    cusps_and_curves(mesh, options, out);
+    cusps_and_curves(mesh, camera, options, out);
     out.stats.seconds_search = std::chrono::duration<double>(t1 - t0).count();
     out.stats.seconds_chain = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     for (std::uint32_t v : sought_) out.vertex_scratch[v].sought = 0;
