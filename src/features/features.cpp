@@ -55,29 +55,36 @@ void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_si
     }
 }
 
-// Whether the faces around border vertex v (all of one facing: a change of facing would put a
-// silhouette edge at v) turn about v's image by a full turn or more, so that one of them may hide
-// a border edge near v. The sum of the faces' image angles at v, in double: a fan short of a full
-// turn by more than the rounding has disjoint images. A vertex not in front of the near plane
-// counts as folded (its image is not defined).
+// Whether a face around border vertex v may hide one of v's border edges near v in the image: the
+// far end of the edge seen from v inside (or on the boundary of) the image of another face's
+// corner at v, decided by exact image orientations. The faces around v are all of one facing (a
+// change of facing would put a silhouette edge at v), so this happens exactly where their images
+// wind a full turn or more about v. Degenerate images, and vertices not in front of the near
+// plane (no image), count as folded.
 bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint32_t v) {
+    const double near = camera.near_distance();
     const glm::dvec3& V = mesh.positions[v];
-    if (!(camera.depth(V) > camera.near_distance())) return true;
-    const glm::dvec2 pv = camera.project(V);
-    double turn = 0.0;
-    for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
-        const std::uint32_t g = mesh.vertex_edges[k];
-        // each face around v once: the one traversing g away from v
-        const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
-        if (f == kNoFace) continue;
-        const auto& c = mesh.faces[f];
-        const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-        const glm::dvec3 &A = mesh.positions[c[(i + 1) % 3]], &B = mesh.positions[c[(i + 2) % 3]];
-        if (!(camera.depth(A) > camera.near_distance()) || !(camera.depth(B) > camera.near_distance())) return true;
-        const glm::dvec2 a = camera.project(A) - pv, b = camera.project(B) - pv;
-        turn += std::abs(std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y));
+    if (!(camera.depth(V) > near)) return true;
+    const std::uint32_t k0 = mesh.vertex_edge_begin[v], k1 = mesh.vertex_edge_begin[v + 1];
+    for (std::uint32_t kb = k0; kb < k1; ++kb) {
+        const std::uint32_t b = mesh.vertex_edges[kb];
+        if (mesh.edge_face[b][1] != kNoFace) continue;  // a border edge of v, its one face
+        const glm::dvec3& W = mesh.positions[mesh.edge_vertex[b][0] == v ? mesh.edge_vertex[b][1] : mesh.edge_vertex[b][0]];
+        if (!(camera.depth(W) > near)) return true;
+        for (std::uint32_t k = k0; k < k1; ++k) {
+            const std::uint32_t g = mesh.vertex_edges[k];
+            // each face around v once: the one traversing g away from v
+            const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
+            if (f == kNoFace || f == mesh.edge_face[b][0]) continue;
+            const auto& c = mesh.faces[f];
+            const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+            const glm::dvec3 &A = mesh.positions[c[(i + 1) % 3]], &B = mesh.positions[c[(i + 2) % 3]];
+            if (!(camera.depth(A) > near) || !(camera.depth(B) > near)) return true;
+            const int o = image_orientation(camera, V, A, B);
+            if (o == 0 || (image_orientation(camera, V, A, W) != -o && image_orientation(camera, V, W, B) != -o)) return true;
+        }
     }
-    return !(turn < 2.0 * M_PI - 1e-6);
+    return false;
 }
 
 // Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
@@ -171,7 +178,7 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
     // too, where the faces around the vertex fold over in the image (a ruffled or folded border;
     // Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain (marked
     // as a cusp is, not listed), so that the visibility stage measures the local occlusion of
-    // each side there. (A break where none is needed only adds a curve end.)
+    // each side there. (A break where none is needed, at a degenerate image, only adds a curve end.)
     for (std::uint32_t lv = silhouette_vertices; lv < nv; ++lv) {
         Features::ChainVertex& s = verts[lv];
         if (s.degree == 2 && s.kinds == (1u << kBorder) && border_fan_folds(mesh, camera, s.id)) s.cusp = 1;
