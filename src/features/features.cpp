@@ -59,8 +59,8 @@ void classify_static(const MeshTopology& mesh, Features& out, OnSilhouette on_si
 // far end of the edge seen from v inside (or on the boundary of) the image of another face's
 // corner at v, decided by exact image orientations. The faces around v are all of one facing (a
 // change of facing would put a silhouette edge at v), so this happens exactly where their images
-// wind a full turn or more about v. Degenerate images, and vertices not in front of the near
-// plane (no image), count as folded.
+// wind a full turn or more about v. A face seen edge-on covers nothing; the edge's image on the
+// boundary of a corner's, and vertices not in front of the near plane (no image), count as folded.
 bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint32_t v) {
     const double near = camera.near_distance();
     const glm::dvec3& V = mesh.positions[v];
@@ -81,7 +81,8 @@ bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint3
             const glm::dvec3 &A = mesh.positions[c[(i + 1) % 3]], &B = mesh.positions[c[(i + 2) % 3]];
             if (!(camera.depth(A) > near) || !(camera.depth(B) > near)) return true;
             const int o = image_orientation(camera, V, A, B);
-            if (o == 0 || (image_orientation(camera, V, A, W) != -o && image_orientation(camera, V, W, B) != -o)) return true;
+            if (o == 0) continue;  // seen edge-on: its image covers no direction from v
+            if (image_orientation(camera, V, A, W) != -o && image_orientation(camera, V, W, B) != -o) return true;
         }
     }
     return false;
@@ -178,7 +179,7 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
     // too, where the faces around the vertex fold over in the image (a ruffled or folded border;
     // Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain (marked
     // as a cusp is, not listed), so that the visibility stage measures the local occlusion of
-    // each side there. (A break where none is needed, at a degenerate image, only adds a curve end.)
+    // each side there. (A break where none is needed only adds a curve end.)
     for (std::uint32_t lv = silhouette_vertices; lv < nv; ++lv) {
         Features::ChainVertex& s = verts[lv];
         if (s.degree == 2 && s.kinds == (1u << kBorder) && border_fan_folds(mesh, camera, s.id)) s.cusp = 1;
