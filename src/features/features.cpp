@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -315,7 +316,8 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         out.stats.finder = FinderKind::Randomized;
         out.stats.fraction = opt_.fraction;
         previous_.clear();
-        for (std::uint32_t e : out.silhouette_edges) previous_.emplace_back(e, mesh.edge_face[e][0], mesh.edge_face[e][1]);
+        previous_.assign(out.silhouette_edges.begin(), out.silhouette_edges.end());
+        previous_sorted_ = std::is_sorted(previous_.begin(), previous_.end());
         previous_camera_ = camera;
         previous_filter_.bind(mesh, camera);
         complete_ = true;
@@ -530,7 +532,7 @@ void SilhouetteFinder::build_table() {
 // curves it meets at junctions).
 void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
     const MeshTopology& mesh = *mesh_;
-    add_silhouette(e, mesh.edge_face[e][0], mesh.edge_face[e][1], out);
+    add_silhouette(e, out);
     stack_.clear();
     stack_.push_back(e);
     while (!stack_.empty()) {
@@ -544,7 +546,7 @@ void SilhouetteFinder::trace(std::uint32_t e, Features& out) {
                 if (out.edge_kind[h] != kNoKind) continue;  // found, or a border or (non-silhouette) crease
                 ++out.stats.edges_examined;
                 if (is_silhouette(mesh, out, h)) {
-                    add_silhouette(h, mesh.edge_face[h][0], mesh.edge_face[h][1], out);
+                    add_silhouette(h, out);
                     stack_.push_back(h);
                 }
             }
@@ -590,10 +592,9 @@ void SilhouetteFinder::seek(std::uint32_t v, bool front, const Camera& camera, F
     }
 }
 
-void SilhouetteFinder::add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out) {
+void SilhouetteFinder::add_silhouette(std::uint32_t e, Features& out) {
     out.edge_kind[e] = kSil;
     out.silhouette_edges.push_back(e);
-    current_.emplace_back(e, f0, f1);
 }
 
 namespace {
@@ -719,16 +720,21 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     out.stats.faces_turned = turned_.size();
     auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
 
-    // Edges of turned faces (fresh_, then sorted by edge); an edge between two turned faces is
-    // decided by the lower one. The other face's front bit is this view's (set by band_states in
-    // the band, at the rebuild outside it). Every edge of a turned face gets its kind here (the
-    // previous edges among them were silhouettes; with marks_kept_ the others keep theirs).
-    // Turned faces are scattered over the mesh: their face edges are fetched 16 faces ahead, and
-    // the edges' face pairs (and kinds, written) 8 ahead, so that the cache misses overlap
-    // instead of following each other.
+    // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
+    // other face's front bit is this view's (set by band_states in the band, at the rebuild
+    // outside it). Every edge of a turned face gets its kind here. An edge's kind before tells
+    // whether it was a previous silhouette edge (previous_'s edges are marked: kept by find(), or
+    // marked here); one that was and is not is dropped_, one that is and was not is fresh_, and the
+    // others are unchanged. Turned faces are scattered over the mesh: their face edges are fetched
+    // 16 faces ahead, and the edges' face pairs (and kinds, written) 8 ahead, so that the cache
+    // misses overlap instead of following each other.
     const std::size_t np = previous_.size(), nt = turned_.size();
     std::uint8_t* __restrict kind = out.edge_kind.data();
+    if (!marks_kept_)  // the kinds were reset: the previous edges are marked again
+        for (std::uint32_t e : previous_) kind[e] = kSil;
     fresh_.clear();
+    dropped_.clear();
+    std::size_t rechecked = 0;  // previous edges examined again, and still silhouettes
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
         if (i + 2 * kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + 2 * kAhead]]);
@@ -746,51 +752,56 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             if (y == kNoFace || (bit(turned, y) && y < x)) continue;
             ++out.stats.edges_examined;
             const bool sil = fx != bool(bit(front, y));
+            const bool was = kind[e] == kSil;
             kind[e] = sil ? kSil : kNoKind;
-            if (sil) fresh_.emplace_back(e, ef[0], ef[1]);
+            if (sil != was) (sil ? fresh_ : dropped_).push_back(e);
+            rechecked += sil & was;
         }
     }
-    sort_records(fresh_);
 
-    // The silhouette in edge order: the previous edges none of whose faces turned (in their
-    // order: edge order when the previous view's was) merged with the fresh ones, written to
-    // current_ and the view's list in one pass.
-    const std::size_t nn = fresh_.size();
-    const std::size_t s0 = out.silhouette_edges.size(), c0 = current_.size();
-    out.silhouette_edges.resize(s0 + np + nn);
-    current_.resize(c0 + np + nn);
-    {
-        std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
-        EdgeRecord* __restrict cur = current_.data() + c0;
-        const EdgeRecord* __restrict prev = previous_.data();
-        const EdgeRecord* __restrict add = fresh_.data();
-        std::size_t k = 0, j = 0, kept = 0;
+    // The silhouette: the previous edges not dropped, and the fresh ones (none of which is a
+    // previous edge). In edge order where the previous view's was: both lists sorted, and the
+    // three merged in one pass over the previous edges' ids.
+    const std::size_t nn = fresh_.size(), nd = dropped_.size();
+    const std::size_t s0 = out.silhouette_edges.size();
+    out.silhouette_edges.resize(s0 + np - nd + nn);
+    std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
+    const std::uint32_t* __restrict prev = previous_.data();
+    std::size_t k = 0;
+    if (previous_sorted_) {
+        sort_edges(fresh_);
+        sort_edges(dropped_);
+        const std::uint32_t* __restrict add = fresh_.data();
+        const std::uint32_t* __restrict drop = dropped_.data();
+        std::size_t j = 0, d = 0;
         for (std::size_t i = 0; i < np; ++i) {
-            const EdgeRecord r = prev[i];
-            if (bit(turned, r.face[0]) | bit(turned, r.face[1])) continue;
-            for (; j < nn && add[j].edge < r.edge; ++j, ++k) sil[k] = add[j].edge, cur[k] = add[j];
-            sil[k] = r.edge;
-            cur[k] = r;
-            ++k, ++kept;
+            const std::uint32_t r = prev[i];
+            if (d < nd && drop[d] == r) {
+                ++d;
+                continue;
+            }
+            for (; j < nn && add[j] < r; ++j) sil[k++] = add[j];
+            sil[k++] = r;
         }
-        for (; j < nn; ++j, ++k) sil[k] = add[j].edge, cur[k] = add[j];
-        out.silhouette_edges.resize(s0 + k);
-        current_.resize(c0 + k);
-        out.stats.edges_examined += kept;
-        if (!marks_kept_)  // the kinds were reset: the kept edges are marked again
-            for (std::size_t i = 0; i < k; ++i) kind[sil[i]] = kSil;
+        for (; j < nn; ++j) sil[k++] = add[j];
+    } else {
+        for (std::size_t i = 0; i < np; ++i)
+            if (kind[prev[i]] == kSil) sil[k++] = prev[i];
+        for (std::uint32_t e : fresh_) sil[k++] = e;
     }
+    assert(k == np - nd + nn);
+    out.stats.edges_examined += np - nd - rechecked;  // the previous edges kept without a look
     for (std::uint32_t f : turned_) turned[f >> 6] = 0;
 }
 
-// Records by edge: an LSD radix sort, 11 bits a pass over the bits of the largest edge id (two
+// Edge ids: an LSD radix sort, 11 bits a pass over the bits of the largest edge id (two
 // passes up to 4 M edges; the fresh edges of a view are thousands, a comparison sort of them cost
 // more than the rest of a coherent view at a degree a frame), std::sort for a few.
-void SilhouetteFinder::sort_records(std::vector<EdgeRecord>& v) {
-    EdgeRecord* a = v.data();
+void SilhouetteFinder::sort_edges(std::vector<std::uint32_t>& v) {
+    std::uint32_t* a = v.data();
     const std::size_t n = v.size();
     if (n < 256) {
-        std::sort(a, a + n, [](const EdgeRecord& x, const EdgeRecord& y) { return x.edge < y.edge; });
+        std::sort(a, a + n);
         return;
     }
     constexpr int kBits = 11;
@@ -798,20 +809,20 @@ void SilhouetteFinder::sort_records(std::vector<EdgeRecord>& v) {
     const int bits = std::bit_width(std::uint32_t(std::max<std::size_t>(mesh_->edge_count(), 1) - 1));
     const int passes = std::max(1, (bits + kBits - 1) / kBits);
     radix_tmp_.resize(n);
-    EdgeRecord *src = a, *dst = radix_tmp_.data();
+    std::uint32_t *src = a, *dst = radix_tmp_.data();
     radix_count_.resize(kDigits);
     for (int pass = 0; pass < passes; ++pass) {
         const int shift = pass * kBits;
         std::fill(radix_count_.begin(), radix_count_.end(), 0u);
         std::uint32_t* count = radix_count_.data();
-        for (std::size_t i = 0; i < n; ++i) ++count[(src[i].edge >> shift) & (kDigits - 1)];
+        for (std::size_t i = 0; i < n; ++i) ++count[(src[i] >> shift) & (kDigits - 1)];
         std::uint32_t sum = 0;
         for (std::uint32_t d = 0; d < kDigits; ++d) {
             const std::uint32_t c = count[d];
             count[d] = sum;
             sum += c;
         }
-        for (std::size_t i = 0; i < n; ++i) dst[count[(src[i].edge >> shift) & (kDigits - 1)]++] = src[i];
+        for (std::size_t i = 0; i < n; ++i) dst[count[(src[i] >> shift) & (kDigits - 1)]++] = src[i];
         std::swap(src, dst);
     }
     if (src != a) std::copy(src, src + n, a);
@@ -822,7 +833,6 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
     const std::size_t ne = mesh.edge_count();
     out.stats.fraction = opt_.fraction;
     auto coin = [&](double p) { return p >= 1.0 || double(rng_() >> 11) * 0x1p-53 < p; };
-    current_.clear();
 
     // Frame coherence first (nothing is marked yet, so what it finds needs no check).
     const bool had_previous = !previous_.empty();
@@ -837,7 +847,7 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
             carried_ = {&out.face_front, out.face_front.generation()};
         }
         classify_static(mesh, out, [&](std::uint32_t) {});  // crease silhouettes were followed
-        previous_.swap(current_);
+        previous_.assign(out.silhouette_edges.begin(), out.silhouette_edges.end());
         previous_camera_ = camera;
         previous_filter_ = filter_;
         stamp(out);
@@ -881,7 +891,8 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
             else if (seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
         }
     }
-    previous_.swap(current_);
+    previous_.assign(out.silhouette_edges.begin(), out.silhouette_edges.end());
+    previous_sorted_ = std::is_sorted(previous_.begin(), previous_.end());
     previous_camera_ = camera;
     previous_filter_ = filter_;
     previous_filter_.bind(mesh, camera);

@@ -230,7 +230,7 @@ private:
     void build_table();
     void follow(const Camera& camera, Features& out);
     void build_band(const double eye[3], double w, double margin);
-    void add_silhouette(std::uint32_t e, std::uint32_t f0, std::uint32_t f1, Features& out);
+    void add_silhouette(std::uint32_t e, Features& out);
 
     const FaceBlocks* blocks();  // built on first use (if opt_.blocks), else null
 
@@ -246,24 +246,19 @@ private:
     std::vector<std::uint32_t> alias_;
     std::vector<std::uint32_t> stack_, sought_;
 
-    // Frame coherence. The previous view's silhouette edges as compact records (the edge and its
-    // two faces). A face changes facing between two views only if its plane passes between the
-    // two eyes, so only faces whose plane was within a margin M of the eye when the band was
-    // built (their planes copied, 20 bytes each) can change while the eye stays within M of that
-    // position; the band is rebuilt by one pass over all faces when the eye leaves. follow() streams
-    // the band, and the silhouette is the previous edges whose faces kept their facing plus the
-    // edges of the faces that changed. Two bits per face (front now, turned) and the band are built
-    // on first use, only by a randomized finder with coherence.
-    struct EdgeRecord {
-        // (not zeroed: follow() sizes current_ for the merge, which writes every record; value-
-        // initialization by resize() would clear them first, a pass over 200 KB per view on armadillo@2)
-        EdgeRecord() {}
-        EdgeRecord(std::uint32_t e, std::uint32_t f0, std::uint32_t f1) : edge(e), face{f0, f1} {}
-        std::uint32_t edge, face[2];
-    };
-    std::vector<EdgeRecord> previous_, current_, fresh_, radix_tmp_;  // fresh_: follow()'s edges of turned faces
+    // Frame coherence. The previous view's silhouette edges (their ids). A face changes facing
+    // between two views only if its plane passes between the two eyes, so only faces whose plane
+    // was within a margin M of the eye when the band was built (their planes copied, 20 bytes
+    // each) can change while the eye stays within M of that position; the band is rebuilt by one
+    // pass over all faces when the eye leaves. follow() streams the band, and the silhouette is the
+    // previous edges minus those of the faces that changed that are no longer silhouettes, plus
+    // the new ones among the edges of the faces that changed. Two bits per face (front now,
+    // turned) and the band are built on first use, only by a randomized finder with coherence.
+    std::vector<std::uint32_t> previous_;
+    bool previous_sorted_ = false;  // previous_ is in edge order (the exhaustive scan's, kept by follow())
+    std::vector<std::uint32_t> fresh_, dropped_, radix_tmp_;  // follow(): edges of turned faces that became / stopped being silhouettes
     std::vector<std::uint32_t> radix_count_;
-    void sort_records(std::vector<EdgeRecord>& v);
+    void sort_edges(std::vector<std::uint32_t>& v);
     // The stamp this finder's last view left in its Features (Features::silhouette_marks): a
     // Features holding it marks exactly previous_'s edges as silhouettes, so the next view may
     // keep the marks (any other finder's view, or this one's, stamps it anew or clears it).
