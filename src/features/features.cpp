@@ -315,7 +315,6 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         scan_exhaustive(out, false);
         out.stats.finder = FinderKind::Randomized;
         out.stats.fraction = opt_.fraction;
-        previous_.clear();
         previous_.assign(out.silhouette_edges.begin(), out.silhouette_edges.end());
         previous_sorted_ = std::is_sorted(previous_.begin(), previous_.end());
         previous_camera_ = camera;
@@ -891,8 +890,11 @@ void SilhouetteFinder::search_randomized(const Camera& camera, Features& out, bo
             else if (seek_draws) seek(mesh.edge_vertex[e][0], out.face_front[mesh.edge_face[e][0]], camera, out);
         }
     }
-    previous_.assign(out.silhouette_edges.begin(), out.silhouette_edges.end());
-    previous_sorted_ = std::is_sorted(previous_.begin(), previous_.end());
+    // Only coherence follows the previous view's edges: without it none are kept (no copy a view).
+    if (opt_.coherence) {
+        previous_.assign(out.silhouette_edges.begin(), out.silhouette_edges.end());
+        previous_sorted_ = std::is_sorted(previous_.begin(), previous_.end());
+    }
     previous_camera_ = camera;
     previous_filter_ = filter_;
     previous_filter_.bind(mesh, camera);
