@@ -206,6 +206,44 @@ TEST(LoadMeshErrors, MalformedPlyAndStl) {
     expect_refused(write_file("nosolid.stl", "hello\n"), {"STL"});
 }
 
+// A vertex element without x, y or z, or a face element without its index list, is refused by
+// name, in ASCII and in binary PLY (bodies complete, so that only the roles are wrong); with both,
+// the same file is read (the same roles in both readers).
+TEST(LoadMeshErrors, PlyElementsLackingTheirProperties) {
+    const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const std::string format : {"ascii", "binary_little_endian"}) {
+        const bool ascii = format == "ascii";
+        const std::string tag = format.substr(0, 3);
+        // The file with the vertices' first `coords` coordinates and the faces' list named `list`.
+        auto ply = [&](int coords, const std::string& list) {
+            std::string s = "ply\nformat " + format + " 1.0\nelement vertex 4\n";
+            for (int c = 0; c < coords; ++c) s += std::string("property float ") + char('x' + c) + "\n";
+            s += "element face 4\nproperty list uchar int " + list + "\nend_header\n";
+            for (const auto& p : v) {
+                for (int c = 0; c < coords; ++c)
+                    if (ascii) s += std::to_string(int(p[c])) + (c + 1 < coords ? " " : "\n");
+                    else s.append(reinterpret_cast<const char*>(&p[c]), sizeof p[c]);
+            }
+            for (const auto& t : f) {
+                if (ascii) {
+                    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+                } else {
+                    s.push_back(char(3));
+                    s.append(reinterpret_cast<const char*>(t), sizeof t);
+                }
+            }
+            return s;
+        };
+        expect_refused(write_file("noz_" + tag + ".ply", ply(2, "vertex_indices")), {"vertex element lacks an x, y or z"});
+        expect_refused(write_file("noidx_" + tag + ".ply", ply(3, "corners")), {"face element lacks a vertex_indices"});
+        const std::string path = write_file("tet_" + tag + ".ply", ply(3, "vertex_indices"));
+        const TriangleMesh m = inkline::load_mesh(path);
+        EXPECT_EQ(m.positions.size(), 4u) << path;
+        EXPECT_EQ(m.triangles.size(), 4u) << path;
+    }
+}
+
 TEST(LoadMeshErrors, NanAndInfiniteCoordinates) {
     for (const char* bad : {"nan", "NaN", "inf", "-inf", "infinity", "1e999", "-1e400"}) {
         std::string off = off_file(kTetV, kTetF);

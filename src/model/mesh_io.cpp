@@ -330,6 +330,30 @@ struct PlyElement {
     std::vector<PlyProperty> props;
 };
 
+// Which properties of element e a mesh reads: a "vertex" element's x, y, z (scalars), a "face"
+// element's "vertex_indices" (or "vertex_index") list; -1 where absent (a clear error when a
+// vertex or face element lacks them).
+struct PlyRoles {
+    bool is_vertex = false, is_face = false;
+    int xyz[3] = {-1, -1, -1};
+    int indices = -1;
+};
+
+PlyRoles ply_roles(const PlyElement& e, const std::string& path) {
+    PlyRoles r;
+    r.is_vertex = e.name == "vertex";
+    r.is_face = e.name == "face";
+    for (int j = 0; j < int(e.props.size()); ++j) {
+        const auto& p = e.props[j];
+        if (r.is_vertex && !p.list && (p.name == "x" || p.name == "y" || p.name == "z")) r.xyz[p.name[0] - 'x'] = j;
+        if (r.is_face && p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) r.indices = j;
+    }
+    if (r.is_vertex && (r.xyz[0] < 0 || r.xyz[1] < 0 || r.xyz[2] < 0))
+        throw Error(path, "PLY vertex element lacks an x, y or z property");
+    if (r.is_face && r.indices < 0) throw Error(path, "PLY face element lacks a vertex_indices list");
+    return r;
+}
+
 std::vector<PlyElement> read_ply_header(Lines& lines, const std::string& path, bool typed) {
     std::vector<std::string_view> tok;
     std::vector<PlyElement> elements;
@@ -374,16 +398,10 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
     std::size_t k = 0;
     tok.clear();
     for (const auto& e : elements) {
-        const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        int xyz[3] = {-1, -1, -1}, indices = -1;
-        for (int j = 0; j < int(e.props.size()); ++j) {
-            const auto& p = e.props[j];
-            if (is_vertex && !p.list && (p.name == "x" || p.name == "y" || p.name == "z")) xyz[p.name[0] - 'x'] = j;
-            if (is_face && p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = j;
-        }
-        if (is_vertex && (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0))
-            throw Error(path, "PLY vertex element lacks an x, y or z property");
-        if (is_face && indices < 0) throw Error(path, "PLY face element lacks a vertex_indices list");
+        const PlyRoles roles = ply_roles(e, path);
+        const bool is_vertex = roles.is_vertex, is_face = roles.is_face;
+        const int* xyz = roles.xyz;
+        const int indices = roles.indices;
         for (std::int64_t i = 0; i < e.count; ++i) {
             glm::dvec3 p(0.0);
             std::vector<std::int64_t> poly;
@@ -472,16 +490,10 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
         }
     };
     for (const auto& e : elements) {
-        const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-        int xyz[3] = {-1, -1, -1}, indices = -1;
-        for (int j = 0; j < int(e.props.size()); ++j) {
-            const auto& p = e.props[j];
-            if (is_vertex && !p.list && (p.name == "x" || p.name == "y" || p.name == "z")) xyz[p.name[0] - 'x'] = j;
-            if (is_face && p.list && (p.name == "vertex_indices" || p.name == "vertex_index")) indices = j;
-        }
-        if (is_vertex && (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0))
-            throw Error(path, "PLY vertex element lacks an x, y or z property");
-        if (is_face && indices < 0) throw Error(path, "PLY face element lacks a vertex_indices list");
+        const PlyRoles roles = ply_roles(e, path);
+        const bool is_vertex = roles.is_vertex, is_face = roles.is_face;
+        const int* xyz = roles.xyz;
+        const int indices = roles.indices;
         if (is_vertex) soup.positions.reserve(std::size_t(e.count));  // fits in the file: checked
         if (is_face) soup.polygons.reserve(std::size_t(e.count));
         for (std::int64_t i = 0; i < e.count; ++i) {
