@@ -309,6 +309,39 @@ TEST(Finder, CoherenceFromExhaustiveFirstViewIsExact) {
     }
 }
 
+// A view that does not follow the previous one (after reset(): an exhaustive first view again)
+// in the middle of a band that is still valid for the eyes around it: the views after it are
+// exact (the band's faces that turned across that view are not taken from the view before it).
+TEST(Finder, CoherenceAfterAViewWithoutFollowIsExact) {
+    const Model torus(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 96, 48));
+    for (const Model* m : {&torus, &mesh_model("armadillo")}) {
+        const Bounds3 box = m->topology().bounds;
+        const glm::dvec3 c = box.center();
+        const double d = 3.0 * box.half_diagonal();
+        FinderOptions o = randomized(0.0, true);
+        o.first_full = true;
+        o.band_steps = 16.0;  // a wide band: it outlives the reset
+        SilhouetteFinder finder(m->topology(), o);
+        Features f;
+        std::size_t turned_across = 0;
+        for (int i = 0; i < 16; ++i) {
+            SCOPED_TRACE(testing::Message() << "view " << i);
+            if (i == 6) finder.reset();
+            const double az = 0.3 + 0.0175 * i;  // 1 degree per view
+            const Camera cam =
+                Camera::perspective(c + d * glm::dvec3(std::sin(az), 0.4, std::cos(az)), c, {0, 1, 0}, 30, 640, 480);
+            finder.find(cam, {}, f);
+            const Features ex = extract_features(m->topology(), cam);
+            expect_identical(ex, f);
+            if (i == 7) {
+                EXPECT_TRUE(f.stats.band_rebuilt);
+                turned_across += f.stats.faces_turned;
+            }
+        }
+        EXPECT_GT(turned_across, 0u);
+    }
+}
+
 // The carried facing where the float filter cannot decide: a far, scaled sphere, the eye moving
 // into the plane of a face (decided only by the exact predicate) and out again, small steps
 // (faces turn one by one), and faces read in between (undecided faces resolved and cached for one
@@ -459,8 +492,8 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
 }
 
 // The band's per-view states (FacingBand::states, AVX2 and portable): each band face's front
-// bit is the filter's "front" now and no other bit changes; the positions to check are those
-// where the two views' filter states differ or the current one is undecided. Bands of every
+// bit is the filter's "front" now and no other bit changes (none without bits); the positions to
+// check are those where the two views' filter states differ or the current one is undecided. Bands of every
 // density (sparse and dense words, lengths not a multiple of 8), at extreme scales and offsets,
 // with a grazing eye and an untrusted (NaN) plane.
 TEST(Facing, BandStatesMatchTheFilter) {
@@ -506,6 +539,12 @@ TEST(Facing, BandStatesMatchTheFilter) {
                         }
                         ASSERT_EQ(bits[1], want_bits);
                         ASSERT_EQ(check[1], want);
+                        // Without bits: the same positions to check, no bit written.
+                        for (int simd : {0, 1}) {
+                            std::vector<std::uint32_t> only;
+                            band.states(now, before, nullptr, only, simd == 1);
+                            ASSERT_EQ(only, want);
+                        }
                         checked += want.size();
                     }
             }

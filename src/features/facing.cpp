@@ -895,11 +895,12 @@ void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std
     if (simd && cpu_has_avx2()) {
         const std::size_t i = band_states_avx2(nx_.data(), ny_.data(), nz_.data(), d_.data(), n, now, before, front, check);
         band_states_scalar(nx_.data(), ny_.data(), nz_.data(), d_.data(), i, n, now, before, front, check);
-        band_words_bmi2(words_.data(), masks_.data(), words_.size(), front, front_bits);
+        if (front_bits) band_words_bmi2(words_.data(), masks_.data(), words_.size(), front, front_bits);
         return;
     }
 #endif
     band_states_scalar(nx_.data(), ny_.data(), nz_.data(), d_.data(), 0, n, now, before, front, check);
+    if (!front_bits) return;
     std::size_t o = 0;
     for (std::size_t k = 0; k < words_.size(); ++k) {
         std::uint64_t w = front_bits[words_[k]];

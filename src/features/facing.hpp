@@ -181,11 +181,13 @@ public:
     std::size_t size() const { return ids_.size(); }
     std::uint32_t face(std::size_t i) const { return ids_[i]; }
     MeshTopology::FacingPlane plane(std::size_t i) const { return {nx_[i], ny_[i], nz_[i], d_[i]}; }
-    // Sets each band face's bit in front_bits where `now` says front and clears it elsewhere
-    // (other bits untouched); appends to `check` the positions i where the two filters disagree
-    // or `now` cannot decide (the caller decides those exactly; where both filters agree and
-    // decide, the face kept its facing). `simd`: the AVX2 + BMI2 kernel where the CPU has it
-    // (else, and with false, the portable loop; the same result).
+    // Appends to `check` the positions i where the two filters disagree or `now` cannot decide
+    // (the caller decides those exactly; where both filters agree and decide, the face kept its
+    // facing). With front_bits, also sets each band face's bit where `now` says front and clears
+    // it elsewhere (other bits untouched); with nullptr no bit is written (a caller whose bits
+    // hold the previous view's facing need only set those of the faces checked). `simd`: the
+    // AVX2 + BMI2 kernel where the CPU has it (else, and with false, the portable loop; the same
+    // result).
     void states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                 std::vector<std::uint32_t>& check, bool simd = true);
 

@@ -296,6 +296,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     out.stats.finder = opt_.kind;
 
     planes_read_ = 0;
+    ++views_;
     const auto t0 = std::chrono::steady_clock::now();
     if (opt_.kind == FinderKind::Exhaustive) {
         // One view alone (extract_features) does not build the blocks; a finder that lives
@@ -653,6 +654,11 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         band_margin_ = -1.0;
         for (auto* bits : {&front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
     }
+    // The band's faces keep their bits from the previous view (below): if that view did not run
+    // follow() (a first view, a view after reset(), or one after a view with no silhouette), the
+    // bits are older, and the band is rebuilt.
+    if (bits_view_ + 1 != views_) band_margin_ = -1.0;
+    bits_view_ = views_;
     camera_ = camera;
     filter_.bind(mesh, camera);
 
@@ -664,6 +670,7 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
     };
     const double step = dist(e, p);
+    bool rebuilt = true;
     if (w != pw) {
         // Between a perspective and an orthographic view (an eye point and a view direction) no
         // distance bounds the change of the faces' signed distances: every face is in the band,
@@ -691,16 +698,20 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         // steps = sqrt(faces / (2 * band faces per step)) / 2.
         const double per_step = std::max(1.0, double(band_.size()) / steps);
         auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / (2.0 * per_step)), 2.0, 64.0);
+    } else {
+        rebuilt = false;
     }
     out.stats.band_faces = band_.size();
 
-    // The band's faces now and before: front-now bits for all, turned ones listed; every other
-    // face keeps its facing.
+    // The band's faces now and before: the turned ones listed; every other face keeps its facing.
+    // Front bits hold the previous view's facing of every face (the rebuild's pass sets those
+    // outside the band), so only the faces checked need theirs set (below), and those of the band
+    // a rebuild's pass left as the float sign at its eye: after a rebuild, every band face's.
     turned_.clear();
     check_.clear();
     std::uint64_t* __restrict front = front_bits_.data();
     std::uint64_t* __restrict turned = turned_bits_.data();
-    band_.states(filter_, previous_filter_, front, check_);
+    band_.states(filter_, previous_filter_, rebuilt ? front : nullptr, check_);
     for (std::uint32_t i : check_) {  // the filters disagree or cannot decide: exact
         const std::uint32_t f = band_.face(i);
         const MeshTopology::FacingPlane plane = band_.plane(i);
@@ -720,8 +731,7 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
 
     // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
-    // other face's front bit is this view's (set by band_states in the band, at the rebuild
-    // outside it). Every edge of a turned face gets its kind here. An edge's kind before tells
+    // other face's front bit is this view's (above). Every edge of a turned face gets its kind here. An edge's kind before tells
     // whether it was a previous silhouette edge (previous_'s edges are marked: kept by find(), or
     // marked here); one that was and is not is dropped_, one that is and was not is fresh_, and the
     // others are unchanged. Turned faces are scattered over the mesh: their face edges are fetched

@@ -280,6 +280,9 @@ private:
     // which they keep while the eye stays within the margin); turned since the previous view.
     std::vector<std::uint64_t> front_bits_, turned_bits_;
     double band_eye_[3] = {0, 0, 0}, band_margin_ = -1.0, band_w_ = 0.0;  // margin < 0: no band
+    // Views found so far, and the one whose facing front_bits_ hold (the last that ran follow()):
+    // a kept band needs the previous view's bits, else it is rebuilt.
+    std::uint64_t views_ = 0, bits_view_ = 0;
     double auto_steps_ = 4.0;  // the first band: 4 steps (8 read 2x more planes for the first rebuild)
 };
 
