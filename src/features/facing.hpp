@@ -171,8 +171,8 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
 
 // The faces of a coherence band (ascending ids) with copies of their planes as four float rows
 // (padded to a multiple of 8) and the 64-face words of a per-face bit set they fall in (word,
-// mask of the band's faces in it), so that a view streams the rows and writes each word once.
-// 20 bytes per band face plus 12 per word.
+// mask of the band's faces in it), so that a view streams the rows and, where it writes the
+// band's bits, writes each word once. 20 bytes per band face plus 12 per word.
 class FacingBand {
 public:
     // `planes`: the faces' planes in the same order (faces_within's), else read from the mesh.

@@ -614,7 +614,7 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
 // its facing for every eye within `margin` of e. Untrusted (NaN) planes are always in the band.
 // The face blocks skip the blocks whose planes are all beyond the margin. The faces outside the
 // band get their front bit here, from the sign of their float distance (beyond the filter's
-// bound, so exact), which they keep for every such eye; the band's bits are set per view.
+// bound, so exact), which they keep for every such eye; the band's bits are set by follow().
 // The pass copies the band's planes as it reads them (faces_within's planes), so the band does not
 // gather them from the mesh again (0.85 ms of a 2.3 ms rebuild at a degree a frame on armadillo@2, Zen 3).
 // (Selecting the band from an outer band of 2.5-4 times its margin, rebuilt from the mesh more
@@ -731,10 +731,10 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
 
     // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
-    // other face's front bit is this view's (above). Every edge of a turned face gets its kind here. An edge's kind before tells
-    // whether it was a previous silhouette edge (previous_'s edges are marked: kept by find(), or
-    // marked here); one that was and is not is dropped_, one that is and was not is fresh_, and the
-    // others are unchanged. Turned faces are scattered over the mesh: their face edges are fetched
+    // other face's front bit is this view's (above). Every edge of a turned face gets its kind
+    // here. An edge's kind before tells whether it was a previous silhouette edge (previous_'s
+    // edges are marked: kept by find(), or marked here); one that was and is not is dropped_, one
+    // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over the mesh: their face edges are fetched
     // 16 faces ahead, and the edges' face pairs (and kinds, written) 8 ahead, so that the cache
     // misses overlap instead of following each other.
     const std::size_t np = previous_.size(), nt = turned_.size();
