@@ -670,14 +670,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
     };
     const double step = dist(e, p);
-    bool rebuilt = true;
+    bool rebuilt = false;
     if (w != pw) {
         // Between a perspective and an orthographic view (an eye point and a view direction) no
         // distance bounds the change of the faces' signed distances: every face is in the band,
         // for this view only (the next view builds a band about its eye).
         build_band(e, w, INFINITY);
         band_margin_ = -1.0;
-        out.stats.band_rebuilt = true;
+        rebuilt = true;
     } else if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
           dist(p, band_eye_) <= band_margin_)) {
         const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
@@ -692,15 +692,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             for (int i = 0; i < 3; ++i) c[i] = e[i] + ahead * (e[i] - p[i]);
         }
         build_band(c, w, margin);
-        out.stats.band_rebuilt = true;
+        rebuilt = true;
         // Per frame the band costs about its size, a rebuild about the face count once per
         // 2 * steps frames (a band face costs about 4 faces of a rebuild, measured): balanced at
         // steps = sqrt(faces / (2 * band faces per step)) / 2.
         const double per_step = std::max(1.0, double(band_.size()) / steps);
         auto_steps_ = std::clamp(0.5 * std::sqrt(double(nf) / (2.0 * per_step)), 2.0, 64.0);
-    } else {
-        rebuilt = false;
     }
+    out.stats.band_rebuilt = rebuilt;
     out.stats.band_faces = band_.size();
 
     // The band's faces now and before: the turned ones listed; every other face keeps its facing.
@@ -734,9 +733,9 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     // other face's front bit is this view's (above). Every edge of a turned face gets its kind
     // here. An edge's kind before tells whether it was a previous silhouette edge (previous_'s
     // edges are marked: kept by find(), or marked here); one that was and is not is dropped_, one
-    // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over the mesh: their face edges are fetched
-    // 16 faces ahead, and the edges' face pairs (and kinds, written) 8 ahead, so that the cache
-    // misses overlap instead of following each other.
+    // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over
+    // the mesh: their face edges are fetched 16 faces ahead, and the edges' face pairs (and kinds,
+    // written) 8 ahead, so that the cache misses overlap instead of following each other.
     const std::size_t np = previous_.size(), nt = turned_.size();
     std::uint8_t* __restrict kind = out.edge_kind.data();
     if (!marks_kept_)  // the kinds were reset: the previous edges are marked again
