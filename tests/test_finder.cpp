@@ -495,7 +495,8 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
 // bit is the filter's "front" now and no other bit changes (none without bits); the positions to
 // check are those where the two views' filter states differ or the current one is undecided. Bands of every
 // density (sparse and dense words, lengths not a multiple of 8), at extreme scales and offsets,
-// with a grazing eye and an untrusted (NaN) plane.
+// with a grazing eye and an untrusted (NaN) plane; one band (faces 110 to 130) ends with the
+// untrusted face, so that a position after the last full group of 8 is checked in every view.
 TEST(Facing, BandStatesMatchTheFilter) {
     std::mt19937_64 rng(11);
     std::size_t checked = 0, fronts = 0;
@@ -506,11 +507,15 @@ TEST(Facing, BandStatesMatchTheFilter) {
             t.facing[130].nz = NAN;
             const std::size_t nf = t.face_count();
             const std::vector<Camera> cams = cameras_with_grazing(t);
-            for (double keep : {0.03, 0.5, 1.0}) {
+            for (double keep : {0.03, 0.5, 1.0, 0.0}) {
                 std::vector<std::uint32_t> faces;
                 for (std::uint32_t f = 0; f < nf; ++f)
-                    if (std::uniform_real_distribution<double>(0, 1)(rng) < keep) faces.push_back(f);
+                    if (keep > 0.0 ? std::uniform_real_distribution<double>(0, 1)(rng) < keep : f >= 110 && f <= 130)
+                        faces.push_back(f);
                 if (faces.size() % 8 == 0) faces.pop_back();
+                if (keep == 0.0) {
+                    ASSERT_EQ(faces.size() % 8, 5u);
+                }
                 FacingBand band;
                 band.assign(t, faces);
                 ASSERT_EQ(band.size(), faces.size());
