@@ -9,8 +9,14 @@
 #  2. The same finders over subdivision levels (armadillo @0 to @3, 1 degree per frame).
 #  3. armadillo@2, randomized + coherence from a random first view (fractions 0.0005 and 0.002)
 #     at 0.5, 1, 2 and 3 degrees per frame.
-# Writes bench/results/armadillo@2-<deg>dpf.{csv,md}, bench/results/levels-<level>.{csv,md} and
-# the summaries bench/results/finder_targets.md (all tables). Takes about fifteen minutes.
+#  4. armadillo@2 along a whole orbit at 0.25 degrees per frame (1440 frames): the one-time work
+#     of both finders (the exhaustive one builds its face blocks and edge windows in its second
+#     view, about 40 ms; the coherent one runs an exhaustive first view and builds its first band,
+#     about 10 ms) weighs on a mean over 60 frames but not over a whole turn.
+# Writes bench/results/armadillo@2-<deg>dpf.{csv,md}, bench/results/levels-<level>.{csv,md},
+# bench/results/armadillo@2-orbit.{csv,md} and the summaries at the end of
+# bench/results/finder_targets.md (its tables from the first heading below on are replaced; the
+# dated sections above them are kept). Takes about twenty-five minutes.
 # Usage: bench/run_finder_targets.sh [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -94,5 +100,29 @@ for dpf in 0.5 1 2 3; do
         echo "| $dpf | $ex / $exm | $fr | $co / $com | $(ratio "$ex" "$co") / $(ratio "$exm" "$com") | $rec | $wrong |" >> "$summary.tmp"
     done
 done
-mv "$summary.tmp" "$summary"
+{
+    echo
+    echo "## armadillo@2, a whole orbit at 0.25 deg/frame (1440 frames), one core"
+    echo
+    echo "Command: inkline bench data/meshes/armadillo.off --subdivide=2 --frames=1440 --arc=360"
+    echo "--fractions=0.0005 --first-view=exhaustive (results in armadillo@2-orbit.md). The finders' one-time"
+    echo "work is spread over the whole turn."
+    echo
+    echo "| exhaustive search ms (mean / median) | coherence search ms (mean / median) | speed-up (mean / median) | recall (coherence) | silhouette edges/frame | silhouette edges/s (exhaustive / coherence, by mean) |"
+    echo "|---:|---:|---:|---:|---:|---:|"
+} >> "$summary.tmp"
+run armadillo@2-orbit $M/armadillo.off --subdivide=2 --frames=1440 --arc=360 --fractions=0.0005 --first-view=exhaustive
+read -r ex sil _ exm < <(row "$OUT/armadillo@2-orbit.md" exhaustive no)
+read -r co _ cr com < <(row "$OUT/armadillo@2-orbit.md" randomized yes)
+echo "| $ex / $exm | $co / $com | $(ratio "$ex" "$co") / $(ratio "$exm" "$com") | $cr | $sil |" \
+     "$(awk -v s="$sil" -v e="$ex" -v c="$co" 'BEGIN {printf "%.3g / %.3g", 1e3 * s / e, 1e3 * s / c}') |" >> "$summary.tmp"
+# The dated sections of the file (before the first of the tables above) are kept.
+first="## armadillo@2 (832000 triangles), search time per frame along orbits, one core"
+if [ -f "$summary" ]; then
+    awk -v h="$first" '$0 == h {exit} {print}' "$summary" > "$summary.keep"
+    cat "$summary.keep" "$summary.tmp" > "$summary"
+    rm -f "$summary.keep" "$summary.tmp"
+else
+    mv "$summary.tmp" "$summary"
+fi
 echo "wrote $summary" >&2
