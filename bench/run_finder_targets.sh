@@ -15,8 +15,8 @@
 #     about 10 ms) weighs on a mean over 60 frames but not over a whole turn.
 # Writes bench/results/armadillo@2-<deg>dpf.{csv,md}, bench/results/levels-<level>.{csv,md},
 # bench/results/armadillo@2-orbit.{csv,md} and the summaries at the end of
-# bench/results/finder_targets.md (its tables from the first heading below on are replaced; the
-# dated sections above them are kept). Takes about twenty-five minutes.
+# bench/results/finder_targets.md: from the heading of part 1's table to the end of the file (the
+# dated sections above it are kept). Takes about twenty-five minutes.
 # Usage: bench/run_finder_targets.sh [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
