@@ -61,6 +61,11 @@ public:
     const FeatureCurve& operator[](std::size_t i) const { return curves_[i]; }
     std::vector<FeatureCurve>::const_iterator begin() const { return curves_.begin(); }
     std::vector<FeatureCurve>::const_iterator end() const { return curves_.end(); }
+    // The edges of curves [c0, c1), one after another (they are stored so).
+    std::span<const std::uint32_t> edges_of(std::size_t c0, std::size_t c1) const {
+        if (c0 >= c1) return {};
+        return {curves_[c0].edges.data(), std::size_t(curves_[c1 - 1].edges.data() + curves_[c1 - 1].edges.size() - curves_[c0].edges.data())};
+    }
 
     // Building: clear(), then per curve start() and add() (vertices and edges alternating from
     // the first vertex), then finish() to make the views.

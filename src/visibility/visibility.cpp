@@ -28,6 +28,9 @@ struct ClipSeg {
     bool run_start = false;  // the curve is interrupted (clipped) before this segment
     bool unclipped = false;  // A == *LA and B == *LB
     bool kept_both = false;  // neither end clipped: A, B the mesh vertices
+    // (set by build_range for its curve segments) a copy of the occluder of its edge, with the
+    // same slack
+    bool occluder_copy = false;
     Segment3 in_3d() const { return {A, B, LA, LB, std::int8_t(unclipped)}; }
 };
 
@@ -103,6 +106,8 @@ public:
             slots_[i] = {occluders[k].edge, k};  // (an edge listed twice: its last occluder)
         }
     }
+    // Prefetches the slot where find(e) starts (no effect on results).
+    void prefetch(std::uint32_t e) const { __builtin_prefetch(&slots_[slot(e)]); }
     // The occluder of mesh edge e, or UINT32_MAX.
     std::uint32_t find(std::uint32_t e) const {
         for (std::size_t i = slot(e);; i = (i + 1) & (slots_.size() - 1)) {
@@ -162,11 +167,18 @@ struct Scratch {
     } parts;
 };
 
-// Whether curve segment s, copied from occluder k (UINT32_MAX: none), has the occluder's image,
-// box and exact sides: unclipped ends (the mesh vertices) and the same slack; then the pairs
-// (s, k2) and (s2, k) for another such s2 copied from k2 are one question (mirrored_crossings).
-bool mirrorable(const ClipSeg& s, std::uint32_t k, const std::vector<ClipSeg>& occ_clip) {
-    return k != UINT32_MAX && s.unclipped && occ_clip[k].unclipped && s.slack == occ_clip[k].slack;
+// Whether curve segment s has the image, box and exact sides of the occluder k it was copied from:
+// unclipped ends (the mesh vertices; a copy's are the occluder's) and the same slack; then the
+// pairs (s, k2) and (s2, k) for another such s2 copied from k2 are one question
+// (mirrored_crossings).
+bool mirrorable(const ClipSeg& s) { return s.occluder_copy && s.unclipped; }
+
+// Prefetches (no effect on results) the cache lines of one record.
+template <class T>
+void prefetch_record(const T* r) {
+    const char* p = reinterpret_cast<const char*>(r);
+    for (std::size_t b = 0; b < sizeof(T); b += 64) __builtin_prefetch(p + b);
+    __builtin_prefetch(p + sizeof(T) - 1);
 }
 
 // True when some geometry lies at or behind the near plane (the camera is among the geometry).
@@ -244,11 +256,31 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         all_segs.reserve(edges);
         seg_occ.reserve(edges);
     }
+    // (The curves' edges are scattered over a large mesh, and most curves are short: what an edge
+    // reads is prefetched some edges ahead in the curves' edges, across curves, in two levels:
+    // its occluder's slot and its vertices 16 edges ahead, then the occluder's record and the
+    // vertices' positions and images 8 ahead; no effect on results.)
+    const std::span<const std::uint32_t> range_edges = features.curves.edges_of(c0, c1);
+    std::size_t at_edge = 0;  // the next edge's index in range_edges
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
         const std::size_t first = all_segs.size();
         bool interrupted = false;
         for (std::size_t i = 0; i < curve.edges.size(); ++i) {
+            if (at_edge + 16 < range_edges.size()) {
+                occ.of_edge.prefetch(range_edges[at_edge + 16]);
+                __builtin_prefetch(&mesh.edge_vertex[range_edges[at_edge + 16]]);
+            }
+            if (at_edge + 8 < range_edges.size()) {
+                // (the lookup made again for the edge itself: its slot is in cache by then)
+                const std::uint32_t e8 = range_edges[at_edge + 8], k8 = occ.find(e8);
+                if (k8 != UINT32_MAX) prefetch_record(&occ_clip[k8]);
+                for (const std::uint32_t v : mesh.edge_vertex[e8]) {
+                    __builtin_prefetch(&mesh.positions[v]);
+                    images.prefetch(v);
+                }
+            }
+            ++at_edge;
             const std::uint32_t e = curve.edges[i], va = curve.vertices[i], vb = curve.vertices[i + 1];
             const bool forward = mesh.edge_vertex[e][0] == va;
             const std::size_t at = all_segs.size();
@@ -264,6 +296,8 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
                     std::swap(s.LA, s.LB);
                     s.slack = std::max(images.slack(va), images.slack(vb));  // (clip_edge's order)
                 }
+                // (read here, while the occluder's record is in cache, not again by the search)
+                s.occluder_copy = s.slack == occ_clip[k].slack;
                 seg_occ.push_back(k);
             } else if (!clip_edge(camera, near, images, mesh.positions, va, vb, forward ? 0.0 : 1.0, forward ? 1.0 : 0.0,
                                   s)) {
@@ -293,7 +327,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         for (std::size_t j = 0; j < all_segs.size(); ++j) {
             const ClipSeg& s = all_segs[j];
             // (a copied occluder's box: outer_box is symmetric in the ends, the slack the same)
-            if (seg_occ[j] != UINT32_MAX && all_segs[j].slack == occ_clip[seg_occ[j]].slack) {
+            if (s.occluder_copy) {
                 qbox[j] = occ.boxes[seg_occ[j]];
                 continue;
             }
@@ -309,7 +343,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         std::vector<std::uint32_t>& occ_mirror = scratch.occ_mirror;
         occ_mirror.assign(occluders.size(), UINT32_MAX);
         for (std::uint32_t j = 0; j < all_segs.size() && mirror; ++j)
-            if (mirrorable(all_segs[j], seg_occ[j], occ_clip)) occ_mirror[seg_occ[j]] = j;
+            if (mirrorable(all_segs[j])) occ_mirror[seg_occ[j]] = j;
         {
             std::size_t n = 0;
             for (std::size_t i = 0; i < found.size(); ++i) {
@@ -329,6 +363,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         kept.resize(found.size());
         std::size_t nkept = 0;
         for (std::size_t i = 0; i < found.size(); ++i) {
+            if (i + 8 < found.size()) prefetch_record(&occluders[std::uint32_t(found[i + 8])]);  // (scattered)
             const std::uint64_t f = found[i];
             const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
             const ClipSeg& s = all_segs[j];
@@ -339,6 +374,11 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         }
         // The exact test of the pairs kept, in the same order.
         for (std::size_t i = 0; i < nkept; ++i) {
+            if (i + 4 < nkept) {  // (the occluders are scattered)
+                const std::uint32_t k4 = std::uint32_t(kept[i + 4].pair);
+                prefetch_record(&occ_clip[k4]);
+                __builtin_prefetch(&occ_mirror[k4]);
+            }
             const std::uint32_t j = std::uint32_t(kept[i].pair >> 32), k = std::uint32_t(kept[i].pair);
             const ClipSeg& s = all_segs[j];
             const Segment2& o = occluders[k];
@@ -420,6 +460,12 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
     std::vector<EdgeSpan>* cur_spans = &P.spans[P.n];
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
+        // (The storage of the slots the next pieces will fill, each its own block: prefetched.)
+        for (std::uint32_t d = 2; d <= 3; ++d)
+            if (P.n + d < P.pieces.size()) {
+                __builtin_prefetch(P.pieces[P.n + d].points.data(), 1);
+                __builtin_prefetch(P.spans[P.n + d].data(), 1);
+            }
         const std::uint32_t sb = seg_begin[ci - c0], se = seg_begin[ci - c0 + 1];
         if (sb == se) continue;
         const std::span<const ClipSeg> segs(all_segs.data() + sb, se - sb);
@@ -546,6 +592,7 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         // Crossings in 3D: the curve's segment in travel order, and the occluder's edge parameter.
         for (std::size_t i = first_lc; i < P.link_crossings.size(); ++i) {
             auto& c = P.link_crossings[i];
+            if (i + 2 < P.link_crossings.size()) prefetch_record(&occ_clip[P.link_crossings[i + 2].occluder]);
             const ClipSeg& s = segs[c.seg];
             const ClipSeg& o = occ_clip[c.occluder];
             c.c1 = s.A;
@@ -620,7 +667,18 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     obox.reserve(most);
     occ_unclipped.reserve(most);
     for (const auto* list : {&features.silhouette_edges, &features.border_edges})
-        for (std::uint32_t e : *list) {
+        for (std::size_t j = 0; j < list->size(); ++j) {
+            const std::uint32_t e = (*list)[j];
+            // (The edges are scattered over a large mesh: their vertices 16 edges ahead, then those
+            // vertices' positions and images 8 ahead, prefetched; no effect on results.)
+            if (j + 16 < list->size()) __builtin_prefetch(&mesh.edge_vertex[(*list)[j + 16]]);
+            if (j + 8 < list->size()) {
+                const auto& ev = mesh.edge_vertex[(*list)[j + 8]];
+                __builtin_prefetch(&mesh.positions[ev[0]]);
+                __builtin_prefetch(&mesh.positions[ev[1]]);
+                g.images.prefetch(ev[0]);
+                g.images.prefetch(ev[1]);
+            }
             const auto [v0, v1] = mesh.edge_vertex[e];
             ClipSeg& s = occ_clip.emplace_back();
             if (!clip_edge(camera, occluder_near, g.images, mesh.positions, v0, v1, 0.0, 1.0, s)) {

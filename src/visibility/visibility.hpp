@@ -60,6 +60,13 @@ public:
         }
         return p_[v];
     }
+    // Prefetches what operator()(v) and slack(v) read and write (no effect on results).
+    void prefetch(std::uint32_t v) const {
+        __builtin_prefetch(&done_[v >> 6]);
+        __builtin_prefetch(&slack_done_[v >> 6]);
+        __builtin_prefetch(&p_[v], 1);
+        __builtin_prefetch(&slack_[v], 1);
+    }
     // image_slack (crossings.hpp) of the vertex's image, computed at most once.
     double slack(std::uint32_t v) const {
         std::uint64_t& w = slack_done_[v >> 6];
