@@ -16,7 +16,11 @@
 #include <ctime>
 #include <cmath>
 #include <cstdio>
+#include <condition_variable>
+#include <functional>
 #include <future>
+#include <mutex>
+#include <thread>
 #include <memory>
 #include <string>
 #include <vector>
@@ -223,6 +227,56 @@ struct Glfw {
     ~Glfw() { glfwTerminate(); }
     Glfw(const Glfw&) = delete;
     Glfw& operator=(const Glfw&) = delete;
+};
+
+// One long-lived thread that runs the window's pipeline jobs, one at a time. The stages keep
+// per-thread working storage from view to view (build_pieces' scratch arrays are thread_local: tens
+// of megabytes on a large model); a new thread per view (std::async) would allocate them again,
+// and fault their pages in, every frame. A job's exception reaches its future, as with std::async.
+class PipelineThread {
+public:
+    PipelineThread() : thread_([this] { run(); }) {}
+    ~PipelineThread() {  // (after the job in flight, if any)
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_one();
+        thread_.join();
+    }
+    PipelineThread(const PipelineThread&) = delete;
+    PipelineThread& operator=(const PipelineThread&) = delete;
+
+    // Runs fn on the thread; the caller waits for the returned future before posting again.
+    std::future<void> post(std::function<void()> fn) {
+        std::packaged_task<void()> task(std::move(fn));
+        std::future<void> done = task.get_future();
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            task_ = std::move(task);
+        }
+        wake_.notify_one();
+        return done;
+    }
+
+private:
+    void run() {
+        for (;;) {
+            std::packaged_task<void()> task;
+            {
+                std::unique_lock<std::mutex> lock(mutex_);
+                wake_.wait(lock, [&] { return stop_ || task_.valid(); });
+                if (!task_.valid()) return;  // stopped, nothing left to run
+                task = std::move(task_);
+            }
+            task();
+        }
+    }
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::packaged_task<void()> task_;  // the job posted, not yet started
+    bool stop_ = false;
+    std::thread thread_;  // (last: started once the members above exist)
 };
 
 struct StageTimes {
@@ -473,7 +527,7 @@ private:
         view_ = nullptr;  // it belonged to the old session
     }
 
-    // Starts the pipeline for `cam` on a worker thread: features -> visibility -> line quads. It
+    // Starts the pipeline for `cam` on the pipeline thread: features -> visibility -> line quads. It
     // reads the model and uses the session; the main thread touches neither until sync().
     void launch(const Camera& cam) {
         LineMeshOptions lo;
@@ -483,7 +537,7 @@ private:
         const FeatureOptions kinds = vopt_.features;  // the panel may change vopt_ meanwhile
         const std::shared_ptr<const Style> style = style_;
         const bool hidden = hidden_;
-        job_ = std::async(std::launch::async, [this, cam, lo, recall, kinds, style, hidden] {
+        job_ = pipeline_.post([this, cam, lo, recall, kinds, style, hidden] {
             const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
             Job& j = job_result_;
             session_->find(cam);  // find, then visibility: the same as render(), timed apart
@@ -739,6 +793,8 @@ private:
     char export_name_[256] = "inkline-view";
     std::string status_, command_;
     bool dirty_ = false, crease_dirty_ = false;  // options changed: a new session next frame
+    // (last: destroyed first, after its job in flight, while what the job uses still exists)
+    PipelineThread pipeline_;
 };
 
 std::string Viewer::render_command(const Camera& cam, const std::string& output) const {
