@@ -1034,7 +1034,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
     if (two_threads && walkers.size() >= 64) {
         const std::size_t mid = walkers.size() / 2;
-        const VertexImages own(mesh, camera);
+        VertexImages& own = graph.walk_images;
+        own.reset(mesh, camera);
         face_front.set_shared(true);
         std::thread worker(walk_range, mid, walkers.size(), std::cref(own));
         walk_range(0, mid, graph.images);

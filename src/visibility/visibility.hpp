@@ -124,6 +124,9 @@ struct PieceGraph {
     bool immersive = false;  // geometry at or behind the near plane
     std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
     VertexImages images;  // the mesh vertices in the image (walks project the faces they cross)
+    // A second copy for walks on a second thread (images are made on first use: not shared);
+    // kept from view to view with its storage, as `images` is.
+    VertexImages walk_images;
 
     // Keeps pieces [0, k) (and their spans); the storage of the others is kept for the next build.
     void truncate(std::size_t k);
