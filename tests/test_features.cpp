@@ -10,6 +10,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -742,4 +743,20 @@ TEST(CurveList, CopiesAndMovesKeepTheirCurves) {
     }
     const Features moved = std::move(f);
     EXPECT_EQ(snapshot(moved), want_b);
+}
+
+// edges_of(c0, c1): the edges of curves [c0, c1) one after another, for every range of a view with
+// many curves (build_pieces reads ahead in it across curves), and empty for an empty range.
+TEST(CurveList, EdgesOfARangeAreTheCurvesEdgesInOrder) {
+    const MeshTopology torus = topology(inkline::make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.4, 48, 24));
+    const Features f = extract_features(torus, persp({2.0, 1.5, 0.3}));
+    const std::size_t n = f.curves.size();
+    ASSERT_GT(n, 3u);
+    for (std::size_t c0 = 0; c0 <= n; ++c0)
+        for (std::size_t c1 = c0; c1 <= n; ++c1) {
+            std::vector<std::uint32_t> want;
+            for (std::size_t c = c0; c < c1; ++c) want.insert(want.end(), f.curves[c].edges.begin(), f.curves[c].edges.end());
+            const std::span<const std::uint32_t> got = f.curves.edges_of(c0, c1);
+            ASSERT_EQ(std::vector<std::uint32_t>(got.begin(), got.end()), want) << c0 << " " << c1;
+        }
 }
