@@ -859,7 +859,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
             extreme_edges.set(mesh.vertex_edges[k]);
     for (const Occluding& c : occluding) occluder_edges.set(c.edge);
-    for (std::uint32_t p = 0; p < np; ++p)
+    for (std::uint32_t p = 0; p < np; ++p) {
+        if (p + 4 < np) __builtin_prefetch(spans[p + 4].data());  // (each piece's spans: their own block)
         for (const EdgeSpan& s : spans[p]) {
             if (occluder_edges.test(s.edge)) {
                 by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
@@ -870,12 +871,17 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             for (std::uint32_t v : inner_extremes)
                 if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
         }
+    }
 
     // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd.
     const bool parity = mesh.closed;
     if (parity) {
         std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
         for (std::uint32_t p = 0; p < np; ++p) {
+            // (each piece's spans are their own block, and its edge's flags are scattered: both
+            // prefetched, in two levels; no effect on results)
+            if (p + 8 < np) __builtin_prefetch(spans[p + 8].data());
+            if (p + 4 < np) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
             if (pieces[p].kind != LineKind::Silhouette) continue;
             const std::uint32_t c = comp[p];
             const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
