@@ -755,7 +755,8 @@ TEST(CurveList, EdgesOfARangeAreTheCurvesEdgesInOrder) {
     for (std::size_t c0 = 0; c0 <= n; ++c0)
         for (std::size_t c1 = c0; c1 <= n; ++c1) {
             std::vector<std::uint32_t> want;
-            for (std::size_t c = c0; c < c1; ++c) want.insert(want.end(), f.curves[c].edges.begin(), f.curves[c].edges.end());
+            for (std::size_t c = c0; c < c1; ++c)
+                want.insert(want.end(), f.curves[c].edges.begin(), f.curves[c].edges.end());
             const std::span<const std::uint32_t> got = f.curves.edges_of(c0, c1);
             ASSERT_EQ(std::vector<std::uint32_t>(got.begin(), got.end()), want) << c0 << " " << c1;
         }

@@ -64,7 +64,9 @@ public:
     // The edges of curves [c0, c1), one after another (they are stored so).
     std::span<const std::uint32_t> edges_of(std::size_t c0, std::size_t c1) const {
         if (c0 >= c1) return {};
-        return {curves_[c0].edges.data(), std::size_t(curves_[c1 - 1].edges.data() + curves_[c1 - 1].edges.size() - curves_[c0].edges.data())};
+        const std::uint32_t* first = curves_[c0].edges.data();
+        const std::span<const std::uint32_t>& last = curves_[c1 - 1].edges;
+        return {first, std::size_t(last.data() + last.size() - first)};
     }
 
     // Building: clear(), then per curve start() and add() (vertices and edges alternating from

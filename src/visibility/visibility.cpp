@@ -167,9 +167,9 @@ struct Scratch {
     } parts;
 };
 
-// Whether curve segment s has the image, box and exact sides of the occluder k it was copied from:
-// unclipped ends (the mesh vertices; a copy's are the occluder's) and the same slack; then the
-// pairs (s, k2) and (s2, k) for another such s2 copied from k2 are one question
+// Whether curve segment s has the image, box and exact sides of the occluder k it was copied from
+// (seg_occ): unclipped ends (the mesh vertices; a copy's are the occluder's) and the same slack;
+// then the pairs (s, k2) and (s2, k) for another such s2 copied from k2 are one question
 // (mirrored_crossings).
 bool mirrorable(const ClipSeg& s) { return s.occluder_copy && s.unclipped; }
 
