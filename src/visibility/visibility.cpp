@@ -259,21 +259,25 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
     // (The curves' edges are scattered over a large mesh, and most curves are short: what an edge
     // reads is prefetched some edges ahead in the curves' edges, across curves, in two levels:
     // its occluder's slot and its vertices 16 edges ahead, then the occluder's record and the
-    // vertices' positions and images 8 ahead; no effect on results.)
+    // vertices' positions and images 8 ahead; no effect on results. The occluder found 8 ahead is
+    // kept for the edge's turn: `ahead`, the occluders of the next 8 edges, by index mod 8.)
     const std::span<const std::uint32_t> range_edges = features.curves.edges_of(c0, c1);
-    std::size_t at_edge = 0;  // the next edge's index in range_edges
+    std::size_t at_edge = 0;  // the next edge's index in range_edges (the loop's order)
+    std::uint32_t ahead[8];
+    for (std::size_t d = 0; d < 8 && d < range_edges.size(); ++d) ahead[d] = occ.find(range_edges[d]);
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
         const FeatureCurve& curve = features.curves[ci];
         const std::size_t first = all_segs.size();
         bool interrupted = false;
         for (std::size_t i = 0; i < curve.edges.size(); ++i) {
+            const std::uint32_t k = ahead[at_edge & 7];  // the occluder of this edge, or UINT32_MAX
             if (at_edge + 16 < range_edges.size()) {
                 occ.of_edge.prefetch(range_edges[at_edge + 16]);
                 __builtin_prefetch(&mesh.edge_vertex[range_edges[at_edge + 16]]);
             }
             if (at_edge + 8 < range_edges.size()) {
-                // (the lookup made again for the edge itself: its slot is in cache by then)
                 const std::uint32_t e8 = range_edges[at_edge + 8], k8 = occ.find(e8);
+                ahead[at_edge & 7] = k8;  // (this edge's slot, read above)
                 if (k8 != UINT32_MAX) prefetch_record(&occ_clip[k8]);
                 for (const std::uint32_t v : mesh.edge_vertex[e8]) {
                     __builtin_prefetch(&mesh.positions[v]);
@@ -288,7 +292,6 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             // A silhouette or border edge in front of the near plane was clipped and projected as
             // an occluder already: the same values (clip_edge keeps both ends, as it did there),
             // in travel order.
-            const std::uint32_t k = occ.find(e);
             if (k != UINT32_MAX && occ_clip[k].kept_both && occ_clip[k].zA >= near && occ_clip[k].zB >= near) {
                 s = occ_clip[k];
                 if (!forward) {
