@@ -652,11 +652,13 @@ void expect_well_formed(const MeshTopology& t) {
     // Face -> edge: edge of corner k joins corners k and k+1.
     for (std::uint32_t f = 0; f < nf; ++f)
         for (int k = 0; k < 3; ++k) {
-            const auto e = t.face_edges[f][k];
+            const auto e = t.face_edges[f].edge[k];
             ASSERT_LT(e, ne);
             const std::set<std::uint32_t> ends = {t.edge_vertex[e][0], t.edge_vertex[e][1]};
             EXPECT_EQ(ends, (std::set<std::uint32_t>{t.faces[f][k], t.faces[f][(k + 1) % 3]}));
             EXPECT_TRUE(t.edge_face[e][0] == f || t.edge_face[e][1] == f);
+            // The face across it: the edge's other face.
+            EXPECT_EQ(t.face_edges[f].face[k], t.edge_face[e][0] == f ? t.edge_face[e][1] : t.edge_face[e][0]);
             // Unit normal, plane through the corners.
             EXPECT_NEAR(glm::length(t.face_normal(f)), 1.0, 1e-12);
             EXPECT_NEAR(glm::dot(t.face_normal(f), t.positions[t.faces[f][k]]),

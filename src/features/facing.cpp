@@ -515,7 +515,7 @@ bool BlockEdges::build(const MeshTopology& mesh) {
             if (f >= end) break;
             if (f < base) return fail();
             // The corner that numbers e: the first corner of f on it; edge order must be corner order.
-            const auto& fe = mesh.face_edges[f];
+            const auto& fe = mesh.face_edges[f].edge;
             const std::uint32_t k = fe[0] == e ? 0 : fe[1] == e ? 1 : fe[2] == e ? 2 : 3;
             const std::uint64_t corner = 3 * std::uint64_t(f) + k;
             if (k == 3 || (e > 0 && corner <= last_corner)) return fail();
@@ -783,7 +783,7 @@ bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
         for (std::uint32_t k = 0; k < 3; ++k) {
             const std::uint32_t bit = 3 * j + k;
             if (!((owned_[3 * b + bit / 64] >> (bit % 64)) & 1)) continue;
-            if (mesh_->edge_face[mesh_->face_edges[base + j][k]][1] == kNoFace) continue;
+            if (mesh_->face_edges[base + j].face[k] == kNoFace) continue;
             check[k] |= std::uint64_t(1) << j;
         }
     }

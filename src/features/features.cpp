@@ -734,8 +734,9 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     // here. An edge's kind before tells whether it was a previous silhouette edge (previous_'s
     // edges are marked: kept by find(), or marked here); one that was and is not is dropped_, one
     // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over
-    // the mesh: their face edges are fetched 16 faces ahead, and the edges' face pairs (and kinds,
-    // written) 8 ahead, so that the cache misses overlap instead of following each other.
+    // the mesh: their face records (edges and the faces across them, 24 bytes) are fetched 16
+    // faces ahead, and the edges' kinds (written) 8 ahead, so that the cache misses overlap
+    // instead of following each other.
     const std::size_t np = previous_.size(), nt = turned_.size();
     std::uint8_t* __restrict kind = out.edge_kind.data();
     if (!marks_kept_)  // the kinds were reset: the previous edges are marked again
@@ -745,18 +746,18 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     std::size_t rechecked = 0;  // previous edges examined again, and still silhouettes
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
-        if (i + 2 * kAhead < nt) __builtin_prefetch(&mesh.face_edges[turned_[i + 2 * kAhead]]);
+        if (i + 2 * kAhead < nt) {
+            const auto* r = reinterpret_cast<const char*>(&mesh.face_edges[turned_[i + 2 * kAhead]]);
+            __builtin_prefetch(r);
+            __builtin_prefetch(r + sizeof(MeshTopology::FaceEdges) - 1);  // (a record may straddle two lines)
+        }
         if (i + kAhead < nt)
-            for (std::uint32_t e : mesh.face_edges[turned_[i + kAhead]]) {
-                __builtin_prefetch(&mesh.edge_face[e]);
-                __builtin_prefetch(&out.edge_kind[e], 1);
-            }
+            for (std::uint32_t e : mesh.face_edges[turned_[i + kAhead]].edge) __builtin_prefetch(&out.edge_kind[e], 1);
         const std::uint32_t x = turned_[i];
         const bool fx = bit(front, x);
+        const auto& fe = mesh.face_edges[x];
         for (int k = 0; k < 3; ++k) {
-            const std::uint32_t e = mesh.face_edges[x][k];
-            const auto& ef = mesh.edge_face[e];
-            const std::uint32_t y = ef[0] == x ? ef[1] : ef[0];
+            const std::uint32_t e = fe.edge[k], y = fe.face[k];
             if (y == kNoFace || (bit(turned, y) && y < x)) continue;
             ++out.stats.edges_examined;
             const bool sil = fx != bool(bit(front, y));

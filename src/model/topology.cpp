@@ -81,16 +81,18 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
 
     // Edges, numbered in the order of their first traversal (face by face, corner by corner); the
     // first traversal a->b gives face 0, the last other one face 1 (the only other one in a
-    // 2-manifold). face_edges first holds each corner's mate, then, corner by corner, its edge.
+    // 2-manifold). corner_edge first holds each corner's mate, then, corner by corner, its edge.
     const std::size_t nc = 3 * nf;
-    t.face_edges.resize(nf);
-    std::uint32_t* corner_edge = t.face_edges.empty() ? nullptr : t.face_edges[0].data();  // corner c = 3f + k
+    std::vector<std::uint32_t> corner_edge;  // corner c = 3f + k
     std::size_t ne = 0;
     {
         CornerMates mates = corner_mates(t.faces, nv);
-        std::copy(mates.mate.begin(), mates.mate.end(), corner_edge);
+        corner_edge = std::move(mates.mate);
         for (std::uint32_t c = 0; c < nc; ++c) ne += corner_edge[c] == kNoCorner || corner_edge[c] > c;
     }
+    t.face_edges.resize(nf);
+    for (std::uint32_t c = 0; c < nc; ++c)  // the face across each corner's edge: its mate's
+        t.face_edges[c / 3].face[c % 3] = corner_edge[c] == kNoCorner ? kNoFace : corner_edge[c] / 3;
     t.edge_vertex.reserve(ne);
     t.edge_face.reserve(ne);
     for (std::uint32_t c = 0; c < nc; ++c) {
@@ -103,6 +105,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
             corner_edge[c] = corner_edge[mate];
             t.edge_face[corner_edge[c]][1] = f;
         }
+        t.face_edges[f].edge[c % 3] = corner_edge[c];
     }
     t.edge_normal_angle.assign(ne, 0.0f);
     t.edge_flags.assign(ne, 0);

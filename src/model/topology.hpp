@@ -28,7 +28,15 @@ struct MeshTopology {
     // Vertices and faces (faces consistently oriented, closed parts outward).
     std::vector<glm::dvec3> positions;
     std::vector<std::array<std::uint32_t, 3>> faces;
-    std::vector<std::array<std::uint32_t, 3>> face_edges;  // edge of corner k: (faces[k], faces[k+1])
+    // Per face, the edge of each corner k, (faces[k], faces[k+1]), and the face across it
+    // (kNoFace on a border), in one 24-byte record: a step from a face to its neighbours (a walk,
+    // the faces that turned between two views) reads one or two cache lines, not one per edge of
+    // edge_face. (12 bytes per triangle more than the edges alone: docs/memory.md.)
+    struct FaceEdges {
+        std::array<std::uint32_t, 3> edge;
+        std::array<std::uint32_t, 3> face;
+    };
+    std::vector<FaceEdges> face_edges;
     // Unit normal of face f (zero for a degenerate face), computed from the corners: nothing per
     // face is stored for it (the model's memory is the topology; see docs/memory.md).
     glm::dvec3 face_normal(std::uint32_t f) const;

@@ -511,7 +511,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
             if (f == kNoFace) continue;
             // The branch must lie on u's side of the occluder's image.
             const auto& fv = mesh.faces[f];
-            const auto& fe = mesh.face_edges[f];
+            const auto& fe = mesh.face_edges[f].edge;
             const int i_in = fe[0] == o.edge ? 0 : fe[1] == o.edge ? 1 : 2;
             const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
             if (st == 0) {
@@ -546,9 +546,6 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 const auto& c = mesh.faces[face];
                 const auto& fe = mesh.face_edges[face];
                 const int e1 = kNext[entry], e2 = kNext[entry + 1];
-                // (The faces across both possible exit edges, fetched while p2 is projected.)
-                __builtin_prefetch(&mesh.edge_face[fe[e1]]);
-                __builtin_prefetch(&mesh.edge_face[fe[e2]]);
                 const std::uint32_t v0 = c[entry], v1 = c[e1], v2 = c[e2];
                 // The entry edge's ends are va and the other one, in either order (v0 is one of them).
                 const bool same = v0 == va;
@@ -556,9 +553,8 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 {
                     // (The faces after this one, across either exit edge, fetched while the exit
                     // is decided: on a large mesh the next step's reads then need not wait.)
-                    const auto &g1 = mesh.edge_face[fe[e1]], &g2 = mesh.edge_face[fe[e2]];
-                    const std::uint32_t n1 = g1[1] == kNoFace ? face : g1[0] ^ g1[1] ^ face;
-                    const std::uint32_t n2 = g2[1] == kNoFace ? face : g2[0] ^ g2[1] ^ face;
+                    const std::uint32_t g1 = fe.face[e1], g2 = fe.face[e2];
+                    const std::uint32_t n1 = g1 == kNoFace ? face : g1, n2 = g2 == kNoFace ? face : g2;
                     __builtin_prefetch(&mesh.faces[n1]);
                     __builtin_prefetch(&mesh.face_edges[n1]);
                     __builtin_prefetch(&mesh.faces[n2]);
@@ -575,7 +571,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 // The exit edge (q0, q1) joins the third corner p2 to the entry corner across the path.
                 const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
                 const glm::dvec2 q0 = via1 ? p1 : p2, q1 = via1 ? p2 : p0;
-                const std::uint32_t exit = fe[via1 ? e1 : e2];
+                const std::uint32_t exit = fe.edge[via1 ? e1 : e2];
                 // Where the path meets it, before or after u: the orientation of (lower end, upper
                 // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
                 // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
@@ -600,12 +596,12 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                     if (eye != pt) result = Walk::Occluded;
                     break;
                 }
-                const auto [f0, f1] = mesh.edge_face[exit];
-                if (f1 == kNoFace) break;  // the layer ends before u
-                face ^= f0 ^ f1;  // the other face of the exit edge (face is f0 or f1)
+                const std::uint32_t next = fe.face[via1 ? e1 : e2];
+                if (next == kNoFace) break;  // the layer ends before u
+                face = next;                 // the other face of the exit edge
                 if (bool(face_front[face]) != front) break;  // or folds
                 // The exit edge's corner in the next face (the three edges of a face differ).
-                const auto& ne = mesh.face_edges[face];
+                const auto& ne = mesh.face_edges[face].edge;
                 entry = int(ne[1] == exit) + 2 * int(ne[2] == exit);
                 va = via1 ? v1 : v2;
                 pa = q0, pb = q1;

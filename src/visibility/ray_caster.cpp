@@ -211,7 +211,7 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
                 }
             continue;
         }
-        for (std::uint32_t e : mesh.face_edges[face])
+        for (std::uint32_t e : mesh.face_edges[face].edge)
             for (std::uint32_t g : mesh.edge_face[e]) {
                 if (g == face || g == kNoFace || g == skip0 || g == skip1) continue;
                 const auto& gv = mesh.faces[g];
@@ -232,8 +232,8 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
     for (std::size_t i = 0; i < seen.size(); ++i)
         if (seen[i].crossed) crossed.push_back(i);
     auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
-        for (std::uint32_t e : mesh.face_edges[a])
-            for (std::uint32_t g : mesh.face_edges[b])
+        for (std::uint32_t e : mesh.face_edges[a].edge)
+            for (std::uint32_t g : mesh.face_edges[b].edge)
                 if (e == g) return true;
         return false;
     };
