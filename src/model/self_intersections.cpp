@@ -151,9 +151,9 @@ SelfIntersections self_intersections(const MeshTopology& mesh) {
     intersecting_pairs(mesh, si.faces, false, [&](std::uint32_t fa, std::uint32_t fb) {
         for (int k = 0; k < 2; ++k) {
             const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
-            for (std::uint32_t e : mesh.face_edges[f].edge) {
-                const auto& ef = mesh.edge_face[e];
-                if (ef[0] == g || ef[1] == g) continue;  // an edge of both
+            for (int j = 0; j < 3; ++j) {
+                const std::uint32_t e = mesh.face_edges[f].edge[j];
+                if (mesh.face_edges[f].face[j] == g) continue;  // an edge of both
                 cut_edge(mesh, e, g, si.cuts);
             }
         }

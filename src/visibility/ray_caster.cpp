@@ -211,17 +211,16 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
                 }
             continue;
         }
-        for (std::uint32_t e : mesh.face_edges[face].edge)
-            for (std::uint32_t g : mesh.edge_face[e]) {
-                if (g == face || g == kNoFace || g == skip0 || g == skip1) continue;
-                const auto& gv = mesh.faces[g];
-                const int fg = int(CGAL::orientation(cgal(mesh.positions[gv[0]]), cgal(mesh.positions[gv[1]]),
-                                                     cgal(mesh.positions[gv[2]]), start));
-                if (fg == facing(i)) continue;
-                const std::size_t n = seen.size(), j = decide(g);
-                seen[j].facing = fg;
-                if (j == n && seen[j].crossed) queue.push_back(g);
-            }
+        for (std::uint32_t g : mesh.face_edges[face].face) {  // the faces across its edges
+            if (g == kNoFace || g == skip0 || g == skip1) continue;
+            const auto& gv = mesh.faces[g];
+            const int fg = int(CGAL::orientation(cgal(mesh.positions[gv[0]]), cgal(mesh.positions[gv[1]]),
+                                                 cgal(mesh.positions[gv[2]]), start));
+            if (fg == facing(i)) continue;
+            const std::size_t n = seen.size(), j = decide(g);
+            seen[j].facing = fg;
+            if (j == n && seen[j].crossed) queue.push_back(g);
+        }
     }
     // Two crossed faces that share an edge and face the segment's start the same way are one
     // layer: seen from there they lie on opposite sides of the plane through the start and the
@@ -232,10 +231,8 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
     for (std::size_t i = 0; i < seen.size(); ++i)
         if (seen[i].crossed) crossed.push_back(i);
     auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
-        for (std::uint32_t e : mesh.face_edges[a].edge)
-            for (std::uint32_t g : mesh.face_edges[b].edge)
-                if (e == g) return true;
-        return false;
+        const auto& across = mesh.face_edges[a].face;
+        return std::find(across.begin(), across.end(), b) != across.end();
     };
     int layers = int(crossed.size());
     thread_local std::vector<std::uint32_t> parent;
