@@ -16,11 +16,8 @@
 #include <ctime>
 #include <cmath>
 #include <cstdio>
-#include <condition_variable>
 #include <functional>
 #include <future>
-#include <mutex>
-#include <thread>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +28,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/error.hpp"
+#include "core/worker_thread.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "style/style.hpp"
@@ -227,56 +225,6 @@ struct Glfw {
     ~Glfw() { glfwTerminate(); }
     Glfw(const Glfw&) = delete;
     Glfw& operator=(const Glfw&) = delete;
-};
-
-// One long-lived thread that runs the window's pipeline jobs, one at a time. The stages keep
-// per-thread working storage from view to view (build_pieces' scratch arrays are thread_local: tens
-// of megabytes on a large model); a new thread per view (std::async) would allocate them again,
-// and fault their pages in, every frame. A job's exception reaches its future, as with std::async.
-class PipelineThread {
-public:
-    PipelineThread() : thread_([this] { run(); }) {}
-    ~PipelineThread() {  // (after the job in flight, if any)
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stop_ = true;
-        }
-        wake_.notify_one();
-        thread_.join();
-    }
-    PipelineThread(const PipelineThread&) = delete;
-    PipelineThread& operator=(const PipelineThread&) = delete;
-
-    // Runs fn on the thread; the caller waits for the returned future before posting again.
-    std::future<void> post(std::function<void()> fn) {
-        std::packaged_task<void()> task(std::move(fn));
-        std::future<void> done = task.get_future();
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            task_ = std::move(task);
-        }
-        wake_.notify_one();
-        return done;
-    }
-
-private:
-    void run() {
-        for (;;) {
-            std::packaged_task<void()> task;
-            {
-                std::unique_lock<std::mutex> lock(mutex_);
-                wake_.wait(lock, [&] { return stop_ || task_.valid(); });
-                if (!task_.valid()) return;  // stopped, nothing left to run
-                task = std::move(task_);
-            }
-            task();
-        }
-    }
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    std::packaged_task<void()> task_;  // the job posted, not yet started
-    bool stop_ = false;
-    std::thread thread_;  // (last: started once the members above exist)
 };
 
 struct StageTimes {
@@ -793,8 +741,11 @@ private:
     char export_name_[256] = "inkline-view";
     std::string status_, command_;
     bool dirty_ = false, crease_dirty_ = false;  // options changed: a new session next frame
-    // (last: destroyed first, after its job in flight, while what the job uses still exists)
-    PipelineThread pipeline_;
+    // The pipeline's jobs, one at a time, on one long-lived thread (WorkerThread): the stages keep
+    // per-thread working storage from view to view (build_pieces' scratch arrays are thread_local:
+    // tens of megabytes on a large model), which a new thread per view would allocate again.
+    // (Last: destroyed first, after its job in flight, while what the job uses still exists.)
+    WorkerThread pipeline_;
 };
 
 std::string Viewer::render_command(const Camera& cam, const std::string& output) const {

@@ -5,7 +5,6 @@
 #include <climits>
 #include <cstring>
 #include <functional>
-#include <thread>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -785,9 +784,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         std::size_t mid = end_order.size() / 2;  // at a vertex's first end
         while (mid < end_order.size() && mid > 0 && (end_order[mid] >> 32) == (end_order[mid - 1] >> 32)) ++mid;
         face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-        std::thread worker(occlusion_of_ends, mid, end_order.size());
-        occlusion_of_ends(0, mid);
-        worker.join();
+        graph.helper().fork_join([&] { occlusion_of_ends(mid, end_order.size()); }, [&] { occlusion_of_ends(0, mid); });
         face_front.set_shared(false);
     } else {
         occlusion_of_ends(0, end_order.size());
@@ -1042,9 +1039,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         VertexImages& own = graph.walk_images;
         own.reset(mesh, camera);
         face_front.set_shared(true);
-        std::thread worker(walk_range, mid, walkers.size(), std::cref(own));
-        walk_range(0, mid, graph.images);
-        worker.join();
+        graph.helper().fork_join([&] { walk_range(mid, walkers.size(), own); }, [&] { walk_range(0, mid, graph.images); });
         face_front.set_shared(false);
     } else {
         walk_range(0, walkers.size(), graph.images);

@@ -4,7 +4,6 @@
 #include <bit>
 #include <cmath>
 #include <span>
-#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -743,12 +742,15 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         Scratch::Parts& p2 = scratch2.parts;
         p2.clear();
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
-        std::thread worker([&] {
-            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves,
-                        mirror_pairs, scratch2, second);
-        });
-        build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs, scratch, first);
-        worker.join();
+        g.helper().fork_join(
+            [&] {
+                build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves, mirror_pairs,
+                            scratch2, second);
+            },
+            [&] {
+                build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs,
+                            scratch, first);
+            });
         // Append the second range, its indices shifted; its pieces swapped into the graph's slots
         // (each side keeps storage).
         const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());

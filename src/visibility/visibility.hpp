@@ -12,6 +12,7 @@
 
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
+#include "core/worker_thread.hpp"
 #include "features/features.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
@@ -131,6 +132,14 @@ struct PieceGraph {
     // Keeps pieces [0, k) (and their spans); the storage of the others is kept for the next build.
     void truncate(std::size_t k);
 
+    // The thread that runs the second half of a stage split in two (build_pieces' curves, the
+    // fast method's curve ends and walks), started on first use and kept with the graph from view
+    // to view.
+    WorkerThread& helper() {
+        if (!helper_) helper_ = std::make_unique<WorkerThread>();
+        return *helper_;
+    }
+
 private:
     friend void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
                              const Camera& camera, const std::vector<EdgeCut>* cuts, int threads,
@@ -140,6 +149,7 @@ private:
     // Storage of pieces no longer in the graph (their point and span vectors keep their capacity).
     std::vector<Piece> spare_pieces_;
     std::vector<std::vector<EdgeSpan>> spare_spans_;
+    std::unique_ptr<WorkerThread> helper_;
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
