@@ -8,11 +8,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
+#include <chrono>
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/predicates.hpp"
+#include "core/worker_thread.hpp"
 #include "pipeline.hpp"
 #include "random_camera.hpp"
 #include "visibility/appel.hpp"
@@ -20,6 +25,35 @@
 
 namespace inkline {
 namespace {
+
+// The stages' second halves (build_pieces, the fast method's ends and walks) run on a worker kept
+// from view to view: both halves run, the worker's on one thread of its own every time, and an
+// exception of either half comes out only after both are done (the halves share the caller's locals).
+TEST(WorkerThread, ForkJoinRunsBothHalvesOnOneKeptThread) {
+    WorkerThread w;
+    std::thread::id first{}, second{};
+    int here = 0, there = 0;
+    w.fork_join([&] { ++there, first = std::this_thread::get_id(); }, [&] { ++here; });
+    w.fork_join([&] { ++there, second = std::this_thread::get_id(); }, [&] { ++here; });
+    EXPECT_EQ(here, 2);
+    EXPECT_EQ(there, 2);
+    EXPECT_NE(first, std::this_thread::get_id());
+    EXPECT_EQ(first, second);
+
+    EXPECT_THROW(w.fork_join([] { throw std::runtime_error("there"); }, [&] { ++here; }), std::runtime_error);
+    EXPECT_EQ(here, 3);
+    std::atomic<bool> finished{false};
+    EXPECT_THROW(w.fork_join(
+                     [&] {
+                         std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                         finished = true;
+                     },
+                     [] { throw std::runtime_error("here"); }),
+                 std::runtime_error);
+    EXPECT_TRUE(finished);  // (the worker's half was waited for)
+    w.fork_join([&] { ++there; }, [] {});  // still usable
+    EXPECT_EQ(there, 3);
+}
 
 bool same_spans(const std::vector<EdgeSpan>& a, const std::vector<EdgeSpan>& b) {
     if (a.size() != b.size()) return false;
