@@ -546,13 +546,13 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                 const auto& fe = mesh.face_edges[face];
                 const int e1 = kNext[entry], e2 = kNext[entry + 1];
                 const std::uint32_t v0 = c[entry], v1 = c[e1], v2 = c[e2];
+                const std::uint32_t g1 = fe.face[e1], g2 = fe.face[e2];  // across either exit edge
                 // The entry edge's ends are va and the other one, in either order (v0 is one of them).
                 const bool same = v0 == va;
                 const glm::dvec2 p0 = same ? pa : pb, p1 = same ? pb : pa, p2 = T(proj(v2));
                 {
                     // (The faces after this one, across either exit edge, fetched while the exit
                     // is decided: on a large mesh the next step's reads then need not wait.)
-                    const std::uint32_t g1 = fe.face[e1], g2 = fe.face[e2];
                     const std::uint32_t n1 = g1 == kNoFace ? face : g1, n2 = g2 == kNoFace ? face : g2;
                     __builtin_prefetch(&mesh.faces[n1]);
                     __builtin_prefetch(&mesh.face_edges[n1]);
@@ -595,7 +595,7 @@ Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
                     if (eye != pt) result = Walk::Occluded;
                     break;
                 }
-                const std::uint32_t next = fe.face[via1 ? e1 : e2];
+                const std::uint32_t next = via1 ? g1 : g2;
                 if (next == kNoFace) break;  // the layer ends before u
                 face = next;                 // the other face of the exit edge
                 if (bool(face_front[face]) != front) break;  // or folds
@@ -1039,7 +1039,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         VertexImages& own = graph.walk_images;
         own.reset(mesh, camera);
         face_front.set_shared(true);
-        graph.helper().fork_join([&] { walk_range(mid, walkers.size(), own); }, [&] { walk_range(0, mid, graph.images); });
+        graph.helper().fork_join([&] { walk_range(mid, walkers.size(), own); },
+                                 [&] { walk_range(0, mid, graph.images); });
         face_front.set_shared(false);
     } else {
         walk_range(0, walkers.size(), graph.images);
