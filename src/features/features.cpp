@@ -711,7 +711,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     std::uint64_t* __restrict front = front_bits_.data();
     std::uint64_t* __restrict turned = turned_bits_.data();
     band_.states(filter_, previous_filter_, rebuilt ? front : nullptr, check_);
-    for (std::uint32_t i : check_) {  // the filters disagree or cannot decide: exact
+    const std::size_t nc = check_.size();
+    for (std::size_t c = 0; c < nc; ++c) {  // the filters disagree or cannot decide: exact
+        if (c + 8 < nc) {  // (scattered words of both bit sets: their misses overlap)
+            const std::uint32_t g = band_.face(check_[c + 8]);
+            __builtin_prefetch(&front[g >> 6], 1);
+            __builtin_prefetch(&turned[g >> 6], 1);
+        }
+        const std::uint32_t i = check_[c];
         const std::uint32_t f = band_.face(i);
         const MeshTopology::FacingPlane plane = band_.plane(i);
         std::uint8_t now = filter_(plane), before = previous_filter_(plane);
