@@ -712,9 +712,10 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     std::uint64_t* __restrict turned = turned_bits_.data();
     band_.states(filter_, previous_filter_, rebuilt ? front : nullptr, check_);
     const std::size_t nc = check_.size();
+    constexpr std::size_t kCheckAhead = 8;
     for (std::size_t c = 0; c < nc; ++c) {  // the filters disagree or cannot decide: exact
-        if (c + 8 < nc) {  // (scattered words of both bit sets: their misses overlap)
-            const std::uint32_t g = band_.face(check_[c + 8]);
+        if (c + kCheckAhead < nc) {  // (scattered words of both bit sets: their misses overlap)
+            const std::uint32_t g = band_.face(check_[c + kCheckAhead]);
             __builtin_prefetch(&front[g >> 6], 1);
             __builtin_prefetch(&turned[g >> 6], 1);
         }

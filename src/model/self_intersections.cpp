@@ -151,11 +151,9 @@ SelfIntersections self_intersections(const MeshTopology& mesh) {
     intersecting_pairs(mesh, si.faces, false, [&](std::uint32_t fa, std::uint32_t fb) {
         for (int k = 0; k < 2; ++k) {
             const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
-            for (int j = 0; j < 3; ++j) {
-                const std::uint32_t e = mesh.face_edges[f].edge[j];
-                if (mesh.face_edges[f].face[j] == g) continue;  // an edge of both
-                cut_edge(mesh, e, g, si.cuts);
-            }
+            const auto& fe = mesh.face_edges[f];
+            for (int j = 0; j < 3; ++j)
+                if (fe.face[j] != g) cut_edge(mesh, fe.edge[j], g, si.cuts);  // (not an edge of both)
         }
     });
     std::sort(si.cuts.begin(), si.cuts.end());
