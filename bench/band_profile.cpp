@@ -1,5 +1,5 @@
-// A harness for the coherence band's rebuild pass alone (faces_within over the face blocks, as
-// SilhouetteFinder::build_band runs it): for a range of limits, the mean wall time of one pass with
+// A harness for the coherence band's rebuild pass alone (FacingBand::select over the face blocks,
+// as SilhouetteFinder::build_band runs it): for a range of limits, the mean wall time of one pass with
 // cold caches (a 64 MB buffer is read between passes, as a rebuild follows views that read other
 // memory), the share of the float planes it reads and the share of faces it selects, over 24 eyes
 // on the bench's orbit (20 degrees above the equator at the framing distance). Also the time to
@@ -54,10 +54,7 @@ int main(int argc, char** argv) {
                     double(nf * sizeof(inkline::MeshTopology::FacingPlane)) / 1e6, total / (repeats * 4));
     }
     const double R = t.bounds.half_diagonal();
-    std::vector<std::uint32_t> band;
-    std::vector<inkline::MeshTopology::FacingPlane> planes;
-    band.reserve(nf);
-    planes.reserve(nf);
+    inkline::FacingBand band;
     std::vector<std::uint64_t> front(nf / 64 + 1);
     std::printf("| limit / R | ms per pass | planes read | faces selected |\n|---:|---:|---:|---:|\n");
     for (double limit : {0.0, 0.05, 0.1, 0.2, 0.4, 0.8}) {
@@ -69,11 +66,9 @@ int main(int argc, char** argv) {
                 const double ev[3] = {e.x, e.y, e.z};
                 inkline::FacingFilter f;
                 f.bind(t, ev, 1.0);
-                band.clear();
-                planes.clear();
                 evict();
                 const auto t0 = now();
-                read += double(inkline::faces_within(t, f, float(limit * R), band, &blocks, front.data(), &planes));
+                read += double(band.select(t, f, float(limit * R), &blocks, front.data()));
                 total += ms(t0, now());
                 selected += double(band.size());
             }

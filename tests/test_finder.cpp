@@ -416,6 +416,15 @@ TEST(Facing, FloatFilterAgreesWithExactPredicate) {
 namespace inkline {
 namespace {
 
+// The faces whose float distance to the filter's eye is not above limit (NaN planes included),
+// one at a time: what a band of that limit holds.
+std::vector<std::uint32_t> within(const MeshTopology& t, const FacingFilter& filter, float limit) {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t f = 0; f < t.face_count(); ++f)
+        if (!(std::abs(filter.signed_distance(t.facing[f])) > limit)) out.push_back(f);
+    return out;
+}
+
 // Face blocks (FaceBlocks): a full view that decides whole blocks from their plane ranges gives
 // byte for byte the states of the plain pass, with blocks decided as a whole (fewer planes
 // read) on a smooth mesh; the band search gives the same faces; at extreme scales and offsets,
@@ -447,38 +456,50 @@ TEST(Facing, BlocksGiveTheSameStatesAndBand) {
                 FacingFilter filter;
                 filter.bind(t, cam);
                 for (float limit : {0.0f, 0.01f * float(scale), 0.3f * float(scale)}) {
-                    std::vector<std::uint32_t> all, some;
-                    faces_within(t, filter, limit, all);
-                    const std::size_t read = faces_within(t, filter, limit, some, &blocks);
-                    EXPECT_EQ(all, some);
-                    EXPECT_LE(read, nf);
-                    // The front bits outside the band: the same with and without blocks (bits
-                    // preset to the opposite pattern, so every one must be written), and the
-                    // exact facing where the limit is at least the filter's bound.
-                    std::vector<std::uint64_t> plain_bits(nf / 64 + 1, 0), block_bits(nf / 64 + 1, ~std::uint64_t(0));
-                    std::vector<std::uint32_t> again;
-                    faces_within(t, filter, limit, again, nullptr, plain_bits.data());
-                    EXPECT_EQ(again, all);
-                    again.clear();
-                    faces_within(t, filter, limit, again, &blocks, block_bits.data());
-                    EXPECT_EQ(again, all);
-                    // With the planes copied as they are read: the same faces, and each one's
-                    // plane (bit for bit, NaN planes included), with and without blocks.
-                    for (const FaceBlocks* b : std::initializer_list<const FaceBlocks*>{nullptr, &blocks}) {
-                        std::vector<std::uint32_t> listed;
-                        std::vector<MeshTopology::FacingPlane> planes{{1, 2, 3, 4}};  // appended to
-                        faces_within(t, filter, limit, listed, b, nullptr, &planes);
-                        EXPECT_EQ(listed, all);
-                        ASSERT_EQ(planes.size(), listed.size() + 1);
-                        for (std::size_t i = 0; i < listed.size(); ++i)
-                            ASSERT_EQ(std::memcmp(&planes[i + 1], &t.facing[listed[i]], sizeof(planes[i])), 0) << "face " << listed[i];
-                    }
+                    const std::vector<std::uint32_t> all = within(t, filter, limit);
+                    // The band as a rebuild selects it (FacingBand::select, AVX2 and portable,
+                    // with and without blocks): those faces, each one's plane in the rows bit for
+                    // bit (NaN planes included), the same front bits outside the band with and
+                    // without blocks, every plane read without blocks. Each band is selected over
+                    // a wider one first, so that it writes over longer rows, and with the bits
+                    // left by it inverted, so that every bit outside the band must be written.
+                    std::vector<std::uint64_t> bits[2][2];  // [blocks][simd]
+                    std::size_t read = 0;
+                    for (int with_blocks : {0, 1})
+                        for (int simd : {0, 1}) {
+                            const FaceBlocks* b = with_blocks ? &blocks : nullptr;
+                            std::vector<std::uint64_t>& w = bits[with_blocks][simd];
+                            w.assign(nf / 64 + 1, 0);
+                            FacingBand band;
+                            band.select(t, filter, 4.0f * limit + 0.5f * float(scale), b, w.data(), simd == 1);
+                            for (auto& x : w) x = ~x;
+                            const std::size_t r = band.select(t, filter, limit, b, w.data(), simd == 1);
+                            if (with_blocks) {
+                                EXPECT_LE(r, nf);
+                                if (simd) {
+                                    EXPECT_EQ(r, read);
+                                }
+                                read = r;
+                            } else {
+                                EXPECT_EQ(r, nf);
+                            }
+                            ASSERT_EQ(band.size(), all.size());
+                            for (std::size_t i = 0; i < all.size(); ++i) {
+                                ASSERT_EQ(band.face(i), all[i]);
+                                const MeshTopology::FacingPlane p = band.plane(i);
+                                ASSERT_EQ(std::memcmp(&p, &t.facing[all[i]], sizeof(p)), 0) << "face " << all[i];
+                            }
+                        }
+                    const std::vector<std::uint64_t>& plain_bits = bits[0][0];
+                    const std::vector<std::uint64_t>& block_bits = bits[1][1];
                     std::vector<std::uint8_t> in_band(nf, 0);
                     for (std::uint32_t f : all) in_band[f] = 1;
                     for (std::uint32_t f = 0; f < nf; ++f) {
                         if (in_band[f]) continue;
                         const bool a = (plain_bits[f >> 6] >> (f & 63)) & 1, b = (block_bits[f >> 6] >> (f & 63)) & 1;
                         ASSERT_EQ(a, b) << "face " << f << " limit " << limit;
+                        ASSERT_EQ(a, bool((bits[0][1][f >> 6] >> (f & 63)) & 1)) << "face " << f;
+                        ASSERT_EQ(a, bool((bits[1][0][f >> 6] >> (f & 63)) & 1)) << "face " << f;
                         if (limit >= filter.bound) {
                             ASSERT_EQ(a, face_is_front(t, f, cam)) << "face " << f;
                             ++exact_outside;
@@ -581,7 +602,7 @@ TEST(Facing, BlocksWithAnUntrustedPlane) {
 // The facing pass that builds the blocks as it goes (FaceFacing::begin_full_building, the coherent
 // finder's first view) gives the states, block states and planes read of begin_full with blocks
 // built beforehand, and blocks that decide as those do (block states for other views, the bands
-// and front bits of faces_within): face counts that fill the blocks or not (a last block of a few
+// and front bits of FacingBand::select): face counts that fill the blocks or not (a last block of a few
 // faces), extreme scales and offsets, a grazing eye, an untrusted (NaN) plane in the second chunk.
 TEST(Facing, BuildingPassGivesTheSameStatesAndBlocks) {
     std::size_t compared = 0;
@@ -623,11 +644,12 @@ TEST(Facing, BuildingPassGivesTheSameStatesAndBlocks) {
                             built.classify(0, built.size(), filter, b.data());
                             EXPECT_EQ(a, b);
                             for (float limit : {0.0f, 0.01f * float(scale), 0.3f * float(scale)}) {
-                                std::vector<std::uint32_t> fa, fb;
+                                FacingBand fa, fb;
                                 std::vector<std::uint64_t> ba(nf / 64 + 1, 0), bb(nf / 64 + 1, 0);
-                                EXPECT_EQ(faces_within(t, filter, limit, fa, &before, ba.data()),
-                                          faces_within(t, filter, limit, fb, &built, bb.data()));
-                                EXPECT_EQ(fa, fb);
+                                EXPECT_EQ(fa.select(t, filter, limit, &before, ba.data()),
+                                          fb.select(t, filter, limit, &built, bb.data()));
+                                ASSERT_EQ(fa.size(), fb.size());
+                                for (std::size_t i = 0; i < fa.size(); ++i) ASSERT_EQ(fa.face(i), fb.face(i));
                                 EXPECT_EQ(ba, bb);
                                 ++compared;
                             }
@@ -690,7 +712,7 @@ TEST(Facing, BlockStatesFourAtATime) {
 
 // The exhaustive finder with blocks (from its second view) against the one without, along a
 // path: the same silhouette edges in the same order, every view, and fewer edges read.
-// Block states against a limit (FaceBlocks::classify_within, four a step: faces_within's test)
+// Block states against a limit (FaceBlocks::classify_within, four a step: FacingBand::select's test)
 // equal the one-at-a-time test of distance_range against +-limit, for limits from zero to beyond
 // every distance, every start and length modulo four, an untrusted (NaN) plane and limits just at
 // a block's range.

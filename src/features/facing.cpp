@@ -137,17 +137,31 @@ __attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology:
 }
 #endif
 
-// Faces whose float distance to the eye is not above limit (NaN planes included), appended.
-// With `front`: the bit of each face in [f0, f1) (f0 a multiple of 64) set where its float
-// distance is above zero, cleared elsewhere.
-void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, std::uint32_t f1, const FacingFilter& flt,
-                         float limit, std::vector<std::uint32_t>& out, std::uint64_t* front,
-                         std::vector<MeshTopology::FacingPlane>* planes) {
+// The band's rows as select() writes them: n faces so far; every row at least n + 8 long before
+// a group of 8 is stored (a group is stored whole, its selected faces first).
+struct BandRows {
+    std::vector<std::uint32_t>& ids;
+    std::vector<float>&nx, &ny, &nz, &d;
+    std::size_t n = 0;
+    void room(std::size_t more) {
+        if (n + more <= ids.size()) return;
+        const std::size_t len = std::max<std::size_t>(2 * ids.size(), n + more + 1024);
+        ids.resize(len);
+        for (auto* row : {&nx, &ny, &nz, &d}) row->resize(len);
+    }
+};
+
+// Faces [f0, f1) whose float distance to the eye is not above limit (NaN planes included),
+// appended to the rows. With `front`: the bit of each face in [f0, f1) (f0 a multiple of 64) set
+// where its float distance is above zero, cleared elsewhere.
+void band_rows_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, std::uint32_t f1, const FacingFilter& flt,
+                      float limit, BandRows& rows, std::uint64_t* front) {
     for (std::uint32_t f = f0; f < f1; ++f) {
         const float det = flt.signed_distance(p[f]);
         if (!(std::abs(det) > limit)) {
-            out.push_back(f);
-            if (planes) planes->push_back(p[f]);
+            rows.room(1);
+            const std::size_t i = rows.n++;
+            rows.ids[i] = f, rows.nx[i] = p[f].nx, rows.ny[i] = p[f].ny, rows.nz[i] = p[f].nz, rows.d[i] = p[f].d;
         }
         if (front) {
             const std::uint64_t m = std::uint64_t(1) << (f & 63);
@@ -157,19 +171,31 @@ void faces_within_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, s
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
-                                                            std::uint32_t nf, const FacingFilter& flt, float limit,
-                                                            std::vector<std::uint32_t>& out, std::uint64_t* front,
-                                                            std::vector<MeshTopology::FacingPlane>* planes) {
+// Lane permutations that move the lanes of each 8-bit mask to the front, in order.
+struct PackTable {
+    alignas(32) std::uint32_t lanes[256][8];
+    constexpr PackTable() : lanes{} {
+        for (unsigned m = 0; m < 256; ++m) {
+            unsigned k = 0;
+            for (unsigned j = 0; j < 8; ++j)
+                if ((m >> j) & 1) lanes[m][k++] = j;
+            for (; k < 8; ++k) lanes[m][k] = 0;
+        }
+    }
+};
+constexpr PackTable kPack;
+
+// band_rows_scalar's rows and bits, eight faces a step: the selected lanes of the transposed
+// planes (the rows' own layout) and of the ids packed to the front and stored whole.
+__attribute__((target("avx2,bmi2"))) void band_rows_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
+                                                         std::uint32_t nf, const FacingFilter& flt, float limit,
+                                                         BandRows& rows, std::uint64_t* front) {
     Eye8 eye;
     load_eye8(flt, eye);
     const __m256 lim = _mm256_set1_ps(limit), zero = _mm256_setzero_ps();
     const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     std::uint32_t f = f0;
-    // Written branch-free into a small buffer, appended in bulk.
-    std::uint32_t buf[256];
-    MeshTopology::FacingPlane pbuf[256];  // with planes: the selected faces' planes, parallel to buf
-    std::size_t n = 0;
     std::uint64_t word = 0;  // front bits of the current 64 faces
     for (; f + 8 <= nf; f += 8) {
         Planes8 p8;
@@ -180,27 +206,24 @@ __attribute__((target("avx2,bmi2"))) void faces_within_avx2(const MeshTopology::
             word |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, zero, _CMP_GT_OQ)))) << (f & 56);
             if ((f & 56) == 56) front[f >> 6] = word, word = 0;
         }
-        // not (|det| > limit): NaN included
         const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
         if (!m) continue;
-        for (unsigned j = 0; j < 8; ++j) {
-            buf[n] = f + j;
-            if (planes) pbuf[n] = p[f + j];  // (loop-invariant; the band rebuild, the one caller, passes planes)
-            n += (m >> j) & 1;
-        }
-        if (n > 256 - 8) {
-            out.insert(out.end(), buf, buf + n);
-            if (planes) planes->insert(planes->end(), pbuf, pbuf + n);
-            n = 0;
-        }
+        if (rows.n + 8 > rows.ids.size()) rows.room(4096);
+        const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.lanes[m]));
+        const std::size_t n = rows.n;
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(rows.ids.data() + n),
+                            _mm256_permutevar8x32_epi32(_mm256_add_epi32(_mm256_set1_epi32(int(f)), lane), idx));
+        _mm256_storeu_ps(rows.nx.data() + n, _mm256_permutevar8x32_ps(p8.nx, idx));
+        _mm256_storeu_ps(rows.ny.data() + n, _mm256_permutevar8x32_ps(p8.ny, idx));
+        _mm256_storeu_ps(rows.nz.data() + n, _mm256_permutevar8x32_ps(p8.nz, idx));
+        _mm256_storeu_ps(rows.d.data() + n, _mm256_permutevar8x32_ps(p8.d, idx));
+        rows.n = n + unsigned(__builtin_popcount(m));
     }
     if (front && (f & 63)) {  // a word begun: its first faces from here, the rest by the scalar loop
         const std::uint64_t keep = (std::uint64_t(1) << (f & 63)) - 1;
         front[f >> 6] = (front[f >> 6] & ~keep) | word;
     }
-    out.insert(out.end(), buf, buf + n);
-    if (planes) planes->insert(planes->end(), pbuf, pbuf + n);
-    faces_within_scalar(p, f, nf, flt, limit, out, front, planes);
+    band_rows_scalar(p, f, nf, flt, limit, rows, front);
 }
 #endif
 
@@ -278,15 +301,14 @@ bool cpu_has_avx2() {
 #endif
 }
 
-std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
-                         const FaceBlocks* blocks, std::uint64_t* front, std::vector<MeshTopology::FacingPlane>* planes) {
+namespace {
+// FacingBand::select's walk: run(f0, f1) for the runs of faces whose planes are to be read (every face
+// without blocks), the front bits of the blocks skipped as a whole set here. Returns the faces
+// run over.
+template <class Run>
+std::size_t within_runs(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
+                        std::uint64_t* front, Run run) {
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
-    auto run = [&](std::uint32_t f0, std::uint32_t f1) {
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (cpu_has_avx2()) return faces_within_avx2(mesh.facing.data(), f0, f1, filter, limit, out, front, planes);
-#endif
-        faces_within_scalar(mesh.facing.data(), f0, f1, filter, limit, out, front, planes);
-    };
     if (!blocks || !blocks->built_for(mesh)) {
         run(0, nf);
         return nf;
@@ -334,6 +356,7 @@ std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, f
     }
     return read;
 }
+}  // namespace
 
 void FaceBlocks::build(const MeshTopology& mesh) {
     start(mesh);
@@ -870,26 +893,50 @@ void FaceBlocks::classify_within(std::size_t b0, std::size_t b1, const FacingFil
     }
 }
 
-void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces,
-                        const MeshTopology::FacingPlane* planes) {
-    const std::size_t n = faces.size(), padded = (n + 7) / 8 * 8;
+void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces) {
+    n_ = faces.size();
     ids_ = faces;
-    for (auto* row : {&nx_, &ny_, &nz_, &d_}) row->assign(padded, 0.0f);
+    for (auto* row : {&nx_, &ny_, &nz_, &d_}) row->resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) {
+        const MeshTopology::FacingPlane& p = mesh.facing[faces[i]];
+        nx_[i] = p.nx, ny_[i] = p.ny, nz_[i] = p.nz, d_[i] = p.d;
+    }
+    finish();
+}
+
+std::size_t FacingBand::select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
+                               std::uint64_t* front, bool simd) {
+    BandRows rows{ids_, nx_, ny_, nz_, d_};
+#if defined(__x86_64__) && defined(__GNUC__)
+    simd = simd && cpu_has_avx2();
+#else
+    simd = false;
+#endif
+    const std::size_t read = within_runs(mesh, filter, limit, blocks, front, [&](std::uint32_t f0, std::uint32_t f1) {
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (simd) return band_rows_avx2(mesh.facing.data(), f0, f1, filter, limit, rows, front);
+#endif
+        band_rows_scalar(mesh.facing.data(), f0, f1, filter, limit, rows, front);
+    });
+    n_ = rows.n;
+    finish();
+    return read;
+}
+
+void FacingBand::finish() {
     words_.clear();
     masks_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t f = faces[i];
-        const MeshTopology::FacingPlane& p = planes ? planes[i] : mesh.facing[f];
-        nx_[i] = p.nx, ny_[i] = p.ny, nz_[i] = p.nz, d_[i] = p.d;
+    for (std::size_t i = 0; i < n_; ++i) {
+        const std::uint32_t f = ids_[i];
         if (words_.empty() || words_.back() != f >> 6) words_.push_back(f >> 6), masks_.push_back(0);
         masks_.back() |= std::uint64_t(1) << (f & 63);
     }
-    front_.assign(padded / 8 + 16, 0);  // (+16: the word loop reads 16 bytes from any position)
+    front_.assign((n_ + 7) / 8 + 16, 0);  // (+16: the word loop reads 16 bytes from any position)
 }
 
 void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                         std::vector<std::uint32_t>& check, bool simd) {
-    const std::size_t n = ids_.size();
+    const std::size_t n = n_;
     std::uint8_t* front = front_.data();
 #if defined(__x86_64__) && defined(__GNUC__)
     if (simd && cpu_has_avx2()) {

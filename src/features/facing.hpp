@@ -156,29 +156,24 @@ private:
     std::vector<std::uint8_t> esc_corner_;        // k * 64 + j
 };
 
-// Appends the faces whose float distance to the eye (FacingFilter::signed_distance) is not above
-// `limit`, in order; faces with an untrusted (NaN) plane are always included.
-// With blocks (built for this mesh), blocks whose range is beyond the limit are not read. Returns
-// the number of faces whose planes were read. With `front` (face_count() / 64 + 1 words): sets
-// the bit of every face outside the band whose float distance is above zero (above the limit)
-// and clears it for the others outside (below -limit); bits of faces in the band are left
-// arbitrary. With limit >= the filter's bound, a bit outside the band is the exact facing.
-// With `planes`: the appended faces' planes are appended to it too (copied while they are read,
-// so that a band built from them need not fetch them from the mesh again).
-std::size_t faces_within(const MeshTopology& mesh, const FacingFilter& filter, float limit, std::vector<std::uint32_t>& out,
-                         const FaceBlocks* blocks = nullptr, std::uint64_t* front = nullptr,
-                         std::vector<MeshTopology::FacingPlane>* planes = nullptr);
-
 // The faces of a coherence band (ascending ids) with copies of their planes as four float rows
-// (padded to a multiple of 8) and the 64-face words of a per-face bit set they fall in (word,
-// mask of the band's faces in it), so that a view streams the rows and, where it writes the
-// band's bits, writes each word once. 20 bytes per band face plus 12 per word.
+// and the 64-face words of a per-face bit set they fall in (word, mask of the band's faces in it),
+// so that a view streams the rows and, where it writes the band's bits, writes each word once.
+// 20 bytes per band face plus 12 per word.
 class FacingBand {
 public:
-    // `planes`: the faces' planes in the same order (faces_within's), else read from the mesh.
-    void assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces,
-                const MeshTopology::FacingPlane* planes = nullptr);
-    std::size_t size() const { return ids_.size(); }
+    void assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces);
+    // The band of the faces whose float distance to the eye (FacingFilter::signed_distance) is
+    // not above `limit`, in order; faces with an untrusted (NaN) plane are always included. The
+    // planes are written to the rows as they are read. With blocks (built for this mesh), blocks
+    // whose range is beyond the limit are not read. Returns the number of faces whose planes were
+    // read. With `front` (face_count() / 64 + 1 words): sets the bit of every face outside the
+    // band whose float distance is above zero (above the limit) and clears it for the others
+    // outside (below -limit); bits of faces in the band are left arbitrary. With limit >= the
+    // filter's bound, a bit outside the band is the exact facing. `simd` as for states().
+    std::size_t select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
+                       std::uint64_t* front, bool simd = true);
+    std::size_t size() const { return n_; }
     std::uint32_t face(std::size_t i) const { return ids_[i]; }
     MeshTopology::FacingPlane plane(std::size_t i) const { return {nx_[i], ny_[i], nz_[i], d_[i]}; }
     // Appends to `check` the positions i where the two filters disagree or `now` cannot decide
@@ -192,6 +187,10 @@ public:
                 std::vector<std::uint32_t>& check, bool simd = true);
 
 private:
+    void finish();  // the words and the scratch, for the n_ faces in the rows
+    // The rows hold n_ faces; they may be longer (select() keeps their length between bands, so
+    // that a new band writes over the old without clearing it).
+    std::size_t n_ = 0;
     std::vector<std::uint32_t> ids_;
     std::vector<float> nx_, ny_, nz_, d_;
     std::vector<std::uint32_t> words_;

@@ -615,7 +615,8 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
 // The face blocks skip the blocks whose planes are all beyond the margin. The faces outside the
 // band get their front bit here, from the sign of their float distance (beyond the filter's
 // bound, so exact), which they keep for every such eye; the band's bits are set by follow().
-// The pass copies the band's planes as it reads them (faces_within's planes), so the band does not
+// The pass writes the band's rows as it reads the planes (FacingBand::select: the selected lanes
+// packed to the front, no list of faces or copies of planes in between), so the band does not
 // gather them from the mesh again (0.85 ms of a 2.3 ms rebuild at a degree a frame on armadillo@2, Zen 3).
 // (Selecting the band from an outer band of 2.5-4 times its margin, rebuilt from the mesh more
 // rarely, was tried: no faster on armadillo@2, since each rebuild then streams the larger outer
@@ -632,10 +633,7 @@ void SilhouetteFinder::build_band(const double eye[3], double w, double margin) 
     FacingFilter at;  // the filter of the band's eye (not the view's, when the band is built ahead of it)
     at.bind(mesh, eye, w);
     const float limit = float((margin + double(at.bound)) * (1.0 + 0x1p-20));
-    band_faces_.clear();
-    band_planes_.clear();
-    planes_read_ += faces_within(mesh, at, limit, band_faces_, blocks(), front_bits_.data(), &band_planes_);
-    band_.assign(mesh, band_faces_, band_planes_.data());
+    planes_read_ += band_.select(mesh, at, limit, blocks(), front_bits_.data());
     for (int i = 0; i < 3; ++i) band_eye_[i] = eye[i];
     band_w_ = w;
     band_margin_ = margin;

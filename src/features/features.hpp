@@ -281,8 +281,7 @@ private:
     FacingFilter previous_filter_, filter_;
     std::vector<std::uint32_t> turned_;
     FacingBand band_;
-    std::vector<std::uint32_t> band_faces_, check_;  // scratch: the band's faces when it is rebuilt; positions to check
-    std::vector<MeshTopology::FacingPlane> band_planes_;  // scratch: their planes (copied by the rebuild's pass)
+    std::vector<std::uint32_t> check_;  // scratch: band positions to check exactly
     // Bit per face: front now (band faces: set per view; the others: at the band's rebuild,
     // which they keep while the eye stays within the margin); turned since the previous view.
     std::vector<std::uint64_t> front_bits_, turned_bits_;
