@@ -301,63 +301,6 @@ bool cpu_has_avx2() {
 #endif
 }
 
-namespace {
-// FacingBand::select's walk: run(f0, f1) for the runs of faces whose planes are to be read (every face
-// without blocks), the front bits of the blocks skipped as a whole set here. Returns the faces
-// run over.
-template <class Run>
-std::size_t within_runs(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
-                        std::uint64_t* front, Run run) {
-    const std::uint32_t nf = std::uint32_t(mesh.face_count());
-    if (!blocks || !blocks->built_for(mesh)) {
-        run(0, nf);
-        return nf;
-    }
-    // Blocks whose every float distance is beyond +-limit hold no face of the band; runs of the
-    // other blocks are streamed as before (so the same faces, in order). A skipped block's faces
-    // are all front (every distance above limit) or all back (every one below -limit).
-    static_assert(FaceBlocks::kFaces == 64);  // a block's front bits are one word
-    // The blocks are classified a chunk at a time (four a step), and the planes of blocks to
-    // read are fetched a few blocks ahead (the runs between skipped blocks are short).
-    std::size_t read = 0;
-    std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
-    const std::size_t nb = blocks->size();
-    constexpr std::size_t kChunk = 256, kPrefetch = 8;
-    std::uint8_t cls[kChunk + kPrefetch];
-    std::size_t c0 = 0, c1 = 0;  // cls[i]: the state of block c0 + i, for blocks [c0, c1)
-    for (std::size_t b = 0; b <= nb; ++b) {
-        bool skip = true;
-        if (b < nb) {
-            if (b + kPrefetch >= c1 && c1 < nb) {  // the next chunk, keeping the blocks ahead
-                const std::size_t keep = c1 - std::min(c1, b);
-                std::memmove(cls, cls + (b - c0), keep);
-                c0 = b;
-                const std::size_t n1 = std::min(nb, c1 + kChunk);
-                blocks->classify_within(c1, n1, filter, double(limit), cls + keep);
-                c1 = n1;
-            }
-            const std::size_t a = b + kPrefetch;
-            if (a < c1 && cls[a - c0] == FaceFacing::kUnknown) {
-                const char* q = reinterpret_cast<const char*>(mesh.facing.data() + a * FaceBlocks::kFaces);
-                for (std::size_t i = 0; i < FaceBlocks::kFaces * sizeof(MeshTopology::FacingPlane); i += 64)
-                    __builtin_prefetch(q + i);
-            }
-            const std::uint8_t st = cls[b - c0];
-            skip = st != FaceFacing::kUnknown;
-            if (skip && front) front[b] = st == FaceFacing::kFront ? ~std::uint64_t(0) : 0;
-        }
-        const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
-        if (!skip && open == UINT32_MAX) open = f;
-        if (skip && open != UINT32_MAX) {
-            run(open, f);
-            read += f - open;
-            open = UINT32_MAX;
-        }
-    }
-    return read;
-}
-}  // namespace
-
 void FaceBlocks::build(const MeshTopology& mesh) {
     start(mesh);
     build_range(0, bounds_.size());
@@ -907,17 +850,60 @@ void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_
 std::size_t FacingBand::select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
                                std::uint64_t* front, bool simd) {
     BandRows rows{ids_, nx_, ny_, nz_, d_};
+    auto run = [&](std::uint32_t f0, std::uint32_t f1) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    simd = simd && cpu_has_avx2();
-#else
-    simd = false;
-#endif
-    const std::size_t read = within_runs(mesh, filter, limit, blocks, front, [&](std::uint32_t f0, std::uint32_t f1) {
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (simd) return band_rows_avx2(mesh.facing.data(), f0, f1, filter, limit, rows, front);
+        if (simd && cpu_has_avx2()) return band_rows_avx2(mesh.facing.data(), f0, f1, filter, limit, rows, front);
 #endif
         band_rows_scalar(mesh.facing.data(), f0, f1, filter, limit, rows, front);
-    });
+    };
+    const std::uint32_t nf = std::uint32_t(mesh.face_count());
+    if (!blocks || !blocks->built_for(mesh)) {
+        run(0, nf);
+        n_ = rows.n;
+        finish();
+        return nf;
+    }
+    // Blocks whose every float distance is beyond +-limit hold no face of the band; runs of the
+    // other blocks are streamed as before (so the same faces, in order). A skipped block's faces
+    // are all front (every distance above limit) or all back (every one below -limit).
+    static_assert(FaceBlocks::kFaces == 64);  // a block's front bits are one word
+    // The blocks are classified a chunk at a time (four a step), and the planes of blocks to
+    // read are fetched a few blocks ahead (the runs between skipped blocks are short).
+    std::size_t read = 0;
+    std::uint32_t open = UINT32_MAX;  // first face of the current run of blocks to read
+    const std::size_t nb = blocks->size();
+    constexpr std::size_t kChunk = 256, kPrefetch = 8;
+    std::uint8_t cls[kChunk + kPrefetch];
+    std::size_t c0 = 0, c1 = 0;  // cls[i]: the state of block c0 + i, for blocks [c0, c1)
+    for (std::size_t b = 0; b <= nb; ++b) {
+        bool skip = true;
+        if (b < nb) {
+            if (b + kPrefetch >= c1 && c1 < nb) {  // the next chunk, keeping the blocks ahead
+                const std::size_t keep = c1 - std::min(c1, b);
+                std::memmove(cls, cls + (b - c0), keep);
+                c0 = b;
+                const std::size_t n1 = std::min(nb, c1 + kChunk);
+                blocks->classify_within(c1, n1, filter, double(limit), cls + keep);
+                c1 = n1;
+            }
+            const std::size_t a = b + kPrefetch;
+            if (a < c1 && cls[a - c0] == FaceFacing::kUnknown) {
+                const char* q = reinterpret_cast<const char*>(mesh.facing.data() + a * FaceBlocks::kFaces);
+                for (std::size_t i = 0; i < FaceBlocks::kFaces * sizeof(MeshTopology::FacingPlane); i += 64)
+                    __builtin_prefetch(q + i);
+            }
+            const std::uint8_t st = cls[b - c0];
+            skip = st != FaceFacing::kUnknown;
+            if (skip && front) front[b] = st == FaceFacing::kFront ? ~std::uint64_t(0) : 0;
+        }
+        const std::uint32_t f = std::uint32_t(std::min<std::size_t>(b * FaceBlocks::kFaces, nf));
+        if (!skip && open == UINT32_MAX) open = f;
+        if (skip && open != UINT32_MAX) {
+            run(open, f);
+            read += f - open;
+            open = UINT32_MAX;
+        }
+    }
     n_ = rows.n;
     finish();
     return read;
