@@ -485,6 +485,31 @@ TEST(ViewWindow, PrintedCameraIsReproducedByRender) {
     }
 }
 
+// The panel is kept as a layer (src/view/ui_layer.cpp) rasterized only when it changes and blended
+// over each frame: the result must be what ImGui draws directly, over a pattern that shows its
+// translucency, and the layer must tell a changed panel from an unchanged one.
+TEST(ViewWindow, PanelLayerLooksLikeImGuiDrawnDirectly) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    const std::string cmd = std::string(kXvfb) + INKLINE_UI_LAYER_CHECK + " >" + (d / "out").string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    const std::string out = inkline_test::slurp(d / "out");
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+    int max_diff = -1, first = -1, same_again = -1, changed_again = -1;
+    std::size_t differing = 0, panel = 0, rasterized = 0;
+    ASSERT_EQ(std::sscanf(out.c_str(), "max_diff=%d differing=%zu panel_pixels=%zu first=%d same_again=%d changed_again=%d rasterized=%zu",
+                          &max_diff, &differing, &panel, &first, &same_again, &changed_again, &rasterized), 7)
+        << out;
+    std::printf("%s", out.c_str());
+    EXPECT_GT(panel, 10000u) << "the panel drew almost nothing";
+    EXPECT_LE(max_diff, 2) << "the layer blended over the pattern differs from ImGui's own drawing";
+    EXPECT_LT(differing, panel / 20) << "more than rounding differs";
+    EXPECT_EQ(first, 1);
+    EXPECT_EQ(same_again, 1) << "the same draw data was rasterized again";
+    EXPECT_EQ(changed_again, 1) << "a changed panel was not rasterized";
+    EXPECT_EQ(rasterized, 2u);
+}
+
 TEST(ViewWindow, NoDisplayIsAOneLineErrorNotACrash) {
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png";

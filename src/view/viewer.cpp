@@ -35,6 +35,7 @@
 #include "style/styled_view.hpp"
 #include "view/camera_rig.hpp"
 #include "view/line_mesh.hpp"
+#include "view/ui_layer.hpp"
 
 namespace inkline {
 
@@ -256,6 +257,9 @@ public:
         glfwSetScrollCallback(win_, [](GLFWwindow* w, double, double dy) {
             static_cast<Viewer*>(glfwGetWindowUserPointer(w))->scroll_ += dy;
         });
+        glfwSetWindowRefreshCallback(win_, [](GLFWwindow* w) {
+            static_cast<Viewer*>(glfwGetWindowUserPointer(w))->damaged_ = true;  // contents lost: draw again
+        });
         glfwSetKeyCallback(win_, [](GLFWwindow* w, int key, int, int action, int) {
             if (action == GLFW_PRESS) static_cast<Viewer*>(glfwGetWindowUserPointer(w))->key(key);
         });
@@ -320,6 +324,7 @@ public:
         glDeleteProgram(mesh_prog_);
         glDeleteProgram(image_prog_);
         glDeleteTextures(1, &image_tex_);
+        ui_layer_.release();
         ImGui_ImplOpenGL3_Shutdown();
         ImGui_ImplGlfw_Shutdown();
         ImGui::DestroyContext();
@@ -404,15 +409,32 @@ public:
             }
             if (!view_) sync(st);  // nothing to draw yet (first frame, new session): wait for it
 
+            // The panel's draw data first: its layer is rasterized only when the panel looks
+            // different (usually a few times a second, when its numbers are refreshed).
             const auto td = Clock::now();
-            draw_scene(drawn_);
-            const bool shot = finishing && !opt_.screenshot.empty();
-            if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+            bool panel_changed = panel_ != panel_drawn_;
+            panel_drawn_ = panel_;
             if (panel_) {
                 draw_panel();
                 ImGui::Render();
-                ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+                panel_changed |= ui_layer_.update(ImGui::GetDrawData(), w, h);
             }
+            // Interactive, a frame that would show nothing new is not drawn: no new view (the lines
+            // are drawn at their view's camera, not the rig's), the panel unchanged and the window
+            // not damaged. Redrawing it cost the rasterizer's CPU (Mesa's llvmpipe) many times a
+            // view, taken from the pipeline on the same cores.
+            const bool resized = w != drawn_w_ || h != drawn_h_;
+            const bool redraw = !interactive || fresh || panel_changed || damaged_ || resized;
+            if (!redraw) {
+                st.frame = since(t0);
+                continue;
+            }
+            damaged_ = false;
+            drawn_w_ = w, drawn_h_ = h;
+            draw_scene(drawn_);
+            const bool shot = finishing && !opt_.screenshot.empty();
+            if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+            if (panel_) ui_layer_.composite();
             if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
             if (finishing && !opt_.export_path.empty()) export_view(opt_.export_path);
             glfwSwapBuffers(win_);
@@ -424,8 +446,13 @@ public:
             } else {  // the window's own frame: no new view
                 shown_.draw = 0.9 * shown_.draw + 0.1 * st.draw;
             }
-            if (frame > 0)  // the first frame waits for the lazy indexes
-                window_period_ = window_period_ > 0.0 ? 0.9 * window_period_ + 0.1 * st.frame : st.frame;
+            // The window's frame rate: between frames drawn (the first waits for the lazy indexes).
+            const auto now = Clock::now();
+            if (frame > 0 && last_drawn_ != Clock::time_point{}) {
+                const double period = std::chrono::duration<double>(now - last_drawn_).count();
+                window_period_ = window_period_ > 0.0 ? 0.9 * window_period_ + 0.1 * period : period;
+            }
+            last_drawn_ = now;
             if (finishing) break;
             if (frame == 0) {
                 shown_ = st;
@@ -738,6 +765,18 @@ private:
     float crease_ = 40.0f, fraction_ = 0.05f;
     double recall_ = -1.0;
     StageTimes shown_;
+    UiLayer ui_layer_;  // the panel, rasterized again only when it changes
+    bool panel_drawn_ = false, damaged_ = false;  // the panel shown in the last frame drawn; an expose
+    int drawn_w_ = 0, drawn_h_ = 0;               // the framebuffer size of the last frame drawn
+    Clock::time_point last_drawn_{};
+    // What the panel's statistics show: a snapshot taken a few times a second (numbers that change
+    // every frame cannot be read, and would make the panel be rasterized every frame).
+    struct PanelNumbers {
+        StageTimes times;
+        DrawingStats stats;
+        double views_per_s = 0.0, fps = 0.0, recall = -1.0;
+    } panel_numbers_;
+    Clock::time_point panel_numbers_at_{};
     char export_name_[256] = "inkline-view";
     std::string status_, command_;
     bool dirty_ = false, crease_dirty_ = false;  // options changed: a new session next frame
@@ -833,10 +872,15 @@ void Viewer::draw_panel() {
         if (ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_)) force_ = true;
     }
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
-        const DrawingStats& s = stats_;
-        const StageTimes& t = shown_;
-        ImGui::Text("%.1f views/s (pipeline), window %.1f fps", view_period_ > 0 ? 1.0 / view_period_ : 0.0,
-                    window_period_ > 0 ? 1.0 / window_period_ : 0.0);
+        const auto now = Clock::now();
+        if (now - panel_numbers_at_ >= std::chrono::milliseconds(250)) {
+            panel_numbers_ = {shown_, stats_, view_period_ > 0 ? 1.0 / view_period_ : 0.0,
+                              window_period_ > 0 ? 1.0 / window_period_ : 0.0, recall_};
+            panel_numbers_at_ = now;
+        }
+        const DrawingStats& s = panel_numbers_.stats;
+        const StageTimes& t = panel_numbers_.times;
+        ImGui::Text("%.1f views/s (pipeline), window %.1f fps", panel_numbers_.views_per_s, panel_numbers_.fps);
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
         ImGui::Text("visibility %.2f ms, %s %.2f ms", 1e3 * t.visibility, styled_ ? "style + raster" : "line quads",
                     1e3 * t.lines);
@@ -848,7 +892,7 @@ void Viewer::draw_panel() {
         ImGui::Text("%zu ray tests, %zu walks", s.ray_tests, s.walks);
         ImGui::Text("clusters decided: %zu box, %zu upper bound, %zu occluded, %zu inconsistent", s.clusters_bbox,
                     s.clusters_bounded, s.clusters_occluded, s.clusters_inconsistent);
-        if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", recall_);
+        if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", panel_numbers_.recall);
     }
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::TextUnformatted("left drag: orbit; right/middle drag: pan");
