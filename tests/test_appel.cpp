@@ -493,7 +493,7 @@ TEST(AssignQiAppel, TwoThreadsGiveTheSameQi) {
         for (std::size_t p = 0; p < one.curves.pieces.size(); ++p)
             ASSERT_EQ(one.curves.pieces[p].qi, two.curves.pieces[p].qi) << k << " piece " << p;
     }
-    EXPECT_GT(walks, 200u);  // (the walks ran on two threads: at least 64 in a view)
+    EXPECT_GT(walks, 200u);  // (the walks ran on two threads: at least 8 in a view)
 }
 
 // Pieces on a self-intersecting face take no part in propagation (each gets a ray test): the
@@ -585,7 +585,7 @@ TEST(AssignQiAppel, TwoThreadsKeepTheLazyFacingOfACameraPath) {
         EXPECT_EQ(v1.drawing.stats.walks, v2.drawing.stats.walks) << "view " << k;
         walks += v2.drawing.stats.walks;
     }
-    EXPECT_GT(walks, 8u * 64u);  // (walks on two threads in every view)
+    EXPECT_GT(walks, 8u * 64u);  // (walks on two threads in every view: 8 or more)
 }
 
 }  // namespace

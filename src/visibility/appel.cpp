@@ -1,6 +1,7 @@
 #include "visibility/appel.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <climits>
 #include <cstring>
@@ -1020,8 +1021,12 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         box[3] = std::max({box[3], o.a.y, o.b.y});
     }
     box[0] -= 1.0, box[1] += 1.0, box[2] -= 1.0, box[3] += 1.0;
-    // The walks are independent of each other: made first (on two threads for many walks, the
-    // second with its own vertex images), then applied in cluster order.
+    // The walks are independent of each other: made first, then applied in cluster order. On two
+    // threads from a few walks on (the second with its own vertex images), each thread taking the
+    // next walk not yet taken: walks differ in cost by orders of magnitude (the faces between the
+    // point and the box), so halves of the list would leave one thread waiting. (From 64 walks in
+    // halves before: armadillo@2's window views, about 60 walks of 50 us each, made them all on
+    // one thread, 11 % of its time.)
     std::vector<std::uint32_t> walkers;
     for (std::size_t c = 0; c < nc && options.walk; ++c)
         if (state[c] == kBound && zero[c] != UINT32_MAX) walkers.push_back(std::uint32_t(c));
@@ -1034,13 +1039,15 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         }
     };
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
-    if (two_threads && walkers.size() >= 64) {
-        const std::size_t mid = walkers.size() / 2;
+    if (two_threads && walkers.size() >= 8) {
         VertexImages& own = graph.walk_images;
         own.reset(mesh, camera);
+        std::atomic<std::size_t> next{0};
+        auto take = [&](const VertexImages& proj) {
+            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_range(w, w + 1, proj);
+        };
         face_front.set_shared(true);
-        graph.helper().fork_join([&] { walk_range(mid, walkers.size(), own); },
-                                 [&] { walk_range(0, mid, graph.images); });
+        graph.helper().fork_join([&] { take(own); }, [&] { take(graph.images); });
         face_front.set_shared(false);
     } else {
         walk_range(0, walkers.size(), graph.images);
