@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <utility>
 #include <chrono>
@@ -350,12 +351,16 @@ public:
             // Interactive, the window does not wait for the pipeline: it draws the last view while
             // the next one is computed (the panel and the camera stay responsive on big meshes),
             // yielding the CPU to the pipeline between its frames.
+            // The pipeline wakes the loop when its view is done (an empty event), so waiting for it
+            // costs no polling; input wakes it too.
             const bool interactive = opt_.frames == 0;
             if (interactive && unchanged_ > 3 && !job_.valid()) glfwWaitEventsTimeout(0.5);
-            else if (interactive && job_.valid()) glfwWaitEventsTimeout(0.004);
+            else if (interactive && job_.valid() && !job_done_.load()) glfwWaitEventsTimeout(0.05);
             else glfwPollEvents();
             StageTimes st;
-            const bool ready = job_.valid() && job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+            // (done is set as the job's last step, just before its future is ready: then wait for it)
+            const bool ready = job_.valid() && (job_done_.load() ? (job_.wait(), true)
+                                                                 : job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready);
             const bool fresh = (!interactive || ready) && sync(st);  // headless: lock-step, one frame behind
             if (fresh) {
                 const auto now = Clock::now();
@@ -512,6 +517,7 @@ private:
         const FeatureOptions kinds = vopt_.features;  // the panel may change vopt_ meanwhile
         const std::shared_ptr<const Style> style = style_;
         const bool hidden = hidden_;
+        job_done_ = false;
         job_ = pipeline_.post([this, cam, lo, recall, kinds, style, hidden] {
             const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
             Job& j = job_result_;
@@ -545,6 +551,8 @@ private:
             }
             j.times.lines = since(tl);
             j.cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu0;
+            job_done_ = true;
+            glfwPostEmptyEvent();  // (thread-safe) wakes the loop's wait
         });
     }
 
@@ -746,6 +754,7 @@ private:
     };
     Job job_result_;
     std::future<void> job_;
+    std::atomic<bool> job_done_{false};  // set by the job as it ends (its future is ready just after)
     double worker_cpu_ = 0.0;
     Clock::time_point last_fresh_{};  // when the last view arrived
     double view_period_ = 0.0;        // moving average of the time between views
