@@ -58,11 +58,12 @@ void build_line_mesh(const Drawing& d, const LineMeshOptions& o, std::vector<Lin
     const double lim = 4.0 * std::max(d.camera.width(), d.camera.height());
     std::vector<glm::dvec2> points;
     for (int style = 3; style >= 0; --style) {
+        if (style > 0 && !o.hidden) continue;  // (hidden pieces are not drawn: no pass over them)
         const float half = float(0.5 * width * kStyles[std::size_t(style)].width_scale);
         const float reach = half + 1.0f;  // one pixel of antialiasing fringe
         for (const Piece& p : d.pieces) {
             if (p.points.size() < 2 || !o.kinds[int(p.kind)]) continue;
-            if (std::min(p.qi, 3) != style || (style > 0 && !o.hidden)) continue;
+            if (std::min(p.qi, 3) != style) continue;
             if (!finite(p)) continue;
             if (o.simplify_px > 0.0) simplify(p.points, o.simplify_px, points);
             const std::vector<glm::dvec2>& pts = o.simplify_px > 0.0 ? points : p.points;
