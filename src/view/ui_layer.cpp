@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "view/gl_program.hpp"
 
 namespace inkline {
 
@@ -32,20 +33,6 @@ uniform sampler2D layer;
 out vec4 colour;
 void main() { colour = texelFetch(layer, ivec2(gl_FragCoord.xy), 0); }
 )";
-
-GLuint shader(GLenum type, const char* src) {
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = {};
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        throw Error("view", std::string("panel layer shader does not compile: ") + log);
-    }
-    return s;
-}
 
 template <class T>
 void put(std::vector<unsigned char>& out, const T& v) {
@@ -102,16 +89,7 @@ bool UiLayer::same_as_last(ImDrawData* data) {
 }
 
 void UiLayer::setup() {
-    const GLuint v = shader(GL_VERTEX_SHADER, kVs), f = shader(GL_FRAGMENT_SHADER, kFs);
-    prog_ = glCreateProgram();
-    glAttachShader(prog_, v);
-    glAttachShader(prog_, f);
-    glLinkProgram(prog_);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint ok = 0;
-    glGetProgramiv(prog_, GL_LINK_STATUS, &ok);
-    if (!ok) throw Error("view", "panel layer shader program does not link");
+    prog_ = gl_program(kVs, kFs);
     glGenVertexArrays(1, &vao_);  // core profile: some VAO must be bound
     glGenTextures(1, &tex_);
     glGenFramebuffers(1, &fbo_);

@@ -35,6 +35,7 @@
 #include "style/style.hpp"
 #include "style/styled_view.hpp"
 #include "view/camera_rig.hpp"
+#include "view/gl_program.hpp"
 #include "view/line_mesh.hpp"
 #include "view/ui_layer.hpp"
 
@@ -67,40 +68,6 @@ std::string glfw_error() {
     const char* d = nullptr;
     glfwGetError(&d);
     return d ? d : "unknown GLFW error";
-}
-
-// ---- GL helpers -------------------------------------------------------------------------------
-
-GLuint compile(GLenum type, const char* src) {
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = {};
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        throw Error("view", std::string("shader does not compile: ") + log);
-    }
-    return s;
-}
-
-GLuint program(const char* vs, const char* fs) {
-    const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-    const GLuint p = glCreateProgram();
-    glAttachShader(p, v);
-    glAttachShader(p, f);
-    glLinkProgram(p);
-    glDeleteShader(v);
-    glDeleteShader(f);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = {};
-        glGetProgramInfoLog(p, sizeof log, nullptr, log);
-        throw Error("view", std::string("shader program does not link: ") + log);
-    }
-    return p;
 }
 
 // Line quads in pixels (line_mesh.hpp): coverage across the line for antialiasing, dashes along it.
@@ -270,9 +237,9 @@ public:
         ImGui_ImplGlfw_InitForOpenGL(win_, true);
         ImGui_ImplOpenGL3_Init("#version 330 core");
 
-        line_prog_ = program(kLineVs, kLineFs);
-        mesh_prog_ = program(kMeshVs, kMeshFs);
-        image_prog_ = program(kImageVs, kImageFs);
+        line_prog_ = gl_program(kLineVs, kLineFs);
+        mesh_prog_ = gl_program(kMeshVs, kMeshFs);
+        image_prog_ = gl_program(kImageVs, kImageFs);
         glGenTextures(1, &image_tex_);
         glBindTexture(GL_TEXTURE_2D, image_tex_);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -430,10 +397,7 @@ public:
             // view, taken from the pipeline on the same cores.
             const bool resized = w != drawn_w_ || h != drawn_h_;
             const bool redraw = !interactive || fresh || panel_changed || damaged_ || resized;
-            if (!redraw) {
-                st.frame = since(t0);
-                continue;
-            }
+            if (!redraw) continue;
             damaged_ = false;
             drawn_w_ = w, drawn_h_ = h;
             draw_scene(drawn_);
