@@ -414,18 +414,14 @@ TEST(BorderCusps, CurvedSheet) {
 
 
 // build_pieces on two threads (the curves split in two ranges, the second's pieces and links
-// appended) gives exactly the pieces, spans, links, crossings and curve ends of one thread.
+// appended) gives exactly the pieces, spans, links, crossings and curve ends of one thread, wherever
+// the curves are split (the split follows the two sides' times from view to view: here set to
+// either end of its range and to the middle).
 TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
     const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
     const MeshTopology& mesh = model.topology();
     const SelfIntersections& si = model.self_intersections();
-    std::mt19937 rng(7u);
-    for (int k = 0; k < 6; ++k) {
-        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
-        cam.set_near(default_near(mesh));
-        const Features f = extract_features(mesh, cam);
-        const PieceGraph one = build_pieces(mesh, f, cam, &si.cuts, 1);
-        const PieceGraph two = build_pieces(mesh, f, cam, &si.cuts, 2, /*parallel_edges=*/0);
+    auto expect_same = [](const PieceGraph& one, const PieceGraph& two, int k) {
         ASSERT_GT(one.curves.pieces.size(), 100u) << k;
         ASSERT_EQ(one.curves.pieces.size(), two.curves.pieces.size()) << k;
         EXPECT_EQ(one.curves.crossings, two.curves.crossings) << k;
@@ -452,6 +448,21 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
             ASSERT_TRUE(one.ends[e].piece == two.ends[e].piece && one.ends[e].vertex == two.ends[e].vertex &&
                         one.ends[e].edge == two.ends[e].edge)
                 << k;
+    };
+    std::mt19937 rng(7u);
+    for (int k = 0; k < 6; ++k) {
+        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        cam.set_near(default_near(mesh));
+        const Features f = extract_features(mesh, cam);
+        const PieceGraph one = build_pieces(mesh, f, cam, &si.cuts, 1);
+        for (const double share : {0.3, 0.5, 0.7}) {
+            PieceGraph two;
+            two.set_range_share(share);
+            build_pieces(two, mesh, f, cam, &si.cuts, 2, /*parallel_edges=*/0);
+            expect_same(one, two, k);
+            EXPECT_GE(two.range_share(), 0.3);  // (fitted after the build, within its range)
+            EXPECT_LE(two.range_share(), 0.7);
+        }
     }
     // Through the pipeline: the same drawing.
     ViewOptions o1, o2;

@@ -4,6 +4,7 @@
 // gives pieces in pixels with QI, and where each piece lies on the mesh edges.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -132,6 +133,11 @@ struct PieceGraph {
     // Keeps pieces [0, k) (and their spans); the storage of the others is kept for the next build.
     void truncate(std::size_t k);
 
+    // The calling thread's share of the curve edges at the next two-thread build (0.3-0.7; fitted
+    // by each build to the two sides' times; the pieces do not depend on it).
+    double range_share() const { return range_share_; }
+    void set_range_share(double share) { range_share_ = std::clamp(share, 0.3, 0.7); }
+
     // The thread that runs the second half of a stage split in two (build_pieces' curves, the
     // fast method's curve ends and walks), started on first use and kept with the graph from view
     // to view.
@@ -150,6 +156,9 @@ private:
     std::vector<Piece> spare_pieces_;
     std::vector<std::vector<EdgeSpan>> spare_spans_;
     std::unique_ptr<WorkerThread> helper_;
+    // The calling thread's share of the curve edges when the curves are split between two
+    // threads, fitted from view to view to the two sides' times (the pieces do not depend on it).
+    double range_share_ = 0.5;
 };
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
