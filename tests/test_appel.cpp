@@ -413,6 +413,26 @@ TEST(BorderCusps, CurvedSheet) {
 }
 
 
+// The split of build_pieces' curves between two threads: halfway each view toward the share that
+// would have made both sides end together, within [0.3, 0.7]; no move without two times.
+TEST(BuildPieces, SplitShareMovesTowardEqualTimes) {
+    SplitShare s;
+    EXPECT_EQ(s.share, 0.5);
+    s.fit(0.5, 1.0, 1.25);  // the helper 25 % slower per unit: both end together at 1.25 / 2.25
+    EXPECT_NEAR(s.share, 0.5 * 0.5 + 0.5 * (1.25 / 2.25), 1e-12);
+    for (int i = 0; i < 40; ++i) s.fit(s.share, s.share * 1.0, (1.0 - s.share) * 1.25);
+    EXPECT_NEAR(s.share, 1.25 / 2.25, 1e-9);  // the fixed point: equal times
+    s.fit(0.5, 1.0, 100.0);
+    s.fit(s.share, 1.0, 100.0);
+    EXPECT_EQ(s.share, 0.7);  // clamped
+    const double before = s.share;
+    s.fit(0.5, 0.0, 1.0);
+    s.fit(0.0, 1.0, 1.0);
+    EXPECT_EQ(s.share, before);
+    s.set(0.1);
+    EXPECT_EQ(s.share, 0.3);
+}
+
 // build_pieces on two threads (the curves split in two ranges, the second's pieces and links
 // appended) gives exactly the pieces, spans, links, crossings and curve ends of one thread, wherever
 // the curves are split (the split follows the two sides' times from view to view: here set to
@@ -457,11 +477,11 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
         const PieceGraph one = build_pieces(mesh, f, cam, &si.cuts, 1);
         for (const double share : {0.3, 0.5, 0.7}) {
             PieceGraph two;
-            two.set_range_share(share);
+            two.curves_split.set(share);
             build_pieces(two, mesh, f, cam, &si.cuts, 2, /*parallel_edges=*/0);
             expect_same(one, two, k);
-            EXPECT_GE(two.range_share(), 0.3);  // (fitted after the build, within its range)
-            EXPECT_LE(two.range_share(), 0.7);
+            EXPECT_GE(two.curves_split.share, 0.3);  // (fitted after the build, within its range)
+            EXPECT_LE(two.curves_split.share, 0.7);
         }
     }
     // Through the pipeline: the same drawing.

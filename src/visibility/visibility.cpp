@@ -731,11 +731,9 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
         build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, mirror_pairs, scratch, first);
     } else {
-        // The split: the calling thread's share of the edges, fitted to the last views' times. The
-        // helper's side costs more per edge where the data it reads was just written on the other
-        // core (about 25 % more on armadillo@2's window views on a 2-core VM: 4.3-4.7 ms against
-        // 3.1-4.4 for halves).
-        const double share = g.range_share_;
+        // The split: the calling thread's share of the edges, fitted to the last views' times
+        // (on armadillo@2's window views, halves took 4.3-4.7 ms on the helper against 3.1-4.4).
+        const double share = g.curves_split.share;
         std::uint32_t mid = 0;
         for (std::size_t edges = 0; mid < ncurves && double(edges) < share * double(total_edges); ++mid)
             edges += features.curves[mid].edges.size();
@@ -751,28 +749,17 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         Scratch::Parts& p2 = scratch2.parts;
         p2.clear();
         Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
-        using Clock = std::chrono::steady_clock;
-        double t_first = 0.0, t_second = 0.0;
-        g.helper().fork_join(
+        const auto [t_first, t_second] = fork_join_timed(
+            g,
             [&] {
-                const auto t0 = Clock::now();
                 build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves, mirror_pairs,
                             scratch2, second);
-                t_second = std::chrono::duration<double>(Clock::now() - t0).count();
             },
             [&] {
-                const auto t0 = Clock::now();
                 build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs,
                             scratch, first);
-                t_first = std::chrono::duration<double>(Clock::now() - t0).count();
             });
-        // Each side's time per edge; the share that would have made both sides end together,
-        // taken halfway (views differ, and a time can be inflated by the host).
-        const double f = double(first_edges) / double(total_edges);
-        if (t_first > 0.0 && t_second > 0.0 && f > 0.0 && f < 1.0) {
-            const double c1 = t_first / f, c2 = t_second / (1.0 - f);
-            g.range_share_ = std::clamp(0.5 * share + 0.5 * c2 / (c1 + c2), 0.3, 0.7);
-        }
+        g.curves_split.fit(double(first_edges) / double(total_edges), t_first, t_second);
         // Append the second range, its indices shifted; its pieces swapped into the graph's slots
         // (each side keeps storage).
         const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());

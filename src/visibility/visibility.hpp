@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/camera.hpp"
@@ -89,6 +91,23 @@ private:
     mutable std::vector<std::uint64_t> done_, slack_done_;
 };
 
+// The calling thread's share of the work units of a stage split between two threads (the rest
+// goes to the helper thread), fitted from view to view: the side on the helper thread can cost
+// more per unit (on armadillo@2's window views on a 2-core VM, about 25 % more: it reads what the
+// other core has just written), so halves leave the calling thread waiting.
+struct SplitShare {
+    double share = 0.5;  // within [0.3, 0.7]
+    void set(double s) { share = std::clamp(s, 0.3, 0.7); }
+    // After a split that gave the calling thread the fraction f of the units, and took t_here on
+    // it and t_there on the helper: moves halfway toward the share that would have made both
+    // sides end together (views differ, and the host can inflate a time).
+    void fit(double f, double t_here, double t_there) {
+        if (!(t_here > 0.0 && t_there > 0.0 && f > 0.0 && f < 1.0)) return;
+        const double c1 = t_here / f, c2 = t_there / (1.0 - f);
+        set(0.5 * share + 0.5 * c2 / (c1 + c2));
+    }
+};
+
 // The pieces of a view before they get their QI, and what the fast method needs to propagate QI
 // between them: links where a curve is cut at crossings, the vertices where curves end, whether
 // geometry surrounds the camera, and the extreme points of the occluders' image.
@@ -133,10 +152,10 @@ struct PieceGraph {
     // Keeps pieces [0, k) (and their spans); the storage of the others is kept for the next build.
     void truncate(std::size_t k);
 
-    // The calling thread's share of the curve edges at the next two-thread build (0.3-0.7; fitted
-    // by each build to the two sides' times; the pieces do not depend on it).
-    double range_share() const { return range_share_; }
-    void set_range_share(double share) { range_share_ = std::clamp(share, 0.3, 0.7); }
+    // The calling thread's share of the curve edges when build_pieces splits the curves between
+    // two threads, fitted by each build to the two sides' times (the pieces do not depend on it).
+    // (Fitting the curve ends' and the crossings' splits too was tried: no change measured.)
+    SplitShare curves_split;
 
     // The thread that runs the second half of a stage split in two (build_pieces' curves, the
     // fast method's curve ends and walks), started on first use and kept with the graph from view
@@ -156,10 +175,26 @@ private:
     std::vector<Piece> spare_pieces_;
     std::vector<std::vector<EdgeSpan>> spare_spans_;
     std::unique_ptr<WorkerThread> helper_;
-    // The calling thread's share of the curve edges when the curves are split between two
-    // threads, fitted from view to view to the two sides' times (the pieces do not depend on it).
-    double range_share_ = 0.5;
 };
+
+// graph.helper().fork_join(there, here) with each side's time, seconds: {here's, there's}.
+template <class There, class Here>
+std::pair<double, double> fork_join_timed(PieceGraph& graph, There&& there, Here&& here) {
+    using Clock = std::chrono::steady_clock;
+    double t_here = 0.0, t_there = 0.0;
+    graph.helper().fork_join(
+        [&] {
+            const auto t0 = Clock::now();
+            there();
+            t_there = std::chrono::duration<double>(Clock::now() - t0).count();
+        },
+        [&] {
+            const auto t0 = Clock::now();
+            here();
+            t_here = std::chrono::duration<double>(Clock::now() - t0).count();
+        });
+    return {t_here, t_there};
+}
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
 // curve edges meet other faces: model/self_intersections.hpp), if given. With threads > 1 a large
