@@ -3,7 +3,7 @@
 // and through UiLayer (rasterized once, then blended), and prints how far the two images differ.
 // Then asks the layer about the same draw data again (it must not rasterize) and about a frame with
 // one number changed (it must). Output, one line:
-//   max_diff=D differing=N panel_pixels=P same_again=0|1 changed_again=0|1 rasterized=R
+//   max_diff=D differing=N panel_pixels=P first=0|1 same_again=0|1 changed_again=0|1 rasterized=R
 #define GLFW_INCLUDE_NONE
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>

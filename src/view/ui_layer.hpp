@@ -36,7 +36,7 @@ private:
     int w_ = 0, h_ = 0;
     int x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0;  // pixels the layer covers (GL window coordinates)
     std::vector<unsigned char> last_;        // the draw data last rasterized, serialized
-    std::vector<unsigned char> now_;
+    std::vector<unsigned char> now_;         // this frame's, serialized (its storage kept)
     std::size_t rasterized_ = 0;
 };
 
