@@ -134,7 +134,7 @@ struct FinderOptions {
                                   // they skip the draws and seeks)
     double band_steps = 0.0;      // coherence: the band's margin in steps of the eye's last move;
                                   // 0: chosen from the last band's size (streaming the band and
-                                  // rebuilding it balanced: sqrt(faces / band faces per step) / 2)
+                                  // rebuilding it balanced: sqrt(faces / (2.5 band faces per step)))
     int threads = 1;              // exhaustive: threads for the facing pass and the edge scan
                                   // (the result and its order do not depend on it)
     bool blocks = true;           // exhaustive scan (from its second view) and band rebuilds: decide
