@@ -694,9 +694,9 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         // Per frame the band costs about its size, a rebuild about the face count once per
         // 2 * steps frames: with a band face costing k faces of a rebuild, balanced at
         // steps = sqrt(faces / (2 k band faces per step)). k = 1.25 was measured on armadillo@2
-        // along an orbit with the caches cold between views (/work/exp/frames_plain, three
-        // rounds, mean ms a view: 6 steps 0.294, 8 0.283, 10 0.277, 12 0.277, 16 0.283; auto
-        // now chooses about 11; the earlier k = 4 chose 6).
+        // along an orbit with the caches cold between views (mean ms a view: 6 steps 0.294, 8
+        // 0.283, 10 0.277, 12 0.277, 16 0.283; auto now chooses about 11, the earlier k = 4 chose
+        // 6: bench/results/finder_targets.md, 2026-12-03).
         constexpr double kBandFace = 1.25;
         const double per_step = std::max(1.0, double(band_.size()) / steps);
         auto_steps_ = std::clamp(std::sqrt(double(nf) / (2.0 * kBandFace * per_step)), 2.0, 64.0);
