@@ -719,6 +719,21 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     // than a few faces ahead in the loop that reads them (kept views 0.03 ms faster with cold
     // caches, about 15 %: bench/follow_profile, bench/results/finder_targets.md, 2026-12-03).
     const std::uint8_t* carried = out.face_front.size() == nf ? out.face_front.states() : nullptr;
+    if (block_edges_begin_.empty()) {
+        // Per 64 faces, the first edge whose first face is one of them (edges are numbered in the
+        // order of their first face: topology.cpp; otherwise none, and no such fetch).
+        const std::size_t ne = mesh.edge_count();
+        block_edges_begin_.assign(nf / 64 + 2, std::uint32_t(ne));
+        for (std::size_t e = ne; e-- > 0;) block_edges_begin_[mesh.edge_face[e][0] >> 6] = std::uint32_t(e);
+        for (std::size_t b = block_edges_begin_.size() - 1; b-- > 0;)
+            block_edges_begin_[b] = std::min(block_edges_begin_[b], block_edges_begin_[b + 1]);
+        for (std::size_t e = 1; e < ne; ++e)
+            if (mesh.edge_face[e][0] < mesh.edge_face[e - 1][0]) {
+                block_edges_begin_.assign(1, 0);  // (not empty: tried)
+                break;
+            }
+    }
+    const std::uint32_t* eb = block_edges_begin_.size() > 1 ? block_edges_begin_.data() : nullptr;
     constexpr std::size_t kCheckAhead = 8;
     for (std::size_t c = 0; c < nc; ++c) {  // the filters disagree or cannot decide: exact
         if (c + kCheckAhead < nc) {  // (scattered words of both bit sets: their misses overlap)
@@ -742,6 +757,12 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             __builtin_prefetch(r);
             __builtin_prefetch(r + sizeof(MeshTopology::FaceEdges) - 1);
             if (carried) __builtin_prefetch(carried + f, 1);
+            if (eb) {  // the kinds of the edges its 64 faces number (most of its own edges)
+                const std::uint8_t* kinds = out.edge_kind.data();
+                const std::uint32_t e0 = eb[f >> 6];
+                __builtin_prefetch(kinds + e0, 1);
+                __builtin_prefetch(kinds + std::min<std::size_t>(e0 + 64, out.edge_kind.size() - 1), 1);
+            }
             turned_.push_back(f);
         }
     }
