@@ -608,6 +608,22 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
 }
 }  // namespace
 
+namespace {
+// Per 64 faces (and one past the last), the first edge whose first face is one of them, where the
+// mesh numbers its edges in the order of their first face (topology.cpp); else {0}. (The same
+// ranges as FaceBlocks::build_edges, which also lists each block's neighbours: 5 ms on
+// armadillo@2, against about 1 ms for these alone.)
+std::vector<std::uint32_t> first_edges_by_64_faces(const MeshTopology& mesh) {
+    const std::size_t ne = mesh.edge_count();
+    for (std::size_t e = 1; e < ne; ++e)
+        if (mesh.edge_face[e][0] < mesh.edge_face[e - 1][0]) return {0};
+    std::vector<std::uint32_t> first(mesh.face_count() / 64 + 2, std::uint32_t(ne));
+    for (std::size_t e = ne; e-- > 0;) first[mesh.edge_face[e][0] >> 6] = std::uint32_t(e);
+    for (std::size_t b = first.size() - 1; b-- > 0;) first[b] = std::min(first[b], first[b + 1]);
+    return first;
+}
+}  // namespace
+
 // The band: every face whose float distance to the eye e is within margin + bound. With the
 // float distance within bound/2 of the exact one (facing.cpp) and a unit normal, the exact
 // distance moves by at most |e' - e| when the eye moves to e', so a face outside the band keeps
@@ -717,22 +733,11 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     // A face found turned has its record read below and its state in a carried full view flipped
     // after (find()): both are fetched as soon as it is found, while the checks go on, rather
     // than a few faces ahead in the loop that reads them (kept views 0.03 ms faster with cold
-    // caches, about 15 %: bench/follow_profile, bench/results/finder_targets.md, 2026-12-03).
+    // caches, about 15 %, and the edges' kinds another 0.007: bench/follow_profile,
+    // bench/results/finder_targets.md, 2026-12-03).
     const std::uint8_t* carried = out.face_front.size() == nf ? out.face_front.states() : nullptr;
-    if (block_edges_begin_.empty()) {
-        // Per 64 faces, the first edge whose first face is one of them (edges are numbered in the
-        // order of their first face: topology.cpp; otherwise none, and no such fetch).
-        const std::size_t ne = mesh.edge_count();
-        block_edges_begin_.assign(nf / 64 + 2, std::uint32_t(ne));
-        for (std::size_t e = ne; e-- > 0;) block_edges_begin_[mesh.edge_face[e][0] >> 6] = std::uint32_t(e);
-        for (std::size_t b = block_edges_begin_.size() - 1; b-- > 0;)
-            block_edges_begin_[b] = std::min(block_edges_begin_[b], block_edges_begin_[b + 1]);
-        for (std::size_t e = 1; e < ne; ++e)
-            if (mesh.edge_face[e][0] < mesh.edge_face[e - 1][0]) {
-                block_edges_begin_.assign(1, 0);  // (not empty: tried)
-                break;
-            }
-    }
+    // Its edges' kinds, written below, too: those of the edges its 64 faces number.
+    if (block_edges_begin_.empty()) block_edges_begin_ = first_edges_by_64_faces(mesh);
     const std::uint32_t* eb = block_edges_begin_.size() > 1 ? block_edges_begin_.data() : nullptr;
     constexpr std::size_t kCheckAhead = 8;
     for (std::size_t c = 0; c < nc; ++c) {  // the filters disagree or cannot decide: exact
@@ -757,7 +762,7 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             __builtin_prefetch(r);
             __builtin_prefetch(r + sizeof(MeshTopology::FaceEdges) - 1);
             if (carried) __builtin_prefetch(carried + f, 1);
-            if (eb) {  // the kinds of the edges its 64 faces number (most of its own edges)
+            if (eb) {  // (most of its own edges are among them)
                 const std::uint8_t* kinds = out.edge_kind.data();
                 const std::uint32_t e0 = eb[f >> 6];
                 __builtin_prefetch(kinds + e0, 1);

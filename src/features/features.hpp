@@ -280,7 +280,7 @@ private:
     Camera previous_camera_, camera_;
     FacingFilter previous_filter_, filter_;
     std::vector<std::uint32_t> turned_;
-    std::vector<std::uint32_t> block_edges_begin_;  // follow(): per 64 faces, the first edge they number
+    std::vector<std::uint32_t> block_edges_begin_;  // follow(): per 64 faces, the first edge they number ({0}: none)
     FacingBand band_;
     std::vector<std::uint32_t> check_;  // scratch: band positions to check exactly
     // Bit per face: front now (band faces: set per view; the others: at the band's rebuild,
