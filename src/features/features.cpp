@@ -606,9 +606,7 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
     e[0] = v.x, e[1] = v.y, e[2] = v.z;
     w = ortho ? 0.0 : 1.0;
 }
-}  // namespace
 
-namespace {
 // Per 64 faces (and one past the last), the first edge whose first face is one of them, where the
 // mesh numbers its edges in the order of their first face (topology.cpp); else {0}. (The same
 // ranges as FaceBlocks::build_edges, which also lists each block's neighbours: 5 ms on
@@ -779,9 +777,10 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
     // here. An edge's kind before tells whether it was a previous silhouette edge (previous_'s
     // edges are marked: kept by find(), or marked here); one that was and is not is dropped_, one
     // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over
-    // the mesh: their face records (edges and the faces across them, 24 bytes) are fetched 16
-    // faces ahead, and the edges' kinds (written) 8 ahead, so that the cache misses overlap
-    // instead of following each other.
+    // the mesh: their face records (edges and the faces across them, 24 bytes) and most of their
+    // edges' kinds were fetched when the checks found them (above); here the records are fetched
+    // again 16 faces ahead and the edges' kinds (written) 8 ahead, for what those missed, so
+    // that the cache misses overlap instead of following each other.
     const std::size_t np = previous_.size(), nt = turned_.size();
     std::uint8_t* __restrict kind = out.edge_kind.data();
     if (!marks_kept_)  // the kinds were reset: the previous edges are marked again
