@@ -937,26 +937,38 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         }
     }
     auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
+    // (A link's two pieces are in one cluster, unless one lies on a pierced face: then the link
+    // was not united, and that piece's cluster is inconsistent.)
     std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
     for (std::size_t i = 0; i < occluding.size(); ++i) {
         const std::uint32_t op = occluder_piece[i], link = occluding[i].link;
-        if (op == UINT32_MAX || comp[op] == comp[graph.links[link].before]) continue;
+        if (op == UINT32_MAX) continue;
+        if (comp[op] == comp[graph.links[link].before] && comp[op] == comp[graph.links[link].after]) continue;
         constraints.push_back({op, link});
     }
+    // Each side is raised in its own cluster: a side in another cluster than the other side (across
+    // a link not united) must not raise this one. (Raising a cluster by the deficit of the other
+    // side's cluster, which that raise does not change, raised it again every round up to the
+    // round limit: pieces shown hidden that rays show visible, on bones and elephant-with-holes.)
     // (Raises only go up and are bounded by consistent data; the round limit guards against
     // contradictory input from non-generic views.)
     for (std::size_t round = 0, changed = 1; changed && round < nc + 2; ++round) {
         changed = 0;
         for (const auto& [op, l] : constraints) {
-            const std::uint32_t c = comp[graph.links[l].before];
             // An inconsistent cluster's values mean nothing (they depend on the order of union).
-            if (state[c] != kBound || state[comp[op]] == kInconsistent) continue;
-            const int n = value(op), m = std::min(value(graph.links[l].before), value(graph.links[l].after));
-            if (m >= n) continue;
-            int raise = n - m;
-            if (parity) raise += raise % 2;
-            base[c] += raise;
-            changed = 1;
+            if (state[comp[op]] == kInconsistent) continue;
+            const int n = value(op);
+            for (const std::uint32_t x : {graph.links[l].before, graph.links[l].after}) {
+                const std::uint32_t c = comp[x];
+                // (a side in the occluder's own cluster rises with it: no constraint)
+                if (state[c] != kBound || c == comp[op]) continue;
+                const int m = value(x);
+                if (m >= n) continue;
+                int raise = n - m;
+                if (parity) raise += raise % 2;
+                base[c] += raise;
+                changed = 1;
+            }
         }
     }
 
