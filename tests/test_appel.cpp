@@ -233,8 +233,9 @@ TEST_P(RandomCameras, AppelAgreesWithRays) {
 
 INSTANTIATE_TEST_SUITE_P(Meshes, RandomCameras,
                          testing::Values("armadillo", "bunny00", "fandisk", "elephant", "knot1", "ChineseDragon-10kv",
-                                         // (holes: borders; bones: self-intersecting, pierced pieces)
-                                         "elephant-with-holes", "bones"),
+                                         // (holes: borders; the others closed and self-intersecting: pierced
+                                         // pieces, and parts inside other parts)
+                                         "elephant-with-holes", "bones", "cow", "man"),
                          [](const testing::TestParamInfo<const char*>& i) {
                              std::string s = i.param;
                              for (char& c : s)

@@ -883,8 +883,18 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         }
     }
 
-    // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd.
-    const bool parity = mesh.closed;
+    // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd. It holds
+    // where the surface bounds a solid: a point on a front face is entered from outside, so an
+    // even number of layers lie in front of it. Where the surface passes through itself, a part
+    // of it lies inside another, and there the count is odd: not only on the pierced faces (whose
+    // pieces take no part in propagation) but on every face inside the other part. So a mesh with
+    // pierced faces gets no parity (steps of 1 below). (With it, vis_check on cow, oblong-shuffled,
+    // mask_cone, ChineseDragon-10kv and man gave 467 pieces a wrong exact QI and 10 a wrong
+    // visibility; without it, 26 and 5, and 10 % fewer ray tests.)
+    const bool pierced_any = options.pierced_faces &&
+                             std::any_of(options.pierced_faces->begin(), options.pierced_faces->end(),
+                                         [](std::uint8_t x) { return x != 0; });
+    const bool parity = mesh.closed && !pierced_any;
     if (parity) {
         std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
         for (std::uint32_t p = 0; p < np; ++p) {
