@@ -3,14 +3,20 @@
 // many pieces' QI differ from the reference method (rays; for the variant without creases, rays
 // without creases). Two builds that print the same lines gave the same results (for views without
 // exact hidden QI: the same visible pieces).
-// Usage: vis_check [--session] [mesh ...] (default: the bench meshes without subdivision, and
-// armadillo@1); meshes come from INKLINE_DATA_DIR. With --session the views of each variant come
-// from one ViewSession per mesh (storage reused from camera to camera) instead of render_view:
-// the same lines are expected.
+// Usage: vis_check [--session] [--all] [mesh ...] (default: the bench meshes without subdivision,
+// and armadillo@1); meshes come from INKLINE_DATA_DIR (a name without an extension is the .off
+// file; --all: every mesh file there, those that do not load reported and skipped). With --session
+// the views of each variant come from one ViewSession per mesh (storage reused from camera to
+// camera) instead of render_view: the same lines are expected. The last lines total each variant
+// over all views (pieces, ray tests, walks, pieces whose QI / visibility differ from the reference).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
+#include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -46,16 +52,40 @@ inkline::Camera random_camera(std::mt19937& rng, const inkline::Bounds3& box, bo
 int main(int argc, char** argv) {
     std::vector<std::string> meshes;
     bool session = false;
+    const std::string dir = std::string(INKLINE_DATA_DIR) + "/meshes/";
     for (int i = 1; i < argc; ++i)
-        if (std::strcmp(argv[i], "--session") == 0) session = true;
-        else meshes.push_back(argv[i]);
+        if (std::strcmp(argv[i], "--session") == 0) {
+            session = true;
+        } else if (std::strcmp(argv[i], "--all") == 0) {
+            std::vector<std::string> all;
+            for (const auto& entry : std::filesystem::directory_iterator(dir))
+                if (entry.is_regular_file()) all.push_back(entry.path().filename().string());
+            std::sort(all.begin(), all.end());
+            meshes.insert(meshes.end(), all.begin(), all.end());
+        } else {
+            meshes.push_back(argv[i]);
+        }
     if (meshes.empty())
         meshes = {"armadillo", "bunny00", "fandisk", "elephant", "knot1", "ChineseDragon-10kv", "armadillo@1"};
+    struct Total {
+        std::size_t pieces = 0, rays = 0, walks = 0, differ = 0, differ_vis = 0;
+    };
+    Total total[5];
+    std::size_t skipped = 0;
     for (const std::string& name : meshes) {
         const auto at = name.find('@');
         const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
-        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name.substr(0, at) + ".off";
-        const inkline::Model model = inkline::Model::load(path, 40.0, levels);
+        const std::string file = name.substr(0, at);
+        const std::string path = dir + file + (std::filesystem::path(file).has_extension() ? "" : ".off");
+        std::optional<inkline::Model> loaded;
+        try {
+            loaded.emplace(inkline::Model::load(path, 40.0, levels));
+        } catch (const std::exception& e) {
+            std::printf("%s: skipped: %s\n", name.c_str(), e.what());
+            ++skipped;
+            continue;
+        }
+        const inkline::Model& model = *loaded;
         std::mt19937 rng(7u);
         auto options = [](int variant) {
             inkline::ViewOptions o;
@@ -97,11 +127,18 @@ int main(int argc, char** argv) {
                     }
                 }
                 const auto& s = v.drawing.stats;
+                Total& t = total[variant];
+                t.pieces += s.pieces, t.rays += s.ray_tests, t.walks += s.walks, t.differ += differ, t.differ_vis += differ_vis;
                 std::printf("%s cam %2d var %d: pieces %zu crossings %zu clusters %zu walks %zu rays %zu differ %zu/%zu hash %016llx\n",
                             name.c_str(), k, variant, s.pieces, s.crossings, s.clusters, s.walks, s.ray_tests, differ,
                             differ_vis, (unsigned long long)h);
             }
         }
+    }
+    for (int variant = 0; variant < 5; ++variant) {
+        const Total& t = total[variant];
+        std::printf("total var %d: pieces %zu rays %zu walks %zu differ %zu/%zu (%zu meshes skipped)\n", variant, t.pieces,
+                    t.rays, t.walks, t.differ, t.differ_vis, skipped);
     }
     return 0;
 }
