@@ -3,12 +3,15 @@
 // many pieces' QI differ from the reference method (rays; for the variant without creases, rays
 // without creases). Two builds that print the same lines gave the same results (for views without
 // exact hidden QI: the same visible pieces).
-// Usage: vis_check [--session] [--all] [mesh ...] (default: the bench meshes without subdivision,
-// and armadillo@1); meshes come from INKLINE_DATA_DIR (a name without an extension is the .off
-// file; --all: every mesh file there, those that do not load reported and skipped). With --session
-// the views of each variant come from one ViewSession per mesh (storage reused from camera to
-// camera) instead of render_view: the same lines are expected. The last lines total each variant
-// over all views (pieces, ray tests, walks, pieces whose QI / visibility differ from the reference).
+// Usage: vis_check [--session] [--all] [--distance=F] [--details] [mesh ...] (default: the bench
+// meshes without subdivision, and armadillo@1); meshes come from INKLINE_DATA_DIR (a name without
+// an extension is the .off file; --all: every mesh file there, those that do not load reported and
+// skipped). With --session the views of each variant come from one ViewSession per mesh (storage
+// reused from camera to camera) instead of render_view: the same lines are expected. --distance:
+// the random cameras F times as far (1: the model about fills the image; their orthographic views
+// F times as high). --details: after a view's line, each piece whose visibility differs. The last
+// lines total each variant over all views (pieces, ray tests, walks, pieces whose QI / visibility
+// differ from the reference).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -35,15 +38,16 @@ std::uint64_t bits(double d) {
     return u;
 }
 
-inkline::Camera random_camera(std::mt19937& rng, const inkline::Bounds3& box, bool ortho) {
+// (scale: the distance, and an orthographic view's height, times scale)
+inkline::Camera random_camera(std::mt19937& rng, const inkline::Bounds3& box, bool ortho, double scale) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     const double z = 2.0 * u(rng) - 1.0, phi = 2.0 * M_PI * u(rng), s = std::sqrt(1.0 - z * z);
     const glm::dvec3 dir(s * std::cos(phi), z, s * std::sin(phi));
     const double fov = 25.0 + 25.0 * u(rng), R = box.half_diagonal();
-    const double dist = R / std::sin(fov * M_PI / 360.0) * (0.7 + 0.8 * u(rng));
+    const double dist = scale * R / std::sin(fov * M_PI / 360.0) * (0.7 + 0.8 * u(rng));
     const glm::dvec3 target = box.center() + 0.2 * R * glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
     const glm::dvec3 up = std::abs(dir.y) > 0.95 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    if (ortho) return inkline::Camera::orthographic(target + dist * dir, target, up, 2.2 * R, 1024, 1024);
+    if (ortho) return inkline::Camera::orthographic(target + dist * dir, target, up, 2.2 * R * scale, 1024, 1024);
     return inkline::Camera::perspective(target + dist * dir, target, up, fov, 1024, 1024);
 }
 
@@ -51,11 +55,16 @@ inkline::Camera random_camera(std::mt19937& rng, const inkline::Bounds3& box, bo
 
 int main(int argc, char** argv) {
     std::vector<std::string> meshes;
-    bool session = false;
+    bool session = false, details = false;
+    double distance = 1.0;
     const std::string dir = std::string(INKLINE_DATA_DIR) + "/meshes/";
     for (int i = 1; i < argc; ++i)
         if (std::strcmp(argv[i], "--session") == 0) {
             session = true;
+        } else if (std::strcmp(argv[i], "--details") == 0) {
+            details = true;
+        } else if (std::strncmp(argv[i], "--distance=", 11) == 0) {
+            distance = std::stod(argv[i] + 11);
         } else if (std::strcmp(argv[i], "--all") == 0) {
             std::vector<std::string> all;
             for (const auto& entry : std::filesystem::directory_iterator(dir))
@@ -99,7 +108,7 @@ int main(int argc, char** argv) {
         for (int variant = 0; variant < 5; ++variant) sessions.emplace_back(model, options(variant));
         for (int k = 0; k < 16; ++k) {
             const inkline::Camera cam = k == 0 ? inkline::Camera::framing(model.topology().bounds, 1024, 1024)
-                                               : random_camera(rng, model.topology().bounds, k >= 13);
+                                               : random_camera(rng, model.topology().bounds, k >= 13, distance);
             const inkline::View ref = session ? sessions[4].render(cam) : inkline::render_view(model, cam, options(4));
             // Variant 3's own reference: rays with creases off (its curves differ from the others').
             inkline::ViewOptions o3 = options(3);
@@ -123,7 +132,15 @@ int main(int argc, char** argv) {
                     const inkline::View& r = variant == 3 ? ref3 : ref;
                     if (i < r.drawing.pieces.size()) {
                         differ += r.drawing.pieces[i].qi != p.qi;
-                        differ_vis += (r.drawing.pieces[i].qi == 0) != (p.qi == 0);
+                        const bool vis_differs = (r.drawing.pieces[i].qi == 0) != (p.qi == 0);
+                        differ_vis += vis_differs;
+                        if (vis_differs && details) {
+                            double len = 0.0;
+                            for (std::size_t q = 1; q < p.points.size(); ++q) len += glm::length(p.points[q] - p.points[q - 1]);
+                            std::printf("  piece %zu (kind %d, edge %u): QI %d, reference %d, %.4f px from (%.2f, %.2f)\n", i,
+                                        int(p.kind), v.spans[i].front().edge, p.qi, r.drawing.pieces[i].qi, len,
+                                        p.points.front().x, p.points.front().y);
+                        }
                     }
                 }
                 const auto& s = v.drawing.stats;
