@@ -3,15 +3,16 @@
 // many pieces' QI differ from the reference method (rays; for the variant without creases, rays
 // without creases). Two builds that print the same lines gave the same results (for views without
 // exact hidden QI: the same visible pieces).
-// Usage: vis_check [--session] [--all] [--distance=F] [--details] [mesh ...] (default: the bench
-// meshes without subdivision, and armadillo@1); meshes come from INKLINE_DATA_DIR (a name without
-// an extension is the .off file; --all: every mesh file there, those that do not load reported and
-// skipped). With --session the views of each variant come from one ViewSession per mesh (storage
-// reused from camera to camera) instead of render_view: the same lines are expected. --distance:
-// the random cameras F times as far (1: the model about fills the image; their orthographic views
-// F times as high). --details: after a view's line, each piece whose visibility differs. The last
-// lines total each variant over all views (pieces, ray tests, walks, pieces whose QI / visibility
-// differ from the reference).
+// Usage: vis_check [--session] [--all] [--distance=F] [--threads=N] [--details] [mesh ...]
+// (default: the bench meshes without subdivision, and armadillo@1); meshes come from
+// INKLINE_DATA_DIR (a name without an extension is the .off file; --all: every mesh file there,
+// those that do not load reported and skipped). With --session the views of each variant come from
+// one ViewSession per mesh (storage reused from camera to camera) instead of render_view: the same
+// lines are expected. --distance: the random cameras F times as far (1: the model about fills the
+// image; their orthographic views F times as high). --threads: the visibility stage on N threads
+// (in large views; the same lines are expected). --details: after a view's line, each piece whose
+// visibility differs. The last lines total each variant over all views (pieces, ray tests, walks,
+// pieces whose QI / visibility differ from the reference).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> meshes;
     bool session = false, details = false;
     double distance = 1.0;
+    int threads = 1;
     const std::string dir = std::string(INKLINE_DATA_DIR) + "/meshes/";
     for (int i = 1; i < argc; ++i)
         if (std::strcmp(argv[i], "--session") == 0) {
@@ -65,6 +67,8 @@ int main(int argc, char** argv) {
             details = true;
         } else if (std::strncmp(argv[i], "--distance=", 11) == 0) {
             distance = std::stod(argv[i] + 11);
+        } else if (std::strncmp(argv[i], "--threads=", 10) == 0) {
+            threads = std::stoi(argv[i] + 10);
         } else if (std::strcmp(argv[i], "--all") == 0) {
             std::vector<std::string> all;
             for (const auto& entry : std::filesystem::directory_iterator(dir))
@@ -96,8 +100,9 @@ int main(int argc, char** argv) {
         }
         const inkline::Model& model = *loaded;
         std::mt19937 rng(7u);
-        auto options = [](int variant) {
+        auto options = [threads](int variant) {
             inkline::ViewOptions o;
+            o.threads = threads;
             o.visibility = variant == 4 ? inkline::VisibilityMethod::Rays : inkline::VisibilityMethod::Appel;
             o.exact_hidden = variant == 0 || variant == 4;
             o.walk = variant != 2;
