@@ -275,6 +275,28 @@ TEST(Figure2, BranchInRearIsProvedHiddenWithoutRayTests) {
     EXPECT_EQ(exact.wrong, 0.0);
 }
 
+// The parity rule is dropped only when a face is flagged self-intersecting: flags passed all
+// clear keep it, and the branch in rear is still proved hidden by it (no walk, no ray test), as
+// with no flags at all.
+TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
+    const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
+    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const MeshTopology& mesh = model.topology();
+    ASSERT_TRUE(mesh.closed);
+    const Features f = extract_features(mesh, cam);
+    auto rays = [&]() -> const RayCaster& { return model.rays(); };
+    PieceGraph none = build_pieces(mesh, f, cam), clear = build_pieces(mesh, f, cam);
+    const std::vector<std::uint8_t> zeros(mesh.face_count(), 0);
+    const AppelStats s0 = assign_qi_appel(mesh, cam, f.face_front, rays, none, {false, nullptr, true, 1});
+    const AppelStats sc = assign_qi_appel(mesh, cam, f.face_front, rays, clear, {false, &zeros, true, 1});
+    EXPECT_GE(s0.clusters_occluded, 1u);
+    EXPECT_EQ(s0.walks, 0u);
+    EXPECT_EQ(s0.ray_tests, 0u);
+    EXPECT_EQ(sc.clusters_occluded, s0.clusters_occluded);
+    EXPECT_EQ(sc.walks, s0.walks);
+    EXPECT_EQ(sc.ray_tests, s0.ray_tests);
+}
+
 // Figure 2 (c): the branch in front: its silhouette is partly visible; propagation still agrees,
 // and walking (section 4.4) proves the enclosed cluster visible without a ray test.
 TEST(Figure2, BranchInFront) {
@@ -531,11 +553,10 @@ TEST(AssignQiAppel, TwoThreadsGiveTheSameQi) {
 }
 
 // Pieces on a self-intersecting face take no part in propagation (each gets a ray test): the
-// flags are found wherever the flagged face lies in the per-face vector (a mesh with no flag set
-// skips the per-span lookups: the flags are scanned 64 bytes at a time, then a tail). One face
-// flagged at a time (the lowest and the highest face under a piece; on a mesh of fewer than 64
-// faces both are in the scan's tail): every piece with a span on that face is counted as pierced
-// and the view makes at least that many ray tests; all flags clear gives the same QI as no flags.
+// flags are found wherever the flagged face lies in the per-face vector. One face flagged at a
+// time (the lowest and the highest face under a piece): every piece with a span on that face is
+// counted as pierced and the view makes at least that many ray tests; all flags clear gives the
+// same QI as no flags (the parity rule, off when any face is flagged, stays on).
 void check_flagged_faces(const Model& model, const Camera& cam) {
     const MeshTopology& mesh = model.topology();
     const Features f = extract_features(mesh, cam);

@@ -890,7 +890,8 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     // pieces take no part in propagation) but on every face inside the other part. So a mesh with
     // pierced faces gets no parity (steps of 1 below). (With it, vis_check on cow, oblong-shuffled,
     // mask_cone, ChineseDragon-10kv and man gave 467 pieces a wrong exact QI and 10 a wrong
-    // visibility; without it, 26 and 5, and 10 % fewer ray tests.)
+    // visibility; without it, 26 and 5, and 10 % fewer ray tests.) Flags passed all clear keep
+    // the rule: they are scanned up to the first one set (0.1 ms for 832 k faces none set).
     const bool pierced_any = options.pierced_faces &&
                              std::any_of(options.pierced_faces->begin(), options.pierced_faces->end(),
                                          [](std::uint8_t x) { return x != 0; });
