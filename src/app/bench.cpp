@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -245,16 +246,28 @@ int run_bench(int argc, char** argv) {
             settings.push_back(o);
         }
 
-    std::vector<Row> rows;
-    for (const FinderOptions& fo : settings) {
+    // Every setting has its own session (its own frame coherence), and the settings take turns
+    // frame by frame: on a shared machine a burst of load then slows every setting alike, and the
+    // ratios between them (the slowdown of exhaustive) are measured under the same conditions.
+    // (Run one after another, a burst during one setting's frames alone skewed its ratio.) Each
+    // setting's frame follows another setting's visibility stage, as in a pipeline: cold caches.
+    std::vector<Row> rows(settings.size());
+    std::vector<std::unique_ptr<ViewSession>> sessions;
+    for (std::size_t k = 0; k < settings.size(); ++k) {
+        const FinderOptions& fo = settings[k];
         ViewOptions opt = base;
         opt.finder = fo;
-        ViewSession session(model, opt);
-        Row r;
+        sessions.push_back(std::make_unique<ViewSession>(model, opt));
+        Row& r = rows[k];
         r.finder = finder_name(fo.kind);
         r.fraction = fo.kind == FinderKind::Exhaustive ? 1.0 : fo.fraction;
         r.coherence = fo.kind == FinderKind::Randomized && fo.coherence;
-        for (std::size_t i = 0; i < cams.size(); ++i) {
+        r.search_frames.reserve(cams.size());
+    }
+    for (std::size_t i = 0; i < cams.size(); ++i)
+        for (std::size_t k = 0; k < settings.size(); ++k) {
+            ViewSession& session = *sessions[k];
+            Row& r = rows[k];
             const Features& f = session.find(cams[i]);
             r.features_s += session.seconds_features();
             r.search_s += f.stats.seconds_search;
@@ -267,11 +280,10 @@ int run_bench(int argc, char** argv) {
             r.visibility_s += v.drawing.stats.seconds_visibility;
             r.wrong_px += wrong_length_px(mesh, cams[i], ref_visible[i], visible_intervals(v));
         }
-        rows.push_back(r);
+    for (const Row& r : rows)
         std::fprintf(stderr, "  %s %g%s: %.3f ms/frame, recall %.4f\n", r.finder.c_str(), r.fraction,
                      r.coherence ? " +coherence" : "", 1e3 * r.features_s / double(cams.size()),
                      ref_total > 0.0 ? r.found_length / ref_total : 1.0);
-    }
 
     const double n = double(cams.size());
     const double exhaustive_ms = 1e3 * rows[0].features_s / n, exhaustive_search_ms = 1e3 * rows[0].search_s / n;
