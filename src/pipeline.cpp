@@ -104,8 +104,15 @@ void ViewSession::finish(const Camera& camera) {
         // Into the session's graph: its storage (and the previous drawing's) reused.
         PieceGraph& g = graph_;
         build_pieces(g, model.topology(), v.features, camera, &si.cuts, options.threads);
+        const auto t2 = std::chrono::steady_clock::now();
+        d.stats.seconds_pieces = std::chrono::duration<double>(t2 - t1).count();
         as = assign_qi_appel(model.topology(), camera, v.features.face_front, rays, g,
                              {options.exact_hidden, pierced, options.walk, options.threads});
+        d.stats.seconds_walks = as.seconds_walks;
+        d.stats.seconds_ray_tests = as.seconds_ray_tests;
+        // (the ray-test index, if built in it, is not the view's time)
+        d.stats.seconds_propagation =
+            std::max(0.0, seconds_since(t2) - index_seconds - as.seconds_walks - as.seconds_ray_tests);
         // Drop what was chained only to propagate QI (their storage stays in the graph).
         auto& pieces = g.curves.pieces;
         auto& spans = g.curves.spans;
@@ -123,6 +130,9 @@ void ViewSession::finish(const Camera& camera) {
         curves.ray_tests = as.ray_tests;
     } else {
         curves = compute_visibility(model.topology(), v.features, camera, rays(), &si.cuts);
+        d.stats.seconds_pieces = curves.seconds_pieces;
+        d.stats.seconds_propagation = d.stats.seconds_walks = 0.0;
+        d.stats.seconds_ray_tests = curves.seconds_ray_tests;
         d.pieces = std::move(curves.pieces);
         v.spans = std::move(curves.spans);
     }

@@ -320,6 +320,52 @@ TEST(Figure2, BranchInFront) {
     EXPECT_GT(hidden, 0);
 }
 
+// The visibility stage's time is split into its stages (DrawingStats, JSON seconds.visibility_stages):
+// each stage that ran has time, each that did not has none, and they fit in the stage's total.
+// (Structure only: no speed is asserted.)
+TEST(VisibilityStages, SplitTheVisibilityTime) {
+    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    auto check_sum = [](const DrawingStats& s) {
+        EXPECT_LE(s.seconds_pieces + s.seconds_propagation + s.seconds_walks + s.seconds_ray_tests,
+                  s.seconds_visibility * (1.0 + 1e-9));
+    };
+    {  // Figure 2 (c): walks, no ray test
+        const Model model(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
+        ViewOptions o;
+        o.exact_hidden = false;
+        const View v = render_view(model, cam, o);
+        const DrawingStats& s = v.drawing.stats;
+        ASSERT_GE(s.walks, 1u);
+        ASSERT_EQ(s.ray_tests, 0u);
+        EXPECT_GT(s.seconds_pieces, 0.0);
+        EXPECT_GT(s.seconds_propagation, 0.0);
+        EXPECT_GT(s.seconds_walks, 0.0);
+        EXPECT_EQ(s.seconds_ray_tests, 0.0);
+        check_sum(s);
+    }
+    {  // Figure 2 (b) with exact hidden QI: ray tests for the hidden branch, no walk
+        const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
+        ViewOptions o;
+        o.exact_hidden = true;
+        const View v = render_view(model, cam, o);
+        const DrawingStats& s = v.drawing.stats;
+        ASSERT_GE(s.ray_tests, 1u);
+        ASSERT_EQ(s.walks, 0u);
+        EXPECT_GT(s.seconds_ray_tests, 0.0);
+        EXPECT_EQ(s.seconds_walks, 0.0);
+        check_sum(s);
+        // The reference: pieces and a ray test each, no propagation or walks.
+        o.visibility = VisibilityMethod::Rays;
+        const View r = render_view(model, cam, o);
+        const DrawingStats& sr = r.drawing.stats;
+        EXPECT_GT(sr.seconds_pieces, 0.0);
+        EXPECT_GT(sr.seconds_ray_tests, 0.0);
+        EXPECT_EQ(sr.seconds_propagation, 0.0);
+        EXPECT_EQ(sr.seconds_walks, 0.0);
+        check_sum(sr);
+    }
+}
+
 // Upper bounds (the constraint between clusters read the other way): a small sphere in front of
 // a large one, straddling its outline in the image but inside the box of all silhouettes, so the
 // bounding-box rule does not reach it. Where the large sphere's visible outline passes behind the

@@ -48,6 +48,10 @@ inkline::Drawing sample_drawing() {
     d.stats.seconds_load = 0.5;
     d.stats.seconds_features = 0.25;
     d.stats.seconds_visibility = 0.125;
+    d.stats.seconds_pieces = 0.03125;
+    d.stats.seconds_propagation = 0.015625;
+    d.stats.seconds_walks = 0.0078125;
+    d.stats.seconds_ray_tests = 0.00390625;
     d.stats.seconds_output = 0.0625;
     d.stats.seconds_total = 0.9375;
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -149,6 +153,8 @@ TEST(OutputJson, SchemaAndValues) {
     EXPECT_EQ(s["cluster_decisions"],
               (json{{"bounding_box", 5}, {"upper_bound", 6}, {"occluded", 7}, {"inconsistent", 1}}));
     EXPECT_EQ(s["seconds"], (json{{"load", 0.5}, {"features", 0.25}, {"visibility", 0.125},
+                                  {"visibility_stages", {{"pieces", 0.03125}, {"propagation", 0.015625},
+                                                         {"walks", 0.0078125}, {"ray_tests", 0.00390625}}},
                                   {"output", 0.0625}, {"total", 0.9375}}));
 
     // Visible, well-formed pieces only, in drawing order, points exact.

@@ -263,8 +263,10 @@ int render(int argc, char** argv) {
         std::printf("finder: %s (fraction %g)", s.finder.c_str(), s.fraction);
         if (s.recall >= 0.0) std::printf(", recall of silhouette length %.4f", s.recall);
         std::printf("\n");
-        std::printf("seconds: load %.4f, features %.4f, visibility %.4f, output %.4f\n", s.seconds_load,
-                    s.seconds_features, s.seconds_visibility, t_write);
+        std::printf("seconds: load %.4f, features %.4f, visibility %.4f (pieces %.4f, propagation %.4f, walks "
+                    "%.4f, ray tests %.4f), output %.4f\n",
+                    s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
+                    s.seconds_walks, s.seconds_ray_tests, t_write);
         if (style)
             std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
                         style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,

@@ -302,6 +302,11 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                    {{"load", s.seconds_load},
                     {"features", s.seconds_features},
                     {"visibility", s.seconds_visibility},
+                    {"visibility_stages",
+                     {{"pieces", s.seconds_pieces},
+                      {"propagation", s.seconds_propagation},
+                      {"walks", s.seconds_walks},
+                      {"ray_tests", s.seconds_ray_tests}}},
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;

@@ -198,10 +198,12 @@ struct Glfw {
 
 struct StageTimes {
     double features = 0, search = 0, chain = 0, visibility = 0, recall = 0, lines = 0, draw = 0, frame = 0, wait = 0;
+    double pieces = 0, propagation = 0, walks = 0, rays = 0;  // visibility's stages (DrawingStats)
     double cpu_features = 0, cpu_visibility = 0;  // CPU time of the pipeline thread
     void add(const StageTimes& o, double k = 1.0) {
         cpu_features += k * o.cpu_features, cpu_visibility += k * o.cpu_visibility;
         features += k * o.features, search += k * o.search, chain += k * o.chain, visibility += k * o.visibility;
+        pieces += k * o.pieces, propagation += k * o.propagation, walks += k * o.walks, rays += k * o.rays;
         recall += k * o.recall, lines += k * o.lines, draw += k * o.draw, frame += k * o.frame, wait += k * o.wait;
     }
 };
@@ -442,11 +444,12 @@ public:
             const double cpu_main = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu_main0;
             const double cpu_all = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu_all0;
             std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; pipeline thread: "
-                        "features %.2f (search %.2f, chain %.2f), visibility %.2f, line quads %.2f; main thread: GL "
-                        "draw+swap %.2f, waiting for the pipeline %.2f; %zu silhouette edges, %zu line vertices in "
-                        "the last frame\n",
+                        "features %.2f (search %.2f, chain %.2f), visibility %.2f (pieces %.2f, propagation %.2f, "
+                        "walks %.2f, ray tests %.2f), line quads %.2f; main thread: GL draw+swap %.2f, waiting for the "
+                        "pipeline %.2f; %zu silhouette edges, %zu line vertices in the last frame\n",
                         measured / wall, measured, int(model_.topology().face_count()), wall * k, total.features * k,
-                        total.search * k, total.chain * k, total.visibility * k, total.lines * k, total.draw * k,
+                        total.search * k, total.chain * k, total.visibility * k, total.pieces * k,
+                        total.propagation * k, total.walks * k, total.rays * k, total.lines * k, total.draw * k,
                         total.wait * k, last_silhouettes_, lines_.size());
             // On a loaded machine wall time is inflated; CPU time is the work itself (Mesa's
             // llvmpipe rasterizes on threads of its own).
@@ -543,6 +546,10 @@ private:
         st.search = j.times.search;
         st.chain = j.times.chain;
         st.visibility = j.times.visibility;
+        st.pieces = stats_.seconds_pieces;
+        st.propagation = stats_.seconds_propagation;
+        st.walks = stats_.seconds_walks;
+        st.rays = stats_.seconds_ray_tests;
         st.recall = j.times.recall;
         st.lines = j.times.lines;
         last_silhouettes_ = stats_.silhouette_edges;
@@ -857,6 +864,8 @@ void Viewer::draw_panel() {
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
         ImGui::Text("visibility %.2f ms, %s %.2f ms", 1e3 * t.visibility, styled_ ? "style + raster" : "line quads",
                     1e3 * t.lines);
+        ImGui::Text("  pieces %.2f, propagation %.2f, walks %.2f, rays %.2f", 1e3 * t.pieces, 1e3 * t.propagation,
+                    1e3 * t.walks, 1e3 * t.rays);
         ImGui::Text("GL draw + swap %.2f ms%s", 1e3 * t.draw, recall_on_ ? " (+ recall reference)" : "");
         ImGui::Text("%zu triangles, %zu silhouette edges", s.triangles, s.silhouette_edges);
         ImGui::Text("%.3g silhouette edges/s (finder)", s.seconds_features > 0 ? s.silhouette_edges / s.seconds_features : 0.0);

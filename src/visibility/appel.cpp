@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <climits>
 #include <cstring>
 #include <functional>
@@ -671,11 +672,16 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
                            const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
                            const AppelOptions& options) {
     AppelStats st;
+    using Clock = std::chrono::steady_clock;
+    auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     const RayCaster* rc = nullptr;
     auto ray_qi = [&](std::uint32_t p) {
         if (!rc) rc = &ray_index();
         ++st.ray_tests;
-        return qi_by_ray(mesh, camera, *rc, graph.curves.pieces[p], graph.curves.spans[p]);
+        const auto t = Clock::now();
+        const int qi = qi_by_ray(mesh, camera, *rc, graph.curves.pieces[p], graph.curves.spans[p]);
+        st.seconds_ray_tests += seconds_since(t);
+        return qi;
     };
     auto& pieces = graph.curves.pieces;
     const auto& spans = graph.curves.spans;
@@ -1074,6 +1080,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             walked[w] = walk_to(mesh, camera, face_front, graph, proj, q.P, q.p, q.edge, box);
         }
     };
+    const auto t_walks = Clock::now();
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
     if (two_threads && walkers.size() >= 8) {
         VertexImages& own = graph.walk_images;
@@ -1088,6 +1095,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
     } else {
         walk_range(0, walkers.size(), graph.images);
     }
+    if (!walkers.empty()) st.seconds_walks = seconds_since(t_walks);
     for (std::size_t wi = 0; wi < walkers.size(); ++wi) {
         const std::uint32_t c = walkers[wi];
         ++st.walks;
