@@ -505,9 +505,11 @@ TEST(BuildPieces, SplitShareMovesTowardEqualTimes) {
 }
 
 // build_pieces on two threads (the curves split in two ranges, the second's pieces and links
-// appended) gives exactly the pieces, spans, links, crossings and curve ends of one thread, wherever
-// the curves are split (the split follows the two sides' times from view to view: here set to
-// either end of its range and to the middle).
+// appended) gives exactly the occluders, pieces, spans, links, crossings and curve ends of one
+// thread, wherever the curves are split (the split follows
+// the two sides' times from view to view: here set to either end of its range and to the middle);
+// also with the eye inside the model's box, where occluders are clipped at the near plane or
+// dropped behind it.
 TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
     const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
     const MeshTopology& mesh = model.topology();
@@ -539,13 +541,32 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
             ASSERT_TRUE(one.ends[e].piece == two.ends[e].piece && one.ends[e].vertex == two.ends[e].vertex &&
                         one.ends[e].edge == two.ends[e].edge)
                 << k;
+        ASSERT_EQ(one.occluders.size(), two.occluders.size()) << k;
+        for (std::size_t i = 0; i < one.occluders.size(); ++i) {
+            const Segment2 &x = one.occluders[i], &y = two.occluders[i];
+            ASSERT_TRUE(x.a == y.a && x.b == y.b && x.v0 == y.v0 && x.v1 == y.v1 && x.edge == y.edge &&
+                        x.slack == y.slack)
+                << k << " occluder " << i;
+        }
+        EXPECT_EQ(one.extreme_vertices, two.extreme_vertices) << k;
+        EXPECT_EQ(one.immersive, two.immersive) << k;
     };
     std::mt19937 rng(7u);
-    for (int k = 0; k < 6; ++k) {
+    std::size_t dropped = 0;  // occluders left out (behind the near plane) in the views inside the box
+    for (int k = 0; k < 9; ++k) {
         Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        if (k >= 6) {  // the eye inside the model's box, looking across it
+            const glm::dvec3 c = mesh.bounds.center(), h = 0.5 * (mesh.bounds.hi - mesh.bounds.lo);
+            const glm::dvec3 eye = c + glm::dvec3(0.3 * h.x * (k - 7), 0.2 * h.y, 0.4 * h.z);
+            cam = Camera::perspective(eye, eye + glm::dvec3(0.2 * (k - 7), -0.1, -1.0), {0, 1, 0}, 60, 1024, 1024);
+        }
         cam.set_near(default_near(mesh));
         const Features f = extract_features(mesh, cam);
         const PieceGraph one = build_pieces(mesh, f, cam, &si.cuts, 1);
+        if (k >= 6) {
+            ASSERT_TRUE(one.immersive) << k;
+            dropped += f.silhouette_edges.size() + f.border_edges.size() - one.occluders.size();
+        }
         for (const double share : {0.3, 0.5, 0.7}) {
             PieceGraph two;
             two.curves_split.set(share);
@@ -555,6 +576,7 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
             EXPECT_LE(two.curves_split.share, 0.7);
         }
     }
+    EXPECT_GT(dropped, 0u);
     // Through the pipeline: the same drawing.
     ViewOptions o1, o2;
     o2.threads = 2;
