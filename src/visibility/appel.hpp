@@ -40,9 +40,10 @@ struct AppelStats {
     std::size_t walks = 0;
     std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
     std::size_t pierced = 0;            // pieces on self-intersecting faces
-    // Wall time of the walks (on two threads when there are several: both at once) and of the
-    // ray tests (the ray-test index's construction, once per model, not included); the rest of
-    // assign_qi_appel's time is propagation.
+    // Wall time of the walks (with the occluders' grid they search, built for them; on two
+    // threads when there are several: both at once) and of the ray tests (the ray-test index's
+    // construction, once per model, not included); the rest of assign_qi_appel's time is
+    // propagation.
     double seconds_walks = 0.0;
     double seconds_ray_tests = 0.0;
 };
