@@ -275,20 +275,31 @@ TEST(Figure2, BranchInRearIsProvedHiddenWithoutRayTests) {
     EXPECT_EQ(exact.wrong, 0.0);
 }
 
+// One view's pieces and QI twice: without self-intersection flags, and with a flag vector of
+// every face clear (which must change nothing).
+struct FlagsNoneAndClear {
+    Features f;
+    PieceGraph none, clear;
+    AppelStats s0, sc;
+    FlagsNoneAndClear(const Model& model, const Camera& cam) : f(extract_features(model.topology(), cam)) {
+        const MeshTopology& mesh = model.topology();
+        auto rays = [&]() -> const RayCaster& { return model.rays(); };
+        none = build_pieces(mesh, f, cam), clear = build_pieces(mesh, f, cam);
+        const std::vector<std::uint8_t> zeros(mesh.face_count(), 0);
+        s0 = assign_qi_appel(mesh, cam, f.face_front, rays, none, {false, nullptr, true, 1});
+        sc = assign_qi_appel(mesh, cam, f.face_front, rays, clear, {false, &zeros, true, 1});
+    }
+};
+
 // The parity rule is dropped only when a face is flagged self-intersecting: flags passed all
 // clear keep it, and the branch in rear is still proved hidden by it (no walk, no ray test), as
 // with no flags at all.
 TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
     const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
     const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
-    const MeshTopology& mesh = model.topology();
-    ASSERT_TRUE(mesh.closed);
-    const Features f = extract_features(mesh, cam);
-    auto rays = [&]() -> const RayCaster& { return model.rays(); };
-    PieceGraph none = build_pieces(mesh, f, cam), clear = build_pieces(mesh, f, cam);
-    const std::vector<std::uint8_t> zeros(mesh.face_count(), 0);
-    const AppelStats s0 = assign_qi_appel(mesh, cam, f.face_front, rays, none, {false, nullptr, true, 1});
-    const AppelStats sc = assign_qi_appel(mesh, cam, f.face_front, rays, clear, {false, &zeros, true, 1});
+    ASSERT_TRUE(model.topology().closed);
+    const FlagsNoneAndClear r(model, cam);
+    const AppelStats &s0 = r.s0, &sc = r.sc;
     EXPECT_GE(s0.clusters_occluded, 1u);
     EXPECT_EQ(s0.walks, 0u);
     EXPECT_EQ(s0.ray_tests, 0u);
@@ -627,12 +638,11 @@ TEST(AssignQiAppel, TwoThreadsGiveTheSameQi) {
 // same QI as no flags (the parity rule, off when any face is flagged, stays on).
 void check_flagged_faces(const Model& model, const Camera& cam) {
     const MeshTopology& mesh = model.topology();
-    const Features f = extract_features(mesh, cam);
+    const FlagsNoneAndClear r(model, cam);
+    const Features& f = r.f;
+    const PieceGraph &none = r.none, &clear = r.clear;
+    const AppelStats &s0 = r.s0, &sc = r.sc;
     auto rays = [&]() -> const RayCaster& { return model.rays(); };
-    PieceGraph none = build_pieces(mesh, f, cam), clear = build_pieces(mesh, f, cam);
-    const std::vector<std::uint8_t> zeros(mesh.face_count(), 0);
-    const AppelStats s0 = assign_qi_appel(mesh, cam, f.face_front, rays, none, {false, nullptr, true, 1});
-    const AppelStats sc = assign_qi_appel(mesh, cam, f.face_front, rays, clear, {false, &zeros, true, 1});
     EXPECT_EQ(s0.pierced, 0u);
     EXPECT_EQ(sc.pierced, 0u);
     EXPECT_EQ(s0.ray_tests, sc.ray_tests);
