@@ -510,6 +510,30 @@ TEST(ViewWindow, PanelLayerLooksLikeImGuiDrawnDirectly) {
     EXPECT_EQ(rasterized, 2u);
 }
 
+// Every line of the panel is whole (none cut off at its right edge: the window measures its widest
+// line against where it clips), and the panel is no taller than the window (a scroll bar shows the
+// rest), with the most rows (the recall line, hidden lines, a style) and in a small window.
+TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    const fs::path d = scratch();
+    for (const auto& [size, height] : {std::pair{"1024x768", 768.0}, std::pair{"640x480", 480.0}}) {
+        const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=4 --orbit --arc=20 --recall --hidden --size=" +
+                                        size + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
+        ASSERT_EQ(v.code, 0) << v.err;
+        const auto at = v.out.find("panel: ");
+        ASSERT_NE(at, std::string::npos) << v.out;
+        double w = 0, h = 0, past = -1;
+        ASSERT_EQ(std::sscanf(v.out.c_str() + at, "panel: %lf x %lf px, its widest line %lf px past its clipped edge", &w,
+                              &h, &past), 3)
+            << v.out;
+        std::printf("%s: panel %.0f x %.0f px, widest line %.0f px past its edge\n", size, w, h, past);
+        EXPECT_EQ(past, 0.0) << "a line of the panel is cut off";
+        EXPECT_GT(w, 100.0);
+        EXPECT_GT(h, 100.0);
+        EXPECT_LE(h, height) << "the panel is taller than the window";
+    }
+}
+
 TEST(ViewWindow, NoDisplayIsAOneLineErrorNotACrash) {
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png";

@@ -8,10 +8,12 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <cairo.h>
 #include <imgui.h>
+#include <imgui_internal.h>  // (the panel window's widest line: ImGuiWindow::DC.CursorMaxPos)
 
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cfloat>
 #include <utility>
 #include <chrono>
 #include <ctime>
@@ -406,7 +408,12 @@ public:
             const bool shot = finishing && !opt_.screenshot.empty();
             if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
             if (panel_) ui_layer_.composite();
-            if (shot && opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+            if (shot && opt_.screenshot_ui) {
+                save_screenshot(opt_.screenshot, drawn_.width(), drawn_.height());
+                if (panel_)
+                    std::printf("panel: %.0f x %.0f px, its widest line %.0f px past its clipped edge\n", panel_size_.x,
+                                panel_size_.y, panel_overflow_);
+            }
             if (finishing && !opt_.export_path.empty()) export_view(opt_.export_path);
             glfwSwapBuffers(win_);
             st.draw = since(td);
@@ -746,6 +753,8 @@ private:
     double recall_ = -1.0;
     StageTimes shown_;
     UiLayer ui_layer_;  // the panel, rasterized again only when it changes
+    float panel_overflow_ = 0.0f;  // the panel's widest line past its inner right edge, px (draw_panel)
+    ImVec2 panel_size_{0.0f, 0.0f};
     bool panel_drawn_ = false, damaged_ = false;  // the panel shown in the last frame drawn; an expose
     int drawn_w_ = 0, drawn_h_ = 0;               // the framebuffer size of the last frame drawn
     Clock::time_point last_drawn_{};
@@ -795,7 +804,9 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
 void Viewer::draw_panel() {
     const Camera& cam = drawn_;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+    // (no taller than the window: a scroll bar shows the rest)
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(FLT_MAX, std::max(ImGui::GetIO().DisplaySize.y - 16.0f, 64.0f)));
     ImGui::SetNextWindowBgAlpha(0.8f);  // the drawing shows through; H hides the panel
     ImGui::Begin("inkline (H hides)");
     if (ImGui::CollapsingHeader("Lines", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -838,7 +849,7 @@ void Viewer::draw_panel() {
                 fraction_dirty_ = true;  // applied when the session is idle
             dirty_ |= ImGui::Checkbox("frame coherence", &vopt_.finder.coherence);
             if (vopt_.finder.coherence)
-                dirty_ |= ImGui::Checkbox("exhaustive first view (then followed exactly)", &vopt_.finder.first_full);
+                dirty_ |= ImGui::Checkbox("exhaustive first view, then followed", &vopt_.finder.first_full);
         }
         int vis = vopt_.visibility == VisibilityMethod::Rays ? 1 : 0;
         changed = ImGui::RadioButton("appel (QI propagation)", &vis, 0);
@@ -853,7 +864,9 @@ void Viewer::draw_panel() {
     }
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) {
         const auto now = Clock::now();
-        if (now - panel_numbers_at_ >= std::chrono::milliseconds(250)) {
+        // (and sooner while the snapshot has no view's numbers yet: a short run's panel showed zeros)
+        const bool empty = panel_numbers_.stats.triangles == 0 || panel_numbers_.views_per_s == 0.0;
+        if (empty || now - panel_numbers_at_ >= std::chrono::milliseconds(250)) {
             panel_numbers_ = {shown_, stats_, view_period_ > 0 ? 1.0 / view_period_ : 0.0,
                               window_period_ > 0 ? 1.0 / window_period_ : 0.0, recall_};
             panel_numbers_at_ = now;
@@ -864,16 +877,16 @@ void Viewer::draw_panel() {
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
         ImGui::Text("visibility %.2f ms, %s %.2f ms", 1e3 * t.visibility, styled_ ? "style + raster" : "line quads",
                     1e3 * t.lines);
-        ImGui::Text("  pieces %.2f, propagation %.2f, walks %.2f, rays %.2f", 1e3 * t.pieces, 1e3 * t.propagation,
-                    1e3 * t.walks, 1e3 * t.rays);
+        ImGui::Text("  pieces %.2f, propagation %.2f,", 1e3 * t.pieces, 1e3 * t.propagation);
+        ImGui::Text("  walks %.2f, ray tests %.2f", 1e3 * t.walks, 1e3 * t.rays);
         ImGui::Text("GL draw + swap %.2f ms%s", 1e3 * t.draw, recall_on_ ? " (+ recall reference)" : "");
         ImGui::Text("%zu triangles, %zu silhouette edges", s.triangles, s.silhouette_edges);
         ImGui::Text("%.3g silhouette edges/s (finder)", s.seconds_features > 0 ? s.silhouette_edges / s.seconds_features : 0.0);
         ImGui::Text("%zu crease, %zu border edges, %zu cusps", s.crease_edges, s.border_edges, s.cusps);
         ImGui::Text("%zu pieces, %zu crossings, %zu clusters", s.pieces, s.crossings, s.clusters);
         ImGui::Text("%zu ray tests, %zu walks", s.ray_tests, s.walks);
-        ImGui::Text("clusters decided: %zu box, %zu upper bound, %zu occluded, %zu inconsistent", s.clusters_bbox,
-                    s.clusters_bounded, s.clusters_occluded, s.clusters_inconsistent);
+        ImGui::Text("clusters decided: %zu box, %zu upper bound,", s.clusters_bbox, s.clusters_bounded);
+        ImGui::Text("  %zu occluded, %zu inconsistent", s.clusters_occluded, s.clusters_inconsistent);
         if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", panel_numbers_.recall);
     }
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -899,6 +912,11 @@ void Viewer::draw_panel() {
         if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
         if (!command_.empty()) ImGui::TextWrapped("%s", command_.c_str());
     }
+    // How far the widest line reaches past where the panel clips its contents (0: every line is
+    // whole; more: some text is cut off). Printed with a screenshot of the panel; a test checks it.
+    const ImGuiWindow* win = ImGui::GetCurrentWindow();
+    panel_overflow_ = std::max(0.0f, win->DC.CursorMaxPos.x - win->InnerClipRect.Max.x);
+    panel_size_ = win->Size;
     ImGui::End();
 }
 
