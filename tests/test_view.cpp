@@ -251,12 +251,13 @@ std::string printed_render_command(const std::string& out, const fs::path& expor
     return command.substr(0, command.size() - target.size());
 }
 
-void expect_screenshot_is_render(const std::string& model, const std::string& flags) {
+// flags: given to both view and render; view_flags: to view only.
+void expect_screenshot_is_render(const std::string& model, const std::string& flags, const std::string& view_flags = "") {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png", other = d / "other.png";
     const Result v = run(kXvfb, "view " + mesh(model) + " --frames=6 --orbit --arc=60 --size=640x480 --screenshot=" +
-                                    shot.string() + " " + flags, d);
+                                    shot.string() + " " + flags + " " + view_flags, d);
     ASSERT_EQ(v.code, 0) << v.err;
     const std::string cam = camera_line(v.out);
     ASSERT_NE(cam.find("--size=640x480"), std::string::npos) << v.out;
@@ -286,6 +287,13 @@ void expect_screenshot_is_render(const std::string& model, const std::string& fl
 
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingFandisk) { expect_screenshot_is_render("fandisk.off", ""); }
 
+// Two views at once (two sessions taking the views in turn, each following its own last view) and
+// one at a time: either way the last frame is render's drawing at its camera.
+TEST(ViewWindow, ScreenshotIsTheRenderDrawingWithOneOrTwoViewsInFlight) {
+    expect_screenshot_is_render("fandisk.off", "", "--in-flight=1");
+    expect_screenshot_is_render("fandisk.off", "", "--in-flight=2");
+}
+
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
     // Randomized finder with coherence along the orbit from a random first view; render runs the
     // exhaustive finder at the last camera, so this also checks the window's finder misses little.
@@ -314,39 +322,42 @@ TEST(ViewWindow, RandomizedFinderFollowsAnExhaustiveFirstViewExactly) {
     // inconsistent, each decided by a ray test per piece).
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
-    const fs::path mine = d / "view.json", theirs = d / "render.json";
-    const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
-                                    "--finder=randomized --fraction=0.002 --hidden --export=" + mine.string(), d);
-    ASSERT_EQ(v.code, 0) << v.err;
-    std::string command = printed_render_command(v.out, mine);
-    ASSERT_FALSE(command.empty()) << v.out;
-    EXPECT_EQ(command.find("--finder=randomized"), std::string::npos) << command;
-    command += " -o " + theirs.string() + " --quiet";
-    const Result r = run("", command, d);
-    ASSERT_EQ(r.code, 0) << command << "\n" << r.err;
-    const auto a = nlohmann::json::parse(slurp(mine)), b = nlohmann::json::parse(slurp(theirs));
-    EXPECT_EQ(a["stats"]["finder"], "randomized");
-    EXPECT_EQ(a["stats"]["silhouette_edges"], b["stats"]["silhouette_edges"]);
-    EXPECT_EQ(a["stats"]["ray_tests"], b["stats"]["ray_tests"]);  // (hidden lines: the occluded clusters')
-    // (The finders list their edges in different orders, so chains start and run differently:
-    // compared as line length per kind and QI.)
-    auto lengths = [](const nlohmann::json& j) {
-        std::map<std::pair<std::string, int>, double> out;
-        for (const auto& p : j["polylines"]) {
-            double len = 0.0;
-            for (std::size_t k = 1; k < p["points"].size(); ++k)
-                len += std::hypot(double(p["points"][k][0]) - double(p["points"][k - 1][0]),
-                                  double(p["points"][k][1]) - double(p["points"][k - 1][1]));
-            out[{p["kind"].get<std::string>(), p["qi"].get<int>()}] += len;
+    for (const std::string in_flight : {"--in-flight=1", "--in-flight=2"}) {
+        SCOPED_TRACE(in_flight);
+        const fs::path mine = d / "view.json", theirs = d / "render.json";
+        const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
+                                        "--finder=randomized --fraction=0.002 --hidden " + in_flight + " --export=" + mine.string(), d);
+        ASSERT_EQ(v.code, 0) << v.err;
+        std::string command = printed_render_command(v.out, mine);
+        ASSERT_FALSE(command.empty()) << v.out;
+        EXPECT_EQ(command.find("--finder=randomized"), std::string::npos) << command;
+        command += " -o " + theirs.string() + " --quiet";
+        const Result r = run("", command, d);
+        ASSERT_EQ(r.code, 0) << command << "\n" << r.err;
+        const auto a = nlohmann::json::parse(slurp(mine)), b = nlohmann::json::parse(slurp(theirs));
+        EXPECT_EQ(a["stats"]["finder"], "randomized");
+        EXPECT_EQ(a["stats"]["silhouette_edges"], b["stats"]["silhouette_edges"]);
+        EXPECT_EQ(a["stats"]["ray_tests"], b["stats"]["ray_tests"]);  // (hidden lines: the occluded clusters')
+        // (The finders list their edges in different orders, so chains start and run differently:
+        // compared as line length per kind and QI.)
+        auto lengths = [](const nlohmann::json& j) {
+            std::map<std::pair<std::string, int>, double> out;
+            for (const auto& p : j["polylines"]) {
+                double len = 0.0;
+                for (std::size_t k = 1; k < p["points"].size(); ++k)
+                    len += std::hypot(double(p["points"][k][0]) - double(p["points"][k - 1][0]),
+                                      double(p["points"][k][1]) - double(p["points"][k - 1][1]));
+                out[{p["kind"].get<std::string>(), p["qi"].get<int>()}] += len;
+            }
+            return out;
+        };
+        const auto la = lengths(a), lb = lengths(b);
+        ASSERT_EQ(la.size(), lb.size());
+        ASSERT_GE(la.size(), 2u);  // visible and hidden lines
+        for (const auto& [key, len] : lb) {
+            ASSERT_TRUE(la.count(key)) << key.first << " qi " << key.second;
+            EXPECT_NEAR(la.at(key), len, 1e-9 * len) << key.first << " qi " << key.second;
         }
-        return out;
-    };
-    const auto la = lengths(a), lb = lengths(b);
-    ASSERT_EQ(la.size(), lb.size());
-    ASSERT_GE(la.size(), 2u);  // visible and hidden lines
-    for (const auto& [key, len] : lb) {
-        ASSERT_TRUE(la.count(key)) << key.first << " qi " << key.second;
-        EXPECT_NEAR(la.at(key), len, 1e-9 * len) << key.first << " qi " << key.second;
     }
 }
 
@@ -549,6 +560,9 @@ TEST(ViewWindow, UsageErrors) {
     const fs::path d = scratch();
     EXPECT_EQ(run("", "view " + mesh("fandisk.off") + " --orbit", d).code, 2);  // --orbit needs --frames
     EXPECT_EQ(run("", "view", d).code, 2);
+    const Result lanes = run("", "view " + mesh("fandisk.off") + " --in-flight=3 --frames=1", d);
+    EXPECT_NE(lanes.code, 0);
+    EXPECT_NE(lanes.err.find("--in-flight"), std::string::npos) << lanes.err;
     const Result first = run("", "view " + mesh("fandisk.off") + " --first-view=sideways --frames=1", d);
     EXPECT_NE(first.code, 0);
     EXPECT_NE(first.err.find("--first-view"), std::string::npos) << first.err;

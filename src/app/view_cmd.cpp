@@ -56,6 +56,7 @@ int run_view(int argc, char** argv) {
             camera[key] = value;
         else if (key == "--subdivide") o.subdivide = integer(0, 6);
         else if (key == "--threads") o.view.threads = integer(1, 64);
+        else if (key == "--in-flight") o.in_flight = integer(1, 2);
         else if (key == "--frames") o.frames = integer(1, 1000000), frames_given = true;
         else if (key == "--arc") {
             o.arc = parse_number(key, value);

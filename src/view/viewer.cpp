@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cctype>
 #include <cfloat>
+#include <deque>
 #include <utility>
 #include <chrono>
 #include <ctime>
@@ -311,7 +312,7 @@ public:
     int run() {
         StageTimes total;
         int measured = 0;
-        double cpu_main0 = 0.0, cpu_all0 = 0.0, cpu_worker0 = 0.0, wall = 0.0;
+        double cpu_main0 = 0.0, cpu_all0 = 0.0, wall = 0.0;
         auto t_measure = Clock::now();
         for (int frame = 0; !glfwWindowShouldClose(win_); ++frame) {
             // Headless: frames 0..N-1 each start the pipeline for one camera; frame N only draws
@@ -325,14 +326,16 @@ public:
             // The pipeline wakes the loop when its view is done (an empty event), so waiting for it
             // costs no polling; input wakes it too.
             const bool interactive = opt_.frames == 0;
-            if (interactive && unchanged_ > 3 && !job_.valid()) glfwWaitEventsTimeout(0.5);
-            else if (interactive && job_.valid() && !job_done_.load()) glfwWaitEventsTimeout(0.05);
+            if (interactive && unchanged_ > 3 && in_flight_.empty()) glfwWaitEventsTimeout(0.5);
+            else if (interactive && !in_flight_.empty() && !oldest_done()) glfwWaitEventsTimeout(0.05);
             else glfwPollEvents();
             StageTimes st;
-            // (done is set as the job's last step, just before its future is ready: then wait for it)
-            const bool ready = job_.valid() && (job_done_.load() ? (job_.wait(), true)
-                                                                 : job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready);
-            const bool fresh = (!interactive || ready) && sync(st);  // headless: lock-step, one frame behind
+            // Views are taken in the order they were started. Headless: lock-step, the oldest view
+            // taken once every lane is busy (one frame behind with one lane, two with two), and all
+            // of them at the last frame.
+            bool fresh = false;
+            if (finishing) fresh = sync_all(st);
+            else if (interactive ? oldest_done() : int(in_flight_.size()) == lanes_in_use_) fresh = sync(st);
             if (fresh) {
                 const auto now = Clock::now();
                 if (last_fresh_ != Clock::time_point{}) {
@@ -345,7 +348,7 @@ public:
             // Options change only while the session is idle.
             if (crease_dirty_ || fraction_dirty_) {
                 StageTimes ignored;
-                sync(ignored);
+                sync_all(ignored);
             }
             if (crease_dirty_) {
                 model_.topology().set_crease_angle(crease_);
@@ -357,7 +360,7 @@ public:
                 dirty_ = false;
             }
             if (fraction_dirty_) {
-                session_->finder().set_fraction(fraction_);
+                for (int i = 0; i < lanes_in_use_; ++i) lanes_[i]->session->finder().set_fraction(fraction_);
                 fraction_dirty_ = false;
                 force_ = true;
             }
@@ -377,9 +380,11 @@ public:
             }
             const Camera cam = rig_.camera(w, h);
             // Interactive and nothing changed: the last view and its quads are still right.
-            const bool again = opt_.frames == 0 && !force_ && view_ && same_camera(cam, drawn_);
-            unchanged_ = again && !fresh && !job_.valid() ? unchanged_ + 1 : 0;
-            if (!again && !finishing && !job_.valid()) {
+            // (the camera of the newest view, started or drawn)
+            const Camera& newest = in_flight_.empty() ? drawn_ : lanes_[in_flight_.back()]->camera;
+            const bool again = opt_.frames == 0 && !force_ && view_ && same_camera(cam, newest);
+            unchanged_ = again && !fresh && in_flight_.empty() ? unchanged_ + 1 : 0;
+            if (!again && !finishing && int(in_flight_.size()) < lanes_in_use_) {
                 launch(cam);
                 force_ = false;
             }
@@ -437,33 +442,36 @@ public:
                 t_measure = Clock::now();  // the first frame builds the lazy indexes: not measured
                 cpu_main0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
                 cpu_all0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID);
-                cpu_worker0 = worker_cpu_;
+                measuring_ = true;  // the views taken from now on
             } else {
                 total.add(st);
                 ++measured;
             }
         }
         StageTimes st;
-        sync(st);  // a pipeline still in flight (window closed)
+        sync_all(st);  // views still in flight (window closed)
         if (opt_.fps && measured > 0) {
             if (opt_.frames == 0) wall = since(t_measure);
             const double k = 1000.0 / measured;
+            const double kv = 1000.0 / std::max(views_measured_, 1);  // per view (as many as frames)
+            const StageTimes& v = view_total_;
             const double cpu_main = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu_main0;
             const double cpu_all = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu_all0;
-            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; pipeline thread: "
-                        "features %.2f (search %.2f, chain %.2f), visibility %.2f (pieces %.2f, propagation %.2f, "
-                        "walks %.2f, ray tests %.2f), line quads %.2f; main thread: GL draw+swap %.2f, waiting for the "
-                        "pipeline %.2f; %zu silhouette edges, %zu line vertices in the last frame\n",
-                        measured / wall, measured, int(model_.topology().face_count()), wall * k, total.features * k,
-                        total.search * k, total.chain * k, total.visibility * k, total.pieces * k,
-                        total.propagation * k, total.walks * k, total.rays * k, total.lines * k, total.draw * k,
-                        total.wait * k, last_silhouettes_, lines_.size());
+            // (With two views at once, a view's stages take about twice a frame: they overlap.)
+            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; pipeline per view "
+                        "(%d at once, on %d thread%s each): features %.2f (search %.2f, chain %.2f), visibility %.2f "
+                        "(pieces %.2f, propagation %.2f, walks %.2f, ray tests %.2f), line quads %.2f; main thread: GL "
+                        "draw+swap %.2f, waiting for the pipeline %.2f; %zu silhouette edges, %zu line vertices in the "
+                        "last frame\n",
+                        measured / wall, measured, int(model_.topology().face_count()), wall * k, lanes_in_use_,
+                        lane_threads_, lane_threads_ > 1 ? "s" : "", v.features * kv, v.search * kv, v.chain * kv,
+                        v.visibility * kv, v.pieces * kv, v.propagation * kv, v.walks * kv, v.rays * kv, v.lines * kv,
+                        total.draw * k, total.wait * k, last_silhouettes_, lines_.size());
             // On a loaded machine wall time is inflated; CPU time is the work itself (Mesa's
             // llvmpipe rasterizes on threads of its own).
-            std::printf("cpu: pipeline thread %.2f ms/frame (features %.2f, visibility %.2f), main thread %.2f, all "
-                        "threads of the process %.2f (X server not included)\n",
-                        (worker_cpu_ - cpu_worker0) * k, total.cpu_features * k, total.cpu_visibility * k, cpu_main * k,
-                        cpu_all * k);
+            std::printf("cpu: pipeline %.2f ms/view on its lane's thread (features %.2f, visibility %.2f), main thread "
+                        "%.2f ms/frame, all threads of the process %.2f ms/frame (X server not included)\n",
+                        worker_cpu_ * kv, v.cpu_features * kv, v.cpu_visibility * kv, cpu_main * k, cpu_all * k);
         }
         // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
         const Camera final_camera = opt_.frames > 0 ? drawn_ : rig_.camera(drawn_.width(), drawn_.height());
@@ -476,14 +484,31 @@ private:
         vopt_.exact_hidden = hidden_ || (style_ && style_->draw_hidden);
         vopt_.finder.fraction = fraction_;
         StageTimes st;
-        sync(st);  // never while the old session is in use
-        session_ = std::make_unique<ViewSession>(model_, vopt_);
-        view_ = nullptr;  // it belonged to the old session
+        sync_all(st);  // never while the old sessions are in use
+        // The lanes: one view at a time on all the threads, or two at once, the threads split.
+        const int threads = std::max(1, vopt_.threads);
+        lanes_in_use_ = opt_.in_flight > 0 ? std::min(opt_.in_flight, 2) : threads >= 2 ? 2 : 1;
+        ViewOptions lane_options = vopt_;
+        lane_threads_ = std::max(1, threads / lanes_in_use_);
+        lane_options.threads = lane_threads_;
+        for (int i = 0; i < lanes_in_use_; ++i) {
+            if (!lanes_[i]) lanes_[i] = std::make_unique<Lane>();
+            lanes_[i]->session = std::make_unique<ViewSession>(model_, lane_options);
+        }
+        for (int i = lanes_in_use_; i < 2; ++i) lanes_[i].reset();
+        next_lane_ = 0;
+        view_ = nullptr;  // it belonged to an old session
     }
 
-    // Starts the pipeline for `cam` on the pipeline thread: features -> visibility -> line quads. It
-    // reads the model and uses the session; the main thread touches neither until sync().
+    // Starts the pipeline for `cam` on the next lane's thread: features -> visibility -> line quads.
+    // It reads the model and uses the lane's session; the main thread touches neither until that
+    // view is taken (sync()).
     void launch(const Camera& cam) {
+        const int lane = next_lane_;
+        next_lane_ = (next_lane_ + 1) % lanes_in_use_;
+        Lane& L = *lanes_[lane];
+        in_flight_.push_back(lane);
+        L.camera = cam;
         LineMeshOptions lo;
         lo.hidden = hidden_;
         lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
@@ -491,19 +516,20 @@ private:
         const FeatureOptions kinds = vopt_.features;  // the panel may change vopt_ meanwhile
         const std::shared_ptr<const Style> style = style_;
         const bool hidden = hidden_;
-        job_done_ = false;
-        job_ = pipeline_.post([this, cam, lo, recall, kinds, style, hidden] {
+        L.done = false;
+        L.job = L.thread.post([this, &L, cam, lo, recall, kinds, style, hidden] {
             const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
-            Job& j = job_result_;
-            session_->find(cam);  // find, then visibility: the same as render(), timed apart
+            Job& j = L.result;
+            ViewSession& session = *L.session;
+            session.find(cam);  // find, then visibility: the same as render(), timed apart
             const double cpu1 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
-            View& view = session_->visibility(cam);
+            View& view = session.visibility(cam);
             j.cpu_features = cpu1 - cpu0;
             j.cpu_visibility = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu1;
             j.view = &view;
             j.camera = cam;
             j.times = StageTimes{};
-            j.times.features = session_->seconds_features();
+            j.times.features = session.seconds_features();
             j.times.search = view.features.stats.seconds_search;
             j.times.chain = view.features.stats.seconds_chain;
             j.times.visibility = view.drawing.stats.seconds_visibility;
@@ -525,40 +551,63 @@ private:
             }
             j.times.lines = since(tl);
             j.cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu0;
-            job_done_ = true;
+            L.done = true;
             glfwPostEmptyEvent();  // (thread-safe) wakes the loop's wait
         });
     }
 
-    // Waits for the pipeline in flight, if any (its exception, if any, is thrown here), and makes
-    // its view the one drawn. Returns whether there was one.
+    // Whether the oldest view in flight is done (then taking it does not wait).
+    bool oldest_done() {
+        if (in_flight_.empty()) return false;
+        Lane& L = *lanes_[in_flight_.front()];
+        // (done is set as the job's last step, just before its future is ready: then wait for it)
+        return L.done.load() ? (L.job.wait(), true) : L.job.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    }
+
+    // Every view in flight taken, oldest first (the lanes idle after). Returns whether there was one.
+    bool sync_all(StageTimes& st) {
+        bool any = false;
+        while (sync(st)) any = true;
+        return any;
+    }
+
+    // Waits for the oldest view in flight, if any (its exception, if any, is thrown here), and
+    // makes it the one drawn. Returns whether there was one.
     bool sync(StageTimes& st) {
-        if (!job_.valid()) return false;
+        if (in_flight_.empty()) return false;
+        Lane& L = *lanes_[in_flight_.front()];
+        in_flight_.pop_front();
         const auto t = Clock::now();
-        job_.get();
+        L.job.get();
         st.wait += since(t);
-        const Job& j = job_result_;
-        std::swap(lines_, job_result_.lines);
-        std::swap(pixels_, job_result_.pixels);
+        const Job& j = L.result;
+        std::swap(lines_, L.result.lines);
+        std::swap(pixels_, L.result.pixels);
         styled_ = j.styled;
         pixels_new_ = styled_;
         view_ = j.view;
         drawn_ = j.camera;
         stats_ = j.view->drawing.stats;
         recall_ = j.recall;
-        worker_cpu_ += j.cpu;
-        st.cpu_features = j.cpu_features;
-        st.cpu_visibility = j.cpu_visibility;
-        st.features = j.times.features;
-        st.search = j.times.search;
-        st.chain = j.times.chain;
-        st.visibility = j.times.visibility;
-        st.pieces = stats_.seconds_pieces;
-        st.propagation = stats_.seconds_propagation;
-        st.walks = stats_.seconds_walks;
-        st.rays = stats_.seconds_ray_tests;
-        st.recall = j.times.recall;
-        st.lines = j.times.lines;
+        StageTimes v;  // the view's own times (st may gather several views: sync_all)
+        v.cpu_features = j.cpu_features;
+        v.cpu_visibility = j.cpu_visibility;
+        v.features = j.times.features;
+        v.search = j.times.search;
+        v.chain = j.times.chain;
+        v.visibility = j.times.visibility;
+        v.pieces = stats_.seconds_pieces;
+        v.propagation = stats_.seconds_propagation;
+        v.walks = stats_.seconds_walks;
+        v.rays = stats_.seconds_ray_tests;
+        v.recall = j.times.recall;
+        v.lines = j.times.lines;
+        st.add(v);
+        if (measuring_) {  // (--fps: the views after the first frame's, however many a frame takes)
+            view_total_.add(v);
+            ++views_measured_;
+            worker_cpu_ += j.cpu;
+        }
         last_silhouettes_ = stats_.silhouette_edges;
         return true;
     }
@@ -716,12 +765,11 @@ private:
     CameraRig rig_;
     GLFWwindow* win_ = nullptr;
     ViewOptions vopt_;
-    std::unique_ptr<ViewSession> session_;
     std::vector<LineVertex> lines_;
     View* view_ = nullptr;  // the session's last view (lines_ are its quads), drawn at drawn_
     Camera drawn_;
     DrawingStats stats_;    // of view_ (the panel reads this copy: view_ is rewritten by the worker)
-    struct Job {            // written by the worker thread, read after job_.get()
+    struct Job {            // written by a lane's thread, read after its job's get()
         View* view = nullptr;
         Camera camera;
         StageTimes times;
@@ -730,9 +778,25 @@ private:
         bool styled = false;
         std::vector<std::uint32_t> pixels;  // styled: the drawing, camera.width() x camera.height()
     };
-    Job job_result_;
-    std::future<void> job_;
-    std::atomic<bool> job_done_{false};  // set by the job as it ends (its future is ready just after)
+    // A lane: a session and the thread that computes its views, one at a time. The thread lives as
+    // long as the lane: the stages keep per-thread working storage from view to view (build_pieces'
+    // scratch arrays are thread_local: tens of megabytes on a large model), which a new thread per
+    // view would allocate again.
+    struct Lane {
+        std::unique_ptr<ViewSession> session;
+        Camera camera;  // of the view started last
+        Job result;
+        std::future<void> job;
+        std::atomic<bool> done{false};  // set by the job as it ends (its future is ready just after)
+        WorkerThread thread;            // (last: stopped first, after its job in flight)
+    };
+    std::unique_ptr<Lane> lanes_[2];
+    int lanes_in_use_ = 1, next_lane_ = 0, lane_threads_ = 1;
+    std::deque<int> in_flight_;  // lanes with a view started and not taken, oldest first
+    // --fps: the views taken after the first frame, their times and their lanes' CPU time.
+    bool measuring_ = false;
+    StageTimes view_total_;
+    int views_measured_ = 0;
     double worker_cpu_ = 0.0;
     Clock::time_point last_fresh_{};  // when the last view arrived
     double view_period_ = 0.0;        // moving average of the time between views
@@ -769,11 +833,6 @@ private:
     char export_name_[256] = "inkline-view";
     std::string status_, command_;
     bool dirty_ = false, crease_dirty_ = false;  // options changed: a new session next frame
-    // The pipeline's jobs, one at a time, on one long-lived thread (WorkerThread): the stages keep
-    // per-thread working storage from view to view (build_pieces' scratch arrays are thread_local:
-    // tens of megabytes on a large model), which a new thread per view would allocate again.
-    // (Last: destroyed first, after its job in flight, while what the job uses still exists.)
-    WorkerThread pipeline_;
 };
 
 std::string Viewer::render_command(const Camera& cam, const std::string& output) const {
@@ -922,7 +981,7 @@ void Viewer::draw_panel() {
 
 void Viewer::export_view(const std::string& path) {
     StageTimes st;
-    sync(st);  // the newest view, and the worker idle
+    sync_all(st);  // the newest view, and the lanes idle
     const View& view = *view_;
     const Camera& cam = drawn_;
     OutputOptions oo;
