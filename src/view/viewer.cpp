@@ -469,9 +469,13 @@ public:
                         total.draw * k, total.wait * k, last_silhouettes_, lines_.size());
             // On a loaded machine wall time is inflated; CPU time is the work itself (Mesa's
             // llvmpipe rasterizes on threads of its own).
+            // (The rest: the visibility's helper threads, with one view at a time, and Mesa's rasterizer.)
+            const double cpu_rest = cpu_all - cpu_main - worker_cpu_;
             std::printf("cpu: pipeline %.2f ms/view on its lane's thread (features %.2f, visibility %.2f), main thread "
-                        "%.2f ms/frame, all threads of the process %.2f ms/frame (X server not included)\n",
-                        worker_cpu_ * kv, v.cpu_features * kv, v.cpu_visibility * kv, cpu_main * k, cpu_all * k);
+                        "%.2f ms/frame, all threads of the process %.2f ms/frame, of which other threads %.2f (X server "
+                        "not included)\n",
+                        worker_cpu_ * kv, v.cpu_features * kv, v.cpu_visibility * kv, cpu_main * k, cpu_all * k,
+                        cpu_rest * k);
         }
         // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
         const Camera final_camera = opt_.frames > 0 ? drawn_ : rig_.camera(drawn_.width(), drawn_.height());
