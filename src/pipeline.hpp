@@ -82,6 +82,9 @@ public:
     View& visibility(Camera camera);
     double seconds_features() const { return features_seconds_; }
     SilhouetteFinder& finder() { return finder_; }
+    // The visibility's threads for the next views (ViewOptions::threads; the same drawing).
+    void set_threads(int threads) { options_.threads = threads < 1 ? 1 : threads; }
+    int threads() const { return options_.threads; }
 
 private:
     void finish(const Camera& camera);

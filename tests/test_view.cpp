@@ -288,7 +288,8 @@ void expect_screenshot_is_render(const std::string& model, const std::string& fl
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingFandisk) { expect_screenshot_is_render("fandisk.off", ""); }
 
 // Two views at once (two sessions taking the views in turn, each following its own last view) and
-// one at a time: either way the last frame is render's drawing at its camera.
+// one at a time: either way the last frame is render's drawing at its camera. (At 10 degrees a
+// view, the default starts two at once and goes on one at a time.)
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingWithOneOrTwoViewsInFlight) {
     expect_screenshot_is_render("fandisk.off", "", "--in-flight=1");
     expect_screenshot_is_render("fandisk.off", "", "--in-flight=2");
@@ -322,7 +323,8 @@ TEST(ViewWindow, RandomizedFinderFollowsAnExhaustiveFirstViewExactly) {
     // inconsistent, each decided by a ray test per piece).
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
-    for (const std::string in_flight : {"--in-flight=1", "--in-flight=2"}) {
+    // (the default, 10 degrees a view: two views at once, then one at a time as the step shows)
+    for (const std::string in_flight : {"", "--in-flight=1", "--in-flight=2"}) {
         SCOPED_TRACE(in_flight);
         const fs::path mine = d / "view.json", theirs = d / "render.json";
         const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "

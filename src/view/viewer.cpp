@@ -335,7 +335,7 @@ public:
             // of them at the last frame.
             bool fresh = false;
             if (finishing) fresh = sync_all(st);
-            else if (interactive ? oldest_done() : int(in_flight_.size()) == lanes_in_use_) fresh = sync(st);
+            else if (interactive ? oldest_done() : int(in_flight_.size()) >= in_flight_mode()) fresh = sync(st);
             if (fresh) {
                 const auto now = Clock::now();
                 if (last_fresh_ != Clock::time_point{}) {
@@ -360,7 +360,7 @@ public:
                 dirty_ = false;
             }
             if (fraction_dirty_) {
-                for (int i = 0; i < lanes_in_use_; ++i) lanes_[i]->session->finder().set_fraction(fraction_);
+                for (int i = 0; i < lane_count_; ++i) lanes_[i]->session->finder().set_fraction(fraction_);
                 fraction_dirty_ = false;
                 force_ = true;
             }
@@ -384,7 +384,7 @@ public:
             const Camera& newest = in_flight_.empty() ? drawn_ : lanes_[in_flight_.back()]->camera;
             const bool again = opt_.frames == 0 && !force_ && view_ && same_camera(cam, newest);
             unchanged_ = again && !fresh && in_flight_.empty() ? unchanged_ + 1 : 0;
-            if (!again && !finishing && int(in_flight_.size()) < lanes_in_use_) {
+            if (!again && !finishing && int(in_flight_.size()) < in_flight_mode()) {
                 launch(cam);
                 force_ = false;
             }
@@ -458,13 +458,14 @@ public:
             const double cpu_main = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu_main0;
             const double cpu_all = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu_all0;
             // (With two views at once, a view's stages take about twice a frame: they overlap.)
-            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; pipeline per view "
-                        "(%d at once, on %d thread%s each): features %.2f (search %.2f, chain %.2f), visibility %.2f "
-                        "(pieces %.2f, propagation %.2f, walks %.2f, ray tests %.2f), line quads %.2f; main thread: GL "
-                        "draw+swap %.2f, waiting for the pipeline %.2f; %zu silhouette edges, %zu line vertices in the "
-                        "last frame\n",
-                        measured / wall, measured, int(model_.topology().face_count()), wall * k, lanes_in_use_,
-                        lane_threads_, lane_threads_ > 1 ? "s" : "", v.features * kv, v.search * kv, v.chain * kv,
+            std::printf("fps: %.1f over %d frames (after the first) of %d triangles, %.2f ms/frame; views: %d one at "
+                        "a time on %d thread%s, %d two at once on %d thread%s each; pipeline per view: features %.2f "
+                        "(search %.2f, chain %.2f), visibility %.2f (pieces %.2f, propagation %.2f, walks %.2f, ray "
+                        "tests %.2f), line quads %.2f; main thread: GL draw+swap %.2f, waiting for the pipeline %.2f; "
+                        "%zu silhouette edges, %zu line vertices in the last frame\n",
+                        measured / wall, measured, int(model_.topology().face_count()), wall * k, views_by_mode_[0],
+                        threads_, threads_ > 1 ? "s" : "", views_by_mode_[1], std::max(1, threads_ / 2),
+                        threads_ / 2 > 1 ? "s" : "", v.features * kv, v.search * kv, v.chain * kv,
                         v.visibility * kv, v.pieces * kv, v.propagation * kv, v.walks * kv, v.rays * kv, v.lines * kv,
                         total.draw * k, total.wait * k, last_silhouettes_, lines_.size());
             // On a loaded machine wall time is inflated; CPU time is the work itself (Mesa's
@@ -489,30 +490,56 @@ private:
         vopt_.finder.fraction = fraction_;
         StageTimes st;
         sync_all(st);  // never while the old sessions are in use
-        // The lanes: one view at a time on all the threads, or two at once, the threads split.
-        const int threads = std::max(1, vopt_.threads);
-        lanes_in_use_ = opt_.in_flight > 0 ? std::min(opt_.in_flight, 2) : threads >= 2 ? 2 : 1;
-        ViewOptions lane_options = vopt_;
-        lane_threads_ = std::max(1, threads / lanes_in_use_);
-        lane_options.threads = lane_threads_;
-        for (int i = 0; i < lanes_in_use_; ++i) {
+        // The lanes: two sessions where there are two threads (unless --in-flight=1), one view at a
+        // time on all the threads or two at once, the threads split (in_flight_mode()).
+        threads_ = std::max(1, vopt_.threads);
+        lane_count_ = opt_.in_flight == 1 || threads_ < 2 ? 1 : 2;
+        for (int i = 0; i < lane_count_; ++i) {
             if (!lanes_[i]) lanes_[i] = std::make_unique<Lane>();
-            lanes_[i]->session = std::make_unique<ViewSession>(model_, lane_options);
+            lanes_[i]->session = std::make_unique<ViewSession>(model_, vopt_);
         }
-        for (int i = lanes_in_use_; i < 2; ++i) lanes_[i].reset();
-        next_lane_ = 0;
+        for (int i = lane_count_; i < 2; ++i) lanes_[i].reset();
+        last_lane_ = -1;
+        two_at_once_ = lane_count_ == 2;  // (auto: the camera is still at first)
+        step_ = 0.0;
         view_ = nullptr;  // it belonged to an old session
+    }
+
+    // Views computed at once now: 1 or 2. Two sessions taking the views in turn each follow a view
+    // two frames back, so each finder's follow costs about twice as much; on armadillo@2 two at
+    // once gave more views a second than one at a time on both threads while the camera moved
+    // less than about 1.8 degrees a view, and fewer above (bench/results/view_fps.md). --in-flight
+    // fixes it; by default it follows the camera's step (smoothed over about four views), with a
+    // margin either side so that it does not flip-flop.
+    int in_flight_mode() {
+        if (lane_count_ < 2) return 1;
+        if (opt_.in_flight == 2) return 2;
+        constexpr double kDeg = M_PI / 180.0;
+        if (two_at_once_ && step_ > 1.6 * kDeg) two_at_once_ = false;
+        else if (!two_at_once_ && step_ < 1.0 * kDeg) two_at_once_ = true;
+        return two_at_once_ ? 2 : 1;
     }
 
     // Starts the pipeline for `cam` on the next lane's thread: features -> visibility -> line quads.
     // It reads the model and uses the lane's session; the main thread touches neither until that
     // view is taken (sync()).
     void launch(const Camera& cam) {
-        const int lane = next_lane_;
-        next_lane_ = (next_lane_ + 1) % lanes_in_use_;
+        const int mode = in_flight_mode();
+        // One at a time: the lane of the last view goes on (a step of one view); two: the other
+        // lane (the last view's lane is busy, or was the last to start).
+        const int lane = last_lane_ < 0 ? 0 : mode == 2 ? 1 - last_lane_ : last_lane_;
+        if (last_lane_ >= 0) {  // the camera's step: the eye's and the target's moves over the distance
+            const Camera& prev = lanes_[last_lane_]->camera;
+            const double dist = std::max(glm::length(prev.eye() - prev.target()), 1e-300);
+            const double step = (glm::length(cam.eye() - prev.eye()) + glm::length(cam.target() - prev.target())) / dist;
+            step_ = 0.75 * step_ + 0.25 * std::min(step, 10.0);
+        }
+        last_lane_ = lane;
         Lane& L = *lanes_[lane];
+        L.session->set_threads(std::max(1, threads_ / mode));  // (the lane is idle: not in flight)
         in_flight_.push_back(lane);
         L.camera = cam;
+        L.mode = mode;
         LineMeshOptions lo;
         lo.hidden = hidden_;
         lo.simplify_px = 0.25;  // invisible at the line widths drawn, fewer triangles
@@ -610,6 +637,7 @@ private:
         if (measuring_) {  // (--fps: the views after the first frame's, however many a frame takes)
             view_total_.add(v);
             ++views_measured_;
+            ++views_by_mode_[L.mode - 1];
             worker_cpu_ += j.cpu;
         }
         last_silhouettes_ = stats_.silhouette_edges;
@@ -789,18 +817,21 @@ private:
     struct Lane {
         std::unique_ptr<ViewSession> session;
         Camera camera;  // of the view started last
+        int mode = 1;   // views at once when it started
         Job result;
         std::future<void> job;
         std::atomic<bool> done{false};  // set by the job as it ends (its future is ready just after)
         WorkerThread thread;            // (last: stopped first, after its job in flight)
     };
     std::unique_ptr<Lane> lanes_[2];
-    int lanes_in_use_ = 1, next_lane_ = 0, lane_threads_ = 1;
+    int lane_count_ = 1, last_lane_ = -1, threads_ = 1;
+    bool two_at_once_ = false;  // the default's current choice (in_flight_mode())
+    double step_ = 0.0;         // the camera's step between views started, radians, smoothed
     std::deque<int> in_flight_;  // lanes with a view started and not taken, oldest first
     // --fps: the views taken after the first frame, their times and their lanes' CPU time.
     bool measuring_ = false;
     StageTimes view_total_;
-    int views_measured_ = 0;
+    int views_measured_ = 0, views_by_mode_[2] = {0, 0};  // (by views at once when each started)
     double worker_cpu_ = 0.0;
     Clock::time_point last_fresh_{};  // when the last view arrived
     double view_period_ = 0.0;        // moving average of the time between views
@@ -937,6 +968,8 @@ void Viewer::draw_panel() {
         const DrawingStats& s = panel_numbers_.stats;
         const StageTimes& t = panel_numbers_.times;
         ImGui::Text("%.1f views/s (pipeline), window %.1f fps", panel_numbers_.views_per_s, panel_numbers_.fps);
+        const int at_once = lane_count_ < 2 ? 1 : opt_.in_flight == 2 || two_at_once_ ? 2 : 1;
+        ImGui::Text("views at once: %d (%s)", at_once, opt_.in_flight > 0 || lane_count_ < 2 ? "fixed" : "by the camera's step");
         ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
         ImGui::Text("visibility %.2f ms, %s %.2f ms", 1e3 * t.visibility, styled_ ? "style + raster" : "line quads",
                     1e3 * t.lines);
