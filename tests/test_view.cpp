@@ -288,8 +288,7 @@ void expect_screenshot_is_render(const std::string& model, const std::string& fl
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingFandisk) { expect_screenshot_is_render("fandisk.off", ""); }
 
 // Two views at once (two sessions taking the views in turn, each following its own last view) and
-// one at a time: either way the last frame is render's drawing at its camera. (At 10 degrees a
-// view, the default starts two at once and goes on one at a time.)
+// one at a time: either way the last frame is render's drawing at its camera.
 TEST(ViewWindow, ScreenshotIsTheRenderDrawingWithOneOrTwoViewsInFlight) {
     expect_screenshot_is_render("fandisk.off", "", "--in-flight=1");
     expect_screenshot_is_render("fandisk.off", "", "--in-flight=2");
@@ -323,13 +322,19 @@ TEST(ViewWindow, RandomizedFinderFollowsAnExhaustiveFirstViewExactly) {
     // inconsistent, each decided by a ray test per piece).
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
-    // (the default, 10 degrees a view: two views at once, then one at a time as the step shows)
-    for (const std::string in_flight : {"", "--in-flight=1", "--in-flight=2"}) {
-        SCOPED_TRACE(in_flight);
+    // One view at a time, two at once, and the default at 10 degrees a view (one at a time) and at
+    // half a degree (one at a time for four views, then two at once: the second session's first
+    // view comes after the first session's fourth).
+    for (const std::string flags : {"--in-flight=1 --frames=6 --arc=60", "--in-flight=2 --frames=6 --arc=60",
+                                    "--frames=6 --arc=60", "--frames=12 --arc=6 --threads=2 --fps"}) {
+        SCOPED_TRACE(flags);
         const fs::path mine = d / "view.json", theirs = d / "render.json";
-        const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
-                                        "--finder=randomized --fraction=0.002 --hidden " + in_flight + " --export=" + mine.string(), d);
+        const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --orbit --size=640x480 --finder=randomized "
+                                        "--fraction=0.002 --hidden " + flags + " --export=" + mine.string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
+        if (flags.find("--fps") != std::string::npos) {  // (the views after the first frame's)
+            EXPECT_NE(v.out.find("views: 4 one at a time on 2 threads, 7 two at once"), std::string::npos) << v.out;
+        }
         std::string command = printed_render_command(v.out, mine);
         ASSERT_FALSE(command.empty()) << v.out;
         EXPECT_EQ(command.find("--finder=randomized"), std::string::npos) << command;

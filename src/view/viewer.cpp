@@ -500,8 +500,9 @@ private:
         }
         for (int i = lane_count_; i < 2; ++i) lanes_[i].reset();
         last_lane_ = -1;
-        two_at_once_ = lane_count_ == 2;  // (auto: the camera is still at first)
+        two_at_once_ = false;  // (until a few views have shown the camera's step)
         step_ = 0.0;
+        steps_seen_ = 0;
         view_ = nullptr;  // it belonged to an old session
     }
 
@@ -509,14 +510,15 @@ private:
     // two frames back, so each finder's follow costs about twice as much; on armadillo@2 two at
     // once gave more views a second than one at a time on both threads while the camera moved
     // less than about 1.8 degrees a view, and fewer above (bench/results/view_fps.md). --in-flight
-    // fixes it; by default it follows the camera's step (smoothed over about four views), with a
-    // margin either side so that it does not flip-flop.
+    // fixes it; by default it follows the camera's step (smoothed over about four views, from the
+    // fourth view on: a second lane started and left at once would cost its first view for
+    // nothing), with a margin either side so that it does not flip-flop.
     int in_flight_mode() {
         if (lane_count_ < 2) return 1;
         if (opt_.in_flight == 2) return 2;
         constexpr double kDeg = M_PI / 180.0;
         if (two_at_once_ && step_ > 1.6 * kDeg) two_at_once_ = false;
-        else if (!two_at_once_ && step_ < 1.0 * kDeg) two_at_once_ = true;
+        else if (!two_at_once_ && steps_seen_ >= 4 && step_ < 1.0 * kDeg) two_at_once_ = true;
         return two_at_once_ ? 2 : 1;
     }
 
@@ -532,7 +534,8 @@ private:
             const Camera& prev = lanes_[last_lane_]->camera;
             const double dist = std::max(glm::length(prev.eye() - prev.target()), 1e-300);
             const double step = (glm::length(cam.eye() - prev.eye()) + glm::length(cam.target() - prev.target())) / dist;
-            step_ = 0.75 * step_ + 0.25 * std::min(step, 10.0);
+            const double clamped = std::min(step, 10.0);
+            step_ = steps_seen_++ == 0 ? clamped : 0.75 * step_ + 0.25 * clamped;
         }
         last_lane_ = lane;
         Lane& L = *lanes_[lane];
@@ -827,6 +830,7 @@ private:
     int lane_count_ = 1, last_lane_ = -1, threads_ = 1;
     bool two_at_once_ = false;  // the default's current choice (in_flight_mode())
     double step_ = 0.0;         // the camera's step between views started, radians, smoothed
+    int steps_seen_ = 0;        // steps measured since the sessions were made
     std::deque<int> in_flight_;  // lanes with a view started and not taken, oldest first
     // --fps: the views taken after the first frame, their times and their lanes' CPU time.
     bool measuring_ = false;
