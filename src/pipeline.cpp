@@ -26,8 +26,8 @@ Model Model::load(const std::string& path, double crease_degrees, int subdivide)
 Model::Model(TriangleMesh mesh, double crease_degrees) : topo_(build_topology(std::move(mesh), crease_degrees)) {}
 
 const RayCaster& Model::rays() const {
-    if (!rays_) rays_ = std::make_unique<RayCaster>(topo_);
-    return *rays_;
+    std::call_once(lazy_->rays_once, [this] { lazy_->rays = std::make_unique<RayCaster>(topo_); });
+    return *lazy_->rays;
 }
 
 const std::vector<std::uint8_t>& Model::self_intersecting_faces() const { return self_intersections().faces; }
@@ -38,8 +38,9 @@ const std::vector<std::uint8_t>* Model::pierced_faces() const {
 }
 
 const SelfIntersections& Model::self_intersections() const {
-    if (!pierced_) pierced_ = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_));
-    return *pierced_;
+    std::call_once(lazy_->pierced_once,
+                   [this] { lazy_->pierced = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_)); });
+    return *lazy_->pierced;
 }
 
 namespace {

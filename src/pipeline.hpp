@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "core/camera.hpp"
@@ -24,7 +25,8 @@ public:
 
     const MeshTopology& topology() const { return topo_; }
     MeshTopology& topology() { return topo_; }
-    // The ray-test index, built on first use only (views that need no ray test never pay for it).
+    // The ray-test index, built on first use only (views that need no ray test never pay for it);
+    // once, also when several threads ask at the same time (so are the self-intersections).
     const RayCaster& rays() const;
     // Per face: intersects another face; computed on first use (the fast visibility needs it).
     const std::vector<std::uint8_t>& self_intersecting_faces() const;
@@ -38,8 +40,14 @@ public:
 
 private:
     MeshTopology topo_;
-    mutable std::unique_ptr<RayCaster> rays_;
-    mutable std::unique_ptr<SelfIntersections> pierced_;
+    // Built on first use, once, also when several threads ask at the same time (the preview
+    // window's two sessions); behind a pointer so that the model stays movable.
+    struct Lazy {
+        std::once_flag rays_once, pierced_once;
+        std::unique_ptr<RayCaster> rays;
+        std::unique_ptr<SelfIntersections> pierced;
+    };
+    std::unique_ptr<Lazy> lazy_ = std::make_unique<Lazy>();
     double load_seconds_ = 0.0;
 };
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <atomic>
 #include <chrono>
+#include <latch>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -99,6 +100,33 @@ void expect_same_graph(const PieceGraph& a, const PieceGraph& b, const std::stri
     EXPECT_EQ(a.extreme_vertices, b.extreme_vertices) << at;
     EXPECT_EQ(a.immersive, b.immersive) << at;
     EXPECT_EQ(a.image_size, b.image_size) << at;
+}
+
+// The model's lazy parts (the ray-test index, the self-intersections) are built once when two
+// threads ask for them at the same time, as the preview window's two sessions may: both get the
+// same object, and both use it (a second build would replace, and free, what the first thread got).
+TEST(Model, LazyPartsAreBuiltOnceWhenTwoThreadsAskAtOnce) {
+    for (int round = 0; round < 3; ++round) {
+        const Model bunny = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/bunny00.off");
+        const glm::dvec3 far = bunny.topology().bounds.center() + 10.0 * glm::dvec3(bunny.topology().bounds.half_diagonal());
+        std::latch start(2);
+        const RayCaster* rays[2] = {nullptr, nullptr};
+        const SelfIntersections* si[2] = {nullptr, nullptr};
+        int layers[2] = {-1, -1};
+        const auto ask = [&](int k) {
+            start.arrive_and_wait();
+            rays[k] = &bunny.rays();
+            si[k] = &bunny.self_intersections();
+            layers[k] = rays[k]->count_layers(far, bunny.topology().bounds.center(), kNoFace, kNoFace);
+        };
+        std::thread other(ask, 1);
+        ask(0);
+        other.join();
+        EXPECT_EQ(rays[0], rays[1]);
+        EXPECT_EQ(si[0], si[1]);
+        EXPECT_EQ(layers[0], layers[1]);
+        EXPECT_GE(layers[0], 1);  // (the segment ends inside the closed surface)
+    }
 }
 
 TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {

@@ -373,10 +373,13 @@ TEST(ViewWindow, StyledScreenshotIsWhatRenderWritesWithTheStyle) {
     // render --style writes it at the same camera: the same pixels, not an approximation.
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
+    // (and with two views at once: two views stylized at the same time, on the two lanes' threads)
+    for (const std::string in_flight : {"", " --in-flight=2"})
     for (const std::string style : {"ink-brush", "technical", "hatched"}) {
+        SCOPED_TRACE(in_flight);
         const fs::path shot = d / (style + "-shot.png"), drawn = d / (style + "-render.png");
         const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=20 --size=480x360 "
-                                        "--style=" + style + " --screenshot=" + shot.string(), d);
+                                        "--style=" + style + in_flight + " --screenshot=" + shot.string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
         const Result r = run("", "render " + mesh("fandisk.off") + " --style=" + style + " " + camera_line(v.out) +
                                      " -o " + drawn.string() + " --quiet", d);
