@@ -16,8 +16,8 @@
 // bench/results/visibility.md, docs/memory.md.
 //
 // Not in the library: a library must not choose its host program's allocator. Not under
-// AddressSanitizer, which replaces operator new itself.
-#if !defined(__SANITIZE_ADDRESS__)
+// AddressSanitizer or ThreadSanitizer, which replace operator new themselves.
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 
 #include <sys/mman.h>
 #include <unistd.h>
