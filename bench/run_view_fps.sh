@@ -3,8 +3,11 @@
 # the pipeline on the CPU every frame (features -> visibility), line quads, OpenGL draw and swap,
 # the ImGui panel, under Xvfb with Mesa's software OpenGL (llvmpipe). Armadillo Loop-subdivided
 # twice (832 k triangles), a 1024x768 window, an orbit of 3 degrees per frame (as run_tradeoff.sh);
-# the exhaustive finder, and the randomized one with and without frame coherence.
-# Writes bench/results/view_fps.md. Usage: bench/run_view_fps.sh [build-dir] [frames]
+# the exhaustive finder, and the randomized one with and without frame coherence; then the issue's
+# command (200 frames over 180 degrees: 0.9 degrees a frame, where the window computes two views at
+# once) and the same one view at a time.
+# Puts its table at the top of bench/results/view_fps.md (the earlier results kept below it).
+# Usage: bench/run_view_fps.sh [build-dir] [frames]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN="${1:-build}/src/inkline"
@@ -22,7 +25,7 @@ run() {  # label, then view arguments
     echo "| $label | \`$*\` | ${line/ cpu: /; CPU: } |" >>"$OUT.tmp"
 }
 {
-    echo "### inkline view: armadillo@2 (832000 triangles), 1024x768, orbit 3 deg/frame, $FRAMES frames"
+    echo "### inkline view: armadillo@2 (832000 triangles), 1024x768, orbit 3 deg/frame, $FRAMES frames (unless the flags say otherwise)"
     echo
     echo "$(date -u +%Y-%m-%d) on $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the start; $(xvfb-run -a glxinfo -B 2>/dev/null | grep -m1 'renderer string' | sed 's/.*: //' || echo 'renderer unknown')"
     echo
@@ -38,5 +41,10 @@ run "exhaustive, no panel" --finder=exhaustive --no-panel
 run "exhaustive, shading" --finder=exhaustive --shading
 run "exhaustive, 2 threads" --finder=exhaustive --threads=2
 run "randomized 0.002, coherence, 2 threads" --finder=randomized --fraction=0.002 --threads=2
+# (the later --frames and --arc win)
+run "randomized 0.05, coherence, 0.9 deg/frame" --finder=randomized --frames=200 --arc=180
+run "randomized 0.05, coherence, 0.9 deg/frame, one view at a time" --finder=randomized --frames=200 --arc=180 --in-flight=1
+cat "$OUT.tmp"
+echo >>"$OUT.tmp"
+if [ -f "$OUT" ]; then cat "$OUT" >>"$OUT.tmp"; fi
 mv "$OUT.tmp" "$OUT"
-cat "$OUT"
