@@ -29,10 +29,11 @@ struct ViewerOptions {
     std::string export_path;  // the last frame exported as the panel's buttons do (SVG/PDF/PNG/JSON)
     bool recall = false;      // recall of silhouette length against the exhaustive finder, per view
     bool fps = false;         // print the measured frames per second and where the time goes
-    // Views computed at once, each by its own session on its own thread (0: two where there are
-    // two threads, else one). Two: the sessions take the views in turn (each follows its own last
-    // view, two frames back), the threads split between them; more views a second on two cores
-    // than one view at a time on both, one frame more behind the camera.
+    // Views computed at once, each by its own session on its own thread: 1, 2, or 0 (two sessions
+    // where there are two threads, two views at once while the camera moves slowly, one when it
+    // moves fast). Two: the sessions take the views in turn (each follows its own last view, two
+    // frames back), the threads split between them; more views a second on two cores than one
+    // view at a time on both while each follow stays cheap, one frame more behind the camera.
     int in_flight = 0;
 };
 
