@@ -4,16 +4,12 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/clock.hpp"
 #include "model/self_intersections.hpp"
 #include "model/reorder.hpp"
 #include "model/subdivide.hpp"
 
 namespace inkline {
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 Model Model::load(const std::string& path, double crease_degrees, int subdivide) {
     const auto t0 = std::chrono::steady_clock::now();

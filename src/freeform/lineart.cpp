@@ -6,14 +6,11 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/clock.hpp"
 #include "core/error.hpp"
 
 namespace inkline::freeform {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Parameters between a and b (t in [0, 1]) along the shorter way around periodic directions.
 glm::dvec2 lerp_uv(const Surface& s, glm::dvec2 a, glm::dvec2 b, double t) {

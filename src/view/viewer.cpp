@@ -31,6 +31,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "core/clock.hpp"
 #include "core/error.hpp"
 #include "core/worker_thread.hpp"
 #include "output/styled.hpp"
@@ -59,8 +60,7 @@ std::string camera_flags(const Camera& cam) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using Clock = StageClock;
 double cpu_seconds(clockid_t clock) {
     timespec t{};
     clock_gettime(clock, &t);
@@ -344,7 +344,7 @@ public:
                 }
                 last_fresh_ = now;
             }
-            if (finishing) wall = since(t_measure);
+            if (finishing) wall = seconds_since(t_measure);
             // Options change only while the session is idle.
             if (crease_dirty_ || fraction_dirty_) {
                 StageTimes ignored;
@@ -421,8 +421,8 @@ public:
             }
             if (finishing && !opt_.export_path.empty()) export_view(opt_.export_path);
             glfwSwapBuffers(win_);
-            st.draw = since(td);
-            st.frame = since(t0);
+            st.draw = seconds_since(td);
+            st.frame = seconds_since(t0);
             if (fresh) {
                 shown_.add(shown_, -0.1);  // what the panel shows: a moving average
                 shown_.add(st, 0.1);
@@ -451,7 +451,7 @@ public:
         StageTimes st;
         sync_all(st);  // views still in flight (window closed)
         if (opt_.fps && measured > 0) {
-            if (opt_.frames == 0) wall = since(t_measure);
+            if (opt_.frames == 0) wall = seconds_since(t_measure);
             const double k = 1000.0 / measured;
             const double kv = 1000.0 / std::max(views_measured_, 1);  // per view (as many as frames)
             const StageTimes& v = view_total_;
@@ -573,7 +573,7 @@ private:
                 const Features ref = extract_features(model_.topology(), cam, kinds);
                 const double all = edges_length(model_.topology(), ref.silhouette_edges);
                 j.recall = all > 0.0 ? edges_length(model_.topology(), view.features.silhouette_edges) / all : 1.0;
-                j.times.recall = since(tr);
+                j.times.recall = seconds_since(tr);
             }
             const auto tl = Clock::now();
             j.styled = style != nullptr;
@@ -583,7 +583,7 @@ private:
             } else {
                 build_line_mesh(view.drawing, lo, j.lines);
             }
-            j.times.lines = since(tl);
+            j.times.lines = seconds_since(tl);
             j.cpu = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu0;
             L.done = true;
             glfwPostEmptyEvent();  // (thread-safe) wakes the loop's wait
@@ -613,7 +613,7 @@ private:
         in_flight_.pop_front();
         const auto t = Clock::now();
         L.job.get();
-        st.wait += since(t);
+        st.wait += seconds_since(t);
         const Job& j = L.result;
         std::swap(lines_, L.result.lines);
         std::swap(pixels_, L.result.pixels);

@@ -12,6 +12,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include "core/clock.hpp"
 #include "core/predicates.hpp"
 #include "visibility/fast_orient.hpp"
 
@@ -672,8 +673,7 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
                            const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
                            const AppelOptions& options) {
     AppelStats st;
-    using Clock = std::chrono::steady_clock;
-    auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+    using Clock = StageClock;
     const RayCaster* rc = nullptr;
     auto ray_qi = [&](std::uint32_t p) {
         if (!rc) rc = &ray_index();

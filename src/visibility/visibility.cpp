@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/clock.hpp"
 #include "visibility/crossings.hpp"
 
 namespace inkline {
@@ -818,17 +819,16 @@ int qi_by_ray(const MeshTopology& mesh, const Camera& camera, const RayCaster& r
 
 VisibleCurves compute_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
                                  const RayCaster& rays, const std::vector<EdgeCut>* cuts) {
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
+    const auto t0 = StageClock::now();
     PieceGraph g = build_pieces(mesh, features, camera, cuts);
     VisibleCurves& out = g.curves;  // the reference: one ray test per piece
-    const auto t1 = Clock::now();
+    out.seconds_pieces = seconds_since(t0);
+    const auto t1 = StageClock::now();
     for (std::size_t p = 0; p < out.pieces.size(); ++p) {
         out.pieces[p].qi = qi_by_ray(mesh, camera, rays, out.pieces[p], out.spans[p]);
         ++out.ray_tests;
     }
-    out.seconds_pieces = std::chrono::duration<double>(t1 - t0).count();
-    out.seconds_ray_tests = std::chrono::duration<double>(Clock::now() - t1).count();
+    out.seconds_ray_tests = seconds_since(t1);
     return std::move(g.curves);
 }
 
