@@ -340,11 +340,16 @@ TEST(VisibilityStages, SplitTheVisibilityTime) {
         EXPECT_LE(s.seconds_pieces + s.seconds_propagation + s.seconds_walks + s.seconds_ray_tests,
                   s.seconds_visibility * (1.0 + 1e-9));
     };
-    {  // Figure 2 (c): walks, no ray test
-        const Model model(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
+    // The view of a sphere with a bump at `bump`, with or without exact hidden QI, by `method`.
+    auto view_of = [&](glm::dvec3 bump, bool exact_hidden, VisibilityMethod method) {
+        const Model model(bumped_sphere(bump, 0.4, 0.35));
         ViewOptions o;
-        o.exact_hidden = false;
-        const View v = render_view(model, cam, o);
+        o.exact_hidden = exact_hidden;
+        o.visibility = method;
+        return render_view(model, cam, o);
+    };
+    {  // Figure 2 (c): walks, no ray test
+        const View v = view_of({0.5, 0.0, 1.0}, false, VisibilityMethod::Appel);
         const DrawingStats& s = v.drawing.stats;
         ASSERT_GE(s.walks, 1u);
         ASSERT_EQ(s.ray_tests, 0u);
@@ -355,10 +360,7 @@ TEST(VisibilityStages, SplitTheVisibilityTime) {
         check_sum(s);
     }
     {  // Figure 2 (b) with exact hidden QI: ray tests for the hidden branch, no walk
-        const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
-        ViewOptions o;
-        o.exact_hidden = true;
-        const View v = render_view(model, cam, o);
+        const View v = view_of({1.0, 0.0, -1.0}, true, VisibilityMethod::Appel);
         const DrawingStats& s = v.drawing.stats;
         ASSERT_GE(s.ray_tests, 1u);
         ASSERT_EQ(s.walks, 0u);
@@ -366,8 +368,7 @@ TEST(VisibilityStages, SplitTheVisibilityTime) {
         EXPECT_EQ(s.seconds_walks, 0.0);
         check_sum(s);
         // The reference: pieces and a ray test each, no propagation or walks.
-        o.visibility = VisibilityMethod::Rays;
-        const View r = render_view(model, cam, o);
+        const View r = view_of({1.0, 0.0, -1.0}, true, VisibilityMethod::Rays);
         const DrawingStats& sr = r.drawing.stats;
         EXPECT_GT(sr.seconds_pieces, 0.0);
         EXPECT_GT(sr.seconds_ray_tests, 0.0);
