@@ -11,12 +11,19 @@
 
 namespace inkline {
 
-Model Model::load(const std::string& path, double crease_degrees, int subdivide) {
+Model Model::load(const std::string& path, const LoadOptions& options, double crease_degrees, int subdivide) {
     const auto t0 = std::chrono::steady_clock::now();
+    TriangleMesh mesh = load_mesh(path, options);
+    const LoadReport repairs = mesh.repairs;
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    Model m(hilbert_ordered(subdivide_loop(load_mesh(path), subdivide)), crease_degrees);
+    Model m(hilbert_ordered(subdivide_loop(std::move(mesh), subdivide)), crease_degrees);
+    m.repairs_ = repairs;
     m.load_seconds_ = seconds_since(t0);
     return m;
+}
+
+Model Model::load(const std::string& path, double crease_degrees, int subdivide) {
+    return load(path, LoadOptions{.strict = true}, crease_degrees, subdivide);
 }
 
 Model::Model(TriangleMesh mesh, double crease_degrees) : topo_(build_topology(std::move(mesh), crease_degrees)) {}

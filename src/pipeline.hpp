@@ -18,8 +18,12 @@ namespace inkline {
 
 class Model {
 public:
-    // Loads and validates a mesh file (throws inkline::Error naming the file).
+    // Loads a model file (throws inkline::Error naming the file): OBJ, OFF, PLY and STL by
+    // load_mesh, tolerant unless options.strict (repairs() counts what was repaired).
     // `subdivide` rounds of Loop subdivision are applied after loading.
+    static Model load(const std::string& path, const LoadOptions& options, double crease_degrees = 40.0,
+                      int subdivide = 0);
+    // Strict loading (refuses what tolerant loading repairs), for callers that predate the repairs.
     static Model load(const std::string& path, double crease_degrees = 40.0, int subdivide = 0);
     explicit Model(TriangleMesh mesh, double crease_degrees = 40.0);  // moved into the topology
 
@@ -37,6 +41,7 @@ public:
     // computed on first use, once.
     const SelfIntersections& self_intersections() const;
     double load_seconds() const { return load_seconds_; }
+    const LoadReport& repairs() const { return repairs_; }
 
 private:
     MeshTopology topo_;
@@ -49,6 +54,7 @@ private:
     };
     std::unique_ptr<Lazy> lazy_ = std::make_unique<Lazy>();
     double load_seconds_ = 0.0;
+    LoadReport repairs_;
 };
 
 enum class VisibilityMethod { Rays, Appel };

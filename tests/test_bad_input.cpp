@@ -17,6 +17,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -295,14 +296,15 @@ TEST(BadInput, WellFormedBinaryFilesLoad) {
     fs::remove_all(d);
 }
 
-// The library: an inkline::Error whose single-line message starts with the file's path.
+// The library, loading strictly: an inkline::Error whose single-line message starts with the
+// file's path.
 TEST(BadInput, LoadMeshRefusesWithOneLineNamingFileAndProblem) {
     const fs::path d = scratch();
     for (const Case& c : bad_meshes()) {
         const fs::path p = d / c.file;
         write(p, c.content);
         try {
-            inkline::load_mesh(p.string());
+            inkline::load_mesh(p.string(), {.strict = true});
             ADD_FAILURE() << c.file << ": accepted";
         } catch (const inkline::Error& e) {
             const std::string m = e.what();
@@ -312,6 +314,38 @@ TEST(BadInput, LoadMeshRefusesWithOneLineNamingFileAndProblem) {
             EXPECT_LT(m.size(), 400u) << c.file << ": " << m;
         } catch (const std::exception& e) {
             ADD_FAILURE() << c.file << ": not an inkline::Error: " << e.what();
+        }
+    }
+    fs::remove_all(d);
+}
+
+// Tolerant loading (the default): the same files are refused for the same problem, except the
+// repairable ones: they load with their repairs counted or, when no face is left, are refused
+// saying so.
+TEST(BadInput, TolerantLoadingRepairsOrRefusesTheSame) {
+    const fs::path d = scratch();
+    const std::set<std::string> left_empty = {"repeat.off", "repeat.obj", "repeat.stl"};  // their only face
+    for (const Case& c : bad_meshes()) {
+        const fs::path p = d / c.file;
+        write(p, c.content);
+        if (c.file == "repeat.ply" || c.file == "fin.off") {
+            const inkline::TriangleMesh m = inkline::load_mesh(p.string());
+            const bool fin = c.file == "fin.off";
+            EXPECT_EQ(m.triangles.size(), fin ? 5u : 3u) << c.file;
+            EXPECT_EQ(m.repairs.faces_dropped, fin ? 0u : 1u) << c.file;
+            EXPECT_EQ(m.repairs.nonmanifold_edges_cut, fin ? 1u : 0u) << c.file;
+            EXPECT_EQ(m.positions.size(), fin ? 7u : 4u) << c.file;  // the fin's two ends split off
+            continue;
+        }
+        const std::string problem = left_empty.count(c.file) ? "no faces left: all 1 faces are degenerate" : c.problem;
+        try {
+            inkline::load_mesh(p.string());
+            ADD_FAILURE() << c.file << ": accepted";
+        } catch (const inkline::Error& e) {
+            const std::string m = e.what();
+            EXPECT_EQ(m.rfind(p.string() + ": ", 0), 0u) << c.file << ": " << m;
+            EXPECT_NE(m.find(problem), std::string::npos) << c.file << ": expected '" << problem << "' in " << m;
+            EXPECT_EQ(m.find('\n'), std::string::npos) << c.file << ": " << m;
         }
     }
     fs::remove_all(d);

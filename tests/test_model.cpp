@@ -66,9 +66,9 @@ std::string write_file(const std::string& name, const std::string& content) {
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // The message of the inkline::Error that loading `path` must throw ("" and a failure if none).
-std::string load_error(const std::string& path) {
+std::string load_error(const std::string& path, inkline::LoadOptions options = {}) {
     try {
-        const TriangleMesh m = inkline::load_mesh(path);
+        const TriangleMesh m = inkline::load_mesh(path, options);
         ADD_FAILURE() << path << " was accepted (" << m.positions.size() << " vertices, " << m.triangles.size()
                       << " triangles)";
     } catch (const inkline::Error& e) {
@@ -80,8 +80,9 @@ std::string load_error(const std::string& path) {
 }
 
 // Loading must fail with "<path>: ..." and a message that contains every one of `parts`.
-void expect_refused(const std::string& path, const std::vector<std::string>& parts) {
-    const std::string msg = load_error(path);
+void expect_refused(const std::string& path, const std::vector<std::string>& parts,
+                    inkline::LoadOptions options = {}) {
+    const std::string msg = load_error(path, options);
     EXPECT_EQ(msg.rfind(path + ": ", 0), 0u) << "message does not start with the file name: " << msg;
     for (const auto& p : parts) EXPECT_TRUE(contains(msg, p)) << "message lacks '" << p << "': " << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
@@ -287,16 +288,19 @@ TEST(LoadMeshErrors, OutOfRangeIndex) {
     expect_refused(write_file("oor_rel.obj", v + "f 1 3 2\nf -1 -2 -5\n"), {"face 1", "refers to vertex -1 of 4"});
 }
 
+// Strict loading refuses repeated indices (tolerant loading drops those faces: RepairedOnLoad).
+const inkline::LoadOptions kStrict{.strict = true};
+
 TEST(LoadMeshErrors, RepeatedIndex) {
     auto f = kTetF;
     f[2] = {0, 3, 3};
-    expect_refused(write_file("rep.off", off_file(kTetV, f)), {"face 2", "repeats vertex index 3"});
+    expect_refused(write_file("rep.off", off_file(kTetV, f)), {"face 2", "repeats vertex index 3"}, kStrict);
     expect_refused(write_file("rep.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 2\n"),
-                   {"face 1", "repeats vertex index 1"});
+                   {"face 1", "repeats vertex index 1"}, kStrict);
     // In a polygon: the repeat is reported for the input face, not a triangle of its fan.
     auto q = kCubeF;
     q[4] = {0, 4, 7, 4};
-    expect_refused(write_file("rep_quad.off", off_file(kCubeV, q)), {"face 4", "repeats vertex index 4"});
+    expect_refused(write_file("rep_quad.off", off_file(kCubeV, q)), {"face 4", "repeats vertex index 4"}, kStrict);
     // In memory.
     TriangleMesh m;
     m.positions = kTetV;
@@ -315,13 +319,13 @@ TEST(LoadMeshErrors, NonManifoldEdge) {
     v.push_back({0.5, -1, 0.5});
     auto f = kTetF;
     f.push_back({0, 4, 1});
-    std::string msg = load_error(write_file("fin.off", off_file(v, f)));
+    std::string msg = load_error(write_file("fin.off", off_file(v, f)), kStrict);
     EXPECT_TRUE(contains(msg, "fin.off: non-manifold: 1 extra face(s)")) << msg;
     EXPECT_TRUE(contains(msg, "vertices 0-1")) << msg;
     // Two fins on two different edges: two extra faces.
     v.push_back({-1, 0.5, 0.5});
     f.push_back({0, 2, 5});
-    msg = load_error(write_file("fins.off", off_file(v, f)));
+    msg = load_error(write_file("fins.off", off_file(v, f)), kStrict);
     EXPECT_TRUE(contains(msg, "fins.off: non-manifold: 2 extra face(s)")) << msg;
     // Four faces on one edge (two tetrahedra glued along an edge only): two extra faces.
     TriangleMesh m;
@@ -953,4 +957,127 @@ TEST(Subdivide, LoopQuadruplesAndSmooths) {
     EXPECT_EQ(t.vertex_count() - t.edge_count() + t.face_count(), 2u);  // still a sphere
     for (const auto& p : s2.positions) EXPECT_LT(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}), 1.0);
     EXPECT_EQ(inkline::subdivide_loop(box, 0).triangles.size(), box.triangles.size());
+}
+
+// =============================================================================================
+// Tolerant loading: repairs, each counted
+
+// Each side of a cube with its own four corners (as a UV or normal seam splits them): welded into a
+// closed cube, the same triangles as the welded file.
+TEST(RepairedOnLoad, CubeSplitPerFaceIsWelded) {
+    std::vector<glm::dvec3> v;
+    std::vector<std::vector<int>> f;
+    for (const auto& q : kCubeF) {
+        std::vector<int> face;
+        for (int i : q) {
+            face.push_back(int(v.size()));
+            v.push_back(kCubeV[std::size_t(i)]);
+        }
+        f.push_back(face);
+    }
+    for (const char* name : {"split_cube.off", "split_cube_strict.off"}) {
+        const bool strict = std::string(name).find("strict") != std::string::npos;
+        const TriangleMesh m = inkline::load_mesh(write_file(name, off_file(v, f)), {.strict = strict});
+        EXPECT_EQ(m.repairs.vertices_welded, 16u) << name;  // 24 corners at 8 positions
+        EXPECT_EQ(m.positions.size(), 8u) << name;
+        EXPECT_EQ(m.triangles.size(), 12u) << name;
+        const MeshTopology t = inkline::build_topology(m);
+        EXPECT_TRUE(t.closed) << name;
+        EXPECT_EQ(t.edge_count(), 18u) << name;
+        EXPECT_NEAR(signed_volume(m), 1.0, 1e-12) << name;
+    }
+}
+
+TEST(RepairedOnLoad, DegenerateFacesAreDropped) {
+    auto f = kTetF;
+    f.push_back({0, 3, 3});  // a repeated corner
+    f.push_back({1, 1, 1});
+    const TriangleMesh m = inkline::load_mesh(write_file("rep_tolerant.off", off_file(kTetV, f)));
+    EXPECT_EQ(m.triangles.size(), 4u);
+    EXPECT_EQ(m.repairs.faces_dropped, 2u);
+    // A quad with a corner repeated in a row is the triangle of its other three.
+    auto q = kCubeF;
+    q.push_back({0, 1, 1, 0});  // nothing left of it
+    const TriangleMesh c = inkline::load_mesh(write_file("quad_rep.off", off_file(kCubeV, q)));
+    EXPECT_EQ(c.triangles.size(), 12u);
+    EXPECT_EQ(c.repairs.faces_dropped, 1u);
+    // A zero-area face lying on closed edges (a fin of no width) is dropped; the same face as the
+    // only thing joining two sheets is kept (dropping it would open the surface).
+    TriangleMesh z;
+    z.positions = kTetV;
+    z.positions.push_back({0.5, 0, 0});  // on edge 0-1
+    z.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 1}};
+    inkline::repair_mesh(z, "flat fin");
+    EXPECT_EQ(z.triangles.size(), 5u);  // its edges 0-4, 4-1 have no other face: kept
+    EXPECT_EQ(z.repairs.faces_dropped, 0u);
+    TriangleMesh w;
+    w.positions = kTetV;
+    w.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 1, 3}};  // a face twice: no area lost
+    inkline::repair_mesh(w, "doubled face");
+    EXPECT_EQ(w.triangles.size(), 5u);  // not zero-area: cut instead (next test)
+}
+
+// Non-manifold edges are cut: each sheet meets the edge as its own border, and a closed part with
+// a fin keeps its edge (the fin alone is cut off).
+TEST(RepairedOnLoad, NonManifoldEdgesAreCut) {
+    auto v = kTetV;
+    v.push_back({0.5, -1, 0.5});
+    auto f = kTetF;
+    f.push_back({0, 4, 1});
+    const TriangleMesh m = inkline::load_mesh(write_file("fin_tolerant.off", off_file(v, f)));
+    EXPECT_EQ(m.repairs.nonmanifold_edges_cut, 1u);
+    EXPECT_EQ(m.repairs.vertices_split, 2u);  // the fin's copies of vertices 0 and 1
+    EXPECT_EQ(m.positions.size(), 7u);
+    const MeshTopology t = inkline::build_topology(m);
+    EXPECT_EQ(t.border_list.size(), 3u);  // the fin's three edges; the tetrahedron stays closed
+    EXPECT_EQ(t.edge_count(), 6u + 3u);
+    EXPECT_EQ(inkline::corner_mates(m.triangles, m.positions.size()).extra, 0u);
+    // Two tetrahedra glued along an edge only (four faces on it): two closed parts.
+    TriangleMesh two = inkline::merge_meshes(inkline::make_box({0, 0, 0}, {1, 1, 1}), inkline::make_box({1, 1, 0}, {2, 2, 1}));
+    inkline::repair_mesh(two, "boxes sharing an edge");
+    EXPECT_EQ(two.repairs.vertices_welded, 2u);  // the shared edge's ends
+    EXPECT_EQ(two.repairs.nonmanifold_edges_cut, 1u);
+    EXPECT_EQ(two.repairs.vertices_split, 2u);
+    const MeshTopology tt = inkline::build_topology(two);
+    EXPECT_TRUE(tt.closed);
+    EXPECT_EQ(tt.edge_count(), 36u);
+    // A fan of four sheets on one edge, open (the bowtie of NonManifoldEdge): cut into four.
+    TriangleMesh bow;
+    bow.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    bow.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {1, 0, 5}};
+    inkline::repair_mesh(bow, "bowtie");
+    EXPECT_EQ(bow.repairs.nonmanifold_edges_cut, 1u);
+    EXPECT_EQ(bow.positions.size(), 12u);  // every sheet its own ends: 6 + 3 x 2
+    EXPECT_EQ(inkline::build_topology(bow).border_list.size(), 12u);
+}
+
+TEST(RepairedOnLoad, DisagreeingOrientationIsCountedPerPart) {
+    auto f = kCubeF;
+    std::reverse(f[2].begin(), f[2].end());
+    TriangleMesh two = inkline::load_mesh(write_file("cube_flip.off", off_file(kCubeV, f)));
+    EXPECT_EQ(two.repairs.components_reoriented, 1u);
+    EXPECT_EQ(two.faces_reoriented, 2u);
+    EXPECT_EQ(inkline::load_mesh(write_file("cube_ok.off", off_file(kCubeV, kCubeF))).repairs.components_reoriented, 0u);
+    const std::vector<std::string> lines = two.repairs.warnings("cube_flip.off");
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(lines[0], "cube_flip.off: re-oriented 1 connected parts whose faces disagreed in orientation");
+}
+
+// Header lines other readers skip ("Created by ..." of old Blender exports) are skipped.
+TEST(RepairedOnLoad, PlyUnknownHeaderLinesAreSkipped) {
+    const std::string ply =
+        "ply\nformat ascii 1.0\nCreated by Blender 2.49\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    for (const bool strict : {false, true}) {
+        const TriangleMesh m = inkline::load_mesh(write_file("created_by.ply", ply), {.strict = strict});
+        EXPECT_EQ(m.triangles.size(), 4u);
+    }
+}
+
+TEST(RepairedOnLoad, PointCloudIsAClearError) {
+    expect_refused(write_file("cloud.ply",
+                              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                              "property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n"),
+                   {"no faces", "3 vertices only", "point cloud"});
 }

@@ -14,8 +14,14 @@
 
 #include "core/error.hpp"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <numeric>
+
 namespace inkline {
 namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+Kernel::Point_3 cgal_point(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
 std::string lower_extension(const std::string& path) {
     const auto dot = path.find_last_of('.');
@@ -92,7 +98,7 @@ bool parse_int(std::string_view tok, std::int64_t& out) {
     return r.ec == std::errc() && r.ptr == tok.data() + tok.size();
 }
 
-std::string quoted(std::string_view tok) { return "'" + std::string(tok.substr(0, 40)) + "'"; }
+std::string in_quotes(std::string_view tok) { return "'" + std::string(tok.substr(0, 40)) + "'"; }
 
 std::string lower(std::string_view s) {
     std::string r(s);
@@ -110,10 +116,10 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
     const std::string key(tok[0]);
     const auto off_at = key.rfind("OFF");
     if (off_at == std::string::npos || off_at + 3 != key.size())
-        throw Error(path, lines.at() + "expected an OFF header, found " + quoted(tok[0]));
+        throw Error(path, lines.at() + "expected an OFF header, found " + in_quotes(tok[0]));
     const std::string prefix = key.substr(0, off_at);
     if (prefix.find_first_not_of("STCN4n") != std::string::npos)
-        throw Error(path, lines.at() + "expected an OFF header, found " + quoted(tok[0]));
+        throw Error(path, lines.at() + "expected an OFF header, found " + in_quotes(tok[0]));
     const bool homogeneous = prefix.find('4') != std::string::npos;
     std::size_t k = 1;
     auto need = [&](const char* what) {
@@ -127,15 +133,15 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
     if (prefix.find('n') != std::string::npos) {
         const auto t = need("vertex dimension");
         if (!parse_int(t, dim) || dim < 1 || dim > 16)
-            throw Error(path, lines.at() + "bad vertex dimension " + quoted(t));
+            throw Error(path, lines.at() + "bad vertex dimension " + in_quotes(t));
     }
     if (homogeneous) ++dim;
     std::int64_t nv = 0, nf = 0;
     {
         const auto t = need("vertex count");
-        if (!parse_int(t, nv) || nv < 0) throw Error(path, lines.at() + "bad vertex count " + quoted(t));
+        if (!parse_int(t, nv) || nv < 0) throw Error(path, lines.at() + "bad vertex count " + in_quotes(t));
         const auto u = need("face count");
-        if (!parse_int(u, nf) || nf < 0) throw Error(path, lines.at() + "bad face count " + quoted(u));
+        if (!parse_int(u, nf) || nf < 0) throw Error(path, lines.at() + "bad face count " + in_quotes(u));
         // The edge count, if present, is not used.
     }
     soup.positions.reserve(std::size_t(std::min<std::int64_t>(nv, std::int64_t(text.size() / 6 + 1))));
@@ -150,7 +156,7 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
         for (std::int64_t j = 0; j < dim; ++j) {
             double x;
             if (!parse_double(tok[j], x))
-                throw Error(path, lines.at() + "vertex " + std::to_string(i) + ": " + quoted(tok[j]) +
+                throw Error(path, lines.at() + "vertex " + std::to_string(i) + ": " + in_quotes(tok[j]) +
                                       " is not a number");
             if (j < 3) c[j] = x;
             if (homogeneous && j == dim - 1) c[3] = x;
@@ -164,7 +170,7 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
                                   " faces (truncated)");
         std::int64_t n = 0;
         if (!parse_int(tok[0], n) || n < 0)
-            throw Error(path, lines.at() + "face " + std::to_string(f) + ": bad vertex count " + quoted(tok[0]));
+            throw Error(path, lines.at() + "face " + std::to_string(f) + ": bad vertex count " + in_quotes(tok[0]));
         if (std::int64_t(tok.size()) < n + 1)
             throw Error(path, lines.at() + "face " + std::to_string(f) + " lists " +
                                   std::to_string(tok.size() - 1) + " of its " + std::to_string(n) +
@@ -172,7 +178,7 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
         std::vector<std::int64_t> poly(std::size_t(n), 0);
         for (std::int64_t j = 0; j < n; ++j)
             if (!parse_int(tok[j + 1], poly[j]))
-                throw Error(path, lines.at() + "face " + std::to_string(f) + ": " + quoted(tok[j + 1]) +
+                throw Error(path, lines.at() + "face " + std::to_string(f) + ": " + in_quotes(tok[j + 1]) +
                                       " is not a vertex index");
         soup.polygons.push_back(std::move(poly));
     }
@@ -192,7 +198,7 @@ void read_obj(const std::string& text, const std::string& path, Soup& soup) {
             for (int j = 0; j < 3; ++j)
                 if (!parse_double(tok[j + 1], c[j]))
                     throw Error(path, lines.at() + "vertex " + std::to_string(soup.positions.size()) + ": " +
-                                          quoted(tok[j + 1]) + " is not a number");
+                                          in_quotes(tok[j + 1]) + " is not a number");
             soup.positions.emplace_back(c[0], c[1], c[2]);
         } else if (tok[0] == "f") {
             std::vector<std::int64_t> poly;
@@ -201,7 +207,7 @@ void read_obj(const std::string& text, const std::string& path, Soup& soup) {
                 std::int64_t i = 0;
                 if (!parse_int(t, i) || i == 0)
                     throw Error(path, lines.at() + "face " + std::to_string(soup.polygons.size()) + ": " +
-                                          quoted(tok[j]) + " is not a vertex index");
+                                          in_quotes(tok[j]) + " is not a vertex index");
                 poly.push_back(i > 0 ? i - 1 : std::int64_t(soup.positions.size()) + i);
             }
             soup.polygons.push_back(std::move(poly));
@@ -249,14 +255,14 @@ void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup
     auto expect = [&](const char* word) {
         if (!lines.next(tok)) throw Error(path, std::string("file ends before '") + word + "' (truncated)");
         if (lower(tok[0]) != word)
-            throw Error(path, lines.at() + "expected '" + word + "', found " + quoted(tok[0]));
+            throw Error(path, lines.at() + "expected '" + word + "', found " + in_quotes(tok[0]));
     };
     expect("solid");
     while (true) {
         if (!lines.next(tok)) throw Error(path, "file ends before 'endsolid' (truncated)");
         const std::string w = lower(tok[0]);
         if (w == "endsolid") break;
-        if (w != "facet") throw Error(path, lines.at() + "expected 'facet' or 'endsolid', found " + quoted(tok[0]));
+        if (w != "facet") throw Error(path, lines.at() + "expected 'facet' or 'endsolid', found " + in_quotes(tok[0]));
         expect("outer");
         std::vector<std::int64_t> poly;
         for (int c = 0; c < 3; ++c) {
@@ -267,7 +273,7 @@ void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup
             glm::dvec3 p;
             for (int j = 0; j < 3; ++j)
                 if (!parse_double(tok[j + 1], p[j]))
-                    throw Error(path, lines.at() + quoted(tok[j + 1]) + " is not a number");
+                    throw Error(path, lines.at() + in_quotes(tok[j + 1]) + " is not a number");
             poly.push_back(weld(p));
         }
         expect("endloop");
@@ -383,7 +389,9 @@ std::vector<PlyElement> read_ply_header(Lines& lines, const std::string& path, b
             }
             elements.back().props.push_back(std::move(p));
         } else {
-            throw Error(path, lines.at() + "unknown PLY header line " + quoted(tok[0]));
+            // Other keywords ("Created by Blender", vendor keys): other readers skip them, and so does
+            // this one; the elements and properties are all that the body's layout depends on.
+            continue;
         }
     }
 }
@@ -419,13 +427,13 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
                     const auto t = next();
                     std::int64_t n = 0;
                     if (!parse_int(t, n) || n < 0)
-                        throw Error(path, e.name + " " + std::to_string(i) + ": bad list length " + quoted(t));
+                        throw Error(path, e.name + " " + std::to_string(i) + ": bad list length " + in_quotes(t));
                     for (std::int64_t m = 0; m < n; ++m) {
                         const auto u = next();
                         if (j == indices) {
                             std::int64_t v = 0;
                             if (!parse_int(u, v))
-                                throw Error(path, "face " + std::to_string(i) + ": " + quoted(u) +
+                                throw Error(path, "face " + std::to_string(i) + ": " + in_quotes(u) +
                                                       " is not a vertex index");
                             poly.push_back(v);
                         }
@@ -434,7 +442,7 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
                     const auto t = next();
                     double x;
                     if (!parse_double(t, x))
-                        throw Error(path, e.name + " " + std::to_string(i) + ": " + quoted(t) + " is not a number");
+                        throw Error(path, e.name + " " + std::to_string(i) + ": " + in_quotes(t) + " is not a number");
                     for (int c = 0; c < 3; ++c)
                         if (is_vertex && j == xyz[c]) p[c] = x;
                 }
@@ -537,7 +545,7 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
 void read_off_binary(const std::string& data, const std::string& path, const std::string& key, Soup& soup) {
     if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0 ||
         key.substr(0, key.size() - 3).find_first_not_of("STCN4n") != std::string::npos)
-        throw Error(path, "line 1: expected an OFF header, found " + quoted(key));
+        throw Error(path, "line 1: expected an OFF header, found " + in_quotes(key));
     const std::string prefix = key.substr(0, key.size() - 3);
     if (prefix.find_first_of("C4n") != std::string::npos)
         throw Error(path, "binary OFF with colours or a vertex dimension other than 3 ('" + key +
@@ -578,9 +586,351 @@ void read_off_binary(const std::string& data, const std::string& path, const std
     }
 }
 
+
+// ---------------------------------------------------------------------------------------------
+// Repairs (tolerant loading) and checks.
+
+// New index of each vertex after merging vertices at exactly the same position (-0 == +0) into the
+// first of them; positions are compacted in their order. Non-finite positions are never merged
+// (they are refused afterwards by name). Empty when nothing merges: then nothing changes.
+std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, std::size_t& welded) {
+    std::unordered_map<glm::dvec3, std::uint32_t, PointKey, PointEq> first;
+    first.reserve(positions.size());
+    std::vector<std::uint32_t> map(positions.size());
+    std::uint32_t next = 0;
+    welded = 0;
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        const glm::dvec3& p = positions[i];
+        const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+        if (finite) {
+            auto [it, inserted] = first.try_emplace(p, next);
+            if (!inserted) {
+                map[i] = it->second;
+                ++welded;
+                continue;
+            }
+        }
+        map[i] = next++;
+    }
+    if (welded == 0) return {};
+    for (std::size_t i = 0; i < positions.size(); ++i) positions[map[i]] = positions[i];  // map[i] <= i
+    positions.resize(next);
+    return map;
+}
+
+// Keeps the faces (and their object ids) whose flag is set, in order.
+void keep_faces(TriangleMesh& m, const std::vector<char>& keep) {
+    std::size_t k = 0;
+    const bool objects = m.face_object.size() == m.triangles.size();
+    for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+        if (!keep[f]) continue;
+        m.triangles[k] = m.triangles[f];
+        if (objects) m.face_object[k] = m.face_object[f];
+        ++k;
+    }
+    m.triangles.resize(k);
+    if (objects) m.face_object.resize(k);
+}
+
+void check_coordinates_and_indices(const TriangleMesh& mesh, const std::string& where) {
+    const std::size_t nv = mesh.positions.size();
+    for (std::size_t i = 0; i < nv; ++i) {
+        const auto& p = mesh.positions[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw Error(where, "vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+    }
+    if (mesh.triangles.empty())
+        throw Error(where, nv > 0 ? "mesh has no faces (" + std::to_string(nv) +
+                                        " vertices only: a point cloud has no surface to draw)"
+                                  : std::string("mesh has no faces"));
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+        for (auto i : mesh.triangles[f])
+            if (i >= nv)
+                throw Error(where, "face " + std::to_string(f) + " refers to vertex " + std::to_string(i) + " of " +
+                                       std::to_string(nv));
+}
+
+// Undirected edge key: lower vertex << 32 | upper.
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+    return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+}
+
+// Drops faces with a repeated corner, and zero-area faces (exactly collinear corners) whose every
+// edge has at least two other faces: removing those opens nothing (they are fins on edges that are
+// already closed). A zero-area face that holds the surface together (a sliver between two sheets)
+// is kept: the facing tests are exact and take zero-area faces as they are.
+void drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool strict) {
+    const std::size_t nf = mesh.triangles.size();
+    std::vector<char> keep(nf, 1);
+    std::size_t dropped = 0;
+    for (std::size_t f = 0; f < nf; ++f) {
+        const auto& t = mesh.triangles[f];
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+            if (strict) throw Error(where, "face " + std::to_string(f) + " repeats a vertex index");
+            keep[f] = 0;
+            ++dropped;
+        }
+    }
+    if (!strict) {
+        std::vector<std::uint32_t> flat;
+        for (std::size_t f = 0; f < nf; ++f) {
+            const auto& t = mesh.triangles[f];
+            if (keep[f] && CGAL::collinear(cgal_point(mesh.positions[t[0]]), cgal_point(mesh.positions[t[1]]),
+                                           cgal_point(mesh.positions[t[2]])))
+                flat.push_back(std::uint32_t(f));
+        }
+        if (!flat.empty()) {
+            std::unordered_map<std::uint64_t, std::uint32_t> uses;
+            for (std::size_t f = 0; f < nf; ++f)
+                if (keep[f])
+                    for (int k = 0; k < 3; ++k) ++uses[edge_key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3])];
+            for (std::uint32_t f : flat) {
+                const auto& t = mesh.triangles[f];
+                bool covered = true;
+                for (int k = 0; k < 3; ++k) covered = covered && uses[edge_key(t[k], t[(k + 1) % 3])] >= 3;
+                if (!covered) continue;
+                for (int k = 0; k < 3; ++k) --uses[edge_key(t[k], t[(k + 1) % 3])];
+                keep[f] = 0;
+                ++dropped;
+            }
+        }
+    }
+    if (dropped == 0) return;
+    mesh.repairs.faces_dropped += dropped;
+    keep_faces(mesh, keep);
+    if (mesh.triangles.empty())
+        throw Error(where, "no faces left: all " + std::to_string(dropped) + " faces are degenerate (repeated corners)");
+}
+
+std::string nonmanifold_message(const CornerMates& mates) {
+    return "non-manifold: " + std::to_string(mates.extra) +
+           " extra face(s) on edges shared by more than two faces (first at vertices " +
+           std::to_string(mates.first_bad >> 32) + "-" + std::to_string(mates.first_bad & 0xffffffffu) +
+           "); hidden-line removal by quantitative invisibility needs a 2-manifold mesh";
+}
+
+struct UnionFind {
+    std::vector<std::uint32_t> parent;
+    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+    std::uint32_t find(std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    void unite(std::uint32_t a, std::uint32_t b) {
+        a = find(a), b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+// Cuts the surface along its non-manifold edges. Each vertex on such an edge is split into one copy
+// per fan: the faces around it joined through manifold edges (two faces); the first fan keeps the
+// vertex. Two sheets that only meet at the edge then have their own copies of its ends and each
+// meets the edge as a border, while a closed part with a fin on one of its edges keeps that edge
+// (its two faces are one fan at both ends) and the fin alone is cut off. Faces still three or more
+// on one edge after that (sheets joined around both ends) are detached: each beyond the first two
+// gets its own copies of its corners. Every sheet is then a 2-manifold with border, so Appel's
+// border rule (+-1 per sheet behind a border) holds for each sheet on its own.
+void cut_nonmanifold_edges(TriangleMesh& mesh, const CornerMates& mates) {
+    auto& tris = mesh.triangles;
+    const std::size_t nc = 3 * tris.size();
+    std::vector<char> on_cut(mesh.positions.size(), 0);
+    UnionFind fans(nc);  // element 3f + k: face f at its corner k
+    auto corner_at = [&](std::uint32_t f, std::uint32_t v) {
+        return 3 * f + (tris[f][0] == v ? 0u : tris[f][1] == v ? 1u : 2u);
+    };
+    // A group of three or more corners (corner_mates): the middle ones point to the first, whose
+    // mate is the last; mark each such group by its first corner.
+    std::vector<char> group_of_many(nc, 0);
+    for (std::uint32_t c = 0; c < nc; ++c) {
+        const std::uint32_t m = mates.mate[c];
+        if (m != kNoCorner && m < c && mates.mate[m] != c && !group_of_many[m]) {
+            group_of_many[m] = 1;
+            ++mesh.repairs.nonmanifold_edges_cut;
+        }
+    }
+    for (std::uint32_t c = 0; c < nc; ++c) {
+        const std::uint32_t m = mates.mate[c];
+        const std::uint32_t a = tris[c / 3][c % 3], b = tris[c / 3][(c % 3 + 1) % 3];
+        if (m == kNoCorner) continue;
+        if (mates.mate[m] != c || group_of_many[c] || group_of_many[m]) {  // a non-manifold edge
+            on_cut[a] = on_cut[b] = 1;
+            continue;
+        }
+        if (m < c) continue;  // the pair was joined at its first corner
+        for (std::uint32_t v : {a, b}) fans.unite(corner_at(c / 3, v), corner_at(m / 3, v));
+    }
+    std::vector<std::uint32_t> fan_vertex(nc, kNoCorner);
+    std::vector<char> kept(mesh.positions.size(), 0);
+    for (std::uint32_t c = 0; c < nc; ++c) {
+        std::uint32_t& v = tris[c / 3][c % 3];
+        if (!on_cut[v]) continue;
+        std::uint32_t& nv = fan_vertex[fans.find(c)];
+        if (nv == kNoCorner) {
+            if (!kept[v]) {
+                kept[v] = 1;
+                nv = v;
+            } else {
+                nv = std::uint32_t(mesh.positions.size());
+                mesh.positions.push_back(mesh.positions[v]);
+                ++mesh.repairs.vertices_split;
+            }
+        }
+        v = nv;
+    }
+    const CornerMates after = corner_mates(tris, mesh.positions.size());
+    if (after.extra == 0) return;
+    std::vector<char> detach(tris.size(), 0);
+    for (std::uint32_t c = 0; c < nc; ++c) {  // the middle corners of a group (neither first nor last)
+        const std::uint32_t m = after.mate[c];
+        if (m != kNoCorner && m < c && after.mate[m] != c) detach[c / 3] = 1;
+    }
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+        if (!detach[f]) continue;
+        for (auto& v : tris[f]) {
+            mesh.positions.push_back(mesh.positions[v]);
+            v = std::uint32_t(mesh.positions.size() - 1);
+            ++mesh.repairs.vertices_split;
+        }
+    }
+}
+
+// Consistent orientation by breadth-first search over faces: two faces sharing an edge must
+// traverse it in opposite directions; a conflict means the surface is not orientable. Closed
+// components are then turned outward (positive signed volume), so that front-facing silhouette
+// edges are the convex ones, as the Markosian et al. parity rule assumes. Each face is flipped at
+// most once; faces_reoriented counts the faces whose final orientation differs from the input,
+// repairs.components_reoriented the components whose faces disagreed.
+void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where) {
+    const std::size_t nf = mesh.triangles.size();
+    auto directed = [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) {
+        const auto& t = mesh.triangles[f];
+        for (int k = 0; k < 3; ++k)
+            if (t[k] == a && t[(k + 1) % 3] == b) return true;
+        return false;
+    };
+    std::vector<std::int8_t> state(nf, 0);  // 0 unvisited, 1 keep, -1 flip
+    std::vector<std::uint32_t> queue;
+    std::vector<std::uint32_t> component(nf, 0);
+    std::uint32_t ncomp = 0;
+    for (std::uint32_t seed = 0; seed < nf; ++seed) {
+        if (state[seed] != 0) continue;
+        state[seed] = 1;
+        component[seed] = ncomp;
+        queue.assign(1, seed);
+        bool flips = false;
+        for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+            const std::uint32_t f = queue[qi];
+            const auto& t = mesh.triangles[f];
+            for (int k = 0; k < 3; ++k) {
+                std::uint32_t a = t[k], b = t[(k + 1) % 3];
+                if (state[f] < 0) std::swap(a, b);  // direction after the flip decided for f
+                const std::uint32_t other = mates.mate[3 * f + k];
+                if (other == kNoCorner) continue;  // border edge
+                const std::uint32_t g = other / 3;
+                // g must traverse b->a after its own flip state.
+                const std::int8_t need = directed(g, a, b) ? -1 : 1;
+                if (state[g] == 0) {
+                    state[g] = need;
+                    flips = flips || need < 0;
+                    component[g] = ncomp;
+                    queue.push_back(g);
+                } else if (state[g] != need) {
+                    throw Error(where, "non-orientable surface (faces " + std::to_string(f) + " and " +
+                                           std::to_string(g) +
+                                           " cannot be oriented consistently, e.g. a Moebius strip)");
+                }
+            }
+        }
+        mesh.repairs.components_reoriented += flips;
+        ++ncomp;
+    }
+    std::vector<double> volume(ncomp, 0.0);
+    std::vector<char> closed(ncomp, 1);
+    for (std::size_t c = 0; c < mates.mate.size(); ++c)
+        if (mates.mate[c] == kNoCorner) closed[component[c / 3]] = 0;
+    const glm::dvec3 c = mesh.positions[mesh.triangles[0][0]];
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        const auto& t = mesh.triangles[f];
+        const glm::dvec3 a = mesh.positions[t[0]] - c, b = mesh.positions[t[1]] - c,
+                         d = mesh.positions[t[2]] - c;
+        const double v = a.x * (b.y * d.z - b.z * d.y) - a.y * (b.x * d.z - b.z * d.x) +
+                         a.z * (b.x * d.y - b.y * d.x);
+        volume[component[f]] += state[f] < 0 ? -v : v;
+    }
+    for (std::uint32_t f = 0; f < nf; ++f) {
+        const bool outward_flip = closed[component[f]] && volume[component[f]] < 0.0;
+        if ((state[f] < 0) != outward_flip) {
+            std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
+            ++mesh.faces_reoriented;
+        }
+    }
+}
+
+// Checks and repairs a mesh whose vertices are already welded (see repair_mesh).
+void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict) {
+    check_coordinates_and_indices(mesh, where);
+    drop_degenerate_faces(mesh, where, strict);
+    CornerMates mates = corner_mates(mesh.triangles, mesh.positions.size());
+    if (mates.extra > 0) {
+        if (strict) throw Error(where, nonmanifold_message(mates));
+        cut_nonmanifold_edges(mesh, mates);
+        mates = corner_mates(mesh.triangles, mesh.positions.size());
+    }
+    orient(mesh, mates, where);
+}
+
+// The parsed polygons into a repaired triangle mesh: indices checked, vertices welded, polygons
+// cleaned (tolerant: corners repeated in a row merged, polygons that still repeat one dropped)
+// and fan-triangulated, as OpenMesh's own triangulate() does for convex polygons.
+TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& options) {
+    const std::int64_t nv = std::int64_t(soup.positions.size());
+    for (std::size_t fi = 0; fi < soup.polygons.size(); ++fi) {
+        const auto& poly = soup.polygons[fi];
+        if (poly.size() < 3) throw Error(path, "face " + std::to_string(fi) + " has fewer than 3 vertices");
+        for (std::size_t a = 0; a < poly.size(); ++a) {
+            if (poly[a] < 0 || poly[a] >= nv)
+                throw Error(path, "face " + std::to_string(fi) + " refers to vertex " + std::to_string(poly[a]) +
+                                      " of " + std::to_string(nv));
+            if (options.strict)
+                for (std::size_t b = 0; b < a; ++b)
+                    if (poly[a] == poly[b])
+                        throw Error(path, "face " + std::to_string(fi) + " repeats vertex index " +
+                                              std::to_string(poly[a]));
+        }
+    }
+    TriangleMesh mesh;
+    const std::vector<std::uint32_t> weld = weld_positions(soup.positions, mesh.repairs.vertices_welded);
+    mesh.positions = std::move(soup.positions);
+    std::vector<std::int64_t> clean;
+    for (auto& poly : soup.polygons) {
+        if (!weld.empty())
+            for (auto& i : poly) i = weld[std::size_t(i)];
+        if (!options.strict) {
+            clean.clear();
+            for (std::size_t a = 0; a < poly.size(); ++a)
+                if (poly[a] != poly[(a + 1) % poly.size()]) clean.push_back(poly[a]);
+            std::vector<std::int64_t> sorted = clean;
+            std::sort(sorted.begin(), sorted.end());
+            if (clean.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+                ++mesh.repairs.faces_dropped;
+                continue;
+            }
+            poly.swap(clean);
+        }
+        if (poly.size() > 3) ++mesh.polygons_triangulated;
+        for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+            mesh.triangles.push_back({std::uint32_t(poly[0]), std::uint32_t(poly[k]), std::uint32_t(poly[k + 1])});
+    }
+    if (mesh.triangles.empty() && mesh.repairs.faces_dropped > 0)
+        throw Error(path, "no faces left: all " + std::to_string(mesh.repairs.faces_dropped) +
+                              " faces are degenerate (repeated corners)");
+    repair_welded(mesh, path, options.strict);
+    return mesh;
+}
+
 }  // namespace
 
-TriangleMesh load_mesh(const std::string& path) {
+TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
     const std::string ext = lower_extension(path);
     if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
         throw Error(path, "unsupported mesh format '" + ext + "' (expected .obj, .off, .ply or .stl)");
@@ -613,7 +963,7 @@ TriangleMesh load_mesh(const std::string& path) {
         if (format == "ascii") read_ply_ascii(data, path, soup);
         else if (format == "binary_little_endian") read_ply_binary(data, path, false, soup);
         else if (format == "binary_big_endian") read_ply_binary(data, path, true, soup);
-        else throw Error(path, "unknown PLY format " + quoted(format) +
+        else throw Error(path, "unknown PLY format " + in_quotes(format) +
                                    " (expected ascii, binary_little_endian or binary_big_endian)");
     } else {
         // ASCII if it starts with "solid" and holds no NUL byte (binary headers may start with
@@ -629,30 +979,7 @@ TriangleMesh load_mesh(const std::string& path) {
                                   " facets): truncated or malformed");
     }
 
-    TriangleMesh mesh;
-    mesh.positions = std::move(soup.positions);
-    const std::int64_t nv = std::int64_t(mesh.positions.size());
-    for (std::size_t fi = 0; fi < soup.polygons.size(); ++fi) {
-        const auto& poly = soup.polygons[fi];
-        if (poly.size() < 3)
-            throw Error(path, "face " + std::to_string(fi) + " has fewer than 3 vertices");
-        for (std::size_t a = 0; a < poly.size(); ++a) {
-            if (poly[a] < 0 || poly[a] >= nv)
-                throw Error(path, "face " + std::to_string(fi) + " refers to vertex " +
-                                      std::to_string(poly[a]) + " of " + std::to_string(nv));
-            for (std::size_t b = 0; b < a; ++b)
-                if (poly[a] == poly[b])
-                    throw Error(path, "face " + std::to_string(fi) + " repeats vertex index " +
-                                          std::to_string(poly[a]));
-        }
-        if (poly.size() > 3) ++mesh.polygons_triangulated;
-        // Fan triangulation, as OpenMesh's own triangulate() does for convex polygons.
-        for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-            mesh.triangles.push_back({std::uint32_t(poly[0]), std::uint32_t(poly[k]),
-                                      std::uint32_t(poly[k + 1])});
-    }
-    validate_mesh(mesh, path);
-    return mesh;
+    return triangulate(std::move(soup), path, options);
 }
 
 CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t nv) {
@@ -694,100 +1021,36 @@ CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triang
     return out;
 }
 
-void validate_mesh(TriangleMesh& mesh, const std::string& where) {
-    const std::size_t nv = mesh.positions.size();
-    for (std::size_t i = 0; i < nv; ++i) {
-        const auto& p = mesh.positions[i];
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            throw Error(where, "vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
-    }
-    if (mesh.triangles.empty()) throw Error(where, "mesh has no faces");
-    const std::size_t nf = mesh.triangles.size();
-    for (std::size_t f = 0; f < nf; ++f) {
-        const auto& t = mesh.triangles[f];
-        for (auto i : t)
-            if (i >= nv)
-                throw Error(where, "face " + std::to_string(f) + " refers to vertex " +
-                                       std::to_string(i) + " of " + std::to_string(nv));
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-            throw Error(where, "face " + std::to_string(f) + " repeats a vertex index");
-    }
 
-    // Corners grouped by edge: more than two on an edge is a non-manifold edge.
-    const CornerMates mates = corner_mates(mesh.triangles, nv);
-    if (mates.extra > 0)
-        throw Error(where, "non-manifold: " + std::to_string(mates.extra) +
-                               " extra face(s) on edges shared by more than two faces (first at vertices " +
-                               std::to_string(mates.first_bad >> 32) + "-" +
-                               std::to_string(mates.first_bad & 0xffffffffu) +
-                               "); hidden-line removal by quantitative invisibility needs a 2-manifold mesh");
+void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions& options) {
+    check_coordinates_and_indices(mesh, where);  // before welding: the messages name input indices
+    std::size_t welded = 0;
+    const std::vector<std::uint32_t> weld = weld_positions(mesh.positions, welded);
+    mesh.repairs.vertices_welded += welded;
+    if (!weld.empty())
+        for (auto& t : mesh.triangles)
+            for (auto& i : t) i = weld[i];
+    repair_welded(mesh, where, options.strict);
+}
 
-    // Consistent orientation by breadth-first search over faces: two faces sharing an edge must
-    // traverse it in opposite directions. A conflict means the surface is not orientable.
-    auto directed = [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) {
-        const auto& t = mesh.triangles[f];
-        for (int k = 0; k < 3; ++k)
-            if (t[k] == a && t[(k + 1) % 3] == b) return true;
-        return false;
-    };
-    std::vector<std::int8_t> state(nf, 0);  // 0 unvisited, 1 keep, -1 flip
-    std::vector<std::uint32_t> queue;
-    std::vector<std::uint32_t> component(nf, 0);
-    std::uint32_t ncomp = 0;
-    for (std::uint32_t seed = 0; seed < nf; ++seed) {
-        if (state[seed] != 0) continue;
-        state[seed] = 1;
-        component[seed] = ncomp;
-        queue.assign(1, seed);
-        for (std::size_t qi = 0; qi < queue.size(); ++qi) {
-            const std::uint32_t f = queue[qi];
-            const auto& t = mesh.triangles[f];
-            for (int k = 0; k < 3; ++k) {
-                std::uint32_t a = t[k], b = t[(k + 1) % 3];
-                if (state[f] < 0) std::swap(a, b);  // direction after the flip decided for f
-                const std::uint32_t other = mates.mate[3 * f + k];
-                if (other == kNoCorner) continue;  // border edge
-                const std::uint32_t g = other / 3;
-                // g must traverse b->a after its own flip state.
-                const bool g_ab = directed(g, a, b);
-                const std::int8_t need = g_ab ? -1 : 1;
-                if (state[g] == 0) {
-                    state[g] = need;
-                    component[g] = ncomp;
-                    queue.push_back(g);
-                } else if (state[g] != need) {
-                    throw Error(where, "non-orientable surface (faces " + std::to_string(f) + " and " +
-                                           std::to_string(g) +
-                                           " cannot be oriented consistently, e.g. a Moebius strip)");
-                }
-            }
-        }
-        ++ncomp;
-    }
-    // Closed components are turned outward (positive signed volume), so that front-facing
-    // silhouette edges are the convex ones, as the Markosian et al. parity rule assumes.
-    // The volume is that of the consistent orientation; each face is then flipped at most once
-    // and faces_reoriented counts the faces whose final orientation differs from the input.
-    std::vector<double> volume(ncomp, 0.0);
-    std::vector<char> closed(ncomp, 1);
-    for (std::size_t c = 0; c < mates.mate.size(); ++c)
-        if (mates.mate[c] == kNoCorner) closed[component[c / 3]] = 0;
-    const glm::dvec3 c = mesh.positions[mesh.triangles[0][0]];
-    for (std::uint32_t f = 0; f < nf; ++f) {
-        const auto& t = mesh.triangles[f];
-        const glm::dvec3 a = mesh.positions[t[0]] - c, b = mesh.positions[t[1]] - c,
-                         d = mesh.positions[t[2]] - c;
-        const double v = a.x * (b.y * d.z - b.z * d.y) - a.y * (b.x * d.z - b.z * d.x) +
-                         a.z * (b.x * d.y - b.y * d.x);
-        volume[component[f]] += state[f] < 0 ? -v : v;
-    }
-    for (std::uint32_t f = 0; f < nf; ++f) {
-        const bool outward_flip = closed[component[f]] && volume[component[f]] < 0.0;
-        if ((state[f] < 0) != outward_flip) {
-            std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
-            ++mesh.faces_reoriented;
-        }
-    }
+void validate_mesh(TriangleMesh& mesh, const std::string& where) { repair_welded(mesh, where, true); }
+
+std::vector<std::string> LoadReport::warnings(const std::string& where) const {
+    std::vector<std::string> out;
+    if (vertices_welded > 0)
+        out.push_back(where + ": welded " + std::to_string(vertices_welded) +
+                      " vertices at the same position as another (seams split by UVs or normals)");
+    if (faces_dropped > 0)
+        out.push_back(where + ": dropped " + std::to_string(faces_dropped) +
+                      " degenerate faces (repeated corners or zero area)");
+    if (nonmanifold_edges_cut > 0)
+        out.push_back(where + ": cut the surface at " + std::to_string(nonmanifold_edges_cut) +
+                      " non-manifold edges (more than two faces; " + std::to_string(vertices_split) +
+                      " vertices split, each sheet now has a border there)");
+    if (components_reoriented > 0)
+        out.push_back(where + ": re-oriented " + std::to_string(components_reoriented) +
+                      " connected parts whose faces disagreed in orientation");
+    return out;
 }
 
 }  // namespace inkline

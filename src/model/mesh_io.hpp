@@ -1,6 +1,8 @@
-// Model loading: strict readers (OBJ, OFF, PLY, STL; ASCII and binary) into a validated triangle soup.
+// Model loading: strict parsers (OBJ, OFF, PLY, STL; ASCII and binary) into a validated triangle soup.
 // Takes a file path; gives positions and consistently oriented triangles, or throws
 // inkline::Error("<file>: <problem>") for anything the pipeline cannot draw correctly.
+// Loading is tolerant by default: what exported models commonly get wrong is repaired and counted
+// (LoadReport); LoadOptions::strict refuses those files instead, as inkline did before.
 #pragma once
 
 #include <array>
@@ -12,21 +14,55 @@
 
 namespace inkline {
 
+// The repairs made while loading, each counted (zero: none needed). warnings() gives one line per
+// kind of repair made, for the command to print.
+struct LoadReport {
+    std::size_t vertices_welded = 0;         // vertices merged into an earlier one at the same position
+    std::size_t faces_dropped = 0;           // degenerate input faces: a repeated corner or zero area
+    std::size_t nonmanifold_edges_cut = 0;   // edges of more than two faces, cut so each sheet has a border there
+    std::size_t vertices_split = 0;          // vertex copies those cuts made
+    std::size_t components_reoriented = 0;   // connected parts whose faces disagreed in orientation
+    bool any() const {
+        return vertices_welded + faces_dropped + nonmanifold_edges_cut + components_reoriented > 0;
+    }
+    std::vector<std::string> warnings(const std::string& where) const;  // "<where>: <repair>" lines
+};
+
+struct LoadOptions {
+    // Refuse instead of repair: degenerate faces and non-manifold edges are errors (as before the
+    // repairs existed). Welding and re-orientation happen in both modes (they refuse nothing).
+    bool strict = false;
+};
+
 struct TriangleMesh {
     std::vector<glm::dvec3> positions;
     std::vector<std::array<std::uint32_t, 3>> triangles;
     std::size_t polygons_triangulated = 0;  // input faces with more than 3 corners
     std::size_t faces_reoriented = 0;       // faces flipped to make orientation consistent
+    LoadReport repairs;
+    // Scenes of several objects: per triangle the index of its object in object_names. Empty for a
+    // single-object mesh; kept in step with `triangles` by every repair and reordering.
+    std::vector<std::uint32_t> face_object;
+    std::vector<std::string> object_names;
 };
 
-// Reads and validates a mesh file. Refuses (inkline::Error naming the file):
-// unreadable/unknown-format/malformed files, NaN or infinite coordinates, no faces,
-// faces with out-of-range or repeated vertex indices, non-manifold edges (more than two faces:
-// the Appel/Markosian visibility needs a 2-manifold), non-orientable surfaces.
-TriangleMesh load_mesh(const std::string& path);
+// Reads a mesh file, welds vertices at the same position (seams split by UVs or normals), then
+// checks or repairs it (repair_mesh). Refuses (inkline::Error naming the file) in every mode:
+// unreadable/unknown-format/malformed files, NaN or infinite coordinates, no faces (a point
+// cloud), out-of-range indices, non-orientable surfaces. Strict mode also refuses faces with
+// repeated vertex indices and non-manifold edges; tolerant mode drops and cuts them.
+TriangleMesh load_mesh(const std::string& path, const LoadOptions& options = {});
 
-// The same validation for meshes built in memory; `where` names the source in errors.
-// Polygons are not accepted here (triangles only); orientation is made consistent.
+// What load_mesh does after parsing, for triangles built elsewhere (the scene loader): welds
+// vertices at the same position, then drops degenerate faces (a repeated corner; zero area,
+// exactly collinear corners), cuts non-manifold edges (the vertices on them split per fan of faces
+// joined by manifold edges, so each sheet meets the edge as its own border; a sheet that still
+// shares the edge after that is detached), and orients every connected part consistently (closed
+// parts outward). Strict: refuses instead of dropping and cutting. Counts go to mesh.repairs.
+void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions& options = {});
+
+// The strict validation for meshes built in memory (no welding); `where` names the source in
+// errors. Polygons are not accepted here (triangles only); orientation is made consistent.
 void validate_mesh(TriangleMesh& mesh, const std::string& where);
 
 // Corners grouped by undirected edge. Corner c = 3f + k stands for the edge from corner k to

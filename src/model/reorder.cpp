@@ -42,6 +42,7 @@ TriangleMesh hilbert_ordered(const TriangleMesh& mesh) {
     for (std::size_t i = 0; i < nf; ++i) {
         const auto& t = mesh.triangles[forder[i]];
         out.triangles[i] = {new_index[t[0]], new_index[t[1]], new_index[t[2]]};
+        if (!mesh.face_object.empty()) out.face_object[i] = mesh.face_object[forder[i]];
     }
     return out;
 }

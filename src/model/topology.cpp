@@ -38,6 +38,8 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     MeshTopology t;
     t.positions = std::move(mesh.positions);
     t.faces = std::move(mesh.triangles);
+    t.face_object = std::move(mesh.face_object);
+    t.object_names = std::move(mesh.object_names);
     const std::size_t nv = t.positions.size(), nf = t.faces.size();
 
     t.bounds.lo = t.bounds.hi = t.positions.empty() ? glm::dvec3(0.0) : t.positions[0];

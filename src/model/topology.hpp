@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -66,6 +67,11 @@ struct MeshTopology {
     // Vertex -> incident edges, compressed rows.
     std::vector<std::uint32_t> vertex_edge_begin;  // size V+1
     std::vector<std::uint32_t> vertex_edges;
+
+    // Scenes of several objects (TriangleMesh::face_object): each face's object and the objects'
+    // names; empty for a single mesh.
+    std::vector<std::uint32_t> face_object;
+    std::vector<std::string> object_names;
 
     Bounds3 bounds;
     bool closed = false;        // no border edge
