@@ -880,7 +880,8 @@ void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict) {
 }
 
 // The parsed polygons into a repaired triangle mesh: indices checked, vertices welded, polygons
-// cleaned (tolerant: corners repeated in a row merged, polygons that still repeat one dropped)
+// cleaned (tolerant: corners repeated in a row merged, polygons that still repeat one dropped;
+// strict: nothing welded, as before the repairs, so strict loading is the old loading exactly)
 // and fan-triangulated, as OpenMesh's own triangulate() does for convex polygons.
 TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& options) {
     const std::int64_t nv = std::int64_t(soup.positions.size());
@@ -899,7 +900,8 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
         }
     }
     TriangleMesh mesh;
-    const std::vector<std::uint32_t> weld = weld_positions(soup.positions, mesh.repairs.vertices_welded);
+    const std::vector<std::uint32_t> weld =
+        options.strict ? std::vector<std::uint32_t>{} : weld_positions(soup.positions, mesh.repairs.vertices_welded);
     mesh.positions = std::move(soup.positions);
     std::vector<std::int64_t> clean;
     for (auto& poly : soup.polygons) {
@@ -1025,7 +1027,7 @@ CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triang
 void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions& options) {
     check_coordinates_and_indices(mesh, where);  // before welding: the messages name input indices
     std::size_t welded = 0;
-    const std::vector<std::uint32_t> weld = weld_positions(mesh.positions, welded);
+    const std::vector<std::uint32_t> weld = options.strict ? std::vector<std::uint32_t>{} : weld_positions(mesh.positions, welded);
     mesh.repairs.vertices_welded += welded;
     if (!weld.empty())
         for (auto& t : mesh.triangles)

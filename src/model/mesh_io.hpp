@@ -29,8 +29,8 @@ struct LoadReport {
 };
 
 struct LoadOptions {
-    // Refuse instead of repair: degenerate faces and non-manifold edges are errors (as before the
-    // repairs existed). Welding and re-orientation happen in both modes (they refuse nothing).
+    // Load as before the repairs existed: nothing welded (but STL corners, as always), degenerate
+    // faces and non-manifold edges refused. Re-orientation happens in both modes.
     bool strict = false;
 };
 
@@ -46,15 +46,15 @@ struct TriangleMesh {
     std::vector<std::string> object_names;
 };
 
-// Reads a mesh file, welds vertices at the same position (seams split by UVs or normals), then
-// checks or repairs it (repair_mesh). Refuses (inkline::Error naming the file) in every mode:
+// Reads a mesh file, welds vertices at the same position (seams split by UVs or normals; not in
+// strict mode), then checks or repairs it (repair_mesh). Refuses (inkline::Error naming the file) in every mode:
 // unreadable/unknown-format/malformed files, NaN or infinite coordinates, no faces (a point
 // cloud), out-of-range indices, non-orientable surfaces. Strict mode also refuses faces with
 // repeated vertex indices and non-manifold edges; tolerant mode drops and cuts them.
 TriangleMesh load_mesh(const std::string& path, const LoadOptions& options = {});
 
 // What load_mesh does after parsing, for triangles built elsewhere (the scene loader): welds
-// vertices at the same position, then drops degenerate faces (a repeated corner; zero area,
+// vertices at the same position (tolerant mode), then drops degenerate faces (a repeated corner; zero area,
 // exactly collinear corners), cuts non-manifold edges (the vertices on them split per fan of faces
 // joined by manifold edges, so each sheet meets the edge as its own border; a sheet that still
 // shares the edge after that is detached), and orients every connected part consistently (closed
