@@ -26,6 +26,7 @@
 #include "model/self_intersections.hpp"
 #include "model/subdivide.hpp"
 #include "model/topology.hpp"
+#include "pipeline.hpp"
 
 namespace fs = std::filesystem;
 using inkline::MeshTopology;
@@ -1083,4 +1084,86 @@ TEST(RepairedOnLoad, PointCloudIsAClearError) {
                               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                               "property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n"),
                    {"no faces", "3 vertices only", "point cloud"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exported models from Debian's assimp-testmodels (skipped where the package is not installed).
+
+namespace {
+const std::string kAssimpModels = "/usr/share/assimp/models/";
+
+// Undirected edges (by their ends' positions, rounded to 1e-4) that hold a piece of QI `qi` (or
+// of QI >= 1 when qi < 0) of positive length.
+std::set<std::pair<std::array<long, 3>, std::array<long, 3>>> edges_drawn(const inkline::Model& m, const inkline::View& v,
+                                                                           int qi) {
+    const MeshTopology& t = m.topology();
+    auto key = [&](std::uint32_t i) {
+        const glm::dvec3 p = t.positions[i] * 1e4;
+        return std::array<long, 3>{std::lround(p.x), std::lround(p.y), std::lround(p.z)};
+    };
+    std::set<std::pair<std::array<long, 3>, std::array<long, 3>>> out;
+    for (std::size_t i = 0; i < v.drawing.pieces.size(); ++i) {
+        const int q = v.drawing.pieces[i].qi;
+        if (qi >= 0 ? q != qi : q < 1) continue;
+        for (const auto& s : v.spans[i]) {
+            if (std::abs(s.s1 - s.s0) < 1e-6) continue;
+            auto a = key(t.edge_vertex[s.edge][0]), b = key(t.edge_vertex[s.edge][1]);
+            if (b < a) std::swap(a, b);
+            out.insert({a, b});
+        }
+    }
+    return out;
+}
+
+double drawn_length(const inkline::View& v, bool visible) {
+    double l = 0.0;
+    for (const auto& p : v.drawing.pieces)
+        if ((p.qi == 0) == visible)
+            for (std::size_t k = 1; k < p.points.size(); ++k) l += glm::length(p.points[k] - p.points[k - 1]);
+    return l;
+}
+}  // namespace
+
+// PLY/cube_uv.ply: a cube whose corners are split per side (24 vertices, UV seams). Welded, it
+// draws what the welded cube draws from a corner: 9 visible edges (6 of the outline, 3 meeting at
+// the near corner) and 3 hidden ones; before welding it drew 5 lines and marked outline edges hidden.
+TEST(RepairedOnLoad, CubeUvDrawsLikeAWeldedCube) {
+    const std::string path = kAssimpModels + "PLY/cube_uv.ply";
+    if (!fs::exists(path)) GTEST_SKIP() << "assimp-testmodels is not installed";
+    const inkline::Model seamed = inkline::Model::load(path, inkline::LoadOptions{});
+    EXPECT_EQ(seamed.repairs().vertices_welded, 16u);
+    EXPECT_TRUE(seamed.topology().closed);
+    // The same 8 corners (as the file writes them) as one closed cube of quads.
+    std::vector<glm::dvec3> v;
+    for (const auto& p : kCubeV) v.push_back(2.0 * p - glm::dvec3(1.0));
+    v[5] = {0.999999, -1.000001, 1.0};  // (1, -1, 1) in the file
+    v[6] = {1.0, 0.999999, 1.0};        // (1, 1, 1)
+    const inkline::Model welded = inkline::Model::load(write_file("cube_welded.off", off_file(v, kCubeF)),
+                                                       inkline::LoadOptions{.strict = true});
+    const inkline::Camera cam = inkline::Camera::perspective({4, 3, 5}, {0, 0, 0}, {0, 1, 0}, 30, 800, 800);
+    const inkline::View a = inkline::render_view(seamed, cam), b = inkline::render_view(welded, cam);
+    const auto visible = edges_drawn(seamed, a, 0), hidden = edges_drawn(seamed, a, -1);
+    EXPECT_EQ(visible.size(), 9u);
+    EXPECT_EQ(hidden.size(), 3u);
+    EXPECT_EQ(visible, edges_drawn(welded, b, 0));
+    EXPECT_EQ(hidden, edges_drawn(welded, b, -1));
+    for (const auto& e : visible) EXPECT_EQ(hidden.count(e), 0u) << "a visible edge is marked hidden";
+    EXPECT_NEAR(drawn_length(a, true), drawn_length(b, true), 1e-6);
+}
+
+// OFF/Wuson.off (3205 vertices at 2117 positions) draws like OBJ/WusonOBJ.obj (the same 3732
+// triangles on the 2117 positions): no seam drawn as a border.
+TEST(RepairedOnLoad, WusonOffDrawsLikeWusonObj) {
+    const std::string off = kAssimpModels + "OFF/Wuson.off", obj = kAssimpModels + "OBJ/WusonOBJ.obj";
+    if (!fs::exists(off) || !fs::exists(obj)) GTEST_SKIP() << "assimp-testmodels is not installed";
+    const inkline::Model a = inkline::Model::load(off, inkline::LoadOptions{});
+    const inkline::Model b = inkline::Model::load(obj, inkline::LoadOptions{});
+    EXPECT_EQ(a.repairs().vertices_welded, 3205u - 2117u);
+    EXPECT_EQ(a.topology().vertex_count(), b.topology().vertex_count());
+    EXPECT_EQ(a.topology().border_list.size(), b.topology().border_list.size());
+    const inkline::Camera cam = inkline::Camera::framing(b.topology().bounds, 800, 800);
+    const inkline::View va = inkline::render_view(a, cam), vb = inkline::render_view(b, cam);
+    EXPECT_EQ(a.topology().border_list.size(), 412u);  // the model's own openings, in both files
+    EXPECT_NEAR(drawn_length(va, true), drawn_length(vb, true), 1e-6 * drawn_length(vb, true));
+    EXPECT_NEAR(drawn_length(va, false), drawn_length(vb, false), 1e-6 * drawn_length(vb, false));
 }
