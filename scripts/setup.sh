@@ -10,6 +10,7 @@ packages=(
   libopenmesh-dev libcgal-dev libcgal-demo libeigen3-dev libgmp-dev libmpfr-dev libboost-dev
   libembree-dev libtbb-dev libglm-dev libcairo2-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
+  libassimp-dev assimp-testmodels
   librsvg2-bin poppler-utils
   libglfw3-dev libimgui-dev libgl-dev libglx-mesa0 libgl1-mesa-dri xvfb xauth
 )

@@ -8,16 +8,26 @@
 #include "model/self_intersections.hpp"
 #include "model/reorder.hpp"
 #include "model/subdivide.hpp"
+#include "scene/scene.hpp"
 
 namespace inkline {
 
 Model Model::load(const std::string& path, const LoadOptions& options, double crease_degrees, int subdivide) {
     const auto t0 = std::chrono::steady_clock::now();
-    TriangleMesh mesh = load_mesh(path, options);
+    TriangleMesh mesh;
+    std::vector<SceneCamera> cameras;
+    if (is_scene_file(path)) {
+        Scene scene = load_scene(path, options);
+        mesh = std::move(scene.mesh);
+        cameras = std::move(scene.cameras);
+    } else {
+        mesh = load_mesh(path, options);
+    }
     const LoadReport repairs = mesh.repairs;
     // Hilbert order: per-view passes that follow the surface stay in cache.
     Model m(hilbert_ordered(subdivide_loop(std::move(mesh), subdivide)), crease_degrees);
     m.repairs_ = repairs;
+    m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);
     return m;
 }

@@ -10,6 +10,7 @@
 #include "features/features.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
+#include "scene/scene.hpp"
 #include "visibility/ray_caster.hpp"
 #include "visibility/appel.hpp"
 #include "visibility/visibility.hpp"
@@ -19,7 +20,8 @@ namespace inkline {
 class Model {
 public:
     // Loads a model file (throws inkline::Error naming the file): OBJ, OFF, PLY and STL by
-    // load_mesh, tolerant unless options.strict (repairs() counts what was repaired).
+    // load_mesh, every other format Assimp reads as a scene (load_scene: objects, cameras);
+    // tolerant unless options.strict (repairs() counts what was repaired).
     // `subdivide` rounds of Loop subdivision are applied after loading.
     static Model load(const std::string& path, const LoadOptions& options, double crease_degrees = 40.0,
                       int subdivide = 0);
@@ -42,6 +44,8 @@ public:
     const SelfIntersections& self_intersections() const;
     double load_seconds() const { return load_seconds_; }
     const LoadReport& repairs() const { return repairs_; }
+    // The file's cameras (scenes only; empty for mesh files), in file order.
+    const std::vector<SceneCamera>& cameras() const { return cameras_; }
 
 private:
     MeshTopology topo_;
@@ -55,6 +59,7 @@ private:
     std::unique_ptr<Lazy> lazy_ = std::make_unique<Lazy>();
     double load_seconds_ = 0.0;
     LoadReport repairs_;
+    std::vector<SceneCamera> cameras_;
 };
 
 enum class VisibilityMethod { Rays, Appel };

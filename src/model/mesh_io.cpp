@@ -590,11 +590,23 @@ void read_off_binary(const std::string& data, const std::string& path, const std
 // ---------------------------------------------------------------------------------------------
 // Repairs (tolerant loading) and checks.
 
+// A position within a group of vertices (an object of a scene): welding never joins two groups.
+struct GroupedPoint {
+    glm::dvec3 p;
+    std::uint32_t group;
+    bool operator==(const GroupedPoint& o) const { return PointEq()(p, o.p) && group == o.group; }
+};
+struct GroupedPointKey {
+    std::size_t operator()(const GroupedPoint& g) const { return PointKey()(g.p) * 31u ^ g.group; }
+};
+
 // New index of each vertex after merging vertices at exactly the same position (-0 == +0) into the
 // first of them; positions are compacted in their order. Non-finite positions are never merged
-// (they are refused afterwards by name). Empty when nothing merges: then nothing changes.
-std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, std::size_t& welded) {
-    std::unordered_map<glm::dvec3, std::uint32_t, PointKey, PointEq> first;
+// (they are refused afterwards by name), nor vertices of different groups (`group`, per vertex,
+// when not empty). Empty when nothing merges: then nothing changes.
+std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, std::size_t& welded,
+                                          const std::vector<std::uint32_t>& group = {}) {
+    std::unordered_map<GroupedPoint, std::uint32_t, GroupedPointKey> first;
     first.reserve(positions.size());
     std::vector<std::uint32_t> map(positions.size());
     std::uint32_t next = 0;
@@ -603,7 +615,7 @@ std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, st
         const glm::dvec3& p = positions[i];
         const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
         if (finite) {
-            auto [it, inserted] = first.try_emplace(p, next);
+            auto [it, inserted] = first.try_emplace(GroupedPoint{p, group.empty() ? 0u : group[i]}, next);
             if (!inserted) {
                 map[i] = it->second;
                 ++welded;
@@ -1026,8 +1038,17 @@ CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triang
 
 void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions& options) {
     check_coordinates_and_indices(mesh, where);  // before welding: the messages name input indices
+    // A scene's objects are welded each on its own (objects that touch stay apart).
+    std::vector<std::uint32_t> group;
+    if (!mesh.face_object.empty() && mesh.face_object.size() == mesh.triangles.size()) {
+        group.assign(mesh.positions.size(), UINT32_MAX);
+        for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+            for (auto v : mesh.triangles[f])
+                if (group[v] == UINT32_MAX) group[v] = mesh.face_object[f];
+    }
     std::size_t welded = 0;
-    const std::vector<std::uint32_t> weld = options.strict ? std::vector<std::uint32_t>{} : weld_positions(mesh.positions, welded);
+    const std::vector<std::uint32_t> weld =
+        options.strict ? std::vector<std::uint32_t>{} : weld_positions(mesh.positions, welded, group);
     mesh.repairs.vertices_welded += welded;
     if (!weld.empty())
         for (auto& t : mesh.triangles)
