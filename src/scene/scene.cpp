@@ -147,8 +147,10 @@ glm::dmat4 world_of(const aiNode* node, const std::string& path) {
 }
 
 // Assimp's aiCamera: position, look-at direction and up in the node's frame; mHorizontalFOV is
-// half the horizontal angle (radians), mAspect width / height (0: not given), mOrthographicWidth
-// half the horizontal width (0: perspective).
+// documented as half the horizontal angle (radians), but Assimp's glTF 2 importer stores
+// yfov * aspectRatio there (measured: yfov 0.6, aspect 1.5 gives 0.9), so glTF's yfov is read back
+// as mHorizontalFOV / aspect; mAspect is width / height (0: not given), mOrthographicWidth half
+// the horizontal width (0: perspective).
 SceneCamera scene_camera(const aiScene& scene, const aiCamera& cam, const std::string& path) {
     SceneCamera c;
     c.name = cam.mName.C_Str();
@@ -167,8 +169,11 @@ SceneCamera scene_camera(const aiScene& scene, const aiCamera& cam, const std::s
         c.orthographic = true;
         c.ortho_height = 2.0 * double(cam.mOrthographicWidth) / aspect;
     } else {
-        const double half_h = std::atan(std::tan(double(cam.mHorizontalFOV)) / aspect);
-        c.fov_deg = 2.0 * half_h * 180.0 / M_PI;
+        const std::string ext = lower_extension(path);
+        const double fov_rad = ext == "gltf" || ext == "glb"
+                                   ? double(cam.mHorizontalFOV) / aspect
+                                   : 2.0 * std::atan(std::tan(double(cam.mHorizontalFOV)) / aspect);
+        c.fov_deg = fov_rad * 180.0 / M_PI;
     }
     return c;
 }
