@@ -254,3 +254,103 @@ TEST(Scene, FileCameraIsReadInWorldCoordinates) {
     ASSERT_EQ(m.cameras().size(), 2u);
     EXPECT_EQ(m.cameras()[0].name, "CamNode");
 }
+
+// Bad scene files: each refused with one line that starts with the file's path and names the
+// problem; no crash (the 100000-level node chain overflowed the stack inside Assimp's reader
+// before load_scene checked glTF node graphs itself).
+TEST(Scene, BadFilesAreRefusedWithOneLine) {
+    const fs::path d = scratch();
+    auto base = [] {
+        Gltf g;
+        g.add_mesh(inkline::make_box({-1, -1, -1}, {1, 1, 1}), "box");
+        return g;
+    };
+    struct Case {
+        std::string path, problem;
+    };
+    std::vector<Case> cases;
+    {  // truncated .glb: cut inside the binary chunk, and inside the JSON chunk
+        Gltf g = base();
+        const int n = g.add_node({{"mesh", 0}});
+        const std::string glb = g.glb({n});
+        write(d / "whole.glb", glb);
+        write(d / "cut_bin.glb", glb.substr(0, glb.size() - 100));
+        write(d / "cut_json.glb", glb.substr(0, 40));
+        cases.push_back({(d / "cut_bin.glb").string(), "Unable to read"});
+        cases.push_back({(d / "cut_json.glb").string(), "No suitable reader"});
+        const inkline::Scene whole = inkline::load_scene((d / "whole.glb").string());  // the uncut file loads
+        EXPECT_EQ(whole.mesh.triangles.size(), 12u);
+    }
+    {  // a buffer that claims more bytes than its .bin holds
+        Gltf g = base();
+        const std::string p = g.save(d, "long_buffer", {g.add_node({{"mesh", 0}})});
+        json doc = json::parse(std::ifstream(p));
+        doc["buffers"][0]["byteLength"] = 100000;
+        write(p, doc.dump());
+        cases.push_back({p, "byteLength exceeds"});
+    }
+    {  // a buffer view beyond its buffer
+        Gltf g = base();
+        const std::string p = g.save(d, "long_view", {g.add_node({{"mesh", 0}})});
+        json doc = json::parse(std::ifstream(p));
+        doc["bufferViews"][1]["byteLength"] = 4000;
+        write(p, doc.dump());
+        cases.push_back({p, "out of range"});
+    }
+    {  // every index out of range
+        Gltf g;
+        inkline::TriangleMesh t;
+        t.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+        t.triangles = {{0, 1, 7}, {7, 8, 9}};
+        g.add_mesh(t, "bad");
+        cases.push_back({g.save(d, "index_range", {g.add_node({{"mesh", 0}})}), "has no faces"});
+    }
+    {  // NaN in a transform: the world matrix overflows (1e200 x 1e200)
+        Gltf g = base();
+        const int c = g.add_node({{"mesh", 0}, {"scale", {1e200, 1e200, 1e200}}});
+        const int p = g.add_node({{"children", {c}}, {"scale", {1e200, 1e200, 1e200}}});
+        cases.push_back({g.save(d, "inf_transform", {p}), "NaN or infinite"});
+    }
+    {  // the .bin is missing
+        Gltf g = base();
+        const std::string p = g.save(d, "no_bin", {g.add_node({{"mesh", 0}})});
+        fs::remove(d / "no_bin.bin");
+        cases.push_back({p, "no_bin.bin"});
+    }
+    {  // a cycle: two nodes each the other's child
+        Gltf g = base();
+        g.add_node({{"mesh", 0}, {"children", {1}}});
+        g.add_node({{"children", {0}}});
+        cases.push_back({g.save(d, "cycle", {0}), "cyclic node graph"});
+    }
+    {  // a chain of nodes deeper than kMaxNodeDepth, and an absurdly deep one
+        for (int depth : {inkline::kMaxNodeDepth + 10, 100000}) {
+            Gltf g = base();
+            g.add_node({{"mesh", 0}});
+            for (int i = 1; i < depth; ++i) g.add_node({{"children", {i - 1}}});
+            cases.push_back({g.save(d, "deep" + std::to_string(depth), {depth - 1}), "deeper than"});
+        }
+    }
+    {  // an empty scene, and a scene of nodes without meshes
+        Gltf g;
+        cases.push_back({g.save(d, "empty", {}), "incomplete scene"});
+        Gltf h;
+        cases.push_back({h.save(d, "no_mesh", {h.add_node({{"name", "lonely"}})}), "incomplete scene"});
+    }
+    write(d / "garbage.glb", "glTF\x02\x00\x00\x00garbage");
+    cases.push_back({(d / "garbage.glb").string(), "No suitable reader"});
+    write(d / "garbage.fbx", "not an fbx at all\n");
+    cases.push_back({(d / "garbage.fbx").string(), "unexpected token"});
+    for (const Case& c : cases) {
+        try {
+            const inkline::Scene s = inkline::load_scene(c.path);
+            ADD_FAILURE() << c.path << ": accepted (" << s.mesh.triangles.size() << " triangles)";
+        } catch (const inkline::Error& e) {
+            const std::string m = e.what();
+            EXPECT_EQ(m.rfind(c.path + ": ", 0), 0u) << m;
+            EXPECT_NE(m.find(c.problem), std::string::npos) << c.path << ": expected '" << c.problem << "' in " << m;
+            EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+            EXPECT_GT(m.size(), c.path.size() + 4) << m;
+        }
+    }
+}

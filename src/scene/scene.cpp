@@ -4,7 +4,10 @@
 #include <cctype>
 #include <cmath>
 #include <exception>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <unordered_set>
 
 #include <assimp/Importer.hpp>
@@ -15,6 +18,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
+#include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 
@@ -28,8 +32,10 @@ std::string lower_extension(const std::string& path) {
     return e;
 }
 
-// Assimp's messages may span lines; the error contract is one line.
-std::string one_line(std::string s) {
+// Assimp's messages may span lines and repeat the path; the error contract is one line that
+// names the file once, at its start.
+std::string one_line(std::string s, const std::string& path) {
+    for (std::size_t at; !path.empty() && (at = s.find(path)) != std::string::npos;) s.replace(at, path.size(), "it");
     for (char& c : s)
         if (c == '\n' || c == '\r' || c == '\t') c = ' ';
     const auto b = s.find_first_not_of(' ');
@@ -178,6 +184,87 @@ SceneCamera scene_camera(const aiScene& scene, const aiCamera& cam, const std::s
     return c;
 }
 
+// The JSON of a .gltf file or of a .glb's first chunk ("" when the file is neither, or too short
+// to hold one: Assimp then says what is wrong).
+std::string gltf_json(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (data.size() >= 20 && data.compare(0, 4, "glTF") == 0) {
+        std::uint32_t length = 0;
+        std::memcpy(&length, data.data() + 12, 4);
+        if (data.compare(16, 4, "JSON") != 0 || length > data.size() - 20) return "";
+        return data.substr(20, length);
+    }
+    return lower_extension(path) == "gltf" ? data : std::string();
+}
+
+// Checks what Assimp's glTF reader follows by recursion, so that no file can exhaust the stack:
+// JSON nesting (its JSON parser recurses per level) and the node graph (recursion per child
+// level). Refuses nesting deeper than kMaxJsonDepth, node graphs deeper than kMaxNodeDepth, cycles
+// and children out of range, by name.
+constexpr int kMaxJsonDepth = 512;
+void check_gltf_structure(const std::string& path) {
+    const std::string text = gltf_json(path);
+    if (text.empty()) return;
+    int depth = 0;
+    bool in_string = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                throw Error(path, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return;
+    const auto& nodes = doc["nodes"];
+    const std::size_t n = nodes.size();
+    std::vector<std::vector<std::size_t>> children(n);
+    std::vector<int> parents(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!nodes[i].is_object() || !nodes[i].contains("children") || !nodes[i]["children"].is_array()) continue;
+        for (const auto& c : nodes[i]["children"]) {
+            if (!c.is_number_unsigned() || c.get<std::size_t>() >= n)
+                throw Error(path, "node " + std::to_string(i) + " has a child that is not one of the " + std::to_string(n) +
+                                      " nodes");
+            children[i].push_back(c.get<std::size_t>());
+            ++parents[c.get<std::size_t>()];
+        }
+    }
+    // Depth by iterative search from every node; a node met again on the current path is a cycle.
+    std::vector<int> state(n, 0);  // 0 new, 1 on the path, 2 done
+    std::vector<int> height(n, 0);
+    for (std::size_t root = 0; root < n; ++root) {
+        if (state[root]) continue;
+        std::vector<std::pair<std::size_t, std::size_t>> stack{{root, 0}};  // node, next child
+        state[root] = 1;
+        while (!stack.empty()) {
+            auto& [v, k] = stack.back();
+            if (k < children[v].size()) {
+                const std::size_t c = children[v][k++];
+                if (state[c] == 1) throw Error(path, "node " + std::to_string(c) + " is its own ancestor (cyclic node graph)");
+                if (state[c] == 0) {
+                    state[c] = 1;
+                    stack.push_back({c, 0});
+                }
+                continue;
+            }
+            for (std::size_t c : children[v]) height[v] = std::max(height[v], height[c] + 1);
+            if (height[v] > kMaxNodeDepth)
+                throw Error(path, "node graph deeper than " + std::to_string(kMaxNodeDepth) + " levels");
+            state[v] = 2;
+            stack.pop_back();
+        }
+    }
+}
+
 }  // namespace
 
 Camera SceneCamera::to_camera(int width, int height) const {
@@ -200,6 +287,7 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(path, ec)) throw Error(path, "cannot open: no such file");
     }
+    check_gltf_structure(path);
     Assimp::Importer importer;
     // The file's own axes: Collada's up axis is not turned into +Y.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -207,9 +295,9 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
     try {
         s = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
     } catch (const std::exception& e) {
-        throw Error(path, one_line(e.what()));
+        throw Error(path, one_line(e.what(), path));
     }
-    if (!s) throw Error(path, one_line(importer.GetErrorString()));
+    if (!s) throw Error(path, one_line(importer.GetErrorString(), path));
     if (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) throw Error(path, "incomplete scene (no geometry, or a file Assimp could not finish)");
     if (!s->mRootNode) throw Error(path, "scene has no nodes");
     Scene out;
