@@ -1167,3 +1167,39 @@ TEST(RepairedOnLoad, WusonOffDrawsLikeWusonObj) {
     EXPECT_NEAR(drawn_length(va, true), drawn_length(vb, true), 1e-6 * drawn_length(vb, true));
     EXPECT_NEAR(drawn_length(va, false), drawn_length(vb, false), 1e-6 * drawn_length(vb, false));
 }
+
+namespace {
+double total_area(const TriangleMesh& m) {
+    double a = 0.0;
+    for (const auto& t : m.triangles)
+        a += 0.5 * glm::length(glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
+    return a;
+}
+}  // namespace
+
+// Polygons that are not strictly convex are cut into ears: a concave L (a fan from its first
+// corner would overlap itself) and a keyhole (a 4 x 4 square with a 2 x 2 hole, joined by a bridge
+// walked twice, as OBJ/concave_polygon.obj of assimp-testmodels has): triangles that cover the
+// polygon once, none of zero area. Strict loading refuses the keyhole's repeated corners.
+TEST(RepairedOnLoad, ConcaveAndKeyholePolygonsAreCutIntoEars) {
+    const std::vector<glm::dvec3> l = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+    const TriangleMesh ml = inkline::load_mesh(write_file("ell.off", off_file(l, {{3, 4, 5, 0, 1, 2}})));
+    EXPECT_EQ(ml.triangles.size(), 4u);
+    EXPECT_NEAR(total_area(ml), 3.0, 1e-12);
+    const std::vector<glm::dvec3> k = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0},
+                                       {1, 1, 0}, {1, 3, 0}, {3, 3, 0}, {3, 1, 0}};
+    const std::vector<std::vector<int>> keyhole = {{0, 1, 2, 3, 0, 4, 5, 6, 7, 4}};
+    const std::string path = write_file("keyhole.off", off_file(k, keyhole));
+    const TriangleMesh mk = inkline::load_mesh(path);
+    EXPECT_EQ(mk.triangles.size(), 8u);
+    EXPECT_NEAR(total_area(mk), 12.0, 1e-12);
+    EXPECT_EQ(mk.repairs.faces_dropped, 0u);
+    EXPECT_EQ(inkline::build_topology(mk).border_list.size(), 8u);  // the outer and the inner square
+    expect_refused(path, {"face 0", "repeats vertex index 0"}, kStrict);
+    const std::string corpus = "/usr/share/assimp/models/OBJ/concave_polygon.obj";
+    if (fs::exists(corpus)) {
+        const TriangleMesh c = inkline::load_mesh(corpus);
+        EXPECT_EQ(c.repairs.faces_dropped, 0u);
+        EXPECT_GT(c.triangles.size(), 60u);
+    }
+}

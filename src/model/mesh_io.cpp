@@ -12,6 +12,9 @@
 #include <unordered_map>
 
 
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
+
 #include "core/error.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -891,6 +894,63 @@ void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict) {
     orient(mesh, mates, where);
 }
 
+// Triangulates a polygon (corner indices, welded) by ear clipping in the plane of its Newell normal,
+// unless it is strictly convex: then it leaves `poly` to the caller's fan and returns true. Returns
+// false when the polygon has no area (nothing to draw). Ears are strictly convex corners whose
+// triangle holds no other corner (corners of the same index as the ear's are the keyhole's other
+// visit and do not count), so the triangles neither overlap nor have zero area; a polygon left
+// without an ear (self-intersecting) is finished as a fan.
+bool ear_clip(const std::vector<glm::dvec3>& positions, std::vector<std::int64_t>& poly,
+              std::vector<std::array<std::uint32_t, 3>>& out) {
+    const std::size_t n = poly.size();
+    glm::dvec3 normal(0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 a = positions[std::size_t(poly[i])], b = positions[std::size_t(poly[(i + 1) % n])];
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    const glm::dvec3 an = glm::abs(normal);
+    if (an.x == 0.0 && an.y == 0.0 && an.z == 0.0) return false;
+    const int drop = an.x >= an.y && an.x >= an.z ? 0 : an.y >= an.z ? 1 : 2;  // the axis to project along
+    const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+    const double sign = normal[drop] > 0.0 ? 1.0 : -1.0;  // counter-clockwise in (u, v) when positive
+    auto at = [&](std::int64_t i) { return glm::dvec2(positions[std::size_t(i)][u], positions[std::size_t(i)][v]); };
+    auto turn = [&](std::int64_t a, std::int64_t b, std::int64_t c) {
+        const glm::dvec2 p = at(a), q = at(b), r = at(c);
+        return sign * ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x));
+    };
+    std::vector<std::int64_t> sorted = poly;
+    std::sort(sorted.begin(), sorted.end());
+    bool convex = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+    for (std::size_t i = 0; convex && i < n; ++i) convex = turn(poly[i], poly[(i + 1) % n], poly[(i + 2) % n]) > 0.0;
+    if (convex) return true;
+    std::vector<std::int64_t> ring = poly;
+    auto emit = [&](std::int64_t a, std::int64_t b, std::int64_t c) {
+        out.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+    };
+    while (ring.size() > 3) {
+        const std::size_t m = ring.size();
+        bool clipped = false;
+        for (std::size_t i = 0; i < m && !clipped; ++i) {
+            const std::int64_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+            if (turn(a, b, c) <= 0.0) continue;
+            bool empty = true;
+            for (std::size_t j = 0; j < m && empty; ++j) {
+                const std::int64_t p = ring[j];
+                if (p == a || p == b || p == c) continue;
+                empty = !(turn(a, b, p) >= 0.0 && turn(b, c, p) >= 0.0 && turn(c, a, p) >= 0.0);
+            }
+            if (!empty) continue;
+            emit(a, b, c);
+            ring.erase(ring.begin() + std::ptrdiff_t(i));
+            clipped = true;
+        }
+        if (!clipped) break;
+    }
+    for (std::size_t k = 1; k + 1 < ring.size(); ++k) emit(ring[0], ring[k], ring[k + 1]);
+    poly.clear();  // triangulated here
+    return true;
+}
+
 // The parsed polygons into a repaired triangle mesh: indices checked, vertices welded, polygons
 // cleaned (tolerant: corners repeated in a row merged, polygons that still repeat one dropped;
 // strict: nothing welded, as before the repairs, so strict loading is the old loading exactly)
@@ -923,13 +983,24 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
             clean.clear();
             for (std::size_t a = 0; a < poly.size(); ++a)
                 if (poly[a] != poly[(a + 1) % poly.size()]) clean.push_back(poly[a]);
-            std::vector<std::int64_t> sorted = clean;
-            std::sort(sorted.begin(), sorted.end());
-            if (clean.size() < 3 || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+            if (clean.size() < 3) {  // (a triangle that repeats a corner is down to two here)
                 ++mesh.repairs.faces_dropped;
                 continue;
             }
             poly.swap(clean);
+            // Keyhole polygons (a corner repeated where a bridge edge is walked twice) and
+            // polygons that are not strictly convex are cut into ears: a fan would overlap itself
+            // or make zero-area triangles there.
+            if (poly.size() > 3) {
+                if (!ear_clip(mesh.positions, poly, mesh.triangles)) {
+                    ++mesh.repairs.faces_dropped;
+                    continue;
+                }
+                if (poly.empty()) {  // triangulated by ear_clip
+                    ++mesh.polygons_triangulated;
+                    continue;
+                }
+            }
         }
         if (poly.size() > 3) ++mesh.polygons_triangulated;
         for (std::size_t k = 1; k + 1 < poly.size(); ++k)
