@@ -1018,7 +1018,9 @@ TEST(RepairedOnLoad, DegenerateFacesAreDropped) {
     w.positions = kTetV;
     w.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 1, 3}};  // a face twice: no area lost
     inkline::repair_mesh(w, "doubled face");
-    EXPECT_EQ(w.triangles.size(), 5u);  // not zero-area: cut instead (next test)
+    EXPECT_EQ(w.triangles.size(), 4u);  // the copy: same three points (DuplicateFacesAreDropped)
+    EXPECT_EQ(w.repairs.faces_dropped, 1u);
+    EXPECT_EQ(w.repairs.nonmanifold_edges_cut, 0u);
 }
 
 // Non-manifold edges are cut: each sheet meets the edge as its own border, and a closed part with
@@ -1202,4 +1204,21 @@ TEST(RepairedOnLoad, ConcaveAndKeyholePolygonsAreCutIntoEars) {
         EXPECT_EQ(c.repairs.faces_dropped, 0u);
         EXPECT_GT(c.triangles.size(), 60u);
     }
+}
+
+// A face on the same three points as another (a double-sided sheet, an object listed twice) is
+// dropped: the sheet stays one sheet with a border, where cutting the doubled edges would have
+// made two coincident sheets.
+TEST(RepairedOnLoad, DuplicateFacesAreDropped) {
+    TriangleMesh sheet = inkline::make_sheet(1.0, 0.0, 2);
+    const std::size_t n = sheet.triangles.size();
+    for (std::size_t f = 0; f < n; ++f) {
+        const auto t = sheet.triangles[f];
+        sheet.triangles.push_back({t[0], t[2], t[1]});  // the back side
+    }
+    inkline::repair_mesh(sheet, "double-sided sheet");
+    EXPECT_EQ(sheet.triangles.size(), n);
+    EXPECT_EQ(sheet.repairs.faces_dropped, n);
+    EXPECT_EQ(sheet.repairs.nonmanifold_edges_cut, 0u);
+    EXPECT_EQ(inkline::build_topology(sheet).border_list.size(), 8u);
 }

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 
 
 #include <glm/common.hpp>
@@ -670,7 +671,8 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
     return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
 }
 
-// Drops faces with a repeated corner, and zero-area faces (exactly collinear corners) whose every
+// Drops faces with a repeated corner, faces on the same three points as an earlier face (tolerant),
+// and zero-area faces (exactly collinear corners) whose every
 // edge has at least two other faces: removing those opens nothing (they are fins on edges that are
 // already closed). A zero-area face that holds the surface together (a sliver between two sheets)
 // is kept: the facing tests are exact and take zero-area faces as they are.
@@ -687,6 +689,35 @@ void drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool st
         }
     }
     if (!strict) {
+        // A face on the same three points as an earlier one (double-sided exports, an object
+        // listed twice): coincident surfaces have no defined QI, and the copy adds nothing.
+        struct Corners {
+            std::array<glm::dvec3, 3> p;
+            bool operator==(const Corners& o) const {
+                return PointEq()(p[0], o.p[0]) && PointEq()(p[1], o.p[1]) && PointEq()(p[2], o.p[2]);
+            }
+        };
+        struct CornersKey {
+            std::size_t operator()(const Corners& c) const {
+                return PointKey()(c.p[0]) ^ (PointKey()(c.p[1]) * 31u) ^ (PointKey()(c.p[2]) * 961u);
+            }
+        };
+        std::unordered_set<Corners, CornersKey> seen;
+        seen.reserve(nf);
+        auto before = [](const glm::dvec3& a, const glm::dvec3& b) {
+            return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+        };
+        for (std::size_t f = 0; f < nf; ++f) {
+            if (!keep[f]) continue;
+            const auto& t = mesh.triangles[f];
+            Corners c{{mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]}};
+            for (auto& q : c.p) q += glm::dvec3(0.0);  // -0 becomes +0 (the order below compares values)
+            std::sort(c.p.begin(), c.p.end(), before);
+            if (!seen.insert(c).second) {
+                keep[f] = 0;
+                ++dropped;
+            }
+        }
         std::vector<std::uint32_t> flat;
         for (std::size_t f = 0; f < nf; ++f) {
             const auto& t = mesh.triangles[f];
@@ -1136,7 +1167,7 @@ std::vector<std::string> LoadReport::warnings(const std::string& where) const {
                       " vertices at the same position as another (seams split by UVs or normals)");
     if (faces_dropped > 0)
         out.push_back(where + ": dropped " + std::to_string(faces_dropped) +
-                      " degenerate faces (repeated corners or zero area)");
+                      " degenerate or duplicate faces (a repeated corner, zero area, or the corners of another face)");
     if (nonmanifold_edges_cut > 0)
         out.push_back(where + ": cut the surface at " + std::to_string(nonmanifold_edges_cut) +
                       " non-manifold edges (more than two faces; " + std::to_string(vertices_split) +

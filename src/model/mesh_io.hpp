@@ -18,7 +18,8 @@ namespace inkline {
 // kind of repair made, for the command to print.
 struct LoadReport {
     std::size_t vertices_welded = 0;         // vertices merged into an earlier one at the same position
-    std::size_t faces_dropped = 0;           // degenerate input faces: a repeated corner or zero area
+    std::size_t faces_dropped = 0;           // degenerate input faces (a repeated corner, zero area) and
+                                             // duplicates (the three corners of an earlier face)
     std::size_t nonmanifold_edges_cut = 0;   // edges of more than two faces, cut so each sheet has a border there
     std::size_t vertices_split = 0;          // vertex copies those cuts made
     std::size_t components_reoriented = 0;   // connected parts whose faces disagreed in orientation
@@ -54,11 +55,12 @@ struct TriangleMesh {
 TriangleMesh load_mesh(const std::string& path, const LoadOptions& options = {});
 
 // What load_mesh does after parsing, for triangles built elsewhere (the scene loader): welds
-// vertices at the same position (tolerant mode), then drops degenerate faces (a repeated corner; zero area,
-// exactly collinear corners), cuts non-manifold edges (the vertices on them split per fan of faces
-// joined by manifold edges, so each sheet meets the edge as its own border; a sheet that still
-// shares the edge after that is detached), and orients every connected part consistently (closed
-// parts outward). Strict: refuses instead of dropping and cutting. Counts go to mesh.repairs.
+// vertices at the same position (tolerant mode; a scene's objects each on their own), then drops
+// degenerate faces (a repeated corner; zero area on edges closed without it; the same three points
+// as an earlier face), cuts non-manifold edges (the vertices on them split per fan of faces joined
+// by manifold edges, so each sheet meets the edge as its own border; a sheet that still shares the
+// edge after that is detached), and orients every connected part consistently (closed parts
+// outward). Strict: refuses instead of dropping and cutting. Counts go to mesh.repairs.
 void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions& options = {});
 
 // The strict validation for meshes built in memory (no welding); `where` names the source in

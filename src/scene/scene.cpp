@@ -35,7 +35,7 @@ std::string lower_extension(const std::string& path) {
 // Assimp's messages may span lines and repeat the path; the error contract is one line that
 // names the file once, at its start.
 std::string one_line(std::string s, const std::string& path) {
-    for (std::size_t at; !path.empty() && (at = s.find(path)) != std::string::npos;) s.replace(at, path.size(), "it");
+    for (std::size_t at; !path.empty() && (at = s.find(path)) != std::string::npos;) s.replace(at, path.size(), "(this file)");
     for (char& c : s)
         if (c == '\n' || c == '\r' || c == '\t') c = ' ';
     const auto b = s.find_first_not_of(' ');
