@@ -3,9 +3,9 @@
 // command lists the flags it takes in a FlagTable that parses its words and prints its --help.
 //
 // A hand-written table rather than CLI11 (Debian 12 has 2.1.2): CLI11 also reads `--key value`
-// (so a word after a flag stops being the model), reports its own messages and exit codes, and
-// refuses an empty `--lines=`; keeping today's `--key=value` grammar and one-line errors would
-// mean overriding most of it.
+// (so a word after a flag stops being the model) and formats its own messages and exit codes;
+// keeping today's `--key=value` grammar and the one-line errors the tests pin would mean
+// overriding most of it.
 //
 // Errors: a bad value throws inkline::Error "FLAG: problem" (exit 1, as the tests pin); a word
 // that is no flag of the command, or a flag without its value, throws Usage (exit 2, with a
@@ -14,7 +14,6 @@
 
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
