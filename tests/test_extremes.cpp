@@ -30,6 +30,7 @@
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
+#include "test_data.hpp"
 
 namespace {
 
@@ -46,7 +47,7 @@ constexpr double kRequired = 0.999;   // oracle agreement by sampled length
 
 K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
-std::string mesh_path(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name; }
+using inkline::test::mesh_path;
 
 // ---- drawing sanity --------------------------------------------------------------------
 
