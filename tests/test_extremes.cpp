@@ -584,7 +584,7 @@ TEST(Extremes, ModelUnderOnePixel) {
 // Every input the pipeline fuzzer (fuzz/run.sh pipeline) found failing, replayed: the drawings
 // must be finite with non-negative QI.
 TEST(Extremes, PipelineFuzzRegressions) {
-    const std::filesystem::path dir = std::filesystem::path(__FILE__).parent_path().parent_path() / "fuzz" / "regressions";
+    const std::filesystem::path dir = std::filesystem::path(INKLINE_SOURCE_DIR) / "fuzz" / "regressions";
     ASSERT_TRUE(std::filesystem::is_directory(dir)) << dir;
     int replayed = 0;
     for (const auto& e : std::filesystem::directory_iterator(dir)) {
