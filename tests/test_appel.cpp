@@ -256,11 +256,14 @@ TriangleMesh bumped_sphere(glm::dvec3 dir, double height, double width) {
     return m;
 }
 
+// The camera of the Figure 2 cases (and of the stage timings): the bumped unit sphere from +z.
+Camera figure2_camera() { return Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800); }
+
 // Figure 2 (b): the branch is behind the body. Its silhouette is an inner cluster whose offsets,
 // lower bound and parity prove it hidden: no ray test at all when hidden QI is not needed.
 TEST(Figure2, BranchInRearIsProvedHiddenWithoutRayTests) {
     const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     ViewOptions o;
     o.visibility = VisibilityMethod::Appel;
     o.exact_hidden = false;
@@ -297,7 +300,7 @@ struct FlagsNoneAndClear {
 // with no flags at all.
 TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
     const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     ASSERT_TRUE(model.topology().closed);
     const FlagsNoneAndClear r(model, cam);
     const AppelStats &s0 = r.s0, &sc = r.sc;
@@ -313,7 +316,7 @@ TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
 // and walking (section 4.4) proves the enclosed cluster visible without a ray test.
 TEST(Figure2, BranchInFront) {
     const Model model(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     const Agreement g = compare(model, cam);
     EXPECT_EQ(g.wrong, 0.0);
     ViewOptions o;
@@ -336,7 +339,7 @@ TEST(Figure2, BranchInFront) {
 // each stage that ran has time, each that did not has none, and they fit in the stage's total.
 // (Structure only: no speed is asserted.)
 TEST(VisibilityStages, SplitTheVisibilityTime) {
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     auto check_sum = [](const DrawingStats& s) {
         EXPECT_LE(s.seconds_pieces + s.seconds_propagation + s.seconds_walks + s.seconds_ray_tests,
                   s.seconds_visibility * (1.0 + 1e-9));
