@@ -74,7 +74,7 @@ std::pair<double, double> principal(const Fundamental& f) {
 }
 
 Exact exact_curvature(const Chart& X, const dvec3& hint, double scale) {
-    const double h_in = 1e-3 * scale, h_out = 1e-2 * scale;
+    const double h_in = 1e-2 * scale, h_out = 5e-2 * scale;
     const Fundamental f = fundamental_forms(X, 0, 0, hint, h_in);
     Exact e;
     std::tie(e.k1, e.k2) = principal(f);
@@ -198,7 +198,7 @@ Sampled torus(int nv, double R, double r) {
         return dvec3((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
     };
     Sampled s = grid_surface(X, nu, nv, 2 * M_PI, 2 * M_PI, true, true);
-    s.scale = 0.1;  // chart units are radians: steps of 1e-4 and 1e-3
+    s.scale = 1.0;  // chart units are radians
     return s;
 }
 
@@ -222,6 +222,20 @@ Sampled bump(int n, double sigma) {
         const dvec3 p = s.mesh.positions[i];
         s.compare[i] = std::abs(p.x) < 1.2 && std::abs(p.y) < 1.2;
     }
+    return s;
+}
+
+// The ellipsoid x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 on a latitude-longitude grid between latitudes
+// +-72 degrees (open there; z flipped so that the faces face outward), compared where |z| < 0.75 c.
+Sampled ellipsoid_grid(int n_around, double a, double b, double c) {
+    const double w0 = 0.1 * M_PI, span = 0.8 * M_PI;
+    const int n_along = std::max(2, int(std::lround(n_around * 0.4)));
+    auto X = [=](double u, double w) {
+        w += w0;
+        return dvec3(a * std::cos(u) * std::sin(w), b * std::sin(u) * std::sin(w), -c * std::cos(w));
+    };
+    Sampled s = grid_surface(X, n_around, n_along, 2 * M_PI, span, true, false);
+    for (std::size_t i = 0; i < s.mesh.vertex_count(); ++i) s.compare[i] = std::abs(s.mesh.positions[i].z) < 0.75 * c;
     return s;
 }
 
@@ -296,7 +310,7 @@ TEST(CurvatureTruth, TorusClosedForm) {
         return dvec3((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
     };
     const dvec3 outward(std::cos(v0) * std::cos(u0), std::cos(v0) * std::sin(u0), std::sin(v0));
-    const Exact e = exact_curvature(X, outward, 0.1);
+    const Exact e = exact_curvature(X, outward, 1.0);
     const double w = R + r * std::cos(v0);
     EXPECT_NEAR(e.k1, 1 / r, 1e-8);
     EXPECT_NEAR(e.k2, std::cos(v0) / w, 1e-8);
@@ -330,4 +344,214 @@ TEST(Curvature, SphereIsExact) {
         EXPECT_NEAR(area, 4 * M_PI * R * R, 0.01 * 4 * M_PI * R * R);
         EXPECT_LT(area, 4 * M_PI * R * R);
     }
+}
+
+
+// An open cylinder of radius 1 on a regular grid: every normal difference is exact, so k1 = 1 around,
+// k2 = 0 along the axis and C = 0, at any resolution; dir1 is horizontal.
+TEST(Curvature, CylinderIsExact) {
+    const Sampled s = cylinder(48);
+    const CurvatureField f = inkline::estimate_curvature(s.mesh);
+    expect_finite(f);
+    EXPECT_EQ(f.invalid_vertices, 0u);
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        if (!s.compare[i]) continue;
+        EXPECT_NEAR(f.k1[i], 1.0, 1e-6) << i;
+        EXPECT_NEAR(f.k2[i], 0.0, 1e-6) << i;
+        EXPECT_NEAR(f.dir1[i].z, 0.0, 1e-6) << i;
+        for (float c : f.dcurv[i]) EXPECT_NEAR(c, 0.0, 1e-5) << i;
+    }
+}
+
+// Smooth surfaces at resolution n and 2n: the errors of k (both principal curvatures), of dir1 and of
+// C shrink by a clear factor (measured: about 4 for k and dir1 on the torus, i.e. O(h^2); C at least
+// 3) and end below a bound. Bounds in units of the surface's curvature (|k| up to 2.5 on the torus,
+// |C| about 2.2 rms there). The bump's flanks have k2 < 0 with |k2| > k1: the signed order is
+// checked there (an order by magnitude would swap them).
+struct Convergence {
+    double k_ratio, dir_ratio, c_ratio;  // largest error(2n) / error(n) allowed
+    double k_bound, dir_bound, c_bound;  // largest error at 2n allowed (k and C: rms)
+};
+
+void expect_converges(const Sampled& coarse, const Sampled& fine, const Convergence& want) {
+    const CurvatureField fc = inkline::estimate_curvature(coarse.mesh);
+    const CurvatureField ff = inkline::estimate_curvature(fine.mesh);
+    expect_finite(fc);
+    expect_finite(ff);
+    const Errors a = compare(coarse, fc, 0.2), b = compare(fine, ff, 0.2);
+    ASSERT_GT(a.anisotropic, 100u);
+    ASSERT_GT(b.anisotropic, 100u);
+    EXPECT_LT(b.k_rms, want.k_ratio * a.k_rms) << a.k_rms << " -> " << b.k_rms;
+    EXPECT_LT(b.dir_rms, want.dir_ratio * a.dir_rms) << a.dir_rms << " -> " << b.dir_rms;
+    EXPECT_LT(b.c_rms, want.c_ratio * a.c_rms) << a.c_rms << " -> " << b.c_rms;
+    EXPECT_LT(b.k_rms, want.k_bound);
+    EXPECT_LT(b.dir_rms, want.dir_bound);
+    EXPECT_LT(b.c_rms, want.c_bound);
+}
+
+TEST(Curvature, TorusConverges) {
+    // Measured errors (rms k, dir, C): n=16: 3.3e-2, 2.8e-3, 1.5e-1; n=32: 8.3e-3, 7.1e-4, 4.0e-2.
+    expect_converges(torus(16, 1.0, 0.4), torus(32, 1.0, 0.4), {0.3, 0.3, 0.3, 0.012, 1e-3, 0.06});
+}
+
+TEST(Curvature, EllipsoidConverges) {
+    auto e = [](int n) {
+        Sampled s = ellipsoid_grid(n, 1.0, 0.7, 0.5);
+        s.scale = 0.5;
+        return s;
+    };
+    // Measured: n=48: 5.3e-2, 1.2e-2, 6.7e-1; n=96: 1.4e-2, 2.5e-3, 1.9e-1.
+    expect_converges(e(48), e(96), {0.35, 0.35, 0.4, 0.02, 5e-3, 0.25});
+}
+
+TEST(Curvature, GaussianBumpConverges) {
+    auto e = [](int n) {
+        Sampled s = bump(n, 0.5);
+        s.scale = 0.5;
+        return s;
+    };
+    // Measured: n=30: 8.7e-2, 1.8e-2, 1.0; n=60: 2.4e-2, 2.0e-3, 3.4e-1.
+    expect_converges(e(30), e(60), {0.35, 0.35, 0.4, 0.035, 5e-3, 0.45});
+}
+
+// The icosphere mapped onto an ellipsoid is irregular (12 vertices of valence 5, faces of varying
+// shape): the estimator does not converge everywhere there (its k error stays about 0.13 at those
+// vertices), but the rms error still shrinks; measured 6.0e-2, 2.3e-2, 1.3e-2 at levels 3, 4, 5.
+TEST(Curvature, IrregularEllipsoidBounded) {
+    Sampled a = ellipsoid(3, 1.0, 0.7, 0.5), b = ellipsoid(4, 1.0, 0.7, 0.5);
+    a.scale = b.scale = 0.5;
+    const CurvatureField fa = inkline::estimate_curvature(a.mesh), fb = inkline::estimate_curvature(b.mesh);
+    const Errors ea = compare(a, fa, 0.2), eb = compare(b, fb, 0.2);
+    EXPECT_LT(eb.k_rms, 0.5 * ea.k_rms);
+    EXPECT_LT(eb.k_rms, 0.03);
+    EXPECT_LT(eb.k_max, 0.2);  // against k up to 4 (the ellipsoid's largest: a / c^2)
+    EXPECT_LT(eb.dir_rms, 0.01);
+}
+
+// Scaling the model by s scales k by 1/s, C by 1/s^2, point areas by s^2 and the feature size by s,
+// and leaves normals and directions; also far from the origin. (Floats: relative 1e-5.)
+TEST(Curvature, ScaleInvariant) {
+    const Sampled base = torus(16, 1.0, 0.4);
+    const CurvatureField f0 = inkline::estimate_curvature(base.mesh);
+    for (double sc : {1e-4, 1e4}) {
+        for (dvec3 offset : {dvec3(0.0), dvec3(1e5, -3e4, 2e5)}) {
+            MeshTopology t = base.mesh;
+            for (auto& p : t.positions) p = p * sc + offset * sc;
+            const CurvatureField f = inkline::estimate_curvature(t);
+            expect_finite(f);
+            EXPECT_EQ(f.invalid_vertices, 0u);
+            EXPECT_NEAR(f.feature_size / sc, f0.feature_size, 1e-9 * f0.feature_size);
+            const double tol = offset == dvec3(0.0) ? 1e-5 : 1e-4;  // offset: positions lose 1e-11 of the edge
+            for (std::size_t i = 0; i < f.size(); ++i) {
+                EXPECT_NEAR(f.k1[i] * sc, f0.k1[i], tol * 2.5) << i;
+                EXPECT_NEAR(f.k2[i] * sc, f0.k2[i], tol * 2.5) << i;
+                for (int k = 0; k < 4; ++k) EXPECT_NEAR(f.dcurv[i][k] * sc * sc, f0.dcurv[i][k], tol * 10) << i;
+                EXPECT_NEAR(f.point_area[i] / (sc * sc), f0.point_area[i], 1e-5 * f0.point_area[i]) << i;
+                EXPECT_NEAR(std::abs(glm::dot(f.dir1[i], f0.dir1[i])), 1.0, 1e-5) << i;
+                EXPECT_NEAR(glm::dot(f.normal[i], f0.normal[i]), 1.0, 1e-5) << i;
+            }
+        }
+    }
+}
+
+// A flat 8 x 8 grid of unit cells: two of its corners, (8,0) and (0,8), have one face each and cannot
+// be estimated; everything else is flat (k = 0, C = 0). The feature size is the median edge: 144
+// sides of length 1 and 64 diagonals of sqrt 2, so 1.
+TEST(CurvatureBadInput, BorderCornersWithOneFace) {
+    const Sampled s = grid_surface([](double x, double y) { return dvec3(x, y, 0.0); }, 8, 8, 8.0, 8.0, false, false);
+    const CurvatureField f = inkline::estimate_curvature(s.mesh);
+    expect_finite(f);
+    EXPECT_EQ(f.invalid_vertices, 2u);
+    EXPECT_EQ(count_invalid(f), 2u);
+    EXPECT_FALSE(f.valid[8]);       // (8, 0)
+    EXPECT_FALSE(f.valid[8 * 9]);   // (0, 8)
+    EXPECT_TRUE(f.valid[0]);        // (0, 0): two faces
+    EXPECT_TRUE(f.valid[9 * 9 - 1]);
+    EXPECT_EQ(f.k1[8], 0.f);
+    EXPECT_EQ(f.normal[8], glm::vec3(0, 0, 1));  // its normal is still known
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        EXPECT_EQ(f.k1[i], 0.f) << i;
+        EXPECT_EQ(f.k2[i], 0.f) << i;
+    }
+    EXPECT_DOUBLE_EQ(f.feature_size, 1.0);
+}
+
+// One triangle: three vertices with one face each, all invalid, and their point areas are the area.
+TEST(CurvatureBadInput, SingleTriangle) {
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {2, 0, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}};
+    const CurvatureField f = inkline::estimate_curvature(inkline::build_topology(std::move(m)));
+    expect_finite(f);
+    EXPECT_EQ(f.invalid_vertices, 3u);
+    EXPECT_NEAR(f.point_area[0] + f.point_area[1] + f.point_area[2], 1.0, 1e-7);
+}
+
+// A vertex in no face: invalid, all its values 0; the rest of the sphere unchanged.
+TEST(CurvatureBadInput, IsolatedVertex) {
+    TriangleMesh m = icosphere(2);
+    m.positions.push_back({5, 5, 5});
+    const MeshTopology t = inkline::build_topology(std::move(m));
+    const CurvatureField f = inkline::estimate_curvature(t);
+    expect_finite(f);
+    const std::size_t iso = t.vertex_count() - 1;
+    EXPECT_EQ(f.invalid_vertices, 1u);
+    EXPECT_FALSE(f.valid[iso]);
+    EXPECT_EQ(f.normal[iso], glm::vec3(0));
+    EXPECT_EQ(f.dir1[iso], glm::vec3(0));
+    EXPECT_EQ(f.point_area[iso], 0.f);
+    for (std::size_t i = 0; i < iso; ++i) EXPECT_NEAR(f.k1[i], 1.0, 1e-6) << i;
+}
+
+// Degenerate faces on a sphere: a vertex moved onto its neighbour (two faces with a zero-length edge),
+// one moved onto the midpoint of two neighbours (a zero-area cap with non-zero edges) and one moved
+// 1e-9 off such a midpoint (a sliver). No NaN, every vertex still estimated, the moved ones bounded,
+// and vertices three or more rings away unchanged (k = 1).
+TEST(CurvatureBadInput, ZeroAreaAndSliverFaces) {
+    TriangleMesh m = icosphere(3);
+    std::vector<std::uint32_t> moved;
+    std::vector<std::uint8_t> used(m.positions.size(), 0);
+    // Picks faces far apart (vertex ids spread over the mesh) and degenerates them.
+    auto degenerate = [&](std::size_t face_index, int how) {
+        const auto f = m.triangles[face_index];
+        const dvec3 p = m.positions[f[1]], q = m.positions[f[2]];
+        if (how == 0) m.positions[f[0]] = p;
+        if (how == 1) m.positions[f[0]] = 0.5 * (p + q);
+        if (how == 2) m.positions[f[0]] = 0.5 * (p + q) + 1e-9 * glm::normalize(p + q);
+        moved.push_back(f[0]);
+    };
+    degenerate(0, 0);
+    degenerate(m.triangles.size() / 3, 1);
+    degenerate(2 * m.triangles.size() / 3, 2);
+    const MeshTopology t = inkline::build_topology(std::move(m));
+    const CurvatureField f = inkline::estimate_curvature(t);
+    expect_finite(f);
+    EXPECT_EQ(f.invalid_vertices, 0u);
+    // Rings: distance in edges from a moved vertex.
+    std::vector<int> ring(t.vertex_count(), 99);
+    for (auto v : moved) ring[v] = 0;
+    for (int r = 1; r <= 3; ++r)
+        for (std::size_t e = 0; e < t.edge_count(); ++e) {
+            const auto [a, b] = t.edge_vertex[e];
+            if (ring[a] == r - 1 && ring[b] > r) ring[b] = r;
+            if (ring[b] == r - 1 && ring[a] > r) ring[a] = r;
+        }
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        EXPECT_LT(std::abs(f.k1[i]) + std::abs(f.k2[i]), 10.0 / f.feature_size) << i;
+        if (ring[i] > 3) {
+            EXPECT_NEAR(f.k1[i], 1.0, 1e-5) << i;
+            EXPECT_NEAR(f.k2[i], 1.0, 1e-5) << i;
+        }
+    }
+}
+
+// Model::curvature is computed once, on first use, and is estimate_curvature of the topology.
+TEST(Curvature, ModelComputesOnce) {
+    inkline::Model model(icosphere(2));
+    const CurvatureField& a = model.curvature();
+    const CurvatureField& b = model.curvature();
+    EXPECT_EQ(&a, &b);
+    const CurvatureField c = inkline::estimate_curvature(model.topology());
+    EXPECT_EQ(a.k1, c.k1);
+    EXPECT_EQ(a.dcurv, c.dcurv);
 }
