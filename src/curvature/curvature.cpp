@@ -285,7 +285,8 @@ struct Estimator {
         }
     }
 
-    // Curvature estimated (k1 and k2 carry on the curvature pass's weights).
+    // Curvature estimated here: a usable vertex that some face's fit reached, with finite values (read
+    // before fit_dcurv reuses `weight`).
     void mark_valid() {
         valid.assign(nv, 0);
         for (std::size_t i = 0; i < nv; ++i)
@@ -364,8 +365,10 @@ void Estimator::write(CurvatureField& out) const {
     }
 }
 
-// Median edge length (exact: the upper median of all edges, where trimesh2 takes the same median of
-// 999 edges sampled from random faces).
+// Median edge length, exact: the upper median of the squared lengths of all edges, its square root.
+// trimesh2 (TriMesh::feature_size) takes the same upper median of about 999 edges of faces drawn at
+// random, so its value scatters around this one by a few percent; each edge counts once here, where
+// sampling faces counts a border edge half as often as an inner one (the same on closed meshes).
 double median_edge_length(const MeshTopology& mesh) {
     const std::size_t ne = mesh.edge_count();
     if (ne == 0) return 0.0;
