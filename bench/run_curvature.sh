@@ -27,10 +27,18 @@ OUT=bench/results/curvature.md
     echo
     "$BUILD/bench/curvature_agreement"
     echo
+    echo "Reading it: on smooth, finely sampled surfaces (larger_sphere, knot1) both converge to the"
+    echo "surface's curvature and the degree-4 jet agrees to a few percent or better (the degree-2 jet is"
+    echo "biased there: a quadric over a 2-ring misses the quartic terms). On scans (armadillo, dragon, cow)"
+    echo "the two estimators average the scanning noise over different neighbourhoods and differ by tens of"
+    echo "percent at the median, the degree-4 jet more (it follows the noise). fandisk's 95th percentiles are"
+    echo "its creases, where curvature is undefined and each estimator smears it differently."
+    echo
     echo "## Time of estimate_curvature (one core)"
     echo
     echo "\`taskset -c 1 $BUILD/bench/bench_curvature\` (load average before: $(cut -d' ' -f1-3 /proc/loadavg))."
-    echo "Time: wall mean; CPU: CPU time; median_ms / min_ms: wall median and minimum over the iterations."
+    echo "Time: wall mean; CPU: CPU time; median_ms / min_ms: wall median and minimum over the iterations;"
+    echo "median_cpu_ms / min_cpu_ms: the same of the thread's CPU time (less disturbed by the machine's other work)."
     echo
     echo '```'
     taskset -c 1 "$BUILD/bench/bench_curvature" 2>&1 | grep -E '^(Benchmark|run/|-)'
