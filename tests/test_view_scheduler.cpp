@@ -1,7 +1,7 @@
 // The preview window's view scheduler (src/view/view_scheduler.hpp), without a display: views come
 // back in the order they were started, the lanes chosen by the camera's step as the window does,
 // and every view's drawing and line quads are what render_view and build_line_mesh make at its
-// camera, with one view at a time and with two at once.
+// camera, with one view at a time and with two at once. And the frame statistics the panel shows.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -10,6 +10,7 @@
 
 #include "pipeline.hpp"
 #include "view/camera_rig.hpp"
+#include "view/frame_stats.hpp"
 #include "view/line_mesh.hpp"
 #include "view/view_scheduler.hpp"
 
@@ -183,4 +184,27 @@ TEST(ViewScheduler, RecallOfTheExhaustiveFinderIsOne) {
     ASSERT_TRUE(scheduler.take_oldest(v));
     EXPECT_EQ(v.recall, 1.0);
     EXPECT_EQ(v.views_at_once, 1);
+}
+
+// The panel's stage times: the first frame's as they are, then a moving average over the frames
+// with a new view (9/10 of the old, 1/10 of the new); a frame without a new view moves only the
+// draw time. Frame 0 is not measured (it builds the lazy indexes), nor the headless last frame.
+TEST(FrameStats, PanelShowsAMovingAverageOfTheViewsTimes) {
+    FrameStats stats;
+    StageTimes first, second, idle;
+    first.features = 10.0, first.draw = 1.0;
+    second.features = 20.0, second.draw = 3.0;
+    idle.draw = 2.0;
+    DrawingStats drawing;
+    drawing.triangles = 12;
+    stats.frame_drawn(first, true, 0, false);
+    EXPECT_EQ(stats.panel_numbers(drawing, -1.0).times.features, 10.0);
+    stats.frame_drawn(second, true, 1, false);  // 0.9 * 10 + 0.1 * 20, 0.9 * 1 + 0.1 * 3
+    EXPECT_DOUBLE_EQ(stats.panel_numbers(drawing, -1.0).times.features, 11.0);
+    EXPECT_DOUBLE_EQ(stats.panel_numbers(drawing, -1.0).times.draw, 1.2);
+    stats.frame_drawn(idle, false, 2, false);  // the draw time only: 0.9 * 1.2 + 0.1 * 2
+    EXPECT_DOUBLE_EQ(stats.panel_numbers(drawing, 0.5).times.features, 11.0);
+    EXPECT_DOUBLE_EQ(stats.panel_numbers(drawing, 0.5).times.draw, 1.28);
+    EXPECT_EQ(stats.panel_numbers(drawing, 0.5).recall, 0.5);
+    EXPECT_EQ(stats.panel_numbers(drawing, 0.5).stats.triangles, 12u);
 }
