@@ -146,6 +146,11 @@ TEST(LoadMeshErrors, UnknownExtension) {
     expect_refused(none, {"unsupported"});
 }
 
+TEST(LoadMeshErrors, Utf16Text) {
+    expect_refused(write_file("utf16.obj", std::string("\xff\xfev\0 \0" "0\0", 8)), {"UTF-16", "UTF-8"});
+    expect_refused(write_file("utf16be.off", std::string("\xfe\xff\0O\0F\0F", 8)), {"UTF-16"});
+}
+
 TEST(LoadMeshErrors, EmptyFile) {
     for (const char* name : {"empty.off", "empty.obj", "empty.ply", "empty.stl"})
         expect_refused(write_file(name, ""), {"empty"});

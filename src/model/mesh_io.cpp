@@ -1058,6 +1058,8 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
         if (in.bad()) throw Error(path, "read error");
     }
     if (data.empty()) throw Error(path, "file is empty");
+    if (data.size() >= 2 && ((data[0] == '\xff' && data[1] == '\xfe') || (data[0] == '\xfe' && data[1] == '\xff')))
+        throw Error(path, "UTF-16 text (byte-order mark) is not read: save the file as UTF-8 or ASCII");
 
     Soup soup;
     std::vector<std::string_view> first;
