@@ -9,11 +9,8 @@
 #include <functional>
 #include <thread>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
-
 #include "core/predicates.hpp"
+#include "features/facing_kernels.hpp"
 
 namespace inkline {
 
@@ -344,55 +341,6 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     out.stats.exact_facing_tests = out.face_front.exact_tests();
 }
 
-namespace {
-
-// Candidates among edges [e0, e1): edges whose two face states differ, or whose first face is
-// undecided (borders meet the sentinel). Returns how many were written to cand.
-std::uint32_t scan_block_scalar(const std::array<std::uint32_t, 2>* __restrict ef, const std::uint8_t* __restrict st,
-                                std::uint32_t nf, std::uint32_t e0, std::uint32_t e1, std::uint32_t* __restrict cand) {
-    std::uint32_t n = 0;
-    for (std::uint32_t e = e0; e < e1; ++e) {
-        const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
-        cand[n] = e;
-        n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
-    }
-    return n;
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same with AVX2, 8 edges a step: the face pairs deinterleaved, the two states gathered as
-// 32-bit words (states() is padded for that) and masked to their low byte; candidates are rare,
-// so they are written from the comparison's bit mask.
-__attribute__((target("avx2,bmi2"))) std::uint32_t scan_block_avx2(const std::array<std::uint32_t, 2>* __restrict ef,
-                                                                   const std::uint8_t* __restrict st, std::uint32_t nf,
-                                                                   std::uint32_t e0, std::uint32_t e1,
-                                                                   std::uint32_t* __restrict cand) {
-    const __m256i last = _mm256_set1_epi32(int(nf)), low = _mm256_set1_epi32(0xff);
-    const __m256i unknown = _mm256_set1_epi32(FaceFacing::kUnknown), zero = _mm256_setzero_si256();
-    const int* states = reinterpret_cast<const int*>(st);
-    std::uint32_t n = 0, e = e0;
-    for (; e + 8 <= e1; e += 8) {
-        const __m256 lo = _mm256_loadu_ps(reinterpret_cast<const float*>(&ef[e][0]));
-        const __m256 hi = _mm256_loadu_ps(reinterpret_cast<const float*>(&ef[e + 4][0]));
-        // shuffle gives edges 0 1 4 5 | 2 3 6 7; the 64-bit permute puts them in order.
-        const __m256i f0 = _mm256_permute4x64_epi64(_mm256_castps_si256(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8);
-        const __m256i f1 = _mm256_min_epu32(
-            _mm256_permute4x64_epi64(_mm256_castps_si256(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8), last);
-        const __m256i a = _mm256_and_si256(_mm256_i32gather_epi32(states, f0, 1), low);
-        const __m256i b = _mm256_and_si256(_mm256_i32gather_epi32(states, f1, 1), low);
-        const __m256i x = _mm256_or_si256(_mm256_xor_si256(a, b), _mm256_and_si256(a, unknown));
-        unsigned mask = ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(x, zero)))) & 0xffu;
-        while (mask) {
-            cand[n++] = e + unsigned(__builtin_ctz(mask));
-            mask &= mask - 1;
-        }
-    }
-    return n + scan_block_scalar(ef, st, nf, e, e1, cand + n);
-}
-#endif
-
-}  // namespace
-
 const FaceBlocks* SilhouetteFinder::blocks() {
     if (!opt_.blocks) return nullptr;
     if (!blocks_.built_for(*mesh_)) blocks_.build(*mesh_);
@@ -408,21 +356,12 @@ void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
     constexpr std::uint32_t kBlock = 4096;
     const auto* ef = mesh.edge_face.data();
     const std::uint8_t* st = out.face_front.states();
-#if defined(__x86_64__) && defined(__GNUC__)
-    const bool avx2 = cpu_has_avx2();
-#else
-    const bool avx2 = false;
-#endif
+    const FacingKernels& kernels = facing_kernels();
     auto collect_range = [&](std::uint32_t lo, std::uint32_t hi, std::vector<std::uint32_t>& cand) {
         for (std::uint32_t e0 = lo; e0 < hi; e0 += kBlock) {
             const std::uint32_t e1 = std::min(hi, e0 + kBlock), n0 = std::uint32_t(cand.size());
             cand.resize(n0 + (e1 - e0));
-#if defined(__x86_64__) && defined(__GNUC__)
-            const std::uint32_t n = avx2 ? scan_block_avx2(ef, st, nf, e0, e1, cand.data() + n0)
-                                         : scan_block_scalar(ef, st, nf, e0, e1, cand.data() + n0);
-#else
-            const std::uint32_t n = scan_block_scalar(ef, st, nf, e0, e1, cand.data() + n0);
-#endif
+            const std::uint32_t n = kernels.edge_candidates(ef, st, nf, e0, e1, cand.data() + n0);
             cand.resize(n0 + n);
         }
     };
