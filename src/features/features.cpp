@@ -546,6 +546,10 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
     w = ortho ? 0.0 : 1.0;
 }
 
+double distance3(const double a[3], const double b[3]) {
+    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
 // Per 64 faces (and one past the last), the first edge whose first face is one of them, where the
 // mesh numbers its edges in the order of their first face (topology.cpp); else {0}. (The same
 // ranges as FaceBlocks::build_edges, which also lists each block's neighbours: 5 ms on
@@ -568,19 +572,9 @@ std::vector<std::uint32_t> first_edges_by_64_faces(const MeshTopology& mesh) {
 // The face blocks skip the blocks whose planes are all beyond the margin. The faces outside the
 // band get their front bit here, from the sign of their float distance (beyond the filter's
 // bound, so exact), which they keep for every such eye; the band's bits are set by follow().
-// The pass writes the band's rows as it reads the planes (FacingBand::select: the selected lanes
-// packed to the front, no list of faces or copies of planes in between), so the band does not
-// gather them from the mesh again (0.85 ms of a 2.3 ms rebuild at a degree a frame on armadillo@2, Zen 3).
-// (Selecting the band from an outer band of 2.5-4 times its margin, rebuilt from the mesh more
-// rarely, was tried: no faster on armadillo@2, since each rebuild then streams the larger outer
-// band; so was an outer band of 8 times the margin with a key per face (|distance| to the outer
-// band's eye) so that the selection skips faces beyond margin + |eye - outer eye|: a band's eye
-// is on average half the outer margin away, so about 5 band sizes are still read, and the outer
-// rebuild reads 46 % of the faces' planes: 2.7 ms per rebuild against 2.3. Copying each band
-// face's edges and neighbour faces into the band at the rebuild, so that follow() reads band-local
-// memory for a turned face, was tried too: kept frames 0.07 ms faster, rebuilds 1.5-2.5 ms slower
-// (the band's faces are 4 % of the mesh's, scattered: every one costs its own cache lines of
-// face_edges and edge_face, and only about 60 % of them turn while the band lives).)
+// The pass writes the band's rows as it reads the planes (FacingBand::select), so that a rebuild
+// reads each plane once; outer bands and band-local face records cost more than they saved
+// (bench/results/finder_targets.md, bench/results/finder.md).
 void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
     FacingFilter at;  // the filter of the band's eye (not the view's, when the band is built ahead of it)
@@ -599,81 +593,97 @@ void SilhouetteFinder::build_band(const double eye[3], double w, double margin) 
 // now. Given the previous view's silhouette complete, so is this one; silhouette curves the
 // previous view missed are found here only where their faces turn (or by the draws).
 void SilhouetteFinder::follow(const Camera& camera, Features& out) {
+    start_following(camera);
+    const bool rebuilt = update_band(camera);
+    out.stats.band_rebuilt = rebuilt;
+    out.stats.band_faces = band_.size();
+    find_turned_faces(out, rebuilt);
+    out.stats.faces_turned = turned_.size();
+    const std::size_t rechecked = reclassify_turned_edges(out);
+    merge_silhouette(out, rechecked);
+    std::uint64_t* turned = turned_bits_.data();
+    for (std::uint32_t f : turned_) turned[f >> 6] = 0;
+}
+
+// Sizes the per-face bits for the mesh and binds this view's filter. The band's faces keep their
+// bits from the previous view: if that view did not run follow() (a first view, a view after
+// reset(), or one after a view with no silhouette), the bits are older, and the band is rebuilt.
+void SilhouetteFinder::start_following(const Camera& camera) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t nf = mesh.face_count();
     if (front_bits_.size() != nf / 64 + 1) {
         band_margin_ = -1.0;
         for (auto* bits : {&front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
     }
-    // The band's faces keep their bits from the previous view (below): if that view did not run
-    // follow() (a first view, a view after reset(), or one after a view with no silhouette), the
-    // bits are older, and the band is rebuilt.
     if (bits_view_ + 1 != views_) band_margin_ = -1.0;
     bits_view_ = views_;
     camera_ = camera;
     filter_.bind(mesh, camera);
+}
 
-    // The band is valid while both eyes lie within its margin of where it was built.
+// Keeps the band while both eyes lie within its margin of where it was built, else rebuilds it
+// (and retunes its size). Returns whether it was rebuilt.
+bool SilhouetteFinder::update_band(const Camera& camera) {
+    const MeshTopology& mesh = *mesh_;
     double e[3], w, p[3], pw;
     eye_vector(mesh, camera, e, w);
     eye_vector(mesh, previous_camera_, p, pw);
-    auto dist = [](const double a[3], const double b[3]) {
-        return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-    };
-    const double step = dist(e, p);
-    bool rebuilt = false;
+    const double step = distance3(e, p);
     if (w != pw) {
         // Between a perspective and an orthographic view (an eye point and a view direction) no
         // distance bounds the change of the faces' signed distances: every face is in the band,
         // for this view only (the next view builds a band about its eye).
         build_band(e, w, INFINITY);
         band_margin_ = -1.0;
-        rebuilt = true;
-    } else if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
-          dist(p, band_eye_) <= band_margin_)) {
-        const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-        const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
-        const double margin = steps * (step * (1.0 + 1e-9) + 1e-12 * scale);
-        // Built ahead of the eye, along its last step, as far as keeps the previous eye inside:
-        // a camera moving on (an orbit is straight over a few steps) crosses the whole band,
-        // about 2 * steps views before the next rebuild instead of steps.
-        double c[3] = {e[0], e[1], e[2]};
-        if (step > 0.0 && margin > step) {
-            const double ahead = 0.999 * (margin - step) / step;
-            for (int i = 0; i < 3; ++i) c[i] = e[i] + ahead * (e[i] - p[i]);
-        }
-        build_band(c, w, margin);
-        rebuilt = true;
-        // Per frame the band costs about its size, a rebuild about the face count once per
-        // 2 * steps frames: with a band face costing k faces of a rebuild, balanced at
-        // steps = sqrt(faces / (2 k band faces per step)). k = 1.25 was measured on armadillo@2
-        // along an orbit with the caches cold between views (mean ms a view: 6 steps 0.294, 8
-        // 0.283, 10 0.277, 12 0.277, 16 0.283; auto now chooses about 11, the earlier k = 4 chose
-        // 6: bench/results/finder_targets.md, 2026-12-03).
-        constexpr double kBandFace = 1.25;
-        const double per_step = std::max(1.0, double(band_.size()) / steps);
-        auto_steps_ = std::clamp(std::sqrt(double(nf) / (2.0 * kBandFace * per_step)), 2.0, 64.0);
+        return true;
     }
-    out.stats.band_rebuilt = rebuilt;
-    out.stats.band_faces = band_.size();
+    if (band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && distance3(e, band_eye_) <= band_margin_ &&
+        distance3(p, band_eye_) <= band_margin_)
+        return false;
+    const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
+    const double margin = steps * (step * (1.0 + 1e-9) + 1e-12 * scale);
+    // Built ahead of the eye, along its last step, as far as keeps the previous eye inside:
+    // a camera moving on (an orbit is straight over a few steps) crosses the whole band,
+    // about 2 * steps views before the next rebuild instead of steps.
+    double c[3] = {e[0], e[1], e[2]};
+    if (step > 0.0 && margin > step) {
+        const double ahead = 0.999 * (margin - step) / step;
+        for (int i = 0; i < 3; ++i) c[i] = e[i] + ahead * (e[i] - p[i]);
+    }
+    build_band(c, w, margin);
+    tune_band_steps(steps);
+    return true;
+}
 
-    // The band's faces now and before: the turned ones listed; every other face keeps its facing.
-    // Front bits hold the previous view's facing of every face (the rebuild's pass sets those
-    // outside the band), so only the faces checked need theirs set (below), and those of the band
-    // a rebuild's pass left as the float sign at its eye: after a rebuild, every band face's.
+// Per frame the band costs about its size, a rebuild about the face count once per 2 * steps
+// frames: with a band face costing k faces of a rebuild, the two balance at steps = sqrt(faces /
+// (2 k band faces per step)). k is measured with cold caches along an orbit
+// (bench/results/finder_targets.md, "the band's auto size").
+void SilhouetteFinder::tune_band_steps(double steps) {
+    constexpr double kBandFace = 1.25;
+    const double per_step = std::max(1.0, double(band_.size()) / steps);
+    auto_steps_ = std::clamp(std::sqrt(double(mesh_->face_count()) / (2.0 * kBandFace * per_step)), 2.0, 64.0);
+}
+
+// The band's faces now and before: the turned ones listed in turned_ (and their bits set in
+// turned_bits_); every other face keeps its facing. Front bits hold the previous view's facing
+// of every face (the rebuild's pass sets those outside the band), so only the faces checked need
+// theirs set, and those of the band a rebuild's pass left as the float sign at its eye: after a
+// rebuild, every band face's.
+void SilhouetteFinder::find_turned_faces(Features& out, bool rebuilt) {
+    const MeshTopology& mesh = *mesh_;
     turned_.clear();
     check_.clear();
     std::uint64_t* __restrict front = front_bits_.data();
     std::uint64_t* __restrict turned = turned_bits_.data();
     band_.states(filter_, previous_filter_, rebuilt ? front : nullptr, check_);
     const std::size_t nc = check_.size();
-    // A face found turned has its record read below and its state in a carried full view flipped
-    // after (find()): both are fetched as soon as it is found, while the checks go on, rather
-    // than a few faces ahead in the loop that reads them (kept views 0.03 ms faster with cold
-    // caches, about 15 %, and the edges' kinds another 0.007: bench/follow_profile,
-    // bench/results/finder_targets.md, 2026-12-03).
-    const std::uint8_t* carried = out.face_front.size() == nf ? out.face_front.states() : nullptr;
-    // Its edges' kinds, written below, too: those of the edges its 64 faces number.
+    // A face found turned has its record read by reclassify_turned_edges() and its state in a
+    // carried full view flipped after (find()): both are fetched as soon as it is found, while the
+    // checks go on, so that the misses overlap (bench/results/finder_targets.md).
+    const std::uint8_t* carried = out.face_front.size() == mesh.face_count() ? out.face_front.states() : nullptr;
+    // Its edges' kinds, written then, too: those of the edges its 64 faces number.
     if (block_edges_begin_.empty()) block_edges_begin_ = first_edges_by_64_faces(mesh);
     const std::uint32_t* eb = block_edges_begin_.size() > 1 ? block_edges_begin_.data() : nullptr;
     constexpr std::size_t kCheckAhead = 8;
@@ -708,25 +718,30 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             turned_.push_back(f);
         }
     }
-    out.stats.faces_turned = turned_.size();
-    auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
+}
 
-    // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
-    // other face's front bit is this view's (above). Every edge of a turned face gets its kind
-    // here. An edge's kind before tells whether it was a previous silhouette edge (previous_'s
-    // edges are marked: kept by find(), or marked here); one that was and is not is dropped_, one
-    // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over
-    // the mesh: their face records (edges and the faces across them, 24 bytes) and most of their
-    // edges' kinds were fetched when the checks found them (above); here the records are fetched
-    // again 16 faces ahead and the edges' kinds (written) 8 ahead, for what those missed, so
-    // that the cache misses overlap instead of following each other.
-    const std::size_t np = previous_.size(), nt = turned_.size();
+// Edges of turned faces; an edge between two turned faces is decided by the lower one. The
+// other face's front bit is this view's (find_turned_faces()). Every edge of a turned face gets
+// its kind here. An edge's kind before tells whether it was a previous silhouette edge
+// (previous_'s edges are marked: kept by find(), or marked here); one that was and is not is
+// dropped_, one that is and was not is fresh_, and the others are unchanged. Turned faces are
+// scattered over the mesh: their face records (edges and the faces across them, 24 bytes) and
+// most of their edges' kinds were fetched when the checks found them; here the records are
+// fetched again 16 faces ahead and the edges' kinds (written) 8 ahead, for what those missed, so
+// that the cache misses overlap instead of following each other. Returns the previous edges
+// examined again and still silhouettes.
+std::size_t SilhouetteFinder::reclassify_turned_edges(Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::uint64_t* __restrict front = front_bits_.data();
+    const std::uint64_t* __restrict turned = turned_bits_.data();
+    auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
+    const std::size_t nt = turned_.size();
     std::uint8_t* __restrict kind = out.edge_kind.data();
     if (!marks_kept_)  // the kinds were reset: the previous edges are marked again
         for (std::uint32_t e : previous_) kind[e] = kSil;
     fresh_.clear();
     dropped_.clear();
-    std::size_t rechecked = 0;  // previous edges examined again, and still silhouettes
+    std::size_t rechecked = 0;
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
         if (i + 2 * kAhead < nt) {
@@ -750,11 +765,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             rechecked += sil & was;
         }
     }
+    return rechecked;
+}
 
-    // The silhouette: the previous edges not dropped, and the fresh ones (none of which is a
-    // previous edge). In edge order where the previous view's was: both lists sorted, and the
-    // three merged in one pass over the previous edges' ids.
-    const std::size_t nn = fresh_.size(), nd = dropped_.size();
+// The silhouette: the previous edges not dropped, and the fresh ones (none of which is a
+// previous edge), appended to out.silhouette_edges. In edge order where the previous view's was:
+// both lists sorted, and the three merged in one pass over the previous edges' ids.
+void SilhouetteFinder::merge_silhouette(Features& out, std::size_t rechecked) {
+    const std::size_t np = previous_.size(), nn = fresh_.size(), nd = dropped_.size();
     const std::size_t s0 = out.silhouette_edges.size();
     out.silhouette_edges.resize(s0 + np - nd + nn);
     std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
@@ -777,13 +795,13 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         }
         for (; j < nn; ++j) sil[k++] = add[j];
     } else {
+        const std::uint8_t* kind = out.edge_kind.data();
         for (std::size_t i = 0; i < np; ++i)
             if (kind[prev[i]] == kSil) sil[k++] = prev[i];
         for (std::uint32_t e : fresh_) sil[k++] = e;
     }
     assert(k == np - nd + nn);
     out.stats.edges_examined += np - nd - rechecked;  // the previous edges kept without a look
-    for (std::uint32_t f : turned_) turned[f >> 6] = 0;
 }
 
 // Edge ids: an LSD radix sort, 11 bits a pass over the bits of the largest edge id (two
