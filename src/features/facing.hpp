@@ -42,8 +42,9 @@ struct FacingFilter {
 // the range of their float planes, so that a view can decide a whole block at once where every
 // face of it has the same filter state (the exact answer), and skip reading its planes and its
 // edges. Built once per mesh, by the searches that use it (about 1 byte per face: 32 bytes of
-// ranges, 4 of edge offset and the neighbour block list, per block of 64 faces). (Offsets taken
-// from a centre per block were tried: 4 % fewer planes read on armadillo@2, not worth 16 bytes.)
+// ranges, 4 of edge offset and the neighbour block list, per block of 64 faces). Ranges of the
+// planes themselves, not of offsets from a centre per block: those skip too few more planes to
+// pay for their bytes (bench/results/finder.md).
 class FaceBlocks {
 public:
     static constexpr std::uint32_t kFaces = 64;
@@ -107,7 +108,7 @@ private:
 // windows of 128 faces, [base, base + 128) (0..127) and [base2, base2 + 128) (128..255, base2
 // chosen per block to hold most of the other neighbours); a corner that does not number its
 // edge, or whose edge is a border, indexes its own face (never a candidate). The neighbours in
-// neither window (about 4 % of the edges on armadillo@2) are listed as escapes (face,
+// neither window (a few percent of the edges: bench/results/finder.md) are listed as escapes (face,
 // neighbour, corner). A bit per corner says which corners number an edge, so a candidate's
 // edge id is the block's first edge plus the owned corners before it. About 3.5 bytes per face
 // (192 + 24 + 12 bytes per block of 64 faces, 9 bytes per escape).

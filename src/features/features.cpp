@@ -369,8 +369,9 @@ void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
     // all have one state (FaceBlocks::edges_uniform) are not read: none is a candidate. The
     // other edges are scanned in runs, in edge order (the same candidates).
     // From the second view, where the CPU has the kernel: the gather-free layout (BlockEdges),
-    // block by block (it skips the blocks whose windows hold one state itself; skipping by the
-    // block states as below measured no faster); its candidates of decided faces are silhouettes.
+    // block by block (it skips the blocks whose windows hold one state itself, as fast as
+    // skipping by the block states: bench/results/finder.md); its candidates of decided faces
+    // are silhouettes.
     if (block_edges && opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
         block_edges_tried_ = true;
         block_edges_.build(mesh);
@@ -552,8 +553,8 @@ double distance3(const double a[3], const double b[3]) {
 
 // Per 64 faces (and one past the last), the first edge whose first face is one of them, where the
 // mesh numbers its edges in the order of their first face (topology.cpp); else {0}. (The same
-// ranges as FaceBlocks::build_edges, which also lists each block's neighbours: 5 ms on
-// armadillo@2, against about 1 ms for these alone.)
+// ranges as FaceBlocks::build_edges, built alone because that also lists each block's
+// neighbours, several times the cost: bench/results/finder.md.)
 std::vector<std::uint32_t> first_edges_by_64_faces(const MeshTopology& mesh) {
     const std::size_t ne = mesh.edge_count();
     for (std::size_t e = 1; e < ne; ++e)

@@ -297,7 +297,7 @@ private:
     // Views found so far, and the one whose facing front_bits_ hold (the last that ran follow()):
     // a kept band needs the previous view's bits, else it is rebuilt.
     std::uint64_t views_ = 0, bits_view_ = 0;
-    double auto_steps_ = 4.0;  // the first band: 4 steps (8 read 2x more planes for the first rebuild)
+    double auto_steps_ = 4.0;  // the first band: narrow, so that its rebuild stays cheap (bench/results/finder.md)
 };
 
 }  // namespace inkline
