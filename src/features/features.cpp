@@ -86,18 +86,22 @@ bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint3
     return false;
 }
 
-// Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
-// A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
-// two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
-// pass over the feature edges (counts, kinds, and the xor of its feature edges, which at a vertex
-// of degree two gives the other edge), so no vertex ring is scanned. That pass numbers the
-// feature edges (in list order) and their vertices (in order of first use) locally; the cusps and
-// the chaining then read only those compact arrays (the mesh's per-vertex and per-edge arrays are
-// read once per edge: this stage is bound by the latency of scattered reads). Before the chains
-// are walked, each feature edge gets, in one pass whose reads are independent of each other, the
-// edge that follows it through each of its vertices: a step of a chain (a chain of dependent
-// reads) then reads one record instead of an edge and then its vertex.
-void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options, Features& out) {
+// The view's feature edges numbered locally, as the three lists in a row (silhouettes, borders,
+// creases), and their vertices in order of first use (Features::chain_vertices, chain_links).
+struct FeatureNumbering {
+    std::uint32_t edges = 0;                // feature edges: [0, list_end[0]) silhouettes, then borders, creases
+    std::uint32_t vertices = 0;             // vertices numbered
+    std::uint32_t silhouette_vertices = 0;  // the first ones: the vertices of silhouette edges
+    std::size_t list_end[3] = {0, 0, 0};
+    std::uint8_t kind_of(std::uint32_t i) const { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; }
+};
+
+constexpr std::uint32_t kBreak = UINT32_MAX;  // ChainLink::next where the vertex breaks chains
+
+// The one pass over the feature edges that gathers what each vertex needs: counts, kinds, and
+// the xor of its feature edges (at a vertex of degree two: the other edge). The mesh's per-vertex
+// and per-edge arrays are read once per edge here; everything after reads the compact arrays.
+FeatureNumbering number_feature_edges(const MeshTopology& mesh, Features& out) {
     const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
     const std::uint8_t list_kind[3] = {kSil, kBorder, kCrease};
     const std::size_t n = out.silhouette_edges.size() + out.border_edges.size() + out.crease_edges.size();
@@ -109,58 +113,66 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
     if (verts.size() < 2 * n + 1) verts.resize(2 * n + 1);
     std::uint32_t nv = 0;  // vertices numbered so far
     links.resize(n);
-    std::size_t list_end[3];
-    std::uint32_t silhouette_vertices = 0;  // the vertices of silhouette edges: numbered first
-    {
-        std::uint32_t i = 0;
-        for (int l = 0; l < 3; ++l) {
-            const std::uint8_t kind = list_kind[l];
-            const std::uint32_t* list = lists[l]->data();
-            const std::size_t m = lists[l]->size();
-            for (std::size_t j = 0; j < m; ++j) {
-                // The edges are scattered over the mesh: their vertices and flags are fetched 32
-                // edges ahead and those vertices' local numbers 16 ahead, so that the misses overlap.
-                if (j + 32 < m) {
-                    __builtin_prefetch(&mesh.edge_vertex[list[j + 32]]);
-                    __builtin_prefetch(&mesh.edge_flags[list[j + 32]]);
-                }
-                if (j + 16 < m) {
-                    const auto& ahead = mesh.edge_vertex[list[j + 16]];
-                    __builtin_prefetch(&local[ahead[0]], 1);
-                    __builtin_prefetch(&local[ahead[1]], 1);
-                }
-                const std::uint32_t e = list[j];
-                const bool front = kind == kSil && mesh.is_convex(e);
-                Features::ChainLink& link = links[i];
-                link.edge = e;
-                link.used = 0;
-                for (int k = 0; k < 2; ++k) {
-                    const std::uint32_t v = mesh.edge_vertex[e][k];
-                    // First use without a branch (it would be mispredicted about half the
-                    // time): the next slot is always written, and kept only for a new vertex.
-                    const std::uint32_t old = local[v];
-                    const bool fresh = old == UINT32_MAX;
-                    const std::uint32_t lv = fresh ? nv : old;
-                    local[v] = lv;
-                    verts[nv] = {v, 0, 0, 0, 0, 0, 0};
-                    nv += fresh;
-                    Features::ChainVertex& s = verts[lv];
-                    link.end[k] = lv;
-                    s.edge_xor ^= i;
-                    if (s.degree < 255) ++s.degree;
-                    if (kind == kSil && s.silhouettes < 255) ++s.silhouettes;
-                    if (front && s.front < 255) ++s.front;
-                    s.kinds |= std::uint8_t(1u << kind);
-                }
-                ++i;
+    FeatureNumbering num;
+    std::uint32_t i = 0;
+    for (int l = 0; l < 3; ++l) {
+        const std::uint8_t kind = list_kind[l];
+        const std::uint32_t* list = lists[l]->data();
+        const std::size_t m = lists[l]->size();
+        for (std::size_t j = 0; j < m; ++j) {
+            // The edges are scattered over the mesh: their vertices and flags are fetched 32
+            // edges ahead and those vertices' local numbers 16 ahead, so that the misses overlap.
+            if (j + 32 < m) {
+                __builtin_prefetch(&mesh.edge_vertex[list[j + 32]]);
+                __builtin_prefetch(&mesh.edge_flags[list[j + 32]]);
             }
-            list_end[l] = i;
-            if (l == 0) silhouette_vertices = nv;
+            if (j + 16 < m) {
+                const auto& ahead = mesh.edge_vertex[list[j + 16]];
+                __builtin_prefetch(&local[ahead[0]], 1);
+                __builtin_prefetch(&local[ahead[1]], 1);
+            }
+            const std::uint32_t e = list[j];
+            const bool front = kind == kSil && mesh.is_convex(e);
+            Features::ChainLink& link = links[i];
+            link.edge = e;
+            link.used = 0;
+            for (int k = 0; k < 2; ++k) {
+                const std::uint32_t v = mesh.edge_vertex[e][k];
+                // First use without a branch (it would be mispredicted about half the
+                // time): the next slot is always written, and kept only for a new vertex.
+                const std::uint32_t old = local[v];
+                const bool fresh = old == UINT32_MAX;
+                const std::uint32_t lv = fresh ? nv : old;
+                local[v] = lv;
+                verts[nv] = {v, 0, 0, 0, 0, 0, 0};
+                nv += fresh;
+                Features::ChainVertex& s = verts[lv];
+                link.end[k] = lv;
+                s.edge_xor ^= i;
+                if (s.degree < 255) ++s.degree;
+                if (kind == kSil && s.silhouettes < 255) ++s.silhouettes;
+                if (front && s.front < 255) ++s.front;
+                s.kinds |= std::uint8_t(1u << kind);
+            }
+            ++i;
         }
+        num.list_end[l] = i;
+        if (l == 0) num.silhouette_vertices = nv;
     }
-    // The vertices of silhouette edges are those numbered while the silhouette edges were (the
-    // first list), in the order the edges first use them: the cusps are listed in that order.
-    for (std::uint32_t lv = 0; lv < silhouette_vertices; ++lv) {
+    num.edges = i;
+    num.vertices = nv;
+    return num;
+}
+
+// Cusps (Definition 3) at the vertices of silhouette edges, listed in the order the edges first
+// use them. A border that turns on at a vertex (its only feature edges two borders) may change
+// QI there too, where the faces around the vertex fold over in the image (a ruffled or folded
+// border; Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain
+// (marked as a cusp is, not listed), so that the visibility stage measures the local occlusion
+// of each side there. (A break where none is needed only adds a curve end.)
+void mark_cusps(const MeshTopology& mesh, const Camera& camera, const FeatureNumbering& num, Features& out) {
+    auto& verts = out.chain_vertices;
+    for (std::uint32_t lv = 0; lv < num.silhouette_vertices; ++lv) {
         Features::ChainVertex& s = verts[lv];
         CuspCase c = CuspCase::None;
         if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
@@ -172,35 +184,40 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
             out.cusp_cases.push_back(c);
         }
     }
-
-    // A border that turns on at a vertex (its only feature edges two borders) may change QI there
-    // too, where the faces around the vertex fold over in the image (a ruffled or folded border;
-    // Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain (marked
-    // as a cusp is, not listed), so that the visibility stage measures the local occlusion of
-    // each side there. (A break where none is needed only adds a curve end.)
-    for (std::uint32_t lv = silhouette_vertices; lv < nv; ++lv) {
+    for (std::uint32_t lv = num.silhouette_vertices; lv < num.vertices; ++lv) {
         Features::ChainVertex& s = verts[lv];
         if (s.degree == 2 && s.kinds == (1u << kBorder) && border_fan_folds(mesh, camera, s.id)) s.cusp = 1;
     }
+}
 
+// Each feature edge gets, in one pass whose reads are independent of each other, the edge that
+// follows it through each of its vertices (kBreak where the vertex breaks chains: not two
+// feature edges, two of different kinds, or a cusp): a step of a chain (a chain of dependent
+// reads) then reads one record instead of an edge and then its vertex.
+void link_chains(const FeatureNumbering& num, Features& out) {
+    const auto& verts = out.chain_vertices;
     auto is_break = [&](const Features::ChainVertex& s) {
         return s.cusp || s.degree != 2 || (s.kinds & (s.kinds - 1)) != 0;
     };
-    constexpr std::uint32_t kBreak = UINT32_MAX;
-    for (std::uint32_t i = 0; i < n; ++i) {
-        Features::ChainLink& link = links[i];
+    for (std::uint32_t i = 0; i < num.edges; ++i) {
+        Features::ChainLink& link = out.chain_links[i];
         for (int k = 0; k < 2; ++k) {
             const Features::ChainVertex& s = verts[link.end[k]];
             link.next[k] = is_break(s) ? kBreak : s.edge_xor ^ i;  // the other of its two feature edges
             link.id[k] = s.id;
         }
     }
-    auto kind_of = [&](std::uint32_t i) { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; };
+}
+
+// The curves of the requested kinds: chains from every break, then the closed loops left.
+void walk_chains(const FeatureNumbering& num, const FeatureOptions& options, Features& out) {
+    const auto& verts = out.chain_vertices;
+    auto& links = out.chain_links;
     auto& curves = out.curves;  // (its arrays keep their storage from view to view)
     curves.clear();
     // A chain from the local vertex start_v along feature edge start_i.
     auto walk = [&](std::uint32_t start_v, std::uint32_t start_i) {
-        curves.start(LineKind(kind_of(start_i)), verts[start_v].id);
+        curves.start(LineKind(num.kind_of(start_i)), verts[start_v].id);
         std::uint32_t i = start_i;
         int out_end = links[i].end[0] == start_v ? 1 : 0;  // the end of edge i the chain leaves by
         while (true) {
@@ -218,16 +235,22 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
             out_end = links[i].end[0] == v ? 1 : 0;
         }
     };
+    const std::uint32_t n = num.edges;
     for (std::uint32_t i = 0; i < n; ++i) {
-        if (links[i].used || !options.wants(LineKind(kind_of(i)))) continue;
+        if (links[i].used || !options.wants(LineKind(num.kind_of(i)))) continue;
         for (int k = 0; k < 2; ++k)
             if (!links[i].used && links[i].next[k] == kBreak) walk(links[i].end[k], i);
     }
     for (std::uint32_t i = 0; i < n; ++i)  // what is left are closed loops without a break
-        if (!links[i].used && options.wants(LineKind(kind_of(i)))) walk(links[i].end[0], i);
+        if (!links[i].used && options.wants(LineKind(num.kind_of(i)))) walk(links[i].end[0], i);
     curves.finish();
+}
 
-    // Leave the per-vertex arrays as they were before the view (the finder's marks cleared).
+// Leaves the per-vertex arrays as they were before the view (the finder's marks cleared).
+void clear_vertex_marks(const FeatureNumbering& num, Features& out) {
+    auto& local = out.vertex_local;
+    const auto& verts = out.chain_vertices;
+    const std::uint32_t nv = num.vertices;
     for (std::uint32_t k = 0; k < nv; ++k) {
         if (k + 16 < nv) {
             __builtin_prefetch(&local[verts[k + 16].id], 1);
@@ -237,6 +260,19 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
         local[s.id] = UINT32_MAX;
         out.vertex_scratch[s.id] = {};
     }
+}
+
+// Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
+// A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
+// two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
+// pass over the feature edges, so no vertex ring is scanned; the cusps and the chaining then read
+// only compact local arrays (this stage is bound by the latency of scattered reads).
+void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options, Features& out) {
+    const FeatureNumbering num = number_feature_edges(mesh, out);
+    mark_cusps(mesh, camera, num, out);
+    link_chains(num, out);
+    walk_chains(num, options, out);
+    clear_vertex_marks(num, out);
 }
 
 }  // namespace
