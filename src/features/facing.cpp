@@ -327,12 +327,13 @@ std::size_t FacingBand::select(const MeshTopology& mesh, const FacingFilter& fil
     // bits, each with room made for all its faces and a vector group more.
     auto run = [&](std::uint32_t f0, std::uint32_t f1) {
         constexpr std::uint32_t kChunk = 4096;
-        for (std::uint32_t a = f0; a < f1; a = f1 - a > kChunk ? a + kChunk : f1) {
+        for (std::uint32_t a = f0; a < f1;) {
             const std::uint32_t b = f1 - a > kChunk ? a + kChunk : f1;
             room(rows_n + (b - a) + 8);
             BandRowsOut rows{ids_.data(), nx_.data(), ny_.data(), nz_.data(), d_.data(), rows_n};
             kernels.band_rows(mesh.facing.data(), a, b, filter, limit, rows, front);
             rows_n = rows.n;
+            a = b;
         }
     };
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
