@@ -344,8 +344,8 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, Ring& ring, 
     const double* const blocks = ring.data.data();
     const std::uint32_t* const ring_face = ring.face.data();
     // Faces [c, c + 64) at a time: bit j - c of `hidden` (decided, hiding), `undecided`.
-    // The edge's own faces (f0, f1: W is a corner A or B of theirs) are never decided, exactly as
-    // before: for them w = W - V is bitwise the same rounded difference as a (or b), so the exact
+    // The edge's own faces (f0, f1: W is a corner A or B of theirs) are never decided (so they
+    // never count): for them w = W - V is bitwise the same rounded difference as a (or b), so the exact
     // determinants det[w, a, b] and det[a, w, E - V] (or det[b, w, E - V]) of these rounded
     // values are 0, and a filter's bound is at least the error of its float value: |dn| > bn and
     // |da| > ba (or |db| > bb) fail. They are skipped where the undecided faces are.

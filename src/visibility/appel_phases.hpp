@@ -126,8 +126,8 @@ struct AppelPropagation {
     // even number of layers lie in front of it. Where the surface passes through itself, a part
     // of it lies inside another, and there the count is odd: not only on the pierced faces (whose
     // pieces take no part in propagation) but on every face inside the other part. So a mesh with
-    // pierced faces gets no parity (steps of 1 below; bench/results/visibility.md has the pieces
-    // it gave wrong). Flags passed all clear keep the rule.
+    // pierced faces gets no parity (steps of 1 in every raise; the pieces it gave wrong:
+    // bench/results/visibility.md). Flags passed all clear keep the rule.
     void apply_parity();
     // The occluder piece of each crossing that changes QI (the piece nearest to the crossing's
     // parameter on the occluder's edge: it lies in it, up to rounding; among equally near ones,
@@ -158,7 +158,8 @@ struct AppelPropagation {
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible
     // fixes the cluster; proved hidden raises its bound. The walks are independent: made first
     // (on two threads from 8 walks on, each thread taking the next walk not yet taken: walks
-    // differ in cost by orders of magnitude), then applied in cluster order.
+    // differ in cost by orders of magnitude, so halves of the list would leave one thread
+    // waiting; bench/results/visibility.md, eighteenth session), then applied in cluster order.
     void walk();
     // What is still unknown: a ray test at the longest piece of the cluster (the first of
     // equals); totally occluded clusters only when hidden lines are drawn exactly.
