@@ -411,8 +411,9 @@ struct PathFrame {
 // layer over u. The path is axis-parallel, so whether a projected vertex lies above or below it is
 // an exact comparison; where the path meets an edge, before or after u, is an exact orientation.
 // Degenerate paths (through a vertex, u on an edge) fail: the caller then makes a ray test.
-// (One walk along the path in direction Dir; its parts are inlined into walk_to, whose inner loop
-// is walk_faces: they are split for reading, not for the compiler.)
+// (One walk along the path in direction Dir. cross_path and follow_branch are inlined into
+// walk_to; walk_faces, the inner loop, is kept out of line: inlined too, it made the compiler
+// stop inlining the vertex images' lookup in the loop, which then cost more instructions.)
 template <int Dir>
 struct PathWalk {
     const MeshTopology& mesh;
@@ -432,6 +433,7 @@ struct PathWalk {
     // The occluders crossing the path before u (other than U's own edge), into `crossed`;
     // Failed where one touches the path's line degenerately.
     [[gnu::always_inline]] inline Walk cross_path(const PieceGraph& g, const Segment2& path, std::vector<Crossed>& crossed) const {
+        const glm::dvec2 ut = this->ut;  // (a local: crossed's stores could otherwise be the field)
         Walk result = Walk::Visible;
         g.occluder_grid().candidates(path, [&](std::uint32_t k) {
             if (result != Walk::Visible) return;
@@ -465,6 +467,7 @@ struct PathWalk {
         const auto& fv = mesh.faces[f];
         const auto& fe = mesh.face_edges[f].edge;
         const int i_in = fe[0] == edge ? 0 : fe[1] == edge ? 1 : 2;
+        const glm::dvec2 ut = this->ut;
         const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
         if (st == 0) return Walk::Failed;
         if (st != -1) return Walk::Visible;  // (on the other side of the occluder)
@@ -492,8 +495,18 @@ struct PathWalk {
     // as good as random): each choice below is a select of values that are all computed, and
     // every test is the same exact predicate as a plain evaluation would make (see the comments),
     // so the walk takes the same faces and gives the same result.
-    [[gnu::always_inline]] inline Walk walk_faces(std::uint32_t face, int entry, std::uint32_t va, glm::dvec2 pa, glm::dvec2 pb,
+    [[gnu::noinline]] Walk walk_faces(std::uint32_t face, int entry, std::uint32_t va, glm::dvec2 pa, glm::dvec2 pb,
                                                  bool front, bool straddles) const {
+        // (The fields as locals: the step's stores (a vertex image made on first use by proj, a
+        // facing decided on first read) could otherwise be this walk's fields for the compiler,
+        // which would read them again at every step.)
+        const glm::dvec2 ut = this->ut;
+        const MeshTopology& mesh = this->mesh;
+        const Camera& camera = this->camera;
+        const FaceFacing& face_front = this->face_front;
+        const VertexImages& proj = this->proj;
+        const glm::dvec3& P = this->P;
+        const std::uint32_t own_edge = this->own_edge;
         const int want = front ? -T.det() : T.det();
         const auto& own_faces = mesh.edge_face[own_edge];
         static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
