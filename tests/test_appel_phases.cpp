@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include <glm/geometric.hpp>
