@@ -7,11 +7,13 @@
 
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
+#include "curvature/curvature.hpp"
 #include "features/features.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
 #include "visibility/ray_caster.hpp"
 #include "visibility/appel.hpp"
+#include "visibility/surface_visibility.hpp"
 #include "visibility/visibility.hpp"
 
 namespace inkline {
@@ -65,12 +67,20 @@ struct ViewOptions {
     // Threads for the visibility stage's crossing search and pieces (large views only; the same
     // pieces as with one).
     int threads = 1;
+    // Lines across faces from the mesh's curvature (suggestive contours, smooth contours, ridges,
+    // valleys); none by default: the curvature is then never computed.
+    SurfaceLineOptions surface;
+    bool wants_surface_lines() const {
+        return surface.suggestive || surface.smooth_contour || surface.ridge || surface.valley;
+    }
 };
 
 struct View {
     Features features;
+    SurfaceCurves surface;                     // curves across faces (ViewOptions::surface), 3D
     Drawing drawing;                           // pieces with QI, in pixels, and statistics
     std::vector<std::vector<EdgeSpan>> spans;  // where each piece of the drawing lies on the mesh
+                                               // (empty for pieces of surface curves)
 };
 
 // Features -> visibility for one camera. The camera's near plane, when unset (0), is
@@ -100,7 +110,13 @@ private:
     ViewOptions options_;
     SilhouetteFinder finder_;
     View view_;
+    // Appends the surface lines' pieces to the view's drawing; returns the seconds spent on the
+    // curvature and the extraction (the rest was their visibility).
+    double add_surface_lines(const Camera& camera, const std::function<const RayCaster&()>& rays,
+                             const std::vector<std::uint8_t>* pierced);
     PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
+    ViewCurvature view_curvature_;           // surface lines: per-vertex quantities of the view
+    SurfaceVisibilityScratch surface_scratch_;
     double features_seconds_ = 0.0;
 };
 

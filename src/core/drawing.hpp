@@ -56,6 +56,12 @@ struct DrawingStats {
     // ends, constraints, bounds); the walks; the ray tests. They sum to seconds_visibility,
     // but for its few clock reads.
     double seconds_pieces = 0.0, seconds_propagation = 0.0, seconds_walks = 0.0, seconds_ray_tests = 0.0;
+    // Surface lines (suggestive contours, smooth contours, ridges, valleys), when asked for: their
+    // curves, the vertices whose curvature could not be estimated (they draw none), the
+    // crossings and ray tests of their visibility (included in the totals above), the per-view
+    // curvature and extraction time, and their visibility's time (included in seconds_visibility).
+    std::size_t surface_curves = 0, curvature_invalid_vertices = 0, crossings_surface = 0, surface_ray_tests = 0;
+    double seconds_surface_lines = 0.0, seconds_surface_visibility = 0.0;
     double seconds_output = 0.0;
     double seconds_total = 0.0;
 };

@@ -46,8 +46,18 @@ constexpr std::array<LineStyle, 4> kStyles{{
     {"hidden-qi3plus", 0xcccccc, 1, 4, 0.4},  // QI >= 3
 }};
 
-// Freeform strokes are hatching: drawn thinner than the feature lines around them.
-double kind_width(LineKind k) { return k == LineKind::Freeform ? 0.5 : 1.0; }
+// Freeform strokes are hatching: drawn thinner than the feature lines around them; lines from
+// curvature (suggestive contours, ridges, valleys) suggest shape inside the outline, so they are
+// drawn lighter than the outline itself.
+double kind_width(LineKind k) {
+    switch (k) {
+        case LineKind::Freeform: return 0.5;
+        case LineKind::Suggestive:
+        case LineKind::Ridge:
+        case LineKind::Valley: return 0.7;
+        default: return 1.0;
+    }
+}
 
 double line_width(const Drawing& d, const OutputOptions& o) {
     return o.line_width > 0 ? o.line_width : std::max(1.0, 1.5 * d.camera.height() / 1024.0);
@@ -310,6 +320,12 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
+    if (s.surface_curves > 0 || s.seconds_surface_lines > 0.0) {
+        stats["surface_curves"] = s.surface_curves;
+        stats["curvature_invalid_vertices"] = s.curvature_invalid_vertices;
+        stats["seconds"]["surface_lines"] = s.seconds_surface_lines;
+        stats["seconds"]["visibility_stages"]["surface_lines"] = s.seconds_surface_visibility;
+    }
     json polylines = json::array();
     for (const Piece& p : d.pieces) {
         if (!is_written(p, o)) continue;
