@@ -8,6 +8,10 @@ const char* to_string(LineKind k) {
         case LineKind::Border: return "border";
         case LineKind::Crease: return "crease";
         case LineKind::Freeform: return "freeform";
+        case LineKind::Suggestive: return "suggestive";
+        case LineKind::SmoothContour: return "smooth-contour";
+        case LineKind::Ridge: return "ridge";
+        case LineKind::Valley: return "valley";
     }
     return "unknown";
 }

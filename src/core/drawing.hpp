@@ -14,9 +14,14 @@
 namespace inkline {
 
 // Freeform: line-art strokes on freeform surfaces (src/freeform/), not a feature of the mesh.
-enum class LineKind : std::uint8_t { Silhouette = 0, Border = 1, Crease = 2, Freeform = 3 };
+// Suggestive .. Valley: curves across faces from the mesh's curvature (src/curvature/), not along
+// mesh edges.
+enum class LineKind : std::uint8_t {
+    Silhouette = 0, Border = 1, Crease = 2, Freeform = 3,
+    Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7
+};
 inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
-inline constexpr int kPieceKindCount = 4;  // every kind a Drawing can hold (writers draw these)
+inline constexpr int kPieceKindCount = 8;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
 // Parses "silhouette", "border", "crease" (the feature kinds); returns false for anything else.
 bool parse_line_kind(const std::string& s, LineKind& out);

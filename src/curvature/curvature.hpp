@@ -63,9 +63,10 @@ struct SurfaceCurves {
     };
     std::vector<Curve> curves;
     std::vector<glm::dvec3> points;           // world positions
-    std::vector<std::uint32_t> point_edge;    // the mesh edge each point lies on
+    std::vector<std::uint32_t> point_edge;    // the mesh edge each point lies on (UINT32_MAX: a
+                                              // point inside a face, where a test cut the curve)
     std::vector<std::uint32_t> segment_face;  // face of the segment from point i to i+1
-                                              // (parallel to points; unused at a curve's last point)
+                                              // (parallel to points; UINT32_MAX at a curve's last point)
     std::vector<float> strength;              // per point in [0, 1]: how far the line passes its
                                               // test (1: well above the threshold), for fading
     void clear();

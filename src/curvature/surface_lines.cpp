@@ -1,0 +1,427 @@
+// Curves across faces: suggestive contours, smooth contours, ridges and valleys (curvature.hpp).
+//
+// Each kind is found face by face, as in Rusinkiewicz's rtsc (the reference our suggestive contours
+// are compared with): a face with a zero of the kind's scalar on two of its edges gets a segment
+// between them. A point on an edge is computed from that edge's two vertex values only, in the
+// edge's stored vertex order, so both faces of the edge produce the bit-identical point; the
+// segments are then chained through those shared points into curves.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "curvature/curvature.hpp"
+
+namespace inkline {
+
+void SurfaceCurves::clear() {
+    curves.clear();
+    points.clear();
+    point_edge.clear();
+    segment_face.clear();
+    strength.clear();
+}
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+// The graph of one kind's segments: nodes are points on mesh edges (at most one per edge: a
+// linear function has one zero on an edge) or points inside a face (ends cut by a test, the centre
+// of a face whose three edges hold a ridge); chaining walks it.
+class CurveGraph {
+public:
+    struct Node {
+        glm::dvec3 pos;
+        float strength;
+        std::uint32_t edge;  // kNone: inside a face
+        std::array<std::uint32_t, 3> seg;
+        std::uint8_t degree;
+        std::array<float, 3> test;  // the suggestive tests' values here (numerator, n.v, angle)
+    };
+
+    void begin(std::size_t edge_count) {
+        if (edge_stamp_.size() != edge_count || ++stamp_ == 0) {
+            edge_stamp_.assign(edge_count, 0);
+            edge_node_.resize(edge_count);
+            stamp_ = 1;
+        }
+        nodes_.clear();
+        segs_.clear();
+    }
+    // The node on edge e, or kNone when none was made this pass.
+    std::uint32_t edge_node(std::uint32_t e) const { return edge_stamp_[e] == stamp_ ? edge_node_[e] : kNone; }
+    std::uint32_t add_node(const glm::dvec3& pos, float strength, std::uint32_t edge,
+                           std::array<float, 3> test = {}) {
+        nodes_.push_back({pos, strength, edge, {kNone, kNone, kNone}, 0, test});
+        const auto id = std::uint32_t(nodes_.size() - 1);
+        if (edge != kNone) {
+            edge_stamp_[edge] = stamp_;
+            edge_node_[edge] = id;
+        }
+        return id;
+    }
+    Node& node(std::uint32_t id) { return nodes_[id]; }
+    void add_segment(std::uint32_t a, std::uint32_t b, std::uint32_t face) {
+        const auto s = std::uint32_t(segs_.size());
+        segs_.push_back({{a, b}, face});
+        attach(a, s);
+        attach(b, s);
+    }
+    // Appends the curves of this pass to `out`, of kind `kind`.
+    void chain(LineKind kind, SurfaceCurves& out);
+
+private:
+    struct Segment {
+        std::array<std::uint32_t, 2> node;
+        std::uint32_t face;
+    };
+    // A node joined to more than three segments (impossible on a manifold, kept safe) ends the
+    // curves there: the extra segment is not listed at it, so a walk stops on arriving.
+    void attach(std::uint32_t n, std::uint32_t s) {
+        Node& nd = nodes_[n];
+        if (nd.degree < 3) nd.seg[nd.degree] = s;
+        nd.degree = std::uint8_t(std::min(nd.degree + 1, 255));
+    }
+    void walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out);
+    void emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_begin, SurfaceCurves& out) const;
+
+    std::vector<std::uint32_t> edge_stamp_, edge_node_;
+    std::uint32_t stamp_ = 0;
+    std::vector<Node> nodes_;
+    std::vector<Segment> segs_;
+    std::vector<std::uint8_t> used_;
+};
+
+// Appends node n's point; a point equal to the previous one (a zero exactly at a vertex gives
+// zero-length segments) is merged into it, so no curve has a zero-length segment.
+void CurveGraph::emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_begin, SurfaceCurves& out) const {
+    const Node& nd = nodes_[n];
+    if (out.points.size() > curve_begin && out.points.back() == nd.pos) {
+        if (face != kNone) out.segment_face.back() = face;
+        return;
+    }
+    out.points.push_back(nd.pos);
+    out.point_edge.push_back(nd.edge);
+    out.segment_face.push_back(face);
+    out.strength.push_back(nd.strength);
+}
+
+void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out) {
+    const auto begin = std::uint32_t(out.points.size());
+    bool closed = false;
+    std::uint32_t cur = start;
+    for (;;) {
+        emit(cur, segs_[s].face, begin, out);
+        used_[s] = 1;
+        const std::uint32_t next = segs_[s].node[0] == cur ? segs_[s].node[1] : segs_[s].node[0];
+        const Node& nd = nodes_[next];
+        if (nd.degree != 2) {
+            emit(next, kNone, begin, out);
+            break;
+        }
+        const std::uint32_t s2 = nd.seg[0] == s ? nd.seg[1] : nd.seg[0];
+        if (used_[s2]) {
+            emit(next, kNone, begin, out);
+            closed = next == start;
+            break;
+        }
+        cur = next;
+        s = s2;
+    }
+    const auto end = std::uint32_t(out.points.size());
+    // Fewer than two distinct points (or a loop through two) draws nothing.
+    if (end - begin < 2 || (closed && end - begin < 4)) {
+        out.points.resize(begin);
+        out.point_edge.resize(begin);
+        out.segment_face.resize(begin);
+        out.strength.resize(begin);
+        return;
+    }
+    out.segment_face.back() = kNone;
+    out.curves.push_back({kind, begin, end, closed});
+}
+
+void CurveGraph::chain(LineKind kind, SurfaceCurves& out) {
+    used_.assign(segs_.size(), 0);
+    // Open curves first, from every end or junction; what is left are loops.
+    for (std::uint32_t n = 0; n < nodes_.size(); ++n) {
+        if (nodes_[n].degree == 2 || nodes_[n].degree == 0) continue;
+        const int listed = std::min<int>(nodes_[n].degree, 3);
+        for (int k = 0; k < listed; ++k)
+            if (!used_[nodes_[n].seg[k]]) walk(n, nodes_[n].seg[k], kind, out);
+    }
+    for (std::uint32_t s = 0; s < segs_.size(); ++s)
+        if (!used_[s]) walk(segs_[s].node[0], s, kind, out);
+}
+
+thread_local CurveGraph t_graph;
+
+// A vertex whose values can be trusted: estimated, and nothing non-finite in this view.
+bool usable(const CurvatureField& field, const ViewCurvature& view, std::uint32_t v) {
+    return field.valid[v] && std::isfinite(view.kr[v]) && std::isfinite(view.ndotv[v]) && std::isfinite(view.dwkr[v]);
+}
+
+bool face_usable(const CurvatureField& field, const ViewCurvature& view, const std::array<std::uint32_t, 3>& f) {
+    return usable(field, view, f[0]) && usable(field, view, f[1]) && usable(field, view, f[2]);
+}
+
+// Sign used for zero sets: 0 counts as positive, so a zero exactly at a vertex puts the point on
+// that vertex, the same from every face around it.
+inline bool negative(float x) { return x < 0.0f; }
+
+// Zero of the linear function with values fa, fb (opposite signs) at 0 and 1.
+inline float zero_of(float fa, float fb) { return fa / (fa - fb); }
+
+inline glm::dvec3 along(const glm::dvec3& a, const glm::dvec3& b, float t) { return a + double(t) * (b - a); }
+
+// ---- Suggestive contours ------------------------------------------------------------------------
+
+// The suggestive contours' tests, as in rtsc: numerator D_w kr - T n.v and denominator n.v; a
+// point passes where they have the same sign, i.e. D_w kr / n.v > T with
+// T = threshold / feature_size^2. That one ratio is both tests of DeCarlo et al. 2004: D_w kr
+// above a threshold (the contour's side test, Dw kr > 0, and no weak inflections from noise) and
+// the angle test, since D_w kr carries sin(theta) and the ratio tan(theta): nearly head-on views
+// (theta -> 0), where the zero set of kr is unstable, fail it. The optional third value is the
+// cap on n.v (suggestive_max_ndotv; >= 0 passes).
+struct SuggestiveTest {
+    float threshold, fade, max_ndotv;
+    std::array<float, 3> at_vertex(const ViewCurvature& view, std::uint32_t v) const {
+        return {view.dwkr[v] - threshold * view.ndotv[v], view.ndotv[v], max_ndotv - view.ndotv[v]};
+    }
+    static bool passes(const std::array<float, 3>& t) { return (t[0] >= 0.0f) == (t[1] >= 0.0f) && t[2] >= 0.0f; }
+    // rtsc's fade: r / (fade + r) with r = num / den, 0 where the test fails, up to 1 far above.
+    float strength(const std::array<float, 3>& t) const {
+        if (!passes(t)) return 0.0f;
+        if (t[1] == 0.0f) return 1.0f;
+        const float r = t[0] / t[1];
+        const float s = r / (fade + r);
+        return s >= 0.0f && s <= 1.0f ? s : (s > 1.0f ? 1.0f : 0.0f);
+    }
+};
+
+inline std::array<float, 3> lerp3(const std::array<float, 3>& a, const std::array<float, 3>& b, float t) {
+    return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
+}
+
+// The node where kr vanishes on edge e (made once per edge, from its two vertices in stored order).
+std::uint32_t suggestive_node(const MeshTopology& mesh, const ViewCurvature& view, const SuggestiveTest& test,
+                              std::uint32_t e, CurveGraph& g) {
+    std::uint32_t id = g.edge_node(e);
+    if (id != kNone) return id;
+    const auto [a, b] = mesh.edge_vertex[e];
+    const float t = zero_of(view.kr[a], view.kr[b]);
+    const auto values = lerp3(test.at_vertex(view, a), test.at_vertex(view, b), t);
+    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), test.strength(values), e, values);
+}
+
+// Adds the parts of segment p -> q (inside face f) where the test passes: the tests' values are
+// linear along the segment, so it is cut at their zeros, as rtsc does.
+void add_tested_segment(std::uint32_t p, std::uint32_t q, std::uint32_t f, const SuggestiveTest& test, CurveGraph& g) {
+    const auto tp = g.node(p).test, tq = g.node(q).test;
+    float cut[5] = {0.0f};
+    int cuts = 1;
+    for (int k = 0; k < 3; ++k)
+        if ((tp[k] >= 0.0f) != (tq[k] >= 0.0f)) cut[cuts++] = zero_of(tp[k], tq[k]);
+    if (cuts == 1 && SuggestiveTest::passes(tp)) {
+        g.add_segment(p, q, f);
+        return;
+    }
+    // At most three cuts: sorted by insertion (std::sort over this small array trips -Warray-bounds).
+    for (int a = 2; a < cuts; ++a)
+        for (int b = a; b > 1 && cut[b] < cut[b - 1]; --b) std::swap(cut[b], cut[b - 1]);
+    cut[cuts++] = 1.0f;
+    std::uint32_t run_start = kNone;
+    const glm::dvec3 pp = g.node(p).pos, pq = g.node(q).pos;
+    auto node_at = [&](int k) -> std::uint32_t {
+        if (k == 0) return p;
+        if (k == cuts - 1) return q;
+        const auto values = lerp3(tp, tq, cut[k]);
+        return g.add_node(along(pp, pq, cut[k]), test.strength(values), kNone, values);
+    };
+    for (int k = 0; k + 1 < cuts; ++k) {
+        const bool ok = cut[k + 1] > cut[k] && SuggestiveTest::passes(lerp3(tp, tq, 0.5f * (cut[k] + cut[k + 1])));
+        if (ok && run_start == kNone) run_start = node_at(k);
+        if (!ok && run_start != kNone) {
+            g.add_segment(run_start, node_at(k), f);
+            run_start = kNone;
+        }
+    }
+    if (run_start != kNone) g.add_segment(run_start, q, f);
+}
+
+// The two edges (corner indices) of face f whose ends differ in sign of `value`; false if none.
+template <class Value>
+bool crossing_edges(const std::array<std::uint32_t, 3>& vs, Value value, int& i, int& j) {
+    const bool s0 = negative(value(vs[0])), s1 = negative(value(vs[1])), s2 = negative(value(vs[2]));
+    if (s0 == s1 && s1 == s2) return false;
+    // Edge k joins corners k and k+1; the odd corner's two edges cross.
+    if (s0 == s1) i = 1, j = 2;       // corner 2 odd: edges (1,2), (2,0)
+    else if (s1 == s2) i = 0, j = 2;  // corner 0 odd: edges (0,1), (2,0)
+    else i = 0, j = 1;                // corner 1 odd: edges (0,1), (1,2)
+    return true;
+}
+
+void extract_suggestive(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
+                        const SuggestiveTest& test, CurveGraph& g) {
+    const auto kr = [&](std::uint32_t v) { return view.kr[v]; };
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        const auto& vs = mesh.faces[f];
+        int i, j;
+        if (!crossing_edges(vs, kr, i, j)) continue;
+        // Back faces carry no suggestive contour (rtsc culls them the same way).
+        if (view.ndotv[vs[0]] <= 0.0f && view.ndotv[vs[1]] <= 0.0f && view.ndotv[vs[2]] <= 0.0f) continue;
+        if (!face_usable(field, view, vs)) continue;
+        // Quick reject: the test fails with one sign pattern at all three corners.
+        const auto t0 = test.at_vertex(view, vs[0]), t1 = test.at_vertex(view, vs[1]), t2 = test.at_vertex(view, vs[2]);
+        if (!SuggestiveTest::passes(t0) && !SuggestiveTest::passes(t1) && !SuggestiveTest::passes(t2) &&
+            (t0[0] >= 0.0f) == (t1[0] >= 0.0f) && (t1[0] >= 0.0f) == (t2[0] >= 0.0f) &&
+            (t0[1] >= 0.0f) == (t1[1] >= 0.0f) && (t1[1] >= 0.0f) == (t2[1] >= 0.0f) &&
+            (t0[2] >= 0.0f) == (t1[2] >= 0.0f) && (t1[2] >= 0.0f) == (t2[2] >= 0.0f))
+            continue;
+        const auto& fe = mesh.face_edges[f].edge;
+        const std::uint32_t p = suggestive_node(mesh, view, test, fe[std::size_t(i)], g);
+        const std::uint32_t q = suggestive_node(mesh, view, test, fe[std::size_t(j)], g);
+        add_tested_segment(p, q, f, test, g);
+    }
+}
+
+// ---- Smooth contours ----------------------------------------------------------------------------
+
+void extract_smooth_contours(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
+                             CurveGraph& g) {
+    const auto ndotv = [&](std::uint32_t v) { return view.ndotv[v]; };
+    auto node = [&](std::uint32_t e) {
+        std::uint32_t id = g.edge_node(e);
+        if (id != kNone) return id;
+        const auto [a, b] = mesh.edge_vertex[e];
+        const float t = zero_of(view.ndotv[a], view.ndotv[b]);
+        return g.add_node(along(mesh.positions[a], mesh.positions[b], t), 1.0f, e);
+    };
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        const auto& vs = mesh.faces[f];
+        int i, j;
+        if (!crossing_edges(vs, ndotv, i, j) || !face_usable(field, view, vs)) continue;
+        const auto& fe = mesh.face_edges[f].edge;
+        g.add_segment(node(fe[std::size_t(i)]), node(fe[std::size_t(j)]), f);
+    }
+}
+
+// ---- Ridges and valleys -------------------------------------------------------------------------
+
+// Ridges: maxima of the principal curvature of largest magnitude where it is positive, along its
+// own direction; valleys: minima where it is negative (rtsc, after Ohtake et al. 2004). With
+// k1 >= k2 that curvature is k1 along dir1 (ridges) or k2 along dir2 (valleys).
+struct RidgeKind {
+    bool ridge;
+    float threshold;  // ridge_threshold / feature_size
+    const CurvatureField* field;
+    bool eligible(std::uint32_t v) const {
+        const float a = field->k1[v], b = field->k2[v];
+        return ridge ? (a > 0.0f && a >= -b) : (b < 0.0f && -b > a);
+    }
+    float kmax(std::uint32_t v) const { return ridge ? field->k1[v] : field->k2[v]; }
+    // Derivative of that curvature along its direction: C(d1,d1,d1) or C(d2,d2,d2).
+    float emax(std::uint32_t v) const { return ridge ? field->dcurv[v][0] : field->dcurv[v][3]; }
+    // The direction in which the curvature grows (ridges) or falls (valleys). emax * dir does not
+    // change when dir is flipped (C is odd in each argument), which removes the sign ambiguity of
+    // the principal direction between the corners of a face.
+    glm::vec3 uphill(std::uint32_t v) const {
+        const glm::vec3 d = ridge ? field->dir1[v] : glm::cross(field->normal[v], field->dir1[v]);
+        return (ridge ? 1.0f : -1.0f) * emax(v) * d;
+    }
+    // rtsc's fade: (|k| - T) / |k| over the threshold, 0 below it.
+    float strength(float k) const {
+        const float over = std::fabs(k) - threshold;
+        return over > 0.0f ? over / (over + threshold) : 0.0f;
+    }
+};
+
+// Whether the extremum lies on edge (a, b): the uphill directions oppose, and the curvature peaks
+// between a and b (not a minimum). Symmetric in a and b, so both faces of the edge agree.
+bool ridge_crosses(const MeshTopology& mesh, const RidgeKind& kind, std::uint32_t a, std::uint32_t b) {
+    const glm::vec3 ta = kind.uphill(a), tb = kind.uphill(b);
+    if (glm::dot(ta, tb) > 0.0f) return false;
+    const glm::vec3 ab = glm::vec3(mesh.positions[b] - mesh.positions[a]);
+    return glm::dot(ta, ab) >= 0.0f || glm::dot(tb, ab) <= 0.0f;
+}
+
+std::uint32_t ridge_node(const MeshTopology& mesh, const RidgeKind& kind, std::uint32_t e, CurveGraph& g) {
+    std::uint32_t id = g.edge_node(e);
+    if (id != kNone) return id;
+    const auto [a, b] = mesh.edge_vertex[e];
+    const float ea = std::fabs(kind.emax(a)), eb = std::fabs(kind.emax(b));
+    const float t = ea + eb > 0.0f ? ea / (ea + eb) : 0.5f;
+    const float k = kind.kmax(a) + t * (kind.kmax(b) - kind.kmax(a));
+    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), kind.strength(k), e);
+}
+
+void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const RidgeKind& kind, CurveGraph& g) {
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        const auto& vs = mesh.faces[f];
+        if (!field.valid[vs[0]] || !field.valid[vs[1]] || !field.valid[vs[2]]) continue;
+        if (!kind.eligible(vs[0]) || !kind.eligible(vs[1]) || !kind.eligible(vs[2])) continue;
+        bool z[3];
+        int count = 0;
+        for (int k = 0; k < 3; ++k) count += z[k] = ridge_crosses(mesh, kind, vs[std::size_t(k)], vs[std::size_t((k + 1) % 3)]);
+        if (count < 2) continue;
+        const auto& fe = mesh.face_edges[f].edge;
+        std::uint32_t n[3] = {kNone, kNone, kNone};
+        for (int k = 0; k < 3; ++k)
+            if (z[k]) n[k] = ridge_node(mesh, kind, fe[std::size_t(k)], g);
+        if (count == 2) {
+            const int i = z[0] ? 0 : 1, j = z[2] ? 2 : 1;
+            // Below the threshold at both ends: nothing to draw (rtsc's rule).
+            if (g.node(n[i]).strength > 0.0f || g.node(n[j]).strength > 0.0f) g.add_segment(n[i], n[j], f);
+            continue;
+        }
+        // Three crossings: each joins the face's centre.
+        const glm::dvec3 c = (mesh.positions[vs[0]] + mesh.positions[vs[1]] + mesh.positions[vs[2]]) / 3.0;
+        const float kc = (kind.kmax(vs[0]) + kind.kmax(vs[1]) + kind.kmax(vs[2])) / 3.0f;
+        const std::uint32_t centre = g.add_node(c, kind.strength(kc), kNone);
+        for (int k = 0; k < 3; ++k)
+            if (g.node(n[k]).strength > 0.0f || g.node(centre).strength > 0.0f) g.add_segment(n[k], centre, f);
+    }
+}
+
+// The model's length scale for the thresholds; a field without one (no edges) falls back to the
+// bounding box, then to 1, so the thresholds stay finite.
+double length_scale(const MeshTopology& mesh, const CurvatureField& field) {
+    if (std::isfinite(field.feature_size) && field.feature_size > 0.0) return field.feature_size;
+    const double box = 0.01 * mesh.bounds.half_diagonal();
+    return std::isfinite(box) && box > 0.0 ? box : 1.0;
+}
+
+}  // namespace
+
+void extract_surface_lines(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
+                           const Camera& camera, const SurfaceLineOptions& options, SurfaceCurves& out) {
+    (void)camera;  // the view enters through `view`; kept for view-dependent culling to come
+    out.clear();
+    if (field.size() != mesh.vertex_count() || view.kr.size() != mesh.vertex_count()) return;
+    CurveGraph& g = t_graph;
+    const double fs = length_scale(mesh, field);
+    if (options.suggestive) {
+        // rtsc's fade constant, 0.03 / feature_size^2, on the same scale as the threshold.
+        const SuggestiveTest test{float(options.suggestive_threshold / (fs * fs)), float(0.03 / (fs * fs)),
+                                  float(options.suggestive_max_ndotv)};
+        g.begin(mesh.edge_count());
+        extract_suggestive(mesh, field, view, test, g);
+        g.chain(LineKind::Suggestive, out);
+    }
+    if (options.smooth_contour) {
+        g.begin(mesh.edge_count());
+        extract_smooth_contours(mesh, field, view, g);
+        g.chain(LineKind::SmoothContour, out);
+    }
+    for (const bool ridge : {true, false}) {
+        if (!(ridge ? options.ridge : options.valley)) continue;
+        const RidgeKind kind{ridge, float(options.ridge_threshold / fs), &field};
+        g.begin(mesh.edge_count());
+        extract_ridges(mesh, field, kind, g);
+        g.chain(ridge ? LineKind::Ridge : LineKind::Valley, out);
+    }
+}
+
+}  // namespace inkline
