@@ -41,6 +41,8 @@ public:
     // Per-vertex curvature and its derivative (curvature/curvature.hpp), computed on first use, once:
     // only the curvature line kinds need it, so a render without them never pays for it.
     const CurvatureField& curvature() const;
+    // The curvature if some view has asked for it already, else null (nothing is computed).
+    const CurvatureField* curvature_if_computed() const { return lazy_->curvature.get(); }
     double load_seconds() const { return load_seconds_; }
 
 private:
@@ -73,7 +75,7 @@ struct ViewOptions {
     int threads = 1;
     // Lines across faces from the mesh's curvature (suggestive contours, smooth contours, ridges,
     // valleys); none by default: the curvature is then never computed.
-    SurfaceLineOptions surface;
+    SurfaceLineOptions surface{.suggestive = false};
     bool wants_surface_lines() const {
         return surface.suggestive || surface.smooth_contour || surface.ridge || surface.valley;
     }

@@ -42,10 +42,11 @@ double segment_param(const Camera& camera, const glm::dvec3& A, const glm::dvec3
 // gives the pieces their QI and appends them.
 class RunPieces {
 public:
-    RunPieces(const MeshTopology& mesh, const Camera& camera, const std::function<const RayCaster&()>& rays,
-              const SurfaceVisibilityOptions& options, SurfaceVisibilityScratch& s, SurfaceVisibilityStats& st,
-              std::vector<Piece>& out)
-        : mesh_(mesh), camera_(camera), rays_(rays), opt_(options), s_(s), st_(st), out_(out) {}
+    RunPieces(const MeshTopology& mesh, const FaceFacing& face_front, const Camera& camera,
+              const std::function<const RayCaster&()>& rays, const SurfaceVisibilityOptions& options,
+              SurfaceVisibilityScratch& s, SurfaceVisibilityStats& st, std::vector<Piece>& out)
+        : mesh_(mesh), face_front_(face_front), camera_(camera), rays_(rays), opt_(options), s_(s), st_(st),
+          out_(out) {}
 
     void process(LineKind kind, std::uint32_t curve, bool closed) {
         if (s_.run.empty()) return;
@@ -95,13 +96,32 @@ private:
                 double t[2];
                 if (segment_crossings(q, o, t) != 1) return;  // (collinear images: not generic)
                 if (t[0] >= 1.0 && (closed || j + 1 < n)) return;
-                xs.push_back({std::uint32_t(j), t[0], o.edge});
+                xs.push_back({std::uint32_t(j), t[0], o.edge, 0});
             });
+            if (j > 0 || closed) add_fold(s_.run[j > 0 ? j - 1 : n - 1].face, seg.face, std::uint32_t(j));
         }
         std::sort(xs.begin(), xs.end(), [](const auto& x, const auto& y) {
             return x.seg != y.seg ? x.seg < y.seg : x.t < y.t;
         });
         st_.crossings += xs.size();
+    }
+
+    // Where the curve passes from face fa to its neighbour fb over an edge where their facing
+    // differs (a silhouette edge: the two faces fold onto one side of its image), the point goes
+    // behind the sheet it leaves or comes out from behind the one it reaches. At a convex edge
+    // the front face hides the back face near the edge; at a concave one the back face hides the
+    // front face.
+    void add_fold(std::uint32_t fa, std::uint32_t fb, std::uint32_t seg) {
+        if (fa == fb) return;
+        std::uint32_t shared = kNoVertex;
+        for (std::uint32_t e : mesh_.face_edges[fa].edge)
+            for (std::uint32_t g : mesh_.face_edges[fb].edge)
+                if (e == g) shared = e;
+        if (shared == kNoVertex) return;  // (not neighbours: a cut run never joins here)
+        const bool front_a = face_front_[fa], front_b = face_front_[fb];
+        if (front_a == front_b) return;
+        const int into_hidden = mesh_.is_convex(shared) ? 1 : -1;
+        s_.crossings.push_back({seg, 0.0, shared, front_a ? into_hidden : -into_hidden});
     }
 
     glm::dvec2 image_at(std::uint32_t seg, double t) const {
@@ -181,6 +201,7 @@ private:
 
     // Change of QI across crossing x (from the piece before it to the piece after it).
     int delta(const SurfaceVisibilityScratch::Crossing& x) const {
+        if (x.fold != 0) return x.fold;
         const auto& r = s_.run[x.seg];
         return crossing_delta(mesh_, camera_, x.edge, r.A, r.B);
     }
@@ -219,6 +240,7 @@ private:
     }
 
     const MeshTopology& mesh_;
+    const FaceFacing& face_front_;
     const Camera& camera_;
     const std::function<const RayCaster&()>& rays_;
     const SurfaceVisibilityOptions& opt_;
@@ -238,7 +260,7 @@ SurfaceVisibilityStats surface_visibility(const MeshTopology& mesh, const Featur
     if (curves.curves.empty()) return st;
     project_occluders(mesh, features, camera, s.occluders);
     s.grid.build(s.occluders, camera.width(), camera.height());
-    RunPieces runs(mesh, camera, rays, options, s, st, out);
+    RunPieces runs(mesh, features.face_front, camera, rays, options, s, st, out);
     const double near = camera.near_distance();
     for (std::uint32_t c = 0; c < curves.curves.size(); ++c) {
         const SurfaceCurves::Curve& curve = curves.curves[c];

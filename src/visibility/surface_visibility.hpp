@@ -6,8 +6,9 @@
 // - reference: one ray test per piece (RayCaster::count_layers, exact);
 // - propagation: one ray test per curve (at its longest piece), then along the curve the change of
 //   QI at each crossing (crossing_delta: +-2 behind a silhouette, +-1 behind a border, 0 where the
-//   occluder lies behind the curve). Curves on self-intersecting faces, and any curve whose
-//   propagated QI would go negative (a non-generic view), take the reference.
+//   occluder lies behind the curve), and +-1 where the curve itself passes over a silhouette edge
+//   into the fold behind (or in front of) its own sheet. Curves on self-intersecting faces, and
+//   any curve whose propagated QI would go negative (a non-generic view), take the reference.
 #pragma once
 
 #include <cstdint>
@@ -46,6 +47,9 @@ struct SurfaceVisibilityScratch {
         std::uint32_t seg;      // position of the segment in the run
         double t;               // along the segment's image
         std::uint32_t edge;     // occluding mesh edge
+        // Nonzero where the curve itself passes over a silhouette edge, from a face to its
+        // neighbour of the other facing: the change of QI there (+-1), else 0 (an occluder).
+        int fold;
     };
     std::vector<Crossing> crossings;
     struct RunSegment {
