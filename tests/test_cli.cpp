@@ -292,3 +292,159 @@ TEST(Cli, BenchWritesCsvTableAndPlot) {
 }
 
 }  // namespace
+
+namespace {
+
+// The three commands, each with a model it accepts (view's flags are parsed before its window).
+const std::vector<std::string>& commands() {
+    static const std::vector<std::string> c = {"render " + mesh("fandisk.off"), "view " + mesh("fandisk.off"),
+                                               "bench tori:8"};
+    return c;
+}
+
+// One definition a flag: render, view and bench take the same values of the flags they share and
+// refuse the same ones with the same line. Flags are read left to right, each checked where it
+// stands, so "--seed=2^31 --crease=200" failing on --crease shows that --seed=2^31 was taken (the
+// window never opens). Before, view and bench refused seeds above 2^31-1 and bench took any crease.
+TEST(Cli, SharedFlagsHaveOneDefinition) {
+    const fs::path d = scratch();
+    const std::string crease = "inkline: --crease: expected an angle in [0, 180] degrees";
+    const std::vector<std::array<std::string, 2>> cases = {
+        {"--seed=2147483648 --crease=200", crease},   // 2^31: a seed everywhere
+        {"--seed=9007199254740992 --crease=200", crease},  // 2^53, the largest
+        {"--crease=180 --crease=200", crease},
+        {"--crease=-1", crease},
+        {"--seed=9007199254740994", "inkline: --seed: expected an integer from 0 to 2^53"},
+        {"--seed=-1", "inkline: --seed: expected an integer from 0 to 2^53"},
+        {"--seed=1.5", "inkline: --seed: expected an integer from 0 to 2^53"},
+        {"--size=800", "inkline: --size: expected WxH, got '800'"},
+        {"--size=0x10", "inkline: --size: expected integer sizes between 1 and 32768, got '0x10'"},
+        {"--subdivide=7", "inkline: --subdivide: expected a number of levels from 0 to 6"},
+        {"--visibility=zbuffer", "inkline: --visibility: unknown method 'zbuffer' (expected appel or rays)"},
+    };
+    for (const std::string& cmd : commands())
+        for (const auto& [flags, expect] : cases) {
+            const Result r = run(cmd + " " + flags, d);
+            // A bad value exits 1, as tests/test_bad_input.cpp pins for render (usage errors: 2).
+            EXPECT_EQ(r.code, 1) << cmd << " " << flags << ": " << r.err;
+            EXPECT_EQ(r.err, expect + "\n") << cmd << " " << flags;
+        }
+    // view and bench share --first-view, render and view --finder, --fraction and --lines.
+    for (const std::string& cmd : {commands()[1], commands()[2]}) {
+        const Result r = run(cmd + " --first-view=full", d);
+        EXPECT_EQ(r.code, 1) << cmd;
+        EXPECT_EQ(r.err, "inkline: --first-view: unknown value 'full' (expected exhaustive or random)\n") << cmd;
+    }
+    for (const std::string& cmd : {commands()[0], commands()[1]}) {
+        for (const auto& [flags, expect] : std::vector<std::array<std::string, 2>>{
+                 {"--fraction=0", "inkline: --fraction: expected a share in (0, 1]\n"},
+                 {"--finder=lucky", "inkline: --finder: unknown finder 'lucky' (expected exhaustive or randomized)\n"},
+                 {"--lines=hatch", "inkline: --lines: unknown line kind 'hatch' (expected silhouette, crease, border)\n"}}) {
+            const Result r = run(cmd + " " + flags, d);
+            EXPECT_EQ(r.code, 1) << cmd << " " << flags;
+            EXPECT_EQ(r.err, expect) << cmd << " " << flags;
+        }
+    }
+    // And the seeds taken are used: render and bench run with a seed of 2^31.
+    const Result render = run("render " + mesh("fandisk.off") + " --finder=randomized --seed=2147483648 --quiet -o " +
+                                  (d / "f.json").string(), d);
+    EXPECT_EQ(render.code, 0) << render.err;
+    const Result bench = run("bench tori:8 --frames=2 --fractions=0.5 --seed=2147483648 --crease=180", d);
+    EXPECT_EQ(bench.code, 0) << bench.err;
+}
+
+// A word that is not a flag of the command: exit 2, one line naming it, then the usage with a
+// pointer to the command's help (not the whole usage of every command).
+TEST(Cli, UnknownFlagNamesItAndPointsAtTheHelp) {
+    const fs::path d = scratch();
+    for (const std::string& cmd : commands()) {
+        const std::string name = cmd.substr(0, cmd.find(' '));
+        const std::string see = "usage: inkline " + name + " MODEL [FLAGS]; see 'inkline " + name + " --help'\n";
+        const std::vector<std::array<std::string, 2>> cases = {
+            {"--bogus=1", "inkline: unknown option '--bogus'"},
+            {"--bogus", "inkline: unknown option '--bogus'"},
+            {"--hidden=1", name == "bench" ? "inkline: unknown option '--hidden'" : "inkline: --hidden takes no value"},
+            {"--crease", "inkline: --crease needs a value (--crease=DEG)"},
+            {"extra.off", "inkline: more than one model given"},
+        };
+        for (const auto& [flags, expect] : cases) {
+            const Result r = run(cmd + " " + flags, d);
+            EXPECT_EQ(r.code, 2) << cmd << " " << flags << ": " << r.err;
+            EXPECT_EQ(lines(r.err), 2u) << cmd << " " << flags << ": " << r.err;
+            EXPECT_EQ(r.err.rfind(expect, 0), 0u) << cmd << " " << flags << ": " << r.err;
+            EXPECT_EQ(r.err.substr(r.err.find('\n') + 1), see) << cmd << " " << flags;
+        }
+    }
+    const Result none = run("", d);
+    EXPECT_EQ(none.code, 2);
+    EXPECT_EQ(none.err, "inkline: no command given\nusage: inkline COMMAND MODEL [FLAGS]; see 'inkline --help'\n");
+}
+
+// Every line of a help fits 100 columns, and no help points at a file the user does not have.
+void expect_readable(const std::string& help, const std::string& what) {
+    EXPECT_EQ(help.find("DESIGN.md"), std::string::npos) << what;
+    std::stringstream ss(help);
+    for (std::string line; std::getline(ss, line);) EXPECT_LE(line.size(), 100u) << what << ": " << line;
+}
+
+TEST(Cli, HelpOverviewAndVersion) {
+    const fs::path d = scratch();
+    for (const std::string args : {"--help", "-h", "help"}) {
+        const Result r = run(args, d);
+        EXPECT_EQ(r.code, 0) << args;
+        EXPECT_TRUE(r.err.empty()) << args << ": " << r.err;
+        EXPECT_EQ(r.out.rfind("inkline draws 3D models as line drawings", 0), 0u) << r.out;
+        for (const char* line : {"\n  render   ", "\n  view     ", "\n  bench    ", "inkline COMMAND --help for its flags"})
+            EXPECT_NE(r.out.find(line), std::string::npos) << args << ": no '" << line << "' in\n" << r.out;
+        EXPECT_LE(lines(r.out), 15u) << r.out;  // an overview, not every command's flags
+        expect_readable(r.out, args);
+    }
+    const Result v = run("--version", d);
+    EXPECT_EQ(v.code, 0);
+    EXPECT_TRUE(v.err.empty()) << v.err;
+    const std::string version = v.out.substr(0, v.out.size() - 1);
+    EXPECT_EQ(v.out.back(), '\n');
+    ASSERT_EQ(version.rfind("inkline ", 0), 0u) << v.out;
+    int major = -1, minor = -1, patch = -1;
+    char end = 0;
+    EXPECT_EQ(std::sscanf(version.c_str(), "inkline %d.%d.%d%c", &major, &minor, &patch, &end), 3) << v.out;
+    EXPECT_GE(major, 0);
+    EXPECT_GE(patch, 0);
+}
+
+// `inkline COMMAND --help`: that command's flags only, grouped, exit 0, wherever --help stands.
+TEST(Cli, HelpOfEachCommand) {
+    const fs::path d = scratch();
+    struct Case {
+        std::string command;
+        std::vector<std::string> has, hasnt;
+    };
+    const std::vector<Case> cases = {
+        {"render",
+         {"\nOutput:\n", "\nCamera (default framed: the whole model in view, fov 30, +Y up):\n", "\nLines:\n",
+          "\nSilhouette finder:\n", "\nVisibility:\n", "\nStyle:\n", "\n  -o FILE, --output=FILE ", "\n  --eye=X,Y,Z ",
+          "\n  --crease=DEG ", "\n  --seed=S ", "\n  --strokes=KIND ", "\n  --size=WxH ", "(default 1024x1024)"},
+         {"--in-flight", "--fractions", "--frames"}},
+        {"view",
+         {"\nCamera (default framed", "\nWindow:\n", "\n  --in-flight=1|2 ", "\n  --crease=DEG ", "\n  --seed=S ",
+          "\n  --frames=N ", "(default 1024x768)"},
+         {"--fractions", "--strokes", "--output"}},
+        {"bench",
+         {"\nCamera path:\n", "\n  --fractions=F,F,... ", "\n  --crease=DEG ", "\n  --seed=S ", "\n  --path=orbit|dolly|walk "},
+         {"--eye", "--in-flight", "--strokes", "--style"}},
+    };
+    for (const Case& c : cases) {
+        const Result r = run(c.command + " --help", d);
+        EXPECT_EQ(r.code, 0) << c.command << ": " << r.err;
+        EXPECT_TRUE(r.err.empty()) << c.command << ": " << r.err;
+        EXPECT_EQ(r.out.rfind("usage: inkline " + c.command + " MODEL", 0), 0u) << r.out;
+        for (const std::string& s : c.has) EXPECT_NE(r.out.find(s), std::string::npos) << c.command << ": no '" << s << "'";
+        for (const std::string& s : c.hasnt) EXPECT_EQ(r.out.find(s), std::string::npos) << c.command << ": '" << s << "'";
+        expect_readable(r.out, c.command + " --help");
+        // The same after a model and flags, and as `inkline help COMMAND`.
+        EXPECT_EQ(run(c.command + " model.off --crease=30 -h", d).out, r.out) << c.command;
+        EXPECT_EQ(run("help " + c.command, d).out, r.out) << c.command;
+    }
+}
+
+}  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "app/cli.hpp"
+#include "app/flags.hpp"
 #include "core/error.hpp"
 #include "model/primitives.hpp"
 #include "model/reorder.hpp"
@@ -27,7 +29,8 @@ namespace {
 
 struct BenchArgs {
     std::string model, path = "orbit", csv, markdown, plot;
-    int frames = 60, subdivide = 0, width = 1024, height = 1024, threads = 1;
+    int frames = 60, subdivide = 0, threads = 1;
+    std::optional<int> width = 1024, height = 1024;
     bool first_full = false;  // coherence rows: the first view by the exhaustive scan
     double arc = 360.0;  // orbit: degrees covered by the frames
     std::uint64_t seed = 1;
@@ -36,68 +39,52 @@ struct BenchArgs {
     VisibilityMethod visibility = VisibilityMethod::Appel;
 };
 
-int parse_int(const std::string& flag, const std::string& v, int lo, int hi) {
-    const double n = parse_number(flag, v);
-    if (n < lo || n > hi || n != std::floor(n))
-        throw Error(flag, "expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
-    return int(n);
-}
-
-BenchArgs parse_bench(int argc, char** argv) {
-    BenchArgs a;
-    for (int i = 2; i < argc; ++i) {
-        const std::string arg = argv[i];
-        std::string key, value;
-        if (!split_option(arg, a.model, key, value)) continue;
-        if (key == "--path") {
-            if (value != "orbit" && value != "dolly" && value != "walk")
-                throw Error(key, "unknown path '" + value + "' (expected orbit, dolly or walk)");
-            a.path = value;
-        } else if (key == "--frames") a.frames = parse_int(key, value, 1, 100000);
-        else if (key == "--subdivide") a.subdivide = parse_int(key, value, 0, 6);
-        else if (key == "--threads") a.threads = parse_int(key, value, 1, 64);
-        else if (key == "--first-view") {
-            if (value != "exhaustive" && value != "random")
-                throw Error(key, "unknown value '" + value + "' (expected exhaustive or random)");
-            a.first_full = value == "exhaustive";
-        }
-        else if (key == "--seed") a.seed = std::uint64_t(parse_int(key, value, 0, 2147483647));
-        else if (key == "--csv") a.csv = value;
-        else if (key == "--markdown") a.markdown = value;
-        else if (key == "--plot") a.plot = value;
-        else if (key == "--crease") a.crease = parse_number(key, value);
-        else if (key == "--arc") {
-            a.arc = parse_number(key, value);
-            if (!(a.arc > 0.0 && a.arc <= 3600.0)) throw Error(key, "expected degrees in (0, 3600]");
-        }
-        else if (key == "--size") {
-            const auto x = value.find('x');
-            if (x == std::string::npos) throw Error(key, "expected WxH, got '" + value + "'");
-            a.width = parse_int(key, value.substr(0, x), 1, 32768);
-            a.height = parse_int(key, value.substr(x + 1), 1, 32768);
-        } else if (key == "--visibility") {
-            if (value == "appel") a.visibility = VisibilityMethod::Appel;
-            else if (value == "rays") a.visibility = VisibilityMethod::Rays;
-            else throw Error(key, "unknown method '" + value + "' (expected appel or rays)");
-        } else if (key == "--fractions") {
-            a.fractions.clear();
-            std::stringstream ss(value);
-            for (std::string f; std::getline(ss, f, ',');) {
-                const double v = parse_number(key, f);
-                if (!(v > 0.0 && v <= 1.0)) throw Error(key, "expected shares in (0, 1], got '" + f + "'");
-                a.fractions.push_back(v);
-            }
-        } else
-            throw Usage("unknown option '" + key + "'");
-    }
-    if (a.model.empty()) throw Usage("no model given");
-    return a;
+// The bench's flags; `--fractions` and the camera path are its own, the rest shared (flags.hpp).
+FlagTable bench_flags(BenchArgs& a) {
+    FlagTable t("bench", "bench MODEL [FLAGS]",
+                "Times the silhouette finders (exhaustive; randomized at several sample fractions, with and "
+                "without frame coherence) along a camera path, and compares each frame with the exhaustive "
+                "finder's: recall of silhouette length and visible line missing or extra, in pixels. Prints a "
+                "Markdown table. MODEL: a mesh file, or 'tori:N' (two linked tori of N x N/2 segments each).");
+    t.group("Camera path")
+        .add({"--path", "orbit|dolly|walk", "the camera's path around the model (default orbit)",
+              [&a](const std::string& v) {
+                  if (v != "orbit" && v != "dolly" && v != "walk")
+                      throw Error("--path", "unknown path '" + v + "' (expected orbit, dolly or walk)");
+                  a.path = v;
+              }})
+        .add(frames_flag(a.frames, "frames along the path (default 60)"))
+        .add(arc_flag(a.arc, "orbit: degrees covered by the frames"))
+        .add(size_flag(a.width, a.height));
+    t.group("Model").add(subdivide_flag(a.subdivide)).add(crease_flag(a.crease));
+    t.group("Silhouette finders")
+        .add({"--fractions", "F,F,...", "randomized finder's shares of the edges, each in (0, 1] "
+                                        "(default 0.0005,0.002,0.01,0.05)",
+              [&a](const std::string& v) {
+                  a.fractions.clear();
+                  std::stringstream ss(v);
+                  for (std::string f; std::getline(ss, f, ',');) {
+                      const double share = parse_number("--fractions", f);
+                      if (!(share > 0.0 && share <= 1.0))
+                          throw Error("--fractions", "expected shares in (0, 1], got '" + f + "'");
+                      a.fractions.push_back(share);
+                  }
+              }})
+        .add(seed_flag(a.seed))
+        .add(first_view_flag(a.first_full))
+        .add(threads_flag(a.threads, "threads of the exhaustive finder", "1"));
+    t.group("Visibility").add(visibility_flag(a.visibility));
+    t.group("Output (the table always goes to stdout)")
+        .add(text_flag("--csv", "FILE", a.csv, "the rows as CSV"))
+        .add(text_flag("--markdown", "FILE", a.markdown, "the table as Markdown"))
+        .add(text_flag("--plot", "FILE.svg", a.plot, "finder time against recall, as an SVG scatter plot"));
+    return t;
 }
 
 // "tori:N": two linked tori, N x N/2 segments each (the paper's Tables 1 and 2 model).
 Model load_model(const BenchArgs& a) {
     if (a.model.rfind("tori:", 0) == 0) {
-        const int n = parse_int("MODEL", a.model.substr(5), 8, 4096);
+        const int n = parse_integer("MODEL", a.model.substr(5), 8, 4096);
         const TriangleMesh t = merge_meshes(make_torus({0, 0, 0}, {0, 0, 1}, 1.0, 0.3, n, n / 2),
                                             make_torus({1, 0, 0}, {0, 1, 0}, 1.0, 0.3, n, n / 2));
         return Model(hilbert_ordered(subdivide_loop(t, a.subdivide)), a.crease);
@@ -200,7 +187,8 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 int run_bench(int argc, char** argv) {
-    const BenchArgs a = parse_bench(argc, argv);
+    BenchArgs a;
+    if (!bench_flags(a).parse(argc, argv, 2, a.model)) return 0;  // --help
     const Model model = load_model(a);
     const MeshTopology& mesh = model.topology();
     const std::size_t nf = mesh.face_count();
@@ -209,7 +197,7 @@ int run_bench(int argc, char** argv) {
     if (a.subdivide > 0) name += "@" + std::to_string(a.subdivide);
     std::vector<Camera> cams;
     for (int i = 0; i < a.frames; ++i) {
-        cams.push_back(path_camera(a.path, i, a.frames, a.arc, mesh.bounds, a.width, a.height));
+        cams.push_back(path_camera(a.path, i, a.frames, a.arc, mesh.bounds, *a.width, *a.height));
         cams.back().set_near(default_near(mesh));
     }
     std::fprintf(stderr, "bench: %s, %zu triangles, %s path, %d frames\n", name.c_str(), nf, a.path.c_str(), a.frames);

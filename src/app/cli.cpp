@@ -4,13 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <iostream>
-#include <map>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "app/flags.hpp"
 #include "app/freeform_cli.hpp"
 #include "core/error.hpp"
 #include "output/styled.hpp"
@@ -22,68 +20,24 @@
 
 namespace inkline {
 
-double parse_number(const std::string& flag, const std::string& s) {
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (s.empty() || *end != '\0' || !std::isfinite(v)) throw Error(flag, "expected a number, got '" + s + "'");
-    return v;
-}
-
-bool split_option(const std::string& arg, std::string& model, std::string& key, std::string& value) {
-    if (arg.rfind("--", 0) != 0) {
-        if (!model.empty()) throw Usage("more than one model given ('" + model + "', '" + arg + "')");
-        model = arg;
-        return false;
-    }
-    const auto eq = arg.find('=');
-    if (eq == std::string::npos) throw Usage("unknown option '" + arg + "'");
-    key = arg.substr(0, eq);
-    value = arg.substr(eq + 1);
-    return true;
-}
-
 namespace {
 
-const char* kUsage =
-    "usage: inkline render MODEL [-o OUT.{svg,pdf,png,json}] [--format=svg|pdf|png|json]\n"
-    "                      [--eye=x,y,z] [--target=x,y,z] [--up=x,y,z] [--fov=DEG] [--size=WxH]\n"
-    "                      [--ortho=H] [--near=D] [--crease=DEG] [--hidden]\n"
-    "                      [--lines=silhouette,crease,border] [--visibility=appel|rays]\n"
-    "                      [--no-walk] [--subdivide=N] [--quiet]\n"
-    "                      [--finder=exhaustive|randomized] [--fraction=F] [--seed=S] [--recall]\n"
-    "                      [--style=NAME|FILE.json]\n"
-    "       inkline bench MODEL [--path=orbit|dolly|walk] [--frames=N] [--arc=DEG] [--seed=S] [--subdivide=N]\n"
-    "                      [--csv=FILE] [--markdown=FILE] [--plot=FILE.svg] [--fractions=F,F,...]\n"
-    "                      [--visibility=appel|rays] [--size=WxH] [--crease=DEG] [--threads=N]\n"
-    "                      [--first-view=random|exhaustive]\n"
-    "       inkline view MODEL [camera, line, finder and visibility flags as render] [--hidden] [--shading] [--style=NAME|FILE]\n"
-    "                      [--no-coherence] [--first-view=exhaustive|random] [--no-panel] [--recall]\n"
-    "                      [--frames=N [--orbit] [--arc=DEG] [--screenshot=F.png [--screenshot-ui]]\n"
-    "                      [--export=F.{svg,pdf,png,json}] [--fps]] [--threads=N] [--in-flight=1|2]\n"
-    "view: the randomized finder with frame coherence by default, from an exhaustive first view (exact),\n"
-    "and two threads where there are two cores: two views at once, one on each, while the camera moves\n"
-    "less than about a degree a view, else one at a time on both (--in-flight=1|2 fixes it);\n"
-    "--finder=exhaustive scans every view.\n"
-    "MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon mesh), or SURFACES (below).\n"
-    "Without a camera the model is framed as in DESIGN.md (fov 30, up +Y).\n"
-    "--finder=randomized: seed-and-seek silhouettes from a --fraction of the edges (default 0.05);\n"
-    "--recall also runs the exhaustive finder and reports the recall of silhouette length.\n"
-    "bench MODEL: a name like 'tori:64' builds two linked tori with 64 x 32 segments each.\n"
-    "--style: a preset in the styles directory ($INKLINE_STYLES, else the source tree's styles/: clean,\n"
-    "technical, sketchy, charcoal, ink-brush, hatched) or a style file; see styles/README.md.\n";
-
-
-glm::dvec3 parse_vec3(const std::string& flag, const std::string& s) {
-    std::vector<std::string> parts;
-    std::stringstream ss(s);
-    for (std::string p; std::getline(ss, p, ',');) parts.push_back(p);
-    if (parts.size() != 3) throw Error(flag, "expected x,y,z, got '" + s + "'");
-    return {parse_number(flag, parts[0]), parse_number(flag, parts[1]), parse_number(flag, parts[2])};
-}
+const char* kOverview =
+    "inkline draws 3D models as line drawings: silhouettes, creases and borders, with hidden lines\n"
+    "found by quantitative invisibility (Appel, Markosian).\n"
+    "\n"
+    "usage: inkline COMMAND MODEL [FLAGS]\n"
+    "\n"
+    "commands:\n"
+    "  render   draw a model (.obj .off .ply .stl, or .bpt/.json surfaces) to SVG, PDF, PNG or JSON\n"
+    "  view     a window that draws the model live while you turn the camera\n"
+    "  bench    time the silhouette finders along a camera path, against the exhaustive one\n"
+    "\n"
+    "inkline COMMAND --help for its flags; inkline --version for the version.\n";
 
 struct RenderArgs {
     std::string model, output, format;
-    std::map<std::string, std::string> camera;  // flag -> value
+    CameraFlags camera;
     double crease = 40.0;
     int subdivide = 0;
     bool walk = true;
@@ -95,99 +49,35 @@ struct RenderArgs {
     std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
 };
 
-RenderArgs parse_render(int argc, char** argv) {
-    RenderArgs a;
-    for (int i = 2; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (arg == "-o" || arg == "--output") {
-            if (i + 1 >= argc) throw Usage(arg + " needs a file name");
-            a.output = argv[++i];
-            continue;
-        }
-        if (arg == "--hidden") { a.hidden = true; continue; }
-        if (arg == "--quiet") { a.quiet = true; continue; }
-        if (arg == "--no-walk") { a.walk = false; continue; }
-        if (arg == "--recall") { a.recall = true; continue; }
-        if (take_freeform_switch(arg, a.freeform)) continue;
-        std::string key, value;
-        if (!split_option(arg, a.model, key, value)) continue;
-        if (key == "--output") a.output = value;
-        else if (key == "--style") a.style = value;
-        else if (key == "--format") a.format = value;
-        else if (key == "--eye" || key == "--target" || key == "--up" || key == "--fov" || key == "--size" ||
-                 key == "--ortho" || key == "--near")
-            a.camera[key] = value;
-        else if (key == "--subdivide") {
-            const double n = parse_number(key, value);
-            if (n < 0 || n > 6 || n != std::floor(n)) throw Error(key, "expected a number of levels from 0 to 6");
-            a.subdivide = int(n);
-        } else if (key == "--visibility") {
-            if (value == "appel") a.visibility = VisibilityMethod::Appel;
-            else if (value == "rays") a.visibility = VisibilityMethod::Rays;
-            else throw Error(key, "unknown method '" + value + "' (expected appel or rays)");
-        } else if (key == "--finder") {
-            if (value == "exhaustive") a.finder.kind = FinderKind::Exhaustive;
-            else if (value == "randomized") a.finder.kind = FinderKind::Randomized;
-            else throw Error(key, "unknown finder '" + value + "' (expected exhaustive or randomized)");
-        } else if (key == "--fraction") {
-            a.finder.fraction = parse_number(key, value);
-            if (!(a.finder.fraction > 0.0 && a.finder.fraction <= 1.0)) throw Error(key, "expected a share in (0, 1]");
-        } else if (key == "--seed") {
-            const double n = parse_number(key, value);
-            if (n < 0 || n != std::floor(n) || n > 9007199254740992.0) throw Error(key, "expected a non-negative integer");
-            a.finder.seed = std::uint64_t(n);
-        } else if (key == "--crease") {
-            a.crease = parse_number(key, value);
-            if (a.crease < 0.0 || a.crease > 180.0) throw Error(key, "expected an angle in [0, 180] degrees");
-        } else if (key == "--lines") {
-            for (auto& k : a.features.kinds) k = false;
-            std::stringstream ss(value);
-            for (std::string name; std::getline(ss, name, ',');) {
-                LineKind kind;
-                if (!parse_line_kind(name, kind))
-                    throw Error(key, "unknown line kind '" + name + "' (expected silhouette, crease, border)");
-                a.features.kinds[int(kind)] = true;
-            }
-        } else if (!take_freeform_flag(key, value, a.freeform))
-            throw Usage("unknown option '" + key + "'");
-    }
-    if (a.model.empty()) throw Usage("no model given");
-    return a;
-}
-
-Camera make_camera(const RenderArgs& a, const MeshTopology& mesh) {
-    int w = 1024, h = 1024;
-    if (auto it = a.camera.find("--size"); it != a.camera.end()) {
-        const auto x = it->second.find('x');
-        if (x == std::string::npos) throw Error("--size", "expected WxH, got '" + it->second + "'");
-        const double ww = parse_number("--size", it->second.substr(0, x));
-        const double hh = parse_number("--size", it->second.substr(x + 1));
-        if (ww < 1 || hh < 1 || ww > 32768 || hh > 32768 || ww != std::floor(ww) || hh != std::floor(hh))
-            throw Error("--size", "expected integer sizes between 1 and 32768, got '" + it->second + "'");
-        w = int(ww);
-        h = int(hh);
-    }
-    const double fov = a.camera.count("--fov") ? parse_number("--fov", a.camera.at("--fov")) : 30.0;
-    if (!(fov > 0.0 && fov < 180.0)) throw Error("--fov", "expected an angle in (0, 180) degrees");
-    const Camera framed = Camera::framing(mesh.bounds, w, h, fov);
-    const glm::dvec3 target = a.camera.count("--target") ? parse_vec3("--target", a.camera.at("--target")) : framed.target();
-    const glm::dvec3 eye = a.camera.count("--eye") ? parse_vec3("--eye", a.camera.at("--eye")) : framed.eye();
-    const glm::dvec3 up = a.camera.count("--up") ? parse_vec3("--up", a.camera.at("--up")) : glm::dvec3(0, 1, 0);
-    Camera cam;
-    try {
-        if (a.camera.count("--ortho"))
-            cam = Camera::orthographic(eye, target, up, parse_number("--ortho", a.camera.at("--ortho")), w, h);
-        else
-            cam = Camera::perspective(eye, target, up, fov, w, h);
-    } catch (const std::invalid_argument& e) {
-        throw Error("camera", e.what());
-    }
-    if (a.camera.count("--near")) {
-        const double n = parse_number("--near", a.camera.at("--near"));
-        if (!(n > 0.0)) throw Error("--near", "expected a positive distance");
-        cam.set_near(n);
-    }
-    return cam;
+FlagTable render_flags(RenderArgs& a) {
+    FlagTable t("render", "render MODEL [-o OUT] [FLAGS]",
+                "Draws MODEL's lines to a file. MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon "
+                "mesh), or SURFACES: .bpt Bezier patches (e.g. examples/teapot.bpt) or .json "
+                "(src/freeform/README.md). Prints what it drew and the camera flags that reproduce it.");
+    t.group("Output")
+        .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg)",
+              [&a](const std::string& v) { a.output = v; }, "-o"})
+        .add(text_flag("--format", "svg|pdf|png|json", a.format, "the format, whatever the extension"))
+        .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
+    t.group("Camera (default framed: the whole model in view, fov 30, +Y up)").add(camera_flags(a.camera));
+    t.group("Lines")
+        .add(lines_flag(a.features))
+        .add(crease_flag(a.crease))
+        .add(switch_flag("--hidden", a.hidden, true, "also draw hidden lines (dashed, by QI)"))
+        .add(subdivide_flag(a.subdivide));
+    t.group("Silhouette finder")
+        .add(finder_flag(a.finder.kind))
+        .add(fraction_flag(a.finder.fraction))
+        .add(seed_flag(a.finder.seed))
+        .add(switch_flag("--recall", a.recall, true,
+                         "also run the exhaustive finder and report the recall of silhouette length"));
+    t.group("Visibility")
+        .add(visibility_flag(a.visibility))
+        .add(switch_flag("--no-walk", a.walk, false, "appel: a ray test where a walk on the surface would do"));
+    t.group("Style").add(style_flag(a.style));
+    t.group("Surfaces (.bpt, .json): silhouettes and borders of the tessellation, and Elber's line art")
+        .add(freeform_flags(a.freeform));
+    return t;
 }
 
 std::string default_output(const std::string& model) {
@@ -204,9 +94,12 @@ std::string fmt3(const glm::dvec3& v) {
     return buf;
 }
 
-int render(int argc, char** argv) {
+}  // namespace
+
+int run_render(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
-    RenderArgs a = parse_render(argc, argv);
+    RenderArgs a;
+    if (!render_flags(a).parse(argc, argv, 2, a.model)) return 0;  // --help
     const std::string out = a.output.empty() ? default_output(a.model) : a.output;
     const Format format = output_format(out, a.format);  // refuse a bad format before any work
     std::optional<Style> style;  // read before any work: a bad style file fails fast
@@ -216,10 +109,10 @@ int render(int argc, char** argv) {
     }
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
-    else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model");
+    else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
     if (freeform && a.subdivide > 0) throw Error("--subdivide", "not for surface models (use --tessellation=N)");
     Model model = freeform ? Model(freeform->mesh(), a.crease) : Model::load(a.model, a.crease, a.subdivide);
-    const Camera cam = make_camera(a, model.topology());
+    const Camera cam = make_camera(a.camera, model.topology());
     ViewOptions opt;
     opt.features = a.features;
     opt.visibility = a.visibility;
@@ -280,29 +173,29 @@ int render(int argc, char** argv) {
     return 0;
 }
 
-}  // namespace
-
-Camera camera_from_flags(const std::map<std::string, std::string>& flags, const MeshTopology& mesh) {
-    RenderArgs a;
-    a.camera = flags;
-    return make_camera(a, mesh);
-}
-
 int run_cli(int argc, char** argv) {
     try {
         if (argc < 2) throw Usage("no command given");
         const std::string cmd = argv[1];
-        if (cmd == "-h" || cmd == "--help" || cmd == "help") {
-            std::fputs(kUsage, stdout);
-            std::fputs(kFreeformUsage, stdout);
+        if (cmd == "-h" || cmd == "--help" || (cmd == "help" && argc == 2)) {
+            std::fputs(kOverview, stdout);
             return 0;
         }
-        if (cmd == "render") return render(argc, argv);
+        if (cmd == "--version" || cmd == "-V") {
+            std::printf("inkline %s\n", INKLINE_VERSION);
+            return 0;
+        }
+        if (cmd == "help") {  // `inkline help render`: as `inkline render --help`
+            char help[] = "--help";
+            char* args[] = {argv[0], argv[2], help};
+            return run_cli(3, args);
+        }
+        if (cmd == "render") return run_render(argc, argv);
         if (cmd == "bench") return run_bench(argc, argv);
         if (cmd == "view") return run_view(argc, argv);
         throw Usage("unknown command '" + cmd + "'");
     } catch (const Usage& e) {
-        std::fprintf(stderr, "inkline: %s\n%s", e.what(), kUsage);
+        std::fprintf(stderr, "inkline: %s\n%s\n", e.what(), usage_line(e.command).c_str());
         return 2;
     } catch (const Error& e) {
         std::fprintf(stderr, "inkline: %s\n", e.what());

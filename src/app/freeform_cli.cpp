@@ -8,25 +8,12 @@
 
 #include <glm/geometric.hpp>
 
-#include "app/cli.hpp"
 #include "core/error.hpp"
 #include "freeform/lineart.hpp"
 
 namespace inkline {
 
-const char* kFreeformUsage =
-    "SURFACES: .bpt (Bezier patches, e.g. examples/teapot.bpt) or .json (src/freeform/README.md):\n"
-    "  silhouettes and borders of the tessellation, and with --strokes Elber's line art:\n"
-    "  [--strokes=iso|iso-u|iso-v|curvature|curvature-max|curvature-min|isophote|direction]\n"
-    "  [--direction=x,y,z (for --strokes=direction)] [--points=N]\n"
-    "  [--cones=M] [--buckets=redundant|exclusive] [--shader=diffuse|silhouette|combined]\n"
-    "  [--light=x,y,z] [--decay-dif=C] [--tau-dif=T] [--decay-sil=D] [--tau-sil=T]\n"
-    "  [--stroke-length=F (of the diagonal)] [--tessellation=N] [--cover-seed=S]\n"
-    "  [--transparent] [--open] [--no-cull]\n";
-
 namespace {
-const char* kKeys[] = {"--strokes", "--points", "--cones", "--buckets", "--shader", "--light", "--decay-dif",
-                       "--tau-dif", "--decay-sil", "--tau-sil", "--stroke-length", "--tessellation", "--cover-seed", "--direction"};
 
 glm::dvec3 vec3(const std::string& flag, const std::string& s) {
     std::vector<std::string> parts;
@@ -52,17 +39,30 @@ double in_range(const std::string& flag, const std::string& s, double lo, double
 }
 }  // namespace
 
-bool take_freeform_flag(const std::string& key, const std::string& value, FreeformArgs& a) {
-    for (const char* k : kKeys)
-        if (key == k) return a.flags[key] = value, true;
-    return false;
-}
-
-bool take_freeform_switch(const std::string& arg, FreeformArgs& a) {
-    if (arg == "--transparent") return a.transparent = true;
-    if (arg == "--no-cull") return a.no_cull = true;
-    if (arg == "--open") return a.open = true;
-    return false;
+std::vector<Flag> freeform_flags(FreeformArgs& a) {
+    const auto value = [&a](const char* name, const char* form, const char* help) {
+        return Flag{name, form, help, [&a, name](const std::string& v) { a.flags[name] = v; }};
+    };
+    return {
+        value("--strokes", "KIND",
+              "Elber's line art: iso, iso-u, iso-v, curvature, curvature-max, curvature-min, isophote, direction"),
+        value("--direction", "X,Y,Z", "the strokes' direction for --strokes=direction"),
+        value("--points", "N", "strokes grown, from points covering the surfaces evenly (default 4000)"),
+        value("--cones", "M", "cones over the Gauss map that bucket the strokes (default 50)"),
+        value("--buckets", "redundant|exclusive", "a stroke in every cone near its normal (default), or in the nearest only"),
+        value("--shader", "diffuse|silhouette|combined", "which strokes a view draws (default combined)"),
+        value("--light", "X,Y,Z", "the shader's light direction (default: a headlight from the upper left)"),
+        value("--decay-dif", "C", "diffuse shader's exponent, in [0.01, 1000] (default 2)"),
+        value("--tau-dif", "T", "diffuse shader's threshold, in [0, 1] (default 0.1)"),
+        value("--decay-sil", "D", "silhouette shader's exponent, in [0.01, 1000] (default 2)"),
+        value("--tau-sil", "T", "silhouette shader's threshold, in [0, 1] (default 0.2)"),
+        value("--stroke-length", "F", "longest stroke, a share of the bounding box's diagonal (default 0.06)"),
+        value("--tessellation", "N", "segments along a Bezier patch's side, 2 to 512"),
+        value("--cover-seed", "S", "random seed of the points' coverage (default 1)"),
+        switch_flag("--transparent", a.transparent, true, "every stroke drawn as visible (all surfaces transparent)"),
+        switch_flag("--open", a.open, true, "the surfaces bound no solid: back-facing strokes are drawn too"),
+        switch_flag("--no-cull", a.no_cull, true, "visit every cone, not only the contributing ones (the same strokes)"),
+    };
 }
 
 bool is_freeform_model(const std::string& path) { return freeform::is_freeform_path(path); }

@@ -5,7 +5,9 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "app/flags.hpp"
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
 #include "model/mesh_io.hpp"
@@ -17,11 +19,9 @@ struct FreeformArgs {
     bool transparent = false, no_cull = false, open = false;
     bool any() const { return !flags.empty() || transparent || no_cull || open; }
 };
-// True when `key` (with its value) or the bare switch `arg` is a freeform flag (stored in a).
-bool take_freeform_flag(const std::string& key, const std::string& value, FreeformArgs& a);
-bool take_freeform_switch(const std::string& arg, FreeformArgs& a);
+// The line-art flags (stored in `a`; their values are checked when the surfaces load).
+std::vector<Flag> freeform_flags(FreeformArgs& a);
 bool is_freeform_model(const std::string& path);
-extern const char* kFreeformUsage;
 
 class FreeformRender {
 public:

@@ -1,0 +1,348 @@
+#include "app/flags.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace inkline {
+
+// ---- value parsers ----
+
+double parse_number(const std::string& flag, const std::string& s) {
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || *end != '\0' || !std::isfinite(v)) throw Error(flag, "expected a number, got '" + s + "'");
+    return v;
+}
+
+int parse_integer(const std::string& flag, const std::string& s, int lo, int hi) {
+    const double n = parse_number(flag, s);
+    if (n < lo || n > hi || n != std::floor(n))
+        throw Error(flag, "expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return int(n);
+}
+
+glm::dvec3 parse_vec3(const std::string& flag, const std::string& s) {
+    std::vector<std::string> parts;
+    std::stringstream ss(s);
+    for (std::string p; std::getline(ss, p, ',');) parts.push_back(p);
+    if (parts.size() != 3) throw Error(flag, "expected x,y,z, got '" + s + "'");
+    return {parse_number(flag, parts[0]), parse_number(flag, parts[1]), parse_number(flag, parts[2])};
+}
+
+// ---- the table ----
+
+FlagTable::FlagTable(std::string command, std::string synopsis, std::string about)
+    : command_(std::move(command)), synopsis_(std::move(synopsis)), about_(std::move(about)) {}
+
+FlagTable& FlagTable::group(const std::string& title) {
+    groups_.push_back({title, {}});
+    return *this;
+}
+
+FlagTable& FlagTable::add(Flag flag) {
+    if (groups_.empty()) group("Flags");
+    groups_.back().second.push_back(std::move(flag));
+    return *this;
+}
+
+FlagTable& FlagTable::add(std::vector<Flag> flags) {
+    for (Flag& f : flags) add(std::move(f));
+    return *this;
+}
+
+FlagTable& FlagTable::note(const std::string& text) {
+    notes_ += text;
+    return *this;
+}
+
+const Flag* FlagTable::find(const std::string& name) const {
+    for (const auto& [title, flags] : groups_)
+        for (const Flag& f : flags)
+            if (f.name == name || (!f.short_name.empty() && f.short_name == name)) return &f;
+    return nullptr;
+}
+
+bool FlagTable::parse(int argc, char** argv, int first, std::string& model) const {
+    for (int i = first; i < argc; ++i)
+        if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+            std::fputs(help().c_str(), stdout);
+            return false;
+        }
+    for (int i = first; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg.rfind("--", 0) != 0 && !find(arg)) {  // (as before: "-x" is a file name, not a flag)
+            if (!model.empty()) throw Usage("more than one model given ('" + model + "', '" + arg + "')", command_);
+            model = arg;
+            continue;
+        }
+        const auto eq = arg.find('=');
+        const std::string key = arg.substr(0, eq);
+        const Flag* f = find(key);
+        if (!f) throw Usage("unknown option '" + key + "'", command_);
+        if (f->value.empty()) {
+            if (eq != std::string::npos) throw Usage(key + " takes no value", command_);
+            f->set("");
+        } else if (eq != std::string::npos) {
+            f->set(arg.substr(eq + 1));
+        } else if (!f->short_name.empty()) {  // `-o FILE`, `--output FILE`
+            if (i + 1 >= argc) throw Usage(arg + " needs a file name", command_);
+            f->set(argv[++i]);
+        } else {
+            throw Usage(key + " needs a value (" + key + "=" + f->value + ")", command_);
+        }
+    }
+    if (model.empty()) throw Usage("no model given", command_);
+    return true;
+}
+
+namespace {
+
+constexpr std::size_t kColumns = 100;  // the help fits a terminal this wide
+constexpr std::size_t kFlagColumn = 28;  // where the descriptions start
+
+// Appends `text` word by word, lines no wider than kColumns, continuation lines indented by
+// `indent` (the first line continues from `column`).
+void wrap(std::string& out, const std::string& text, std::size_t column, std::size_t indent) {
+    std::stringstream ss(text);
+    bool first = true;
+    for (std::string word; ss >> word; first = false) {
+        if (!first && column + 1 + word.size() > kColumns) {
+            out += '\n';
+            out.append(indent, ' ');
+            column = indent;
+        } else if (!first) {
+            out += ' ';
+            ++column;
+        }
+        out += word;
+        column += word.size();
+    }
+    out += '\n';
+}
+
+}  // namespace
+
+std::string FlagTable::help() const {
+    std::string out = "usage: inkline " + synopsis_ + "\n";
+    wrap(out, about_, 0, 0);
+    for (const auto& [title, flags] : groups_) {
+        out += "\n" + title + ":\n";
+        for (const Flag& f : flags) {
+            std::string left = "  ";
+            if (!f.short_name.empty()) left += f.short_name + " " + f.value + ", ";
+            left += f.name + (f.value.empty() ? "" : "=" + f.value);
+            out += left;
+            std::size_t column = left.size();
+            if (column + 2 > kFlagColumn) {  // long flag: its description on the next line
+                out += "\n";
+                column = 0;
+            }
+            out += std::string(kFlagColumn - column, ' ');
+            wrap(out, f.help, kFlagColumn, kFlagColumn);
+        }
+    }
+    if (!notes_.empty()) {
+        out += "\n";
+        std::stringstream ss(notes_);
+        for (std::string paragraph; std::getline(ss, paragraph);) wrap(out, paragraph, 0, 0);
+    }
+    return out;
+}
+
+std::string usage_line(const std::string& command) {
+    if (command.empty()) return "usage: inkline COMMAND MODEL [FLAGS]; see 'inkline --help'";
+    return "usage: inkline " + command + " MODEL [FLAGS]; see 'inkline " + command + " --help'";
+}
+
+// ---- the camera ----
+
+Flag size_flag(std::optional<int>& width, std::optional<int>& height) {
+    const std::string unset = width ? " (default " + std::to_string(*width) + "x" + std::to_string(*height) + ")" : "";
+    return {"--size", "WxH", "image size in pixels, 1 to 32768 each" + unset, [&width, &height](const std::string& v) {
+                const auto x = v.find('x');
+                if (x == std::string::npos) throw Error("--size", "expected WxH, got '" + v + "'");
+                const double w = parse_number("--size", v.substr(0, x));
+                const double h = parse_number("--size", v.substr(x + 1));
+                if (w < 1 || h < 1 || w > 32768 || h > 32768 || w != std::floor(w) || h != std::floor(h))
+                    throw Error("--size", "expected integer sizes between 1 and 32768, got '" + v + "'");
+                width = int(w);
+                height = int(h);
+            }};
+}
+
+std::vector<Flag> camera_flags(CameraFlags& c) {
+    const auto vec3 = [](const char* name, const char* help, std::optional<glm::dvec3>& to) {
+        return Flag{name, "X,Y,Z", help, [name, &to](const std::string& v) { to = parse_vec3(name, v); }};
+    };
+    return {
+        vec3("--eye", "camera position (default: framed)", c.eye),
+        vec3("--target", "point looked at (default: the bounding box's centre)", c.target),
+        vec3("--up", "up direction (default 0,1,0)", c.up),
+        {"--fov", "DEG", "vertical field of view, in (0, 180) (default 30)",
+         [&c](const std::string& v) {
+             const double fov = parse_number("--fov", v);
+             if (!(fov > 0.0 && fov < 180.0)) throw Error("--fov", "expected an angle in (0, 180) degrees");
+             c.fov = fov;
+         }},
+        size_flag(c.width, c.height),
+        {"--ortho", "H", "orthographic, H world units high (default: perspective)",
+         [&c](const std::string& v) { c.ortho = parse_number("--ortho", v); }},
+        {"--near", "D", "near plane distance (default: a small share of the model's size)",
+         [&c](const std::string& v) {
+             const double n = parse_number("--near", v);
+             if (!(n > 0.0)) throw Error("--near", "expected a positive distance");
+             c.near = n;
+         }},
+    };
+}
+
+Camera make_camera(const CameraFlags& c, const MeshTopology& mesh) {
+    const int w = c.width.value_or(1024), h = c.height.value_or(1024);
+    const double fov = c.fov.value_or(30.0);
+    const Camera framed = Camera::framing(mesh.bounds, w, h, fov);
+    const glm::dvec3 target = c.target.value_or(framed.target());
+    const glm::dvec3 eye = c.eye.value_or(framed.eye());
+    const glm::dvec3 up = c.up.value_or(glm::dvec3(0, 1, 0));
+    Camera cam;
+    try {
+        cam = c.ortho ? Camera::orthographic(eye, target, up, *c.ortho, w, h)
+                      : Camera::perspective(eye, target, up, fov, w, h);
+    } catch (const std::invalid_argument& e) {
+        throw Error("camera", e.what());
+    }
+    if (c.near) cam.set_near(*c.near);
+    return cam;
+}
+
+// ---- the other shared flags ----
+
+namespace {
+std::string fmt_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+}  // namespace
+
+Flag seed_flag(std::uint64_t& seed) {
+    return {"--seed", "S", "random seed, an integer from 0 to 2^53 (default 1; runs are deterministic)",
+            [&seed](const std::string& v) {
+                const double n = parse_number("--seed", v);
+                if (n < 0 || n != std::floor(n) || n > 9007199254740992.0)
+                    throw Error("--seed", "expected an integer from 0 to 2^53");
+                seed = std::uint64_t(n);
+            }};
+}
+
+Flag crease_flag(double& degrees) {
+    return {"--crease", "DEG", "an edge whose face normals differ by more is a crease, in [0, 180] (default 40)",
+            [&degrees](const std::string& v) {
+                const double d = parse_number("--crease", v);
+                if (d < 0.0 || d > 180.0) throw Error("--crease", "expected an angle in [0, 180] degrees");
+                degrees = d;
+            }};
+}
+
+Flag lines_flag(FeatureOptions& features) {
+    return {"--lines", "KIND,...", "line kinds drawn: silhouette, crease, border (default all three)",
+            [&features](const std::string& v) {
+                for (auto& k : features.kinds) k = false;
+                std::stringstream ss(v);
+                for (std::string name; std::getline(ss, name, ',');) {
+                    LineKind kind;
+                    if (!parse_line_kind(name, kind))
+                        throw Error("--lines", "unknown line kind '" + name + "' (expected silhouette, crease, border)");
+                    features.kinds[int(kind)] = true;
+                }
+            }};
+}
+
+Flag finder_flag(FinderKind& kind) {
+    return {"--finder", "exhaustive|randomized",
+            "silhouette search: every edge (exact), or seed-and-seek from a --fraction of the edges",
+            [&kind](const std::string& v) {
+                if (v == "exhaustive") kind = FinderKind::Exhaustive;
+                else if (v == "randomized") kind = FinderKind::Randomized;
+                else throw Error("--finder", "unknown finder '" + v + "' (expected exhaustive or randomized)");
+            }};
+}
+
+Flag fraction_flag(double& share) {
+    return {"--fraction", "F", "randomized finder: share of the edges sampled, in (0, 1] (default 0.05)",
+            [&share](const std::string& v) {
+                const double f = parse_number("--fraction", v);
+                if (!(f > 0.0 && f <= 1.0)) throw Error("--fraction", "expected a share in (0, 1]");
+                share = f;
+            }};
+}
+
+Flag first_view_flag(bool& first_full) {
+    return {"--first-view", "exhaustive|random",
+            "frame coherence: the first view by an exhaustive scan (exact) or by random draws",
+            [&first_full](const std::string& v) {
+                if (v != "exhaustive" && v != "random")
+                    throw Error("--first-view", "unknown value '" + v + "' (expected exhaustive or random)");
+                first_full = v == "exhaustive";
+            }};
+}
+
+Flag visibility_flag(VisibilityMethod& method) {
+    return {"--visibility", "appel|rays",
+            "QI by Appel/Markosian propagation (default), or a ray test at every piece (the reference)",
+            [&method](const std::string& v) {
+                if (v == "appel") method = VisibilityMethod::Appel;
+                else if (v == "rays") method = VisibilityMethod::Rays;
+                else throw Error("--visibility", "unknown method '" + v + "' (expected appel or rays)");
+            }};
+}
+
+Flag subdivide_flag(int& levels) {
+    return {"--subdivide", "N", "Loop subdivision levels, 0 to 6, before drawing (default 0)",
+            [&levels](const std::string& v) {
+                const double n = parse_number("--subdivide", v);
+                if (n < 0 || n > 6 || n != std::floor(n))
+                    throw Error("--subdivide", "expected a number of levels from 0 to 6");
+                levels = int(n);
+            }};
+}
+
+Flag threads_flag(int& threads, const std::string& what, const std::string& unset) {
+    return {"--threads", "N", what + ", 1 to 64 (default " + unset + ")",
+            [&threads](const std::string& v) { threads = parse_integer("--threads", v, 1, 64); }};
+}
+
+Flag frames_flag(int& frames, const std::string& what, bool* given) {
+    return {"--frames", "N", what + " (1 to 1000000)", [&frames, given](const std::string& v) {
+                frames = parse_integer("--frames", v, 1, 1000000);
+                if (given) *given = true;
+            }};
+}
+
+Flag arc_flag(double& degrees, const std::string& what) {
+    return {"--arc", "DEG", what + ", in (0, 3600] (default " + fmt_number(degrees) + ")", [&degrees](const std::string& v) {
+                const double a = parse_number("--arc", v);
+                if (!(a > 0.0 && a <= 3600.0)) throw Error("--arc", "expected degrees in (0, 3600]");
+                degrees = a;
+            }};
+}
+
+Flag style_flag(std::string& style) {
+    return {"--style", "NAME|FILE.json",
+            "a preset (clean, technical, sketchy, charcoal, ink-brush, hatched; found in $INKLINE_STYLES, "
+            "else the source tree's styles/) or a style file (styles/README.md)",
+            [&style](const std::string& v) { style = v; }};
+}
+
+Flag switch_flag(const std::string& name, bool& target, bool value_when_given, const std::string& help) {
+    return {name, "", help, [&target, value_when_given](const std::string&) { target = value_when_given; }};
+}
+
+Flag text_flag(const std::string& name, const std::string& value, std::string& target, const std::string& help) {
+    return {name, value, help, [&target](const std::string& v) { target = v; }};
+}
+
+}  // namespace inkline
