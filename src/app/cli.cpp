@@ -43,6 +43,8 @@ struct RenderArgs {
     bool walk = true;
     bool hidden = false, quiet = false, recall = false;
     FeatureOptions features;
+    SurfaceLineOptions surface{.suggestive = false};
+    bool lines_given = false;  // --lines (else a style's kinds apply)
     FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
@@ -61,8 +63,10 @@ FlagTable render_flags(RenderArgs& a) {
         .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
     t.group("Camera (default framed: the whole model in view, fov 30, +Y up)").add(camera_flags(a.camera));
     t.group("Lines")
-        .add(lines_flag(a.features))
+        .add(lines_flag(a.features, a.surface, &a.lines_given))
         .add(crease_flag(a.crease))
+        .add(suggestive_threshold_flag(a.surface))
+        .add(ridge_threshold_flag(a.surface))
         .add(switch_flag("--hidden", a.hidden, true, "also draw hidden lines (dashed, by QI)"))
         .add(subdivide_flag(a.subdivide));
     t.group("Silhouette finder")
@@ -106,6 +110,7 @@ int run_render(int argc, char** argv) {
     if (!a.style.empty()) {
         if (format == Format::Json) throw Error("--style", "a style draws svg, pdf or png; JSON keeps the exact pieces");
         style = load_style(a.style);
+        if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
     }
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
@@ -115,6 +120,7 @@ int run_render(int argc, char** argv) {
     const Camera cam = make_camera(a.camera, model.topology());
     ViewOptions opt;
     opt.features = a.features;
+    opt.surface = a.surface;
     opt.visibility = a.visibility;
     opt.walk = a.walk;
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden

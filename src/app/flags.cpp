@@ -247,17 +247,73 @@ Flag crease_flag(double& degrees) {
             }};
 }
 
-Flag lines_flag(FeatureOptions& features) {
-    return {"--lines", "KIND,...", "line kinds drawn: silhouette, crease, border (default all three)",
-            [&features](const std::string& v) {
-                for (auto& k : features.kinds) k = false;
+namespace {
+const char* const kLineKindNames = "silhouette, crease, border, suggestive, smooth-contour, ridge, valley";
+// The switch of a surface line kind (curvature/curvature.hpp); null for the mesh edge kinds.
+bool* surface_switch(SurfaceLineOptions& surface, LineKind k) {
+    switch (k) {
+        case LineKind::Suggestive: return &surface.suggestive;
+        case LineKind::SmoothContour: return &surface.smooth_contour;
+        case LineKind::Ridge: return &surface.ridge;
+        case LineKind::Valley: return &surface.valley;
+        default: return nullptr;
+    }
+}
+// A kind the drawing of a mesh can hold (not the freeform line art, which has flags of its own).
+bool parse_drawn_kind(const std::string& name, LineKind& out) {
+    for (int i = 0; i < kPieceKindCount; ++i)
+        if (LineKind(i) != LineKind::Freeform && name == to_string(LineKind(i))) {
+            out = LineKind(i);
+            return true;
+        }
+    return false;
+}
+}  // namespace
+
+void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface) {
+    for (auto& k : features.kinds) k = false;
+    surface.suggestive = surface.smooth_contour = surface.ridge = surface.valley = false;
+    for (LineKind k : kinds) {
+        if (bool* on = surface_switch(surface, k)) *on = true;
+        else if (int(k) < kLineKindCount) features.kinds[int(k)] = true;
+    }
+}
+
+Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given) {
+    return {"--lines", "KIND,...", std::string("line kinds drawn: ") + kLineKindNames + " (default the first three)",
+            [&features, &surface, given](const std::string& v) {
+                std::vector<LineKind> kinds;
                 std::stringstream ss(v);
                 for (std::string name; std::getline(ss, name, ',');) {
                     LineKind kind;
-                    if (!parse_line_kind(name, kind))
-                        throw Error("--lines", "unknown line kind '" + name + "' (expected silhouette, crease, border)");
-                    features.kinds[int(kind)] = true;
+                    if (!parse_drawn_kind(name, kind))
+                        throw Error("--lines", "unknown line kind '" + name + "' (expected " + kLineKindNames + ")");
+                    kinds.push_back(kind);
                 }
+                set_line_kinds(kinds, features, surface);
+                if (given) *given = true;
+            }};
+}
+
+Flag suggestive_threshold_flag(SurfaceLineOptions& surface) {
+    return {"--suggestive-threshold", "T",
+            "suggestive contours: how steeply the radial curvature must rise across them, relative to the "
+            "model's feature size (default 0.05; 0 draws every zero of it, larger draws fewer)",
+            [&surface](const std::string& v) {
+                const double t = parse_number("--suggestive-threshold", v);
+                if (!(t >= 0.0 && t <= 1000.0)) throw Error("--suggestive-threshold", "expected a number in [0, 1000]");
+                surface.suggestive_threshold = t;
+            }};
+}
+
+Flag ridge_threshold_flag(SurfaceLineOptions& surface) {
+    return {"--ridge-threshold", "T",
+            "ridges and valleys: the least principal curvature drawn, relative to the model's feature size "
+            "(default 0.1)",
+            [&surface](const std::string& v) {
+                const double t = parse_number("--ridge-threshold", v);
+                if (!(t >= 0.0 && t <= 1000.0)) throw Error("--ridge-threshold", "expected a number in [0, 1000]");
+                surface.ridge_threshold = t;
             }};
 }
 

@@ -89,7 +89,13 @@ Camera make_camera(const CameraFlags& flags, const MeshTopology& mesh);
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);
 Flag seed_flag(std::uint64_t& seed);
 Flag crease_flag(double& degrees);
-Flag lines_flag(FeatureOptions& features);
+// --lines: mesh edge kinds (silhouette, crease, border) and surface line kinds (suggestive, ...);
+// *given set when the flag was given (a style's kinds apply only when it was not).
+Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given = nullptr);
+// Turns on exactly `kinds` (a style's "kinds", or --lines).
+void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface);
+Flag suggestive_threshold_flag(SurfaceLineOptions& surface);
+Flag ridge_threshold_flag(SurfaceLineOptions& surface);
 Flag finder_flag(FinderKind& kind);
 Flag fraction_flag(double& share);
 Flag first_view_flag(bool& first_full);
