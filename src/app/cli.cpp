@@ -105,17 +105,23 @@ int run_render(int argc, char** argv) {
     RenderArgs a;
     if (!render_flags(a).parse(argc, argv, 2, a.model)) return 0;  // --help
     const std::string out = a.output.empty() ? default_output(a.model) : a.output;
-    const Format format = output_format(out, a.format);  // refuse a bad format before any work
+    const Format format = [&] {  // refuse a bad format before any work (a usage error)
+        try {
+            return output_format(out, a.format);
+        } catch (const Error& e) {
+            throw BadValue(e.what());
+        }
+    }();
     std::optional<Style> style;  // read before any work: a bad style file fails fast
     if (!a.style.empty()) {
-        if (format == Format::Json) throw Error("--style", "a style draws svg, pdf or png; JSON keeps the exact pieces");
+        if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
         style = load_style(a.style);
         if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
     }
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
     else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
-    if (freeform && a.subdivide > 0) throw Error("--subdivide", "not for surface models (use --tessellation=N)");
+    if (freeform && a.subdivide > 0) throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
     Model model = freeform ? Model(freeform->mesh(), a.crease) : Model::load(a.model, a.crease, a.subdivide);
     const Camera cam = make_camera(a.camera, model.topology());
     ViewOptions opt;
@@ -200,6 +206,9 @@ int run_cli(int argc, char** argv) {
         if (cmd == "bench") return run_bench(argc, argv);
         if (cmd == "view") return run_view(argc, argv);
         throw Usage("unknown command '" + cmd + "'");
+    } catch (const BadValue& e) {
+        std::fprintf(stderr, "inkline: %s\n", e.what());
+        return 2;
     } catch (const Usage& e) {
         std::fprintf(stderr, "inkline: %s\n%s\n", e.what(), usage_line(e.command).c_str());
         return 2;

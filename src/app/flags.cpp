@@ -83,14 +83,22 @@ bool FlagTable::parse(int argc, char** argv, int first, std::string& model) cons
         const std::string key = arg.substr(0, eq);
         const Flag* f = find(key);
         if (!f) throw Usage("unknown option '" + key + "'", command_);
+        // A value the flag refuses is a usage error too (exit 2), in the flag's own one line.
+        auto set = [f](const std::string& value) {
+            try {
+                f->set(value);
+            } catch (const Error& e) {
+                throw BadValue(e.what());
+            }
+        };
         if (f->value.empty()) {
             if (eq != std::string::npos) throw Usage(key + " takes no value", command_);
-            f->set("");
+            set("");
         } else if (eq != std::string::npos) {
-            f->set(arg.substr(eq + 1));
+            set(arg.substr(eq + 1));
         } else if (!f->short_name.empty()) {  // `-o FILE`, `--output FILE`
             if (i + 1 >= argc) throw Usage(arg + " needs a file name", command_);
-            f->set(argv[++i]);
+            set(argv[++i]);
         } else {
             throw Usage(key + " needs a value (" + key + "=" + f->value + ")", command_);
         }
@@ -212,7 +220,7 @@ Camera make_camera(const CameraFlags& c, const MeshTopology& mesh) {
         cam = c.ortho ? Camera::orthographic(eye, target, up, *c.ortho, w, h)
                       : Camera::perspective(eye, target, up, fov, w, h);
     } catch (const std::invalid_argument& e) {
-        throw Error("camera", e.what());
+        throw BadValue(std::string("camera: ") + e.what());
     }
     if (c.near) cam.set_near(*c.near);
     return cam;
