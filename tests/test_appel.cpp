@@ -13,6 +13,7 @@
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
 #include "random_camera.hpp"
+#include "test_data.hpp"
 #include "visibility/appel.hpp"
 
 namespace inkline {
@@ -83,7 +84,7 @@ int local_occlusion_direct(const MeshTopology& mesh, const Camera& cam, const Fa
 TEST(LocalOcclusion, MatchesTheDefinition) {
     std::size_t tested = 0, nonzero = 0;
     for (const char* name : {"bunny00", "fandisk"}) {
-        const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off");
+        const Model model = Model::load(test::mesh_path(name));
         const MeshTopology& mesh = model.topology();
         std::mt19937 rng(11u);
         for (int k = 0; k < 6; ++k) {
@@ -199,7 +200,7 @@ class RandomCameras : public testing::TestWithParam<const char*> {};
 // At least 20 random cameras per mesh (fixed seeds), plus orthographic ones: >= 99.9% of the
 // curve length must have the same QI; the disagreeing cases are printed with their camera.
 TEST_P(RandomCameras, AppelAgreesWithRays) {
-    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + GetParam() + ".off";
+    const std::string path = test::mesh_path(GetParam());
     const Model model = Model::load(path);
     std::mt19937 rng(20261122u);
     double total = 0.0, wrong = 0.0;
@@ -255,11 +256,14 @@ TriangleMesh bumped_sphere(glm::dvec3 dir, double height, double width) {
     return m;
 }
 
+// The camera of the Figure 2 cases (and of the stage timings): the bumped unit sphere from +z.
+Camera figure2_camera() { return Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800); }
+
 // Figure 2 (b): the branch is behind the body. Its silhouette is an inner cluster whose offsets,
 // lower bound and parity prove it hidden: no ray test at all when hidden QI is not needed.
 TEST(Figure2, BranchInRearIsProvedHiddenWithoutRayTests) {
     const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     ViewOptions o;
     o.visibility = VisibilityMethod::Appel;
     o.exact_hidden = false;
@@ -296,7 +300,7 @@ struct FlagsNoneAndClear {
 // with no flags at all.
 TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
     const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     ASSERT_TRUE(model.topology().closed);
     const FlagsNoneAndClear r(model, cam);
     const AppelStats &s0 = r.s0, &sc = r.sc;
@@ -312,7 +316,7 @@ TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
 // and walking (section 4.4) proves the enclosed cluster visible without a ray test.
 TEST(Figure2, BranchInFront) {
     const Model model(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     const Agreement g = compare(model, cam);
     EXPECT_EQ(g.wrong, 0.0);
     ViewOptions o;
@@ -335,7 +339,7 @@ TEST(Figure2, BranchInFront) {
 // each stage that ran has time, each that did not has none, and they fit in the stage's total.
 // (Structure only: no speed is asserted.)
 TEST(VisibilityStages, SplitTheVisibilityTime) {
-    const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
+    const Camera cam = figure2_camera();
     auto check_sum = [](const DrawingStats& s) {
         EXPECT_LE(s.seconds_pieces + s.seconds_propagation + s.seconds_walks + s.seconds_ray_tests,
                   s.seconds_visibility * (1.0 + 1e-9));
@@ -423,11 +427,10 @@ TEST(UpperBounds, ClusterInFrontOfAVisibleOutlineNeedsNoWalk) {
 // lower bound exposes offsets that do not hold (a non-generic view): the reference decides that
 // cluster (before upper bounds were read, 27 px of its 21 392 px were wrong there).
 TEST(UpperBounds, CreasesOffAgreeWithRays) {
-    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/ChineseDragon-10kv.off");
+    const Model model = Model::load(test::mesh_path("ChineseDragon-10kv"));
     std::mt19937 rng(7u);
     for (int k = 0; k < 8; ++k) {
-        const Camera cam = k == 0 ? Camera::framing(model.topology().bounds, 1024, 1024)
-                                  : random_camera(rng, model.topology().bounds);
+        const Camera cam = test::framed_then_random(k, rng, model.topology().bounds);
         ViewOptions creases_off;
         creases_off.features.kinds[int(LineKind::Crease)] = false;
         const Agreement g = compare(model, cam, /*exact_hidden=*/false, creases_off);
@@ -523,7 +526,7 @@ TEST(BuildPieces, SplitShareMovesTowardEqualTimes) {
 // also with the eye inside the model's box, where occluders are clipped at the near plane or
 // dropped behind it.
 TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
-    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const Model model = Model::load(test::mesh_path("armadillo"));
     const MeshTopology& mesh = model.topology();
     const SelfIntersections& si = model.self_intersections();
     auto expect_same = [](const PieceGraph& one, const PieceGraph& two, int k) {
@@ -566,7 +569,7 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
     std::mt19937 rng(7u);
     std::size_t dropped = 0;  // occluders left out (behind the near plane) in the views inside the box
     for (int k = 0; k < 9; ++k) {
-        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        Camera cam = test::framed_then_random(k, rng, mesh.bounds);
         if (k >= 6) {  // the eye inside the model's box, looking across it
             const glm::dvec3 c = mesh.bounds.center(), h = 0.5 * (mesh.bounds.hi - mesh.bounds.lo);
             const glm::dvec3 eye = c + glm::dvec3(0.3 * h.x * (k - 7), 0.2 * h.y, 0.4 * h.z);
@@ -592,7 +595,7 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
     // Through the pipeline: the same drawing.
     ViewOptions o1, o2;
     o2.threads = 2;
-    const Camera cam = Camera::framing(mesh.bounds, 1024, 1024);
+    const Camera cam = test::framed_camera(mesh.bounds);
     const View v1 = render_view(model, cam, o1), v2 = render_view(model, cam, o2);
     ASSERT_EQ(v1.drawing.pieces.size(), v2.drawing.pieces.size());
     for (std::size_t p = 0; p < v1.drawing.pieces.size(); ++p)
@@ -605,14 +608,14 @@ TEST(BuildPieces, TwoThreadsGiveTheSameGraph) {
 // two-thread graph is reused from view to view, as a session reuses it (with the second walking
 // thread's vertex images).
 TEST(AssignQiAppel, TwoThreadsGiveTheSameQi) {
-    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const Model model = Model::load(test::mesh_path("armadillo"));
     const MeshTopology& mesh = model.topology();
     const SelfIntersections& si = model.self_intersections();
     std::mt19937 rng(11u);
     std::size_t walks = 0;
     PieceGraph two;
     for (int k = 0; k < 5; ++k) {
-        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds);
+        Camera cam = test::framed_then_random(k, rng, mesh.bounds);
         cam.set_near(default_near(mesh));
         const Features f = extract_features(mesh, cam);
         auto rays = [&]() -> const RayCaster& { return model.rays(); };
@@ -678,8 +681,8 @@ void check_flagged_faces(const Model& model, const Camera& cam) {
 }
 
 TEST(AssignQiAppel, PiecesOnAFlaggedFaceWhereverItIsInTheFlags) {
-    const Model bunny = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/bunny00.off");
-    Camera cam = Camera::framing(bunny.topology().bounds, 1024, 1024);
+    const Model bunny = Model::load(test::mesh_path("bunny00"));
+    Camera cam = test::framed_camera(bunny.topology().bounds);
     cam.set_near(default_near(bunny.topology()));
     check_flagged_faces(bunny, cam);
     // A bent sheet of 32 faces (fewer than a 64-face word).
@@ -694,7 +697,7 @@ TEST(AssignQiAppel, PiecesOnAFlaggedFaceWhereverItIsInTheFlags) {
 // two threads reads the lazy facing from both threads, which must leave it as one thread does
 // (the next view's coherence builds on it). Same silhouette edges and QI, view after view.
 TEST(AssignQiAppel, TwoThreadsKeepTheLazyFacingOfACameraPath) {
-    const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const Model model = Model::load(test::mesh_path("armadillo"));
     const MeshTopology& mesh = model.topology();
     ViewOptions o1, o2;
     o1.finder.kind = o2.finder.kind = FinderKind::Randomized;
@@ -702,7 +705,7 @@ TEST(AssignQiAppel, TwoThreadsKeepTheLazyFacingOfACameraPath) {
     o1.exact_hidden = o2.exact_hidden = false;
     o2.threads = 2;
     ViewSession s1(model, o1), s2(model, o2);
-    const Camera home = Camera::framing(mesh.bounds, 1024, 1024);
+    const Camera home = test::framed_camera(mesh.bounds);
     std::size_t walks = 0;
     for (int k = 0; k < 8; ++k) {
         const double a = 0.05 * k;

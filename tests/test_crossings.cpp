@@ -641,6 +641,19 @@ void segment_pairs(const inkline::Camera& cam, std::mt19937_64& rng, int n, Fn f
         fn(i, P, seg2(P[0], P[1], 0), seg2(P[2], P[3], 1));
     }
 }
+
+// The cameras those pairs are seen from: an oblique perspective and an oblique orthographic view
+// of the lattice's centre, and a perspective one from a lattice eye (lines of sight through
+// several lattice points).
+inkline::Camera oblique_perspective() {
+    return inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600);
+}
+inkline::Camera oblique_orthographic() {
+    return inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500);
+}
+inkline::Camera lattice_eye_perspective() {
+    return inkline::Camera::perspective({2, 2, 12}, {2, 2, 0}, {0, 1, 0}, 50, 640, 640);
+}
 }  // namespace
 
 // The 3D-exact segment_crossings (with its filter on the rounded image coordinates) against a
@@ -649,10 +662,10 @@ void segment_pairs(const inkline::Camera& cam, std::mt19937_64& rng, int n, Fn f
 TEST(SegmentCrossings, ThreeDimensionalMatchesExactOrientations) {
     std::mt19937_64 rng(3);
     const inkline::Camera cams[] = {
-        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
-        inkline::Camera::perspective({2, 2, 12}, {2, 2, 0}, {0, 1, 0}, 50, 640, 640),
+        oblique_perspective(),
+        lattice_eye_perspective(),
         inkline::Camera::orthographic({1, 1, 10}, {1, 1, 0}, {0, 1, 0}, 8, 500, 500),
-        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+        oblique_orthographic(),
     };
     int degenerate = 0, crossing = 0;
     for (const auto& cam : cams)
@@ -685,8 +698,8 @@ TEST(SegmentCrossings, ThreeDimensionalMatchesExactOrientations) {
 TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
     std::mt19937_64 rng(4);
     const inkline::Camera cams[] = {
-        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
-        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+        oblique_perspective(),
+        oblique_orthographic(),
     };
     int touches = 0, proper = 0, rejected = 0;
     for (const auto& cam : cams)
@@ -727,8 +740,8 @@ TEST(SegmentCrossings, ParameterAlongTheOtherEqualsTheSwappedCall) {
 TEST(SegmentCrossings, GivenFilterSidesGiveTheSameResults) {
     std::mt19937_64 rng(6);
     const inkline::Camera cams[] = {
-        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
-        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+        oblique_perspective(),
+        oblique_orthographic(),
     };
     int rejected = 0, met = 0, decided = 0;
     for (const auto& cam : cams)
@@ -773,9 +786,9 @@ TEST(SegmentCrossings, GivenFilterSidesGiveTheSameResults) {
 TEST(SegmentCrossings, MirroredPairEqualsItsOwnTest) {
     std::mt19937_64 rng(8);
     const inkline::Camera cams[] = {
-        inkline::Camera::perspective({5, 4, 9}, {0, 0, 0}, {0, 1, 0}, 60, 800, 600),
-        inkline::Camera::perspective({2, 2, 12}, {2, 2, 0}, {0, 1, 0}, 50, 640, 640),
-        inkline::Camera::orthographic({7, 5, 9}, {0, 0, 0}, {0, 1, 0}, 10, 500, 500),
+        oblique_perspective(),
+        lattice_eye_perspective(),
+        oblique_orthographic(),
     };
     int touches = 0, proper = 0, collinear = 0, apart = 0;
     for (const auto& cam : cams)

@@ -30,6 +30,7 @@
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
+#include "test_data.hpp"
 
 namespace {
 
@@ -46,7 +47,7 @@ constexpr double kRequired = 0.999;   // oracle agreement by sampled length
 
 K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
 
-std::string mesh_path(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name; }
+using inkline::test::mesh_path;
 
 // ---- drawing sanity --------------------------------------------------------------------
 
@@ -583,7 +584,7 @@ TEST(Extremes, ModelUnderOnePixel) {
 // Every input the pipeline fuzzer (fuzz/run.sh pipeline) found failing, replayed: the drawings
 // must be finite with non-negative QI.
 TEST(Extremes, PipelineFuzzRegressions) {
-    const std::filesystem::path dir = std::filesystem::path(__FILE__).parent_path().parent_path() / "fuzz" / "regressions";
+    const std::filesystem::path dir = std::filesystem::path(INKLINE_SOURCE_DIR) / "fuzz" / "regressions";
     ASSERT_TRUE(std::filesystem::is_directory(dir)) << dir;
     int replayed = 0;
     for (const auto& e : std::filesystem::directory_iterator(dir)) {

@@ -16,6 +16,7 @@
 #include "model/primitives.hpp"
 #include "model/reorder.hpp"
 #include "pipeline.hpp"
+#include "test_data.hpp"
 
 namespace inkline {
 namespace {
@@ -26,7 +27,7 @@ const Model& mesh_model(const std::string& name) {
     static std::map<std::string, Model> cache;
     auto it = cache.find(name);
     if (it == cache.end()) {
-        const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off";
+        const std::string path = test::mesh_path(name);
         if (!std::filesystem::exists(path)) throw std::runtime_error(path + " missing: run scripts/setup.sh");
         it = cache.emplace(name, Model::load(path)).first;
     }
@@ -34,7 +35,7 @@ const Model& mesh_model(const std::string& name) {
 }
 
 std::vector<Camera> cameras(const Bounds3& box) {
-    std::vector<Camera> out{Camera::framing(box, 1024, 1024)};
+    std::vector<Camera> out{test::framed_camera(box)};
     const glm::dvec3 c = box.center();
     const double d = 3.0 * box.half_diagonal();
     out.push_back(Camera::perspective(c + glm::dvec3(-d, 0.3 * d, -0.5 * d), c, {0, 1, 0}, 35, 800, 600));
@@ -128,7 +129,7 @@ TEST(Finder, FractionOneEqualsExhaustive) {
 // The exhaustive scan split over threads gives the same edges in the same order (and the same
 // curves) as on one thread. armadillo@1 so that both passes are actually split.
 TEST(Finder, ExhaustiveThreadsSameResult) {
-    static const Model sub = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off", 40.0, 1);
+    static const Model sub = Model::load(test::mesh_path("armadillo"), 40.0, 1);
     for (const Model* m : {&sub, &mesh_model("bunny00")}) {
         for (const Camera& cam : cameras(m->topology().bounds)) {
             Features one, two;
@@ -178,7 +179,7 @@ TEST(Finder, StaticCameraCoherence) {
     // where the first frame finds everything, the two frames are equal.
     const Model torus(make_torus({0, 0, 0}, {0, 1, 0}, 1.0, 0.35, 96, 48));
     for (const Model* m : {&torus, &mesh_model("armadillo"), &mesh_model("bunny00")}) {
-        const Camera cam = Camera::framing(m->topology().bounds, 1024, 1024);
+        const Camera cam = test::framed_camera(m->topology().bounds);
         SilhouetteFinder finder(m->topology(), randomized(0.01, true));
         Features a, b;
         finder.find(cam, {}, a);
@@ -226,7 +227,7 @@ TEST(Finder, DeterministicSeed) {
 TEST(Finder, RecallFloorOnDefaultViews) {
     for (const char* name : kMeshes) {
         const Model& m = mesh_model(name);
-        const Camera cam = Camera::framing(m.topology().bounds, 1024, 1024);
+        const Camera cam = test::framed_camera(m.topology().bounds);
         const Features ex = extract_features(m.topology(), cam);
         FinderOptions o;
         o.kind = FinderKind::Randomized;
@@ -786,7 +787,7 @@ TEST(Finder, ExhaustiveBlocksSameResult) {
 
 // The same with the facing pass and the edge scan split over threads (parts of whole blocks).
 TEST(Finder, ExhaustiveBlocksThreadsSameResult) {
-    Model sub = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off", 40.0, 1);  // 208 k faces: threads run
+    Model sub = Model::load(test::mesh_path("armadillo"), 40.0, 1);  // 208 k faces: threads run
     const MeshTopology& t = sub.topology();
     std::vector<Camera> path = cameras(t.bounds);
     path.push_back(path.front());
@@ -920,7 +921,7 @@ TEST(Facing, BlockEdgesSkipAndRefuse) {
     BlockEdges be;
     ASSERT_TRUE(be.build(t));
     FaceFacing facing;
-    facing.begin_full(t, Camera::framing(t.bounds, 512, 512));
+    facing.begin_full(t, test::framed_camera(t.bounds, 512));
     std::vector<std::uint32_t> odd, all;
     be.scan(facing.states(), 0, std::uint32_t(be.size()), [](std::uint32_t b) { return b % 2 == 0; }, odd);
     for (std::uint32_t e : plain_candidates(t, facing.states()))
@@ -942,7 +943,7 @@ TEST(Facing, BlockEdgesSkipAndRefuse) {
 // stretch: every view equals the exhaustive finder's, and the band is both kept and rebuilt
 // (the front bits of the faces outside it come from the rebuilds).
 TEST(Finder, CoherenceFollowsASubdividedMeshExactly) {
-    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off";
+    const std::string path = test::mesh_path("armadillo");
     ASSERT_TRUE(std::filesystem::exists(path));
     const Model m = Model::load(path, 40.0, 1);
     const MeshTopology& t = m.topology();
@@ -993,7 +994,7 @@ TEST(Finder, CoherenceFollowsASubdividedMeshExactly) {
 // become silhouettes and marked again after). Also with the views written alternately into two
 // Features, and into a new one midway (the marks cannot be kept there).
 TEST(Finder, CoherenceKeepsEveryEdgeKindExact) {
-    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off";
+    const std::string path = test::mesh_path("fandisk");
     ASSERT_TRUE(std::filesystem::exists(path));
     const Model m = Model::load(path, 40.0, 1);
     const MeshTopology& t = m.topology();

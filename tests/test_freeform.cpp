@@ -18,6 +18,7 @@
 #include "freeform/surface.hpp"
 #include "freeform/tessellate.hpp"
 #include "pipeline.hpp"
+#include "test_data.hpp"
 
 using namespace inkline;
 using namespace inkline::freeform;
@@ -273,7 +274,7 @@ TEST(FreeformTessellation, TeapotWeldsIntoTheMeshPipeline) {
         EXPECT_LT(glm::length(p - teapot[s]->eval(uv.x, uv.y).p), 0.01);  // chordal error of a 16x16 grid
     }
     // Silhouettes and borders of the teapot through the unchanged pipeline.
-    const View v = render_view(model, Camera::framing(model.topology().bounds, 512, 512));
+    const View v = render_view(model, test::framed_camera(model.topology().bounds, 512));
     std::size_t sil = 0, border = 0;
     for (const auto& p : v.drawing.pieces) {
         sil += p.kind == LineKind::Silhouette && p.qi == 0;
@@ -815,7 +816,7 @@ TEST(FreeformCli, BadInputIsOneLineNamingTheProblem) {
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("bad.bpt: patch 1: expected 16 control points, got 1"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
-    r = inkline_run(std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off -o " + (d / "a.svg").string() + " --strokes=iso", d);
+    r = inkline_run(test::mesh_path("fandisk") + " -o " + (d / "a.svg").string() + " --strokes=iso", d);
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("need a .bpt or .json surface model"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "a.svg"));

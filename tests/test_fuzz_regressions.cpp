@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kRoot = fs::path(__FILE__).parent_path().parent_path();
+const fs::path kRoot = INKLINE_SOURCE_DIR;
 
 std::string read(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);

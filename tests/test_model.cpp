@@ -26,6 +26,7 @@
 #include "model/self_intersections.hpp"
 #include "model/subdivide.hpp"
 #include "model/topology.hpp"
+#include "test_data.hpp"
 
 namespace fs = std::filesystem;
 using inkline::MeshTopology;
@@ -862,7 +863,7 @@ TEST(Topology, TorusHasConvexAndConcaveEdges) {
 }
 
 TEST(Topology, FandiskFromDataDir) {
-    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off";
+    const std::string path = inkline::test::mesh_path("fandisk");
     if (!fs::exists(path)) GTEST_SKIP() << path << " not found (run scripts/setup.sh)";
     const TriangleMesh m = inkline::load_mesh(path);
     // Header: "OFF / 6475 12946 0", all triangles, a closed genus-0 surface.
@@ -901,7 +902,7 @@ glm::dvec3 cut_point(const MeshTopology& t, const inkline::EdgeCut& c) {
 }  // namespace
 
 TEST(SelfIntersections, CutsWhereEdgesMeetOtherFaces) {
-    const MeshTopology fandisk = inkline::build_topology(inkline::load_mesh(std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off"));
+    const MeshTopology fandisk = inkline::build_topology(inkline::load_mesh(inkline::test::mesh_path("fandisk")));
     const inkline::SelfIntersections none = inkline::self_intersections(fandisk);
     EXPECT_TRUE(none.cuts.empty());
     EXPECT_EQ(std::count(none.faces.begin(), none.faces.end(), 1), 0);

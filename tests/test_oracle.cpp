@@ -43,6 +43,7 @@
 #include <glm/geometric.hpp>
 
 #include "pipeline.hpp"
+#include "test_data.hpp"
 
 namespace {
 
@@ -150,7 +151,7 @@ MeshOracle& oracle_for(const std::string& name) {
     auto& slot = cache[name];
     if (!slot) {
         cache.clear();  // one mesh at a time (cases run mesh by mesh)
-        auto m = std::make_unique<MeshOracle>(inkline::Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off"));
+        auto m = std::make_unique<MeshOracle>(inkline::Model::load(inkline::test::mesh_path(name)));
         return *(cache[name] = std::move(m));
     }
     return *slot;
@@ -184,7 +185,7 @@ inkline::Camera make_camera(const inkline::MeshTopology& mesh, int index) {
         return inkline::Camera::perspective(best + off * R * dir, c, up_for(dir), 40.0, kImage, kImage);
     };
     switch (index) {
-        case 0: return inkline::Camera::framing(mesh.bounds, kImage, kImage);
+        case 0: return inkline::test::framed_camera(mesh.bounds, kImage);
         case 1: return around({1, 0, 0});
         case 2: return around({-1, 0, 0});
         case 3: return around({0, 1, 0});

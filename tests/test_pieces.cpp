@@ -21,6 +21,7 @@
 #include "core/worker_thread.hpp"
 #include "pipeline.hpp"
 #include "random_camera.hpp"
+#include "test_data.hpp"
 #include "visibility/appel.hpp"
 #include "visibility/crossings.hpp"
 
@@ -107,7 +108,7 @@ void expect_same_graph(const PieceGraph& a, const PieceGraph& b, const std::stri
 // same object, and both use it (a second build would replace, and free, what the first thread got).
 TEST(Model, LazyPartsAreBuiltOnceWhenTwoThreadsAskAtOnce) {
     for (int round = 0; round < 3; ++round) {
-        const Model bunny = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/bunny00.off");
+        const Model bunny = Model::load(test::mesh_path("bunny00"));
         const glm::dvec3 far = bunny.topology().bounds.center() + 10.0 * glm::dvec3(bunny.topology().bounds.half_diagonal());
         std::latch start(2);
         const RayCaster* rays[2] = {nullptr, nullptr};
@@ -130,8 +131,8 @@ TEST(Model, LazyPartsAreBuiltOnceWhenTwoThreadsAskAtOnce) {
 }
 
 TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {
-    const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
-    const Model bunny = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/bunny00.off");
+    const Model armadillo = Model::load(test::mesh_path("armadillo"));
+    const Model bunny = Model::load(test::mesh_path("bunny00"));
     std::mt19937 rng(5u);
     PieceGraph recycled;  // one graph through every view
     std::size_t previous = 0, fewer = 0, more = 0, walks = 0;
@@ -139,7 +140,7 @@ TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {
         const Model& model = k == 5 ? bunny : armadillo;  // (another vertex count in between)
         const MeshTopology& mesh = model.topology();
         const SelfIntersections& si = model.self_intersections();
-        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds, 0.3, 1.2);
+        Camera cam = test::framed_then_random(k, rng, mesh.bounds, 0.3, 1.2);
         cam.set_near(default_near(mesh));
         const Features f = extract_features(mesh, cam);
         const int threads = k % 3 == 2 ? 2 : 1;  // (two threads: the second range's slots swapped in)
@@ -175,12 +176,12 @@ TEST(BuildPieces, RecycledGraphEqualsFreshBuilds) {
 TEST(BuildPieces, MirroredSilhouettePairsGiveTheSameGraph) {
     std::size_t views = 0, silhouette_crossings = 0;
     for (const char* name : {"armadillo", "bunny00", "knot1", "elephant", "fandisk"}) {
-        const Model model = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off");
+        const Model model = Model::load(test::mesh_path(name));
         const MeshTopology& mesh = model.topology();
         const SelfIntersections& si = model.self_intersections();
         std::mt19937 rng(23u);
         for (int k = 0; k < 12; ++k) {
-            Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds, 0.3, 1.2);
+            Camera cam = test::framed_then_random(k, rng, mesh.bounds, 0.3, 1.2);
             if (k % 4 == 3) {  // (orthographic, from the same eye)
                 const double R = mesh.bounds.half_diagonal();
                 cam = Camera::orthographic(cam.eye(), mesh.bounds.center(), std::abs(cam.forward().y) > 0.95
@@ -213,12 +214,12 @@ TEST(BuildPieces, MirroredSilhouettePairsGiveTheSameGraph) {
 // occluders, clipped only at the default near plane, are not) and without; silhouette edges
 // are walked in either direction along their curves.
 TEST(BuildPieces, PiecesAreTheirEdgesClippedAndProjected) {
-    const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    const Model armadillo = Model::load(test::mesh_path("armadillo"));
     const MeshTopology& mesh = armadillo.topology();
     std::mt19937 rng(11u);
     std::size_t clipped = 0, spans = 0;
     for (int k = 0; k < 8; ++k) {
-        Camera cam = k == 0 ? Camera::framing(mesh.bounds, 1024, 1024) : random_camera(rng, mesh.bounds, 0.3, 1.2);
+        Camera cam = test::framed_then_random(k, rng, mesh.bounds, 0.3, 1.2);
         cam.set_near(k % 2 ? std::max(cam.depth(mesh.bounds.center()), default_near(mesh)) : default_near(mesh));
         const Features f = extract_features(mesh, cam);
         const PieceGraph g = build_pieces(mesh, f, cam, nullptr, k % 4 == 3 ? 2 : 1, 0);
@@ -266,8 +267,8 @@ TEST(BuildPieces, PiecesAreTheirEdgesClippedAndProjected) {
 // view) gives the drawing render_view gives, also with hidden lines' exact QI, and when the
 // silhouettes are chained only for propagation and then dropped (fandisk's creases drawn).
 TEST(ViewSession, RecycledViewsEqualRenderView) {
-    const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
-    const Model fandisk = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off");
+    const Model armadillo = Model::load(test::mesh_path("armadillo"));
+    const Model fandisk = Model::load(test::mesh_path("fandisk"));
     for (int variant = 0; variant < 3; ++variant) {
         const Model& model = variant == 2 ? fandisk : armadillo;
         ViewOptions o;
@@ -277,8 +278,7 @@ TEST(ViewSession, RecycledViewsEqualRenderView) {
         std::mt19937 rng(9u);
         std::size_t previous = 0, fewer = 0;
         for (int k = 0; k < 6; ++k) {
-            const Camera cam = k == 0 ? Camera::framing(model.topology().bounds, 1024, 1024)
-                                      : random_camera(rng, model.topology().bounds, 0.3, 1.2);
+            const Camera cam = test::framed_then_random(k, rng, model.topology().bounds, 0.3, 1.2);
             const std::string at = "variant " + std::to_string(variant) + " view " + std::to_string(k);
             const View fresh = render_view(model, cam, o);
             const View& v = session.render(cam);

@@ -21,6 +21,7 @@
 #include "model/primitives.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
+#include "test_data.hpp"
 
 namespace {
 
@@ -154,7 +155,7 @@ TEST(SelfIntersections, CrumpledSpheres) {
 
 TEST(SelfIntersections, RealMeshes) {
     for (const char* name : {"ChineseDragon-10kv.off", "bunny00.off", "fandisk.off", "knot1.off"}) {
-        const TriangleMesh m = inkline::load_mesh(std::string(INKLINE_DATA_DIR) + "/meshes/" + name);
+        const TriangleMesh m = inkline::load_mesh(inkline::test::mesh_path(name));
         const std::size_t n = expect_same(m, name);
         std::printf("[self-intersections] %s: %zu faces\n", name, n);
     }

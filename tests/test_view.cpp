@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/camera.hpp"
+#include "test_data.hpp"
 #include "view/camera_rig.hpp"
 #include "view/line_mesh.hpp"
 
@@ -166,7 +167,6 @@ Result run(const std::string& prefix, const std::string& args, const fs::path& d
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 const char* kXvfb = "xvfb-run -a -s '-screen 0 1280x800x24' ";
 
-std::string mesh(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name; }
 
 // Dark pixels (luminance below half) of a PNG, row-major, with its size.
 struct Mask {
@@ -256,12 +256,12 @@ void expect_screenshot_is_render(const std::string& model, const std::string& fl
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png", other = d / "other.png";
-    const Result v = run(kXvfb, "view " + mesh(model) + " --frames=6 --orbit --arc=60 --size=640x480 --screenshot=" +
+    const Result v = run(kXvfb, "view " + test::mesh_path(model) + " --frames=6 --orbit --arc=60 --size=640x480 --screenshot=" +
                                     shot.string() + " " + flags + " " + view_flags, d);
     ASSERT_EQ(v.code, 0) << v.err;
     const std::string cam = camera_line(v.out);
     ASSERT_NE(cam.find("--size=640x480"), std::string::npos) << v.out;
-    const Result r = run("", "render " + mesh(model) + " " + flags + " " + cam + " -o " + drawn.string() + " --quiet", d);
+    const Result r = run("", "render " + test::mesh_path(model) + " " + flags + " " + cam + " -o " + drawn.string() + " --quiet", d);
     ASSERT_EQ(r.code, 0) << r.err;
     const Mask a = dark_pixels(shot), b = dark_pixels(drawn);
     ASSERT_EQ(a.w, 640);
@@ -277,7 +277,7 @@ void expect_screenshot_is_render(const std::string& model, const std::string& fl
     EXPECT_GT(double(a.count()), 0.5 * double(b.count()));
     EXPECT_LT(double(a.count()), 2.0 * double(b.count()));
     // The check tells views apart: the first frame's camera (60 degrees before) does not match.
-    const Result o = run("", "render " + mesh(model) + " " + flags + " --size=640x480 -o " + other.string() + " --quiet", d);
+    const Result o = run("", "render " + test::mesh_path(model) + " " + flags + " --size=640x480 -o " + other.string() + " --quiet", d);
     ASSERT_EQ(o.code, 0) << o.err;
     const Mask c = dark_pixels(other);
     const double other_recall = covered(c, a, 2), other_precision = covered(a, c, 2);
@@ -300,10 +300,10 @@ TEST(ViewWindow, ScreenshotIsTheRenderDrawingBunnyRandomizedFinder) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png";
-    const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
+    const Result v = run(kXvfb, "view " + test::mesh_path("bunny00.off") + " --frames=6 --orbit --arc=60 --size=640x480 "
                                     "--finder=randomized --first-view=random --screenshot=" + shot.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
-    const Result r = run("", "render " + mesh("bunny00.off") + " " + camera_line(v.out) + " -o " + drawn.string() + " --quiet", d);
+    const Result r = run("", "render " + test::mesh_path("bunny00.off") + " " + camera_line(v.out) + " -o " + drawn.string() + " --quiet", d);
     ASSERT_EQ(r.code, 0) << r.err;
     const Mask a = dark_pixels(shot), b = dark_pixels(drawn);
     ASSERT_GT(b.count(), 1000u);
@@ -329,7 +329,7 @@ TEST(ViewWindow, RandomizedFinderFollowsAnExhaustiveFirstViewExactly) {
                                     "--frames=6 --arc=60", "--frames=12 --arc=6 --threads=2 --fps"}) {
         SCOPED_TRACE(flags);
         const fs::path mine = d / "view.json", theirs = d / "render.json";
-        const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --orbit --size=640x480 --finder=randomized "
+        const Result v = run(kXvfb, "view " + test::mesh_path("bunny00.off") + " --orbit --size=640x480 --finder=randomized "
                                         "--fraction=0.002 --hidden " + flags + " --export=" + mine.string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
         if (flags.find("--fps") != std::string::npos) {  // (the views after the first frame's)
@@ -378,10 +378,10 @@ TEST(ViewWindow, StyledScreenshotIsWhatRenderWritesWithTheStyle) {
     for (const std::string style : {"ink-brush", "technical", "hatched"}) {
         SCOPED_TRACE(in_flight);
         const fs::path shot = d / (style + "-shot.png"), drawn = d / (style + "-render.png");
-        const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=20 --size=480x360 "
+        const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=3 --orbit --arc=20 --size=480x360 "
                                         "--style=" + style + in_flight + " --screenshot=" + shot.string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
-        const Result r = run("", "render " + mesh("fandisk.off") + " --style=" + style + " " + camera_line(v.out) +
+        const Result r = run("", "render " + test::mesh_path("fandisk.off") + " --style=" + style + " " + camera_line(v.out) +
                                      " -o " + drawn.string() + " --quiet", d);
         ASSERT_EQ(r.code, 0) << r.err;
         for (const double hi : {128.0, 235.0}) {  // black lines; then grey ones too (hidden, hatching)
@@ -395,7 +395,7 @@ TEST(ViewWindow, StyledScreenshotIsWhatRenderWritesWithTheStyle) {
         }
     }
     // A bad style is refused before a window opens, naming the style.
-    const Result bad = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=1 --style=no-such-style", d);
+    const Result bad = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=1 --style=no-such-style", d);
     EXPECT_NE(bad.code, 0);
     EXPECT_NE(bad.err.find("no-such-style"), std::string::npos) << bad.err;
 }
@@ -404,12 +404,12 @@ TEST(ViewWindow, HiddenLinesAreDrawnGreyWhereRenderDrawsThem) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png", plain = d / "plain.png";
-    const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=20 --size=640x480 --hidden "
+    const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=3 --orbit --arc=20 --size=640x480 --hidden "
                                     "--screenshot=" + shot.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
     const std::string cam = camera_line(v.out);
-    ASSERT_EQ(run("", "render " + mesh("fandisk.off") + " --hidden " + cam + " -o " + drawn.string() + " --quiet", d).code, 0);
-    ASSERT_EQ(run("", "render " + mesh("fandisk.off") + " " + cam + " -o " + plain.string() + " --quiet", d).code, 0);
+    ASSERT_EQ(run("", "render " + test::mesh_path("fandisk.off") + " --hidden " + cam + " -o " + drawn.string() + " --quiet", d).code, 0);
+    ASSERT_EQ(run("", "render " + test::mesh_path("fandisk.off") + " " + cam + " -o " + plain.string() + " --quiet", d).code, 0);
     // Grey away from black: the hidden lines (dashed, thinner, lighter), not the antialiased rims
     // of the visible ones.
     const Mask a_dark = dark_pixels(shot), b_dark = dark_pixels(drawn), c_dark = dark_pixels(plain);
@@ -433,10 +433,10 @@ TEST(ViewWindow, ShadingFillsTheModelUnderTheSameLines) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png";
-    const Result v = run(kXvfb, "view " + mesh("bunny00.off") + " --frames=2 --size=640x480 --shading --screenshot=" +
+    const Result v = run(kXvfb, "view " + test::mesh_path("bunny00.off") + " --frames=2 --size=640x480 --shading --screenshot=" +
                                     shot.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
-    ASSERT_EQ(run("", "render " + mesh("bunny00.off") + " " + camera_line(v.out) + " -o " + drawn.string() + " --quiet", d).code, 0);
+    ASSERT_EQ(run("", "render " + test::mesh_path("bunny00.off") + " " + camera_line(v.out) + " -o " + drawn.string() + " --quiet", d).code, 0);
     const Mask a_dark = dark_pixels(shot), b_dark = dark_pixels(drawn);
     const Mask grey = away_from(dark_pixels(shot, 150.0, 245.0), a_dark, 2);  // the shading's bands
     // The lines' bounding box, grown by 3 px: the shading lies inside it and fills much of it.
@@ -462,7 +462,7 @@ TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     const fs::path exported = d / "view.json", rendered = d / "render.json";
-    const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=4 --orbit --arc=30 --size=500x400 "
+    const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=4 --orbit --arc=30 --size=500x400 "
                                     "--hidden --crease=30 --export=" + exported.string(), d);
     ASSERT_EQ(v.code, 0) << v.err;
     std::string command = printed_render_command(v.out, exported);
@@ -496,11 +496,11 @@ TEST(ViewWindow, PrintedCameraIsReproducedByRender) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     for (const std::string flags : {"--eye=3,1,2 --target=0,0.1,0 --fov=40", "--ortho=1.2 --eye=0,2,3"}) {
-        const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=3 --orbit --arc=30 --size=320x200 " + flags, d);
+        const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=3 --orbit --arc=30 --size=320x200 " + flags, d);
         ASSERT_EQ(v.code, 0) << v.err;
         const std::string cam = camera_line(v.out);
         EXPECT_EQ(cam.find("--ortho") != std::string::npos, flags.find("--ortho") != std::string::npos) << cam;
-        const Result r = run("", "render " + mesh("fandisk.off") + " " + cam + " -o " + (d / "r.json").string(), d);
+        const Result r = run("", "render " + test::mesh_path("fandisk.off") + " " + cam + " -o " + (d / "r.json").string(), d);
         ASSERT_EQ(r.code, 0) << r.err;
         EXPECT_EQ(camera_line(r.out), cam);  // the same flags, digit for digit
     }
@@ -538,7 +538,7 @@ TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
     for (const auto& [size, height] : {std::pair{"1024x768", 768.0}, std::pair{"640x480", 480.0}}) {
-        const Result v = run(kXvfb, "view " + mesh("fandisk.off") + " --frames=4 --orbit --arc=20 --recall --hidden --size=" +
+        const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=4 --orbit --arc=20 --recall --hidden --size=" +
                                         size + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
         const auto at = v.out.find("panel: ");
@@ -559,7 +559,7 @@ TEST(ViewWindow, NoDisplayIsAOneLineErrorNotACrash) {
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png";
     const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY ",
-                         "view " + mesh("fandisk.off") + " --frames=2 --screenshot=" + shot.string(), d);
+                         "view " + test::mesh_path("fandisk.off") + " --frames=2 --screenshot=" + shot.string(), d);
     EXPECT_EQ(r.code, 1) << r.out << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find("inkline: view: cannot open a window"), std::string::npos) << r.err;
@@ -568,12 +568,12 @@ TEST(ViewWindow, NoDisplayIsAOneLineErrorNotACrash) {
 
 TEST(ViewWindow, UsageErrors) {
     const fs::path d = scratch();
-    EXPECT_EQ(run("", "view " + mesh("fandisk.off") + " --orbit", d).code, 2);  // --orbit needs --frames
+    EXPECT_EQ(run("", "view " + test::mesh_path("fandisk.off") + " --orbit", d).code, 2);  // --orbit needs --frames
     EXPECT_EQ(run("", "view", d).code, 2);
-    const Result lanes = run("", "view " + mesh("fandisk.off") + " --in-flight=3 --frames=1", d);
+    const Result lanes = run("", "view " + test::mesh_path("fandisk.off") + " --in-flight=3 --frames=1", d);
     EXPECT_NE(lanes.code, 0);
     EXPECT_NE(lanes.err.find("--in-flight"), std::string::npos) << lanes.err;
-    const Result first = run("", "view " + mesh("fandisk.off") + " --first-view=sideways --frames=1", d);
+    const Result first = run("", "view " + test::mesh_path("fandisk.off") + " --first-view=sideways --frames=1", d);
     EXPECT_NE(first.code, 0);
     EXPECT_NE(first.err.find("--first-view"), std::string::npos) << first.err;
     const Result bad = run("", "view " + (d / "missing.off").string() + " --frames=1", d);

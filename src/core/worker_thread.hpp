@@ -1,8 +1,8 @@
 // One long-lived thread that runs posted jobs one at a time: the window's pipeline, and the
 // second half of the visibility stages that split their work in two. A new std::thread per job
-// costs its creation (0.09-0.24 ms measured on this project's 2-core machines) and starts its
-// thread_local working storage empty (allocated, and its pages faulted in, again); this thread
-// keeps both.
+// costs its creation (measured: bench/results/model.md) and starts its thread_local working
+// storage empty (allocated, and its pages faulted in, again); this thread keeps both, so that
+// work split in two costs only the hand-over.
 #pragma once
 
 #include <condition_variable>

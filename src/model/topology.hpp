@@ -40,8 +40,8 @@ struct MeshTopology {
     // Unit normal of face f (zero for a degenerate face), computed from the corners: nothing per
     // face is stored for it (the model's memory is the topology; see docs/memory.md).
     glm::dvec3 face_normal(std::uint32_t f) const;
-    // Float facing planes, 16 bytes per face (one load for a lazy test; the full scan measured
-    // 2x faster than with four separate arrays), for the exhaustive scan and the per-face test
+    // Float facing planes, 16 bytes per face (one load for a lazy test, and the full scan reads
+    // one stream instead of four: bench/results/model.md), for the exhaustive scan and the per-face test
     // (features/facing.hpp): unit normal and offset d = dot(n, a - facing_origin), so that
     // dot(n, eye - facing_origin) - d is the eye's signed distance to the plane. A face whose float
     // plane is not within 2^-21 (per normal component) of its exact one (slivers, zero area) holds

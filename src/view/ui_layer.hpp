@@ -1,9 +1,8 @@
 // The panel (Dear ImGui) as a layer kept between frames: its draw data is rasterized into an
 // offscreen texture only when it differs from the last one rasterized, and the texture is blended
-// over each frame's drawing. On a software rasterizer (Mesa's llvmpipe) the panel's quads cost
-// about 3.8 ms of CPU a frame on armadillo@2's window (1024x768, a 340x690 panel), taken from the
-// pipeline's two cores, although the panel rarely changes between frames (its statistics are
-// refreshed a few times a second); blending the layer costs about 2 ms (llvmpipe's cost per pixel).
+// over each frame's drawing: on a software rasterizer the panel's quads cost more CPU than blending
+// a texture, and that CPU is taken from the pipeline, though the panel rarely changes between
+// frames (bench/results/view_fps.md, "the panel as a layer", holds the figures).
 #pragma once
 
 #include <cstddef>

@@ -1,7 +1,8 @@
 // `inkline view`: the preview window. A GLFW window with an OpenGL 3.3 core context runs the real
-// pipeline (ViewSession: features -> visibility) on the CPU every frame and draws the pieces as
-// antialiased line quads (hidden ones grey and dashed by QI), optionally over flat-shaded
-// triangles; a Dear ImGui panel sets the options, shows the statistics and exports the view.
+// pipeline (ViewSession: features -> visibility, view_scheduler.hpp) on the CPU every frame and
+// draws the pieces (gl_scene.hpp) as antialiased line quads (hidden ones grey and dashed by QI),
+// optionally over flat-shaded triangles; a Dear ImGui panel sets the options, shows the statistics
+// (frame_stats.hpp) and exports the view.
 // Headless driving (--frames): N frames, optionally along an orbit, a screenshot of the last one.
 #pragma once
 
@@ -31,9 +32,9 @@ struct ViewerOptions {
     bool fps = false;         // print the measured frames per second and where the time goes
     // Views computed at once, each by its own session on its own thread: 1, 2, or 0 (two sessions
     // where there are two threads, two views at once while the camera moves slowly, one when it
-    // moves fast). Two: the sessions take the views in turn (each follows its own last view, two
-    // frames back), the threads split between them; more views a second on two cores than one
-    // view at a time on both while each follow stays cheap, one frame more behind the camera.
+    // moves fast: view_scheduler.hpp). Two: the sessions take the views in turn, the threads split
+    // between them: more views a second while each session's follow of its last view (two views
+    // back) stays cheap, one frame more behind the camera (bench/results/view_fps.md).
     int in_flight = 0;
 };
 
