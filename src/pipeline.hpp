@@ -109,6 +109,9 @@ public:
     // The visibility's threads for the next views (ViewOptions::threads; the same drawing).
     void set_threads(int threads) { options_.threads = threads < 1 ? 1 : threads; }
     int threads() const { return options_.threads; }
+    // The surface lines drawn from the next view on (their kinds and thresholds: a window's
+    // toggles and sliders); the curvature is computed on first need, once per model.
+    void set_surface_lines(const SurfaceLineOptions& surface) { options_.surface = surface; }
 
 private:
     void finish(const Camera& camera);

@@ -16,6 +16,16 @@ const char* to_string(LineKind k) {
     return "unknown";
 }
 
+double kind_width(LineKind k) {
+    switch (k) {
+        case LineKind::Freeform: return 0.5;
+        case LineKind::Suggestive:
+        case LineKind::Ridge:
+        case LineKind::Valley: return 0.7;
+        default: return 1.0;
+    }
+}
+
 bool parse_line_kind(const std::string& s, LineKind& out) {
     for (int i = 0; i < kLineKindCount; ++i) {
         if (s == to_string(LineKind(i))) {

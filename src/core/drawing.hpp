@@ -23,6 +23,10 @@ enum class LineKind : std::uint8_t {
 inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
 inline constexpr int kPieceKindCount = 8;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
+// Width of a kind's lines as a share of the outline's, in every writer and the window: freeform
+// strokes are hatching, and lines from curvature suggest shape inside the outline, so both are
+// drawn lighter than the lines around them.
+double kind_width(LineKind k);
 // Parses "silhouette", "border", "crease" (the feature kinds); returns false for anything else.
 bool parse_line_kind(const std::string& s, LineKind& out);
 

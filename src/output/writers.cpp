@@ -46,19 +46,6 @@ constexpr std::array<LineStyle, 4> kStyles{{
     {"hidden-qi3plus", 0xcccccc, 1, 4, 0.4},  // QI >= 3
 }};
 
-// Freeform strokes are hatching: drawn thinner than the feature lines around them; lines from
-// curvature (suggestive contours, ridges, valleys) suggest shape inside the outline, so they are
-// drawn lighter than the outline itself.
-double kind_width(LineKind k) {
-    switch (k) {
-        case LineKind::Freeform: return 0.5;
-        case LineKind::Suggestive:
-        case LineKind::Ridge:
-        case LineKind::Valley: return 0.7;
-        default: return 1.0;
-    }
-}
-
 double line_width(const Drawing& d, const OutputOptions& o) {
     return o.line_width > 0 ? o.line_width : std::max(1.0, 1.5 * d.camera.height() / 1024.0);
 }
