@@ -28,7 +28,9 @@ namespace {
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 // The graph of one kind's segments: nodes are points on mesh edges (at most one per edge: a
-// linear function has one zero on an edge) or points inside a face (ends cut by a test, the centre
+// linear function has one zero on an edge), points exactly at a vertex (one node for all the edges
+// that put their zero there, so the curve passes through the vertex once; where more than two
+// segments meet there, curves end at it), or points inside a face (ends cut by a test, the centre
 // of a face whose three edges hold a ridge); chaining walks it.
 class CurveGraph {
 public:
@@ -41,10 +43,12 @@ public:
         std::array<float, 3> test;  // the suggestive tests' values here (numerator, n.v, angle)
     };
 
-    void begin(std::size_t edge_count) {
-        if (edge_stamp_.size() != edge_count || ++stamp_ == 0) {
+    void begin(std::size_t edge_count, std::size_t vertex_count) {
+        if (edge_stamp_.size() != edge_count || vertex_stamp_.size() != vertex_count || ++stamp_ == 0) {
             edge_stamp_.assign(edge_count, 0);
             edge_node_.resize(edge_count);
+            vertex_stamp_.assign(vertex_count, 0);
+            vertex_node_.resize(vertex_count);
             stamp_ = 1;
         }
         nodes_.clear();
@@ -52,18 +56,26 @@ public:
     }
     // The node on edge e, or kNone when none was made this pass.
     std::uint32_t edge_node(std::uint32_t e) const { return edge_stamp_[e] == stamp_ ? edge_node_[e] : kNone; }
+    // The node on edge e (kNone: inside a face) at parameter t from edge_vertex[e][0]; t = 0 or
+    // 1 is the vertex's node, shared by every edge there.
     std::uint32_t add_node(const glm::dvec3& pos, float strength, std::uint32_t edge,
-                           std::array<float, 3> test = {}) {
+                           std::array<float, 3> test = {}, std::uint32_t vertex = kNone) {
+        if (vertex != kNone && vertex_stamp_[vertex] == stamp_) {
+            map_edge(edge, vertex_node_[vertex]);
+            return vertex_node_[vertex];
+        }
         nodes_.push_back({pos, strength, edge, {kNone, kNone, kNone}, 0, test});
         const auto id = std::uint32_t(nodes_.size() - 1);
-        if (edge != kNone) {
-            edge_stamp_[edge] = stamp_;
-            edge_node_[edge] = id;
+        map_edge(edge, id);
+        if (vertex != kNone) {
+            vertex_stamp_[vertex] = stamp_;
+            vertex_node_[vertex] = id;
         }
         return id;
     }
     Node& node(std::uint32_t id) { return nodes_[id]; }
     void add_segment(std::uint32_t a, std::uint32_t b, std::uint32_t face) {
+        if (a == b) return;  // both ends at one vertex: nothing to draw, the vertex's node joins on
         const auto s = std::uint32_t(segs_.size());
         segs_.push_back({{a, b}, face});
         attach(a, s);
@@ -84,10 +96,15 @@ private:
         if (nd.degree < 3) nd.seg[nd.degree] = s;
         nd.degree = std::uint8_t(std::min(nd.degree + 1, 255));
     }
+    void map_edge(std::uint32_t edge, std::uint32_t id) {
+        if (edge == kNone) return;
+        edge_stamp_[edge] = stamp_;
+        edge_node_[edge] = id;
+    }
     void walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out);
     void emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_begin, SurfaceCurves& out) const;
 
-    std::vector<std::uint32_t> edge_stamp_, edge_node_;
+    std::vector<std::uint32_t> edge_stamp_, edge_node_, vertex_stamp_, vertex_node_;
     std::uint32_t stamp_ = 0;
     std::vector<Node> nodes_;
     std::vector<Segment> segs_;
@@ -174,7 +191,12 @@ inline bool negative(float x) { return x < 0.0f; }
 // Zero of the linear function with values fa, fb (opposite signs) at 0 and 1.
 inline float zero_of(float fa, float fb) { return fa / (fa - fb); }
 
-inline glm::dvec3 along(const glm::dvec3& a, const glm::dvec3& b, float t) { return a + double(t) * (b - a); }
+// The point at t from a to b; exactly b at t = 1 (a + (b - a) need not round to b), so that a
+// point at a vertex is that vertex.
+inline glm::dvec3 along(const glm::dvec3& a, const glm::dvec3& b, float t) { return t == 1.0f ? b : a + double(t) * (b - a); }
+
+// The vertex a point at parameter t on edge (a, b) sits on, if any.
+inline std::uint32_t at_vertex(std::uint32_t a, std::uint32_t b, float t) { return t == 0.0f ? a : t == 1.0f ? b : kNone; }
 
 // ---- Suggestive contours ------------------------------------------------------------------------
 
@@ -213,7 +235,7 @@ std::uint32_t suggestive_node(const MeshTopology& mesh, const ViewCurvature& vie
     const auto [a, b] = mesh.edge_vertex[e];
     const float t = zero_of(view.kr[a], view.kr[b]);
     const auto values = lerp3(test.at_vertex(view, a), test.at_vertex(view, b), t);
-    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), test.strength(values), e, values);
+    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), test.strength(values), e, values, at_vertex(a, b, t));
 }
 
 // Adds the parts of segment p -> q (inside face f) where the test passes: the tests' values are
@@ -297,7 +319,7 @@ void extract_smooth_contours(const MeshTopology& mesh, const CurvatureField& fie
         if (id != kNone) return id;
         const auto [a, b] = mesh.edge_vertex[e];
         const float t = zero_of(view.ndotv[a], view.ndotv[b]);
-        return g.add_node(along(mesh.positions[a], mesh.positions[b], t), 1.0f, e);
+        return g.add_node(along(mesh.positions[a], mesh.positions[b], t), 1.0f, e, {}, at_vertex(a, b, t));
     };
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
@@ -354,7 +376,7 @@ std::uint32_t ridge_node(const MeshTopology& mesh, const RidgeKind& kind, std::u
     const float ea = std::fabs(kind.emax(a)), eb = std::fabs(kind.emax(b));
     const float t = ea + eb > 0.0f ? ea / (ea + eb) : 0.5f;
     const float k = kind.kmax(a) + t * (kind.kmax(b) - kind.kmax(a));
-    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), kind.strength(k), e);
+    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), kind.strength(k), e, {}, at_vertex(a, b, t));
 }
 
 void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const RidgeKind& kind, CurveGraph& g) {
@@ -385,13 +407,38 @@ void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const
     }
 }
 
-// The model's length scale for the thresholds; a field without one (no edges) falls back to the
-// bounding box, then to 1, so the thresholds stay finite.
-double length_scale(const MeshTopology& mesh, const CurvatureField& field) {
-    if (std::isfinite(field.feature_size) && field.feature_size > 0.0) return field.feature_size;
-    const double box = 0.01 * mesh.bounds.half_diagonal();
-    return std::isfinite(box) && box > 0.0 ? box : 1.0;
+// The length that makes the thresholds dimensionless: rtsc's feature size, so that our defaults
+// mean what the reference's do. It is 1 % of the inverse of the 10th percentile of |k1|, |k2| over
+// 500 vertices picked by a fixed linear congruential sequence (deterministic), capped at 5 % of
+// the radius of the bounding sphere (centred on the box). A curvature scale, unlike the median edge
+// length (CurvatureField::feature_size): with that, a threshold over feature_size^2 grows with
+// the square of the tessellation's density, and refining a mesh would erase its lines.
+double threshold_length(const MeshTopology& mesh, const CurvatureField& field, std::vector<float>& samples) {
+    const std::size_t n = field.size();
+    const glm::dvec3 centre = mesh.bounds.center();
+    double radius2 = 0.0;
+    for (const glm::dvec3& p : mesh.positions) radius2 = std::max(radius2, glm::dot(p - centre, p - centre));
+    const double cap = 0.05 * std::sqrt(radius2);
+    samples.clear();
+    std::uint32_t state = 0;
+    for (std::size_t i = 0; i < std::min<std::size_t>(n, 500); ++i) {
+        state = 1664525u * state + 1013904223u;
+        const std::size_t v = state % n;
+        samples.push_back(std::fabs(field.k1[v]));
+        samples.push_back(std::fabs(field.k2[v]));
+    }
+    double fs = cap;
+    if (!samples.empty()) {
+        const auto which = samples.begin() + std::ptrdiff_t(0.1 * double(samples.size()));
+        std::nth_element(samples.begin(), which, samples.end());
+        if (std::isfinite(*which) && *which > 0.0f) fs = std::min(fs, 0.01 / double(*which));
+    }
+    if (std::isfinite(fs) && fs > 0.0) return fs;
+    // No extent (a single point): any positive length keeps the thresholds finite.
+    return std::isfinite(field.feature_size) && field.feature_size > 0.0 ? field.feature_size : 1.0;
 }
+
+thread_local std::vector<float> t_samples;
 
 }  // namespace
 
@@ -401,24 +448,24 @@ void extract_surface_lines(const MeshTopology& mesh, const CurvatureField& field
     out.clear();
     if (field.size() != mesh.vertex_count() || view.kr.size() != mesh.vertex_count()) return;
     CurveGraph& g = t_graph;
-    const double fs = length_scale(mesh, field);
+    const double fs = threshold_length(mesh, field, t_samples);
     if (options.suggestive) {
         // rtsc's fade constant, 0.03 / feature_size^2, on the same scale as the threshold.
         const SuggestiveTest test{float(options.suggestive_threshold / (fs * fs)), float(0.03 / (fs * fs)),
                                   float(options.suggestive_max_ndotv)};
-        g.begin(mesh.edge_count());
+        g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_suggestive(mesh, field, view, test, g);
         g.chain(LineKind::Suggestive, out);
     }
     if (options.smooth_contour) {
-        g.begin(mesh.edge_count());
+        g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_smooth_contours(mesh, field, view, g);
         g.chain(LineKind::SmoothContour, out);
     }
     for (const bool ridge : {true, false}) {
         if (!(ridge ? options.ridge : options.valley)) continue;
         const RidgeKind kind{ridge, float(options.ridge_threshold / fs), &field};
-        g.begin(mesh.edge_count());
+        g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_ridges(mesh, field, kind, g);
         g.chain(ridge ? LineKind::Ridge : LineKind::Valley, out);
     }
