@@ -39,6 +39,12 @@ const SelfIntersections& Model::self_intersections() const {
     return *lazy_->pierced;
 }
 
+const CurvatureField& Model::curvature() const {
+    std::call_once(lazy_->curvature_once,
+                   [this] { lazy_->curvature = std::make_unique<CurvatureField>(estimate_curvature(topo_)); });
+    return *lazy_->curvature;
+}
+
 namespace {
 FeatureOptions chained_kinds(const ViewOptions& options) {
     // Propagation needs every occluding curve chained, drawn or not.

@@ -7,6 +7,7 @@
 
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
+#include "curvature/curvature.hpp"
 #include "features/features.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
@@ -36,6 +37,9 @@ public:
     // Those faces and where edges meet other faces (both visibility methods cut curves there);
     // computed on first use, once.
     const SelfIntersections& self_intersections() const;
+    // Per-vertex curvature and its derivative (curvature/curvature.hpp), computed on first use, once:
+    // only the curvature line kinds need it, so a render without them never pays for it.
+    const CurvatureField& curvature() const;
     double load_seconds() const { return load_seconds_; }
 
 private:
@@ -43,9 +47,10 @@ private:
     // Built on first use, once, also when several threads ask at the same time (the preview
     // window's two sessions); behind a pointer so that the model stays movable.
     struct Lazy {
-        std::once_flag rays_once, pierced_once;
+        std::once_flag rays_once, pierced_once, curvature_once;
         std::unique_ptr<RayCaster> rays;
         std::unique_ptr<SelfIntersections> pierced;
+        std::unique_ptr<CurvatureField> curvature;
     };
     std::unique_ptr<Lazy> lazy_ = std::make_unique<Lazy>();
     double load_seconds_ = 0.0;

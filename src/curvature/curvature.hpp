@@ -26,8 +26,9 @@ struct CurvatureField {
     // {C(d1,d1,d1), C(d1,d1,d2), C(d1,d2,d2), C(d2,d2,d2)} (Rusinkiewicz 2004).
     std::vector<std::array<float, 4>> dcurv;
     std::vector<float> point_area;  // Voronoi area (Meyer et al. 2003), the vertex's weight
-    std::vector<std::uint8_t> valid;  // 0: could not be estimated here (isolated vertex, only
-                                      // degenerate faces); its values are 0
+    std::vector<std::uint8_t> valid;  // 0: could not be estimated here (isolated vertex, fewer than
+                                      // two non-degenerate faces); its k1, k2, dcurv are 0 (normal
+                                      // and dir1 kept where it has faces, else 0)
     std::size_t invalid_vertices = 0;
     // Length scale that makes thresholds dimensionless (scaling the model does not change the
     // drawing): the median edge length.
