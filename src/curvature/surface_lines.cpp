@@ -27,6 +27,18 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+// Curvature times feature size below which a face is flat for suggestive contours: a radius of
+// curvature over 100 feature sizes (5 bounding radii on CAD parts, where the feature size is capped;
+// on organic models, the flattest tenth of the curvature samples). There kr is numerically zero
+// and the sign of its estimate is noise. Both principal curvatures at all three corners must be
+// that small, which removes under 0.2 % of the sample organic models' lines (bunny00, armadillo,
+// elephant, 12 views each) and a tenth of fandisk's.
+constexpr double kFlatCurvature = 0.01;
+
+// Curvature lines shorter than this on the image are dropped: specks from a test flickering around
+// its threshold, which read as dirt, not shape (smooth contours are kept whole: they close).
+constexpr double kMinCurvePixels = 3.0;
+
 // The graph of one kind's segments: nodes are points on mesh edges (at most one per edge: a
 // linear function has one zero on an edge), points exactly at a vertex (one node for all the edges
 // that put their zero there, so the curve passes through the vertex once; where more than two
@@ -81,8 +93,9 @@ public:
         attach(a, s);
         attach(b, s);
     }
-    // Appends the curves of this pass to `out`, of kind `kind`.
-    void chain(LineKind kind, SurfaceCurves& out);
+    // Appends the curves of this pass to `out`, of kind `kind`, but those shorter than `min_px`
+    // pixels on `camera`'s image.
+    void chain(LineKind kind, const Camera& camera, double min_px, SurfaceCurves& out);
 
 private:
     struct Segment {
@@ -101,7 +114,8 @@ private:
         edge_stamp_[edge] = stamp_;
         edge_node_[edge] = id;
     }
-    void walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out);
+    void walk(std::uint32_t start, std::uint32_t s, LineKind kind, const Camera& camera, double min_px,
+              SurfaceCurves& out);
     void emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_begin, SurfaceCurves& out) const;
 
     std::vector<std::uint32_t> edge_stamp_, edge_node_, vertex_stamp_, vertex_node_;
@@ -125,7 +139,8 @@ void CurveGraph::emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_b
     out.strength.push_back(nd.strength);
 }
 
-void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out) {
+void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, const Camera& camera, double min_px,
+                      SurfaceCurves& out) {
     const auto begin = std::uint32_t(out.points.size());
     bool closed = false;
     std::uint32_t cur = start;
@@ -148,8 +163,11 @@ void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, Surfa
         s = s2;
     }
     const auto end = std::uint32_t(out.points.size());
-    // Fewer than two distinct points (or a loop through two) draws nothing.
-    if (end - begin < 2 || (closed && end - begin < 4)) {
+    double px = 0.0;
+    for (std::uint32_t i = begin; i + 1 < end && px < min_px; ++i)
+        px += glm::length(camera.project(out.points[i + 1]) - camera.project(out.points[i]));
+    // Fewer than two distinct points (or a loop through two) draws nothing; nor does a speck.
+    if (end - begin < 2 || (closed && end - begin < 4) || px < min_px) {
         out.points.resize(begin);
         out.point_edge.resize(begin);
         out.segment_face.resize(begin);
@@ -160,24 +178,62 @@ void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, Surfa
     out.curves.push_back({kind, begin, end, closed});
 }
 
-void CurveGraph::chain(LineKind kind, SurfaceCurves& out) {
+void CurveGraph::chain(LineKind kind, const Camera& camera, double min_px, SurfaceCurves& out) {
     used_.assign(segs_.size(), 0);
     // Open curves first, from every end or junction; what is left are loops.
     for (std::uint32_t n = 0; n < nodes_.size(); ++n) {
         if (nodes_[n].degree == 2 || nodes_[n].degree == 0) continue;
         const int listed = std::min<int>(nodes_[n].degree, 3);
         for (int k = 0; k < listed; ++k)
-            if (!used_[nodes_[n].seg[k]]) walk(n, nodes_[n].seg[k], kind, out);
+            if (!used_[nodes_[n].seg[k]]) walk(n, nodes_[n].seg[k], kind, camera, min_px, out);
     }
     for (std::uint32_t s = 0; s < segs_.size(); ++s)
-        if (!used_[s]) walk(segs_[s].node[0], s, kind, out);
+        if (!used_[s]) walk(segs_[s].node[0], s, kind, camera, min_px, out);
 }
 
 thread_local CurveGraph t_graph;
 
-// A vertex whose values can be trusted: estimated, and nothing non-finite in this view.
+// Creases sharper than this (angle between the face normals) are where the surface has no
+// curvature. Not the drawing's crease angle (40 degrees by default): coarse organic meshes have
+// many edges above that where the estimate is still the surface's (elephant: 647 of its 8.3 k
+// edges), and rings around them would erase real lines (a tenth of elephant's at 75 degrees, two
+// thirds at 40); CAD edges are mostly right angles.
+constexpr float kSharpCreaseRadians = float(75.0 * M_PI / 180.0);
+
+// Vertices whose curvature is not the surface's: on a crease the surface has no curvature, and the
+// estimate there (from a normal averaged over both sides) is a spike that leaks into the vertices
+// that share a face with it (their k), and one ring further (their C, from their neighbours' k). On
+// CAD models the suggestive contours found near creases are only that leak (lines one or two rings
+// off every crease, specks). Nonzero marks a vertex within two rings of a crease.
+void mark_near_creases(const MeshTopology& mesh, std::vector<std::uint8_t>& near, std::vector<std::uint32_t>& frontier) {
+    near.assign(mesh.vertex_count(), 0);
+    frontier.clear();
+    for (std::uint32_t e : mesh.crease_list)
+        if (mesh.edge_normal_angle[e] > kSharpCreaseRadians)
+            for (std::uint32_t v : mesh.edge_vertex[e])
+                if (!near[v]) near[v] = 3, frontier.push_back(v);
+    std::size_t begin = 0;
+    for (std::uint8_t ring = 2; ring >= 1; --ring) {
+        const std::size_t end = frontier.size();
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint32_t v = frontier[i];
+            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+                const auto& ev = mesh.edge_vertex[mesh.vertex_edges[k]];
+                const std::uint32_t other = ev[0] == v ? ev[1] : ev[0];
+                if (!near[other]) near[other] = ring, frontier.push_back(other);
+            }
+        }
+        begin = end;
+    }
+}
+
+thread_local std::vector<std::uint32_t> t_frontier;
+thread_local std::vector<std::uint8_t> t_near_crease;
+
+// A vertex whose values can be trusted: estimated, off creases, nothing non-finite in this view.
 bool usable(const CurvatureField& field, const ViewCurvature& view, std::uint32_t v) {
-    return field.valid[v] && std::isfinite(view.kr[v]) && std::isfinite(view.ndotv[v]) && std::isfinite(view.dwkr[v]);
+    return field.valid[v] && !t_near_crease[v] && std::isfinite(view.kr[v]) && std::isfinite(view.ndotv[v]) &&
+           std::isfinite(view.dwkr[v]);
 }
 
 bool face_usable(const CurvatureField& field, const ViewCurvature& view, const std::array<std::uint32_t, 3>& f) {
@@ -209,6 +265,7 @@ inline std::uint32_t at_vertex(std::uint32_t a, std::uint32_t b, float t) { retu
 // cap on n.v (suggestive_max_ndotv; >= 0 passes).
 struct SuggestiveTest {
     float threshold, fade, max_ndotv;
+    float flat;  // curvature below which the surface counts as flat (kFlatCurvature / feature size)
     std::array<float, 3> at_vertex(const ViewCurvature& view, std::uint32_t v) const {
         return {view.dwkr[v] - threshold * view.ndotv[v], view.ndotv[v], max_ndotv - view.ndotv[v]};
     }
@@ -295,6 +352,10 @@ void extract_suggestive(const MeshTopology& mesh, const CurvatureField& field, c
         // Back faces carry no suggestive contour (rtsc culls them the same way).
         if (view.ndotv[vs[0]] <= 0.0f && view.ndotv[vs[1]] <= 0.0f && view.ndotv[vs[2]] <= 0.0f) continue;
         if (!face_usable(field, view, vs)) continue;
+        // Flat at all three corners: the sign of kr is estimator noise there (CAD facets).
+        if (std::max({std::fabs(field.k1[vs[0]]), std::fabs(field.k2[vs[0]]), std::fabs(field.k1[vs[1]]),
+                      std::fabs(field.k2[vs[1]]), std::fabs(field.k1[vs[2]]), std::fabs(field.k2[vs[2]])}) < test.flat)
+            continue;
         // Quick reject: the test fails with one sign pattern at all three corners.
         const auto t0 = test.at_vertex(view, vs[0]), t1 = test.at_vertex(view, vs[1]), t2 = test.at_vertex(view, vs[2]);
         if (!SuggestiveTest::passes(t0) && !SuggestiveTest::passes(t1) && !SuggestiveTest::passes(t2) &&
@@ -324,7 +385,11 @@ void extract_smooth_contours(const MeshTopology& mesh, const CurvatureField& fie
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
         int i, j;
-        if (!crossing_edges(vs, ndotv, i, j) || !face_usable(field, view, vs)) continue;
+        // Not face_usable: n.v needs only normals, and the contour runs over creases too.
+        if (!crossing_edges(vs, ndotv, i, j)) continue;
+        if (!field.valid[vs[0]] || !field.valid[vs[1]] || !field.valid[vs[2]] || !std::isfinite(view.ndotv[vs[0]]) ||
+            !std::isfinite(view.ndotv[vs[1]]) || !std::isfinite(view.ndotv[vs[2]]))
+            continue;
         const auto& fe = mesh.face_edges[f].edge;
         g.add_segment(node(fe[std::size_t(i)]), node(fe[std::size_t(j)]), f);
     }
@@ -383,6 +448,7 @@ void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
         if (!field.valid[vs[0]] || !field.valid[vs[1]] || !field.valid[vs[2]]) continue;
+        if (t_near_crease[vs[0]] || t_near_crease[vs[1]] || t_near_crease[vs[2]]) continue;
         if (!kind.eligible(vs[0]) || !kind.eligible(vs[1]) || !kind.eligible(vs[2])) continue;
         bool z[3];
         int count = 0;
@@ -444,30 +510,30 @@ thread_local std::vector<float> t_samples;
 
 void extract_surface_lines(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
                            const Camera& camera, const SurfaceLineOptions& options, SurfaceCurves& out) {
-    (void)camera;  // the view enters through `view`; kept for view-dependent culling to come
     out.clear();
     if (field.size() != mesh.vertex_count() || view.kr.size() != mesh.vertex_count()) return;
     CurveGraph& g = t_graph;
+    mark_near_creases(mesh, t_near_crease, t_frontier);
     const double fs = threshold_length(mesh, field, t_samples);
     if (options.suggestive) {
         // rtsc's fade constant, 0.03 / feature_size^2, on the same scale as the threshold.
         const SuggestiveTest test{float(options.suggestive_threshold / (fs * fs)), float(0.03 / (fs * fs)),
-                                  float(options.suggestive_max_ndotv)};
+                                  float(options.suggestive_max_ndotv), float(kFlatCurvature / fs)};
         g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_suggestive(mesh, field, view, test, g);
-        g.chain(LineKind::Suggestive, out);
+        g.chain(LineKind::Suggestive, camera, kMinCurvePixels, out);
     }
     if (options.smooth_contour) {
         g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_smooth_contours(mesh, field, view, g);
-        g.chain(LineKind::SmoothContour, out);
+        g.chain(LineKind::SmoothContour, camera, 0.0, out);
     }
     for (const bool ridge : {true, false}) {
         if (!(ridge ? options.ridge : options.valley)) continue;
         const RidgeKind kind{ridge, float(options.ridge_threshold / fs), &field};
         g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_ridges(mesh, field, kind, g);
-        g.chain(ridge ? LineKind::Ridge : LineKind::Valley, out);
+        g.chain(ridge ? LineKind::Ridge : LineKind::Valley, camera, kMinCurvePixels, out);
     }
 }
 
