@@ -692,10 +692,14 @@ std::vector<bool> planar_faces(const MeshTopology& m) {
 
 TEST(SurfaceLinesEstimated, FandiskPlanarFacetsDrawNothing) {
     // On planar CAD facets kr is estimator noise: nothing may be drawn there, and no specks
-    // (curves under 3 pixels) anywhere. (Its curved blends may carry real suggestive contours.)
+    // (curves under 3 pixels) anywhere. Its curved blends may carry real suggestive contours; the
+    // lines one or two rings off its sharp creases (estimator leak) are removed: the total is
+    // pinned to this version's (9.3 k px over these 24 views; over 12 others 4.1 k with the rings,
+    // 20.1 k without).
     const Estimated e = estimated_file("fandisk.off");
     const std::vector<bool> planar = planar_faces(e.mesh);
-    ASSERT_GT(std::count(planar.begin(), planar.end(), true), std::ptrdiff_t(e.mesh.face_count() / 4));  // 4068 of 12946
+    ASSERT_GT(std::count(planar.begin(), planar.end(), true), std::ptrdiff_t(e.mesh.face_count() / 4));
+    double total = 0.0;
     for (const glm::dvec3& d : directions(24)) {
         const Camera cam = framing_from(e.mesh, d);
         const Lines l = draw(e, cam);
@@ -705,8 +709,10 @@ TEST(SurfaceLinesEstimated, FandiskPlanarFacetsDrawNothing) {
             for (std::uint32_t i = cv.begin; i + 1 < cv.end; ++i)
                 len += glm::length(cam.project(l.curves.points[i + 1]) - cam.project(l.curves.points[i]));
             EXPECT_GE(len, 3.0);
+            total += len;
         }
     }
+    EXPECT_NEAR(total, 9344.6, 0.02 * 9344.6);
 }
 
 TEST(SurfaceLinesEstimated, ScaledModelDrawsTheSamePixels) {
