@@ -242,15 +242,7 @@ void mark_near_creases(const MeshTopology& mesh, std::vector<std::uint8_t>& near
 thread_local std::vector<std::uint32_t> t_frontier;
 thread_local std::vector<std::uint8_t> t_near_crease;
 
-// A vertex whose values can be trusted: estimated, off creases, nothing non-finite in this view.
-bool usable(const CurvatureField& field, const ViewCurvature& view, std::uint32_t v) {
-    return field.valid[v] && !t_near_crease[v] && std::isfinite(view.kr[v]) && std::isfinite(view.ndotv[v]) &&
-           std::isfinite(view.dwkr[v]);
-}
 
-bool face_usable(const CurvatureField& field, const ViewCurvature& view, const std::array<std::uint32_t, 3>& f) {
-    return usable(field, view, f[0]) && usable(field, view, f[1]) && usable(field, view, f[2]);
-}
 
 // Sign used for zero sets: 0 counts as positive, so a zero exactly at a vertex puts the point on
 // that vertex, the same from every face around it.
@@ -354,27 +346,57 @@ bool crossing_edges(const std::array<std::uint32_t, 3>& vs, Value value, int& i,
     return true;
 }
 
+// Per-vertex facts the suggestive contours' face test needs, one byte a vertex, so that the face
+// loop reads three bytes and takes one branch per face (the kr signs of a scanned model are noise
+// over much of it: branch per fact would mispredict).
+enum VertexBit : std::uint8_t {
+    kKrNegative = 1,   // kr < 0 (0 counts as positive)
+    kUsable = 2,       // estimated, off CAD creases, all finite
+    kCurved = 4,       // not flat (a principal curvature at least kFlatCurvature / feature size)
+    kFront = 8,        // n.v > 0
+    kPasses = 16,      // the test passes here
+    kTestSigns = 32 | 64 | 128,  // signs of the test's three values (numerator, n.v, cap)
+};
+
+void mark_vertices(const CurvatureField& field, const ViewCurvature& view, const SuggestiveTest& test,
+                   const std::vector<std::uint8_t>& near_crease, std::vector<std::uint8_t>& bits) {
+    const std::size_t n = field.size();
+    bits.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const float kr = view.kr[v], nv = view.ndotv[v], dw = view.dwkr[v];
+        const float num = dw - test.threshold * nv, cap = test.max_ndotv - nv;
+        // Bitwise, not short-circuit: no branches. (A NaN fails every comparison; x - x is 0 only
+        // for finite x.)
+        const unsigned finite = unsigned(kr - kr == 0.0f) & unsigned(nv - nv == 0.0f) & unsigned(dw - dw == 0.0f);
+        const unsigned num_pos = num >= 0.0f, nv_pos = nv >= 0.0f, cap_pos = cap >= 0.0f;
+        const unsigned passes = unsigned(num_pos == nv_pos) & cap_pos;
+        const unsigned usable = unsigned(field.valid[v] != 0) & unsigned(near_crease[v] == 0) & finite;
+        const float k = std::max(std::fabs(field.k1[v]), std::fabs(field.k2[v]));
+        bits[v] = std::uint8_t(unsigned(kr < 0.0f) * kKrNegative | usable * kUsable | unsigned(k >= test.flat) * kCurved |
+                               unsigned(nv > 0.0f) * kFront | passes * kPasses | num_pos * 32 | nv_pos * 64 | cap_pos * 128);
+    }
+}
+
+thread_local std::vector<std::uint8_t> t_vertex_bits;
+
 void extract_suggestive(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
                         const SuggestiveTest& test, CurveGraph& g) {
+    std::vector<std::uint8_t>& bits = t_vertex_bits;
+    mark_vertices(field, view, test, t_near_crease, bits);
     const auto kr = [&](std::uint32_t v) { return view.kr[v]; };
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
-        int i, j;
-        if (!crossing_edges(vs, kr, i, j)) continue;
-        // Back faces carry no suggestive contour (rtsc culls them the same way).
-        if (view.ndotv[vs[0]] <= 0.0f && view.ndotv[vs[1]] <= 0.0f && view.ndotv[vs[2]] <= 0.0f) continue;
-        if (!face_usable(field, view, vs)) continue;
-        // Flat at all three corners: the sign of kr is estimator noise there (CAD facets).
-        if (std::max({std::fabs(field.k1[vs[0]]), std::fabs(field.k2[vs[0]]), std::fabs(field.k1[vs[1]]),
-                      std::fabs(field.k2[vs[1]]), std::fabs(field.k1[vs[2]]), std::fabs(field.k2[vs[2]])}) < test.flat)
-            continue;
-        // Quick reject: the test fails with one sign pattern at all three corners.
-        const auto t0 = test.at_vertex(view, vs[0]), t1 = test.at_vertex(view, vs[1]), t2 = test.at_vertex(view, vs[2]);
-        if (!SuggestiveTest::passes(t0) && !SuggestiveTest::passes(t1) && !SuggestiveTest::passes(t2) &&
-            (t0[0] >= 0.0f) == (t1[0] >= 0.0f) && (t1[0] >= 0.0f) == (t2[0] >= 0.0f) &&
-            (t0[1] >= 0.0f) == (t1[1] >= 0.0f) && (t1[1] >= 0.0f) == (t2[1] >= 0.0f) &&
-            (t0[2] >= 0.0f) == (t1[2] >= 0.0f) && (t1[2] >= 0.0f) == (t2[2] >= 0.0f))
-            continue;
+        const unsigned b0 = bits[vs[0]], b1 = bits[vs[1]], b2 = bits[vs[2]];
+        const unsigned all = b0 & b1 & b2, any = b0 | b1 | b2;
+        // A face draws if kr changes sign in it; all corners are usable; not all flat (there the
+        // sign of kr is estimator noise: CAD facets); not all back-facing (no suggestive contour
+        // on back faces; rtsc culls them the same way); and the test passes somewhere in it: at a
+        // corner, or where one of its values changes sign (rtsc's quick reject).
+        const bool draws = ((any & ~all) & kKrNegative) && (all & kUsable) && (any & kCurved) && (any & kFront) &&
+                           ((any & kPasses) || ((any ^ all) & kTestSigns));
+        if (!draws) continue;
+        int i = 0, j = 0;
+        crossing_edges(vs, kr, i, j);
         const auto& fe = mesh.face_edges[f].edge;
         const std::uint32_t p = suggestive_node(mesh, view, test, fe[std::size_t(i)], g);
         const std::uint32_t q = suggestive_node(mesh, view, test, fe[std::size_t(j)], g);
@@ -488,15 +510,12 @@ void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const
 // The length that makes the thresholds dimensionless: rtsc's feature size, so that our defaults
 // mean what the reference's do. It is 1 % of the inverse of the 10th percentile of |k1|, |k2| over
 // 500 vertices picked by a fixed linear congruential sequence (deterministic), capped at 5 % of
-// the radius of the bounding sphere (centred on the box). A curvature scale, unlike the median edge
+// the radius of a bounding sphere (the one through the box's corners: no pass over the vertices). A curvature scale, unlike the median edge
 // length (CurvatureField::feature_size): with that, a threshold over feature_size^2 grows with
 // the square of the tessellation's density, and refining a mesh would erase its lines.
 double threshold_length(const MeshTopology& mesh, const CurvatureField& field, std::vector<float>& samples) {
     const std::size_t n = field.size();
-    const glm::dvec3 centre = mesh.bounds.center();
-    double radius2 = 0.0;
-    for (const glm::dvec3& p : mesh.positions) radius2 = std::max(radius2, glm::dot(p - centre, p - centre));
-    const double cap = 0.05 * std::sqrt(radius2);
+    const double cap = 0.05 * mesh.bounds.half_diagonal();
     samples.clear();
     std::uint32_t state = 0;
     for (std::size_t i = 0; i < std::min<std::size_t>(n, 500); ++i) {
