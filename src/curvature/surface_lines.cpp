@@ -27,12 +27,11 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-// Curvature times feature size below which a face is flat for suggestive contours: a radius of
-// curvature over 100 feature sizes (5 bounding radii on CAD parts, where the feature size is capped;
-// on organic models, the flattest tenth of the curvature samples). There kr is numerically zero
-// and the sign of its estimate is noise. Both principal curvatures at all three corners must be
-// that small, which removes under 0.2 % of the sample organic models' lines (bunny00, armadillo,
-// elephant, 12 views each) and a tenth of fandisk's.
+// Curvature times feature size below which a corner is flat for suggestive contours (a radius of
+// curvature over 100 feature sizes: 5 bounding radii on CAD parts, where the feature size is
+// capped). There kr is numerically zero and the sign of its estimate is noise; a face is skipped
+// only when both principal curvatures are that small at all three corners, which organic models'
+// suggestive contours almost never are (bench/results/surface_lines.md).
 constexpr double kFlatCurvature = 0.01;
 
 // Curvature lines shorter than this on the image are dropped: specks from a test flickering around
@@ -194,11 +193,10 @@ void CurveGraph::chain(LineKind kind, const Camera& camera, double min_px, Surfa
 thread_local CurveGraph t_graph;
 
 // A crease where the surface has no curvature, as on CAD parts: sharper than 60 degrees (angle
-// between the face normals) between two faces whose other edges bend by under 5 degrees. Coarse
-// organic meshes have many sharp edges (elephant: 647 of its 8.3 k edges above the drawing's
-// 40 degrees) among bent neighbours, where the estimate is still the surface's; rings around all
-// 40-degree creases would erase two thirds of elephant's lines, around these 1 %. (fandisk, 12
-// views: 20.1 k px of lines with no exclusion, 4.1 k with it.)
+// between the face normals) between two faces whose other edges bend by under 5 degrees. Not every
+// edge above the drawing's crease angle: coarse organic meshes have many sharp edges among bent
+// neighbours, where the estimate is still the surface's and rings around them would erase real
+// lines (bench/results/surface_lines.md).
 constexpr float kSharpCreaseRadians = float(60.0 * M_PI / 180.0);
 constexpr float kSmoothSideRadians = float(5.0 * M_PI / 180.0);
 
@@ -241,8 +239,6 @@ void mark_near_creases(const MeshTopology& mesh, std::vector<std::uint8_t>& near
 
 thread_local std::vector<std::uint32_t> t_frontier;
 thread_local std::vector<std::uint8_t> t_near_crease;
-
-
 
 // Sign used for zero sets: 0 counts as positive, so a zero exactly at a vertex puts the point on
 // that vertex, the same from every face around it.
