@@ -429,11 +429,12 @@ TEST(Curvature, IrregularEllipsoidBounded) {
 }
 
 // Scaling the model by s scales k by 1/s, C by 1/s^2, point areas by s^2 and the feature size by s,
-// and leaves normals and directions; also far from the origin. (Floats: relative 1e-5.)
+// and leaves normals and directions; also far from the origin. Floats: relative 1e-5. At s = 1e-15
+// C is about 1e30 and point areas 1e-32, near the ends of what the float field holds.
 TEST(Curvature, ScaleInvariant) {
     const Sampled base = torus(16, 1.0, 0.4);
     const CurvatureField f0 = inkline::estimate_curvature(base.mesh);
-    for (double sc : {1e-4, 1e4}) {
+    for (double sc : {1e-4, 1e4, 1e-15, 1e15}) {
         for (dvec3 offset : {dvec3(0.0), dvec3(1e5, -3e4, 2e5)}) {
             MeshTopology t = base.mesh;
             for (auto& p : t.positions) p = p * sc + offset * sc;
