@@ -196,7 +196,8 @@ thread_local CurveGraph t_graph;
 // between the face normals) between two faces whose other edges bend by under 5 degrees. Not every
 // edge above the drawing's crease angle: coarse organic meshes have many sharp edges among bent
 // neighbours, where the estimate is still the surface's and rings around them would erase real
-// lines (bench/results/surface_lines.md).
+// lines (bench/results/surface_lines.md). Taken from the mesh's crease list, so a drawing crease
+// angle above 60 degrees also narrows this.
 constexpr float kSharpCreaseRadians = float(60.0 * M_PI / 180.0);
 constexpr float kSmoothSideRadians = float(5.0 * M_PI / 180.0);
 
