@@ -27,8 +27,21 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
+// Curvature times feature size below which a corner is flat for suggestive contours (a radius of
+// curvature over 100 feature sizes: 5 bounding radii on CAD parts, where the feature size is
+// capped). There kr is numerically zero and the sign of its estimate is noise; a face is skipped
+// only when both principal curvatures are that small at all three corners, which organic models'
+// suggestive contours almost never are (bench/results/surface_lines.md).
+constexpr double kFlatCurvature = 0.01;
+
+// Curvature lines shorter than this on the image are dropped: specks from a test flickering around
+// its threshold, which read as dirt, not shape (smooth contours are kept whole: they close).
+constexpr double kMinCurvePixels = 3.0;
+
 // The graph of one kind's segments: nodes are points on mesh edges (at most one per edge: a
-// linear function has one zero on an edge) or points inside a face (ends cut by a test, the centre
+// linear function has one zero on an edge), points exactly at a vertex (one node for all the edges
+// that put their zero there, so the curve passes through the vertex once; where more than two
+// segments meet there, curves end at it), or points inside a face (ends cut by a test, the centre
 // of a face whose three edges hold a ridge); chaining walks it.
 class CurveGraph {
 public:
@@ -41,10 +54,12 @@ public:
         std::array<float, 3> test;  // the suggestive tests' values here (numerator, n.v, angle)
     };
 
-    void begin(std::size_t edge_count) {
-        if (edge_stamp_.size() != edge_count || ++stamp_ == 0) {
+    void begin(std::size_t edge_count, std::size_t vertex_count) {
+        if (edge_stamp_.size() != edge_count || vertex_stamp_.size() != vertex_count || ++stamp_ == 0) {
             edge_stamp_.assign(edge_count, 0);
             edge_node_.resize(edge_count);
+            vertex_stamp_.assign(vertex_count, 0);
+            vertex_node_.resize(vertex_count);
             stamp_ = 1;
         }
         nodes_.clear();
@@ -52,25 +67,34 @@ public:
     }
     // The node on edge e, or kNone when none was made this pass.
     std::uint32_t edge_node(std::uint32_t e) const { return edge_stamp_[e] == stamp_ ? edge_node_[e] : kNone; }
+    // The node on edge e (kNone: inside a face) at parameter t from edge_vertex[e][0]; t = 0 or
+    // 1 is the vertex's node, shared by every edge there.
     std::uint32_t add_node(const glm::dvec3& pos, float strength, std::uint32_t edge,
-                           std::array<float, 3> test = {}) {
+                           std::array<float, 3> test = {}, std::uint32_t vertex = kNone) {
+        if (vertex != kNone && vertex_stamp_[vertex] == stamp_) {
+            map_edge(edge, vertex_node_[vertex]);
+            return vertex_node_[vertex];
+        }
         nodes_.push_back({pos, strength, edge, {kNone, kNone, kNone}, 0, test});
         const auto id = std::uint32_t(nodes_.size() - 1);
-        if (edge != kNone) {
-            edge_stamp_[edge] = stamp_;
-            edge_node_[edge] = id;
+        map_edge(edge, id);
+        if (vertex != kNone) {
+            vertex_stamp_[vertex] = stamp_;
+            vertex_node_[vertex] = id;
         }
         return id;
     }
     Node& node(std::uint32_t id) { return nodes_[id]; }
     void add_segment(std::uint32_t a, std::uint32_t b, std::uint32_t face) {
+        if (a == b) return;  // both ends at one vertex: nothing to draw, the vertex's node joins on
         const auto s = std::uint32_t(segs_.size());
         segs_.push_back({{a, b}, face});
         attach(a, s);
         attach(b, s);
     }
-    // Appends the curves of this pass to `out`, of kind `kind`.
-    void chain(LineKind kind, SurfaceCurves& out);
+    // Appends the curves of this pass to `out`, of kind `kind`, but those shorter than `min_px`
+    // pixels on `camera`'s image.
+    void chain(LineKind kind, const Camera& camera, double min_px, SurfaceCurves& out);
 
 private:
     struct Segment {
@@ -84,10 +108,16 @@ private:
         if (nd.degree < 3) nd.seg[nd.degree] = s;
         nd.degree = std::uint8_t(std::min(nd.degree + 1, 255));
     }
-    void walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out);
+    void map_edge(std::uint32_t edge, std::uint32_t id) {
+        if (edge == kNone) return;
+        edge_stamp_[edge] = stamp_;
+        edge_node_[edge] = id;
+    }
+    void walk(std::uint32_t start, std::uint32_t s, LineKind kind, const Camera& camera, double min_px,
+              SurfaceCurves& out);
     void emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_begin, SurfaceCurves& out) const;
 
-    std::vector<std::uint32_t> edge_stamp_, edge_node_;
+    std::vector<std::uint32_t> edge_stamp_, edge_node_, vertex_stamp_, vertex_node_;
     std::uint32_t stamp_ = 0;
     std::vector<Node> nodes_;
     std::vector<Segment> segs_;
@@ -108,7 +138,8 @@ void CurveGraph::emit(std::uint32_t n, std::uint32_t face, std::uint32_t curve_b
     out.strength.push_back(nd.strength);
 }
 
-void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, SurfaceCurves& out) {
+void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, const Camera& camera, double min_px,
+                      SurfaceCurves& out) {
     const auto begin = std::uint32_t(out.points.size());
     bool closed = false;
     std::uint32_t cur = start;
@@ -131,8 +162,11 @@ void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, Surfa
         s = s2;
     }
     const auto end = std::uint32_t(out.points.size());
-    // Fewer than two distinct points (or a loop through two) draws nothing.
-    if (end - begin < 2 || (closed && end - begin < 4)) {
+    double px = 0.0;
+    for (std::uint32_t i = begin; i + 1 < end && px < min_px; ++i)
+        px += glm::length(camera.project(out.points[i + 1]) - camera.project(out.points[i]));
+    // Fewer than two distinct points (or a loop through two) draws nothing; nor does a speck.
+    if (end - begin < 2 || (closed && end - begin < 4) || px < min_px) {
         out.points.resize(begin);
         out.point_edge.resize(begin);
         out.segment_face.resize(begin);
@@ -143,29 +177,69 @@ void CurveGraph::walk(std::uint32_t start, std::uint32_t s, LineKind kind, Surfa
     out.curves.push_back({kind, begin, end, closed});
 }
 
-void CurveGraph::chain(LineKind kind, SurfaceCurves& out) {
+void CurveGraph::chain(LineKind kind, const Camera& camera, double min_px, SurfaceCurves& out) {
     used_.assign(segs_.size(), 0);
     // Open curves first, from every end or junction; what is left are loops.
     for (std::uint32_t n = 0; n < nodes_.size(); ++n) {
         if (nodes_[n].degree == 2 || nodes_[n].degree == 0) continue;
         const int listed = std::min<int>(nodes_[n].degree, 3);
         for (int k = 0; k < listed; ++k)
-            if (!used_[nodes_[n].seg[k]]) walk(n, nodes_[n].seg[k], kind, out);
+            if (!used_[nodes_[n].seg[k]]) walk(n, nodes_[n].seg[k], kind, camera, min_px, out);
     }
     for (std::uint32_t s = 0; s < segs_.size(); ++s)
-        if (!used_[s]) walk(segs_[s].node[0], s, kind, out);
+        if (!used_[s]) walk(segs_[s].node[0], s, kind, camera, min_px, out);
 }
 
 thread_local CurveGraph t_graph;
 
-// A vertex whose values can be trusted: estimated, and nothing non-finite in this view.
-bool usable(const CurvatureField& field, const ViewCurvature& view, std::uint32_t v) {
-    return field.valid[v] && std::isfinite(view.kr[v]) && std::isfinite(view.ndotv[v]) && std::isfinite(view.dwkr[v]);
+// A crease where the surface has no curvature, as on CAD parts: sharper than 60 degrees (angle
+// between the face normals) between two faces whose other edges bend by under 5 degrees. Not every
+// edge above the drawing's crease angle: coarse organic meshes have many sharp edges among bent
+// neighbours, where the estimate is still the surface's and rings around them would erase real
+// lines (bench/results/surface_lines.md). Taken from the mesh's crease list, so a drawing crease
+// angle above 60 degrees also narrows this.
+constexpr float kSharpCreaseRadians = float(60.0 * M_PI / 180.0);
+constexpr float kSmoothSideRadians = float(5.0 * M_PI / 180.0);
+
+// Vertices whose curvature is not the surface's: on a CAD crease the surface has no curvature, and the
+// estimate there (from a normal averaged over both sides) is a spike that leaks into the vertices
+// that share a face with it (their k), and one ring further (their C, from their neighbours' k). On
+// CAD models the suggestive contours found near creases are only that leak (lines one or two rings
+// off every crease, specks). Nonzero marks a vertex within two rings of a crease.
+void mark_near_creases(const MeshTopology& mesh, std::vector<std::uint8_t>& near, std::vector<std::uint32_t>& frontier) {
+    near.assign(mesh.vertex_count(), 0);
+    frontier.clear();
+    // A crease between smooth sides: its two faces' other edges are nearly flat.
+    auto cad_crease = [&](std::uint32_t e) {
+        if (mesh.edge_normal_angle[e] <= kSharpCreaseRadians) return false;
+        for (std::uint32_t f : mesh.edge_face[e]) {
+            if (f == kNoFace) continue;
+            for (std::uint32_t o : mesh.face_edges[f].edge)
+                if (o != e && mesh.edge_normal_angle[o] > kSmoothSideRadians) return false;
+        }
+        return true;
+    };
+    for (std::uint32_t e : mesh.crease_list)
+        if (cad_crease(e))
+            for (std::uint32_t v : mesh.edge_vertex[e])
+                if (!near[v]) near[v] = 3, frontier.push_back(v);
+    std::size_t begin = 0;
+    for (std::uint8_t ring = 2; ring >= 1; --ring) {
+        const std::size_t end = frontier.size();
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint32_t v = frontier[i];
+            for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k) {
+                const auto& ev = mesh.edge_vertex[mesh.vertex_edges[k]];
+                const std::uint32_t other = ev[0] == v ? ev[1] : ev[0];
+                if (!near[other]) near[other] = ring, frontier.push_back(other);
+            }
+        }
+        begin = end;
+    }
 }
 
-bool face_usable(const CurvatureField& field, const ViewCurvature& view, const std::array<std::uint32_t, 3>& f) {
-    return usable(field, view, f[0]) && usable(field, view, f[1]) && usable(field, view, f[2]);
-}
+thread_local std::vector<std::uint32_t> t_frontier;
+thread_local std::vector<std::uint8_t> t_near_crease;
 
 // Sign used for zero sets: 0 counts as positive, so a zero exactly at a vertex puts the point on
 // that vertex, the same from every face around it.
@@ -174,7 +248,12 @@ inline bool negative(float x) { return x < 0.0f; }
 // Zero of the linear function with values fa, fb (opposite signs) at 0 and 1.
 inline float zero_of(float fa, float fb) { return fa / (fa - fb); }
 
-inline glm::dvec3 along(const glm::dvec3& a, const glm::dvec3& b, float t) { return a + double(t) * (b - a); }
+// The point at t from a to b; exactly b at t = 1 (a + (b - a) need not round to b), so that a
+// point at a vertex is that vertex.
+inline glm::dvec3 along(const glm::dvec3& a, const glm::dvec3& b, float t) { return t == 1.0f ? b : a + double(t) * (b - a); }
+
+// The vertex a point at parameter t on edge (a, b) sits on, if any.
+inline std::uint32_t at_vertex(std::uint32_t a, std::uint32_t b, float t) { return t == 0.0f ? a : t == 1.0f ? b : kNone; }
 
 // ---- Suggestive contours ------------------------------------------------------------------------
 
@@ -187,6 +266,7 @@ inline glm::dvec3 along(const glm::dvec3& a, const glm::dvec3& b, float t) { ret
 // cap on n.v (suggestive_max_ndotv; >= 0 passes).
 struct SuggestiveTest {
     float threshold, fade, max_ndotv;
+    float flat;  // curvature below which the surface counts as flat (kFlatCurvature / feature size)
     std::array<float, 3> at_vertex(const ViewCurvature& view, std::uint32_t v) const {
         return {view.dwkr[v] - threshold * view.ndotv[v], view.ndotv[v], max_ndotv - view.ndotv[v]};
     }
@@ -213,7 +293,7 @@ std::uint32_t suggestive_node(const MeshTopology& mesh, const ViewCurvature& vie
     const auto [a, b] = mesh.edge_vertex[e];
     const float t = zero_of(view.kr[a], view.kr[b]);
     const auto values = lerp3(test.at_vertex(view, a), test.at_vertex(view, b), t);
-    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), test.strength(values), e, values);
+    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), test.strength(values), e, values, at_vertex(a, b, t));
 }
 
 // Adds the parts of segment p -> q (inside face f) where the test passes: the tests' values are
@@ -263,23 +343,57 @@ bool crossing_edges(const std::array<std::uint32_t, 3>& vs, Value value, int& i,
     return true;
 }
 
+// Per-vertex facts the suggestive contours' face test needs, one byte a vertex, so that the face
+// loop reads three bytes and takes one branch per face (the kr signs of a scanned model are noise
+// over much of it: branch per fact would mispredict).
+enum VertexBit : std::uint8_t {
+    kKrNegative = 1,   // kr < 0 (0 counts as positive)
+    kUsable = 2,       // estimated, off CAD creases, all finite
+    kCurved = 4,       // not flat (a principal curvature at least kFlatCurvature / feature size)
+    kFront = 8,        // n.v > 0
+    kPasses = 16,      // the test passes here
+    kTestSigns = 32 | 64 | 128,  // signs of the test's three values (numerator, n.v, cap)
+};
+
+void mark_vertices(const CurvatureField& field, const ViewCurvature& view, const SuggestiveTest& test,
+                   const std::vector<std::uint8_t>& near_crease, std::vector<std::uint8_t>& bits) {
+    const std::size_t n = field.size();
+    bits.resize(n);
+    for (std::size_t v = 0; v < n; ++v) {
+        const float kr = view.kr[v], nv = view.ndotv[v], dw = view.dwkr[v];
+        const float num = dw - test.threshold * nv, cap = test.max_ndotv - nv;
+        // Bitwise, not short-circuit: no branches. (A NaN fails every comparison; x - x is 0 only
+        // for finite x.)
+        const unsigned finite = unsigned(kr - kr == 0.0f) & unsigned(nv - nv == 0.0f) & unsigned(dw - dw == 0.0f);
+        const unsigned num_pos = num >= 0.0f, nv_pos = nv >= 0.0f, cap_pos = cap >= 0.0f;
+        const unsigned passes = unsigned(num_pos == nv_pos) & cap_pos;
+        const unsigned usable = unsigned(field.valid[v] != 0) & unsigned(near_crease[v] == 0) & finite;
+        const float k = std::max(std::fabs(field.k1[v]), std::fabs(field.k2[v]));
+        bits[v] = std::uint8_t(unsigned(kr < 0.0f) * kKrNegative | usable * kUsable | unsigned(k >= test.flat) * kCurved |
+                               unsigned(nv > 0.0f) * kFront | passes * kPasses | num_pos * 32 | nv_pos * 64 | cap_pos * 128);
+    }
+}
+
+thread_local std::vector<std::uint8_t> t_vertex_bits;
+
 void extract_suggestive(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
                         const SuggestiveTest& test, CurveGraph& g) {
+    std::vector<std::uint8_t>& bits = t_vertex_bits;
+    mark_vertices(field, view, test, t_near_crease, bits);
     const auto kr = [&](std::uint32_t v) { return view.kr[v]; };
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
-        int i, j;
-        if (!crossing_edges(vs, kr, i, j)) continue;
-        // Back faces carry no suggestive contour (rtsc culls them the same way).
-        if (view.ndotv[vs[0]] <= 0.0f && view.ndotv[vs[1]] <= 0.0f && view.ndotv[vs[2]] <= 0.0f) continue;
-        if (!face_usable(field, view, vs)) continue;
-        // Quick reject: the test fails with one sign pattern at all three corners.
-        const auto t0 = test.at_vertex(view, vs[0]), t1 = test.at_vertex(view, vs[1]), t2 = test.at_vertex(view, vs[2]);
-        if (!SuggestiveTest::passes(t0) && !SuggestiveTest::passes(t1) && !SuggestiveTest::passes(t2) &&
-            (t0[0] >= 0.0f) == (t1[0] >= 0.0f) && (t1[0] >= 0.0f) == (t2[0] >= 0.0f) &&
-            (t0[1] >= 0.0f) == (t1[1] >= 0.0f) && (t1[1] >= 0.0f) == (t2[1] >= 0.0f) &&
-            (t0[2] >= 0.0f) == (t1[2] >= 0.0f) && (t1[2] >= 0.0f) == (t2[2] >= 0.0f))
-            continue;
+        const unsigned b0 = bits[vs[0]], b1 = bits[vs[1]], b2 = bits[vs[2]];
+        const unsigned all = b0 & b1 & b2, any = b0 | b1 | b2;
+        // A face draws if kr changes sign in it; all corners are usable; not all flat (there the
+        // sign of kr is estimator noise: CAD facets); not all back-facing (no suggestive contour
+        // on back faces; rtsc culls them the same way); and the test passes somewhere in it: at a
+        // corner, or where one of its values changes sign (rtsc's quick reject).
+        const bool draws = ((any & ~all) & kKrNegative) && (all & kUsable) && (any & kCurved) && (any & kFront) &&
+                           ((any & kPasses) || ((any ^ all) & kTestSigns));
+        if (!draws) continue;
+        int i = 0, j = 0;
+        crossing_edges(vs, kr, i, j);
         const auto& fe = mesh.face_edges[f].edge;
         const std::uint32_t p = suggestive_node(mesh, view, test, fe[std::size_t(i)], g);
         const std::uint32_t q = suggestive_node(mesh, view, test, fe[std::size_t(j)], g);
@@ -297,12 +411,16 @@ void extract_smooth_contours(const MeshTopology& mesh, const CurvatureField& fie
         if (id != kNone) return id;
         const auto [a, b] = mesh.edge_vertex[e];
         const float t = zero_of(view.ndotv[a], view.ndotv[b]);
-        return g.add_node(along(mesh.positions[a], mesh.positions[b], t), 1.0f, e);
+        return g.add_node(along(mesh.positions[a], mesh.positions[b], t), 1.0f, e, {}, at_vertex(a, b, t));
     };
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
         int i, j;
-        if (!crossing_edges(vs, ndotv, i, j) || !face_usable(field, view, vs)) continue;
+        // Not face_usable: n.v needs only normals, and the contour runs over creases too.
+        if (!crossing_edges(vs, ndotv, i, j)) continue;
+        if (!field.valid[vs[0]] || !field.valid[vs[1]] || !field.valid[vs[2]] || !std::isfinite(view.ndotv[vs[0]]) ||
+            !std::isfinite(view.ndotv[vs[1]]) || !std::isfinite(view.ndotv[vs[2]]))
+            continue;
         const auto& fe = mesh.face_edges[f].edge;
         g.add_segment(node(fe[std::size_t(i)]), node(fe[std::size_t(j)]), f);
     }
@@ -354,13 +472,14 @@ std::uint32_t ridge_node(const MeshTopology& mesh, const RidgeKind& kind, std::u
     const float ea = std::fabs(kind.emax(a)), eb = std::fabs(kind.emax(b));
     const float t = ea + eb > 0.0f ? ea / (ea + eb) : 0.5f;
     const float k = kind.kmax(a) + t * (kind.kmax(b) - kind.kmax(a));
-    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), kind.strength(k), e);
+    return g.add_node(along(mesh.positions[a], mesh.positions[b], t), kind.strength(k), e, {}, at_vertex(a, b, t));
 }
 
 void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const RidgeKind& kind, CurveGraph& g) {
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& vs = mesh.faces[f];
         if (!field.valid[vs[0]] || !field.valid[vs[1]] || !field.valid[vs[2]]) continue;
+        if (t_near_crease[vs[0]] || t_near_crease[vs[1]] || t_near_crease[vs[2]]) continue;
         if (!kind.eligible(vs[0]) || !kind.eligible(vs[1]) || !kind.eligible(vs[2])) continue;
         bool z[3];
         int count = 0;
@@ -385,42 +504,64 @@ void extract_ridges(const MeshTopology& mesh, const CurvatureField& field, const
     }
 }
 
-// The model's length scale for the thresholds; a field without one (no edges) falls back to the
-// bounding box, then to 1, so the thresholds stay finite.
-double length_scale(const MeshTopology& mesh, const CurvatureField& field) {
-    if (std::isfinite(field.feature_size) && field.feature_size > 0.0) return field.feature_size;
-    const double box = 0.01 * mesh.bounds.half_diagonal();
-    return std::isfinite(box) && box > 0.0 ? box : 1.0;
+// The length that makes the thresholds dimensionless: rtsc's feature size, so that our defaults
+// mean what the reference's do. It is 1 % of the inverse of the 10th percentile of |k1|, |k2| over
+// 500 vertices picked by a fixed linear congruential sequence (deterministic), capped at 5 % of
+// the radius of a bounding sphere (the one through the box's corners: no pass over the vertices). A curvature scale, unlike the median edge
+// length (CurvatureField::feature_size): with that, a threshold over feature_size^2 grows with
+// the square of the tessellation's density, and refining a mesh would erase its lines.
+double threshold_length(const MeshTopology& mesh, const CurvatureField& field, std::vector<float>& samples) {
+    const std::size_t n = field.size();
+    const double cap = 0.05 * mesh.bounds.half_diagonal();
+    samples.clear();
+    std::uint32_t state = 0;
+    for (std::size_t i = 0; i < std::min<std::size_t>(n, 500); ++i) {
+        state = 1664525u * state + 1013904223u;
+        const std::size_t v = state % n;
+        samples.push_back(std::fabs(field.k1[v]));
+        samples.push_back(std::fabs(field.k2[v]));
+    }
+    double fs = cap;
+    if (!samples.empty()) {
+        const auto which = samples.begin() + std::ptrdiff_t(0.1 * double(samples.size()));
+        std::nth_element(samples.begin(), which, samples.end());
+        if (std::isfinite(*which) && *which > 0.0f) fs = std::min(fs, 0.01 / double(*which));
+    }
+    if (std::isfinite(fs) && fs > 0.0) return fs;
+    // No extent (a single point): any positive length keeps the thresholds finite.
+    return std::isfinite(field.feature_size) && field.feature_size > 0.0 ? field.feature_size : 1.0;
 }
+
+thread_local std::vector<float> t_samples;
 
 }  // namespace
 
 void extract_surface_lines(const MeshTopology& mesh, const CurvatureField& field, const ViewCurvature& view,
                            const Camera& camera, const SurfaceLineOptions& options, SurfaceCurves& out) {
-    (void)camera;  // the view enters through `view`; kept for view-dependent culling to come
     out.clear();
     if (field.size() != mesh.vertex_count() || view.kr.size() != mesh.vertex_count()) return;
     CurveGraph& g = t_graph;
-    const double fs = length_scale(mesh, field);
+    mark_near_creases(mesh, t_near_crease, t_frontier);
+    const double fs = threshold_length(mesh, field, t_samples);
     if (options.suggestive) {
         // rtsc's fade constant, 0.03 / feature_size^2, on the same scale as the threshold.
         const SuggestiveTest test{float(options.suggestive_threshold / (fs * fs)), float(0.03 / (fs * fs)),
-                                  float(options.suggestive_max_ndotv)};
-        g.begin(mesh.edge_count());
+                                  float(options.suggestive_max_ndotv), float(kFlatCurvature / fs)};
+        g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_suggestive(mesh, field, view, test, g);
-        g.chain(LineKind::Suggestive, out);
+        g.chain(LineKind::Suggestive, camera, kMinCurvePixels, out);
     }
     if (options.smooth_contour) {
-        g.begin(mesh.edge_count());
+        g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_smooth_contours(mesh, field, view, g);
-        g.chain(LineKind::SmoothContour, out);
+        g.chain(LineKind::SmoothContour, camera, 0.0, out);
     }
     for (const bool ridge : {true, false}) {
         if (!(ridge ? options.ridge : options.valley)) continue;
         const RidgeKind kind{ridge, float(options.ridge_threshold / fs), &field};
-        g.begin(mesh.edge_count());
+        g.begin(mesh.edge_count(), mesh.vertex_count());
         extract_ridges(mesh, field, kind, g);
-        g.chain(ridge ? LineKind::Ridge : LineKind::Valley, out);
+        g.chain(ridge ? LineKind::Ridge : LineKind::Valley, camera, kMinCurvePixels, out);
     }
 }
 
