@@ -29,6 +29,14 @@ void project_occluders(const MeshTopology& mesh, const Features& features, const
     for (std::uint32_t e : features.border_edges) add(e);
 }
 
+// Faces a curve may pass between without a new ray test: the same face, or two across an edge.
+bool joined(const MeshTopology& mesh, std::uint32_t fa, std::uint32_t fb) {
+    if (fa == fb) return true;
+    for (std::uint32_t g : mesh.face_edges[fa].face)
+        if (g == fb) return true;
+    return false;
+}
+
 // Where along 3D segment A->B (s in [0, 1]) the image parameter t lies: the image of a point
 // moving linearly in 3D moves with perspective foreshortening.
 double segment_param(const Camera& camera, const glm::dvec3& A, const glm::dvec3& B, double t) {
@@ -265,12 +273,12 @@ SurfaceVisibilityStats surface_visibility(const MeshTopology& mesh, const Featur
     for (std::uint32_t c = 0; c < curves.curves.size(); ++c) {
         const SurfaceCurves::Curve& curve = curves.curves[c];
         s.run.clear();
-        bool clipped = false;
+        bool broken = false;  // cut by the near plane or at a vertex: not one closed loop
         for (std::uint32_t i = curve.begin; i + 1 < curve.end; ++i) {
             glm::dvec3 A = curves.points[i], B = curves.points[i + 1];
             const double dA = camera.depth(A) - near, dB = camera.depth(B) - near;
             if (!(dA > 0.0) || !(dB > 0.0)) {
-                clipped = true;
+                broken = true;
                 if (!(dA > 0.0)) {
                     runs.process(curve.kind, c, false);  // what came before ends here
                     s.run.clear();
@@ -280,13 +288,23 @@ SurfaceVisibilityStats surface_visibility(const MeshTopology& mesh, const Featur
                     B += (A - B) * (dB / (dB - dA));
                 }
             }
-            s.run.push_back({A, B, camera.project(A), camera.project(B), curves.segment_face[i]});
+            const std::uint32_t face = curves.segment_face[i];
+            // A curve that passes through a vertex from one face to another that shares no edge
+            // with it can change QI there by what hides the vertex's other faces (local
+            // occlusion): the run ends, and the next starts with a ray test of its own.
+            if (!s.run.empty() && !joined(mesh, s.run.back().face, face)) {
+                broken = true;
+                runs.process(curve.kind, c, false);
+                s.run.clear();
+            }
+            s.run.push_back({A, B, camera.project(A), camera.project(B), face});
             if (!(dB > 0.0)) {
                 runs.process(curve.kind, c, false);
                 s.run.clear();
             }
         }
-        runs.process(curve.kind, c, curve.closed && !clipped);
+        const bool loop = curve.closed && !broken && !s.run.empty() && joined(mesh, s.run.back().face, s.run.front().face);
+        runs.process(curve.kind, c, loop);
     }
     return st;
 }
