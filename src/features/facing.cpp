@@ -5,14 +5,11 @@
 #include <cstring>
 #include <thread>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
-
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "core/predicates.hpp"
+#include "features/facing_kernels.hpp"
 
 namespace inkline {
 
@@ -63,243 +60,6 @@ void FaceFacing::begin_lazy(const MeshTopology& mesh, const Camera& camera) {
     bind(mesh, camera);
 }
 
-namespace {
-
-// Front 2, back 0, undecided (or NaN plane) 1, for faces [0, nf).
-void facing_states_scalar(const MeshTopology::FacingPlane* __restrict p, std::size_t nf, const FacingFilter& flt,
-                          std::uint8_t* __restrict out) {
-    const float ex = flt.ex, ey = flt.ey, ez = flt.ez, w = flt.w, b = flt.bound;
-    for (std::size_t f = 0; f < nf; ++f) {
-        const float det = p[f].nx * ex + p[f].ny * ey + p[f].nz * ez - w * p[f].d;
-        out[f] = std::uint8_t(std::uint8_t(det > b) + std::uint8_t(!(det < -b)));
-    }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// Eight consecutive planes (nx, ny, nz, d) transposed to four rows of eight lanes.
-#define INKLINE_AVX2 __attribute__((target("avx2,bmi2"), always_inline))
-struct Planes8 {
-    __m256 nx, ny, nz, d;
-};
-INKLINE_AVX2 inline void load_planes8(const float* q, Planes8& out) {
-    // a = planes 0|4, b = 1|5, c = 2|6, d = 3|7 (one 128-bit plane per half).
-    const __m256 a = _mm256_loadu2_m128(q + 16, q), b = _mm256_loadu2_m128(q + 20, q + 4);
-    const __m256 c = _mm256_loadu2_m128(q + 24, q + 8), d = _mm256_loadu2_m128(q + 28, q + 12);
-    const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
-    const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-    out.nx = _mm256_shuffle_ps(t0, t2, 0x44);
-    out.ny = _mm256_shuffle_ps(t0, t2, 0xEE);
-    out.nz = _mm256_shuffle_ps(t1, t3, 0x44);
-    out.d = _mm256_shuffle_ps(t1, t3, 0xEE);
-}
-// The filter's eye (ex, ey, ez, w) in all lanes.
-struct Eye8 {
-    __m256 ex, ey, ez, w;
-};
-INKLINE_AVX2 inline void load_eye8(const FacingFilter& f, Eye8& out) {
-    out.ex = _mm256_set1_ps(f.ex);
-    out.ey = _mm256_set1_ps(f.ey);
-    out.ez = _mm256_set1_ps(f.ez);
-    out.w = _mm256_set1_ps(f.w);
-}
-// The filter's distance of the eye to eight planes: the same products and sums in the same order
-// as FacingFilter::signed_distance (no FMA), so the same floats.
-INKLINE_AVX2 inline void eye_distance8(const Planes8& p, const Eye8& e, __m256& out) {
-    out = _mm256_sub_ps(
-        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(p.nx, e.ex), _mm256_mul_ps(p.ny, e.ey)), _mm256_mul_ps(p.nz, e.ez)),
-        _mm256_mul_ps(e.w, p.d));
-}
-#endif
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same with AVX2, 8 faces a step: the 8 planes transposed to 4 rows of 8 lanes (the same
-// products and sums in the same order as the scalar loop, no FMA, so the same floats), the two
-// comparisons as bit masks, spread to one byte per face with pdep.
-__attribute__((target("avx2,bmi2"))) void facing_states_avx2(const MeshTopology::FacingPlane* __restrict p,
-                                                             std::size_t nf, const FacingFilter& flt,
-                                                             std::uint8_t* __restrict out) {
-    Eye8 eye;
-    load_eye8(flt, eye);
-    const __m256 b = _mm256_set1_ps(flt.bound), nb = _mm256_set1_ps(-flt.bound);
-    constexpr std::uint64_t kLowBits = 0x0101010101010101ull;
-    std::size_t f = 0;
-    for (; f + 8 <= nf; f += 8) {
-        Planes8 p8;
-        load_planes8(&p[f].nx, p8);
-        __m256 det;
-        eye_distance8(p8, eye, det);
-        const unsigned front = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, b, _CMP_GT_OQ)));
-        const unsigned not_back = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, nb, _CMP_NLT_UQ)));
-        const std::uint64_t bytes = _pdep_u64(front, kLowBits) + _pdep_u64(not_back, kLowBits);
-        std::memcpy(out + f, &bytes, 8);
-    }
-    facing_states_scalar(p + f, nf - f, flt, out + f);
-}
-#endif
-
-// The band's rows as select() writes them: n faces so far; every row at least n + 8 long before
-// a group of 8 is stored (a group is stored whole, its selected faces first).
-struct BandRows {
-    std::vector<std::uint32_t>& ids;
-    std::vector<float>&nx, &ny, &nz, &d;
-    std::size_t n = 0;
-    void room(std::size_t more) {
-        if (n + more <= ids.size()) return;
-        const std::size_t len = std::max<std::size_t>(2 * ids.size(), n + more + 1024);
-        ids.resize(len);
-        for (auto* row : {&nx, &ny, &nz, &d}) row->resize(len);
-    }
-};
-
-// Faces [f0, f1) whose float distance to the eye is not above limit (NaN planes included),
-// appended to the rows. With `front`: the bit of each face in [f0, f1) (f0 a multiple of 64) set
-// where its float distance is above zero, cleared elsewhere.
-void band_rows_scalar(const MeshTopology::FacingPlane* p, std::uint32_t f0, std::uint32_t f1, const FacingFilter& flt,
-                      float limit, BandRows& rows, std::uint64_t* front) {
-    for (std::uint32_t f = f0; f < f1; ++f) {
-        const float det = flt.signed_distance(p[f]);
-        if (!(std::abs(det) > limit)) {
-            rows.room(1);
-            const std::size_t i = rows.n++;
-            rows.ids[i] = f, rows.nx[i] = p[f].nx, rows.ny[i] = p[f].ny, rows.nz[i] = p[f].nz, rows.d[i] = p[f].d;
-        }
-        if (front) {
-            const std::uint64_t m = std::uint64_t(1) << (f & 63);
-            front[f >> 6] = det > 0.0f ? (front[f >> 6] | m) : (front[f >> 6] & ~m);
-        }
-    }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// Lane permutations that move the lanes of each 8-bit mask to the front, in order.
-struct PackTable {
-    alignas(32) std::uint32_t lanes[256][8];
-    constexpr PackTable() : lanes{} {
-        for (unsigned m = 0; m < 256; ++m) {
-            unsigned k = 0;
-            for (unsigned j = 0; j < 8; ++j)
-                if ((m >> j) & 1) lanes[m][k++] = j;
-            for (; k < 8; ++k) lanes[m][k] = 0;
-        }
-    }
-};
-constexpr PackTable kPack;
-
-// band_rows_scalar's rows and bits, eight faces a step: the selected lanes of the transposed
-// planes (the rows' own layout) and of the ids packed to the front and stored whole.
-__attribute__((target("avx2,bmi2"))) void band_rows_avx2(const MeshTopology::FacingPlane* p, std::uint32_t f0,
-                                                         std::uint32_t nf, const FacingFilter& flt, float limit,
-                                                         BandRows& rows, std::uint64_t* front) {
-    Eye8 eye;
-    load_eye8(flt, eye);
-    const __m256 lim = _mm256_set1_ps(limit), zero = _mm256_setzero_ps();
-    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    std::uint32_t f = f0;
-    std::uint64_t word = 0;  // front bits of the current 64 faces
-    for (; f + 8 <= nf; f += 8) {
-        Planes8 p8;
-        load_planes8(&p[f].nx, p8);
-        __m256 det;
-        eye_distance8(p8, eye, det);
-        if (front) {
-            word |= std::uint64_t(unsigned(_mm256_movemask_ps(_mm256_cmp_ps(det, zero, _CMP_GT_OQ)))) << (f & 56);
-            if ((f & 56) == 56) front[f >> 6] = word, word = 0;
-        }
-        const unsigned m = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(det, abs_mask), lim, _CMP_NGT_UQ)));
-        if (!m) continue;
-        if (rows.n + 8 > rows.ids.size()) rows.room(4096);
-        const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.lanes[m]));
-        const std::size_t n = rows.n;
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(rows.ids.data() + n),
-                            _mm256_permutevar8x32_epi32(_mm256_add_epi32(_mm256_set1_epi32(int(f)), lane), idx));
-        _mm256_storeu_ps(rows.nx.data() + n, _mm256_permutevar8x32_ps(p8.nx, idx));
-        _mm256_storeu_ps(rows.ny.data() + n, _mm256_permutevar8x32_ps(p8.ny, idx));
-        _mm256_storeu_ps(rows.nz.data() + n, _mm256_permutevar8x32_ps(p8.nz, idx));
-        _mm256_storeu_ps(rows.d.data() + n, _mm256_permutevar8x32_ps(p8.d, idx));
-        rows.n = n + unsigned(__builtin_popcount(m));
-    }
-    if (front && (f & 63)) {  // a word begun: its first faces from here, the rest by the scalar loop
-        const std::uint64_t keep = (std::uint64_t(1) << (f & 63)) - 1;
-        front[f >> 6] = (front[f >> 6] & ~keep) | word;
-    }
-    band_rows_scalar(p, f, nf, flt, limit, rows, front);
-}
-#endif
-
-// The band's front bits (8 faces a byte) and check positions, for positions [i0, n).
-void band_states_scalar(const float* nx, const float* ny, const float* nz, const float* d, std::size_t i0,
-                        std::size_t n, const FacingFilter& now, const FacingFilter& before, std::uint8_t* front,
-                        std::vector<std::uint32_t>& check) {
-    for (std::size_t i = i0; i < n; ++i) {
-        const MeshTopology::FacingPlane p{nx[i], ny[i], nz[i], d[i]};
-        const std::uint8_t a = now(p), b = before(p);
-        const std::uint8_t m = std::uint8_t(1u << (i & 7));
-        front[i >> 3] = a == FaceFacing::kFront ? std::uint8_t(front[i >> 3] | m) : std::uint8_t(front[i >> 3] & ~m);
-        if (a != b || a == FaceFacing::kUnknown) check.push_back(std::uint32_t(i));
-    }
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same 8 faces a step from the four rows (the same products and sums in the same order as
-// FacingFilter::signed_distance, no FMA, so the same floats).
-__attribute__((target("avx2,bmi2"))) std::size_t band_states_avx2(const float* nx, const float* ny, const float* nz,
-                                                                  const float* d, std::size_t n,
-                                                                  const FacingFilter& now, const FacingFilter& before,
-                                                                  std::uint8_t* front, std::vector<std::uint32_t>& check) {
-    Eye8 eye_now, eye_before;
-    load_eye8(now, eye_now);
-    load_eye8(before, eye_before);
-    const __m256 ab = _mm256_set1_ps(now.bound), anb = _mm256_set1_ps(-now.bound);
-    const __m256 bb = _mm256_set1_ps(before.bound), bnb = _mm256_set1_ps(-before.bound);
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        const Planes8 p8{_mm256_loadu_ps(nx + i), _mm256_loadu_ps(ny + i), _mm256_loadu_ps(nz + i), _mm256_loadu_ps(d + i)};
-        __m256 da, db;
-        eye_distance8(p8, eye_now, da);
-        eye_distance8(p8, eye_before, db);
-        const unsigned fa = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(da, ab, _CMP_GT_OQ)));
-        const unsigned ka = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(da, anb, _CMP_NLT_UQ)));  // not back
-        const unsigned fb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bb, _CMP_GT_OQ)));
-        const unsigned kb = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(db, bnb, _CMP_NLT_UQ)));
-        // states differ, or "now" undecided (not back and not front)
-        unsigned odd = (fa ^ fb) | (ka ^ kb) | (ka & ~fa);
-        front[i >> 3] = std::uint8_t(fa);
-        while (odd) {
-            check.push_back(std::uint32_t(i + unsigned(__builtin_ctz(odd))));
-            odd &= odd - 1;
-        }
-    }
-    return i;
-}
-
-// Scatters the band's front bits into the words of the face bit set (pdep per word).
-__attribute__((target("bmi2"))) void band_words_bmi2(const std::uint32_t* words, const std::uint64_t* masks,
-                                                     std::size_t nw, const std::uint8_t* front, std::uint64_t* bits) {
-    std::size_t o = 0;  // band position of the word's first face
-    for (std::size_t k = 0; k < nw; ++k) {
-        const std::uint64_t mask = masks[k];
-        std::uint64_t lo, hi;
-        std::memcpy(&lo, front + (o >> 3), 8);
-        std::memcpy(&hi, front + (o >> 3) + 8, 8);
-        const unsigned sh = unsigned(o & 7);
-        const std::uint64_t run = sh ? (lo >> sh) | (hi << (64 - sh)) : lo;
-        bits[words[k]] = (bits[words[k]] & ~mask) | _pdep_u64(run, mask);
-        o += std::size_t(__builtin_popcountll(mask));
-    }
-}
-#endif
-
-}  // namespace
-
-bool cpu_has_avx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
-    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
-    return has;
-#else
-    return false;
-#endif
-}
 
 void FaceBlocks::build(const MeshTopology& mesh) {
     start(mesh);
@@ -317,50 +77,8 @@ void FaceBlocks::start(const MeshTopology& mesh) {
 }
 
 void FaceBlocks::build_range(std::size_t b0, std::size_t b1) {
-    const MeshTopology& mesh = *mesh_;
-    for (std::size_t b = b0; b < b1; ++b) {
-        Bounds& r = bounds_[b];
-        const std::size_t f0 = b * kFaces, f1 = std::min(nf_, f0 + kFaces);
-        for (int i = 0; i < 4; ++i) r.lo[i] = INFINITY, r.hi[i] = -INFINITY;
-        bool nan = false;
-#if defined(__x86_64__) && defined(__GNUC__)
-        // Four faces a step into four accumulators (min and max are exact, so any order gives
-        // the same ranges, up to the sign of zero; a NaN plane marks the block, whatever the
-        // ranges say): the chains of dependent min/max no longer bound the speed.
-        __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY), un = _mm_setzero_ps();
-        __m128 lo1 = lo, lo2 = lo, lo3 = lo, hi1 = hi, hi2 = hi, hi3 = hi;
-        std::size_t f = f0;
-        for (; f + 4 <= f1; f += 4) {
-            const float* q = &mesh.facing[f].nx;  // FacingPlane is 16-byte aligned
-            const __m128 p0 = _mm_load_ps(q), p1 = _mm_load_ps(q + 4), p2 = _mm_load_ps(q + 8), p3 = _mm_load_ps(q + 12);
-            lo = _mm_min_ps(lo, p0), lo1 = _mm_min_ps(lo1, p1), lo2 = _mm_min_ps(lo2, p2), lo3 = _mm_min_ps(lo3, p3);
-            hi = _mm_max_ps(hi, p0), hi1 = _mm_max_ps(hi1, p1), hi2 = _mm_max_ps(hi2, p2), hi3 = _mm_max_ps(hi3, p3);
-            un = _mm_or_ps(un, _mm_or_ps(_mm_cmpunord_ps(p0, p1), _mm_cmpunord_ps(p2, p3)));
-        }
-        for (; f < f1; ++f) {
-            const __m128 p = _mm_load_ps(&mesh.facing[f].nx);
-            lo = _mm_min_ps(lo, p);
-            hi = _mm_max_ps(hi, p);
-            un = _mm_or_ps(un, _mm_cmpunord_ps(p, p));
-        }
-        lo = _mm_min_ps(_mm_min_ps(lo, lo1), _mm_min_ps(lo2, lo3));
-        hi = _mm_max_ps(_mm_max_ps(hi, hi1), _mm_max_ps(hi2, hi3));
-        _mm_storeu_ps(r.lo, lo);
-        _mm_storeu_ps(r.hi, hi);
-        nan = _mm_movemask_ps(un) != 0;
-#else
-        for (std::size_t f = f0; f < f1; ++f) {
-            const auto& p = mesh.facing[f];
-            const float v[4] = {p.nx, p.ny, p.nz, p.d};
-            for (int i = 0; i < 4; ++i) {
-                nan = nan || std::isnan(v[i]);
-                r.lo[i] = std::min(r.lo[i], v[i]);
-                r.hi[i] = std::max(r.hi[i], v[i]);
-            }
-        }
-#endif
-        if (nan || f0 == f1) r.lo[0] = r.hi[0] = NAN;  // never decided as a whole
-    }
+    static_assert(sizeof(Bounds) == 8 * sizeof(float));  // lo[4], hi[4]: the kernels' layout
+    if (b0 < b1) facing_kernels().block_ranges(mesh_->facing.data(), nf_, b0, b1, bounds_[b0].lo);
 }
 
 void FaceBlocks::build_edges() {
@@ -419,12 +137,11 @@ std::size_t FaceBlocks::bytes() const {
 // the products of two floats are exact, the sums err by 2^-52 relative), and the float
 // evaluation errs from it by at most 4 * 2^-24 * (|nx ex| + |ny ey| + |nz ez| + |w d|); the range
 // is widened by 2^-20 times that sum's bound.
-void FaceBlocks::distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const {
-    const Bounds& r = bounds_[b];
+void FaceBlocks::distance_range(const float* bounds, const FacingFilter& f, double& lo, double& hi) {
     const double e[4] = {f.ex, f.ey, f.ez, -double(f.w)};
     double l = 0.0, h = 0.0, mag = 0.0;
     for (int i = 0; i < 4; ++i) {
-        const double a = double(r.lo[i]) * e[i], c = double(r.hi[i]) * e[i];
+        const double a = double(bounds[i]) * e[i], c = double(bounds[4 + i]) * e[i];
         l += std::min(a, c);
         h += std::max(a, c);
         mag += std::max(std::abs(a), std::abs(c));
@@ -436,6 +153,10 @@ void FaceBlocks::distance_range(std::size_t b, const FacingFilter& f, double& lo
     }
     lo = l - slack;
     hi = h + slack;
+}
+
+void FaceBlocks::distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const {
+    distance_range(bounds_[b].lo, f, lo, hi);
 }
 
 std::uint8_t FaceBlocks::classify(std::size_t b, const FacingFilter& f) const {
@@ -525,214 +246,27 @@ std::size_t BlockEdges::bytes() const {
             esc_far_.capacity()) * 4;
 }
 
-namespace {
-bool has_avx512_vbmi() {
-#if defined(__x86_64__) && defined(__GNUC__)
-    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-                            __builtin_cpu_supports("avx512vbmi") && __builtin_cpu_supports("bmi2");
-    return has;
-#else
-    return false;
-#endif
-}
-}  // namespace
-
-bool BlockEdges::has_simd() { return has_avx512_vbmi() || cpu_has_avx2(); }
-
-namespace {
-
-// Escape i is a candidate where its face is decided and differs from its neighbour (an undecided
-// face makes all its edges candidates anyway, BlockEdges::scan_block).
-inline bool escape_candidate(std::uint8_t a, std::uint8_t c) { return a != c && !(a & FaceFacing::kUnknown); }
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define INKLINE_AVX512 __attribute__((target("avx512f,avx512bw,avx512vbmi,bmi2")))
-// Sixteen escapes a step: both states gathered (as 32-bit words, masked to their low byte).
-INKLINE_AVX512 void escape_bits_avx512(const std::uint8_t* st, const std::uint32_t* self, const std::uint32_t* far,
-                                       std::size_t n, std::uint16_t* bits) {
-    const int* s = reinterpret_cast<const int*>(st);
-    const __m512i low = _mm512_set1_epi32(0xff), unknown = _mm512_set1_epi32(FaceFacing::kUnknown);
-    for (std::size_t i = 0; i < n; i += 16) {
-        const __mmask16 live = n - i >= 16 ? __mmask16(0xffff) : __mmask16((1u << (n - i)) - 1);
-        const __m512i fa = _mm512_maskz_loadu_epi32(live, self + i), fc = _mm512_maskz_loadu_epi32(live, far + i);
-        const __m512i a = _mm512_and_si512(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, fa, s, 1), low);
-        const __m512i c = _mm512_and_si512(_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), live, fc, s, 1), low);
-        bits[i / 16] = std::uint16_t(_mm512_mask_cmpneq_epi32_mask(live, a, c) & ~_mm512_test_epi32_mask(a, unknown));
-    }
-}
-
-// Corner masks (corner-major, bit j of word k) of one block: neighbour's state differs from the
-// face's, both decided (sure), or the neighbour undecided (check).
-// Returns false (all masks zero, the index not read) where both windows hold one decided state.
-INKLINE_AVX512 bool block_masks_avx512(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
-                                       const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
-                                       std::uint64_t& undecided) {
-    const __m512i one = _mm512_set1_epi8(FaceFacing::kUnknown);
-    const __m512i t0 = _mm512_loadu_si512(st + base), t1 = _mm512_loadu_si512(st + base + 64);
-    const __m512i u0 = _mm512_loadu_si512(st + base2), u1 = _mm512_loadu_si512(st + base2 + 64);
-    undecided = _mm512_test_epi8_mask(t0, one);
-    const __m512i s = _mm512_set1_epi8(char(st[base]));
-    if (!(st[base] & FaceFacing::kUnknown) &&
-        (_mm512_cmpeq_epi8_mask(t0, s) & _mm512_cmpeq_epi8_mask(t1, s) & _mm512_cmpeq_epi8_mask(u0, s) &
-         _mm512_cmpeq_epi8_mask(u1, s)) == ~std::uint64_t(0)) {
-        sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
-        return false;
-    }
-    for (int k = 0; k < 3; ++k) {
-        const __m512i ix = _mm512_loadu_si512(index + 64 * k);
-        const __m512i v = _mm512_mask_blend_epi8(_mm512_movepi8_mask(ix), _mm512_permutex2var_epi8(t0, ix, t1),
-                                                 _mm512_permutex2var_epi8(u0, ix, u1));
-        const std::uint64_t differ = _mm512_cmpneq_epi8_mask(t0, v), vu = _mm512_test_epi8_mask(v, one);
-        sure[k] = differ & ~vu & ~undecided;
-        check[k] = differ & vu & ~undecided;
-    }
-    return true;
-}
-#endif
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#define INKLINE_AVX2_BMI2 __attribute__((target("avx2,bmi2")))
-// Bit `shift` of each byte's state (7: bit 0, 6: bit 1) moved to its top bit, one bit per byte.
-INKLINE_AVX2 inline std::uint32_t state_bits(__m256i v, int shift) {
-    return std::uint32_t(_mm256_movemask_epi8(_mm256_slli_epi16(v, shift)));
-}
-// The same masks with AVX2, which has no byte permutation across 128 or 256 entries: the two
-// windows' 256 states as two 256-bit planes (their bit 0 and bit 1, one bit per face), and each
-// index's bits looked up in them (its byte by two in-lane shuffles, its bit by a mask): the same
-// states, so the same masks.
-INKLINE_AVX2_BMI2 bool block_masks_avx2(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2,
-                                   const std::uint8_t* index, std::uint64_t sure[3], std::uint64_t check[3],
-                                   std::uint64_t& undecided) {
-    __m256i w[8];
-    for (int i = 0; i < 4; ++i) {
-        w[i] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st + base + 32 * i));
-        w[4 + i] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(st + base2 + 32 * i));
-    }
-    undecided = std::uint64_t(state_bits(w[0], 7)) | std::uint64_t(state_bits(w[1], 7)) << 32;  // kUnknown is bit 0 (and the sentinel's)
-    const std::uint8_t s0 = st[base];
-    if (!(s0 & FaceFacing::kUnknown)) {
-        const __m256i s = _mm256_set1_epi8(char(s0));
-        __m256i same = _mm256_cmpeq_epi8(w[0], s);
-        for (int i = 1; i < 8; ++i) same = _mm256_and_si256(same, _mm256_cmpeq_epi8(w[i], s));
-        if (_mm256_movemask_epi8(same) == -1) {
-            sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
-            return false;
-        }
-    }
-    std::uint32_t plane0[8], plane1[8];  // (only for blocks whose index is read)
-    for (int i = 0; i < 8; ++i) plane0[i] = state_bits(w[i], 7), plane1[i] = state_bits(w[i], 6);
-    const __m256i t0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(plane0));
-    const __m256i t1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(plane1));
-    const __m256i t0lo = _mm256_permute2x128_si256(t0, t0, 0x00), t0hi = _mm256_permute2x128_si256(t0, t0, 0x11);
-    const __m256i t1lo = _mm256_permute2x128_si256(t1, t1, 0x00), t1hi = _mm256_permute2x128_si256(t1, t1, 0x11);
-    const __m256i bit = _mm256_setr_epi8(1, 2, 4, 8, 16, 32, 64, -128, 0, 0, 0, 0, 0, 0, 0, 0, 1, 2, 4, 8, 16, 32, 64, -128,
-                                         0, 0, 0, 0, 0, 0, 0, 0);
-    const __m256i seven = _mm256_set1_epi8(7), low5 = _mm256_set1_epi8(31);
-    std::uint32_t d[2], u[2];
-    for (int k = 0; k < 3; ++k) {
-        for (int h = 0; h < 2; ++h) {
-            const __m256i ix = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + 64 * k + 32 * h));
-            const __m256i byte = _mm256_and_si256(_mm256_srli_epi16(ix, 3), low5);  // 0..31: its byte in a plane
-            const __m256i upper = _mm256_slli_epi16(byte, 3);  // bit 4 (the upper 16 bytes) to the top bit
-            const __m256i r0 = _mm256_blendv_epi8(_mm256_shuffle_epi8(t0lo, byte), _mm256_shuffle_epi8(t0hi, byte), upper);
-            const __m256i r1 = _mm256_blendv_epi8(_mm256_shuffle_epi8(t1lo, byte), _mm256_shuffle_epi8(t1hi, byte), upper);
-            const __m256i m = _mm256_shuffle_epi8(bit, _mm256_and_si256(ix, seven));
-            const std::uint32_t v0 = std::uint32_t(_mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_and_si256(r0, m), m)));
-            const std::uint32_t v1 = std::uint32_t(_mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_and_si256(r1, m), m)));
-            d[h] = (v0 ^ plane0[h]) | (v1 ^ plane1[h]);  // the face's state (the first window's face j) differs
-            u[h] = v0;
-        }
-        const std::uint64_t differ = std::uint64_t(d[0]) | std::uint64_t(d[1]) << 32;
-        const std::uint64_t vu = std::uint64_t(u[0]) | std::uint64_t(u[1]) << 32;
-        sure[k] = differ & ~vu & ~undecided;
-        check[k] = differ & vu & ~undecided;
-    }
-    return true;
-}
-#endif
-
-bool block_masks_scalar(const std::uint8_t* st, std::uint32_t base, std::uint32_t base2, const std::uint8_t* index,
-                        std::uint64_t sure[3], std::uint64_t check[3], std::uint64_t& undecided) {
-    undecided = 0;
-    bool uniform = !(st[base] & FaceFacing::kUnknown);
-    for (std::uint32_t j = 0; j < 128; ++j) uniform = uniform && st[base + j] == st[base] && st[base2 + j] == st[base];
-    if (uniform) {
-        sure[0] = sure[1] = sure[2] = check[0] = check[1] = check[2] = 0;
-        return false;
-    }
-    for (std::uint32_t j = 0; j < 64; ++j) undecided |= std::uint64_t(st[base + j] & FaceFacing::kUnknown) << j;
-    for (int k = 0; k < 3; ++k) {
-        sure[k] = check[k] = 0;
-        for (std::uint32_t j = 0; j < 64; ++j) {
-            const std::uint8_t i = index[64 * k + j], a = st[base + j];
-            const std::uint8_t v = i < 128 ? st[base + i] : st[base2 + (i - 128)];
-            const std::uint64_t bit = std::uint64_t(a != v && !(a & FaceFacing::kUnknown)) << j;
-            (v & FaceFacing::kUnknown ? check : sure)[k] |= bit;
-        }
-    }
-    return true;
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The corner-major masks (bit j of word k) interleaved to corner order (bit 3 j + k of three
-// words), then compressed to the owned corners (pext): bit r of word w is the edge numbered
-// r-th in that word's corners.
-INKLINE_AVX2_BMI2 inline void corner_order(const std::uint64_t m[3], std::uint64_t out[3]) {
-    constexpr std::uint64_t k0 = 0x9249249249249249ull, k1 = k0 << 1, k2 = k0 << 2;  // bits = 0, 1, 2 mod 3
-    out[0] = _pdep_u64(m[0], k0) | _pdep_u64(m[1], k1) | _pdep_u64(m[2], k2);
-    out[1] = _pdep_u64(m[0] >> 22, k2) | _pdep_u64(m[1] >> 21, k0) | _pdep_u64(m[2] >> 21, k1);  // bit 64: j 21, k 1
-    out[2] = _pdep_u64(m[0] >> 43, k1) | _pdep_u64(m[1] >> 43, k2) | _pdep_u64(m[2] >> 42, k0);  // bit 128: j 42, k 2
-}
-static_assert(BlockEdges::kCheck == 1u << 31);
-INKLINE_AVX2_BMI2 void emit_bmi2(const std::uint64_t sure[3], const std::uint64_t check[3], const std::uint64_t owned[3],
-                              std::uint32_t e0, std::vector<std::uint32_t>& out) {
-    std::uint64_t all[3], chk[3];
-    const std::uint64_t any[3] = {sure[0] | check[0], sure[1] | check[1], sure[2] | check[2]};
-    corner_order(any, all);
-    corner_order(check, chk);
-    std::uint32_t buf[3 * 64], n = 0;
-    for (int w = 0; w < 3; ++w) {
-        for (std::uint64_t r = _pext_u64(all[w], owned[w]), c = _pext_u64(chk[w], owned[w]); r; r &= r - 1) {
-            const unsigned i = unsigned(__builtin_ctzll(r));
-            buf[n++] = (e0 + i) | (std::uint32_t((c >> i) & 1) << 31);  // (BlockEdges::kCheck)
-        }
-        e0 += std::uint32_t(__builtin_popcountll(owned[w]));
-    }
-    out.insert(out.end(), buf, buf + n);
-}
-#endif
-
-}  // namespace
+bool BlockEdges::has_simd() { return facing_kernels_for(FacingIsa::Avx2) != nullptr; }
 
 void BlockEdges::escape_bits(const std::uint8_t* st, std::uint32_t b0, std::uint32_t b1, std::vector<std::uint16_t>& bits,
-                             bool simd) const {
+                             const FacingKernels& kernels) const {
     const std::size_t i0 = esc_begin_[b0], n = esc_begin_[b1] - i0;
     bits.assign((n + 15) / 16, 0);
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && has_avx512_vbmi()) return escape_bits_avx512(st, esc_self_.data() + i0, esc_far_.data() + i0, n, bits.data());
-#endif
-    for (std::size_t i = 0; i < n; ++i)
-        bits[i / 16] |= std::uint16_t(escape_candidate(st[esc_self_[i0 + i]], st[esc_far_[i0 + i]]) << (i % 16));
+    kernels.escape_bits(st, esc_self_.data() + i0, esc_far_.data() + i0, n, bits.data());
 }
 
 bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
-                            std::vector<std::uint32_t>& out, bool simd) const {
+                            std::vector<std::uint32_t>& out, const FacingKernels& kernels) const {
     const std::uint32_t base = b * kFaces;
     const std::uint8_t* index = index_.data() + std::size_t(b) * 3 * kFaces;
     std::uint64_t sure[3], check[3], undecided;
-#if defined(__x86_64__) && defined(__GNUC__)
     if (b + 8 < base2_.size()) {  // the second window is elsewhere in the states: fetch it ahead
-        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8]), _MM_HINT_T0);
-        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 64), _MM_HINT_T0);
-        _mm_prefetch(reinterpret_cast<const char*>(st + base2_[b + 8] + 127), _MM_HINT_T0);
-        for (int i = 0; i < 3; ++i) _mm_prefetch(reinterpret_cast<const char*>(index + 8 * 3 * kFaces + 64 * i), _MM_HINT_T0);
+        __builtin_prefetch(st + base2_[b + 8]);
+        __builtin_prefetch(st + base2_[b + 8] + 64);
+        __builtin_prefetch(st + base2_[b + 8] + 127);
+        for (int i = 0; i < 3; ++i) __builtin_prefetch(index + 8 * 3 * kFaces + 64 * i);
     }
-    const bool read = simd && has_avx512_vbmi() ? block_masks_avx512(st, base, base2_[b], index, sure, check, undecided)
-                      : simd && cpu_has_avx2()  ? block_masks_avx2(st, base, base2_[b], index, sure, check, undecided)
-                                                : block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
-#else
-    const bool read = block_masks_scalar(st, base, base2_[b], index, sure, check, undecided);
-#endif
+    const bool read = kernels.block_masks(st, base, base2_[b], index, sure, check, undecided);
     // Escapes: the rare candidates among them set their corner's bit.
     for (std::uint32_t i = esc_begin_[b]; i < esc_begin_[b + 1]; ++i) {
         const std::uint32_t r = i - esc0;
@@ -755,64 +289,11 @@ bool BlockEdges::scan_block(const std::uint8_t* st, std::uint32_t b, const std::
     }
     if (!((sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]))) return read;
     // Corner order (bit 3 j + k), then the owned corners' ranks: edge ids.
-    const std::uint64_t* owned = owned_.data() + 3 * std::size_t(b);
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && cpu_has_avx2()) {
-        emit_bmi2(sure, check, owned, edge_begin_[b], out);
-        return read;
-    }
-#endif
-    const std::uint32_t before[3] = {0, std::uint32_t(__builtin_popcountll(owned[0])),
-                                     std::uint32_t(__builtin_popcountll(owned[0]) + __builtin_popcountll(owned[1]))};
-    for (std::uint64_t any = sure[0] | sure[1] | sure[2] | check[0] | check[1] | check[2]; any; any &= any - 1) {
-        const std::uint32_t j = std::uint32_t(__builtin_ctzll(any));
-        for (std::uint32_t k = 0; k < 3; ++k) {
-            const bool chk = (check[k] >> j) & 1;
-            if (!(((sure[k] >> j) & 1) || chk)) continue;
-            const std::uint32_t bit = 3 * j + k, w = bit / 64;
-            const std::uint64_t below = owned[w] & ((std::uint64_t(1) << (bit % 64)) - 1);
-            out.push_back((edge_begin_[b] + before[w] + std::uint32_t(__builtin_popcountll(below))) | (chk ? kCheck : 0));
-        }
-    }
+    std::uint32_t ids[3 * kFaces];
+    const std::uint32_t n = kernels.block_edges(sure, check, owned_.data() + 3 * std::size_t(b), edge_begin_[b], ids);
+    out.insert(out.end(), ids, ids + n);
     return read;
 }
-
-#if defined(__x86_64__) && defined(__GNUC__)
-namespace {
-// FaceBlocks::classify for four blocks a step (AVX2 doubles): the same products, sums, min and
-// max in the same order (MINPD(c, a) is std::min(a, c) and MAXPD(c, a) std::max(a, c), NaN
-// included), so the same states.
-__attribute__((target("avx2"))) void classify_avx2(const float* bounds, std::size_t n, const FacingFilter& f,
-                                                   double limit, std::uint8_t* out) {
-    const __m256d e[4] = {_mm256_set1_pd(f.ex), _mm256_set1_pd(f.ey), _mm256_set1_pd(f.ez), _mm256_set1_pd(-double(f.w))};
-    const __m256d sign = _mm256_set1_pd(-0.0), scale = _mm256_set1_pd(0x1p-20);
-    const __m256d bound = _mm256_set1_pd(limit), nbound = _mm256_set1_pd(-limit);
-    for (std::size_t b = 0; b < n; b += 4) {
-        const float* q = bounds + 8 * b;  // lo[4], hi[4] per block
-        __m128 l0 = _mm_loadu_ps(q), l1 = _mm_loadu_ps(q + 8), l2 = _mm_loadu_ps(q + 16), l3 = _mm_loadu_ps(q + 24);
-        __m128 h0 = _mm_loadu_ps(q + 4), h1 = _mm_loadu_ps(q + 12), h2 = _mm_loadu_ps(q + 20), h3 = _mm_loadu_ps(q + 28);
-        _MM_TRANSPOSE4_PS(l0, l1, l2, l3);  // l_i: component i of the four blocks
-        _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
-        const __m128 ls[4] = {l0, l1, l2, l3}, hs[4] = {h0, h1, h2, h3};
-        __m256d lo = _mm256_setzero_pd(), hi = _mm256_setzero_pd(), mag = _mm256_setzero_pd();
-        for (int i = 0; i < 4; ++i) {
-            const __m256d a = _mm256_mul_pd(_mm256_cvtps_pd(ls[i]), e[i]), c = _mm256_mul_pd(_mm256_cvtps_pd(hs[i]), e[i]);
-            lo = _mm256_add_pd(lo, _mm256_min_pd(c, a));
-            hi = _mm256_add_pd(hi, _mm256_max_pd(c, a));
-            mag = _mm256_add_pd(mag, _mm256_max_pd(_mm256_andnot_pd(sign, c), _mm256_andnot_pd(sign, a)));
-        }
-        const __m256d slack = _mm256_mul_pd(mag, scale);
-        const __m256d nan = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(lo, lo, _CMP_UNORD_Q), _mm256_cmp_pd(hi, hi, _CMP_UNORD_Q)),
-                                         _mm256_cmp_pd(slack, slack, _CMP_UNORD_Q));
-        const unsigned odd = unsigned(_mm256_movemask_pd(nan));
-        const unsigned front = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_sub_pd(lo, slack), bound, _CMP_GT_OQ))) & ~odd;
-        const unsigned back = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_add_pd(hi, slack), nbound, _CMP_LT_OQ))) & ~odd;
-        for (std::size_t i = 0; i < 4 && b + i < n; ++i)
-            out[b + i] = (front >> i) & 1 ? FaceFacing::kFront : (back >> i) & 1 ? FaceFacing::kBack : FaceFacing::kUnknown;
-    }
-}
-}  // namespace
-#endif
 
 void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f, std::uint8_t* out) const {
     classify_within(b0, b1, f, double(f.bound), out);
@@ -820,20 +301,7 @@ void FaceBlocks::classify(std::size_t b0, std::size_t b1, const FacingFilter& f,
 
 void FaceBlocks::classify_within(std::size_t b0, std::size_t b1, const FacingFilter& f, double limit,
                                  std::uint8_t* out) const {
-    std::size_t b = b0;
-#if defined(__x86_64__) && defined(__GNUC__)
-    static_assert(sizeof(Bounds) == 32);
-    if (cpu_has_avx2()) {
-        const std::size_t n = (b1 - b0) & ~std::size_t(3);
-        classify_avx2(bounds_[b0].lo, n, f, limit, out);
-        b += n;
-    }
-#endif
-    for (; b < b1; ++b) {
-        double lo, hi;
-        distance_range(b, f, lo, hi);
-        out[b - b0] = lo > limit ? FaceFacing::kFront : hi < -limit ? FaceFacing::kBack : FaceFacing::kUnknown;  // NaN: unknown
-    }
+    if (b0 < b1) facing_kernels().classify_blocks(bounds_[b0].lo, b1 - b0, f, limit, out);
 }
 
 void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_t>& faces) {
@@ -849,17 +317,29 @@ void FacingBand::assign(const MeshTopology& mesh, const std::vector<std::uint32_
 
 std::size_t FacingBand::select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
                                std::uint64_t* front, bool simd) {
-    BandRows rows{ids_, nx_, ny_, nz_, d_};
+    return select(mesh, filter, limit, blocks, front, facing_kernels(simd));
+}
+
+std::size_t FacingBand::select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
+                               std::uint64_t* front, const FacingKernels& kernels) {
+    std::size_t rows_n = 0;
+    // Faces [f0, f1) (f0 a multiple of 64) through the kernel, in chunks of whole words of front
+    // bits, each with room made for all its faces and a vector group more.
     auto run = [&](std::uint32_t f0, std::uint32_t f1) {
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (simd && cpu_has_avx2()) return band_rows_avx2(mesh.facing.data(), f0, f1, filter, limit, rows, front);
-#endif
-        band_rows_scalar(mesh.facing.data(), f0, f1, filter, limit, rows, front);
+        constexpr std::uint32_t kChunk = 4096;
+        for (std::uint32_t a = f0; a < f1;) {
+            const std::uint32_t b = f1 - a > kChunk ? a + kChunk : f1;
+            room(rows_n + (b - a) + 8);
+            BandRowsOut rows{ids_.data(), nx_.data(), ny_.data(), nz_.data(), d_.data(), rows_n};
+            kernels.band_rows(mesh.facing.data(), a, b, filter, limit, rows, front);
+            rows_n = rows.n;
+            a = b;
+        }
     };
     const std::uint32_t nf = std::uint32_t(mesh.face_count());
     if (!blocks || !blocks->built_for(mesh)) {
         run(0, nf);
-        n_ = rows.n;
+        n_ = rows_n;
         finish();
         return nf;
     }
@@ -904,7 +384,7 @@ std::size_t FacingBand::select(const MeshTopology& mesh, const FacingFilter& fil
             open = UINT32_MAX;
         }
     }
-    n_ = rows.n;
+    n_ = rows_n;
     finish();
     return read;
 }
@@ -918,31 +398,28 @@ void FacingBand::finish() {
         masks_.back() |= std::uint64_t(1) << (f & 63);
     }
     front_.assign((n_ + 7) / 8 + 16, 0);  // (+16: the word loop reads 16 bytes from any position)
+    if (check_scratch_.size() < n_) check_scratch_.resize(n_);
 }
 
 void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                         std::vector<std::uint32_t>& check, bool simd) {
-    const std::size_t n = n_;
+    states(now, before, front_bits, check, facing_kernels(simd));
+}
+
+void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                        std::vector<std::uint32_t>& check, const FacingKernels& kernels) {
     std::uint8_t* front = front_.data();
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (simd && cpu_has_avx2()) {
-        const std::size_t i = band_states_avx2(nx_.data(), ny_.data(), nz_.data(), d_.data(), n, now, before, front, check);
-        band_states_scalar(nx_.data(), ny_.data(), nz_.data(), d_.data(), i, n, now, before, front, check);
-        if (front_bits) band_words_bmi2(words_.data(), masks_.data(), words_.size(), front, front_bits);
-        return;
-    }
-#endif
-    band_states_scalar(nx_.data(), ny_.data(), nz_.data(), d_.data(), 0, n, now, before, front, check);
-    if (!front_bits) return;
-    std::size_t o = 0;
-    for (std::size_t k = 0; k < words_.size(); ++k) {
-        std::uint64_t w = front_bits[words_[k]];
-        for (std::uint64_t m = masks_[k]; m; m &= m - 1, ++o) {
-            const std::uint64_t bit = m & (~m + 1);
-            w = (front[o >> 3] >> (o & 7)) & 1 ? (w | bit) : (w & ~bit);
-        }
-        front_bits[words_[k]] = w;
-    }
+    const std::size_t n = kernels.band_states(nx_.data(), ny_.data(), nz_.data(), d_.data(), n_, now, before, front,
+                                              check_scratch_.data());
+    check.insert(check.end(), check_scratch_.data(), check_scratch_.data() + n);
+    if (front_bits) kernels.band_words(words_.data(), masks_.data(), words_.size(), front, front_bits);
+}
+
+void FacingBand::room(std::size_t len) {
+    if (len <= ids_.size()) return;
+    const std::size_t grown = std::max<std::size_t>(2 * ids_.size(), len + 1024);
+    ids_.resize(grown);
+    for (auto* row : {&nx_, &ny_, &nz_, &d_}) row->resize(grown);
 }
 
 // Faces [lo, hi) of a full view (lo a block start): with blocks, blocks decided as a whole are
@@ -951,11 +428,9 @@ void FacingBand::states(const FacingFilter& now, const FacingFilter& before, std
 std::size_t FaceFacing::decide(std::size_t lo, std::size_t hi, const FaceBlocks* blocks) {
     const MeshTopology& mesh = *mesh_;
     constexpr std::size_t kPrefetch = 8;  // blocks
+    const FacingKernels& kernels = facing_kernels();
     auto run = [&](std::size_t a, std::size_t b) {
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (cpu_has_avx2()) return facing_states_avx2(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
-#endif
-        facing_states_scalar(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
+        kernels.facing_states(mesh.facing.data() + a, b - a, filter_, state_.data() + a);
     };
     if (!blocks) {
         run(lo, hi);

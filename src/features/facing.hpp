@@ -16,6 +16,11 @@
 
 namespace inkline {
 
+struct FacingKernels;  // facing_kernels.hpp: the inner loops, one instruction set a file
+// The kernels this CPU runs best (chosen once, on first use), or with false the portable ones:
+// the same results either way.
+const FacingKernels& facing_kernels(bool vector = true);
+
 // The float filter of one view, for searches that keep their own per-face state: kFront/kBack
 // where the float sign of the eye's distance to the face's plane is trusted, kUnknown where the
 // exact predicate (face_is_front) must decide. FaceFacing runs the same filter.
@@ -37,8 +42,9 @@ struct FacingFilter {
 // the range of their float planes, so that a view can decide a whole block at once where every
 // face of it has the same filter state (the exact answer), and skip reading its planes and its
 // edges. Built once per mesh, by the searches that use it (about 1 byte per face: 32 bytes of
-// ranges, 4 of edge offset and the neighbour block list, per block of 64 faces). (Offsets taken
-// from a centre per block were tried: 4 % fewer planes read on armadillo@2, not worth 16 bytes.)
+// ranges, 4 of edge offset and the neighbour block list, per block of 64 faces). Ranges of the
+// planes themselves, not of offsets from a centre per block: those skip too few more planes to
+// pay for their bytes (bench/results/finder.md).
 class FaceBlocks {
 public:
     static constexpr std::uint32_t kFaces = 64;
@@ -57,6 +63,8 @@ public:
     // block b, widened by the float evaluation's error: every face's float distance lies in
     // [lo, hi]. NaN if the block holds an untrusted (NaN) plane.
     void distance_range(std::size_t b, const FacingFilter& f, double& lo, double& hi) const;
+    // The same for a block's ranges given as lo[4], hi[4] (the kernels' layout).
+    static void distance_range(const float* bounds, const FacingFilter& f, double& lo, double& hi);
     // kFront / kBack where the filter gives that state for every face of block b, else kUnknown.
     std::uint8_t classify(std::size_t b, const FacingFilter& f) const;
     // classify(b, f) for blocks [b0, b1) into out[b - b0] (the same operations, four blocks a step).
@@ -100,7 +108,7 @@ private:
 // windows of 128 faces, [base, base + 128) (0..127) and [base2, base2 + 128) (128..255, base2
 // chosen per block to hold most of the other neighbours); a corner that does not number its
 // edge, or whose edge is a border, indexes its own face (never a candidate). The neighbours in
-// neither window (about 4 % of the edges on armadillo@2) are listed as escapes (face,
+// neither window (a few percent of the edges: bench/results/finder.md) are listed as escapes (face,
 // neighbour, corner). A bit per corner says which corners number an edge, so a candidate's
 // edge id is the block's first edge plus the owned corners before it. About 3.5 bytes per face
 // (192 + 24 + 12 bytes per block of 64 faces, 9 bytes per escape).
@@ -121,19 +129,24 @@ public:
     // face is undecided", borders left out. `states` are FaceFacing::states() of a full view
     // (padded by FaceFacing::kPad). Blocks for which skip(b) holds are not read (the caller's
     // proof that none of their edges is a candidate), nor the index of blocks whose two windows
-    // hold one decided state. `simd`: the AVX-512 or AVX2 kernel where the CPU has it (else, and with
-    // false, the portable loop; the same result). Returns the number of edges of the blocks
-    // whose index was read.
+    // hold one decided state. `kernels`: facing_kernels() or a given table (the same result).
+    // Returns the number of edges of the blocks whose index was read.
+    template <class Skip>
+    std::size_t scan(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, Skip skip,
+                     std::vector<std::uint32_t>& out, const FacingKernels& kernels) const {
+        std::vector<std::uint16_t> esc;
+        escape_bits(states, b0, b1, esc, kernels);
+        std::size_t read = 0;
+        for (std::uint32_t b = b0; b < b1; ++b)
+            if (!skip(b) && scan_block(states, b, esc.data(), esc_begin_[b0], out, kernels))
+                read += edge_begin_[b + 1] - edge_begin_[b];
+        return read;
+    }
+    // `simd`: this CPU's kernels, or with false the portable ones.
     template <class Skip>
     std::size_t scan(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, Skip skip,
                      std::vector<std::uint32_t>& out, bool simd = true) const {
-        std::vector<std::uint16_t> esc;
-        escape_bits(states, b0, b1, esc, simd);
-        std::size_t read = 0;
-        for (std::uint32_t b = b0; b < b1; ++b)
-            if (!skip(b) && scan_block(states, b, esc.data(), esc_begin_[b0], out, simd))
-                read += edge_begin_[b + 1] - edge_begin_[b];
-        return read;
+        return scan(states, b0, b1, skip, out, facing_kernels(simd));
     }
     // Whether this CPU runs a vector kernel: AVX-512 VBMI (byte permutations over the windows),
     // else AVX2 + BMI2 (the windows as bit planes, looked up by in-lane shuffles).
@@ -142,9 +155,9 @@ public:
 private:
     // Candidate bits of the escapes of blocks [b0, b1) (16 a word, from the first escape of b0).
     void escape_bits(const std::uint8_t* states, std::uint32_t b0, std::uint32_t b1, std::vector<std::uint16_t>& bits,
-                     bool simd) const;
+                     const FacingKernels& kernels) const;
     bool scan_block(const std::uint8_t* states, std::uint32_t b, const std::uint16_t* esc, std::uint32_t esc0,
-                    std::vector<std::uint32_t>& out, bool simd) const;
+                    std::vector<std::uint32_t>& out, const FacingKernels& kernels) const;
     const MeshTopology* mesh_ = nullptr;
     std::size_t nf_ = 0;
     std::vector<std::uint8_t> index_;             // 192 per block: corner k of face j at k * 64 + j
@@ -173,6 +186,8 @@ public:
     // filter's bound, a bit outside the band is the exact facing. `simd` as for states().
     std::size_t select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
                        std::uint64_t* front, bool simd = true);
+    std::size_t select(const MeshTopology& mesh, const FacingFilter& filter, float limit, const FaceBlocks* blocks,
+                       std::uint64_t* front, const FacingKernels& kernels);
     std::size_t size() const { return n_; }
     std::uint32_t face(std::size_t i) const { return ids_[i]; }
     MeshTopology::FacingPlane plane(std::size_t i) const { return {nx_[i], ny_[i], nz_[i], d_[i]}; }
@@ -180,14 +195,16 @@ public:
     // (the caller decides those exactly; where both filters agree and decide, the face kept its
     // facing). With front_bits, also sets each band face's bit where `now` says front and clears
     // it elsewhere (other bits untouched); with nullptr no bit is written (a caller whose bits
-    // hold the previous view's facing need only set those of the faces checked). `simd`: the
-    // AVX2 + BMI2 kernel where the CPU has it (else, and with false, the portable loop; the same
-    // result).
+    // hold the previous view's facing need only set those of the faces checked). `simd`: this
+    // CPU's kernels (facing_kernels()), or with false the portable ones (the same result).
     void states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
                 std::vector<std::uint32_t>& check, bool simd = true);
+    void states(const FacingFilter& now, const FacingFilter& before, std::uint64_t* front_bits,
+                std::vector<std::uint32_t>& check, const FacingKernels& kernels);
 
 private:
     void finish();  // the words and the scratch, for the n_ faces in the rows
+    void room(std::size_t len);  // rows at least len long (kept between bands)
     // The rows hold n_ faces; they may be longer (select() keeps their length between bands, so
     // that a new band writes over the old without clearing it).
     std::size_t n_ = 0;
@@ -196,10 +213,8 @@ private:
     std::vector<std::uint32_t> words_;
     std::vector<std::uint64_t> masks_;
     std::vector<std::uint8_t> front_;  // scratch: front bit per band face, 8 per byte (padded)
+    std::vector<std::uint32_t> check_scratch_;  // scratch: states()' positions (room for the band)
 };
-
-// Whether this CPU runs the AVX2 + BMI2 kernels (checked once; otherwise the scalar loops run).
-bool cpu_has_avx2();
 
 class FaceFacing {
 public:

@@ -9,11 +9,8 @@
 #include <functional>
 #include <thread>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
-
 #include "core/predicates.hpp"
+#include "features/facing_kernels.hpp"
 
 namespace inkline {
 
@@ -89,18 +86,22 @@ bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint3
     return false;
 }
 
-// Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
-// A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
-// two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
-// pass over the feature edges (counts, kinds, and the xor of its feature edges, which at a vertex
-// of degree two gives the other edge), so no vertex ring is scanned. That pass numbers the
-// feature edges (in list order) and their vertices (in order of first use) locally; the cusps and
-// the chaining then read only those compact arrays (the mesh's per-vertex and per-edge arrays are
-// read once per edge: this stage is bound by the latency of scattered reads). Before the chains
-// are walked, each feature edge gets, in one pass whose reads are independent of each other, the
-// edge that follows it through each of its vertices: a step of a chain (a chain of dependent
-// reads) then reads one record instead of an edge and then its vertex.
-void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options, Features& out) {
+// The view's feature edges numbered locally, as the three lists in a row (silhouettes, borders,
+// creases), and their vertices in order of first use (Features::chain_vertices, chain_links).
+struct FeatureNumbering {
+    std::uint32_t edges = 0;                // feature edges: [0, list_end[0]) silhouettes, then borders, creases
+    std::uint32_t vertices = 0;             // vertices numbered
+    std::uint32_t silhouette_vertices = 0;  // the first ones: the vertices of silhouette edges
+    std::size_t list_end[3] = {0, 0, 0};
+    std::uint8_t kind_of(std::uint32_t i) const { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; }
+};
+
+constexpr std::uint32_t kBreak = UINT32_MAX;  // ChainLink::next where the vertex breaks chains
+
+// The one pass over the feature edges that gathers what each vertex needs: counts, kinds, and
+// the xor of its feature edges (at a vertex of degree two: the other edge). The mesh's per-vertex
+// and per-edge arrays are read once per edge here; everything after reads the compact arrays.
+FeatureNumbering number_feature_edges(const MeshTopology& mesh, Features& out) {
     const std::vector<std::uint32_t>* lists[3] = {&out.silhouette_edges, &out.border_edges, &out.crease_edges};
     const std::uint8_t list_kind[3] = {kSil, kBorder, kCrease};
     const std::size_t n = out.silhouette_edges.size() + out.border_edges.size() + out.crease_edges.size();
@@ -112,58 +113,66 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
     if (verts.size() < 2 * n + 1) verts.resize(2 * n + 1);
     std::uint32_t nv = 0;  // vertices numbered so far
     links.resize(n);
-    std::size_t list_end[3];
-    std::uint32_t silhouette_vertices = 0;  // the vertices of silhouette edges: numbered first
-    {
-        std::uint32_t i = 0;
-        for (int l = 0; l < 3; ++l) {
-            const std::uint8_t kind = list_kind[l];
-            const std::uint32_t* list = lists[l]->data();
-            const std::size_t m = lists[l]->size();
-            for (std::size_t j = 0; j < m; ++j) {
-                // The edges are scattered over the mesh: their vertices and flags are fetched 32
-                // edges ahead and those vertices' local numbers 16 ahead, so that the misses overlap.
-                if (j + 32 < m) {
-                    __builtin_prefetch(&mesh.edge_vertex[list[j + 32]]);
-                    __builtin_prefetch(&mesh.edge_flags[list[j + 32]]);
-                }
-                if (j + 16 < m) {
-                    const auto& ahead = mesh.edge_vertex[list[j + 16]];
-                    __builtin_prefetch(&local[ahead[0]], 1);
-                    __builtin_prefetch(&local[ahead[1]], 1);
-                }
-                const std::uint32_t e = list[j];
-                const bool front = kind == kSil && mesh.is_convex(e);
-                Features::ChainLink& link = links[i];
-                link.edge = e;
-                link.used = 0;
-                for (int k = 0; k < 2; ++k) {
-                    const std::uint32_t v = mesh.edge_vertex[e][k];
-                    // First use without a branch (it would be mispredicted about half the
-                    // time): the next slot is always written, and kept only for a new vertex.
-                    const std::uint32_t old = local[v];
-                    const bool fresh = old == UINT32_MAX;
-                    const std::uint32_t lv = fresh ? nv : old;
-                    local[v] = lv;
-                    verts[nv] = {v, 0, 0, 0, 0, 0, 0};
-                    nv += fresh;
-                    Features::ChainVertex& s = verts[lv];
-                    link.end[k] = lv;
-                    s.edge_xor ^= i;
-                    if (s.degree < 255) ++s.degree;
-                    if (kind == kSil && s.silhouettes < 255) ++s.silhouettes;
-                    if (front && s.front < 255) ++s.front;
-                    s.kinds |= std::uint8_t(1u << kind);
-                }
-                ++i;
+    FeatureNumbering num;
+    std::uint32_t i = 0;
+    for (int l = 0; l < 3; ++l) {
+        const std::uint8_t kind = list_kind[l];
+        const std::uint32_t* list = lists[l]->data();
+        const std::size_t m = lists[l]->size();
+        for (std::size_t j = 0; j < m; ++j) {
+            // The edges are scattered over the mesh: their vertices and flags are fetched 32
+            // edges ahead and those vertices' local numbers 16 ahead, so that the misses overlap.
+            if (j + 32 < m) {
+                __builtin_prefetch(&mesh.edge_vertex[list[j + 32]]);
+                __builtin_prefetch(&mesh.edge_flags[list[j + 32]]);
             }
-            list_end[l] = i;
-            if (l == 0) silhouette_vertices = nv;
+            if (j + 16 < m) {
+                const auto& ahead = mesh.edge_vertex[list[j + 16]];
+                __builtin_prefetch(&local[ahead[0]], 1);
+                __builtin_prefetch(&local[ahead[1]], 1);
+            }
+            const std::uint32_t e = list[j];
+            const bool front = kind == kSil && mesh.is_convex(e);
+            Features::ChainLink& link = links[i];
+            link.edge = e;
+            link.used = 0;
+            for (int k = 0; k < 2; ++k) {
+                const std::uint32_t v = mesh.edge_vertex[e][k];
+                // First use without a branch (it would be mispredicted about half the
+                // time): the next slot is always written, and kept only for a new vertex.
+                const std::uint32_t old = local[v];
+                const bool fresh = old == UINT32_MAX;
+                const std::uint32_t lv = fresh ? nv : old;
+                local[v] = lv;
+                verts[nv] = {v, 0, 0, 0, 0, 0, 0};
+                nv += fresh;
+                Features::ChainVertex& s = verts[lv];
+                link.end[k] = lv;
+                s.edge_xor ^= i;
+                if (s.degree < 255) ++s.degree;
+                if (kind == kSil && s.silhouettes < 255) ++s.silhouettes;
+                if (front && s.front < 255) ++s.front;
+                s.kinds |= std::uint8_t(1u << kind);
+            }
+            ++i;
         }
+        num.list_end[l] = i;
+        if (l == 0) num.silhouette_vertices = nv;
     }
-    // The vertices of silhouette edges are those numbered while the silhouette edges were (the
-    // first list), in the order the edges first use them: the cusps are listed in that order.
-    for (std::uint32_t lv = 0; lv < silhouette_vertices; ++lv) {
+    num.edges = i;
+    num.vertices = nv;
+    return num;
+}
+
+// Cusps (Definition 3) at the vertices of silhouette edges, listed in the order the edges first
+// use them. A border that turns on at a vertex (its only feature edges two borders) may change
+// QI there too, where the faces around the vertex fold over in the image (a ruffled or folded
+// border; Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain
+// (marked as a cusp is, not listed), so that the visibility stage measures the local occlusion
+// of each side there. (A break where none is needed only adds a curve end.)
+void mark_cusps(const MeshTopology& mesh, const Camera& camera, const FeatureNumbering& num, Features& out) {
+    auto& verts = out.chain_vertices;
+    for (std::uint32_t lv = 0; lv < num.silhouette_vertices; ++lv) {
         Features::ChainVertex& s = verts[lv];
         CuspCase c = CuspCase::None;
         if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
@@ -175,35 +184,40 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
             out.cusp_cases.push_back(c);
         }
     }
-
-    // A border that turns on at a vertex (its only feature edges two borders) may change QI there
-    // too, where the faces around the vertex fold over in the image (a ruffled or folded border;
-    // Definition 3's cusps are silhouette vertices only): such a vertex breaks the chain (marked
-    // as a cusp is, not listed), so that the visibility stage measures the local occlusion of
-    // each side there. (A break where none is needed only adds a curve end.)
-    for (std::uint32_t lv = silhouette_vertices; lv < nv; ++lv) {
+    for (std::uint32_t lv = num.silhouette_vertices; lv < num.vertices; ++lv) {
         Features::ChainVertex& s = verts[lv];
         if (s.degree == 2 && s.kinds == (1u << kBorder) && border_fan_folds(mesh, camera, s.id)) s.cusp = 1;
     }
+}
 
+// Each feature edge gets, in one pass whose reads are independent of each other, the edge that
+// follows it through each of its vertices (kBreak where the vertex breaks chains: not two
+// feature edges, two of different kinds, or a cusp): a step of a chain (a chain of dependent
+// reads) then reads one record instead of an edge and then its vertex.
+void link_chains(const FeatureNumbering& num, Features& out) {
+    const auto& verts = out.chain_vertices;
     auto is_break = [&](const Features::ChainVertex& s) {
         return s.cusp || s.degree != 2 || (s.kinds & (s.kinds - 1)) != 0;
     };
-    constexpr std::uint32_t kBreak = UINT32_MAX;
-    for (std::uint32_t i = 0; i < n; ++i) {
-        Features::ChainLink& link = links[i];
+    for (std::uint32_t i = 0; i < num.edges; ++i) {
+        Features::ChainLink& link = out.chain_links[i];
         for (int k = 0; k < 2; ++k) {
             const Features::ChainVertex& s = verts[link.end[k]];
             link.next[k] = is_break(s) ? kBreak : s.edge_xor ^ i;  // the other of its two feature edges
             link.id[k] = s.id;
         }
     }
-    auto kind_of = [&](std::uint32_t i) { return i < list_end[0] ? kSil : i < list_end[1] ? kBorder : kCrease; };
+}
+
+// The curves of the requested kinds: chains from every break, then the closed loops left.
+void walk_chains(const FeatureNumbering& num, const FeatureOptions& options, Features& out) {
+    const auto& verts = out.chain_vertices;
+    auto& links = out.chain_links;
     auto& curves = out.curves;  // (its arrays keep their storage from view to view)
     curves.clear();
     // A chain from the local vertex start_v along feature edge start_i.
     auto walk = [&](std::uint32_t start_v, std::uint32_t start_i) {
-        curves.start(LineKind(kind_of(start_i)), verts[start_v].id);
+        curves.start(LineKind(num.kind_of(start_i)), verts[start_v].id);
         std::uint32_t i = start_i;
         int out_end = links[i].end[0] == start_v ? 1 : 0;  // the end of edge i the chain leaves by
         while (true) {
@@ -221,16 +235,22 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
             out_end = links[i].end[0] == v ? 1 : 0;
         }
     };
+    const std::uint32_t n = num.edges;
     for (std::uint32_t i = 0; i < n; ++i) {
-        if (links[i].used || !options.wants(LineKind(kind_of(i)))) continue;
+        if (links[i].used || !options.wants(LineKind(num.kind_of(i)))) continue;
         for (int k = 0; k < 2; ++k)
             if (!links[i].used && links[i].next[k] == kBreak) walk(links[i].end[k], i);
     }
     for (std::uint32_t i = 0; i < n; ++i)  // what is left are closed loops without a break
-        if (!links[i].used && options.wants(LineKind(kind_of(i)))) walk(links[i].end[0], i);
+        if (!links[i].used && options.wants(LineKind(num.kind_of(i)))) walk(links[i].end[0], i);
     curves.finish();
+}
 
-    // Leave the per-vertex arrays as they were before the view (the finder's marks cleared).
+// Leaves the per-vertex arrays as they were before the view (the finder's marks cleared).
+void clear_vertex_marks(const FeatureNumbering& num, Features& out) {
+    auto& local = out.vertex_local;
+    const auto& verts = out.chain_vertices;
+    const std::uint32_t nv = num.vertices;
     for (std::uint32_t k = 0; k < nv; ++k) {
         if (k + 16 < nv) {
             __builtin_prefetch(&local[verts[k + 16].id], 1);
@@ -240,6 +260,19 @@ void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const Feat
         local[s.id] = UINT32_MAX;
         out.vertex_scratch[s.id] = {};
     }
+}
+
+// Cusps (Definition 3) over the vertices of silhouette edges, then the chaining into curves.
+// A vertex breaks chains where the number of feature edges (of every kind, drawn or not) is not
+// two, where the two differ in kind, or at a cusp. Everything a vertex needs is gathered in one
+// pass over the feature edges, so no vertex ring is scanned; the cusps and the chaining then read
+// only compact local arrays (this stage is bound by the latency of scattered reads).
+void cusps_and_curves(const MeshTopology& mesh, const Camera& camera, const FeatureOptions& options, Features& out) {
+    const FeatureNumbering num = number_feature_edges(mesh, out);
+    mark_cusps(mesh, camera, num, out);
+    link_chains(num, out);
+    walk_chains(num, options, out);
+    clear_vertex_marks(num, out);
 }
 
 }  // namespace
@@ -344,55 +377,6 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     out.stats.exact_facing_tests = out.face_front.exact_tests();
 }
 
-namespace {
-
-// Candidates among edges [e0, e1): edges whose two face states differ, or whose first face is
-// undecided (borders meet the sentinel). Returns how many were written to cand.
-std::uint32_t scan_block_scalar(const std::array<std::uint32_t, 2>* __restrict ef, const std::uint8_t* __restrict st,
-                                std::uint32_t nf, std::uint32_t e0, std::uint32_t e1, std::uint32_t* __restrict cand) {
-    std::uint32_t n = 0;
-    for (std::uint32_t e = e0; e < e1; ++e) {
-        const std::uint8_t a = st[ef[e][0]], b = st[std::min(ef[e][1], nf)];
-        cand[n] = e;
-        n += ((a ^ b) | (a & FaceFacing::kUnknown)) != 0;
-    }
-    return n;
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// The same with AVX2, 8 edges a step: the face pairs deinterleaved, the two states gathered as
-// 32-bit words (states() is padded for that) and masked to their low byte; candidates are rare,
-// so they are written from the comparison's bit mask.
-__attribute__((target("avx2,bmi2"))) std::uint32_t scan_block_avx2(const std::array<std::uint32_t, 2>* __restrict ef,
-                                                                   const std::uint8_t* __restrict st, std::uint32_t nf,
-                                                                   std::uint32_t e0, std::uint32_t e1,
-                                                                   std::uint32_t* __restrict cand) {
-    const __m256i last = _mm256_set1_epi32(int(nf)), low = _mm256_set1_epi32(0xff);
-    const __m256i unknown = _mm256_set1_epi32(FaceFacing::kUnknown), zero = _mm256_setzero_si256();
-    const int* states = reinterpret_cast<const int*>(st);
-    std::uint32_t n = 0, e = e0;
-    for (; e + 8 <= e1; e += 8) {
-        const __m256 lo = _mm256_loadu_ps(reinterpret_cast<const float*>(&ef[e][0]));
-        const __m256 hi = _mm256_loadu_ps(reinterpret_cast<const float*>(&ef[e + 4][0]));
-        // shuffle gives edges 0 1 4 5 | 2 3 6 7; the 64-bit permute puts them in order.
-        const __m256i f0 = _mm256_permute4x64_epi64(_mm256_castps_si256(_mm256_shuffle_ps(lo, hi, 0x88)), 0xD8);
-        const __m256i f1 = _mm256_min_epu32(
-            _mm256_permute4x64_epi64(_mm256_castps_si256(_mm256_shuffle_ps(lo, hi, 0xDD)), 0xD8), last);
-        const __m256i a = _mm256_and_si256(_mm256_i32gather_epi32(states, f0, 1), low);
-        const __m256i b = _mm256_and_si256(_mm256_i32gather_epi32(states, f1, 1), low);
-        const __m256i x = _mm256_or_si256(_mm256_xor_si256(a, b), _mm256_and_si256(a, unknown));
-        unsigned mask = ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(x, zero)))) & 0xffu;
-        while (mask) {
-            cand[n++] = e + unsigned(__builtin_ctz(mask));
-            mask &= mask - 1;
-        }
-    }
-    return n + scan_block_scalar(ef, st, nf, e, e1, cand + n);
-}
-#endif
-
-}  // namespace
-
 const FaceBlocks* SilhouetteFinder::blocks() {
     if (!opt_.blocks) return nullptr;
     if (!blocks_.built_for(*mesh_)) blocks_.build(*mesh_);
@@ -408,21 +392,12 @@ void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
     constexpr std::uint32_t kBlock = 4096;
     const auto* ef = mesh.edge_face.data();
     const std::uint8_t* st = out.face_front.states();
-#if defined(__x86_64__) && defined(__GNUC__)
-    const bool avx2 = cpu_has_avx2();
-#else
-    const bool avx2 = false;
-#endif
+    const FacingKernels& kernels = facing_kernels();
     auto collect_range = [&](std::uint32_t lo, std::uint32_t hi, std::vector<std::uint32_t>& cand) {
         for (std::uint32_t e0 = lo; e0 < hi; e0 += kBlock) {
             const std::uint32_t e1 = std::min(hi, e0 + kBlock), n0 = std::uint32_t(cand.size());
             cand.resize(n0 + (e1 - e0));
-#if defined(__x86_64__) && defined(__GNUC__)
-            const std::uint32_t n = avx2 ? scan_block_avx2(ef, st, nf, e0, e1, cand.data() + n0)
-                                         : scan_block_scalar(ef, st, nf, e0, e1, cand.data() + n0);
-#else
-            const std::uint32_t n = scan_block_scalar(ef, st, nf, e0, e1, cand.data() + n0);
-#endif
+            const std::uint32_t n = kernels.edge_candidates(ef, st, nf, e0, e1, cand.data() + n0);
             cand.resize(n0 + n);
         }
     };
@@ -430,8 +405,9 @@ void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
     // all have one state (FaceBlocks::edges_uniform) are not read: none is a candidate. The
     // other edges are scanned in runs, in edge order (the same candidates).
     // From the second view, where the CPU has the kernel: the gather-free layout (BlockEdges),
-    // block by block (it skips the blocks whose windows hold one state itself; skipping by the
-    // block states as below measured no faster); its candidates of decided faces are silhouettes.
+    // block by block (it skips the blocks whose windows hold one state itself, as fast as
+    // skipping by the block states: bench/results/finder.md); its candidates of decided faces
+    // are silhouettes.
     if (block_edges && opt_.edge_windows && full_views_ > 1 && BlockEdges::has_simd() && !block_edges_tried_) {
         block_edges_tried_ = true;
         block_edges_.build(mesh);
@@ -607,10 +583,14 @@ void eye_vector(const MeshTopology& mesh, const Camera& camera, double e[3], dou
     w = ortho ? 0.0 : 1.0;
 }
 
+double distance3(const double a[3], const double b[3]) {
+    return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
 // Per 64 faces (and one past the last), the first edge whose first face is one of them, where the
 // mesh numbers its edges in the order of their first face (topology.cpp); else {0}. (The same
-// ranges as FaceBlocks::build_edges, which also lists each block's neighbours: 5 ms on
-// armadillo@2, against about 1 ms for these alone.)
+// ranges as FaceBlocks::build_edges, built alone because that also lists each block's
+// neighbours, several times the cost: bench/results/finder.md.)
 std::vector<std::uint32_t> first_edges_by_64_faces(const MeshTopology& mesh) {
     const std::size_t ne = mesh.edge_count();
     for (std::size_t e = 1; e < ne; ++e)
@@ -629,19 +609,9 @@ std::vector<std::uint32_t> first_edges_by_64_faces(const MeshTopology& mesh) {
 // The face blocks skip the blocks whose planes are all beyond the margin. The faces outside the
 // band get their front bit here, from the sign of their float distance (beyond the filter's
 // bound, so exact), which they keep for every such eye; the band's bits are set by follow().
-// The pass writes the band's rows as it reads the planes (FacingBand::select: the selected lanes
-// packed to the front, no list of faces or copies of planes in between), so the band does not
-// gather them from the mesh again (0.85 ms of a 2.3 ms rebuild at a degree a frame on armadillo@2, Zen 3).
-// (Selecting the band from an outer band of 2.5-4 times its margin, rebuilt from the mesh more
-// rarely, was tried: no faster on armadillo@2, since each rebuild then streams the larger outer
-// band; so was an outer band of 8 times the margin with a key per face (|distance| to the outer
-// band's eye) so that the selection skips faces beyond margin + |eye - outer eye|: a band's eye
-// is on average half the outer margin away, so about 5 band sizes are still read, and the outer
-// rebuild reads 46 % of the faces' planes: 2.7 ms per rebuild against 2.3. Copying each band
-// face's edges and neighbour faces into the band at the rebuild, so that follow() reads band-local
-// memory for a turned face, was tried too: kept frames 0.07 ms faster, rebuilds 1.5-2.5 ms slower
-// (the band's faces are 4 % of the mesh's, scattered: every one costs its own cache lines of
-// face_edges and edge_face, and only about 60 % of them turn while the band lives).)
+// The pass writes the band's rows as it reads the planes (FacingBand::select), so that a rebuild
+// reads each plane once; outer bands and band-local face records cost more than they saved
+// (bench/results/finder_targets.md, bench/results/finder.md).
 void SilhouetteFinder::build_band(const double eye[3], double w, double margin) {
     const MeshTopology& mesh = *mesh_;
     FacingFilter at;  // the filter of the band's eye (not the view's, when the band is built ahead of it)
@@ -660,81 +630,97 @@ void SilhouetteFinder::build_band(const double eye[3], double w, double margin) 
 // now. Given the previous view's silhouette complete, so is this one; silhouette curves the
 // previous view missed are found here only where their faces turn (or by the draws).
 void SilhouetteFinder::follow(const Camera& camera, Features& out) {
+    start_following(camera);
+    const bool rebuilt = update_band(camera);
+    out.stats.band_rebuilt = rebuilt;
+    out.stats.band_faces = band_.size();
+    find_turned_faces(out, rebuilt);
+    out.stats.faces_turned = turned_.size();
+    const std::size_t rechecked = reclassify_turned_edges(out);
+    merge_silhouette(out, rechecked);
+    std::uint64_t* turned = turned_bits_.data();
+    for (std::uint32_t f : turned_) turned[f >> 6] = 0;
+}
+
+// Sizes the per-face bits for the mesh and binds this view's filter. The band's faces keep their
+// bits from the previous view: if that view did not run follow() (a first view, a view after
+// reset(), or one after a view with no silhouette), the bits are older, and the band is rebuilt.
+void SilhouetteFinder::start_following(const Camera& camera) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t nf = mesh.face_count();
     if (front_bits_.size() != nf / 64 + 1) {
         band_margin_ = -1.0;
         for (auto* bits : {&front_bits_, &turned_bits_}) bits->assign(nf / 64 + 1, 0);
     }
-    // The band's faces keep their bits from the previous view (below): if that view did not run
-    // follow() (a first view, a view after reset(), or one after a view with no silhouette), the
-    // bits are older, and the band is rebuilt.
     if (bits_view_ + 1 != views_) band_margin_ = -1.0;
     bits_view_ = views_;
     camera_ = camera;
     filter_.bind(mesh, camera);
+}
 
-    // The band is valid while both eyes lie within its margin of where it was built.
+// Keeps the band while both eyes lie within its margin of where it was built, else rebuilds it
+// (and retunes its size). Returns whether it was rebuilt.
+bool SilhouetteFinder::update_band(const Camera& camera) {
+    const MeshTopology& mesh = *mesh_;
     double e[3], w, p[3], pw;
     eye_vector(mesh, camera, e, w);
     eye_vector(mesh, previous_camera_, p, pw);
-    auto dist = [](const double a[3], const double b[3]) {
-        return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-    };
-    const double step = dist(e, p);
-    bool rebuilt = false;
+    const double step = distance3(e, p);
     if (w != pw) {
         // Between a perspective and an orthographic view (an eye point and a view direction) no
         // distance bounds the change of the faces' signed distances: every face is in the band,
         // for this view only (the next view builds a band about its eye).
         build_band(e, w, INFINITY);
         band_margin_ = -1.0;
-        rebuilt = true;
-    } else if (!(band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && dist(e, band_eye_) <= band_margin_ &&
-          dist(p, band_eye_) <= band_margin_)) {
-        const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-        const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
-        const double margin = steps * (step * (1.0 + 1e-9) + 1e-12 * scale);
-        // Built ahead of the eye, along its last step, as far as keeps the previous eye inside:
-        // a camera moving on (an orbit is straight over a few steps) crosses the whole band,
-        // about 2 * steps views before the next rebuild instead of steps.
-        double c[3] = {e[0], e[1], e[2]};
-        if (step > 0.0 && margin > step) {
-            const double ahead = 0.999 * (margin - step) / step;
-            for (int i = 0; i < 3; ++i) c[i] = e[i] + ahead * (e[i] - p[i]);
-        }
-        build_band(c, w, margin);
-        rebuilt = true;
-        // Per frame the band costs about its size, a rebuild about the face count once per
-        // 2 * steps frames: with a band face costing k faces of a rebuild, balanced at
-        // steps = sqrt(faces / (2 k band faces per step)). k = 1.25 was measured on armadillo@2
-        // along an orbit with the caches cold between views (mean ms a view: 6 steps 0.294, 8
-        // 0.283, 10 0.277, 12 0.277, 16 0.283; auto now chooses about 11, the earlier k = 4 chose
-        // 6: bench/results/finder_targets.md, 2026-12-03).
-        constexpr double kBandFace = 1.25;
-        const double per_step = std::max(1.0, double(band_.size()) / steps);
-        auto_steps_ = std::clamp(std::sqrt(double(nf) / (2.0 * kBandFace * per_step)), 2.0, 64.0);
+        return true;
     }
-    out.stats.band_rebuilt = rebuilt;
-    out.stats.band_faces = band_.size();
+    if (band_margin_ >= 0.0 && w == band_w_ && pw == band_w_ && distance3(e, band_eye_) <= band_margin_ &&
+        distance3(p, band_eye_) <= band_margin_)
+        return false;
+    const double scale = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    const double steps = opt_.band_steps > 0.0 ? std::max(opt_.band_steps, 1.0) : auto_steps_;
+    const double margin = steps * (step * (1.0 + 1e-9) + 1e-12 * scale);
+    // Built ahead of the eye, along its last step, as far as keeps the previous eye inside:
+    // a camera moving on (an orbit is straight over a few steps) crosses the whole band,
+    // about 2 * steps views before the next rebuild instead of steps.
+    double c[3] = {e[0], e[1], e[2]};
+    if (step > 0.0 && margin > step) {
+        const double ahead = 0.999 * (margin - step) / step;
+        for (int i = 0; i < 3; ++i) c[i] = e[i] + ahead * (e[i] - p[i]);
+    }
+    build_band(c, w, margin);
+    tune_band_steps(steps);
+    return true;
+}
 
-    // The band's faces now and before: the turned ones listed; every other face keeps its facing.
-    // Front bits hold the previous view's facing of every face (the rebuild's pass sets those
-    // outside the band), so only the faces checked need theirs set (below), and those of the band
-    // a rebuild's pass left as the float sign at its eye: after a rebuild, every band face's.
+// Per frame the band costs about its size, a rebuild about the face count once per 2 * steps
+// frames: with a band face costing k faces of a rebuild, the two balance at steps = sqrt(faces /
+// (2 k band faces per step)). k is measured with cold caches along an orbit
+// (bench/results/finder_targets.md, "the band's auto size").
+void SilhouetteFinder::tune_band_steps(double steps) {
+    constexpr double kBandFace = 1.25;
+    const double per_step = std::max(1.0, double(band_.size()) / steps);
+    auto_steps_ = std::clamp(std::sqrt(double(mesh_->face_count()) / (2.0 * kBandFace * per_step)), 2.0, 64.0);
+}
+
+// The band's faces now and before: the turned ones listed in turned_ (and their bits set in
+// turned_bits_); every other face keeps its facing. Front bits hold the previous view's facing
+// of every face (the rebuild's pass sets those outside the band), so only the faces checked need
+// theirs set, and those of the band a rebuild's pass left as the float sign at its eye: after a
+// rebuild, every band face's.
+void SilhouetteFinder::find_turned_faces(Features& out, bool rebuilt) {
+    const MeshTopology& mesh = *mesh_;
     turned_.clear();
     check_.clear();
     std::uint64_t* __restrict front = front_bits_.data();
     std::uint64_t* __restrict turned = turned_bits_.data();
     band_.states(filter_, previous_filter_, rebuilt ? front : nullptr, check_);
     const std::size_t nc = check_.size();
-    // A face found turned has its record read below and its state in a carried full view flipped
-    // after (find()): both are fetched as soon as it is found, while the checks go on, rather
-    // than a few faces ahead in the loop that reads them (kept views 0.03 ms faster with cold
-    // caches, about 15 %, and the edges' kinds another 0.007: bench/follow_profile,
-    // bench/results/finder_targets.md, 2026-12-03).
-    const std::uint8_t* carried = out.face_front.size() == nf ? out.face_front.states() : nullptr;
-    // Its edges' kinds, written below, too: those of the edges its 64 faces number.
+    // A face found turned has its record read by reclassify_turned_edges() and its state in a
+    // carried full view flipped after (find()): both are fetched as soon as it is found, while the
+    // checks go on, so that the misses overlap (bench/results/finder_targets.md).
+    const std::uint8_t* carried = out.face_front.size() == mesh.face_count() ? out.face_front.states() : nullptr;
+    // Its edges' kinds, written then, too: those of the edges its 64 faces number.
     if (block_edges_begin_.empty()) block_edges_begin_ = first_edges_by_64_faces(mesh);
     const std::uint32_t* eb = block_edges_begin_.size() > 1 ? block_edges_begin_.data() : nullptr;
     constexpr std::size_t kCheckAhead = 8;
@@ -769,25 +755,30 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             turned_.push_back(f);
         }
     }
-    out.stats.faces_turned = turned_.size();
-    auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
+}
 
-    // Edges of turned faces; an edge between two turned faces is decided by the lower one. The
-    // other face's front bit is this view's (above). Every edge of a turned face gets its kind
-    // here. An edge's kind before tells whether it was a previous silhouette edge (previous_'s
-    // edges are marked: kept by find(), or marked here); one that was and is not is dropped_, one
-    // that is and was not is fresh_, and the others are unchanged. Turned faces are scattered over
-    // the mesh: their face records (edges and the faces across them, 24 bytes) and most of their
-    // edges' kinds were fetched when the checks found them (above); here the records are fetched
-    // again 16 faces ahead and the edges' kinds (written) 8 ahead, for what those missed, so
-    // that the cache misses overlap instead of following each other.
-    const std::size_t np = previous_.size(), nt = turned_.size();
+// Edges of turned faces; an edge between two turned faces is decided by the lower one. The
+// other face's front bit is this view's (find_turned_faces()). Every edge of a turned face gets
+// its kind here. An edge's kind before tells whether it was a previous silhouette edge
+// (previous_'s edges are marked: kept by find(), or marked here); one that was and is not is
+// dropped_, one that is and was not is fresh_, and the others are unchanged. Turned faces are
+// scattered over the mesh: their face records (edges and the faces across them, 24 bytes) and
+// most of their edges' kinds were fetched when the checks found them; here the records are
+// fetched again 16 faces ahead and the edges' kinds (written) 8 ahead, for what those missed, so
+// that the cache misses overlap instead of following each other. Returns the previous edges
+// examined again and still silhouettes.
+std::size_t SilhouetteFinder::reclassify_turned_edges(Features& out) {
+    const MeshTopology& mesh = *mesh_;
+    const std::uint64_t* __restrict front = front_bits_.data();
+    const std::uint64_t* __restrict turned = turned_bits_.data();
+    auto bit = [](const std::uint64_t* bits, std::uint32_t f) { return (bits[f >> 6] >> (f & 63)) & 1; };
+    const std::size_t nt = turned_.size();
     std::uint8_t* __restrict kind = out.edge_kind.data();
     if (!marks_kept_)  // the kinds were reset: the previous edges are marked again
         for (std::uint32_t e : previous_) kind[e] = kSil;
     fresh_.clear();
     dropped_.clear();
-    std::size_t rechecked = 0;  // previous edges examined again, and still silhouettes
+    std::size_t rechecked = 0;
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
         if (i + 2 * kAhead < nt) {
@@ -811,11 +802,14 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
             rechecked += sil & was;
         }
     }
+    return rechecked;
+}
 
-    // The silhouette: the previous edges not dropped, and the fresh ones (none of which is a
-    // previous edge). In edge order where the previous view's was: both lists sorted, and the
-    // three merged in one pass over the previous edges' ids.
-    const std::size_t nn = fresh_.size(), nd = dropped_.size();
+// The silhouette: the previous edges not dropped, and the fresh ones (none of which is a
+// previous edge), appended to out.silhouette_edges. In edge order where the previous view's was:
+// both lists sorted, and the three merged in one pass over the previous edges' ids.
+void SilhouetteFinder::merge_silhouette(Features& out, std::size_t rechecked) {
+    const std::size_t np = previous_.size(), nn = fresh_.size(), nd = dropped_.size();
     const std::size_t s0 = out.silhouette_edges.size();
     out.silhouette_edges.resize(s0 + np - nd + nn);
     std::uint32_t* __restrict sil = out.silhouette_edges.data() + s0;
@@ -838,13 +832,13 @@ void SilhouetteFinder::follow(const Camera& camera, Features& out) {
         }
         for (; j < nn; ++j) sil[k++] = add[j];
     } else {
+        const std::uint8_t* kind = out.edge_kind.data();
         for (std::size_t i = 0; i < np; ++i)
             if (kind[prev[i]] == kSil) sil[k++] = prev[i];
         for (std::uint32_t e : fresh_) sil[k++] = e;
     }
     assert(k == np - nd + nn);
     out.stats.edges_examined += np - nd - rechecked;  // the previous edges kept without a look
-    for (std::uint32_t f : turned_) turned[f >> 6] = 0;
 }
 
 // Edge ids: an LSD radix sort, 11 bits a pass over the bits of the largest edge id (two

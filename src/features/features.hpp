@@ -236,6 +236,13 @@ private:
     void seek(std::uint32_t vertex, bool front, const Camera& camera, Features& out);
     void build_table();
     void follow(const Camera& camera, Features& out);
+    // follow()'s steps, in order (features.cpp says what each does).
+    void start_following(const Camera& camera);
+    bool update_band(const Camera& camera);
+    void tune_band_steps(double steps);
+    void find_turned_faces(Features& out, bool rebuilt);
+    std::size_t reclassify_turned_edges(Features& out);
+    void merge_silhouette(Features& out, std::size_t rechecked);
     void build_band(const double eye[3], double w, double margin);
     void add_silhouette(std::uint32_t e, Features& out);
 
@@ -290,7 +297,7 @@ private:
     // Views found so far, and the one whose facing front_bits_ hold (the last that ran follow()):
     // a kept band needs the previous view's bits, else it is rebuilt.
     std::uint64_t views_ = 0, bits_view_ = 0;
-    double auto_steps_ = 4.0;  // the first band: 4 steps (8 read 2x more planes for the first rebuild)
+    double auto_steps_ = 4.0;  // the first band: narrow, so that its rebuild stays cheap (bench/results/finder.md)
 };
 
 }  // namespace inkline
