@@ -1,4 +1,5 @@
 #include "visibility/appel.hpp"
+#include "visibility/appel_phases.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -18,54 +19,6 @@
 
 namespace inkline {
 namespace {
-
-// Weighted union-find: value(x) = value(find(x)) + offset(x); unite(a, b, d) records
-// value(b) - value(a) = d and reports a contradiction with what is already known. Union by size
-// (the root of a set is arbitrary: only differences of values within a set have meaning).
-class OffsetForest {
-public:
-    explicit OffsetForest(std::size_t n) : parent_(n), diff_(n, 0), size_(n, 1) {
-        for (std::size_t i = 0; i < n; ++i) parent_[i] = std::uint32_t(i);
-    }
-    // The root of x, and offset = value(x) - value(root).
-    std::uint32_t find(std::uint32_t x, int& offset) {
-        std::uint32_t r = x;
-        int d = 0;
-        while (parent_[r] != r) d += diff_[r], r = parent_[r];
-        offset = d;
-        // path compression, keeping offsets relative to the root
-        while (parent_[x] != r) {
-            const std::uint32_t next = parent_[x];
-            const int dx = diff_[x];
-            parent_[x] = r;
-            diff_[x] = d;
-            d -= dx;
-            x = next;
-        }
-        return r;
-    }
-    bool unite(std::uint32_t a, std::uint32_t b, int d) {
-        int oa, ob;
-        const std::uint32_t ra = find(a, oa), rb = find(b, ob);
-        if (ra == rb) return ob - oa == d;
-        // value(b) = value(a) + d  =>  value(rb) = value(ra) + oa + d - ob
-        if (size_[ra] >= size_[rb]) {
-            parent_[rb] = ra;
-            diff_[rb] = oa + d - ob;
-            size_[ra] += size_[rb];
-        } else {
-            parent_[ra] = rb;
-            diff_[ra] = ob - d - oa;
-            size_[rb] += size_[ra];
-        }
-        return true;
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-    std::vector<int> diff_;
-    std::vector<std::uint32_t> size_;
-};
 
 glm::dvec3 third_vertex(const MeshTopology& mesh, std::uint32_t face, std::uint32_t edge) {
     const auto& f = mesh.faces[face];
@@ -391,8 +344,8 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, Ring& ring, 
     const double* const blocks = ring.data.data();
     const std::uint32_t* const ring_face = ring.face.data();
     // Faces [c, c + 64) at a time: bit j - c of `hidden` (decided, hiding), `undecided`.
-    // The edge's own faces (f0, f1: W is a corner A or B of theirs) are never decided, exactly as
-    // before: for them w = W - V is bitwise the same rounded difference as a (or b), so the exact
+    // The edge's own faces (f0, f1: W is a corner A or B of theirs) are never decided (so they
+    // never count): for them w = W - V is bitwise the same rounded difference as a (or b), so the exact
     // determinants det[w, a, b] and det[a, w, E - V] (or det[b, w, E - V]) of these rounded
     // values are 0, and a filter's bound is at least the error of its float value: |dn| > bn and
     // |da| > ba (or |db| > bb) fail. They are skipped where the undecided faces are.
@@ -432,8 +385,6 @@ int local_occlusion(const MeshTopology& mesh, const Camera& camera, Ring& ring, 
 }
 
 
-enum class Walk { Visible, Occluded, Failed };
-
 // The image turned (by exact sign changes and a swap of the axes) so that the walk's path runs
 // from u toward -x: every test on the path is then a comparison with u.y, or an orientation in
 // these coordinates.
@@ -460,158 +411,182 @@ struct PathFrame {
 // layer over u. The path is axis-parallel, so whether a projected vertex lies above or below it is
 // an exact comparison; where the path meets an edge, before or after u, is an exact orientation.
 // Degenerate paths (through a vertex, u on an edge) fail: the caller then makes a ray test.
+// (One walk along the path in direction Dir. cross_path and follow_branch are inlined into
+// walk_to; walk_faces, the inner loop, is kept out of line: inlined too, it made the compiler
+// stop inlining the vertex images' lookup in the loop, which then cost more instructions.)
 template <int Dir>
-Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, const PieceGraph& g,
-             const VertexImages& proj, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
-    constexpr int dir = Dir;
-    const PathFrame<Dir> T;
-    const glm::dvec2 end = dir < 2 ? glm::dvec2(box[dir], u.y) : glm::dvec2(u.x, box[dir]);
-    const Segment2 path{u, end, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
-    const glm::dvec2 ut = T(u);
-    const int front_sign = T.det();
-    const auto& own_faces = mesh.edge_face[own_edge];
-    const std::size_t face_count = mesh.face_count();
-    Walk result = Walk::Visible;
+struct PathWalk {
+    const MeshTopology& mesh;
+    const Camera& camera;
+    const FaceFacing& face_front;
+    const VertexImages& proj;
+    const glm::dvec3& P;
+    std::uint32_t own_edge;
+    PathFrame<Dir> T;
+    glm::dvec2 ut;  // u in the turned frame
     struct Crossed {
-        double d;
+        double d;  // how far from u along the path (in float: only an order)
         std::uint32_t k;
         glm::dvec2 a, b;  // the occluder in the turned frame, a below the path
     };
+
+    // The occluders crossing the path before u (other than U's own edge), into `crossed`;
+    // Failed where one touches the path's line degenerately.
+    [[gnu::always_inline]] inline Walk cross_path(const PieceGraph& g, const Segment2& path, std::vector<Crossed>& crossed) const {
+        const glm::dvec2 ut = this->ut;  // (a local: crossed's stores could otherwise be the field)
+        Walk result = Walk::Visible;
+        g.occluder_grid().candidates(path, [&](std::uint32_t k) {
+            if (result != Walk::Visible) return;
+            const Segment2& o = g.occluders[k];
+            if (o.edge == own_edge) return;
+            // Does the occluder cross the path (the half-line y = u.y, x < u.x, in the turned frame)?
+            glm::dvec2 a = T(o.a), b = T(o.b);
+            if ((a.y > ut.y && b.y > ut.y) || (a.y < ut.y && b.y < ut.y)) return;
+            if (a.y == ut.y || b.y == ut.y) {  // an end on the path's line: degenerate unless beyond u
+                if ((a.y == ut.y && a.x <= ut.x) || (b.y == ut.y && b.x <= ut.x)) result = Walk::Failed;
+                else if (a.y == b.y) result = Walk::Failed;  // on the line, both ends beyond u: cannot happen
+                return;
+            }
+            if (a.y > b.y) std::swap(a, b);  // a below the path, b above
+            const int su = path_side_fast(a, b, ut);  // < 0: u right of a -> b, the crossing before u
+            if (su == 0) {
+                result = Walk::Failed;
+                return;
+            }
+            if (su > 0) return;
+            // Where (in float: only an order) the path meets the occluder, away from u.
+            crossed.push_back({ut.x - (a.x + (ut.y - a.y) / (b.y - a.y) * (b.x - a.x)), k, a, b});
+        });
+        return result;
+    }
+
+    // The branch of face f of the occluder (edge `edge`, crossing the path between a and b),
+    // walked toward u if it lies on u's side of the occluder's image: Occluded when it reaches u
+    // in front of U, Visible when it does not (ends, folds, or is U's own layer).
+    [[gnu::always_inline]] inline Walk follow_branch(std::uint32_t f, std::uint32_t edge, glm::dvec2 a, glm::dvec2 b) const {
+        const auto& fv = mesh.faces[f];
+        const auto& fe = mesh.face_edges[f].edge;
+        const int i_in = fe[0] == edge ? 0 : fe[1] == edge ? 1 : 2;
+        const glm::dvec2 ut = this->ut;
+        const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
+        if (st == 0) return Walk::Failed;
+        if (st != -1) return Walk::Visible;  // (on the other side of the occluder)
+        // Walk from the crossing toward u over the faces: the path enters each face by one
+        // edge and leaves by one of the other two, the one joining the third corner to the
+        // entry corner on the other side of the path.
+        // The branch keeps its facing (it ends at folds): faces facing the same way have
+        // images of the same orientation (front-facing: clockwise in the image, whose y axis
+        // points down), so that the path goes on across each edge; rounding may flip a face
+        // seen nearly edge-on: then give up. The images of the entry edge's ends carry over
+        // from face to face.
+        const bool front = face_front[f];
+        const glm::dvec2 pa = T(proj(fv[i_in])), pb = T(proj(fv[(i_in + 1) % 3]));
+        // Whether the entry edge's ends lie strictly on either side of the path's line (they
+        // are a and b unless the occluder was clipped): then so do every exit edge's ends (the
+        // third corner, strictly off the line, and the entry corner across it), as
+        // path_side_fast requires; otherwise orient2 decides every step of this branch.
+        const bool straddles = (pa.y < ut.y && pb.y > ut.y) || (pa.y > ut.y && pb.y < ut.y);
+        return walk_faces(f, i_in, fv[i_in], pa, pb, front, straddles);
+    }
+
+    // The branch's faces from `face`, entered by its edge (corner entry, corner entry + 1) whose
+    // ends are va (image pa) and the other one (pb), to u or to where the layer ends or folds.
+    // The step is written with few data-dependent branches (which way the path leaves a face is
+    // as good as random): each choice below is a select of values that are all computed, and
+    // every test is the same exact predicate as a plain evaluation would make (see the comments),
+    // so the walk takes the same faces and gives the same result.
+    [[gnu::noinline]] Walk walk_faces(std::uint32_t face, int entry, std::uint32_t va, glm::dvec2 pa, glm::dvec2 pb,
+                                                 bool front, bool straddles) const {
+        // (The fields as locals: the step's stores (a vertex image made on first use by proj, a
+        // facing decided on first read) could otherwise be this walk's fields for the compiler,
+        // which would read them again at every step.)
+        const glm::dvec2 ut = this->ut;
+        const MeshTopology& mesh = this->mesh;
+        const Camera& camera = this->camera;
+        const FaceFacing& face_front = this->face_front;
+        const VertexImages& proj = this->proj;
+        const glm::dvec3& P = this->P;
+        const std::uint32_t own_edge = this->own_edge;
+        const int want = front ? -T.det() : T.det();
+        const auto& own_faces = mesh.edge_face[own_edge];
+        static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
+        for (std::size_t guard = 0, face_count = mesh.face_count(); guard < face_count; ++guard) {
+            const auto& c = mesh.faces[face];
+            const auto& fe = mesh.face_edges[face];
+            const int e1 = kNext[entry], e2 = kNext[entry + 1];
+            const std::uint32_t v0 = c[entry], v1 = c[e1], v2 = c[e2];
+            const std::uint32_t g1 = fe.face[e1], g2 = fe.face[e2];  // across either exit edge
+            // The entry edge's ends are va and the other one, in either order (v0 is one of them).
+            const bool same = v0 == va;
+            const glm::dvec2 p0 = same ? pa : pb, p1 = same ? pb : pa, p2 = T(proj(v2));
+            {
+                // (The faces after this one, across either exit edge, fetched while the exit
+                // is decided: on a large mesh the next step's reads then need not wait.)
+                const std::uint32_t n1 = g1 == kNoFace ? face : g1, n2 = g2 == kNoFace ? face : g2;
+                __builtin_prefetch(&mesh.faces[n1]);
+                __builtin_prefetch(&mesh.face_edges[n1]);
+                __builtin_prefetch(&mesh.faces[n2]);
+                __builtin_prefetch(&mesh.face_edges[n2]);
+            }
+            if (p2.y == ut.y) return Walk::Failed;  // the path through a vertex
+            if (orient2(p0, p1, p2) != want) return Walk::Failed;
+            // The exit edge (q0, q1) joins the third corner p2 to the entry corner across the path.
+            const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
+            const glm::dvec2 q0 = via1 ? p1 : p2, q1 = via1 ? p2 : p0;
+            const std::uint32_t exit = fe.edge[via1 ? e1 : e2];
+            // Where the path meets it, before or after u: the orientation of (lower end, upper
+            // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
+            // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
+            // (path_side_fast: comparisons decide it where both ends lie before u, or after it.)
+            const int se = straddles ? path_side_fast(q0, q1, ut) : (q0.y > q1.y ? -1 : 1) * orient2(q0, q1, ut);
+            if (se == 0)  // u on U's own edge, from one of its faces: U's layer; or u on another edge
+                return exit == own_edge ? Walk::Visible : Walk::Failed;
+            if (se > 0) {
+                // The path reaches u inside this face: the depth test decides. U's own faces
+                // are U's layer, not in front of it (P, rounded onto the edge, cannot be
+                // tested against their planes).
+                if (face == own_faces[0] || face == own_faces[1]) return Walk::Visible;
+                const glm::dvec3 &A = mesh.positions[c[0]], &B = mesh.positions[c[1]], &C = mesh.positions[c[2]];
+                const int eye = orient_eye_fast(camera, A, B, C), pt = orient3_fast(A, B, C, P);
+                if (eye == 0 || pt == 0) return Walk::Failed;
+                return eye != pt ? Walk::Occluded : Walk::Visible;
+            }
+            const std::uint32_t next = via1 ? g1 : g2;
+            if (next == kNoFace) return Walk::Visible;  // the layer ends before u
+            face = next;                                // the other face of the exit edge
+            if (bool(face_front[face]) != front) return Walk::Visible;  // or folds
+            // The exit edge's corner in the next face (the three edges of a face differ).
+            const auto& ne = mesh.face_edges[face].edge;
+            entry = int(ne[1] == exit) + 2 * int(ne[2] == exit);
+            va = via1 ? v1 : v2;
+            pa = q0, pb = q1;
+        }
+        return Walk::Visible;
+    }
+};
+
+template <int Dir>
+Walk walk_to(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front, const PieceGraph& g,
+             const VertexImages& proj, const glm::dvec3& P, glm::dvec2 u, std::uint32_t own_edge, const double box[4]) {
+    const PathFrame<Dir> T;
+    const PathWalk<Dir> walk{mesh, camera, face_front, proj, P, own_edge, T, T(u)};
+    const glm::dvec2 end = Dir < 2 ? glm::dvec2(box[Dir], u.y) : glm::dvec2(u.x, box[Dir]);
+    const Segment2 path{u, end, UINT32_MAX - 5, UINT32_MAX - 6, own_edge};
+    using Crossed = typename PathWalk<Dir>::Crossed;
     thread_local std::vector<Crossed> crossed;  // (reused from walk to walk)
     crossed.clear();
-    g.occluder_grid().candidates(path, [&](std::uint32_t k) {
-        if (result != Walk::Visible) return;
-        const Segment2& o = g.occluders[k];
-        if (o.edge == own_edge) return;
-        // Does the occluder cross the path (the half-line y = u.y, x < u.x, in the turned frame)?
-        glm::dvec2 a = T(o.a), b = T(o.b);
-        if ((a.y > ut.y && b.y > ut.y) || (a.y < ut.y && b.y < ut.y)) return;
-        if (a.y == ut.y || b.y == ut.y) {  // an end on the path's line: degenerate unless beyond u
-            if ((a.y == ut.y && a.x <= ut.x) || (b.y == ut.y && b.x <= ut.x)) result = Walk::Failed;
-            else if (a.y == b.y) result = Walk::Failed;  // on the line, both ends beyond u: cannot happen
-            return;
-        }
-        if (a.y > b.y) std::swap(a, b);  // a below the path, b above
-        const int su = path_side_fast(a, b, ut);  // < 0: u right of a -> b, the crossing before u
-        if (su == 0) {
-            result = Walk::Failed;
-            return;
-        }
-        if (su > 0) return;
-        // Where (in float: only an order) the path meets the occluder, away from u.
-        crossed.push_back({ut.x - (a.x + (ut.y - a.y) / (b.y - a.y) * (b.x - a.x)), k, a, b});
-    });
-    if (result != Walk::Visible) return result;
+    if (const Walk w = walk.cross_path(g, path, crossed); w != Walk::Visible) return w;
     // The branches from the nearest crossings first: they are the shortest, and one layer found
     // in front of U ends the walk.
     std::sort(crossed.begin(), crossed.end(), [](const Crossed& x, const Crossed& y) { return x.d < y.d; });
     for (const Crossed& x : crossed) {
-        const Segment2& o = g.occluders[x.k];
-        const glm::dvec2 a = x.a, b = x.b;
-        const int su = -1;
-        for (std::uint32_t f : mesh.edge_face[o.edge]) {
+        const std::uint32_t edge = g.occluders[x.k].edge;
+        for (std::uint32_t f : mesh.edge_face[edge]) {
             if (f == kNoFace) continue;
-            // The branch must lie on u's side of the occluder's image.
-            const auto& fv = mesh.faces[f];
-            const auto& fe = mesh.face_edges[f].edge;
-            const int i_in = fe[0] == o.edge ? 0 : fe[1] == o.edge ? 1 : 2;
-            const int st = orient2(a, b, T(proj(fv[(i_in + 2) % 3])));
-            if (st == 0) {
-                result = Walk::Failed;
-                return result;
-            }
-            if (st != su) continue;
-            // Walk from the crossing toward u over the faces: the path enters each face by one
-            // edge and leaves by one of the other two, the one joining the third corner to the
-            // entry corner on the other side of the path.
-            // The branch keeps its facing (it ends at folds): faces facing the same way have
-            // images of the same orientation (front-facing: clockwise in the image, whose y axis
-            // points down), so that the path goes on across each edge; rounding may flip a face
-            // seen nearly edge-on: then give up. The images of the entry edge's ends carry over
-            // from face to face.
-            const bool front = face_front[f];
-            const int want = front ? -front_sign : front_sign;
-            std::uint32_t face = f, va = fv[i_in];
-            glm::dvec2 pa = T(proj(va)), pb = T(proj(fv[(i_in + 1) % 3]));
-            // Whether the entry edge's ends lie strictly on either side of the path's line (they
-            // are a and b unless the occluder was clipped): then so do every exit edge's ends (the
-            // third corner, strictly off the line, and the entry corner across it), as
-            // path_side_fast requires; otherwise orient2 decides every step of this branch.
-            const bool straddles = (pa.y < ut.y && pb.y > ut.y) || (pa.y > ut.y && pb.y < ut.y);
-            int entry = i_in;  // the entry edge is (corner entry, corner entry + 1)
-            // The step is written with few data-dependent branches (which way the path leaves a
-            // face is as good as random): each choice below is a select of values that are all
-            // computed, and every test is the same exact predicate as a plain evaluation would
-            // make (see the comments), so the walk takes the same faces and gives the same result.
-            static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
-            for (std::size_t guard = 0; guard < face_count; ++guard) {
-                const auto& c = mesh.faces[face];
-                const auto& fe = mesh.face_edges[face];
-                const int e1 = kNext[entry], e2 = kNext[entry + 1];
-                const std::uint32_t v0 = c[entry], v1 = c[e1], v2 = c[e2];
-                const std::uint32_t g1 = fe.face[e1], g2 = fe.face[e2];  // across either exit edge
-                // The entry edge's ends are va and the other one, in either order (v0 is one of them).
-                const bool same = v0 == va;
-                const glm::dvec2 p0 = same ? pa : pb, p1 = same ? pb : pa, p2 = T(proj(v2));
-                {
-                    // (The faces after this one, across either exit edge, fetched while the exit
-                    // is decided: on a large mesh the next step's reads then need not wait.)
-                    const std::uint32_t n1 = g1 == kNoFace ? face : g1, n2 = g2 == kNoFace ? face : g2;
-                    __builtin_prefetch(&mesh.faces[n1]);
-                    __builtin_prefetch(&mesh.face_edges[n1]);
-                    __builtin_prefetch(&mesh.faces[n2]);
-                    __builtin_prefetch(&mesh.face_edges[n2]);
-                }
-                if (p2.y == ut.y) {
-                    result = Walk::Failed;  // the path through a vertex
-                    return result;
-                }
-                if (orient2(p0, p1, p2) != want) {
-                    result = Walk::Failed;
-                    return result;
-                }
-                // The exit edge (q0, q1) joins the third corner p2 to the entry corner across the path.
-                const bool via1 = (p1.y > ut.y) != (p2.y > ut.y);  // exit (p1, p2), else (p2, p0)
-                const glm::dvec2 q0 = via1 ? p1 : p2, q1 = via1 ? p2 : p0;
-                const std::uint32_t exit = fe.edge[via1 ? e1 : e2];
-                // Where the path meets it, before or after u: the orientation of (lower end, upper
-                // end, u), the ends swapped when q0.y > q1.y. orient2 is exact, so swapping its first
-                // two points exactly negates it: the sign with (q0, q1) in their order, negated then.
-                // (path_side_fast: comparisons decide it where both ends lie before u, or after it.)
-                const int se = straddles ? path_side_fast(q0, q1, ut) : (q0.y > q1.y ? -1 : 1) * orient2(q0, q1, ut);
-                if (se == 0) {
-                    if (exit == own_edge) break;  // u on U's own edge, from one of its faces: U's layer
-                    result = Walk::Failed;        // u on another edge
-                    return result;
-                }
-                if (se > 0) {
-                    // The path reaches u inside this face: the depth test decides. U's own faces
-                    // are U's layer, not in front of it (P, rounded onto the edge, cannot be
-                    // tested against their planes).
-                    if (face == own_faces[0] || face == own_faces[1]) break;
-                    const glm::dvec3 &A = mesh.positions[c[0]], &B = mesh.positions[c[1]], &C = mesh.positions[c[2]];
-                    const int eye = orient_eye_fast(camera, A, B, C), pt = orient3_fast(A, B, C, P);
-                    if (eye == 0 || pt == 0) {
-                        result = Walk::Failed;
-                        return result;
-                    }
-                    if (eye != pt) result = Walk::Occluded;
-                    break;
-                }
-                const std::uint32_t next = via1 ? g1 : g2;
-                if (next == kNoFace) break;  // the layer ends before u
-                face = next;                 // the other face of the exit edge
-                if (bool(face_front[face]) != front) break;  // or folds
-                // The exit edge's corner in the next face (the three edges of a face differ).
-                const auto& ne = mesh.face_edges[face].edge;
-                entry = int(ne[1] == exit) + 2 * int(ne[2] == exit);
-                va = via1 ? v1 : v2;
-                pa = q0, pb = q1;
-            }
-            if (result != Walk::Visible) return result;
+            if (const Walk w = walk.follow_branch(f, edge, x.a, x.b); w != Walk::Visible) return w;
         }
     }
-    return result;
+    return Walk::Visible;
 }
 
 // walk_to along the path to the nearest side of the box.
@@ -669,168 +644,194 @@ int crossing_delta(const MeshTopology& mesh, const Camera& camera, std::uint32_t
     return occluder_delta(mesh, camera, nullptr, occluder, c1, c2);
 }
 
-AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
-                           const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
-                           const AppelOptions& options) {
-    AppelStats st;
-    using Clock = StageClock;
-    const RayCaster* rc = nullptr;
-    auto ray_qi = [&](std::uint32_t p) {
-        if (!rc) rc = &ray_index();
-        ++st.ray_tests;
-        const auto t = Clock::now();
-        const int qi = qi_by_ray(mesh, camera, *rc, graph.curves.pieces[p], graph.curves.spans[p]);
-        st.seconds_ray_tests += seconds_since(t);
-        return qi;
-    };
-    auto& pieces = graph.curves.pieces;
-    const auto& spans = graph.curves.spans;
-    const std::uint32_t np = std::uint32_t(pieces.size());
-    if (graph.immersive) {  // geometry around the camera: propagation has no base; reference method
-        for (std::uint32_t p = 0; p < np; ++p) pieces[p].qi = ray_qi(p);
+AppelPropagation::AppelPropagation(const MeshTopology& mesh_, const Camera& camera_, const FaceFacing& face_front_,
+                                   const std::function<const RayCaster&()>& ray_index_, PieceGraph& graph_,
+                                   const AppelOptions& options_)
+    : mesh(mesh_), camera(camera_), face_front(face_front_), ray_index(ray_index_), graph(graph_), options(options_),
+      np(std::uint32_t(graph_.curves.pieces.size())), two_threads(options_.threads > 1) {}
+
+int AppelPropagation::ray_qi(std::uint32_t p) {
+    if (!rays) rays = &ray_index();
+    ++st.ray_tests;
+    const auto t = StageClock::now();
+    const int qi = qi_by_ray(mesh, camera, *rays, graph.curves.pieces[p], graph.curves.spans[p]);
+    st.seconds_ray_tests += seconds_since(t);
+    return qi;
+}
+
+AppelStats AppelPropagation::run() {
+    if (graph.immersive) {
+        ray_test_all();
         return st;
     }
+    order_vertex_nodes();
+    mark_pierced();
+    crossing_deltas();
+    unite_along_curves();
+    unite_at_vertices();
+    form_clusters();
+    apply_bounding_box_rule();
+    apply_parity();
+    match_occluders();
+    raise_by_constraints();
+    open_upper_bounds();
+    bound_above();
+    survey_bounded();
+    walk();
+    ray_test_rest();
+    settle();
+    return st;
+}
 
-    // Nodes: pieces, then one per vertex where curves end. The ends sorted by vertex (their index
-    // in the low bits) give the vertex nodes in increasing vertex order.
+void AppelPropagation::ray_test_all() {
+    for (std::uint32_t p = 0; p < np; ++p) graph.curves.pieces[p].qi = ray_qi(p);
+}
+
+void AppelPropagation::order_vertex_nodes() {
     const auto& ends = graph.ends;
-    std::vector<std::uint64_t> end_order(ends.size());
+    end_order.resize(ends.size());
     for (std::size_t i = 0; i < ends.size(); ++i) end_order[i] = std::uint64_t(ends[i].vertex) << 32 | i;
-    std::vector<std::uint64_t> sort_tmp;
     sort_keys(end_order, sort_tmp, bit_width(mesh.vertex_count()));
-    std::vector<std::uint32_t> verts;
+    verts.clear();
     verts.reserve(ends.size());
     for (const std::uint64_t k : end_order)
         if (verts.empty() || verts.back() != std::uint32_t(k >> 32)) verts.push_back(std::uint32_t(k >> 32));
-    auto vnode = [&](std::uint32_t v) {
-        return np + std::uint32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin());
-    };
-    const std::uint32_t nn = np + std::uint32_t(verts.size());
-    OffsetForest forest(nn);
-    std::vector<std::uint8_t> bad(nn, 0);  // contradiction recorded at this node
+    nn = np + std::uint32_t(verts.size());
+    forest.reset(nn);
+    bad.assign(nn, 0);
+}
 
-    // Pieces on faces that cut through other faces: the QI can change inside them unseen, so they
-    // take no part in propagation (each gets its own ray test).
-    std::vector<std::uint8_t> pierced(np, 0);
-    if (options.pierced_faces) {
-        const auto& pf = *options.pierced_faces;
-        for (std::uint32_t p = 0; p < np; ++p)
-            for (const EdgeSpan& s : spans[p]) {
-                const auto [f0, f1] = mesh.edge_face[s.edge];
-                if (pf[f0] || (f1 != kNoFace && pf[f1])) pierced[p] = 1;
-            }
-    }
+std::uint32_t AppelPropagation::vertex_node(std::uint32_t v) const {
+    return np + std::uint32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin());
+}
 
-    // Along curves: the change behind occluders in front.
-    std::vector<int> link_delta(graph.links.size(), 0);
-    // The crossings that change QI (delta != 0), in order, compactly: what the constraints between
-    // clusters need of them (a crossing record is ~100 bytes; these are read several times).
-    struct Occluding {
-        std::uint32_t edge, link;
-        double s;
-    };
-    std::vector<Occluding> occluding;
-    const bool two_threads = options.threads > 1;
-    {
-        // (The occluders' edges are scattered over the mesh: their vertices and faces, then the
-        // vertices' positions and the first face's facing, are prefetched a few crossings ahead,
-        // in two levels; no effect on results.)
-        auto& lcs = graph.link_crossings;
-        const std::size_t n = lcs.size();
-        auto deltas = [&](std::size_t i0, std::size_t i1) {
-            for (std::size_t i = i0; i < i1; ++i) {
-                if (i + 16 < i1) {
-                    const std::uint32_t e = lcs[i + 16].occluder_edge;
-                    __builtin_prefetch(&mesh.edge_vertex[e]);
-                    __builtin_prefetch(&mesh.edge_face[e]);
-                }
-                if (i + 8 < i1) {
-                    const std::uint32_t e = lcs[i + 8].occluder_edge;
-                    const auto& ev = mesh.edge_vertex[e];
-                    __builtin_prefetch(&mesh.positions[ev[0]]);
-                    __builtin_prefetch(&mesh.positions[ev[1]]);
-                    __builtin_prefetch(face_front.states() + mesh.edge_face[e][0]);  // (its first face's facing)
-                }
-                auto& c = lcs[i];
-                c.delta = occluder_delta(mesh, camera, &face_front, c.occluder_edge, c.c1, c.c2);
-            }
-        };
-        // (Each crossing's change on its own, on two threads for a large view: 1.3 ms of
-        // armadillo@2's window views on one thread; then summed per link in order.)
-        if (two_threads && n >= 2000) {
-            face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-            graph.helper().fork_join([&] { deltas(n / 2, n); }, [&] { deltas(0, n / 2); });
-            face_front.set_shared(false);
-        } else {
-            deltas(0, n);
+void AppelPropagation::mark_pierced() {
+    pierced.assign(np, 0);
+    if (!options.pierced_faces) return;
+    const auto& pf = *options.pierced_faces;
+    const auto& spans = graph.curves.spans;
+    for (std::uint32_t p = 0; p < np; ++p)
+        for (const EdgeSpan& s : spans[p]) {
+            const auto [f0, f1] = mesh.edge_face[s.edge];
+            if (pf[f0] || (f1 != kNoFace && pf[f1])) pierced[p] = 1;
         }
-        for (const auto& c : lcs) {
-            link_delta[c.link] += c.delta;
-            if (c.delta != 0) occluding.push_back({c.occluder_edge, c.link, c.occluder_s});
+}
+
+namespace {
+// occluder_delta of crossings [i0, i1). (The occluders' edges are scattered over the mesh: their
+// vertices and faces, then the vertices' positions and the first face's facing, are prefetched a
+// few crossings ahead, in two levels; no effect on results.)
+inline void crossing_deltas_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
+                               std::vector<PieceGraph::LinkCrossing>& lcs, std::size_t i0, std::size_t i1) {
+    for (std::size_t i = i0; i < i1; ++i) {
+        if (i + 16 < i1) {
+            const std::uint32_t e = lcs[i + 16].occluder_edge;
+            __builtin_prefetch(&mesh.edge_vertex[e]);
+            __builtin_prefetch(&mesh.edge_face[e]);
         }
+        if (i + 8 < i1) {
+            const std::uint32_t e = lcs[i + 8].occluder_edge;
+            const auto& ev = mesh.edge_vertex[e];
+            __builtin_prefetch(&mesh.positions[ev[0]]);
+            __builtin_prefetch(&mesh.positions[ev[1]]);
+            __builtin_prefetch(face_front.states() + mesh.edge_face[e][0]);  // (its first face's facing)
+        }
+        auto& c = lcs[i];
+        c.delta = occluder_delta(mesh, camera, &face_front, c.occluder_edge, c.c1, c.c2);
     }
+}
+}  // namespace
+
+void AppelPropagation::crossing_deltas() {
+    link_delta.assign(graph.links.size(), 0);
+    occluding.clear();
+    auto& lcs = graph.link_crossings;
+    const std::size_t n = lcs.size();
+    // (On two threads from 2000 crossings: bench/results/visibility.md, eighteenth session.)
+    if (two_threads && n >= 2000) {
+        face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
+        graph.helper().fork_join([&] { crossing_deltas_of(mesh, camera, face_front, lcs, n / 2, n); },
+                                 [&] { crossing_deltas_of(mesh, camera, face_front, lcs, 0, n / 2); });
+        face_front.set_shared(false);
+    } else {
+        crossing_deltas_of(mesh, camera, face_front, lcs, 0, n);
+    }
+    for (const auto& c : lcs) {
+        link_delta[c.link] += c.delta;
+        if (c.delta != 0) occluding.push_back({c.occluder_edge, c.link, c.occluder_s});
+    }
+}
+
+void AppelPropagation::unite_along_curves() {
     for (std::size_t l = 0; l < graph.links.size(); ++l) {
         const auto [b, a] = graph.links[l];
         if (pierced[b] || pierced[a]) continue;
         if (!forest.unite(b, a, link_delta[l])) bad[a] = 1;
     }
-    // At vertices: QI near the vertex on each edge = QI of the vertex + local occlusion. All ends at
-    // one vertex share its ring of faces.
-    // The local occlusion of every end first (per vertex group; on two threads for a large view),
-    // then the unions in order.
-    // A face around v seen exactly edge-on (the eye in its plane: a non-generic view) leaves
-    // the local occlusion at v undefined; the pieces ending at v take the reference ray test
-    // (tests/test_extremes.cpp: EyeOnAnEdgeLine, OrthographicAlongOneSide).
-    constexpr int kEdgeOn = INT32_MIN, kSkipped = INT32_MIN + 1;
-    std::vector<int> end_occlusion(end_order.size());
-    auto occlusion_of_ends = [&](std::size_t i0, std::size_t i1) {
-        Ring ring;
-        // (verts[g] is the vertex of the group at i)
-        std::size_t g = i0 < i1 ? std::size_t(std::lower_bound(verts.begin(), verts.end(), std::uint32_t(end_order[i0] >> 32)) - verts.begin()) : 0;
-        for (std::size_t i = i0; i < i1; ++g) {
-            const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
-            std::size_t j = i;
-            while (j < i1 && std::uint32_t(end_order[j] >> 32) == v) ++j;
-            prefetch_rings(mesh, verts, g);
-            ring_of(mesh, camera, face_front, v, ring);
-            const bool edge_on = ring.any_edge_on();
-            for (; i < j; ++i) {
-                const auto& e = ends[std::uint32_t(end_order[i])];
-                end_occlusion[i] = edge_on ? kEdgeOn : pierced[e.piece] ? kSkipped : local_occlusion(mesh, camera, ring, v, e.edge);
-            }
+}
+
+namespace {
+constexpr int kEdgeOn = INT32_MIN, kSkipped = INT32_MIN + 1;  // local_occlusion_of_ends' markers
+
+// The local occlusion of ends end_order[i0, i1) (whole vertex groups) into occlusion[i0, i1):
+// kEdgeOn at a vertex with a face seen edge-on, kSkipped for a pierced piece's end.
+void local_occlusion_of_ends(const AppelPropagation& a, std::vector<int>& occlusion, std::size_t i0, std::size_t i1) {
+    const auto& end_order = a.end_order;
+    const auto& verts = a.verts;
+    Ring ring;
+    // (verts[g] is the vertex of the group at i)
+    std::size_t g = i0 < i1 ? std::size_t(std::lower_bound(verts.begin(), verts.end(), std::uint32_t(end_order[i0] >> 32)) - verts.begin()) : 0;
+    for (std::size_t i = i0; i < i1; ++g) {
+        const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
+        std::size_t j = i;
+        while (j < i1 && std::uint32_t(end_order[j] >> 32) == v) ++j;
+        prefetch_rings(a.mesh, verts, g);
+        ring_of(a.mesh, a.camera, a.face_front, v, ring);
+        const bool edge_on = ring.any_edge_on();
+        for (; i < j; ++i) {
+            const auto& e = a.graph.ends[std::uint32_t(end_order[i])];
+            occlusion[i] = edge_on ? kEdgeOn : a.pierced[e.piece] ? kSkipped : local_occlusion(a.mesh, a.camera, ring, v, e.edge);
         }
-    };
+    }
+}
+}  // namespace
+
+void AppelPropagation::unite_at_vertices() {
+    std::vector<int> end_occlusion(end_order.size());
     if (two_threads && end_order.size() >= 2000) {
         std::size_t mid = end_order.size() / 2;  // at a vertex's first end
         while (mid < end_order.size() && mid > 0 && (end_order[mid] >> 32) == (end_order[mid - 1] >> 32)) ++mid;
         face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-        graph.helper().fork_join([&] { occlusion_of_ends(mid, end_order.size()); }, [&] { occlusion_of_ends(0, mid); });
+        graph.helper().fork_join([&] { local_occlusion_of_ends(*this, end_occlusion, mid, end_order.size()); },
+                                 [&] { local_occlusion_of_ends(*this, end_occlusion, 0, mid); });
         face_front.set_shared(false);
     } else {
-        occlusion_of_ends(0, end_order.size());
+        local_occlusion_of_ends(*this, end_occlusion, 0, end_order.size());
     }
     for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
         const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
         for (; i < end_order.size() && std::uint32_t(end_order[i] >> 32) == v; ++i) {
-            const auto& e = ends[std::uint32_t(end_order[i])];
+            const auto& e = graph.ends[std::uint32_t(end_order[i])];
             if (end_occlusion[i] == kEdgeOn) pierced[e.piece] = 1;
             if (pierced[e.piece]) continue;
             if (!forest.unite(std::uint32_t(node), e.piece, end_occlusion[i])) bad[e.piece] = 1;
         }
     }
+}
 
-    // Clusters.
-    std::vector<std::uint32_t> comp(nn), root_comp(nn, UINT32_MAX);
-    std::vector<int> off(nn);
+void AppelPropagation::form_clusters() {
+    comp.resize(nn);
+    off.resize(nn);
+    std::vector<std::uint32_t> root_comp(nn, UINT32_MAX);
     for (std::uint32_t x = 0; x < nn; ++x) {
         const std::uint32_t r = forest.find(x, off[x]);
         if (root_comp[r] == UINT32_MAX) root_comp[r] = std::uint32_t(st.clusters++);
         comp[x] = root_comp[r];
     }
-    const std::size_t nc = st.clusters;
-    enum : std::uint8_t { kBound = 0, kFixed = 1, kInconsistent = 2 };
-    std::vector<std::uint8_t> state(nc, kBound);
-    std::vector<int> base(nc, 0), min_off(nc, 1 << 30);
+    nc = st.clusters;
+    state.assign(nc, kBound);
+    base.assign(nc, 0);
+    std::vector<int> min_off(nc, 1 << 30);
     for (std::uint32_t x = 0; x < nn; ++x) {
         min_off[comp[x]] = std::min(min_off[comp[x]], off[x]);
         if (bad[x]) state[comp[x]] = kInconsistent;
@@ -841,40 +842,37 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             state[comp[p]] = kInconsistent;
             ++st.pierced;
         }
+}
 
-    // Bounding-box rule: the extreme points of all occluding edges are visible.
-    auto fix = [&](std::uint32_t node, int value) {
-        const std::uint32_t c = comp[node];
-        if (state[c] == kInconsistent) return;
-        if (state[c] == kFixed && base[c] != value - off[node]) {
-            state[c] = kInconsistent;
-            return;
-        }
-        if (state[c] != kFixed) ++st.clusters_bbox;
-        state[c] = kFixed;
-        base[c] = value - off[node];
-    };
+void AppelPropagation::fix(std::uint32_t node, int qi) {
+    const std::uint32_t c = comp[node];
+    if (state[c] == kInconsistent) return;
+    if (state[c] == kFixed && base[c] != qi - off[node]) {
+        state[c] = kInconsistent;
+        return;
+    }
+    if (state[c] != kFixed) ++st.clusters_bbox;
+    state[c] = kFixed;
+    base[c] = qi - off[node];
+}
+
+void AppelPropagation::apply_bounding_box_rule() {
     // (Extreme vertices inside curves: the pieces with a span reaching them, found in one pass
     // over the spans, with the edges around those vertices marked.)
     std::vector<std::uint32_t> inner_extremes;
     for (std::uint32_t v : graph.extreme_vertices) {
         if (v == UINT32_MAX) continue;
-        if (std::binary_search(verts.begin(), verts.end(), v)) fix(vnode(v), 0);
+        if (std::binary_search(verts.begin(), verts.end(), v)) fix(vertex_node(v), 0);
         else inner_extremes.push_back(v);
     }
-    // (One pass over the spans serves this rule and the constraints between clusters below: the
-    // spans on occluder edges of crossings that change QI are collected here, in the same order.)
-    struct EdgePiece {
-        std::uint32_t piece;
-        double s0, s1;
-    };
-    std::vector<EdgePiece> on_edge;
-    std::vector<std::uint64_t> by_edge;  // (edge, index in on_edge)
+    on_edge.clear();
+    by_edge.clear();
     EdgeMarks extreme_edges(mesh.edge_count()), occluder_edges(mesh.edge_count());
     for (std::uint32_t v : inner_extremes)
         for (std::uint32_t k = mesh.vertex_edge_begin[v]; k < mesh.vertex_edge_begin[v + 1]; ++k)
             extreme_edges.set(mesh.vertex_edges[k]);
     for (const Occluding& c : occluding) occluder_edges.set(c.edge);
+    const auto& spans = graph.curves.spans;
     for (std::uint32_t p = 0; p < np; ++p) {
         if (p + 4 < np) __builtin_prefetch(spans[p + 4].data());  // (each piece's spans: their own block)
         for (const EdgeSpan& s : spans[p]) {
@@ -888,87 +886,73 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
                 if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
         }
     }
+}
 
-    // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd. It holds
-    // where the surface bounds a solid: a point on a front face is entered from outside, so an
-    // even number of layers lie in front of it. Where the surface passes through itself, a part
-    // of it lies inside another, and there the count is odd: not only on the pierced faces (whose
-    // pieces take no part in propagation) but on every face inside the other part. So a mesh with
-    // pierced faces gets no parity (steps of 1 below). (With it, vis_check on cow, oblong-shuffled,
-    // mask_cone, ChineseDragon-10kv and man gave 467 pieces a wrong exact QI and 10 a wrong
-    // visibility; without it, 26 and 5, and 10 % fewer ray tests.) Flags passed all clear keep
-    // the rule: they are scanned up to the first one set (0.1 ms for 832 k faces none set).
+void AppelPropagation::apply_parity() {
+    // (Flags are scanned up to the first one set.)
     const bool pierced_any = options.pierced_faces &&
                              std::any_of(options.pierced_faces->begin(), options.pierced_faces->end(),
                                          [](std::uint8_t x) { return x != 0; });
-    const bool parity = mesh.closed && !pierced_any;
-    if (parity) {
-        std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
-        for (std::uint32_t p = 0; p < np; ++p) {
-            // (each piece's spans are their own block, and its edge's flags are scattered: both
-            // prefetched, in two levels; no effect on results)
-            if (p + 8 < np) __builtin_prefetch(spans[p + 8].data());
-            if (p + 4 < np) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
-            if (pieces[p].kind != LineKind::Silhouette) continue;
-            const std::uint32_t c = comp[p];
-            const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
-            const std::int8_t w = std::int8_t(((par - off[p]) % 2 + 2) % 2);
-            if (want[c] < 0) want[c] = w;
-            else if (want[c] != w) state[c] = kInconsistent;
-        }
-        for (std::size_t c = 0; c < nc; ++c)
-            if (want[c] >= 0 && ((base[c] % 2 + 2) % 2) != want[c]) {
-                if (state[c] == kFixed) state[c] = kInconsistent;
-                else if (state[c] == kBound) base[c] += 1;
-            }
+    parity = mesh.closed && !pierced_any;
+    if (!parity) return;
+    const auto& pieces = graph.curves.pieces;
+    const auto& spans = graph.curves.spans;
+    std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
+    for (std::uint32_t p = 0; p < np; ++p) {
+        // (each piece's spans are their own block, and its edge's flags are scattered: both
+        // prefetched, in two levels; no effect on results)
+        if (p + 8 < np) __builtin_prefetch(spans[p + 8].data());
+        if (p + 4 < np) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
+        if (pieces[p].kind != LineKind::Silhouette) continue;
+        const std::uint32_t c = comp[p];
+        const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
+        const std::int8_t w = std::int8_t(((par - off[p]) % 2 + 2) % 2);
+        if (want[c] < 0) want[c] = w;
+        else if (want[c] != w) state[c] = kInconsistent;
     }
+    for (std::size_t c = 0; c < nc; ++c)
+        if (want[c] >= 0 && ((base[c] % 2 + 2) % 2) != want[c]) {
+            if (state[c] == kFixed) state[c] = kInconsistent;
+            else if (state[c] == kBound) base[c] += 1;
+        }
+}
 
-    // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both sides.
-    // Occluder pieces are found from the spans on the occluder's edge.
-    // (The spans on those edges sorted by edge as 64-bit keys: edge, then the span's index.)
-    // (on_edge and by_edge: collected with the bounding-box rule above.)
+void AppelPropagation::match_occluders() {
+    // (The spans on occluder edges, sorted by edge as 64-bit keys: edge, then the span's index;
+    // the crossings by occluder edge: edge, then the index among `occluding`, increasing with the
+    // crossing's index.)
     sort_keys(by_edge, sort_tmp, bit_width(mesh.edge_count()));
-    // The crossings between clusters by occluder edge, matched with the spans on that edge: the
-    // piece nearest to the crossing's parameter (it lies in it, up to rounding); among equally
-    // near ones, the one starting first, then the lowest piece.
-    // (Keys: edge, then the index among `occluding`, increasing with the crossing's index.)
     std::vector<std::uint64_t> lc_by_edge(occluding.size());
     for (std::size_t i = 0; i < occluding.size(); ++i) lc_by_edge[i] = std::uint64_t(occluding[i].edge) << 32 | i;
     sort_keys(lc_by_edge, sort_tmp, bit_width(mesh.edge_count()));
     std::vector<std::uint32_t> occluder_piece(occluding.size(), UINT32_MAX);
-    {
-        std::size_t j = 0;
-        for (const std::uint64_t key : lc_by_edge) {
-            const std::uint32_t edge = std::uint32_t(key >> 32);
-            while (j < by_edge.size() && std::uint32_t(by_edge[j] >> 32) < edge) ++j;
-            const double s = occluding[std::uint32_t(key)].s;
-            const EdgePiece* best = nullptr;
-            double best_d = 1e300;
-            for (std::size_t k = j; k < by_edge.size() && std::uint32_t(by_edge[k] >> 32) == edge; ++k) {
-                const EdgePiece& x = on_edge[std::uint32_t(by_edge[k])];
-                const double d = s < x.s0 ? x.s0 - s : s > x.s1 ? s - x.s1 : 0.0;
-                if (!best || d < best_d || (d == best_d && (x.s0 < best->s0 || (x.s0 == best->s0 && x.piece < best->piece))))
-                    best_d = d, best = &x;
-            }
-            if (best) occluder_piece[std::uint32_t(key)] = best->piece;
+    std::size_t j = 0;
+    for (const std::uint64_t key : lc_by_edge) {
+        const std::uint32_t edge = std::uint32_t(key >> 32);
+        while (j < by_edge.size() && std::uint32_t(by_edge[j] >> 32) < edge) ++j;
+        const double s = occluding[std::uint32_t(key)].s;
+        const EdgePiece* best = nullptr;
+        double best_d = 1e300;
+        for (std::size_t k = j; k < by_edge.size() && std::uint32_t(by_edge[k] >> 32) == edge; ++k) {
+            const EdgePiece& x = on_edge[std::uint32_t(by_edge[k])];
+            const double d = s < x.s0 ? x.s0 - s : s > x.s1 ? s - x.s1 : 0.0;
+            if (!best || d < best_d || (d == best_d && (x.s0 < best->s0 || (x.s0 == best->s0 && x.piece < best->piece))))
+                best_d = d, best = &x;
         }
+        if (best) occluder_piece[std::uint32_t(key)] = best->piece;
     }
-    auto value = [&](std::uint32_t node) { return base[comp[node]] + off[node]; };
     // (A link's two pieces are in one cluster, unless one lies on a pierced face: then the link
     // was not united, and that piece's cluster is inconsistent.)
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> constraints;  // (occluder piece, link)
+    constraints.clear();
     for (std::size_t i = 0; i < occluding.size(); ++i) {
         const std::uint32_t op = occluder_piece[i], link = occluding[i].link;
         if (op == UINT32_MAX) continue;
         if (comp[op] == comp[graph.links[link].before] && comp[op] == comp[graph.links[link].after]) continue;
         constraints.push_back({op, link});
     }
-    // Each side is raised in its own cluster: a side in another cluster than the other side (across
-    // a link not united) must not raise this one. (Raising a cluster by the deficit of the other
-    // side's cluster, which that raise does not change, raised it again every round up to the
-    // round limit: pieces shown hidden that rays show visible, on bones and elephant-with-holes.)
-    // (Raises only go up and are bounded by consistent data; the round limit guards against
-    // contradictory input from non-generic views.)
+}
+
+void AppelPropagation::raise_by_constraints() {
     for (std::size_t round = 0, changed = 1; changed && round < nc + 2; ++round) {
         changed = 0;
         for (const auto& [op, l] : constraints) {
@@ -988,61 +972,58 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
             }
         }
     }
+}
 
-    // Upper bounds from decided clusters: the occluder's QI at a crossing is at most the QI of
-    // the curve behind it on its nearer side (the same constraint read the other way), so a
-    // bounded cluster passing in front of a decided one is bounded above too; where that bound
-    // leaves only its lower bound (parity: the next value up is 2 away), the cluster is decided
-    // without a walk or a ray test. An upper bound below the lower bound contradicts the
-    // offsets: the reference method decides that cluster. Decided clusters bound others in turn.
-    // Read before the walks, and again after them (from the clusters the walks decided).
-    // (Only the constraints whose occluder is in a bounded cluster are read, listed once and
-    // dropped as their clusters are decided; the clusters bounded in a round are listed too.)
-    std::vector<int> upper(nc, INT_MAX);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> open;
-    std::vector<std::uint32_t> touched;
+void AppelPropagation::open_upper_bounds() {
+    upper.assign(nc, INT_MAX);
+    open.clear();
+    touched.clear();
     for (const auto& [op, l] : constraints)
         if (state[comp[op]] == kBound && comp[graph.links[l].after] == comp[graph.links[l].before]) open.push_back({op, l});
-    auto bound_above = [&] {
-        const int step = parity ? 2 : 1;
-        for (bool changed = true; changed;) {
-            changed = false;
-            std::size_t kept = 0;
-            for (const auto& [op, l] : open) {
-                const std::uint32_t c = comp[op], d = comp[graph.links[l].before];
-                if (state[c] != kBound) continue;  // (decided: dropped)
-                open[kept++] = {op, l};
-                if (state[d] != kFixed) continue;
-                const int m = std::min(value(graph.links[l].before), value(graph.links[l].after));
-                if (upper[c] == INT_MAX) touched.push_back(c);
-                upper[c] = std::min(upper[c], m - off[op]);
-            }
-            open.resize(kept);
-            for (const std::uint32_t c : touched) {
-                if (upper[c] < base[c] + step) {
-                    state[c] = upper[c] >= base[c] ? kFixed : kInconsistent;
-                    st.clusters_bounded += state[c] == kFixed;
-                    changed = true;
-                }
-                upper[c] = INT_MAX;
-            }
-            touched.clear();
-        }
-    };
-    bound_above();
+}
 
-    // What is still unknown: a ray test at one piece of the cluster (the longest).
-    // (Only clusters still bounded need them: the others are decided. The longest piece of a
-    // cluster is found after the walks, for the clusters that still need a ray test.)
-    auto piece_length = [&](std::uint32_t p) {
-        double len = 0.0;
-        const auto& pts = pieces[p].points;
-        for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
-        return len;
-    };
-    std::vector<std::uint8_t> has_piece(nc, 0);
-    std::vector<int> min_piece(nc, 1 << 30);
-    std::vector<std::uint32_t> zero(nc, UINT32_MAX);  // longest piece at QI 0 (where a walk starts)
+void AppelPropagation::bound_above() {
+    // (Only the open constraints are read, dropped as their clusters are decided; the clusters
+    // bounded in a round are listed too.)
+    const int step = parity ? 2 : 1;
+    for (bool changed = true; changed;) {
+        changed = false;
+        std::size_t kept = 0;
+        for (const auto& [op, l] : open) {
+            const std::uint32_t c = comp[op], d = comp[graph.links[l].before];
+            if (state[c] != kBound) continue;  // (decided: dropped)
+            open[kept++] = {op, l};
+            if (state[d] != kFixed) continue;
+            const int m = std::min(value(graph.links[l].before), value(graph.links[l].after));
+            if (upper[c] == INT_MAX) touched.push_back(c);
+            upper[c] = std::min(upper[c], m - off[op]);
+        }
+        open.resize(kept);
+        for (const std::uint32_t c : touched) {
+            if (upper[c] < base[c] + step) {
+                state[c] = upper[c] >= base[c] ? kFixed : kInconsistent;
+                st.clusters_bounded += state[c] == kFixed;
+                changed = true;
+            }
+            upper[c] = INT_MAX;
+        }
+        touched.clear();
+    }
+}
+
+namespace {
+double piece_length(const Piece& piece) {
+    double len = 0.0;
+    const auto& pts = piece.points;
+    for (std::size_t i = 1; i < pts.size(); ++i) len += glm::length(pts[i] - pts[i - 1]);
+    return len;
+}
+}  // namespace
+
+void AppelPropagation::survey_bounded() {
+    has_piece.assign(nc, 0);
+    min_piece.assign(nc, 1 << 30);
+    zero.assign(nc, UINT32_MAX);
     std::vector<double> zero_len(nc, -1.0);
     for (std::uint32_t p = 0; p < np; ++p) {
         const std::uint32_t c = comp[p];
@@ -1050,11 +1031,12 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         has_piece[c] = 1;
         min_piece[c] = std::min(min_piece[c], value(p));
         if (value(p) != 0) continue;
-        const double len = piece_length(p);
+        const double len = piece_length(graph.curves.pieces[p]);
         if (len > zero_len[c]) zero_len[c] = len, zero[c] = p;
     }
-    // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible fixes
-    // the cluster; proved hidden raises its bound.
+}
+
+void AppelPropagation::walk() {
     double box[4] = {1e300, -1e300, 1e300, -1e300};
     for (const Segment2& o : graph.occluders) {
         box[0] = std::min({box[0], o.a.x, o.b.x});
@@ -1063,37 +1045,29 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         box[3] = std::max({box[3], o.a.y, o.b.y});
     }
     box[0] -= 1.0, box[1] += 1.0, box[2] -= 1.0, box[3] += 1.0;
-    // The walks are independent of each other: made first, then applied in cluster order. On two
-    // threads from a few walks on (the second with its own vertex images), each thread taking the
-    // next walk not yet taken: walks differ in cost by orders of magnitude (the faces between the
-    // point and the box), so halves of the list would leave one thread waiting. (From 64 walks in
-    // halves before: armadillo@2's window views, about 60 walks of 50 us each, made them all on
-    // one thread, 11 % of its time.)
     std::vector<std::uint32_t> walkers;
     for (std::size_t c = 0; c < nc && options.walk; ++c)
         if (state[c] == kBound && zero[c] != UINT32_MAX) walkers.push_back(std::uint32_t(c));
     std::vector<Walk> walked(walkers.size());
-    auto walk_range = [&](std::size_t w0, std::size_t w1, const VertexImages& proj) {
-        for (std::size_t w = w0; w < w1; ++w) {
-            const std::uint32_t p = zero[walkers[w]];
-            const PieceProbe q = probe_point(mesh, camera, pieces[p], spans[p]);
-            walked[w] = walk_to(mesh, camera, face_front, graph, proj, q.P, q.p, q.edge, box);
-        }
+    auto walk_one = [&](std::size_t w, const VertexImages& proj) {
+        const std::uint32_t p = zero[walkers[w]];
+        const PieceProbe q = probe_point(mesh, camera, graph.curves.pieces[p], graph.curves.spans[p]);
+        walked[w] = walk_to(mesh, camera, face_front, graph, proj, q.P, q.p, q.edge, box);
     };
-    const auto t_walks = Clock::now();
+    const auto t_walks = StageClock::now();
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
     if (two_threads && walkers.size() >= 8) {
-        VertexImages& own = graph.walk_images;
+        VertexImages& own = graph.walk_images;  // (the second thread's vertex images)
         own.reset(mesh, camera);
         std::atomic<std::size_t> next{0};
         auto take = [&](const VertexImages& proj) {
-            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_range(w, w + 1, proj);
+            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_one(w, proj);
         };
         face_front.set_shared(true);
         graph.helper().fork_join([&] { take(own); }, [&] { take(graph.images); });
         face_front.set_shared(false);
     } else {
-        walk_range(0, walkers.size(), graph.images);
+        for (std::size_t w = 0; w < walkers.size(); ++w) walk_one(w, graph.images);
     }
     if (!walkers.empty()) st.seconds_walks = seconds_since(t_walks);
     for (std::size_t wi = 0; wi < walkers.size(); ++wi) {
@@ -1109,6 +1083,9 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         }
     }
     if (!walkers.empty() && !open.empty()) bound_above();
+}
+
+void AppelPropagation::ray_test_rest() {
     std::vector<std::uint8_t> needs_ray(nc, 0);
     bool any_ray = false;
     for (std::size_t c = 0; c < nc; ++c) {
@@ -1119,12 +1096,13 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         }
         needs_ray[c] = 1, any_ray = true;
     }
-    std::vector<std::uint32_t> rep(any_ray ? nc : 0, UINT32_MAX);  // the longest piece (the first of equals)
-    std::vector<double> rep_len(rep.size(), -1.0);
-    for (std::uint32_t p = 0; p < np && any_ray; ++p) {
+    if (!any_ray) return;
+    std::vector<std::uint32_t> rep(nc, UINT32_MAX);  // the longest piece (the first of equals)
+    std::vector<double> rep_len(nc, -1.0);
+    for (std::uint32_t p = 0; p < np; ++p) {
         const std::uint32_t c = comp[p];
         if (!needs_ray[c]) continue;
-        const double len = piece_length(p);
+        const double len = piece_length(graph.curves.pieces[p]);
         if (len > rep_len[c]) rep_len[c] = len, rep[c] = p;
     }
     for (std::size_t c = 0; c < nc; ++c) {
@@ -1133,20 +1111,20 @@ AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const
         base[c] = ray_qi(p) - off[p];
         state[c] = kFixed;
     }
-    // A negative value proves the cluster's offsets wrong (the surface is not embedded there, or
-    // the view is degenerate: found by fuzz/run.sh pipeline, a crease at QI -2): the reference
-    // method decides its pieces.
+}
+
+void AppelPropagation::settle() {
     for (std::uint32_t p = 0; p < np; ++p)
         if (state[comp[p]] != kInconsistent && value(p) < 0) state[comp[p]] = kInconsistent;
-    for (std::uint32_t p = 0; p < np; ++p) {
-        if (state[comp[p]] == kInconsistent) {
-            pieces[p].qi = ray_qi(p);
-        } else {
-            pieces[p].qi = value(p);
-        }
-    }
+    auto& pieces = graph.curves.pieces;
+    for (std::uint32_t p = 0; p < np; ++p) pieces[p].qi = state[comp[p]] == kInconsistent ? ray_qi(p) : value(p);
     for (std::size_t c = 0; c < nc; ++c) st.inconsistent += state[c] == kInconsistent;
-    return st;
+}
+
+AppelStats assign_qi_appel(const MeshTopology& mesh, const Camera& camera, const FaceFacing& face_front,
+                           const std::function<const RayCaster&()>& ray_index, PieceGraph& graph,
+                           const AppelOptions& options) {
+    return AppelPropagation(mesh, camera, face_front, ray_index, graph, options).run();
 }
 
 }  // namespace inkline

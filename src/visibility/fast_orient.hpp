@@ -3,8 +3,8 @@
 // with a margin, plus an absolute term for products in the subnormal range); otherwise CGAL's
 // exact predicate decides. Same signs as CGAL::orientation and inkline::orient3 / orient_eye.
 // The absolute terms are normal numbers (at least DBL_MIN, more than the subnormal error needs):
-// arithmetic on a subnormal constant costs a microcode assist on every call (measured: the
-// predicates were slower than CGAL's with 2^-1060).
+// arithmetic on a subnormal constant costs a microcode assist on every call
+// (bench/results/visibility.md).
 #pragma once
 
 #include <cmath>

@@ -33,6 +33,36 @@ void collect(const RTCFilterFunctionNArguments* args) {
     if (prim == c->skip0 || prim == c->skip1) return;
     c->hits->push_back(prim);
 }
+// The segment as Embree's ray, in coordinates relative to the model's centre. Embree's errors
+// grow with the distance of the ray origin from the model (single precision): from a far eye they
+// exceed 1e-4 of the model size. The ray therefore starts where the segment enters the sphere of
+// twice the model's half diagonal (all geometry lies within one); nothing is lost before that
+// point. False when the segment never comes near the model (no ray).
+bool embree_ray(const glm::dvec3& origin, double radius, const glm::dvec3& from, const glm::dvec3& to, RTCRayHit& rh) {
+    glm::dvec3 o = from - origin, d = to - from;
+    const double rho = 2.0 * radius, oo = glm::dot(o, o);
+    if (oo > rho * rho) {
+        const double dd = glm::dot(d, d), od = glm::dot(o, d), disc = od * od - dd * (oo - rho * rho);
+        const double t0 = disc >= 0.0 && dd > 0.0 ? (-od - std::sqrt(disc)) / dd : 2.0;
+        if (t0 > 1.0) return false;
+        if (t0 > 0.0) {
+            o += t0 * d;
+            d *= 1.0 - t0;
+        }
+    }
+    rh = RTCRayHit{};
+    rh.ray.org_x = float(o.x);
+    rh.ray.org_y = float(o.y);
+    rh.ray.org_z = float(o.z);
+    rh.ray.dir_x = float(d.x);
+    rh.ray.dir_y = float(d.y);
+    rh.ray.dir_z = float(d.z);
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = 1.0f + kPastEnd;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    return true;
+}
 }  // namespace
 
 struct RayCaster::Impl {
@@ -49,6 +79,127 @@ struct RayCaster::Impl {
         if (device) rtcReleaseDevice(device);
     }
 };
+
+namespace {
+// One count_layers: the faces looked at, each decided once, exactly (CGAL's segment/triangle
+// predicate); its facing found when needed. Storage per thread, reused from test to test.
+struct LayerCount {
+    struct Decided {
+        std::uint32_t face;
+        bool crossed;
+        int facing;  // orientation of the segment's start against the face; 2 until computed
+    };
+    const MeshTopology& mesh;
+    const std::vector<std::uint32_t>& vertex_face_begin;
+    const std::vector<std::uint32_t>& vertex_faces;
+    const std::vector<std::uint8_t>& degenerate;
+    std::uint32_t skip0, skip1;
+    K::Segment_3 seg;
+    K::Point_3 start;
+    std::vector<std::uint32_t>& cand;   // the faces Embree reported, sorted, once each
+    std::vector<Decided>& seen;
+    std::vector<std::uint32_t>& queue;  // crossed faces whose neighbours are still to be looked at
+
+    K::Point_3 corner(std::uint32_t face, int k) const { return cgal(mesh.positions[mesh.faces[face][k]]); }
+    // The index in `seen` of `face`, decided on first sight.
+    std::size_t decide(std::uint32_t face) {
+        for (std::size_t i = 0; i < seen.size(); ++i)
+            if (seen[i].face == face) return i;
+        const bool x = !degenerate[face] && CGAL::do_intersect(seg, K::Triangle_3(corner(face, 0), corner(face, 1), corner(face, 2)));
+        seen.push_back({face, x, 2});
+        return seen.size() - 1;
+    }
+    int facing_of(std::uint32_t face) const { return int(CGAL::orientation(corner(face, 0), corner(face, 1), corner(face, 2), start)); }
+    int facing(std::size_t i) {
+        if (seen[i].facing == 2) seen[i].facing = facing_of(seen[i].face);
+        return seen[i].facing;
+    }
+    // Decides the faces around vertex w (but skip0, skip1); those newly found crossed are queued.
+    void look_around(std::uint32_t w) {
+        for (std::uint32_t k = vertex_face_begin[w]; k < vertex_face_begin[w + 1]; ++k) {
+            const std::uint32_t g = vertex_faces[k];
+            if (g == skip0 || g == skip1) continue;
+            const std::size_t n = seen.size(), j = decide(g);
+            if (j == n && seen[j].crossed) queue.push_back(g);
+        }
+    }
+    void look_around_end_edge();
+    void follow_queue();
+    int merge_layers();
+};
+
+// Queues the reported faces, and decides the faces around the curve edge's vertices (those skip0
+// shares with skip1; all of skip0's, on a border).
+void LayerCount::look_around_end_edge() {
+    queue.assign(cand.begin(), cand.end());
+    if (skip0 == kNoFace) return;
+    for (std::uint32_t w : mesh.faces[skip0]) {
+        if (skip1 != kNoFace && std::find(mesh.faces[skip1].begin(), mesh.faces[skip1].end(), w) == mesh.faces[skip1].end())
+            continue;
+        look_around(w);
+    }
+}
+
+// A reported face that is not crossed: single precision put the line of sight on the wrong side
+// of one of its edges or corners, and the exact segment may cross a face around one of its
+// vertices instead. A crossed face: a neighbour facing the same way cannot be crossed too (see
+// merge_layers), one folding back over their shared edge can, and so on across the fold.
+void LayerCount::follow_queue() {
+    while (!queue.empty()) {
+        const std::uint32_t face = queue.back();
+        queue.pop_back();
+        const std::size_t i = decide(face);
+        if (!seen[i].crossed) {
+            if (!std::binary_search(cand.begin(), cand.end(), face)) continue;
+            for (std::uint32_t w : mesh.faces[face]) look_around(w);
+            continue;
+        }
+        for (std::uint32_t g : mesh.face_edges[face].face) {  // the faces across its edges
+            if (g == kNoFace || g == skip0 || g == skip1) continue;
+            const int fg = facing_of(g);
+            if (fg == facing(i)) continue;
+            const std::size_t n = seen.size(), j = decide(g);
+            seen[j].facing = fg;
+            if (j == n && seen[j].crossed) queue.push_back(g);
+        }
+    }
+}
+
+// Two crossed faces that share an edge and face the segment's start the same way are one layer:
+// seen from there they lie on opposite sides of the plane through the start and the shared edge,
+// so a line of sight meets both only on that edge. Faces folding over a shared silhouette edge
+// can both be crossed and stay apart. The layers: the crossed faces, so merged.
+int LayerCount::merge_layers() {
+    thread_local std::vector<std::size_t> crossed;
+    crossed.clear();
+    for (std::size_t i = 0; i < seen.size(); ++i)
+        if (seen[i].crossed) crossed.push_back(i);
+    auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
+        const auto& across = mesh.face_edges[a].face;
+        return std::find(across.begin(), across.end(), b) != across.end();
+    };
+    int layers = int(crossed.size());
+    thread_local std::vector<std::uint32_t> parent;
+    parent.resize(crossed.size());
+    for (std::uint32_t i = 0; i < crossed.size(); ++i) parent[i] = i;
+    auto root = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (std::uint32_t i = 0; i < crossed.size(); ++i)
+        for (std::uint32_t j = i + 1; j < crossed.size(); ++j) {
+            if (!share_edge(seen[crossed[i]].face, seen[crossed[j]].face)) continue;
+            const int si = facing(crossed[i]);
+            if (si == int(CGAL::COPLANAR) || si != facing(crossed[j])) continue;
+            const std::uint32_t ri = root(i), rj = root(j);
+            if (ri != rj) {
+                parent[ri] = rj;
+                --layers;
+            }
+        }
+    return layers;
+}
+}  // namespace
 
 RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(mesh)) {
     Impl& m = *impl_;
@@ -102,158 +253,26 @@ RayCaster::~RayCaster() = default;
 int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::uint32_t skip0,
                             std::uint32_t skip1) const {
     const Impl& m = *impl_;
-    const MeshTopology& mesh = m.mesh;
-    thread_local std::vector<std::uint32_t> cand;
+    thread_local std::vector<std::uint32_t> cand, queue;
+    thread_local std::vector<LayerCount::Decided> seen;
     cand.clear();
+    seen.clear();
     HitCollector c;
     rtcInitIntersectContext(&c.ctx);
     c.ctx.filter = collect;
     c.skip0 = skip0;
     c.skip1 = skip1;
     c.hits = &cand;
-
-    // Embree's errors grow with the distance of the ray origin from the model (single precision,
-    // coordinates relative to the centre): from a far eye they exceed 1e-4 of the model size. The
-    // ray given to Embree therefore starts where the segment enters the sphere of twice the
-    // model's half diagonal (all geometry lies within one); nothing is lost before that point.
-    glm::dvec3 o = from - m.origin, d = to - from;
-    bool cast = true;
-    const double rho = 2.0 * m.radius, oo = glm::dot(o, o);
-    if (oo > rho * rho) {
-        const double dd = glm::dot(d, d), od = glm::dot(o, d), disc = od * od - dd * (oo - rho * rho);
-        const double t0 = disc >= 0.0 && dd > 0.0 ? (-od - std::sqrt(disc)) / dd : 2.0;
-        if (t0 > 1.0) cast = false;  // the segment never comes near the model
-        else if (t0 > 0.0) {
-            o += t0 * d;
-            d *= 1.0 - t0;
-        }
-    }
-    RTCRayHit rh{};
-    rh.ray.org_x = float(o.x);
-    rh.ray.org_y = float(o.y);
-    rh.ray.org_z = float(o.z);
-    rh.ray.dir_x = float(d.x);
-    rh.ray.dir_y = float(d.y);
-    rh.ray.dir_z = float(d.z);
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = 1.0f + kPastEnd;
-    rh.ray.mask = 0xffffffffu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    if (cast) rtcIntersect1(m.scene, &c.ctx, &rh);
-
+    RTCRayHit rh;
+    if (embree_ray(m.origin, m.radius, from, to, rh)) rtcIntersect1(m.scene, &c.ctx, &rh);
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
 
-    // Every face looked at is decided once, exactly; its facing is found when needed.
-    struct Decided {
-        std::uint32_t face;
-        bool crossed;
-        int facing;  // orientation of the segment's start against the face; 2 until computed
-    };
-    thread_local std::vector<Decided> seen;
-    seen.clear();
-    const K::Segment_3 seg(cgal(from), cgal(to));
-    const K::Point_3 start = cgal(from);
-    auto decide = [&](std::uint32_t face) -> std::size_t {
-        for (std::size_t i = 0; i < seen.size(); ++i)
-            if (seen[i].face == face) return i;
-        bool x = false;
-        if (!m.degenerate[face]) {
-            const auto& f = mesh.faces[face];
-            x = CGAL::do_intersect(seg, K::Triangle_3(cgal(mesh.positions[f[0]]), cgal(mesh.positions[f[1]]),
-                                                      cgal(mesh.positions[f[2]])));
-        }
-        seen.push_back({face, x, 2});
-        return seen.size() - 1;
-    };
-    auto facing = [&](std::size_t i) {
-        if (seen[i].facing == 2) {
-            const auto& f = mesh.faces[seen[i].face];
-            seen[i].facing = int(CGAL::orientation(cgal(mesh.positions[f[0]]), cgal(mesh.positions[f[1]]),
-                                                   cgal(mesh.positions[f[2]]), start));
-        }
-        return seen[i].facing;
-    };
-
-    // Crossed faces whose neighbours are still to be looked at: the reported ones, and those
-    // around the curve edge's vertices.
-    thread_local std::vector<std::uint32_t> queue;
-    queue.assign(cand.begin(), cand.end());
-    if (skip0 != kNoFace)
-        for (std::uint32_t w : mesh.faces[skip0]) {
-            // Around the curve edge's vertices: those skip0 shares with skip1 (all, on a border).
-            if (skip1 != kNoFace && std::find(mesh.faces[skip1].begin(), mesh.faces[skip1].end(), w) == mesh.faces[skip1].end())
-                continue;
-            for (std::uint32_t k = m.vertex_face_begin[w]; k < m.vertex_face_begin[w + 1]; ++k) {
-                const std::uint32_t g = m.vertex_faces[k];
-                if (g == skip0 || g == skip1) continue;
-                const std::size_t n = seen.size(), j = decide(g);
-                if (j == n && seen[j].crossed) queue.push_back(g);
-            }
-        }
-
-    // A reported face that is not crossed: single precision put the line of sight on the wrong
-    // side of one of its edges or corners, and the exact segment may cross a face around one of
-    // its vertices instead. A crossed face: a neighbour facing the same way cannot be crossed too
-    // (see below), one folding back over their shared edge can, and so on across the fold.
-    while (!queue.empty()) {
-        const std::uint32_t face = queue.back();
-        queue.pop_back();
-        const std::size_t i = decide(face);
-        if (!seen[i].crossed) {
-            if (!std::binary_search(cand.begin(), cand.end(), face)) continue;
-            for (std::uint32_t w : mesh.faces[face])
-                for (std::uint32_t k = m.vertex_face_begin[w]; k < m.vertex_face_begin[w + 1]; ++k) {
-                    const std::uint32_t g = m.vertex_faces[k];
-                    if (g == skip0 || g == skip1) continue;
-                    const std::size_t n = seen.size(), j = decide(g);
-                    if (j == n && seen[j].crossed) queue.push_back(g);
-                }
-            continue;
-        }
-        for (std::uint32_t g : mesh.face_edges[face].face) {  // the faces across its edges
-            if (g == kNoFace || g == skip0 || g == skip1) continue;
-            const auto& gv = mesh.faces[g];
-            const int fg = int(CGAL::orientation(cgal(mesh.positions[gv[0]]), cgal(mesh.positions[gv[1]]),
-                                                 cgal(mesh.positions[gv[2]]), start));
-            if (fg == facing(i)) continue;
-            const std::size_t n = seen.size(), j = decide(g);
-            seen[j].facing = fg;
-            if (j == n && seen[j].crossed) queue.push_back(g);
-        }
-    }
-    // Two crossed faces that share an edge and face the segment's start the same way are one
-    // layer: seen from there they lie on opposite sides of the plane through the start and the
-    // shared edge, so a line of sight meets both only on that edge. Faces folding over a shared
-    // silhouette edge can both be crossed and stay apart.
-    thread_local std::vector<std::size_t> crossed;
-    crossed.clear();
-    for (std::size_t i = 0; i < seen.size(); ++i)
-        if (seen[i].crossed) crossed.push_back(i);
-    auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
-        const auto& across = mesh.face_edges[a].face;
-        return std::find(across.begin(), across.end(), b) != across.end();
-    };
-    int layers = int(crossed.size());
-    thread_local std::vector<std::uint32_t> parent;
-    parent.resize(crossed.size());
-    for (std::uint32_t i = 0; i < crossed.size(); ++i) parent[i] = i;
-    auto root = [&](std::uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    for (std::uint32_t i = 0; i < crossed.size(); ++i)
-        for (std::uint32_t j = i + 1; j < crossed.size(); ++j) {
-            if (!share_edge(seen[crossed[i]].face, seen[crossed[j]].face)) continue;
-            const int si = facing(crossed[i]);
-            if (si == int(CGAL::COPLANAR) || si != facing(crossed[j])) continue;
-            const std::uint32_t ri = root(i), rj = root(j);
-            if (ri != rj) {
-                parent[ri] = rj;
-                --layers;
-            }
-        }
-    return layers;
+    LayerCount count{m.mesh, m.vertex_face_begin, m.vertex_faces, m.degenerate, skip0, skip1,
+                     K::Segment_3(cgal(from), cgal(to)), cgal(from), cand, seen, queue};
+    count.look_around_end_edge();
+    count.follow_queue();
+    return count.merge_layers();
 }
 
 }  // namespace inkline

@@ -234,29 +234,120 @@ struct Part {
 
 // The pieces of curves [c0, c1) (build_pieces' work after the occluders), appended to P; piece
 // and link indices local to P. `images` must hold every curve vertex already when this runs on
-// several threads (it is then only read).
-void build_range(const MeshTopology& mesh, const Features& features, const Camera& camera,
-                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const OccluderSet& occ,
-                 const std::vector<std::uint64_t>& in_curves, const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1,
-                 bool mirror, Scratch& scratch, Part& P) {
-    const std::vector<Segment2>& occluders = occ.segs;
-    const std::vector<ClipSeg>& occ_clip = occ.clip;
-    // 1. Every curve of the range clipped to the near plane and projected: their segments in one
-    // array, curve ci's in [seg_begin[ci - c0], seg_begin[ci - c0 + 1]).
-    const std::uint32_t ncurves = c1 - c0;
+// several threads (it is then only read). The steps are its member functions, in run()'s order;
+// the working arrays are the scratch's (kept from view to view).
+struct RangeBuild {
+    const MeshTopology& mesh;
+    const Features& features;
+    const Camera& camera;
+    const std::vector<EdgeCut>* cuts;
+    const VertexImages& images;
+    const OccluderSet& occ;
+    const std::vector<std::uint64_t>& in_curves;
+    const BoxPairs& grid;
+    std::uint32_t c0, c1;
+    bool mirror;
+    Scratch& scratch;
+    Part& P;
+    // The curve segments: all_segs (curve ci's in [seg_begin[ci - c0], seg_begin[ci - c0 + 1])),
+    // and the occluder each was copied from (seg_occ, or UINT32_MAX).
     std::vector<ClipSeg>& all_segs = scratch.all_segs;
-    std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;  // indexed by ci - c0
-    std::vector<std::uint32_t>& seg_occ = scratch.seg_occ;  // parallel to all_segs
+    std::vector<std::uint32_t>& seg_begin = scratch.seg_begin;
+    std::vector<std::uint32_t>& seg_occ = scratch.seg_occ;
+    std::vector<Split>& all_splits = scratch.all_splits;  // by segment, then parameter
+    // Cutting: the piece being built is always slot P.n (*cur, *cur_spans), filled in place.
+    Piece* cur = nullptr;
+    std::vector<EdgeSpan>* cur_spans = nullptr;
+    std::size_t next_split = 0;  // the first split of the next curve in all_splits
+    bool linked = false;         // the next piece emitted continues the last one across `pending`
+
+    void run() {
+        clip_curves();
+        all_splits.clear();
+        find_pairs();
+        test_pairs();
+        split_at_cuts();
+        sort_splits();
+        cut_curves();
+    }
+
+    // 1. Every curve of the range clipped to the near plane and projected: their segments in one
+    // array. A silhouette or border edge in front of the near plane was clipped and projected as
+    // an occluder already: the same values (clip_edge keeps both ends, as it did there), in
+    // travel order.
+    void clip_curves();
+    // 2. Crossings of every curve segment with every occluding edge, in one search: pairs whose
+    // boxes overlap (BoxPairs, into scratch.found), then the exact test (test_pairs).
+    // Silhouette against silhouette: segment j copied from occluder k (its box, slack and
+    // unclipped ends), occluder k2 copied as segment j2 (occ_mirror[k2] = j2) of this range make
+    // the pairs (j, k2) and (j2, k): the same four points, the same exact sides (up to the
+    // segments' directions). Only the pair with k < k2 is kept; the other's results come from
+    // the same sides (mirrored_crossings). The others kept as they are, in their order.
+    void find_pairs();
+    // The quick reject first, over all pairs without branches (most pairs are rejected, which a
+    // branch would mispredict often): the pairs it keeps, with the sides it decided, listed. Then
+    // the exact test of the pairs kept, in the same order, and of their mirrored pairs.
+    void test_pairs();
+    // Where an edge meets another face (the surface passes through itself, or touches itself),
+    // inside the clipped segment: no occluder, but the QI may change.
+    void split_at_cuts();
+    // By segment (a counting sort), then parameter and occluder (an insertion sort of each
+    // segment's few splits): the same order whatever the order of the pairs.
+    void sort_splits();
+    // 3. Per curve: pieces cut at the splits.
+    void cut_curves();
+    void cut_curve(std::uint32_t ci);
+    // Slot P.n made the piece being built, empty, of curve ci.
+    void start_piece(std::uint32_t ci) {
+        cur = &P.pieces[P.n];
+        cur_spans = &P.spans[P.n];
+        cur->kind = features.curves[ci].kind;
+        cur->qi = 0;
+        cur->curve = ci;
+        cur->points.clear();
+        cur_spans->clear();
+    }
+    // The piece being built, kept if it has a span and two points (linked to the last across
+    // `pending`, if `linked`); then the next one started.
+    void emit(std::uint32_t ci) {
+        if (!cur_spans->empty() && cur->points.size() >= 2) {
+            const std::uint32_t p = P.n;
+            if (linked) {
+                const std::uint32_t l = std::uint32_t(P.links.size());
+                P.links.push_back({p - 1, p});
+                for (const Scratch::Pending& c : scratch.pending) {
+                    P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+                    scratch.lc_ot.push_back(c.ot);
+                }
+            }
+            ++P.n;
+            P.open_slot();
+        }
+        scratch.pending.clear();
+        linked = false;
+        start_piece(ci);
+    }
+    // A closed curve that was not cut at its start vertex: the last piece continues the first (a
+    // loop from a junction or cusp back to it is not closed: the QI can change there). Else the
+    // curve's ends at vertices (junctions, cusps, ends of open lines), where not clipped.
+    void close_curve(std::uint32_t ci, std::span<const ClipSeg> segs, std::uint32_t first_piece, std::size_t first_link,
+                     bool split_at_start);
+    // The curve's crossings in 3D: the curve's segment in travel order, and the occluder's edge
+    // parameter.
+    void place_crossings(std::span<const ClipSeg> segs, std::size_t first_lc);
+};
+
+void RangeBuild::clip_curves() {
+    const std::uint32_t ncurves = c1 - c0;
+    const std::vector<ClipSeg>& occ_clip = occ.clip;
     all_segs.clear();
     seg_occ.clear();
     seg_begin.assign(ncurves + 1, 0);
     const double near = camera.near_distance();
-    {
-        std::size_t edges = 0;
-        for (std::uint32_t ci = c0; ci < c1; ++ci) edges += features.curves[ci].edges.size();
-        all_segs.reserve(edges);
-        seg_occ.reserve(edges);
-    }
+    std::size_t edges = 0;
+    for (std::uint32_t ci = c0; ci < c1; ++ci) edges += features.curves[ci].edges.size();
+    all_segs.reserve(edges);
+    seg_occ.reserve(edges);
     // (The curves' edges are scattered over a large mesh, and most curves are short: what an edge
     // reads is prefetched some edges ahead in the curves' edges, across curves, in two levels:
     // its occluder's slot and its vertices 16 edges ahead, then the occluder's record and the
@@ -290,9 +381,6 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
             const bool forward = mesh.edge_vertex[e][0] == va;
             const std::size_t at = all_segs.size();
             ClipSeg& s = all_segs.emplace_back();  // (made in place; reserved: no reallocation)
-            // A silhouette or border edge in front of the near plane was clipped and projected as
-            // an occluder already: the same values (clip_edge keeps both ends, as it did there),
-            // in travel order.
             if (k != UINT32_MAX && occ_clip[k].kept_both && occ_clip[k].zA >= near && occ_clip[k].zB >= near) {
                 s = occ_clip[k];
                 if (!forward) {
@@ -319,300 +407,281 @@ void build_range(const MeshTopology& mesh, const Features& features, const Camer
         }
         seg_begin[ci - c0 + 1] = std::uint32_t(all_segs.size());
     }
+}
 
-    // 2. Crossings of every curve segment with every occluding edge, in one search: pairs whose
-    // boxes overlap (BoxPairs), then the exact test. Splits sorted by segment, then parameter.
-    std::vector<Split>& all_splits = scratch.all_splits;
-    all_splits.clear();
-    {
-        std::vector<Box2f>& qbox = scratch.qbox;
-        std::vector<std::uint64_t>& found = scratch.found;
-        qbox.resize(all_segs.size());
-        for (std::size_t j = 0; j < all_segs.size(); ++j) {
-            const ClipSeg& s = all_segs[j];
-            // (a copied occluder's box: outer_box is symmetric in the ends, the slack the same)
-            if (s.occluder_copy) {
-                qbox[j] = occ.boxes[seg_occ[j]];
-                continue;
-            }
-            qbox[j] = outer_box({s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack});
+void RangeBuild::find_pairs() {
+    std::vector<Box2f>& qbox = scratch.qbox;
+    std::vector<std::uint64_t>& found = scratch.found;
+    qbox.resize(all_segs.size());
+    for (std::size_t j = 0; j < all_segs.size(); ++j) {
+        const ClipSeg& s = all_segs[j];
+        // (a copied occluder's box: outer_box is symmetric in the ends, the slack the same)
+        if (s.occluder_copy) {
+            qbox[j] = occ.boxes[seg_occ[j]];
+            continue;
         }
-        found.clear();
-        grid.pairs(qbox, found, scratch.hits);
-        // Silhouette against silhouette: segment j copied from occluder k (its box, slack and
-        // unclipped ends), occluder k2 copied as segment j2 (occ_mirror[k2] = j2) of this range
-        // make the pairs (j, k2) and (j2, k): the same four points, the same exact sides (up to
-        // the segments' directions). Only the pair with k < k2 is tested; the other's results
-        // come from the same sides (mirrored_crossings). The others kept as they are, in their order.
-        std::vector<std::uint32_t>& occ_mirror = scratch.occ_mirror;
-        occ_mirror.assign(occluders.size(), UINT32_MAX);
-        for (std::uint32_t j = 0; j < all_segs.size() && mirror; ++j)
-            if (mirrorable(all_segs[j])) occ_mirror[seg_occ[j]] = j;
-        {
-            std::size_t n = 0;
-            for (std::size_t i = 0; i < found.size(); ++i) {
-                const std::uint64_t f = found[i];
-                const std::uint32_t j = std::uint32_t(f >> 32), k2 = std::uint32_t(f);
-                const std::uint32_t k = seg_occ[j];
-                found[n] = f;
-                // (j mirrorable: occ_mirror of its occluder is j)
-                n += !(k != UINT32_MAX && occ_mirror[k] == j && occ_mirror[k2] != UINT32_MAX && k2 < k);
-            }
-            found.resize(n);
-        }
-        // The quick reject first, over all pairs without branches (most pairs are rejected, which
-        // a branch would mispredict often): the pairs it keeps, with the sides it decided, listed.
-        const std::uint8_t* o_unclipped = occ.unclipped.data();
-        std::vector<Scratch::Kept>& kept = scratch.kept;
-        kept.resize(found.size());
-        std::size_t nkept = 0;
-        for (std::size_t i = 0; i < found.size(); ++i) {
-            if (i + 8 < found.size()) prefetch_record(&occluders[std::uint32_t(found[i + 8])]);  // (scattered)
-            const std::uint64_t f = found[i];
-            const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
-            const ClipSeg& s = all_segs[j];
-            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
-            Scratch::Kept& c = kept[nkept];
-            c.pair = f;
-            nkept += !filter_sides(q, s.unclipped, occluders[k], o_unclipped[k], c.sides);
-        }
-        // The exact test of the pairs kept, in the same order.
-        for (std::size_t i = 0; i < nkept; ++i) {
-            if (i + 4 < nkept) {  // (the occluders are scattered)
-                const std::uint32_t k4 = std::uint32_t(kept[i + 4].pair);
-                prefetch_record(&occ_clip[k4]);
-                __builtin_prefetch(&occ_mirror[k4]);
-            }
-            const std::uint32_t j = std::uint32_t(kept[i].pair >> 32), k = std::uint32_t(kept[i].pair);
-            const ClipSeg& s = all_segs[j];
-            const Segment2& o = occluders[k];
-            // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
-            const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
-            double t[2], ot;
-            int exact[4], how;
-            const int n =
-                segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), kept[i].sides, t, &ot, exact, &how);
-            if (n > 0) {
-                if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
-                for (int h = 0; h < n; ++h) all_splits.push_back({j, t[h], k, ot});
-            }
-            const std::uint32_t j2 = occ_mirror[k];
-            if (j2 == UINT32_MAX || seg_occ[j] == UINT32_MAX || occ_mirror[seg_occ[j]] != j) continue;
-            // The mirrored pair (j2, seg_occ[j]), left out of the search.
-            const std::uint32_t k1 = seg_occ[j];
-            const ClipSeg& s2 = all_segs[j2];
-            const Segment2& o1 = occluders[k1];
-            const Segment2 q2{s2.a, s2.b, o.v0, o.v1, s2.edge, s2.slack};  // (qbox[j2]'s vertices: o's)
-            const int n2 = mirrored_crossings(camera, q2, s2.in_3d(), o1, occ_clip[k1].in_3d(), s.LA == occ_clip[k1].LA,
-                                       s2.LA == occ_clip[k].LA, how, exact, t, &ot);
-            if (n2 == 0) continue;
-            if (s2.edge < o1.edge) ++P.crossings;  // (o1's edge is a curve's: segment j's)
-            for (int h = 0; h < n2; ++h) all_splits.push_back({j2, t[h], k1, ot});
-        }
-        // Where an edge meets another face (the surface passes through itself, or touches
-        // itself), inside the clipped segment: no occluder, but the QI may change.
-        if (cuts && !cuts->empty())
-            for (std::uint32_t j = 0; j < all_segs.size(); ++j) {
-                const ClipSeg& s = all_segs[j];
-                auto it = std::lower_bound(cuts->begin(), cuts->end(), EdgeCut{s.edge, -1.0});
-                for (; it != cuts->end() && it->edge == s.edge; ++it) {
-                    const double lo = std::min(s.sA, s.sB), hi = std::max(s.sA, s.sB);
-                    if (it->s < lo || it->s > hi || s.sA == s.sB) continue;
-                    const double u = (it->s - s.sA) / (s.sB - s.sA);  // along the 3D segment
-                    double t = u;
-                    if (!camera.is_ortho()) {
-                        const double den = (1.0 - u) * s.zA + u * s.zB;
-                        t = den > 0.0 ? u * s.zB / den : u;
-                    }
-                    all_splits.push_back({j, std::clamp(t, 0.0, 1.0), kNoOccluder});
-                }
-            }
-        // By segment (a counting sort), then parameter and occluder (an insertion sort of each
-        // segment's few splits): the same order whatever the order of the pairs.
-        std::vector<std::uint32_t>&at = scratch.at, &next = scratch.next;
-        at.assign(all_segs.size() + 1, 0);
-        for (const Split& sp : all_splits) ++at[sp.seg + 1];
-        for (std::size_t j = 0; j < all_segs.size(); ++j) at[j + 1] += at[j];
-        std::vector<Split>& sorted = scratch.sorted;
-        sorted.resize(all_splits.size());
-        next.assign(at.begin(), at.end() - 1);
-        for (const Split& sp : all_splits) sorted[next[sp.seg]++] = sp;
-        auto before = [](const Split& x, const Split& y) { return x.t != y.t ? x.t < y.t : x.occluder < y.occluder; };
-        for (std::size_t j = 0; j < all_segs.size(); ++j) {
-            if (at[j + 1] - at[j] > 16) {  // (a long segment crossing many edges)
-                std::sort(sorted.begin() + at[j], sorted.begin() + at[j + 1], before);
-                continue;
-            }
-            for (std::uint32_t i = at[j] + 1; i < at[j + 1]; ++i)
-                for (std::uint32_t k = i; k > at[j] && before(sorted[k], sorted[k - 1]); --k) std::swap(sorted[k], sorted[k - 1]);
-        }
-        std::swap(all_splits, sorted);
+        qbox[j] = outer_box({s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack});
     }
+    found.clear();
+    grid.pairs(qbox, found, scratch.hits);
+    std::vector<std::uint32_t>& occ_mirror = scratch.occ_mirror;
+    occ_mirror.assign(occ.segs.size(), UINT32_MAX);
+    for (std::uint32_t j = 0; j < all_segs.size() && mirror; ++j)
+        if (mirrorable(all_segs[j])) occ_mirror[seg_occ[j]] = j;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        const std::uint64_t f = found[i];
+        const std::uint32_t j = std::uint32_t(f >> 32), k2 = std::uint32_t(f);
+        const std::uint32_t k = seg_occ[j];
+        found[n] = f;
+        // (j mirrorable: occ_mirror of its occluder is j)
+        n += !(k != UINT32_MAX && occ_mirror[k] == j && occ_mirror[k2] != UINT32_MAX && k2 < k);
+    }
+    found.resize(n);
+}
 
-    // 3. Per curve: pieces cut at the splits.
-    std::vector<Split>& splits = scratch.splits;
-    using Pending = Scratch::Pending;
-    std::vector<Pending>&pending = scratch.pending, &wrap = scratch.wrap;
-    std::vector<double>& lc_ot = scratch.lc_ot;
-    pending.clear();  // crossings at the cut being made / at a closed curve's start
-    std::size_t next_split = 0;
-    // The piece being built is always slot P.n (pieces[P.n], spans[P.n]), filled in place.
+void RangeBuild::test_pairs() {
+    const std::vector<Segment2>& occluders = occ.segs;
+    const std::vector<ClipSeg>& occ_clip = occ.clip;
+    const std::vector<Box2f>& qbox = scratch.qbox;
+    const std::vector<std::uint64_t>& found = scratch.found;
+    const std::vector<std::uint32_t>& occ_mirror = scratch.occ_mirror;
+    const std::uint8_t* o_unclipped = occ.unclipped.data();
+    std::vector<Scratch::Kept>& kept = scratch.kept;
+    kept.resize(found.size());
+    std::size_t nkept = 0;
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        if (i + 8 < found.size()) prefetch_record(&occluders[std::uint32_t(found[i + 8])]);  // (scattered)
+        const std::uint64_t f = found[i];
+        const std::uint32_t j = std::uint32_t(f >> 32), k = std::uint32_t(f);
+        const ClipSeg& s = all_segs[j];
+        const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
+        Scratch::Kept& c = kept[nkept];
+        c.pair = f;
+        nkept += !filter_sides(q, s.unclipped, occluders[k], o_unclipped[k], c.sides);
+    }
+    for (std::size_t i = 0; i < nkept; ++i) {
+        if (i + 4 < nkept) {  // (the occluders are scattered)
+            const std::uint32_t k4 = std::uint32_t(kept[i + 4].pair);
+            prefetch_record(&occ_clip[k4]);
+            __builtin_prefetch(&occ_mirror[k4]);
+        }
+        const std::uint32_t j = std::uint32_t(kept[i].pair >> 32), k = std::uint32_t(kept[i].pair);
+        const ClipSeg& s = all_segs[j];
+        const Segment2& o = occluders[k];
+        // (pairs sharing a vertex, the curve's own neighbours, are not in `found`)
+        const Segment2 q{s.a, s.b, qbox[j].v0, qbox[j].v1, s.edge, s.slack};
+        double t[2], ot;
+        int exact[4], how;
+        const int n = segment_crossings(camera, q, s.in_3d(), o, occ_clip[k].in_3d(), kept[i].sides, t, &ot, exact, &how);
+        if (n > 0) {
+            if (!(in_curves[o.edge >> 6] >> (o.edge & 63) & 1) || s.edge < o.edge) ++P.crossings;
+            for (int h = 0; h < n; ++h) all_splits.push_back({j, t[h], k, ot});
+        }
+        const std::uint32_t j2 = occ_mirror[k];
+        if (j2 == UINT32_MAX || seg_occ[j] == UINT32_MAX || occ_mirror[seg_occ[j]] != j) continue;
+        // The mirrored pair (j2, seg_occ[j]), left out of the search.
+        const std::uint32_t k1 = seg_occ[j];
+        const ClipSeg& s2 = all_segs[j2];
+        const Segment2& o1 = occluders[k1];
+        const Segment2 q2{s2.a, s2.b, o.v0, o.v1, s2.edge, s2.slack};  // (qbox[j2]'s vertices: o's)
+        const int n2 = mirrored_crossings(camera, q2, s2.in_3d(), o1, occ_clip[k1].in_3d(), s.LA == occ_clip[k1].LA,
+                                          s2.LA == occ_clip[k].LA, how, exact, t, &ot);
+        if (n2 == 0) continue;
+        if (s2.edge < o1.edge) ++P.crossings;  // (o1's edge is a curve's: segment j's)
+        for (int h = 0; h < n2; ++h) all_splits.push_back({j2, t[h], k1, ot});
+    }
+}
+
+void RangeBuild::split_at_cuts() {
+    if (!cuts || cuts->empty()) return;
+    for (std::uint32_t j = 0; j < all_segs.size(); ++j) {
+        const ClipSeg& s = all_segs[j];
+        auto it = std::lower_bound(cuts->begin(), cuts->end(), EdgeCut{s.edge, -1.0});
+        for (; it != cuts->end() && it->edge == s.edge; ++it) {
+            const double lo = std::min(s.sA, s.sB), hi = std::max(s.sA, s.sB);
+            if (it->s < lo || it->s > hi || s.sA == s.sB) continue;
+            const double u = (it->s - s.sA) / (s.sB - s.sA);  // along the 3D segment
+            double t = u;
+            if (!camera.is_ortho()) {
+                const double den = (1.0 - u) * s.zA + u * s.zB;
+                t = den > 0.0 ? u * s.zB / den : u;
+            }
+            all_splits.push_back({j, std::clamp(t, 0.0, 1.0), kNoOccluder});
+        }
+    }
+}
+
+void RangeBuild::sort_splits() {
+    std::vector<std::uint32_t>&at = scratch.at, &next = scratch.next;
+    at.assign(all_segs.size() + 1, 0);
+    for (const Split& sp : all_splits) ++at[sp.seg + 1];
+    for (std::size_t j = 0; j < all_segs.size(); ++j) at[j + 1] += at[j];
+    std::vector<Split>& sorted = scratch.sorted;
+    sorted.resize(all_splits.size());
+    next.assign(at.begin(), at.end() - 1);
+    for (const Split& sp : all_splits) sorted[next[sp.seg]++] = sp;
+    auto before = [](const Split& x, const Split& y) { return x.t != y.t ? x.t < y.t : x.occluder < y.occluder; };
+    for (std::size_t j = 0; j < all_segs.size(); ++j) {
+        if (at[j + 1] - at[j] > 16) {  // (a long segment crossing many edges)
+            std::sort(sorted.begin() + at[j], sorted.begin() + at[j + 1], before);
+            continue;
+        }
+        for (std::uint32_t i = at[j] + 1; i < at[j + 1]; ++i)
+            for (std::uint32_t k = i; k > at[j] && before(sorted[k], sorted[k - 1]); --k) std::swap(sorted[k], sorted[k - 1]);
+    }
+    std::swap(all_splits, sorted);
+}
+
+void RangeBuild::cut_curves() {
+    scratch.pending.clear();  // crossings at the cut being made / at a closed curve's start
+    next_split = 0;
+    const std::uint32_t ncurves = c1 - c0;
     P.pieces.reserve(P.n + all_splits.size() + ncurves + 1);
     P.spans.reserve(P.n + all_splits.size() + ncurves + 1);
     P.open_slot();
-    Piece* cur = &P.pieces[P.n];
-    std::vector<EdgeSpan>* cur_spans = &P.spans[P.n];
+    cur = &P.pieces[P.n];
+    cur_spans = &P.spans[P.n];
     for (std::uint32_t ci = c0; ci < c1; ++ci) {
-        const FeatureCurve& curve = features.curves[ci];
         // (The storage of the slots the next pieces will fill, each its own block: prefetched.)
         for (std::uint32_t d = 2; d <= 3; ++d)
             if (P.n + d < P.pieces.size()) {
                 __builtin_prefetch(P.pieces[P.n + d].points.data(), 1);
                 __builtin_prefetch(P.spans[P.n + d].data(), 1);
             }
-        const std::uint32_t sb = seg_begin[ci - c0], se = seg_begin[ci - c0 + 1];
-        if (sb == se) continue;
-        const std::span<const ClipSeg> segs(all_segs.data() + sb, se - sb);
-        splits.clear();
-        for (; next_split < all_splits.size() && all_splits[next_split].seg < se; ++next_split) {
-            Split sp = all_splits[next_split];
-            sp.seg -= sb;
-            splits.push_back(sp);
-        }
-
-        for (auto& sp : splits)  // a split at a segment's end is the next segment's start
-            if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0, sp.occluder};
-        std::sort(splits.begin(), splits.end());
-
-        // Walk the segments, cutting pieces at splits and interruptions. Cuts between two pieces
-        // become links carrying the crossings made there.
-        const std::uint32_t first_piece = P.n;
-        const std::size_t first_link = P.links.size(), first_lc = P.link_crossings.size();
-        lc_ot.clear();
-        auto start_piece = [&]() {
-            cur = &P.pieces[P.n];
-            cur_spans = &P.spans[P.n];
-            cur->kind = curve.kind;
-            cur->qi = 0;
-            cur->curve = ci;
-            cur->points.clear();
-            cur_spans->clear();
-        };
-        start_piece();
-        bool linked = false;  // the next piece emitted continues the last one across `pending`
-        auto emit = [&]() {
-            if (!cur_spans->empty() && cur->points.size() >= 2) {
-                const std::uint32_t p = P.n;
-                if (linked) {
-                    const std::uint32_t l = std::uint32_t(P.links.size());
-                    P.links.push_back({p - 1, p});
-                    for (const Pending& c : pending) {
-                        P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
-                        lc_ot.push_back(c.ot);
-                    }
-                }
-                ++P.n;
-                P.open_slot();
-            }
-            pending.clear();
-            linked = false;
-            start_piece();
-        };
-        wrap.clear();
-        std::size_t k = 0;
-        bool split_at_start = false;
-        for (std::uint32_t j = 0; j < segs.size(); ++j) {
-            const ClipSeg& s = segs[j];
-            if (s.run_start) {
-                emit();
-                cur->points.push_back(s.a);
-            }
-            double t0 = 0.0;
-            double e0 = s.sA + to_3d(camera, s, 0.0) * (s.sB - s.sA);  // edge parameter at t0
-            auto add_span = [&](double t1) {
-                const double e1 = s.sA + to_3d(camera, s, t1) * (s.sB - s.sA);
-                cur_spans->push_back({s.edge, e0, e1});
-                cur->points.push_back(s.a + t1 * (s.b - s.a));
-                e0 = e1;  // (the next span starts here: t0 = t1)
-            };
-            for (; k < splits.size() && splits[k].seg == j;) {
-                const double t = splits[k].t;
-                const std::size_t k0 = k;
-                while (k < splits.size() && splits[k].seg == j && splits[k].t == t) ++k;  // all crossings here
-                if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) {
-                    split_at_start = true;
-                    for (std::size_t i = k0; i < k; ++i)
-                        if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t, splits[i].ot});
-                }
-                if (t >= 1.0) continue;  // the end of the run: nothing follows
-                if (t > t0) add_span(t);
-                if (cur_spans->empty()) continue;  // nothing to cut yet (split at the run start)
-                emit();
-                linked = true;
-                for (std::size_t i = k0; i < k; ++i)
-                    if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t, splits[i].ot});
-                cur->points.push_back(s.a + t * (s.b - s.a));
-                t0 = t;
-            }
-            add_span(1.0);
-        }
-        emit();
-
-        // A closed curve that was not cut at its start vertex: the last piece continues the first
-        // (a loop from a junction or cusp back to it is not closed: the QI can change there).
-        const std::uint32_t np = P.n - first_piece;
-        const bool unbroken = segs.size() == curve.edges.size() &&
-                              std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
-                              segs.back().B == segs.front().A;
-        const std::uint32_t last_piece = first_piece + np - 1;
-        if (curve.closed && unbroken && np >= 2 && !split_at_start) {
-            // The last piece followed by the first: into the last's storage, swapped into the
-            // first's slot; the last slot becomes the one being built.
-            Piece &first = P.pieces[first_piece], &last = P.pieces[last_piece];
-            std::vector<EdgeSpan>&first_spans = P.spans[first_piece], &last_spans = P.spans[last_piece];
-            last.points.insert(last.points.end(), first.points.begin() + 1, first.points.end());
-            last_spans.insert(last_spans.end(), first_spans.begin(), first_spans.end());
-            std::swap(first.points, last.points);
-            std::swap(first_spans, last_spans);
-            --P.n;
-            start_piece();
-            for (std::size_t l = first_link; l < P.links.size(); ++l)
-                if (P.links[l].after == last_piece) P.links[l].after = first_piece;
-        } else if (np >= 1 && curve.closed && unbroken) {
-            // Cut at its start: the last piece goes on into the first across those crossings.
-            const std::uint32_t l = std::uint32_t(P.links.size());
-            P.links.push_back({last_piece, first_piece});
-            for (const Pending& c : wrap) {
-                P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
-                lc_ot.push_back(c.ot);
-            }
-        } else if (np >= 1) {
-            // Curve ends at vertices (junctions, cusps, ends of open lines), where not clipped.
-            if (segs.front().A == mesh.positions[curve.vertices.front()])
-                P.ends.push_back({first_piece, curve.vertices.front(), curve.edges.front()});
-            if (segs.back().B == mesh.positions[curve.vertices.back()])
-                P.ends.push_back({last_piece, curve.vertices.back(), curve.edges.back()});
-        }
-        // Crossings in 3D: the curve's segment in travel order, and the occluder's edge parameter.
-        for (std::size_t i = first_lc; i < P.link_crossings.size(); ++i) {
-            auto& c = P.link_crossings[i];
-            if (i + 2 < P.link_crossings.size()) prefetch_record(&occ_clip[P.link_crossings[i + 2].occluder]);
-            const ClipSeg& s = segs[c.seg];
-            const ClipSeg& o = occ_clip[c.occluder];
-            c.c1 = s.A;
-            c.c2 = s.B;
-            // (found by the search, unless the split moved to the next segment's start or the
-            // images are collinear)
-            double ot = lc_ot[i - first_lc];
-            if (std::isnan(ot)) {
-                double to[2];
-                const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
-                ot = segment_crossings(camera, occluders[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
-            }
-            c.occluder_s = o.sA + to_3d(camera, o, ot) * (o.sB - o.sA);
-            c.occluder_edge = occluders[c.occluder].edge;
-        }
+        if (seg_begin[ci - c0] != seg_begin[ci - c0 + 1]) cut_curve(ci);
     }
+}
+
+// Walks the curve's segments, cutting pieces at splits and interruptions. Cuts between two pieces
+// become links carrying the crossings made there.
+void RangeBuild::cut_curve(std::uint32_t ci) {
+    const std::uint32_t sb = seg_begin[ci - c0], se = seg_begin[ci - c0 + 1];
+    const std::span<const ClipSeg> segs(all_segs.data() + sb, se - sb);
+    std::vector<Split>& splits = scratch.splits;
+    splits.clear();
+    for (; next_split < all_splits.size() && all_splits[next_split].seg < se; ++next_split) {
+        Split sp = all_splits[next_split];
+        sp.seg -= sb;
+        splits.push_back(sp);
+    }
+    for (auto& sp : splits)  // a split at a segment's end is the next segment's start
+        if (sp.t >= 1.0 && sp.seg + 1 < segs.size() && !segs[sp.seg + 1].run_start) sp = {sp.seg + 1, 0.0, sp.occluder};
+    std::sort(splits.begin(), splits.end());
+
+    const std::uint32_t first_piece = P.n;
+    const std::size_t first_link = P.links.size(), first_lc = P.link_crossings.size();
+    std::vector<Scratch::Pending>&pending = scratch.pending, &wrap = scratch.wrap;
+    scratch.lc_ot.clear();
+    start_piece(ci);
+    linked = false;
+    wrap.clear();
+    std::size_t k = 0;
+    bool split_at_start = false;
+    for (std::uint32_t j = 0; j < segs.size(); ++j) {
+        const ClipSeg& s = segs[j];
+        if (s.run_start) {
+            emit(ci);
+            cur->points.push_back(s.a);
+        }
+        double t0 = 0.0;
+        double e0 = s.sA + to_3d(camera, s, 0.0) * (s.sB - s.sA);  // edge parameter at t0
+        auto add_span = [&](double t1) {
+            const double e1 = s.sA + to_3d(camera, s, t1) * (s.sB - s.sA);
+            cur_spans->push_back({s.edge, e0, e1});
+            cur->points.push_back(s.a + t1 * (s.b - s.a));
+            e0 = e1;  // (the next span starts here: t0 = t1)
+        };
+        for (; k < splits.size() && splits[k].seg == j;) {
+            const double t = splits[k].t;
+            const std::size_t k0 = k;
+            while (k < splits.size() && splits[k].seg == j && splits[k].t == t) ++k;  // all crossings here
+            if ((t <= 0.0 && j == 0) || (t >= 1.0 && j + 1 == segs.size())) {
+                split_at_start = true;
+                for (std::size_t i = k0; i < k; ++i)
+                    if (splits[i].occluder != kNoOccluder) wrap.push_back({j, splits[i].occluder, t, splits[i].ot});
+            }
+            if (t >= 1.0) continue;  // the end of the run: nothing follows
+            if (t > t0) add_span(t);
+            if (cur_spans->empty()) continue;  // nothing to cut yet (split at the run start)
+            emit(ci);
+            linked = true;
+            for (std::size_t i = k0; i < k; ++i)
+                if (splits[i].occluder != kNoOccluder) pending.push_back({j, splits[i].occluder, t, splits[i].ot});
+            cur->points.push_back(s.a + t * (s.b - s.a));
+            t0 = t;
+        }
+        add_span(1.0);
+    }
+    emit(ci);
+    close_curve(ci, segs, first_piece, first_link, split_at_start);
+    place_crossings(segs, first_lc);
+}
+
+void RangeBuild::close_curve(std::uint32_t ci, std::span<const ClipSeg> segs, std::uint32_t first_piece,
+                             std::size_t first_link, bool split_at_start) {
+    const FeatureCurve& curve = features.curves[ci];
+    const std::uint32_t np = P.n - first_piece;
+    const bool unbroken = segs.size() == curve.edges.size() &&
+                          std::none_of(segs.begin() + 1, segs.end(), [](const ClipSeg& s) { return s.run_start; }) &&
+                          segs.back().B == segs.front().A;
+    const std::uint32_t last_piece = first_piece + np - 1;
+    if (curve.closed && unbroken && np >= 2 && !split_at_start) {
+        // The last piece followed by the first: into the last's storage, swapped into the
+        // first's slot; the last slot becomes the one being built.
+        Piece &first = P.pieces[first_piece], &last = P.pieces[last_piece];
+        std::vector<EdgeSpan>&first_spans = P.spans[first_piece], &last_spans = P.spans[last_piece];
+        last.points.insert(last.points.end(), first.points.begin() + 1, first.points.end());
+        last_spans.insert(last_spans.end(), first_spans.begin(), first_spans.end());
+        std::swap(first.points, last.points);
+        std::swap(first_spans, last_spans);
+        --P.n;
+        start_piece(ci);
+        for (std::size_t l = first_link; l < P.links.size(); ++l)
+            if (P.links[l].after == last_piece) P.links[l].after = first_piece;
+    } else if (np >= 1 && curve.closed && unbroken) {
+        // Cut at its start: the last piece goes on into the first across those crossings.
+        const std::uint32_t l = std::uint32_t(P.links.size());
+        P.links.push_back({last_piece, first_piece});
+        for (const Scratch::Pending& c : scratch.wrap) {
+            P.link_crossings.push_back({l, c.occluder, c.seg, c.t});
+            scratch.lc_ot.push_back(c.ot);
+        }
+    } else if (np >= 1) {
+        if (segs.front().A == mesh.positions[curve.vertices.front()])
+            P.ends.push_back({first_piece, curve.vertices.front(), curve.edges.front()});
+        if (segs.back().B == mesh.positions[curve.vertices.back()])
+            P.ends.push_back({last_piece, curve.vertices.back(), curve.edges.back()});
+    }
+}
+
+void RangeBuild::place_crossings(std::span<const ClipSeg> segs, std::size_t first_lc) {
+    const std::vector<ClipSeg>& occ_clip = occ.clip;
+    for (std::size_t i = first_lc; i < P.link_crossings.size(); ++i) {
+        auto& c = P.link_crossings[i];
+        if (i + 2 < P.link_crossings.size()) prefetch_record(&occ_clip[P.link_crossings[i + 2].occluder]);
+        const ClipSeg& s = segs[c.seg];
+        const ClipSeg& o = occ_clip[c.occluder];
+        c.c1 = s.A;
+        c.c2 = s.B;
+        // (found by the search, unless the split moved to the next segment's start or the
+        // images are collinear)
+        double ot = scratch.lc_ot[i - first_lc];
+        if (std::isnan(ot)) {
+            double to[2];
+            const Segment2 q{s.a, s.b, mesh.edge_vertex[s.edge][0], mesh.edge_vertex[s.edge][1], s.edge, s.slack};
+            ot = segment_crossings(camera, occ.segs[c.occluder], o.in_3d(), q, s.in_3d(), to) > 0 ? to[0] : 0.5;
+        }
+        c.occluder_s = o.sA + to_3d(camera, o, ot) * (o.sB - o.sA);
+        c.occluder_edge = occ.segs[c.occluder].edge;
+    }
+}
+
+void build_range(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                 const std::vector<EdgeCut>* cuts, const VertexImages& images, const OccluderSet& occ,
+                 const std::vector<std::uint64_t>& in_curves, const BoxPairs& grid, std::uint32_t c0, std::uint32_t c1,
+                 bool mirror, Scratch& scratch, Part& P) {
+    RangeBuild{mesh, features, camera, cuts, images, occ, in_curves, grid, c0, c1, mirror, scratch, P}.run();
 }
 
 }  // namespace
@@ -635,34 +704,21 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
     return g;
 }
 
-void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges, bool mirror_pairs) {
-    VisibleCurves& out = g.curves;
-    // Everything of the previous view goes; the pieces' slots are refilled in place below.
-    out.crossings = 0;
-    out.ray_tests = 0;
-    g.links.clear();
-    g.link_crossings.clear();
-    g.ends.clear();
-    g.occluders.clear();
-    g.grid_built_ = false;
-    g.immersive = geometry_behind_near(mesh, camera);
-    g.images.reset(mesh, camera);
+namespace {
 
-    // Occluding edges in the image: silhouettes and borders. QI counts the layers between a point
-    // and the eye (DESIGN.md), so the near plane clips the curves drawn, not the occluders: those
-    // are clipped only where they could not be projected, at the default near plane (or the
-    // camera's, if nearer).
+// Occluding edges in the image: silhouettes and borders, into g.occluders, with their clipped
+// records, boxes (the crossing search bins them) and whether each is unclipped, in the same pass
+// (each clipped in place). QI counts the layers between a point and the eye (DESIGN.md), so the
+// near plane clips the curves drawn, not the occluders: those are clipped only where they could
+// not be projected, at the default near plane (or the camera's, if nearer).
+void clip_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                    Scratch& scratch) {
     const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
     std::vector<Segment2>& occluders = g.occluders;
-    // Scratch arrays kept from view to view (no allocation per view once they are large enough).
-    thread_local Scratch scratch;
     std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
-    occ_clip.clear();
-    // With their boxes (the crossing search bins them) and whether each is unclipped, in the same
-    // pass (each clipped in place).
     std::vector<Box2f>& obox = scratch.obox;
     std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
+    occ_clip.clear();
     obox.clear();
     occ_unclipped.clear();
     const std::size_t most = features.silhouette_edges.size() + features.border_edges.size();
@@ -693,21 +749,97 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
             obox.push_back(outer_box(occluders.back()));
             occ_unclipped.push_back(s.unclipped);
         }
-    g.image_size = glm::dvec2(camera.width(), camera.height());
+}
 
-    // The extreme points of the occluders' image (the bounding-box rule of the fast method).
+// The extreme points of the occluders' image (the bounding-box rule of the fast method).
+void find_extreme_vertices(PieceGraph& g) {
     g.extreme_vertices.fill(UINT32_MAX);
-    if (!g.immersive) {
-        double ext[4] = {1e300, -1e300, 1e300, -1e300};
-        for (const Segment2& o : occluders)
-            for (int end = 0; end < 2; ++end) {
-                const glm::dvec2 p = end ? o.b : o.a;
-                const std::uint32_t v = end ? o.v1 : o.v0;
-                const double val[4] = {p.x, p.x, p.y, p.y};
-                for (int k = 0; k < 4; ++k)
-                    if (k % 2 == 0 ? val[k] < ext[k] : val[k] > ext[k]) ext[k] = val[k], g.extreme_vertices[k] = v;
-            }
+    if (g.immersive) return;
+    double ext[4] = {1e300, -1e300, 1e300, -1e300};
+    for (const Segment2& o : g.occluders)
+        for (int end = 0; end < 2; ++end) {
+            const glm::dvec2 p = end ? o.b : o.a;
+            const std::uint32_t v = end ? o.v1 : o.v0;
+            const double val[4] = {p.x, p.x, p.y, p.y};
+            for (int k = 0; k < 4; ++k)
+                if (k % 2 == 0 ? val[k] < ext[k] : val[k] > ext[k]) ext[k] = val[k], g.extreme_vertices[k] = v;
+        }
+}
+
+// build_range of the curves in two ranges of about equal edge counts, the second on the graph's
+// helper thread; its pieces and links appended after the first's (in `first`).
+void build_two_ranges(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                      const std::vector<EdgeCut>* cuts, const OccluderSet& occ, const std::vector<std::uint64_t>& in_curves,
+                      const BoxPairs& grid, std::size_t total_edges, bool mirror_pairs, Scratch& scratch, Part& first) {
+    const std::uint32_t ncurves = std::uint32_t(features.curves.size());
+    // The split: the calling thread's share of the edges, fitted to the last views' times (the
+    // helper's side is slower per edge: SplitShare, visibility.hpp).
+    const double share = g.curves_split.share;
+    // (Each range holds a curve at least: the first takes one before the share is compared, the
+    // second keeps the last.)
+    std::uint32_t mid = 0;
+    std::size_t first_edges = 0;
+    do first_edges += features.curves[mid++].edges.size();
+    while (mid + 1 < ncurves && double(first_edges) < share * double(total_edges));
+    for (const auto& c : features.curves)  // (every image the ranges read, made before they run)
+        for (std::uint32_t v : c.vertices) g.images.slack(v);
+    // (the second range's arrays belong to this thread, kept from view to view; the worker is
+    // given them by reference: a thread_local named inside it would be the worker's own)
+    thread_local Scratch scratch_second;
+    Scratch& scratch2 = scratch_second;
+    Scratch::Parts& p2 = scratch2.parts;
+    p2.clear();
+    Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
+    const auto [t_first, t_second] = fork_join_timed(
+        g,
+        [&] {
+            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves, mirror_pairs,
+                        scratch2, second);
+        },
+        [&] { build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs, scratch, first); });
+    g.curves_split.fit(double(first_edges) / double(total_edges), t_first, t_second);
+    // Append the second range, its indices shifted; its pieces swapped into the graph's slots
+    // (each side keeps storage).
+    VisibleCurves& out = g.curves;
+    const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
+    for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
+    for (auto& c : p2.link_crossings) {
+        g.link_crossings.push_back(c);
+        g.link_crossings.back().link += nl;
     }
+    for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
+    out.pieces.reserve(first.n + second.n + 1);
+    out.spans.reserve(first.n + second.n + 1);
+    for (std::uint32_t i = 0; i < second.n; ++i) {
+        first.open_slot();
+        std::swap(out.pieces[first.n], p2.pieces[i]);
+        std::swap(out.spans[first.n], p2.spans[i]);
+        ++first.n;
+    }
+    first.crossings += second.crossings;
+}
+
+}  // namespace
+
+void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges, bool mirror_pairs) {
+    VisibleCurves& out = g.curves;
+    // Everything of the previous view goes; the pieces' slots are refilled in place below.
+    out.crossings = 0;
+    out.ray_tests = 0;
+    g.links.clear();
+    g.link_crossings.clear();
+    g.ends.clear();
+    g.occluders.clear();
+    g.grid_built_ = false;
+    g.immersive = geometry_behind_near(mesh, camera);
+    g.images.reset(mesh, camera);
+
+    // Scratch arrays kept from view to view (no allocation per view once they are large enough).
+    thread_local Scratch scratch;
+    clip_occluders(g, mesh, features, camera, scratch);
+    g.image_size = glm::dvec2(camera.width(), camera.height());
+    find_extreme_vertices(g);
 
     std::vector<std::uint64_t>& in_curves = scratch.in_curves;  // a bit per edge
     in_curves.assign(mesh.edge_count() / 64 + 1, 0);
@@ -716,11 +848,11 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // The occluders binned once for the crossing search of every range.
     BoxPairs& grid = scratch.grid;
-    grid.prepare(obox, camera.width(), camera.height());
+    grid.prepare(scratch.obox, camera.width(), camera.height());
     // The occluder of each silhouette or border edge (curve segments copy its clipping).
     EdgeOccluders& occ_of_edge = scratch.occ_of_edge;
-    occ_of_edge.build(occluders);
-    const OccluderSet occ{occluders, occ_clip, obox, occ_of_edge, occ_unclipped};
+    occ_of_edge.build(g.occluders);
+    const OccluderSet occ{g.occluders, scratch.occ_clip, scratch.obox, occ_of_edge, scratch.occ_unclipped};
 
     // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
     // second on its own thread; its pieces and links are appended after the first's.
@@ -729,57 +861,10 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     for (const auto& c : features.curves) total_edges += c.edges.size();
     out.spans.resize(out.pieces.size());  // (slots are pairs)
     Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends, &g.spare_pieces_, &g.spare_spans_};
-    if (threads < 2 || total_edges < parallel_edges || ncurves < 2) {  // (small: a thread costs more)
+    if (threads < 2 || total_edges < parallel_edges || ncurves < 2)  // (small: a thread costs more)
         build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, mirror_pairs, scratch, first);
-    } else {
-        // The split: the calling thread's share of the edges, fitted to the last views' times
-        // (on armadillo@2's window views, halves took 4.3-4.7 ms on the helper against 3.1-4.4).
-        const double share = g.curves_split.share;
-        // (Each range holds a curve at least: the first takes one before the share is compared, the
-        // second keeps the last.)
-        std::uint32_t mid = 0;
-        std::size_t first_edges = 0;
-        do first_edges += features.curves[mid++].edges.size();
-        while (mid + 1 < ncurves && double(first_edges) < share * double(total_edges));
-        for (const auto& c : features.curves)  // (every image the ranges read, made before they run)
-            for (std::uint32_t v : c.vertices) g.images.slack(v);
-        // (the second range's arrays belong to this thread, kept from view to view; the worker is
-        // given them by reference: a thread_local named inside it would be the worker's own)
-        thread_local Scratch scratch_second;
-        Scratch& scratch2 = scratch_second;
-        Scratch::Parts& p2 = scratch2.parts;
-        p2.clear();
-        Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
-        const auto [t_first, t_second] = fork_join_timed(
-            g,
-            [&] {
-                build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves, mirror_pairs,
-                            scratch2, second);
-            },
-            [&] {
-                build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs,
-                            scratch, first);
-            });
-        g.curves_split.fit(double(first_edges) / double(total_edges), t_first, t_second);
-        // Append the second range, its indices shifted; its pieces swapped into the graph's slots
-        // (each side keeps storage).
-        const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
-        for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
-        for (auto& c : p2.link_crossings) {
-            g.link_crossings.push_back(c);
-            g.link_crossings.back().link += nl;
-        }
-        for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
-        out.pieces.reserve(first.n + second.n + 1);
-        out.spans.reserve(first.n + second.n + 1);
-        for (std::uint32_t i = 0; i < second.n; ++i) {
-            first.open_slot();
-            std::swap(out.pieces[first.n], p2.pieces[i]);
-            std::swap(out.spans[first.n], p2.spans[i]);
-            ++first.n;
-        }
-        first.crossings += second.crossings;
-    }
+    else
+        build_two_ranges(g, mesh, features, camera, cuts, occ, in_curves, grid, total_edges, mirror_pairs, scratch, first);
     out.crossings = first.crossings;
     g.truncate(first.n);  // (the slots after the pieces: kept as spare storage)
 }

@@ -95,8 +95,8 @@ private:
 
 // The calling thread's share of the work units of a stage split between two threads (the rest
 // goes to the helper thread), fitted from view to view: the side on the helper thread can cost
-// more per unit (on armadillo@2's window views on a 2-core VM, about 25 % more: it reads what the
-// other core has just written), so halves leave the calling thread waiting.
+// more per unit (it reads what the other core has just written; bench/results/visibility.md,
+// eighteenth session), so halves leave the calling thread waiting.
 struct SplitShare {
     double share = 0.5;  // within [0.3, 0.7]
     void set(double s) { share = std::clamp(s, 0.3, 0.7); }
@@ -156,7 +156,7 @@ struct PieceGraph {
 
     // The calling thread's share of the curve edges when build_pieces splits the curves between
     // two threads, fitted by each build to the two sides' times (the pieces do not depend on it).
-    // (Fitting the curve ends' and the crossings' splits too was tried: no change measured.)
+    // (Only this split is fitted: fitting the others gained nothing, bench/results/visibility.md.)
     SplitShare curves_split;
 
     // The thread that runs the second half of a stage split in two (build_pieces' curves, the
