@@ -303,26 +303,29 @@ Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* giv
             }};
 }
 
-Flag suggestive_threshold_flag(SurfaceLineOptions& surface) {
-    return {"--suggestive-threshold", "T",
-            "suggestive contours: how steeply the radial curvature must rise across them, relative to the "
-            "model's feature size (default 0.05; 0 draws every zero of it, larger draws fewer)",
-            [&surface](const std::string& v) {
-                const double t = parse_number("--suggestive-threshold", v);
-                if (!(t >= 0.0 && t <= 1000.0)) throw Error("--suggestive-threshold", "expected a number in [0, 1000]");
-                surface.suggestive_threshold = t;
+namespace {
+// A threshold of the lines from curvature: a number in [0, 1000], relative to the model's size.
+Flag threshold_flag(const std::string& name, const std::string& help, double& target) {
+    return {name, "T", help, [name, &target](const std::string& v) {
+                const double t = parse_number(name, v);
+                if (!(t >= 0.0 && t <= 1000.0)) throw Error(name, "expected a number in [0, 1000]");
+                target = t;
             }};
+}
+}  // namespace
+
+Flag suggestive_threshold_flag(SurfaceLineOptions& surface) {
+    return threshold_flag("--suggestive-threshold",
+                          "suggestive contours: how steeply the radial curvature must rise across them, relative "
+                          "to the model's feature size (default 0.01; 0 draws every zero of it, larger draws fewer)",
+                          surface.suggestive_threshold);
 }
 
 Flag ridge_threshold_flag(SurfaceLineOptions& surface) {
-    return {"--ridge-threshold", "T",
-            "ridges and valleys: the least principal curvature drawn, relative to the model's feature size "
-            "(default 0.1)",
-            [&surface](const std::string& v) {
-                const double t = parse_number("--ridge-threshold", v);
-                if (!(t >= 0.0 && t <= 1000.0)) throw Error("--ridge-threshold", "expected a number in [0, 1000]");
-                surface.ridge_threshold = t;
-            }};
+    return threshold_flag("--ridge-threshold",
+                          "ridges and valleys: the least principal curvature drawn, relative to the model's "
+                          "feature size (default 0.1)",
+                          surface.ridge_threshold);
 }
 
 Flag finder_flag(FinderKind& kind) {
