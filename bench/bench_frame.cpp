@@ -74,6 +74,33 @@ void BM_FrameSession(benchmark::State& state, const char* name) {
     state.counters["vis_ms"] = 1e3 * vis / n;
 }
 
+// The same frame with suggestive contours too (the model's curvature computed once, outside the
+// frames measured): the per-view curvature, the lines' extraction and their visibility.
+void BM_FrameSessionSuggestive(benchmark::State& state, const char* name) {
+    const auto* m = model(name);
+    if (!m) return state.SkipWithError("mesh not found (run scripts/setup.sh)");
+    m->curvature();
+    const auto cam = inkline::Camera::framing(m->topology().bounds, 1024, 1024);
+    inkline::ViewOptions opt;
+    opt.exact_hidden = false;
+    opt.surface.suggestive = true;
+    inkline::ViewSession session(*m, opt);
+    double lines = 0.0, lines_vis = 0.0, vis = 0.0;
+    std::size_t curves = 0;
+    for (auto _ : state) {
+        const auto& v = session.render(cam);
+        lines += v.drawing.stats.seconds_surface_lines;
+        lines_vis += v.drawing.stats.seconds_surface_visibility;
+        vis += v.drawing.stats.seconds_visibility;
+        curves = v.drawing.stats.surface_curves;
+    }
+    const double n = double(std::max<std::int64_t>(1, state.iterations()));
+    state.counters["suggestive_ms"] = 1e3 * lines / n;
+    state.counters["suggestive_vis_ms"] = 1e3 * lines_vis / n;
+    state.counters["vis_ms"] = 1e3 * vis / n;
+    state.counters["suggestive_curves"] = double(curves);
+}
+
 // A full frame (features + visibility, no drawing) with one visibility method.
 void BM_Frame(benchmark::State& state, const char* name, inkline::VisibilityMethod method, bool walk) {
     const auto* m = model(name);
@@ -153,6 +180,9 @@ int reg = [] {
         benchmark::RegisterBenchmark((std::string("features_session/") + n).c_str(), BM_FeaturesSession, n)
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_appel_session/") + n).c_str(), BM_FrameSession, n)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("frame_appel_session_suggestive/") + n).c_str(),
+                                     BM_FrameSessionSuggestive, n)
             ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark((std::string("frame_rays/") + n).c_str(), BM_Frame, n,
                                      inkline::VisibilityMethod::Rays, true)->Unit(benchmark::kMillisecond);

@@ -157,6 +157,16 @@ void ViewSession::finish(const Camera& camera) {
         v.spans = std::move(curves.spans);
     }
 
+    // (the curvature, once per model, and the lines' extraction are not visibility time)
+    double not_visibility = 0.0;
+    if (options.wants_surface_lines()) not_visibility = add_surface_lines(camera, rays, pierced);
+    else {
+        v.surface.clear();
+        d.stats.surface_curves = d.stats.curvature_invalid_vertices = 0;
+        d.stats.crossings_surface = d.stats.surface_ray_tests = 0;
+        d.stats.seconds_surface_lines = d.stats.seconds_surface_visibility = 0.0;
+    }
+
     d.camera = camera;
     DrawingStats& s = d.stats;
     s.triangles = model.topology().face_count();
@@ -165,9 +175,9 @@ void ViewSession::finish(const Camera& camera) {
     s.crease_edges = v.features.crease_edges.size();
     s.curves = v.features.curves.size();
     s.cusps = v.features.cusp_vertices.size();
-    s.crossings = curves.crossings;
+    s.crossings = curves.crossings + s.crossings_surface;
     s.pieces = d.pieces.size();
-    s.ray_tests = curves.ray_tests;
+    s.ray_tests = curves.ray_tests + s.surface_ray_tests;
     s.visibility = appel ? "appel" : "rays";
     s.clusters = as.clusters;
     s.walks = as.walks;
@@ -179,9 +189,38 @@ void ViewSession::finish(const Camera& camera) {
     s.finder = finder_name(v.features.stats.finder);
     s.fraction = v.features.stats.fraction;
     s.recall = -1.0;
-    s.seconds_features = features_seconds_;
-    s.seconds_visibility = seconds_since(t1) - index_seconds;
+    s.seconds_features = features_seconds_ + s.seconds_surface_lines;
+    s.seconds_visibility = seconds_since(t1) - index_seconds - not_visibility;
     s.seconds_total = s.seconds_features + s.seconds_visibility;
+}
+
+double ViewSession::add_surface_lines(const Camera& camera, const std::function<const RayCaster&()>& rays,
+                                      const std::vector<std::uint8_t>* pierced) {
+    const Model& model = *model_;
+    const MeshTopology& mesh = model.topology();
+    View& v = view_;
+    DrawingStats& s = v.drawing.stats;
+    // Once per model, like the ray-test index: not the view's time.
+    const auto tc = std::chrono::steady_clock::now();
+    const CurvatureField& field = model.curvature();
+    const auto t0 = std::chrono::steady_clock::now();
+    compute_view_curvature(field, mesh, camera, view_curvature_);
+    extract_surface_lines(mesh, field, view_curvature_, camera, options_.surface, v.surface);
+    const auto t1 = std::chrono::steady_clock::now();
+    SurfaceVisibilityOptions so;
+    so.propagate = options_.visibility == VisibilityMethod::Appel;
+    so.pierced_faces = pierced;
+    so.curve_offset = std::uint32_t(v.features.curves.size());
+    const SurfaceVisibilityStats st =
+        surface_visibility(mesh, v.features, camera, v.surface, rays, so, surface_scratch_, v.drawing.pieces);
+    v.spans.resize(v.drawing.pieces.size());  // surface pieces lie across faces: no edge spans
+    s.surface_curves = v.surface.curves.size();
+    s.curvature_invalid_vertices = field.invalid_vertices;
+    s.seconds_surface_lines = std::chrono::duration<double>(t1 - t0).count();
+    s.seconds_surface_visibility = seconds_since(t1);
+    s.surface_ray_tests = st.ray_tests;
+    s.crossings_surface = st.crossings;
+    return std::chrono::duration<double>(t1 - tc).count();  // what is not visibility time
 }
 
 double edges_length(const MeshTopology& mesh, const std::vector<std::uint32_t>& edges) {

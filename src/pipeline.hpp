@@ -14,6 +14,7 @@
 #include "scene/scene.hpp"
 #include "visibility/ray_caster.hpp"
 #include "visibility/appel.hpp"
+#include "visibility/surface_visibility.hpp"
 #include "visibility/visibility.hpp"
 
 namespace inkline {
@@ -46,6 +47,8 @@ public:
     // Per-vertex curvature and its derivative (curvature/curvature.hpp), computed on first use, once:
     // only the curvature line kinds need it, so a render without them never pays for it.
     const CurvatureField& curvature() const;
+    // The curvature if some view has asked for it already, else null (nothing is computed).
+    const CurvatureField* curvature_if_computed() const { return lazy_->curvature.get(); }
     double load_seconds() const { return load_seconds_; }
     const LoadReport& repairs() const { return repairs_; }
     // The file's cameras (scenes only; empty for mesh files), in file order.
@@ -81,12 +84,20 @@ struct ViewOptions {
     // Threads for the visibility stage's crossing search and pieces (large views only; the same
     // pieces as with one).
     int threads = 1;
+    // Lines across faces from the mesh's curvature (suggestive contours, smooth contours, ridges,
+    // valleys); none by default: the curvature is then never computed.
+    SurfaceLineOptions surface{.suggestive = false};
+    bool wants_surface_lines() const {
+        return surface.suggestive || surface.smooth_contour || surface.ridge || surface.valley;
+    }
 };
 
 struct View {
     Features features;
+    SurfaceCurves surface;                     // curves across faces (ViewOptions::surface), 3D
     Drawing drawing;                           // pieces with QI, in pixels, and statistics
     std::vector<std::vector<EdgeSpan>> spans;  // where each piece of the drawing lies on the mesh
+                                               // (empty for pieces of surface curves)
 };
 
 // Features -> visibility for one camera. The camera's near plane, when unset (0), is
@@ -109,6 +120,9 @@ public:
     // The visibility's threads for the next views (ViewOptions::threads; the same drawing).
     void set_threads(int threads) { options_.threads = threads < 1 ? 1 : threads; }
     int threads() const { return options_.threads; }
+    // The surface lines drawn from the next view on (their kinds and thresholds: a window's
+    // toggles and sliders); the curvature is computed on first need, once per model.
+    void set_surface_lines(const SurfaceLineOptions& surface) { options_.surface = surface; }
 
 private:
     void finish(const Camera& camera);
@@ -116,7 +130,13 @@ private:
     ViewOptions options_;
     SilhouetteFinder finder_;
     View view_;
+    // Appends the surface lines' pieces to the view's drawing; returns the seconds spent on the
+    // curvature and the extraction (the rest was their visibility).
+    double add_surface_lines(const Camera& camera, const std::function<const RayCaster&()>& rays,
+                             const std::vector<std::uint8_t>* pierced);
     PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
+    ViewCurvature view_curvature_;           // surface lines: per-vertex quantities of the view
+    SurfaceVisibilityScratch surface_scratch_;
     double features_seconds_ = 0.0;
 };
 

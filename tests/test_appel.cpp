@@ -244,17 +244,6 @@ INSTANTIATE_TEST_SUITE_P(Meshes, RandomCameras,
                              return s;
                          });
 
-// A sphere with a smooth bump (a smaller branch) in direction `dir`.
-TriangleMesh bumped_sphere(glm::dvec3 dir, double height, double width) {
-    TriangleMesh m = make_sphere({0, 0, 0}, 1.0, 160, 80);
-    dir = glm::normalize(dir);
-    for (auto& p : m.positions) {
-        const glm::dvec3 n = glm::normalize(p);
-        const double a = std::acos(std::clamp(glm::dot(n, dir), -1.0, 1.0));
-        p = n * (1.0 + height * std::exp(-(a * a) / (width * width)));
-    }
-    return m;
-}
 
 // The camera of the Figure 2 cases (and of the stage timings): the bumped unit sphere from +z.
 Camera figure2_camera() { return Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800); }
@@ -262,7 +251,7 @@ Camera figure2_camera() { return Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1
 // Figure 2 (b): the branch is behind the body. Its silhouette is an inner cluster whose offsets,
 // lower bound and parity prove it hidden: no ray test at all when hidden QI is not needed.
 TEST(Figure2, BranchInRearIsProvedHiddenWithoutRayTests) {
-    const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
+    const Model model(test::bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
     const Camera cam = figure2_camera();
     ViewOptions o;
     o.visibility = VisibilityMethod::Appel;
@@ -299,7 +288,7 @@ struct FlagsNoneAndClear {
 // clear keep it, and the branch in rear is still proved hidden by it (no walk, no ray test), as
 // with no flags at all.
 TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
-    const Model model(bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
+    const Model model(test::bumped_sphere({1.0, 0.0, -1.0}, 0.4, 0.35));
     const Camera cam = figure2_camera();
     ASSERT_TRUE(model.topology().closed);
     const FlagsNoneAndClear r(model, cam);
@@ -315,7 +304,7 @@ TEST(Figure2, AllClearSelfIntersectionFlagsKeepTheParityRule) {
 // Figure 2 (c): the branch in front: its silhouette is partly visible; propagation still agrees,
 // and walking (section 4.4) proves the enclosed cluster visible without a ray test.
 TEST(Figure2, BranchInFront) {
-    const Model model(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
+    const Model model(test::bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35));
     const Camera cam = figure2_camera();
     const Agreement g = compare(model, cam);
     EXPECT_EQ(g.wrong, 0.0);
@@ -346,7 +335,7 @@ TEST(VisibilityStages, SplitTheVisibilityTime) {
     };
     // The view of a sphere with a bump at `bump`, with or without exact hidden QI, by `method`.
     auto view_of = [&](glm::dvec3 bump, bool exact_hidden, VisibilityMethod method) {
-        const Model model(bumped_sphere(bump, 0.4, 0.35));
+        const Model model(test::bumped_sphere(bump, 0.4, 0.35));
         ViewOptions o;
         o.exact_hidden = exact_hidden;
         o.visibility = method;

@@ -15,6 +15,7 @@
 #include "model/primitives.hpp"
 #include "model/topology.hpp"
 #include "pipeline.hpp"
+#include "test_data.hpp"
 #include "visibility/appel_phases.hpp"
 
 namespace inkline {
@@ -25,17 +26,6 @@ MeshTopology topology(TriangleMesh m) {
     return build_topology(m, 40.0);
 }
 
-// A sphere with a smooth bump (a smaller branch) in direction `dir` (as in test_appel.cpp).
-TriangleMesh bumped_sphere(glm::dvec3 dir, double height, double width) {
-    TriangleMesh m = make_sphere({0, 0, 0}, 1.0, 160, 80);
-    dir = glm::normalize(dir);
-    for (auto& p : m.positions) {
-        const glm::dvec3 n = glm::normalize(p);
-        const double a = std::acos(std::clamp(glm::dot(n, dir), -1.0, 1.0));
-        p = n * (1.0 + height * std::exp(-(a * a) / (width * width)));
-    }
-    return m;
-}
 
 // One view of a mesh, its pieces built, ready for the phases.
 struct Scene {
@@ -318,7 +308,7 @@ void propagate(AppelPropagation& a) {
 // same clusters take a ray test each, and every piece is visible or hidden as the walks found.
 TEST(AppelPhases, WalksDecideWhatRayTestsWouldOtherwise) {
     const Camera cam = Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 35, 800, 800);
-    Scene s(bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35), cam);
+    Scene s(test::bumped_sphere({0.5, 0.0, 1.0}, 0.4, 0.35), cam);
     s.options.exact_hidden = false;
     AppelPropagation a = s.propagation();
     propagate(a);

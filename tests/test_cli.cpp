@@ -170,7 +170,7 @@ TEST(Cli, BadOptionsAndUnwritableOutput) {
     for (const auto& [flag, expect] : cases) {
         const fs::path out = d / "x.svg";
         const Result r = run("render " + m + " " + flag + " -o " + out.string(), d);
-        EXPECT_EQ(r.code, 1) << flag << ": " << r.err;
+        EXPECT_EQ(r.code, 2) << flag << ": " << r.err;
         EXPECT_EQ(lines(r.err), 1u) << flag << ": " << r.err;
         EXPECT_NE(r.err.find(expect), std::string::npos) << flag << ": " << r.err;
         EXPECT_FALSE(fs::exists(out)) << flag;
@@ -222,10 +222,10 @@ TEST(Cli, RandomizedFinderAndRecallInJson) {
     EXPECT_NE(r.out.find("finder: randomized"), std::string::npos) << r.out;
     // Bad settings are one-line errors naming the flag.
     const Result bad = run("render " + mesh("fandisk.off") + " --finder=lucky -o " + (d / "g.svg").string(), d);
-    EXPECT_EQ(bad.code, 1);
+    EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--finder: unknown finder 'lucky'"), std::string::npos) << bad.err;
     const Result zero = run("render " + mesh("fandisk.off") + " --fraction=0 -o " + (d / "g.svg").string(), d);
-    EXPECT_EQ(zero.code, 1);
+    EXPECT_EQ(zero.code, 2);
     EXPECT_NE(zero.err.find("--fraction"), std::string::npos) << zero.err;
     EXPECT_FALSE(fs::exists(d / "g.svg"));
 }
@@ -246,7 +246,7 @@ TEST(Cli, BenchFirstViewExhaustive) {
     EXPECT_EQ(std::stod(c[10]), 0.0);
     EXPECT_NE(r.out.find("coherence from an exhaustive first view"), std::string::npos) << r.out;
     const Result bad = run("bench tori:32 --first-view=full", d);
-    EXPECT_EQ(bad.code, 1);
+    EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--first-view: unknown value 'full'"), std::string::npos) << bad.err;
 }
 
@@ -286,7 +286,7 @@ TEST(Cli, BenchWritesCsvTableAndPlot) {
     EXPECT_NE(svg.find("<svg"), std::string::npos);
     // Unknown path: an error naming the flag, nothing written.
     const Result bad = run("bench tori:32 --path=spiral --csv=" + (d / "c.csv").string(), d);
-    EXPECT_EQ(bad.code, 1);
+    EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--path: unknown path 'spiral'"), std::string::npos) << bad.err;
     EXPECT_FALSE(fs::exists(d / "c.csv"));
 }
@@ -326,22 +326,22 @@ TEST(Cli, SharedFlagsHaveOneDefinition) {
         for (const auto& [flags, expect] : cases) {
             const Result r = run(cmd + " " + flags, d);
             // A bad value exits 1, as tests/test_bad_input.cpp pins for render (usage errors: 2).
-            EXPECT_EQ(r.code, 1) << cmd << " " << flags << ": " << r.err;
+            EXPECT_EQ(r.code, 2) << cmd << " " << flags << ": " << r.err;
             EXPECT_EQ(r.err, expect + "\n") << cmd << " " << flags;
         }
     // view and bench share --first-view, render and view --finder, --fraction and --lines.
     for (const std::string& cmd : {commands()[1], commands()[2]}) {
         const Result r = run(cmd + " --first-view=full", d);
-        EXPECT_EQ(r.code, 1) << cmd;
+        EXPECT_EQ(r.code, 2) << cmd;
         EXPECT_EQ(r.err, "inkline: --first-view: unknown value 'full' (expected exhaustive or random)\n") << cmd;
     }
     for (const std::string& cmd : {commands()[0], commands()[1]}) {
         for (const auto& [flags, expect] : std::vector<std::array<std::string, 2>>{
                  {"--fraction=0", "inkline: --fraction: expected a share in (0, 1]\n"},
                  {"--finder=lucky", "inkline: --finder: unknown finder 'lucky' (expected exhaustive or randomized)\n"},
-                 {"--lines=hatch", "inkline: --lines: unknown line kind 'hatch' (expected silhouette, crease, border)\n"}}) {
+                 {"--lines=hatch", "inkline: --lines: unknown line kind 'hatch' (expected silhouette, crease, border, suggestive, smooth-contour, ridge, valley)\n"}}) {
             const Result r = run(cmd + " " + flags, d);
-            EXPECT_EQ(r.code, 1) << cmd << " " << flags;
+            EXPECT_EQ(r.code, 2) << cmd << " " << flags;
             EXPECT_EQ(r.err, expect) << cmd << " " << flags;
         }
     }

@@ -809,7 +809,7 @@ TEST(FreeformCli, BadInputIsOneLineNamingTheProblem) {
     r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=iso --cones=0", d);
     EXPECT_EQ(r.code, 1);
     r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --subdivide=1", d);
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, 2);  // a flag that does not go with the model: a usage error
     EXPECT_NE(r.err.find("--subdivide: not for surface models"), std::string::npos) << r.err;
     std::ofstream(d / "bad.bpt") << "2\n3 3\n0 0 0\n";
     r = inkline_run((d / "bad.bpt").string() + " -o " + (d / "a.svg").string(), d);

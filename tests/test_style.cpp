@@ -178,7 +178,7 @@ std::string error_of(const std::string& json_text, const std::string& file = "/t
 }  // namespace
 
 TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
-    for (const char* name : {"clean", "technical", "sketchy", "charcoal", "ink-brush", "hatched"}) {
+    for (const char* name : {"clean", "technical", "sketchy", "charcoal", "ink-brush", "hatched", "illustration"}) {
         const inkline::Style s = inkline::load_style(name);
         EXPECT_EQ(s.name, name);
     }
@@ -190,11 +190,18 @@ TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
         EXPECT_EQ(file.hidden[i].dash_on, builtin.hidden[i].dash_on);
         EXPECT_EQ(file.hidden[i].dash_off, builtin.hidden[i].dash_off);
     }
-    for (const auto& l : file.lines) {
-        EXPECT_TRUE(l.plain());
-        EXPECT_EQ(l.rgb, 0u);
-        EXPECT_EQ(l.width, 1.0);
+    for (int k = 0; k < inkline::kPieceKindCount; ++k) {
+        const auto& l = file.lines[std::size_t(k)];
+        EXPECT_TRUE(l.plain()) << inkline::to_string(LineKind(k));
+        EXPECT_EQ(l.rgb, 0u) << inkline::to_string(LineKind(k));
+        EXPECT_EQ(l.width, builtin.lines[std::size_t(k)].width) << inkline::to_string(LineKind(k));
+        // Lines from curvature are drawn lighter than the outline (as the plain writers draw them).
+        EXPECT_EQ(l.width, inkline::kind_width(LineKind(k)) == 0.7 ? 0.7 : 1.0) << inkline::to_string(LineKind(k));
     }
+    // The illustration preset turns suggestive contours on.
+    const std::vector<LineKind> ill = inkline::load_style("illustration").kinds;
+    EXPECT_NE(std::find(ill.begin(), ill.end(), LineKind::Suggestive), ill.end());
+    EXPECT_TRUE(inkline::load_style("clean").kinds.empty());
     EXPECT_FALSE(file.draw_hidden);
     // The presets that are more than lines use what they say.
     EXPECT_TRUE(inkline::load_style("technical").draw_hidden);

@@ -90,6 +90,6 @@ TEST(StyleCli, BadStyleFileIsOneLineNamingFileAndKey) {
     EXPECT_FALSE(fs::exists(d / "x.png"));
     // A style has no JSON form.
     const Result j = run("render " + mesh("fandisk.off") + " -o " + (d / "x.json").string() + " --style=clean", d);
-    EXPECT_EQ(j.code, 1);
+    EXPECT_EQ(j.code, 2);
     EXPECT_NE(j.err.find("--style"), std::string::npos) << j.err;
 }

@@ -43,6 +43,8 @@ struct RenderArgs {
     bool walk = true;
     bool hidden = false, quiet = false, recall = false;
     FeatureOptions features;
+    SurfaceLineOptions surface{.suggestive = false};
+    bool lines_given = false;  // --lines (else a style's kinds apply)
     FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
@@ -61,8 +63,10 @@ FlagTable render_flags(RenderArgs& a) {
         .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
     t.group("Camera (default framed: the whole model in view, fov 30, +Y up)").add(camera_flags(a.camera));
     t.group("Lines")
-        .add(lines_flag(a.features))
+        .add(lines_flag(a.features, a.surface, &a.lines_given))
         .add(crease_flag(a.crease))
+        .add(suggestive_threshold_flag(a.surface))
+        .add(ridge_threshold_flag(a.surface))
         .add(switch_flag("--hidden", a.hidden, true, "also draw hidden lines (dashed, by QI)"))
         .add(subdivide_flag(a.subdivide));
     t.group("Silhouette finder")
@@ -101,20 +105,28 @@ int run_render(int argc, char** argv) {
     RenderArgs a;
     if (!render_flags(a).parse(argc, argv, 2, a.model)) return 0;  // --help
     const std::string out = a.output.empty() ? default_output(a.model) : a.output;
-    const Format format = output_format(out, a.format);  // refuse a bad format before any work
+    const Format format = [&] {  // refuse a bad format before any work (a usage error)
+        try {
+            return output_format(out, a.format);
+        } catch (const Error& e) {
+            throw BadValue(e.what());
+        }
+    }();
     std::optional<Style> style;  // read before any work: a bad style file fails fast
     if (!a.style.empty()) {
-        if (format == Format::Json) throw Error("--style", "a style draws svg, pdf or png; JSON keeps the exact pieces");
+        if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
         style = load_style(a.style);
+        if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
     }
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
     else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
-    if (freeform && a.subdivide > 0) throw Error("--subdivide", "not for surface models (use --tessellation=N)");
+    if (freeform && a.subdivide > 0) throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
     Model model = freeform ? Model(freeform->mesh(), a.crease) : Model::load(a.model, a.crease, a.subdivide);
     const Camera cam = make_camera(a.camera, model.topology());
     ViewOptions opt;
     opt.features = a.features;
+    opt.surface = a.surface;
     opt.visibility = a.visibility;
     opt.walk = a.walk;
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
@@ -194,6 +206,9 @@ int run_cli(int argc, char** argv) {
         if (cmd == "bench") return run_bench(argc, argv);
         if (cmd == "view") return run_view(argc, argv);
         throw Usage("unknown command '" + cmd + "'");
+    } catch (const BadValue& e) {
+        std::fprintf(stderr, "inkline: %s\n", e.what());
+        return 2;
     } catch (const Usage& e) {
         std::fprintf(stderr, "inkline: %s\n%s\n", e.what(), usage_line(e.command).c_str());
         return 2;

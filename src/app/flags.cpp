@@ -83,14 +83,22 @@ bool FlagTable::parse(int argc, char** argv, int first, std::string& model) cons
         const std::string key = arg.substr(0, eq);
         const Flag* f = find(key);
         if (!f) throw Usage("unknown option '" + key + "'", command_);
+        // A value the flag refuses is a usage error too (exit 2), in the flag's own one line.
+        auto set = [f](const std::string& value) {
+            try {
+                f->set(value);
+            } catch (const Error& e) {
+                throw BadValue(e.what());
+            }
+        };
         if (f->value.empty()) {
             if (eq != std::string::npos) throw Usage(key + " takes no value", command_);
-            f->set("");
+            set("");
         } else if (eq != std::string::npos) {
-            f->set(arg.substr(eq + 1));
+            set(arg.substr(eq + 1));
         } else if (!f->short_name.empty()) {  // `-o FILE`, `--output FILE`
             if (i + 1 >= argc) throw Usage(arg + " needs a file name", command_);
-            f->set(argv[++i]);
+            set(argv[++i]);
         } else {
             throw Usage(key + " needs a value (" + key + "=" + f->value + ")", command_);
         }
@@ -212,7 +220,7 @@ Camera make_camera(const CameraFlags& c, const MeshTopology& mesh) {
         cam = c.ortho ? Camera::orthographic(eye, target, up, *c.ortho, w, h)
                       : Camera::perspective(eye, target, up, fov, w, h);
     } catch (const std::invalid_argument& e) {
-        throw Error("camera", e.what());
+        throw BadValue(std::string("camera: ") + e.what());
     }
     if (c.near) cam.set_near(*c.near);
     return cam;
@@ -247,18 +255,77 @@ Flag crease_flag(double& degrees) {
             }};
 }
 
-Flag lines_flag(FeatureOptions& features) {
-    return {"--lines", "KIND,...", "line kinds drawn: silhouette, crease, border (default all three)",
-            [&features](const std::string& v) {
-                for (auto& k : features.kinds) k = false;
+namespace {
+const char* const kLineKindNames = "silhouette, crease, border, suggestive, smooth-contour, ridge, valley";
+// The switch of a surface line kind (curvature/curvature.hpp); null for the mesh edge kinds.
+bool* surface_switch(SurfaceLineOptions& surface, LineKind k) {
+    switch (k) {
+        case LineKind::Suggestive: return &surface.suggestive;
+        case LineKind::SmoothContour: return &surface.smooth_contour;
+        case LineKind::Ridge: return &surface.ridge;
+        case LineKind::Valley: return &surface.valley;
+        default: return nullptr;
+    }
+}
+// A kind the drawing of a mesh can hold (not the freeform line art, which has flags of its own).
+bool parse_drawn_kind(const std::string& name, LineKind& out) {
+    for (int i = 0; i < kPieceKindCount; ++i)
+        if (LineKind(i) != LineKind::Freeform && name == to_string(LineKind(i))) {
+            out = LineKind(i);
+            return true;
+        }
+    return false;
+}
+}  // namespace
+
+void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface) {
+    for (auto& k : features.kinds) k = false;
+    surface.suggestive = surface.smooth_contour = surface.ridge = surface.valley = false;
+    for (LineKind k : kinds) {
+        if (bool* on = surface_switch(surface, k)) *on = true;
+        else if (int(k) < kLineKindCount) features.kinds[int(k)] = true;
+    }
+}
+
+Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given) {
+    return {"--lines", "KIND,...", std::string("line kinds drawn: ") + kLineKindNames + " (default the first three)",
+            [&features, &surface, given](const std::string& v) {
+                std::vector<LineKind> kinds;
                 std::stringstream ss(v);
                 for (std::string name; std::getline(ss, name, ',');) {
                     LineKind kind;
-                    if (!parse_line_kind(name, kind))
-                        throw Error("--lines", "unknown line kind '" + name + "' (expected silhouette, crease, border)");
-                    features.kinds[int(kind)] = true;
+                    if (!parse_drawn_kind(name, kind))
+                        throw Error("--lines", "unknown line kind '" + name + "' (expected " + kLineKindNames + ")");
+                    kinds.push_back(kind);
                 }
+                set_line_kinds(kinds, features, surface);
+                if (given) *given = true;
             }};
+}
+
+namespace {
+// A threshold of the lines from curvature: a number in [0, 1000], relative to the model's size.
+Flag threshold_flag(const std::string& name, const std::string& help, double& target) {
+    return {name, "T", help, [name, &target](const std::string& v) {
+                const double t = parse_number(name, v);
+                if (!(t >= 0.0 && t <= 1000.0)) throw Error(name, "expected a number in [0, 1000]");
+                target = t;
+            }};
+}
+}  // namespace
+
+Flag suggestive_threshold_flag(SurfaceLineOptions& surface) {
+    return threshold_flag("--suggestive-threshold",
+                          "suggestive contours: how steeply the radial curvature must rise across them, relative "
+                          "to the model's feature size (default 0.01; 0 draws every zero of it, larger draws fewer)",
+                          surface.suggestive_threshold);
+}
+
+Flag ridge_threshold_flag(SurfaceLineOptions& surface) {
+    return threshold_flag("--ridge-threshold",
+                          "ridges and valleys: the least principal curvature drawn, relative to the model's "
+                          "feature size (default 0.1)",
+                          surface.ridge_threshold);
 }
 
 Flag finder_flag(FinderKind& kind) {

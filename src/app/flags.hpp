@@ -7,9 +7,9 @@
 // keeping today's `--key=value` grammar and the one-line errors the tests pin would mean
 // overriding most of it.
 //
-// Errors: a bad value throws inkline::Error "FLAG: problem" (exit 1, as the tests pin); a word
-// that is no flag of the command, or a flag without its value, throws Usage (exit 2, with a
-// pointer to the command's --help).
+// Errors: a bad value throws BadValue "FLAG: problem" (exit 2, one line); a word that is no flag
+// of the command, or a flag without its value, throws Usage (exit 2, with a pointer to the
+// command's --help).
 #pragma once
 
 #include <cstdint>
@@ -31,6 +31,12 @@ struct Usage : std::runtime_error {
     explicit Usage(const std::string& what, std::string command = "")
         : std::runtime_error(what), command(std::move(command)) {}
     std::string command;
+};
+
+// A value a flag refuses ("--crease: expected an angle in [0, 180] degrees"): a usage error
+// (exit 2) printed as that one line.
+struct BadValue : std::runtime_error {
+    using std::runtime_error::runtime_error;
 };
 
 struct Flag {
@@ -89,7 +95,13 @@ Camera make_camera(const CameraFlags& flags, const MeshTopology& mesh);
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);
 Flag seed_flag(std::uint64_t& seed);
 Flag crease_flag(double& degrees);
-Flag lines_flag(FeatureOptions& features);
+// --lines: mesh edge kinds (silhouette, crease, border) and surface line kinds (suggestive, ...);
+// *given set when the flag was given (a style's kinds apply only when it was not).
+Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given = nullptr);
+// Turns on exactly `kinds` (a style's "kinds", or --lines).
+void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface);
+Flag suggestive_threshold_flag(SurfaceLineOptions& surface);
+Flag ridge_threshold_flag(SurfaceLineOptions& surface);
 Flag finder_flag(FinderKind& kind);
 Flag fraction_flag(double& share);
 Flag first_view_flag(bool& first_full);

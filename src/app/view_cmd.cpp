@@ -18,7 +18,7 @@ int run_view(int argc, char** argv) {
     std::string model_path;
     CameraFlags camera;
     double crease = 40.0;
-    bool frames_given = false;
+    bool frames_given = false, lines_given = false;
     // A window follows one camera path: its randomized finder starts from an exhaustive view by
     // default (then follows it exactly), since a first view with holes keeps them, and each hole
     // leaves a cluster inconsistent, decided by a ray test per piece.
@@ -37,8 +37,10 @@ int run_view(int argc, char** argv) {
     flags.group("Camera (default framed: the whole model in view, fov 30, +Y up)")
         .add(camera_flags(camera));
     flags.group("Lines")
-        .add(lines_flag(o.view.features))
+        .add(lines_flag(o.view.features, o.view.surface, &lines_given))
         .add(crease_flag(crease))
+        .add(suggestive_threshold_flag(o.view.surface))
+        .add(ridge_threshold_flag(o.view.surface))
         .add(switch_flag("--hidden", o.hidden, true, "also draw hidden lines (grey, dashed by QI)"))
         .add(subdivide_flag(o.subdivide))
         .add(switch_flag("--shading", o.shading, true, "flat grey triangles under the lines"));
@@ -78,7 +80,10 @@ int run_view(int argc, char** argv) {
               }})
         .add(switch_flag("--fps", o.fps, true, "with --frames: print the frames per second and where the time goes"));
     if (!flags.parse(argc, argv, 2, model_path)) return 0;  // --help
-    if (!o.style.empty()) load_style(o.style);  // a bad style file fails before the window opens
+    if (!o.style.empty()) {  // a bad style file fails before the window opens
+        const Style style = load_style(o.style);
+        if (!lines_given && !style.kinds.empty()) set_line_kinds(style.kinds, o.view.features, o.view.surface);
+    }
     if (!frames_given && (o.orbit || !o.screenshot.empty() || o.fps || !o.export_path.empty()))
         throw Usage("--orbit, --screenshot, --export and --fps drive the window for --frames=N frames", "view");
     o.model_path = model_path;

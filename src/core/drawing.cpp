@@ -8,8 +8,22 @@ const char* to_string(LineKind k) {
         case LineKind::Border: return "border";
         case LineKind::Crease: return "crease";
         case LineKind::Freeform: return "freeform";
+        case LineKind::Suggestive: return "suggestive";
+        case LineKind::SmoothContour: return "smooth-contour";
+        case LineKind::Ridge: return "ridge";
+        case LineKind::Valley: return "valley";
     }
     return "unknown";
+}
+
+double kind_width(LineKind k) {
+    switch (k) {
+        case LineKind::Freeform: return 0.5;
+        case LineKind::Suggestive:
+        case LineKind::Ridge:
+        case LineKind::Valley: return 0.7;
+        default: return 1.0;
+    }
 }
 
 bool parse_line_kind(const std::string& s, LineKind& out) {

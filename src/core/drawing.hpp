@@ -14,10 +14,19 @@
 namespace inkline {
 
 // Freeform: line-art strokes on freeform surfaces (src/freeform/), not a feature of the mesh.
-enum class LineKind : std::uint8_t { Silhouette = 0, Border = 1, Crease = 2, Freeform = 3 };
+// Suggestive .. Valley: curves across faces from the mesh's curvature (src/curvature/), not along
+// mesh edges.
+enum class LineKind : std::uint8_t {
+    Silhouette = 0, Border = 1, Crease = 2, Freeform = 3,
+    Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7
+};
 inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
-inline constexpr int kPieceKindCount = 4;  // every kind a Drawing can hold (writers draw these)
+inline constexpr int kPieceKindCount = 8;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
+// Width of a kind's lines as a share of the outline's, in every writer and the window: freeform
+// strokes are hatching, and lines from curvature suggest shape inside the outline, so both are
+// drawn lighter than the lines around them.
+double kind_width(LineKind k);
 // Parses "silhouette", "border", "crease" (the feature kinds); returns false for anything else.
 bool parse_line_kind(const std::string& s, LineKind& out);
 
@@ -56,6 +65,12 @@ struct DrawingStats {
     // ends, constraints, bounds); the walks; the ray tests. They sum to seconds_visibility,
     // but for its few clock reads.
     double seconds_pieces = 0.0, seconds_propagation = 0.0, seconds_walks = 0.0, seconds_ray_tests = 0.0;
+    // Surface lines (suggestive contours, smooth contours, ridges, valleys), when asked for: their
+    // curves, the vertices whose curvature could not be estimated (they draw none), the
+    // crossings and ray tests of their visibility (included in the totals above), the per-view
+    // curvature and extraction time, and their visibility's time (included in seconds_visibility).
+    std::size_t surface_curves = 0, curvature_invalid_vertices = 0, crossings_surface = 0, surface_ray_tests = 0;
+    double seconds_surface_lines = 0.0, seconds_surface_visibility = 0.0;
     double seconds_output = 0.0;
     double seconds_total = 0.0;
 };

@@ -63,9 +63,11 @@ struct SurfaceCurves {
     };
     std::vector<Curve> curves;
     std::vector<glm::dvec3> points;           // world positions
-    std::vector<std::uint32_t> point_edge;    // the mesh edge each point lies on
+    std::vector<std::uint32_t> point_edge;    // the mesh edge each point lies on (at a vertex: one
+                                              // of its edges; UINT32_MAX: inside a face, where a
+                                              // test cut the curve)
     std::vector<std::uint32_t> segment_face;  // face of the segment from point i to i+1
-                                              // (parallel to points; unused at a curve's last point)
+                                              // (parallel to points; UINT32_MAX at a curve's last point)
     std::vector<float> strength;              // per point in [0, 1]: how far the line passes its
                                               // test (1: well above the threshold), for fading
     void clear();
@@ -73,9 +75,11 @@ struct SurfaceCurves {
 
 struct SurfaceLineOptions {
     bool suggestive = true, smooth_contour = false, ridge = false, valley = false;
-    // Suggestive contours: Dw kr / |w| above threshold / feature_size^2 (dimensionless), and n.v
-    // above the angle test (DeCarlo et al. 2004).
-    double suggestive_threshold = 0.05;  // default chosen to look clean on the sample meshes
+    // Thresholds are made dimensionless with rtsc's feature size (surface_lines.cpp says why not
+    // CurvatureField::feature_size), and default to rtsc's values.
+    // Suggestive contours: Dw kr / n.v above threshold / feature_size^2 (both tests of DeCarlo
+    // et al. 2004 in one, as in rtsc).
+    double suggestive_threshold = 0.01;
     double suggestive_max_ndotv = 1.0;   // (if used) reject where the view is nearly head-on
     // Ridges and valleys: principal curvature magnitude above threshold / feature_size.
     double ridge_threshold = 0.1;

@@ -46,9 +46,6 @@ constexpr std::array<LineStyle, 4> kStyles{{
     {"hidden-qi3plus", 0xcccccc, 1, 4, 0.4},  // QI >= 3
 }};
 
-// Freeform strokes are hatching: drawn thinner than the feature lines around them.
-double kind_width(LineKind k) { return k == LineKind::Freeform ? 0.5 : 1.0; }
-
 double line_width(const Drawing& d, const OutputOptions& o) {
     return o.line_width > 0 ? o.line_width : std::max(1.0, 1.5 * d.camera.height() / 1024.0);
 }
@@ -310,6 +307,12 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
+    if (s.surface_curves > 0 || s.seconds_surface_lines > 0.0) {
+        stats["surface_curves"] = s.surface_curves;
+        stats["curvature_invalid_vertices"] = s.curvature_invalid_vertices;
+        stats["seconds"]["surface_lines"] = s.seconds_surface_lines;
+        stats["seconds"]["visibility_stages"]["surface_lines"] = s.seconds_surface_visibility;
+    }
     json polylines = json::array();
     for (const Piece& p : d.pieces) {
         if (!is_written(p, o)) continue;
@@ -389,40 +392,61 @@ double tick_step(double span, int count) {
 }
 }  // namespace
 
+namespace {
+constexpr double kPlotW = 720, kPlotH = 480, kPlotL = 80, kPlotR = 200, kPlotT = 50, kPlotB = 60;
+
+// The plot's axes: ranges padded around the points, y on a log scale when the values span more
+// than a factor of 20 (whole decades), else linear from 0; the ticks of y.
+struct PlotAxes {
+    double x0 = 1e300, x1 = -1e300, y0 = 0.0, y1 = 0.0;
+    bool log_y = false;
+    std::vector<double> yticks;
+    double X(double x) const { return kPlotL + (x - x0) / (x1 - x0) * (kPlotW - kPlotL - kPlotR); }
+    double Y(double y) const {
+        const double t = log_y ? std::log10(std::max(y, y0) / y0) / std::log10(y1 / y0) : (y - y0) / (y1 - y0);
+        return kPlotH - kPlotB - t * (kPlotH - kPlotT - kPlotB);
+    }
+};
+
+PlotAxes plot_axes(const std::vector<PlotPoint>& points) {
+    PlotAxes a;
+    double ymin = 1e300, ymax = 0.0;
+    for (const auto& p : points) {
+        a.x0 = std::min(a.x0, p.x);
+        a.x1 = std::max(a.x1, p.x);
+        if (p.y > 0.0) ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+    }
+    if (points.empty()) a.x0 = 0.0, a.x1 = 1.0;
+    if (!(ymax > 0.0)) ymin = 1.0, ymax = 1.0;
+    if (a.x1 - a.x0 < 1e-3) a.x0 -= 5e-4, a.x1 += 5e-4;
+    const double xpad = 0.05 * (a.x1 - a.x0);
+    a.x0 -= xpad;
+    a.x1 += xpad;
+    a.log_y = ymax / ymin > 20.0;
+    a.y0 = a.log_y ? std::pow(10.0, std::floor(std::log10(ymin))) : 0.0;
+    a.y1 = a.log_y ? std::pow(10.0, std::ceil(std::log10(ymax))) : ymax * 1.1;
+    if (a.log_y) {
+        for (double d = a.y0; d <= a.y1 * 1.0001; d *= 10.0)
+            for (double m : {1.0, 2.0, 5.0})
+                if (m * d <= a.y1 * 1.0001) a.yticks.push_back(m * d);
+    } else {
+        const double ys = tick_step(a.y1 - a.y0, 6);
+        for (double y = 0.0; y <= a.y1 + 1e-12; y += ys) a.yticks.push_back(std::round(y / ys) * ys);
+    }
+    return a;
+}
+}  // namespace
+
 std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::string& title,
                              const std::string& x_label, const std::string& y_label,
                              const std::vector<std::string>& series_names) {
-    constexpr double W = 720, H = 480, L = 80, R = 200, T = 50, B = 60;
-    double x0 = 1e300, x1 = -1e300, ymin = 1e300, ymax = 0.0;
-    for (const auto& p : points) {
-        x0 = std::min(x0, p.x);
-        x1 = std::max(x1, p.x);
-        if (p.y > 0.0) ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
-    }
-    if (points.empty()) x0 = 0.0, x1 = 1.0;
-    if (!(ymax > 0.0)) ymin = 1.0, ymax = 1.0;
-    if (x1 - x0 < 1e-3) x0 -= 5e-4, x1 += 5e-4;
-    const double xpad = 0.05 * (x1 - x0);
-    x0 -= xpad;
-    x1 += xpad;
-    // y on a log scale when the values span more than a factor of 20 (whole decades), else linear from 0.
-    const bool log_y = ymax / ymin > 20.0;
-    const double y0 = log_y ? std::pow(10.0, std::floor(std::log10(ymin))) : 0.0;
-    const double y1 = log_y ? std::pow(10.0, std::ceil(std::log10(ymax))) : ymax * 1.1;
-    auto X = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
-    auto Y = [&](double y) {
-        const double t = log_y ? std::log10(std::max(y, y0) / y0) / std::log10(y1 / y0) : (y - y0) / (y1 - y0);
-        return H - B - t * (H - T - B);
-    };
-    std::vector<double> yticks;
-    if (log_y) {
-        for (double d = y0; d <= y1 * 1.0001; d *= 10.0)
-            for (double m : {1.0, 2.0, 5.0})
-                if (m * d <= y1 * 1.0001) yticks.push_back(m * d);
-    } else {
-        const double ys = tick_step(y1 - y0, 6);
-        for (double y = 0.0; y <= y1 + 1e-12; y += ys) yticks.push_back(std::round(y / ys) * ys);
-    }
+    constexpr double W = kPlotW, H = kPlotH, L = kPlotL, R = kPlotR, T = kPlotT, B = kPlotB;
+    const PlotAxes axes = plot_axes(points);
+    const double x0 = axes.x0, x1 = axes.x1;
+    const bool log_y = axes.log_y;
+    auto X = [&](double x) { return axes.X(x); };
+    auto Y = [&](double y) { return axes.Y(y); };
+    const std::vector<double>& yticks = axes.yticks;
 
     std::string svg;
     cairo_surface_t* surface = cairo_svg_surface_create_for_stream(append_to_string, &svg, W, H);

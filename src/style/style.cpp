@@ -27,6 +27,9 @@ Style Style::clean() {
     Style s;
     s.name = "clean";
     for (auto& l : s.lines) l = LineStyle{};
+    // Lines from curvature suggest shape inside the outline: lighter than it (as the plain
+    // writers draw them, output/writers.cpp).
+    for (LineKind k : {LineKind::Suggestive, LineKind::Ridge, LineKind::Valley}) s.lines[std::size_t(k)].width = 0.7;
     const auto hidden = [](std::uint32_t rgb, double on, double off, double w) {
         LineStyle l;
         l.rgb = rgb;
@@ -146,6 +149,24 @@ struct Parser {
         return double(be32(16)) / double(be32(20));
     }
 
+    // The line kinds a style turns on: names of mesh and surface line kinds.
+    std::vector<LineKind> kinds(const json& j, const std::string& path) const {
+        std::string names;
+        for (int i = 0; i < kPieceKindCount; ++i)
+            if (LineKind(i) != LineKind::Freeform) names += std::string(names.empty() ? "" : ", ") + to_string(LineKind(i));
+        if (!j.is_array() || j.empty()) fail(path, "expected a non-empty array of line kinds (" + names + ")");
+        std::vector<LineKind> out;
+        for (const json& n : j) {
+            int found = -1;
+            for (int i = 0; i < kPieceKindCount && found < 0; ++i)
+                if (n.is_string() && LineKind(i) != LineKind::Freeform && n.get<std::string>() == to_string(LineKind(i)))
+                    found = i;
+            if (found < 0) fail(path, "unknown line kind " + n.dump() + " (expected one of " + names + ")");
+            out.push_back(LineKind(found));
+        }
+        return out;
+    }
+
     LineStyle line(const json& j, const std::string& path, LineStyle l) const {
         check_keys(j, path,
                    {"colour", "opacity", "width", "width_rule", "taper_length", "taper_min", "width_by_depth",
@@ -219,13 +240,14 @@ struct Parser {
         s.file = file;
         s.name = fs::path(file).stem().string();
         check_keys(root, "", {"name", "description", "background", "base_width", "draw_hidden", "light", "chain",
-                              "lines", "hidden", "hatching"});
+                              "kinds", "lines", "hidden", "hatching"});
         for (const auto& [k, v] : root.items()) {
             if (k == "name") s.name = string(v, k);
             else if (k == "description") string(v, k);
             else if (k == "background") s.background = colour(v, k);
             else if (k == "base_width") s.base_width = number(v, k, 0, 1000);
             else if (k == "draw_hidden") s.draw_hidden = boolean(v, k);
+            else if (k == "kinds") s.kinds = kinds(v, k);
             else if (k == "light") light(v, k, s.light_at_camera, s.light);
             else if (k == "chain") {
                 check_keys(v, k, {"join", "max_turn_degrees", "join_distance"});
@@ -236,7 +258,9 @@ struct Parser {
                     else s.join_distance = number(v2, key, 0, 1);
                 }
             } else if (k == "lines") {
-                check_keys(v, k, {"default", "silhouette", "crease", "border", "freeform"});
+                std::set<std::string> kinds{"default"};
+                for (int i = 0; i < kPieceKindCount; ++i) kinds.insert(to_string(LineKind(i)));
+                check_keys(v, k, kinds);
                 LineStyle base = s.lines[0];
                 if (v.contains("default")) base = line(v["default"], "lines.default", base);
                 for (int i = 0; i < kPieceKindCount; ++i) {

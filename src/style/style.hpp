@@ -72,6 +72,8 @@ struct Style {
     std::uint32_t background = 0xffffff;
     double base_width = 0.0;                  // px; <= 0: max(1, 1.5 * height / 1024)
     bool draw_hidden = false;                 // hidden lines even without --hidden
+    std::vector<LineKind> kinds;              // line kinds the style turns on when the command
+                                              // names none (--lines); empty: the command's default
     bool light_at_camera = true;              // light for width_by_light (camera, or a direction:)
     glm::dvec3 light{0.0, 1.0, 0.0};
     bool chain = true;                        // join pieces into strokes

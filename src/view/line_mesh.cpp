@@ -59,10 +59,11 @@ void build_line_mesh(const Drawing& d, const LineMeshOptions& o, std::vector<Lin
     std::vector<glm::dvec2> points;
     for (int style = 3; style >= 0; --style) {
         if (style > 0 && !o.hidden) continue;  // (hidden pieces are not drawn: no pass over them)
-        const float half = float(0.5 * width * kStyles[std::size_t(style)].width_scale);
-        const float reach = half + 1.0f;  // one pixel of antialiasing fringe
+        const double style_width = width * kStyles[std::size_t(style)].width_scale;
         for (const Piece& p : d.pieces) {
-            if (p.points.size() < 2 || !o.kinds[int(p.kind)]) continue;
+            if (p.points.size() < 2 || !o.kinds[std::size_t(p.kind)]) continue;
+            const float half = float(0.5 * style_width * kind_width(p.kind));
+            const float reach = half + 1.0f;  // one pixel of antialiasing fringe
             if (std::min(p.qi, 3) != style) continue;
             if (!finite(p)) continue;
             if (o.simplify_px > 0.0) simplify(p.points, o.simplify_px, points);

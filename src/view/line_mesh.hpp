@@ -4,6 +4,8 @@
 // them). No GL here: the window uploads the vertices as they are.
 #pragma once
 
+#include <array>
+
 #include <vector>
 
 #include "core/drawing.hpp"
@@ -31,7 +33,12 @@ const LineStyleGl& line_style(int style);
 
 struct LineMeshOptions {
     bool hidden = false;               // hidden pieces too
-    bool kinds[kLineKindCount] = {true, true, true};
+    std::array<bool, kPieceKindCount> kinds = all_kinds();  // by LineKind: which are drawn
+    static std::array<bool, kPieceKindCount> all_kinds() {
+        std::array<bool, kPieceKindCount> k;
+        k.fill(true);
+        return k;
+    }
     double width = 0.0;                // visible stroke width in px; <= 0: max(1, 1.5 * height / 1024)
     double simplify_px = 0.0;          // > 0: drop points within this many pixels of the line kept
 };

@@ -51,6 +51,10 @@ void ViewScheduler::set_fraction(double fraction) {
     for (int i = 0; i < lane_count_; ++i) lanes_[i]->session->finder().set_fraction(fraction);
 }
 
+void ViewScheduler::set_surface_lines(const SurfaceLineOptions& surface) {
+    for (int i = 0; i < lane_count_; ++i) lanes_[i]->session->set_surface_lines(surface);
+}
+
 // Two sessions taking the views in turn each follow a view two views back, so each finder's follow
 // costs about twice as much: two at once wins while the camera's step is small, one at a time
 // above (bench/results/view_fps.md, "two views at once while the camera moves slowly").

@@ -64,6 +64,9 @@ public:
     void reset(const ViewOptions& options);
     // The randomized finders' fraction of edges sampled (no view in flight).
     void set_fraction(double fraction);
+    // The surface lines of the views started from now on (the panel's toggles and sliders), for
+    // every session; call while no view is in flight.
+    void set_surface_lines(const SurfaceLineOptions& surface);
 
     // Views to compute at once now, 1 or 2: fixed by in_flight, else by the camera's step between
     // the views started (smoothed over about four views, from the fourth step on), two below

@@ -216,7 +216,7 @@ private:
 
     // Options change only while the sessions are idle.
     void apply_option_changes() {
-        if (crease_dirty_ || fraction_dirty_) {
+        if (crease_dirty_ || fraction_dirty_ || surface_dirty_) {
             StageTimes ignored;
             take_all(ignored);
         }
@@ -232,6 +232,11 @@ private:
         if (fraction_dirty_) {
             scheduler_.set_fraction(fraction_);
             fraction_dirty_ = false;
+            force_ = true;
+        }
+        if (surface_dirty_) {  // the same sessions: only the lines' extraction changes
+            scheduler_.set_surface_lines(vopt_.surface);
+            surface_dirty_ = false;
             force_ = true;
         }
     }
@@ -375,6 +380,7 @@ private:
 
     void draw_panel();
     void panel_lines();
+    void panel_surface_lines();
     void panel_finder();
     void panel_statistics();
     void panel_camera_and_export();
@@ -395,7 +401,7 @@ private:
     FrameStats frame_stats_;
     ViewOptions vopt_;
     FinishedView shown_;  // the view drawn (its view is null after new sessions), at shown_.camera
-    bool force_ = false, fraction_dirty_ = false;  // a new view needed though the camera is the same
+    bool force_ = false, fraction_dirty_ = false, surface_dirty_ = false;  // a new view needed though the camera is the same
     int unchanged_ = 0;     // frames in a row without a new view
     std::vector<std::string> style_names_;  // the panel's choices: GL lines, the presets, a --style file
     int style_index_ = 0;
@@ -419,10 +425,23 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
     std::snprintf(buf, sizeof buf, " --crease=%g", double(crease_));
     c += buf;
     std::string kinds;
+    auto add_kind = [&](LineKind k) { kinds += std::string(kinds.empty() ? "" : ",") + to_string(k); };
     for (int k = 0; k < kLineKindCount; ++k)
-        if (vopt_.features.kinds[k]) kinds += std::string(kinds.empty() ? "" : ",") + to_string(LineKind(k));
-    if (kinds.empty()) kinds = "none";
-    c += " --lines=" + kinds;
+        if (vopt_.features.kinds[k]) add_kind(LineKind(k));
+    const SurfaceLineOptions& s = vopt_.surface;
+    if (s.suggestive) add_kind(LineKind::Suggestive);
+    if (s.smooth_contour) add_kind(LineKind::SmoothContour);
+    if (s.ridge) add_kind(LineKind::Ridge);
+    if (s.valley) add_kind(LineKind::Valley);
+    c += " --lines=" + kinds;  // (empty: no line kind, as render takes it)
+    if (s.suggestive && s.suggestive_threshold != SurfaceLineOptions{}.suggestive_threshold) {
+        std::snprintf(buf, sizeof buf, " --suggestive-threshold=%.17g", s.suggestive_threshold);
+        c += buf;
+    }
+    if ((s.ridge || s.valley) && s.ridge_threshold != SurfaceLineOptions{}.ridge_threshold) {
+        std::snprintf(buf, sizeof buf, " --ridge-threshold=%.17g", s.ridge_threshold);
+        c += buf;
+    }
     if (vopt_.visibility == VisibilityMethod::Rays) c += " --visibility=rays";
     if (!vopt_.walk) c += " --no-walk";
     // (Followed exactly from an exhaustive first view, the randomized finder's silhouette is the
@@ -456,11 +475,37 @@ void Viewer::draw_panel() {
     ImGui::End();
 }
 
+// Lines from the surface's curvature: toggles and thresholds, applied from the next view on.
+void Viewer::panel_surface_lines() {
+    SurfaceLineOptions& s = vopt_.surface;
+    surface_dirty_ |= ImGui::Checkbox("suggestive", &s.suggestive);
+    ImGui::SameLine();
+    surface_dirty_ |= ImGui::Checkbox("smooth contour", &s.smooth_contour);
+    surface_dirty_ |= ImGui::Checkbox("ridge", &s.ridge);
+    ImGui::SameLine();
+    surface_dirty_ |= ImGui::Checkbox("valley", &s.valley);
+    if (s.suggestive) {
+        float t = float(s.suggestive_threshold);
+        if (ImGui::SliderFloat("SC threshold", &t, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
+            s.suggestive_threshold = t;
+            surface_dirty_ = true;
+        }
+    }
+    if (s.ridge || s.valley) {
+        float t = float(s.ridge_threshold);
+        if (ImGui::SliderFloat("RV threshold", &t, 0.0f, 2.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
+            s.ridge_threshold = t;
+            surface_dirty_ = true;
+        }
+    }
+}
+
 void Viewer::panel_lines() {
     for (int k = 0; k < kLineKindCount; ++k) {
         if (k > 0) ImGui::SameLine();
         dirty_ |= ImGui::Checkbox(to_string(LineKind(k)), &vopt_.features.kinds[k]);
     }
+    panel_surface_lines();
     dirty_ |= ImGui::Checkbox("hidden lines (dashed by QI)", &hidden_);
     ImGui::Checkbox("shading under the lines", &shading_);
     const int before = style_index_;
