@@ -35,6 +35,7 @@ struct BenchArgs {
     double arc = 360.0;  // orbit: degrees covered by the frames
     std::uint64_t seed = 1;
     double crease = 40.0;
+    bool strict = false;  // --strict: refuse what tolerant loading repairs
     std::vector<double> fractions{0.0005, 0.002, 0.01, 0.05};
     VisibilityMethod visibility = VisibilityMethod::Appel;
 };
@@ -56,7 +57,7 @@ FlagTable bench_flags(BenchArgs& a) {
         .add(frames_flag(a.frames, "frames along the path (default 60)"))
         .add(arc_flag(a.arc, "orbit: degrees covered by the frames"))
         .add(size_flag(a.width, a.height));
-    t.group("Model").add(subdivide_flag(a.subdivide)).add(crease_flag(a.crease));
+    t.group("Model").add(subdivide_flag(a.subdivide)).add(crease_flag(a.crease)).add(strict_flag(a.strict));
     t.group("Silhouette finders")
         .add({"--fractions", "F,F,...", "randomized finder's shares of the edges, each in (0, 1] "
                                         "(default 0.0005,0.002,0.01,0.05)",
@@ -89,7 +90,7 @@ Model load_model(const BenchArgs& a) {
                                             make_torus({1, 0, 0}, {0, 1, 0}, 1.0, 0.3, n, n / 2));
         return Model(hilbert_ordered(subdivide_loop(t, a.subdivide)), a.crease);
     }
-    return Model::load(a.model, a.crease, a.subdivide);
+    return load_model_file(a.model, a.strict, a.crease, a.subdivide);
 }
 
 // Smooth camera paths around the model's bounding box (R: half diagonal, D: framing distance).

@@ -42,6 +42,7 @@ struct RenderArgs {
     int subdivide = 0;
     bool walk = true;
     bool hidden = false, quiet = false, recall = false;
+    bool strict = false;  // --strict: refuse what tolerant loading repairs
     FeatureOptions features;
     SurfaceLineOptions surface{.suggestive = false};
     bool lines_given = false;  // --lines (else a style's kinds apply)
@@ -53,22 +54,24 @@ struct RenderArgs {
 
 FlagTable render_flags(RenderArgs& a) {
     FlagTable t("render", "render MODEL [-o OUT] [FLAGS]",
-                "Draws MODEL's lines to a file. MODEL: .obj .off .ply .stl (a 2-manifold triangle or polygon "
-                "mesh), or SURFACES: .bpt Bezier patches (e.g. examples/teapot.bpt) or .json "
+                "Draws MODEL's lines to a file. MODEL: .obj .off .ply .stl (a triangle or polygon mesh), "
+                "a scene Assimp reads (.gltf .glb .fbx .dae .3ds .blend ...), or SURFACES: .bpt Bezier patches (e.g. examples/teapot.bpt) or .json "
                 "(src/freeform/README.md). Prints what it drew and the camera flags that reproduce it.");
     t.group("Output")
         .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg)",
               [&a](const std::string& v) { a.output = v; }, "-o"})
         .add(text_flag("--format", "svg|pdf|png|json", a.format, "the format, whatever the extension"))
         .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
-    t.group("Camera (default framed: the whole model in view, fov 30, +Y up)").add(camera_flags(a.camera));
+    t.group("Camera (default framed: the whole model in view, fov 30, +Y up)")
+        .add(camera_flags(a.camera));
     t.group("Lines")
         .add(lines_flag(a.features, a.surface, &a.lines_given))
         .add(crease_flag(a.crease))
         .add(suggestive_threshold_flag(a.surface))
         .add(ridge_threshold_flag(a.surface))
         .add(switch_flag("--hidden", a.hidden, true, "also draw hidden lines (dashed, by QI)"))
-        .add(subdivide_flag(a.subdivide));
+        .add(subdivide_flag(a.subdivide))
+        .add(strict_flag(a.strict));
     t.group("Silhouette finder")
         .add(finder_flag(a.finder.kind))
         .add(fraction_flag(a.finder.fraction))
@@ -122,8 +125,8 @@ int run_render(int argc, char** argv) {
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
     else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
     if (freeform && a.subdivide > 0) throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
-    Model model = freeform ? Model(freeform->mesh(), a.crease) : Model::load(a.model, a.crease, a.subdivide);
-    const Camera cam = make_camera(a.camera, model.topology());
+    Model model = freeform ? Model(freeform->mesh(), a.crease) : load_model_file(a.model, a.strict, a.crease, a.subdivide);
+    const Camera cam = make_camera(a.camera, model);
     ViewOptions opt;
     opt.features = a.features;
     opt.surface = a.surface;

@@ -205,7 +205,48 @@ std::vector<Flag> camera_flags(CameraFlags& c) {
              if (!(n > 0.0)) throw Error("--near", "expected a positive distance");
              c.near = n;
          }},
+        {"--camera", "NAME|frame",
+         "a camera of the model's file by name, or frame the model (default: the file's first perspective "
+         "camera when no other camera flag is given, else framed)",
+         [&c](const std::string& v) {
+             if (v.empty()) throw Error("--camera", "expected a camera's name or 'frame'");
+             c.file_camera = v;
+         }},
     };
+}
+
+Camera make_camera(const CameraFlags& c, const Model& model) {
+    const std::vector<SceneCamera>& cams = model.cameras();
+    const SceneCamera* file = nullptr;
+    if (c.file_camera == "frame") {
+    } else if (!c.file_camera.empty()) {
+        std::string names;
+        for (const SceneCamera& s : cams) {
+            if (s.name == c.file_camera && !file) file = &s;
+            names += (names.empty() ? "'" : ", '") + s.name + "'";
+        }
+        if (!file)
+            throw BadValue("--camera: the model's file has no camera '" + c.file_camera + "' (" +
+                           (names.empty() ? std::string("it has none") : "its cameras: " + names) +
+                           "; 'frame' frames the model)");
+    } else if (!c.eye && !c.target && !c.up && !c.fov && !c.ortho) {
+        for (const SceneCamera& s : cams)
+            if (!s.orthographic && !file) file = &s;
+    }
+    if (!file) return make_camera(c, model.topology());
+    CameraFlags from_file = c;  // the file's camera, where no flag says otherwise
+    from_file.eye = c.eye.value_or(file->eye);
+    from_file.target = c.target.value_or(file->target);
+    from_file.up = c.up.value_or(file->up);
+    if (file->orthographic && !c.fov) from_file.ortho = c.ortho.value_or(file->ortho_height);
+    else from_file.fov = c.fov.value_or(file->fov_deg);
+    return make_camera(from_file, model.topology());
+}
+
+Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide) {
+    Model model = Model::load(path, LoadOptions{.strict = strict}, crease_degrees, subdivide);
+    for (const std::string& w : model.repairs().warnings(path)) std::fprintf(stderr, "inkline: warning: %s\n", w.c_str());
+    return model;
 }
 
 Camera make_camera(const CameraFlags& c, const MeshTopology& mesh) {
@@ -375,6 +416,12 @@ Flag subdivide_flag(int& levels) {
                     throw Error("--subdivide", "expected a number of levels from 0 to 6");
                 levels = int(n);
             }};
+}
+
+Flag strict_flag(bool& strict) {
+    return switch_flag("--strict", strict, true,
+                       "refuse a model that needs repairs (degenerate or duplicate faces, non-manifold edges) "
+                       "instead of repairing it; vertices at one position are then not welded");
 }
 
 Flag threads_flag(int& threads, const std::string& what, const std::string& unset) {

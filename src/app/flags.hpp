@@ -85,11 +85,23 @@ struct CameraFlags {
     std::optional<glm::dvec3> eye, target, up;
     std::optional<double> fov, ortho, near;
     std::optional<int> width = 1024, height = 1024;
+    // --camera: a camera of the model's file by name, or "frame"; empty: the file's first
+    // perspective camera when no other camera flag is given.
+    std::string file_camera;
 };
 std::vector<Flag> camera_flags(CameraFlags& camera);
 // The camera of the flags; unset: framed (the whole model in view, fov 30, +Y up).
 // Error "camera: ..." when eye, target and up make no camera.
 Camera make_camera(const CameraFlags& flags, const MeshTopology& mesh);
+// The same for a loaded model: a camera of its file (Model::cameras()) is the starting point that
+// --camera names, or, with no camera flag at all, its first perspective camera; the other camera
+// flags then override that camera's eye, target, up, fov. BadValue "--camera: ..." for a name the
+// file does not have.
+Camera make_camera(const CameraFlags& flags, const Model& model);
+
+// Loads a model file as the commands do: tolerant, or strict with --strict; prints one warning
+// line per kind of repair made ("inkline: warning: FILE: ...") on stderr.
+Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide);
 
 // The shared flags, one definition each. (size_flag's help shows the size already set, if any.)
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);
@@ -107,6 +119,7 @@ Flag fraction_flag(double& share);
 Flag first_view_flag(bool& first_full);
 Flag visibility_flag(VisibilityMethod& method);
 Flag subdivide_flag(int& levels);
+Flag strict_flag(bool& strict);
 Flag threads_flag(int& threads, const std::string& what, const std::string& unset);
 Flag frames_flag(int& frames, const std::string& what, bool* given = nullptr);
 Flag arc_flag(double& degrees, const std::string& what);  // help shows its default

@@ -18,6 +18,7 @@ int run_view(int argc, char** argv) {
     std::string model_path;
     CameraFlags camera;
     double crease = 40.0;
+    bool strict = false;  // --strict: refuse what tolerant loading repairs
     bool frames_given = false, lines_given = false;
     // A window follows one camera path: its randomized finder starts from an exhaustive view by
     // default (then follows it exactly), since a first view with holes keeps them, and each hole
@@ -43,6 +44,7 @@ int run_view(int argc, char** argv) {
         .add(ridge_threshold_flag(o.view.surface))
         .add(switch_flag("--hidden", o.hidden, true, "also draw hidden lines (grey, dashed by QI)"))
         .add(subdivide_flag(o.subdivide))
+        .add(strict_flag(strict))
         .add(switch_flag("--shading", o.shading, true, "flat grey triangles under the lines"));
     flags.group("Silhouette finder (default: randomized with frame coherence, from an exhaustive first view)")
         .add(finder_flag(o.view.finder.kind))
@@ -87,8 +89,8 @@ int run_view(int argc, char** argv) {
     if (!frames_given && (o.orbit || !o.screenshot.empty() || o.fps || !o.export_path.empty()))
         throw Usage("--orbit, --screenshot, --export and --fps drive the window for --frames=N frames", "view");
     o.model_path = model_path;
-    Model model = Model::load(model_path, crease, o.subdivide);
-    const Camera home = make_camera(camera, model.topology());
+    Model model = load_model_file(model_path, strict, crease, o.subdivide);
+    const Camera home = make_camera(camera, model);
     return run_viewer(model, home, o);
 }
 

@@ -164,7 +164,12 @@ SceneCamera scene_camera(const aiScene& scene, const aiCamera& cam, const std::s
     const glm::dmat4 world = node ? world_of(node, path) : glm::dmat4(1.0);
     if (!finite(world)) throw Error(path, "camera '" + c.name + "' has a NaN or infinite transform");
     const glm::dmat3 linear(world);
-    c.eye = glm::dvec3(world * glm::dvec4(cam.mPosition.x, cam.mPosition.y, cam.mPosition.z, 1.0));
+    // Assimp's glTF 2 importer also copies the camera node's translation into mPosition, which the
+    // node's transform already holds (measured: a node at (0, 0, 10) put the eye at (0, 0, 20)); a
+    // glTF camera sits at its node's origin.
+    const bool gltf = lower_extension(path) == "gltf" || lower_extension(path) == "glb";
+    const glm::dvec3 local = gltf ? glm::dvec3(0.0) : glm::dvec3(cam.mPosition.x, cam.mPosition.y, cam.mPosition.z);
+    c.eye = glm::dvec3(world * glm::dvec4(local, 1.0));
     const glm::dvec3 look = linear * glm::dvec3(cam.mLookAt.x, cam.mLookAt.y, cam.mLookAt.z);
     c.up = linear * glm::dvec3(cam.mUp.x, cam.mUp.y, cam.mUp.z);
     const double len = glm::length(look);
