@@ -20,6 +20,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli_util.hpp"
 #include "core/error.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
@@ -30,14 +31,7 @@ using nlohmann::json;
 
 namespace {
 
-fs::path scratch() {
-    const fs::path d = fs::path(::testing::TempDir()) /
-                       ("inkline_test_scene_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-                        "_" + std::to_string(::getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path scratch() { return inkline_test::scratch("inkline_test_scene_"); }
 
 void write(const fs::path& p, const std::string& content) {
     std::ofstream f(p, std::ios::binary | std::ios::trunc);
@@ -374,20 +368,8 @@ TEST(Scene, BadFilesAreRefusedWithOneLine) {
 // a scene's first perspective camera when no camera flag is given, --camera=NAME, --camera=frame.
 
 namespace {
-struct CliRun {
-    int code = -1;
-    std::string out, err;
-};
-CliRun run(const std::string& args, const fs::path& d) {
-    const std::string o = (d / "stdout.txt").string(), e = (d / "stderr.txt").string();
-    const int status = std::system((std::string(INKLINE_BINARY) + " " + args + " >" + o + " 2>" + e).c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream fo(o), fe(e);
-    r.out.assign(std::istreambuf_iterator<char>(fo), {});
-    r.err.assign(std::istreambuf_iterator<char>(fe), {});
-    return r;
-}
+// The command's exit code and output (tests/cli_util.hpp).
+inkline_test::Result run(const std::string& args, const fs::path& d) { return inkline_test::run_inkline("", args, d); }
 std::size_t count_lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 }  // namespace
 
@@ -396,14 +378,14 @@ TEST(SceneCli, TolerantByDefaultStrictRefuses) {
     // A tetrahedron with a fin on edge 0-1 (non-manifold) and a face that repeats a corner.
     write(d / "fin.off", "OFF\n5 6 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.5 -1 0.5\n"
                          "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 0 4 1\n3 1 1 2\n");
-    const CliRun ok = run("render " + (d / "fin.off").string() + " -o " + (d / "fin.svg").string(), d);
+    const inkline_test::Result ok = run("render " + (d / "fin.off").string() + " -o " + (d / "fin.svg").string(), d);
     EXPECT_EQ(ok.code, 0) << ok.err;
     EXPECT_TRUE(fs::exists(d / "fin.svg"));
     EXPECT_EQ(count_lines(ok.err), 2u) << ok.err;
     EXPECT_NE(ok.err.find("inkline: warning: " + (d / "fin.off").string() + ": dropped 1 degenerate"), std::string::npos)
         << ok.err;
     EXPECT_NE(ok.err.find("cut the surface at 1 non-manifold edges"), std::string::npos) << ok.err;
-    const CliRun strict = run("render " + (d / "fin.off").string() + " --strict -o " + (d / "strict.svg").string(), d);
+    const inkline_test::Result strict = run("render " + (d / "fin.off").string() + " --strict -o " + (d / "strict.svg").string(), d);
     EXPECT_EQ(strict.code, 1);
     EXPECT_EQ(count_lines(strict.err), 1u) << strict.err;
     EXPECT_NE(strict.err.find("repeats vertex index 1"), std::string::npos) << strict.err;
@@ -420,24 +402,24 @@ TEST(SceneCli, FileCameraByDefaultByNameOrFramed) {
     const int b = g.add_node({{"name", "Side"}, {"camera", 1}, {"translation", {10, 0, 0}}, {"rotation", {0, std::sqrt(0.5), 0, std::sqrt(0.5)}}});
     const std::string path = g.save(d, "cams", {g.add_node({{"name", "Box"}, {"mesh", mesh}}), a, b});
     const std::string out = " -o " + (d / "x.json").string();
-    const CliRun first = run("render " + path + out, d);
+    const inkline_test::Result first = run("render " + path + out, d);
     ASSERT_EQ(first.code, 0) << first.err;
     EXPECT_NE(first.out.find("camera: --eye=0,0,10 --target=0,0,9 --up=0,1,0 --fov=28.64788975654116"), std::string::npos)
         << first.out;
-    const CliRun side = run("render " + path + out + " --camera=Side", d);
+    const inkline_test::Result side = run("render " + path + out + " --camera=Side", d);
     ASSERT_EQ(side.code, 0) << side.err;
     EXPECT_NE(side.out.find("--eye=10,0,0 --target=9.00000"), std::string::npos) << side.out;
     EXPECT_NE(side.out.find("--fov=45.83662"), std::string::npos) << side.out;
     // A camera named and a camera flag: the flag overrides, the file's camera gives the rest.
-    const CliRun fov = run("render " + path + out + " --camera=Front --fov=20", d);
+    const inkline_test::Result fov = run("render " + path + out + " --camera=Front --fov=20", d);
     EXPECT_NE(fov.out.find("camera: --eye=0,0,10 --target=0,0,9 --up=0,1,0 --fov=20 "), std::string::npos) << fov.out;
     // Any camera flag without --camera: framed, as for a mesh file.
-    const CliRun flag = run("render " + path + out + " --fov=20", d);
+    const inkline_test::Result flag = run("render " + path + out + " --fov=20", d);
     EXPECT_NE(flag.out.find("--target=0,0,0 --up=0,1,0 --fov=20 "), std::string::npos) << flag.out;
-    const CliRun framed = run("render " + path + out + " --camera=frame", d);
+    const inkline_test::Result framed = run("render " + path + out + " --camera=frame", d);
     EXPECT_NE(framed.out.find("--fov=30 "), std::string::npos) << framed.out;
     EXPECT_EQ(framed.out.find("--eye=0,0,10"), std::string::npos) << framed.out;
-    const CliRun missing = run("render " + path + out + " --camera=Top", d);
+    const inkline_test::Result missing = run("render " + path + out + " --camera=Top", d);
     EXPECT_EQ(missing.code, 2);
     EXPECT_NE(missing.err.find("--camera: the model's file has no camera 'Top' (its cameras: 'Front', 'Side'"),
               std::string::npos)
