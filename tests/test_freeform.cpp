@@ -800,14 +800,23 @@ TEST(FreeformCli, TeapotStrokesAndSilhouettesToJsonAndSvg) {
 
 TEST(FreeformCli, BadInputIsOneLineNamingTheProblem) {
     const fs::path d = scratch_dir();
-    CliRun r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=spiral", d);
-    EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("--strokes: unknown stroke kind 'spiral'"), std::string::npos) << r.err;
-    r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=iso --shader=phong", d);
-    EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("--shader: unknown shader 'phong'"), std::string::npos) << r.err;
-    r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --strokes=iso --cones=0", d);
-    EXPECT_EQ(r.code, 1);
+    // A value a line-art flag refuses is a usage error, as for every other flag: exit 2, one line.
+    const std::pair<std::string, std::string> bad_values[] = {
+        {" --strokes=spiral", "inkline: --strokes: unknown stroke kind 'spiral'"},
+        {" --strokes=iso --shader=phong", "inkline: --shader: unknown shader 'phong'"},
+        {" --strokes=iso --cones=0", "inkline: --cones: expected an integer from 1 to 100000\n"},
+        {" --strokes=iso --tau-dif=3", "inkline: --tau-dif: expected a number in [0, 1]\n"},
+        {" --strokes=iso --light=0,0,0", "inkline: --light: expected a non-zero direction\n"},
+        {" --strokes=iso --points=abc", "inkline: --points: expected a number, got 'abc'\n"},
+        {" --cones=20", "inkline: --strokes: line-art flags given without --strokes\n"},
+    };
+    CliRun r;
+    for (const auto& [flags, message] : bad_values) {
+        r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + flags, d);
+        EXPECT_EQ(r.code, 2) << flags;
+        EXPECT_EQ(r.err.rfind(message, 0), 0u) << flags << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << flags;
+    }
     r = inkline_run(kTeapot + " -o " + (d / "a.svg").string() + " --subdivide=1", d);
     EXPECT_EQ(r.code, 2);  // a flag that does not go with the model: a usage error
     EXPECT_NE(r.err.find("--subdivide: not for surface models"), std::string::npos) << r.err;

@@ -2,7 +2,6 @@
 // glue that adds its strokes to the drawing of the surfaces' tessellation.
 #pragma once
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,22 +9,28 @@
 #include "app/flags.hpp"
 #include "core/camera.hpp"
 #include "core/drawing.hpp"
+#include "freeform/lineart.hpp"
 #include "model/mesh_io.hpp"
 
 namespace inkline {
 
 struct FreeformArgs {
-    std::map<std::string, std::string> flags;  // --strokes, --points, --cones, ...
+    freeform::LineArtOptions options;
+    freeform::DrawOptions draw;
+    bool strokes = false;      // --strokes given: line art is drawn
+    bool light = false;        // --light given (else a headlight from the upper left)
+    int given = 0;             // line-art flags given, --strokes included
     bool transparent = false, no_cull = false, open = false;
-    bool any() const { return !flags.empty() || transparent || no_cull || open; }
+    bool any() const { return given > 0 || transparent || no_cull || open; }
 };
-// The line-art flags (stored in `a`; their values are checked when the surfaces load).
+// The line-art flags, each value checked where it stands (a bad one is a usage error).
 std::vector<Flag> freeform_flags(FreeformArgs& a);
 bool is_freeform_model(const std::string& path);
 
 class FreeformRender {
 public:
-    // Loads and tessellates the surfaces (inkline::Error naming the file on bad input).
+    // Loads and tessellates the surfaces (inkline::Error naming the file on bad input). BadValue
+    // when line-art flags are given without --strokes.
     FreeformRender(const std::string& path, const FreeformArgs& args);
     ~FreeformRender();
     const TriangleMesh& mesh() const;
