@@ -290,9 +290,11 @@ void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPla
                                         plan.outputs[std::size_t(item)], format, t0, true);
             }
         } else {
-            // Freeform line art keeps per-view state: a frame's own copy keeps frames independent.
+            // Freeform line art keeps per-view state: a frame's own copy keeps frames independent
+            // (without line-art flags the shared tessellation is all there is to draw).
             std::unique_ptr<FreeformRender> ff;
-            if (is_freeform_model(a.models[0])) ff = std::make_unique<FreeformRender>(a.models[0], a.freeform);
+            if (is_freeform_model(a.models[0]) && a.freeform.any())
+                ff = std::make_unique<FreeformRender>(a.models[0], a.freeform);
             const Camera cam = orbit_frame(home, shared->topology().bounds, item, plan.count, a.arc);
             report = render_drawing(a, setup, *shared, ff.get(), cam, plan.outputs[std::size_t(item)], format, t0, true);
         }
