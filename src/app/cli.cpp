@@ -210,10 +210,9 @@ struct RenderPlan {
     std::string pattern;               // the numbered pattern (sequence reports)
 };
 
-bool is_directory_name(const std::string& s) {
-    std::error_code ec;
-    return !s.empty() && (s.back() == '/' || std::filesystem::is_directory(s, ec));
-}
+// "DIR/": only a trailing slash makes -o a directory (an existing directory named as the file
+// stays an error, as for one drawing: nothing is written into it unasked).
+bool is_directory_name(const std::string& s) { return !s.empty() && s.back() == '/'; }
 
 std::string stem_of(const std::string& model) {
     const std::string name = default_output(model);
@@ -233,7 +232,7 @@ RenderPlan plan_render(const RenderArgs& a) {
     p.last = a.range.given() ? a.range.last : p.count - 1;
     const std::string ext = "." + (a.format.empty() ? std::string("svg") : a.format);
     if (is_directory_name(a.output)) {
-        const std::string dir = a.output.back() == '/' ? a.output : a.output + "/";
+        const std::string& dir = a.output;
         p.pattern = dir + (p.models ? "MODEL" : stem_of(a.models[0]) + "_%04d") + ext;
         for (long i = 0; i < p.count; ++i)
             p.outputs.push_back(p.models ? dir + stem_of(a.models[std::size_t(i)]) + ext
