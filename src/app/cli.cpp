@@ -284,7 +284,10 @@ void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPla
                 report = render_drawing(a, setup, model, &ff, make_camera(a.camera, model),
                                         plan.outputs[std::size_t(item)], format, t0, true);
             } else {
-                const Model model = load_model_file(path, a.strict, a.crease, a.subdivide, false);
+                // (load_model_file's loading, with its warnings printed above the progress line)
+                const Model model = Model::load(path, LoadOptions{.strict = a.strict}, a.crease, a.subdivide);
+                for (const std::string& w : model.repairs().warnings(path))
+                    progress->print_above([&] { std::fprintf(stderr, "inkline: warning: %s\n", w.c_str()); });
                 report = render_drawing(a, setup, model, nullptr, make_camera(a.camera, model),
                                         plan.outputs[std::size_t(item)], format, t0, true);
             }
