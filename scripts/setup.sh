@@ -11,7 +11,7 @@ packages=(
   libembree-dev libtbb-dev libglm-dev libcairo2-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   libassimp-dev assimp-testmodels
-  librsvg2-bin poppler-utils
+  librsvg2-bin poppler-utils parallel
   libglfw3-dev libimgui-dev libgl-dev libglx-mesa0 libgl1-mesa-dri xvfb xauth
 )
 missing=()

@@ -12,7 +12,8 @@
 
 namespace inkline {
 
-Model Model::load(const std::string& path, const LoadOptions& options, double crease_degrees, int subdivide) {
+Model Model::load(const std::string& path, const LoadOptions& options, double crease_degrees, int subdivide,
+                  const SubdivideProgress& on_subdivide) {
     const auto t0 = std::chrono::steady_clock::now();
     TriangleMesh mesh;
     std::vector<SceneCamera> cameras;
@@ -25,7 +26,7 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     }
     const LoadReport repairs = mesh.repairs;
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    Model m(hilbert_ordered(subdivide_loop(std::move(mesh), subdivide)), crease_degrees);
+    Model m(hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide)), crease_degrees);
     m.repairs_ = repairs;
     m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);

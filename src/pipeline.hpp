@@ -10,6 +10,7 @@
 #include "curvature/curvature.hpp"
 #include "features/features.hpp"
 #include "model/self_intersections.hpp"
+#include "model/subdivide.hpp"
 #include "model/topology.hpp"
 #include "scene/scene.hpp"
 #include "visibility/ray_caster.hpp"
@@ -25,8 +26,9 @@ public:
     // load_mesh, every other format Assimp reads as a scene (load_scene: objects, cameras);
     // tolerant unless options.strict (repairs() counts what was repaired).
     // `subdivide` rounds of Loop subdivision are applied after loading.
+    // `on_subdivide` hears of the subdivision's progress (model/subdivide.hpp).
     static Model load(const std::string& path, const LoadOptions& options, double crease_degrees = 40.0,
-                      int subdivide = 0);
+                      int subdivide = 0, const SubdivideProgress& on_subdivide = {});
     // Strict loading (refuses what tolerant loading repairs), for callers that predate the repairs.
     static Model load(const std::string& path, double crease_degrees = 40.0, int subdivide = 0);
     explicit Model(TriangleMesh mesh, double crease_degrees = 40.0);  // moved into the topology

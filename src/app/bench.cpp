@@ -17,6 +17,7 @@
 
 #include "app/cli.hpp"
 #include "app/flags.hpp"
+#include "app/progress.hpp"
 #include "core/error.hpp"
 #include "model/primitives.hpp"
 #include "model/reorder.hpp"
@@ -207,20 +208,7 @@ int run_bench(int argc, char** argv) {
     base.visibility = a.visibility;
     base.exact_hidden = false;
 
-    // The reference: the exhaustive finder on every frame.
-    std::vector<double> ref_length(cams.size());
-    std::vector<std::vector<Interval>> ref_visible(cams.size());
-    {
-        ViewSession ref(model, base);
-        for (std::size_t i = 0; i < cams.size(); ++i) {
-            View& v = ref.render(cams[i]);
-            ref_length[i] = edges_length(mesh, v.features.silhouette_edges);
-            ref_visible[i] = visible_intervals(v);
-        }
-    }
-    double ref_total = 0.0;
-    for (double l : ref_length) ref_total += l;
-
+    // The settings, known before the first view so that the progress line counts every view.
     std::vector<FinderOptions> settings;
     settings.push_back({});
     settings.back().threads = a.threads;
@@ -234,6 +222,22 @@ int run_bench(int argc, char** argv) {
             o.first_full = coherence && a.first_full;
             settings.push_back(o);
         }
+    auto progress = ProgressLine::on_stderr("bench", cams.size() * (1 + settings.size()), "views");
+
+    // The reference: the exhaustive finder on every frame.
+    std::vector<double> ref_length(cams.size());
+    std::vector<std::vector<Interval>> ref_visible(cams.size());
+    {
+        ViewSession ref(model, base);
+        for (std::size_t i = 0; i < cams.size(); ++i) {
+            View& v = ref.render(cams[i]);
+            ref_length[i] = edges_length(mesh, v.features.silhouette_edges);
+            ref_visible[i] = visible_intervals(v);
+            progress->advance();
+        }
+    }
+    double ref_total = 0.0;
+    for (double l : ref_length) ref_total += l;
 
     // Every setting has its own session (its own frame coherence), and the settings take turns
     // frame by frame: on a shared machine a burst of load then slows every setting alike, and the
@@ -268,7 +272,9 @@ int run_bench(int argc, char** argv) {
             View& v = session.visibility(cams[i]);
             r.visibility_s += v.drawing.stats.seconds_visibility;
             r.wrong_px += wrong_length_px(mesh, cams[i], ref_visible[i], visible_intervals(v));
+            progress->advance();
         }
+    progress->finish();
     for (const Row& r : rows)
         std::fprintf(stderr, "  %s %g%s: %.3f ms/frame, recall %.4f\n", r.finder.c_str(), r.fraction,
                      r.coherence ? " +coherence" : "", 1e3 * r.features_s / double(cams.size()),

@@ -1,15 +1,23 @@
 #include "app/cli.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "app/batch.hpp"
 #include "app/flags.hpp"
 #include "app/freeform_cli.hpp"
+#include "app/progress.hpp"
+#include "core/clock.hpp"
 #include "core/error.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
@@ -17,6 +25,8 @@
 #include "style/style.hpp"
 #include "style/styled_view.hpp"
 #include "style/stylize.hpp"
+#include "view/camera_rig.hpp"
+#include "view/viewer.hpp"
 
 namespace inkline {
 
@@ -36,7 +46,8 @@ const char* kOverview =
     "inkline COMMAND --help for its flags; inkline --version for the version.\n";
 
 struct RenderArgs {
-    std::string model, output, format;
+    std::vector<std::string> models;
+    std::string output, format;
     CameraFlags camera;
     double crease = 40.0;
     int subdivide = 0;
@@ -50,15 +61,23 @@ struct RenderArgs {
     VisibilityMethod visibility = VisibilityMethod::Appel;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
     std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
+    // A sequence (docs/batch.md): several models, or --frames=N along --orbit.
+    int frames = 1;
+    bool frames_given = false, orbit = false, verbose = false;
+    double arc = 360.0;  // a turntable: frame N would be frame 0 again
+    FrameRange range;
+    int jobs = int(std::max(1u, std::thread::hardware_concurrency()));
 };
 
 FlagTable render_flags(RenderArgs& a) {
-    FlagTable t("render", "render MODEL [-o OUT] [FLAGS]",
+    FlagTable t("render", "render MODEL... [-o OUT] [FLAGS]",
                 "Draws MODEL's lines to a file. MODEL: .obj .off .ply .stl (a triangle or polygon mesh), "
                 "a scene Assimp reads (.gltf .glb .fbx .dae .3ds .blend ...), or SURFACES: .bpt Bezier patches (e.g. examples/teapot.bpt) or .json "
-                "(src/freeform/README.md). Prints what it drew and the camera flags that reproduce it.");
+                "(src/freeform/README.md). Prints what it drew and the camera flags that reproduce it. "
+                "Several models, or --frames=N --orbit, write a numbered sequence (-o out_%04d.svg or -o DIR/).");
     t.group("Output")
-        .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg)",
+        .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg); for a "
+                                  "sequence a pattern with one frame number (out_%04d.svg) or a directory (DIR/)",
               [&a](const std::string& v) { a.output = v; }, "-o"})
         .add(text_flag("--format", "svg|pdf|png|json", a.format, "the format, whatever the extension"))
         .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
@@ -84,6 +103,13 @@ FlagTable render_flags(RenderArgs& a) {
     t.group("Style").add(style_flag(a.style));
     t.group("Surfaces (.bpt, .json): silhouettes and borders of the tessellation, and Elber's line art")
         .add(freeform_flags(a.freeform));
+    t.group("Sequence (several models, or a camera path; frames numbered from 0)")
+        .add(frames_flag(a.frames, "with --orbit: N frames along the camera path", &a.frames_given))
+        .add(orbit_flag(a.orbit, "turn the camera about its up axis around the target, as the window's --orbit"))
+        .add(arc_flag(a.arc, "with --orbit: degrees turned over the frames (frame k at k*DEG/N)"))
+        .add(frame_range_flag(a.range))
+        .add(jobs_flag(a.jobs))
+        .add(switch_flag("--verbose", a.verbose, true, "print each frame's report and exact camera flags"));
     return t;
 }
 
@@ -95,56 +121,37 @@ std::string default_output(const std::string& model) {
     return stem + ".svg";
 }
 
-std::string fmt3(const glm::dvec3& v) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", v.x, v.y, v.z);
-    return buf;
+// printf onto a string (a drawing's report is printed whole, in frame order, by the batch).
+[[gnu::format(printf, 2, 3)]] void appendf(std::string& out, const char* format, ...) {
+    char buf[2048];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(buf, sizeof buf, format, args);
+    va_end(args);
+    out += buf;
 }
 
-}  // namespace
+// What every drawing of a run shares, read once before any work.
+struct RenderSetup {
+    std::optional<Style> style;
+    ViewOptions view;
+    OutputOptions output;
+};
 
-int run_render(int argc, char** argv) {
-    const auto t0 = std::chrono::steady_clock::now();
-    RenderArgs a;
-    if (!render_flags(a).parse(argc, argv, 2, a.model)) return 0;  // --help
-    const std::string out = a.output.empty() ? default_output(a.model) : a.output;
-    const Format format = [&] {  // refuse a bad format before any work (a usage error)
-        try {
-            return output_format(out, a.format);
-        } catch (const Error& e) {
-            throw BadValue(e.what());
-        }
-    }();
-    std::optional<Style> style;  // read before any work: a bad style file fails fast
-    if (!a.style.empty()) {
-        if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
-        style = load_style(a.style);
-        if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
-    }
-    std::unique_ptr<FreeformRender> freeform;
-    if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
-    else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
-    if (freeform && a.subdivide > 0) throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
-    Model model = freeform ? Model(freeform->mesh(), a.crease) : load_model_file(a.model, a.strict, a.crease, a.subdivide);
-    const Camera cam = make_camera(a.camera, model);
-    ViewOptions opt;
-    opt.features = a.features;
-    opt.surface = a.surface;
-    opt.visibility = a.visibility;
-    opt.walk = a.walk;
-    opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
-    if (style && style->draw_hidden) opt.exact_hidden = true;
-    opt.finder = a.finder;
-    View view = render_view(model, cam, opt);
+// One drawing: `model` seen by `cam`, written to `out`. Returns its report (what it drew, the
+// times, the camera flags that reproduce it); `t0`: the start its total seconds count from.
+std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const Model& model, FreeformRender* freeform,
+                           const Camera& cam, const std::string& out, Format format, StageClock::time_point t0,
+                           bool in_batch = false) {
+    const std::optional<Style>& style = setup.style;
+    View view = render_view(model, cam, setup.view);
     if (a.recall) {
         const Features reference = extract_features(model.topology(), cam);
         const double total = edges_length(model.topology(), reference.silhouette_edges);
         view.drawing.stats.recall =
             total > 0.0 ? edges_length(model.topology(), view.features.silhouette_edges) / total : 1.0;
     }
-    if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet);
-    OutputOptions oo;
-    oo.hidden = a.hidden;
+    if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet || in_batch);  // (it prints as it goes)
     const auto t_out = std::chrono::steady_clock::now();
     view.drawing.stats.seconds_output = 0.0;
     view.drawing.stats.seconds_total =
@@ -161,30 +168,222 @@ int run_render(int argc, char** argv) {
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
         write_styled(sd, out, format);
     } else {
-        write_drawing(view.drawing, out, format, oo);
+        write_drawing(view.drawing, out, format, setup.output);
     }
     const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
-    if (!a.quiet) {
-        const auto& s = view.drawing.stats;
-        std::printf("%s: %zu triangles, %zu silhouette edges, %zu crease, %zu border, %zu curves, %zu cusps, "
-                    "%zu crossings, %zu pieces, %zu ray tests (%s, %zu clusters)\n",
-                    out.c_str(), s.triangles, s.silhouette_edges, s.crease_edges, s.border_edges, s.curves, s.cusps,
-                    s.crossings, s.pieces, s.ray_tests, s.visibility.c_str(), s.clusters);
-        std::printf("finder: %s (fraction %g)", s.finder.c_str(), s.fraction);
-        if (s.recall >= 0.0) std::printf(", recall of silhouette length %.4f", s.recall);
-        std::printf("\n");
-        std::printf("seconds: load %.4f, features %.4f, visibility %.4f (pieces %.4f, propagation %.4f, walks "
-                    "%.4f, ray tests %.4f), output %.4f\n",
-                    s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
-                    s.seconds_walks, s.seconds_ray_tests, t_write);
-        if (style)
-            std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
-                        style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
-                        hatch_stats.ray_tests, t_style);
-        std::printf("camera: --eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d\n", fmt3(cam.eye()).c_str(),
-                    fmt3(cam.target()).c_str(), fmt3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
-                    cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());
+    std::string report;
+    const auto& s = view.drawing.stats;
+    appendf(report, "%s: %zu triangles, %zu silhouette edges, %zu crease, %zu border, %zu curves, %zu cusps, "
+            "%zu crossings, %zu pieces, %zu ray tests (%s, %zu clusters)\n",
+            out.c_str(), s.triangles, s.silhouette_edges, s.crease_edges, s.border_edges, s.curves, s.cusps,
+            s.crossings, s.pieces, s.ray_tests, s.visibility.c_str(), s.clusters);
+    appendf(report, "finder: %s (fraction %g)", s.finder.c_str(), s.fraction);
+    if (s.recall >= 0.0) appendf(report, ", recall of silhouette length %.4f", s.recall);
+    appendf(report, "\n");
+    appendf(report, "seconds: load %.4f, features %.4f, visibility %.4f (pieces %.4f, propagation %.4f, walks "
+            "%.4f, ray tests %.4f), output %.4f\n",
+            s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
+            s.seconds_walks, s.seconds_ray_tests, t_write);
+    if (style)
+        appendf(report, "style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
+                style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
+                hatch_stats.ray_tests, t_style);
+    appendf(report, "camera: %s\n", camera_flags(cam).c_str());
+    return report;
+}
+
+// Frame k of N along the orbit: the window's orbit (view/camera_rig.hpp), k * arc / N degrees
+// about the home camera's up axis, computed from the home camera alone so that a frame does not
+// depend on which frames the run renders before it.
+Camera orbit_frame(const Camera& home, const Bounds3& box, long k, long n, double arc_deg) {
+    CameraRig rig(home, box);
+    rig.orbit(arc_deg * double(k) / double(n), 0.0);
+    return rig.camera(home.width(), home.height());
+}
+
+// What a run renders: one output name per item (a model of several, or a frame of the orbit).
+struct RenderPlan {
+    bool models = false;  // items are a.models; else frames of a.models[0]
+    long count = 1;       // items in the whole run (--frame-range picks a slice)
+    long first = 0, last = 0;
+    std::vector<std::string> outputs;  // per item of the whole run
+    std::string pattern;               // the numbered pattern (sequence reports)
+};
+
+// "DIR/": only a trailing slash makes -o a directory (an existing directory named as the file
+// stays an error, as for one drawing: nothing is written into it unasked).
+bool is_directory_name(const std::string& s) { return !s.empty() && s.back() == '/'; }
+
+std::string stem_of(const std::string& model) {
+    const std::string name = default_output(model);
+    return name.substr(0, name.size() - 4);  // ".svg"
+}
+
+RenderPlan plan_render(const RenderArgs& a) {
+    RenderPlan p;
+    p.models = a.models.size() > 1;
+    if (p.models && a.frames_given && a.frames > 1)
+        throw Usage("several models or --frames=N, not both (one orbit a run)", "render");
+    if (a.orbit && !a.frames_given) throw Usage("--orbit turns the camera over --frames=N frames", "render");
+    if (a.frames > 1 && !a.orbit) throw Usage("--frames=N needs a camera path (--orbit)", "render");
+    p.count = p.models ? long(a.models.size()) : a.frames;
+    a.range.check(p.count);
+    p.first = a.range.given() ? a.range.first : 0;
+    p.last = a.range.given() ? a.range.last : p.count - 1;
+    const std::string ext = "." + (a.format.empty() ? std::string("svg") : a.format);
+    if (is_directory_name(a.output)) {
+        const std::string& dir = a.output;
+        p.pattern = dir + (p.models ? "MODEL" : stem_of(a.models[0]) + "_%04d") + ext;
+        for (long i = 0; i < p.count; ++i)
+            p.outputs.push_back(p.models ? dir + stem_of(a.models[std::size_t(i)]) + ext
+                                         : OutputPattern(p.pattern).name(i));
+    } else if (a.output.empty() && p.models) {
+        p.pattern = "MODEL.svg";
+        for (const std::string& m : a.models) p.outputs.push_back(default_output(m));
+    } else {
+        p.pattern = !a.output.empty() ? a.output : p.count > 1 ? stem_of(a.models[0]) + "_%04d.svg"
+                                                               : default_output(a.models[0]);
+        const OutputPattern pattern(p.pattern);
+        if (p.count > 1 && !pattern.numbered())
+            throw Usage("-o " + a.output + ": one file for " + std::to_string(p.count) +
+                            " drawings; put a frame number in it (out_%04d.svg) or name a directory (DIR/)",
+                        "render");
+        for (long i = 0; i < p.count; ++i) p.outputs.push_back(pattern.name(i));
     }
+    std::vector<std::string> sorted = p.outputs;
+    std::sort(sorted.begin(), sorted.end());
+    if (const auto dup = std::adjacent_find(sorted.begin(), sorted.end()); dup != sorted.end())
+        throw BadValue("--output: two drawings of the run would both be written to " + *dup);
+    if (is_directory_name(a.output)) {  // made if new (a pattern's directory must exist, as for one file)
+        std::error_code ec;
+        std::filesystem::create_directories(a.output, ec);
+        if (ec) throw Error(a.output, "cannot make the directory: " + ec.message());
+    }
+    return p;
+}
+
+// Renders items first..last of the plan on a.jobs threads. Reports go to stdout in item order
+// (a sequence's per frame only with --verbose); a progress line on stderr when it is a terminal.
+void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPlan& plan, const Model* shared,
+                  const Camera& home, Format format) {
+    const std::size_t n = std::size_t(plan.last - plan.first + 1);
+    const bool print_each = !a.quiet && (plan.models || a.verbose);
+    auto progress = ProgressLine::on_stderr("render", n, plan.models ? "models" : "frames", !a.quiet);
+    std::vector<std::optional<std::string>> reports(n);
+    std::size_t next_report = 0;
+    std::mutex report_mutex;
+    run_jobs(a.jobs, n, [&](std::size_t j) {
+        const long item = plan.first + long(j);
+        const auto t0 = std::chrono::steady_clock::now();
+        std::string report;
+        if (plan.models) {  // each model loaded by the job that draws it (no subdivision progress lines)
+            const std::string& path = a.models[std::size_t(item)];
+            if (is_freeform_model(path)) {
+                FreeformRender ff(path, a.freeform);
+                const Model model(ff.mesh(), a.crease);
+                report = render_drawing(a, setup, model, &ff, make_camera(a.camera, model),
+                                        plan.outputs[std::size_t(item)], format, t0, true);
+            } else {
+                // (load_model_file's loading, with its warnings printed above the progress line)
+                const Model model = Model::load(path, LoadOptions{.strict = a.strict}, a.crease, a.subdivide);
+                for (const std::string& w : model.repairs().warnings(path))
+                    progress->print_above([&] { std::fprintf(stderr, "inkline: warning: %s\n", w.c_str()); });
+                report = render_drawing(a, setup, model, nullptr, make_camera(a.camera, model),
+                                        plan.outputs[std::size_t(item)], format, t0, true);
+            }
+        } else {
+            // Freeform line art keeps per-view state: a frame's own copy keeps frames independent
+            // (without line-art flags the shared tessellation is all there is to draw).
+            std::unique_ptr<FreeformRender> ff;
+            if (is_freeform_model(a.models[0]) && a.freeform.any())
+                ff = std::make_unique<FreeformRender>(a.models[0], a.freeform);
+            const Camera cam = orbit_frame(home, shared->topology().bounds, item, plan.count, a.arc);
+            report = render_drawing(a, setup, *shared, ff.get(), cam, plan.outputs[std::size_t(item)], format, t0, true);
+        }
+        progress->advance();
+        if (!print_each) return;
+        std::lock_guard<std::mutex> lock(report_mutex);
+        reports[j] = std::move(report);
+        for (; next_report < n && reports[next_report]; ++next_report)
+            progress->print_above([&] { std::fputs(reports[next_report]->c_str(), stdout); });
+    });
+    progress->finish();
+}
+
+// The run's last lines: what was written, and for an orbit the flags that render the whole
+// sequence again (add --frame-range=K for frame K alone, the same file).
+void print_summary(const RenderArgs& a, const RenderPlan& plan, double seconds, const std::string& home_flags) {
+    if (a.quiet) return;
+    std::printf("render: %ld %s (%ld to %ld of %ld) written as %s in %.2f s, %d jobs\n", plan.last - plan.first + 1,
+                plan.models ? "drawings" : "frames", plan.first, plan.last, plan.count, plan.pattern.c_str(), seconds,
+                a.jobs);
+    if (!plan.models) {
+        char arc[32];
+        std::snprintf(arc, sizeof arc, "%.17g", a.arc);
+        std::printf("camera: %s --frames=%ld --orbit --arc=%s\n", home_flags.c_str(), plan.count, arc);
+    }
+}
+
+}  // namespace
+
+int run_render(int argc, char** argv) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderArgs a;
+    if (!render_flags(a).parse(argc, argv, 2, a.models)) return 0;  // --help
+    const RenderPlan plan = plan_render(a);
+    const Format format = [&] {  // refuse a bad format before any work (a usage error)
+        try {
+            return output_format(plan.outputs[0], a.format);
+        } catch (const Error& e) {
+            throw BadValue(e.what());
+        }
+    }();
+    RenderSetup setup;
+    std::optional<Style>& style = setup.style;  // read before any work: a bad style file fails fast
+    if (!a.style.empty()) {
+        if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
+        style = load_style(a.style);
+        if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
+    }
+    for (const std::string& m : a.models) {
+        if (!is_freeform_model(m) && a.freeform.any())
+            throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
+        if (is_freeform_model(m) && a.subdivide > 0)
+            throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
+    }
+    ViewOptions& opt = setup.view;
+    opt.features = a.features;
+    opt.surface = a.surface;
+    opt.visibility = a.visibility;
+    opt.walk = a.walk;
+    opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
+    if (style && style->draw_hidden) opt.exact_hidden = true;
+    opt.finder = a.finder;
+    setup.output.hidden = a.hidden;
+    if (plan.models) {
+        render_items(a, setup, plan, nullptr, Camera(), format);
+        print_summary(a, plan, seconds_since(t0), "");
+        return 0;
+    }
+    const std::string& path = a.models[0];
+    std::unique_ptr<FreeformRender> freeform;
+    if (is_freeform_model(path)) freeform = std::make_unique<FreeformRender>(path, a.freeform);
+    const Model model = freeform ? Model(freeform->mesh(), a.crease)
+                                 : load_model_file(path, a.strict, a.crease, a.subdivide);
+    const Camera home = make_camera(a.camera, model);
+    if (plan.count == 1) {
+        const std::string report = render_drawing(a, setup, model, freeform.get(), home, plan.outputs[0], format, t0);
+        if (!a.quiet) std::fputs(report.c_str(), stdout);
+        return 0;
+    }
+    // The model's lazy parts, built before the jobs start (each frame needs the self-intersections,
+    // nearly every one a ray test, all of them the curvature when its lines are drawn): the jobs
+    // then only read the model. (Built on first use they would be safe too, behind call_once.)
+    model.self_intersections();
+    model.rays();
+    if (setup.view.wants_surface_lines()) model.curvature();
+    render_items(a, setup, plan, &model, home, format);
+    print_summary(a, plan, seconds_since(t0), camera_flags(home));
     return 0;
 }
 

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "app/batch.hpp"
+#include "app/progress.hpp"
 #include "core/error.hpp"
 
 namespace inkline {
@@ -67,6 +69,14 @@ const Flag* FlagTable::find(const std::string& name) const {
 }
 
 bool FlagTable::parse(int argc, char** argv, int first, std::string& model) const {
+    std::vector<std::string> models;
+    if (!parse(argc, argv, first, models)) return false;
+    if (models.size() > 1) throw Usage("more than one model given ('" + models[0] + "', '" + models[1] + "')", command_);
+    model = models[0];
+    return true;
+}
+
+bool FlagTable::parse(int argc, char** argv, int first, std::vector<std::string>& models) const {
     for (int i = first; i < argc; ++i)
         if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
             std::fputs(help().c_str(), stdout);
@@ -75,8 +85,7 @@ bool FlagTable::parse(int argc, char** argv, int first, std::string& model) cons
     for (int i = first; i < argc; ++i) {
         const std::string arg = argv[i];
         if (arg.rfind("--", 0) != 0 && !find(arg)) {  // (as before: "-x" is a file name, not a flag)
-            if (!model.empty()) throw Usage("more than one model given ('" + model + "', '" + arg + "')", command_);
-            model = arg;
+            models.push_back(arg);
             continue;
         }
         const auto eq = arg.find('=');
@@ -103,7 +112,7 @@ bool FlagTable::parse(int argc, char** argv, int first, std::string& model) cons
             throw Usage(key + " needs a value (" + key + "=" + f->value + ")", command_);
         }
     }
-    if (model.empty()) throw Usage("no model given", command_);
+    if (models.empty()) throw Usage("no model given", command_);
     return true;
 }
 
@@ -243,8 +252,16 @@ Camera make_camera(const CameraFlags& c, const Model& model) {
     return make_camera(from_file, model.topology());
 }
 
-Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide) {
-    Model model = Model::load(path, LoadOptions{.strict = strict}, crease_degrees, subdivide);
+Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide, bool progress) {
+    std::unique_ptr<ProgressLine> line;  // from the subdivision's start (the file's reading apart)
+    SubdivideProgress on_level = [&line](std::size_t done, std::size_t total) {
+        if (!line) line = ProgressLine::on_stderr("subdivide", total, "triangles");
+        line->set_done(done);
+        if (done == total) line->finish();  // (the ordering and topology that follow are not counted)
+    };
+    Model model = Model::load(path, LoadOptions{.strict = strict}, crease_degrees, subdivide,
+                              progress ? on_level : SubdivideProgress());
+    line.reset();
     for (const std::string& w : model.repairs().warnings(path)) std::fprintf(stderr, "inkline: warning: %s\n", w.c_str());
     return model;
 }
@@ -434,6 +451,21 @@ Flag frames_flag(int& frames, const std::string& what, bool* given) {
                 frames = parse_integer("--frames", v, 1, 1000000);
                 if (given) *given = true;
             }};
+}
+
+Flag orbit_flag(bool& orbit, const std::string& help) { return switch_flag("--orbit", orbit, true, help); }
+
+Flag jobs_flag(int& jobs) {
+    return {"--jobs", "N", "frames rendered at once, 1 to 1024 (default: the machine's hardware threads; "
+                           "the frames are the same whatever N)",
+            [&jobs](const std::string& v) { jobs = parse_integer("--jobs", v, 1, 1024); }};
+}
+
+Flag frame_range_flag(FrameRange& range) {
+    return {"--frame-range", "A:B",
+            "render frames A to B only (both included, numbered from 0 as in the whole run, each frame the "
+            "same file), to split a sequence between machines",
+            [&range](const std::string& v) { range = parse_frame_range(v); }};
 }
 
 Flag arc_flag(double& degrees, const std::string& what) {

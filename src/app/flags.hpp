@@ -62,6 +62,9 @@ public:
     // word that is not a flag goes to `model`. Returns false when -h/--help was asked for (the
     // help is then printed on stdout and nothing else is parsed).
     bool parse(int argc, char** argv, int first, std::string& model) const;
+    // The same for a command that takes several models (render): every word that is no flag, in
+    // order.
+    bool parse(int argc, char** argv, int first, std::vector<std::string>& models) const;
     std::string help() const;
     const std::string& command() const { return command_; }
 
@@ -100,8 +103,10 @@ Camera make_camera(const CameraFlags& flags, const MeshTopology& mesh);
 Camera make_camera(const CameraFlags& flags, const Model& model);
 
 // Loads a model file as the commands do: tolerant, or strict with --strict; prints one warning
-// line per kind of repair made ("inkline: warning: FILE: ...") on stderr.
-Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide);
+// line per kind of repair made ("inkline: warning: FILE: ...") on stderr, and with `progress` a
+// progress line of the subdivision (app/progress.hpp: on a terminal only).
+Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide,
+                      bool progress = true);
 
 // The shared flags, one definition each. (size_flag's help shows the size already set, if any.)
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);
@@ -123,6 +128,10 @@ Flag strict_flag(bool& strict);
 Flag threads_flag(int& threads, const std::string& what, const std::string& unset);
 Flag frames_flag(int& frames, const std::string& what, bool* given = nullptr);
 Flag arc_flag(double& degrees, const std::string& what);  // help shows its default
+Flag orbit_flag(bool& orbit, const std::string& help);
+Flag jobs_flag(int& jobs);
+struct FrameRange;  // app/batch.hpp
+Flag frame_range_flag(FrameRange& range);
 Flag style_flag(std::string& style);
 Flag switch_flag(const std::string& name, bool& target, bool value_when_given, const std::string& help);
 Flag text_flag(const std::string& name, const std::string& value, std::string& target, const std::string& help);

@@ -66,7 +66,7 @@ int run_view(int argc, char** argv) {
     flags.group("Window")
         .add(switch_flag("--no-panel", o.panel, false, "hide the settings panel"))
         .add(frames_flag(o.frames, "run N frames, then exit", &frames_given))
-        .add(switch_flag("--orbit", o.orbit, true, "with --frames: turn the camera along an orbit"))
+        .add(orbit_flag(o.orbit, "with --frames: turn the camera along an orbit"))
         .add(arc_flag(o.arc, "with --orbit: degrees turned over the frames"))
         .add({"--screenshot", "FILE.png", "with --frames: the last frame's drawing as PNG",
               [&o](const std::string& v) {

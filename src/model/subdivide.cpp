@@ -3,11 +3,13 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 
+#include <vector>
+
 #include "core/error.hpp"
 
 namespace inkline {
 
-TriangleMesh subdivide_loop(TriangleMesh mesh, int levels) {
+TriangleMesh subdivide_loop(TriangleMesh mesh, int levels, const SubdivideProgress& progress) {
     if (levels <= 0) return mesh;
     struct Traits : OpenMesh::DefaultTraits {
         using Point = OpenMesh::Vec3d;
@@ -30,14 +32,21 @@ TriangleMesh subdivide_loop(TriangleMesh mesh, int levels) {
         // Room for the final level at once (with the subdivider's own properties, attached above):
         // the arrays would otherwise grow by doubling, and a doubling holds the old and the new
         // array together (the load's peak; docs/memory.md). Loop: V' = V + E, E' = 2E + 3F, F' = 4F.
-        std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces();
+        std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces(), made = 0;
+        std::vector<std::size_t> made_by_level;
         for (int l = 0; l < levels; ++l) {
             nv += ne;
             ne = 2 * ne + 3 * nf;
             nf *= 4;
+            made += nf;
+            made_by_level.push_back(made);
         }
         m.reserve(nv, ne, nf);
-        loop(std::size_t(levels));
+        if (progress) progress(0, made);
+        for (int l = 0; l < levels; ++l) {  // one level a call: the same mesh as loop(levels)
+            loop(1);
+            if (progress) progress(made_by_level[std::size_t(l)], made);
+        }
         loop.detach();
         out.positions.reserve(m.n_vertices());
         for (const auto v : m.vertices()) {
