@@ -42,6 +42,7 @@ struct RenderArgs {
     int subdivide = 0;
     bool walk = true;
     bool hidden = false, quiet = false, recall = false;
+    bool keep_specks = false;  // --keep-specks: SVG, PDF, PNG keep lone strokes shorter than a pixel
     bool strict = false;  // --strict: refuse what tolerant loading repairs
     FeatureOptions features;
     SurfaceLineOptions surface{.suggestive = false};
@@ -61,6 +62,8 @@ FlagTable render_flags(RenderArgs& a) {
         .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg)",
               [&a](const std::string& v) { a.output = v; }, "-o"})
         .add(text_flag("--format", "svg|pdf|png|json", a.format, "the format, whatever the extension"))
+        .add(switch_flag("--keep-specks", a.keep_specks, true,
+                         "svg, pdf, png: keep lone strokes shorter than a pixel (dropped by default; the JSON keeps every piece)"))
         .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
     t.group("Camera (default framed: the whole model in view, fov 30, +Y up)")
         .add(camera_flags(a.camera));
@@ -119,6 +122,7 @@ int run_render(int argc, char** argv) {
     if (!a.style.empty()) {
         if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
         style = load_style(a.style);
+        if (a.keep_specks) style->keep_specks = true;
         if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
     }
     std::unique_ptr<FreeformRender> freeform;
@@ -145,6 +149,8 @@ int run_render(int argc, char** argv) {
     if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet);
     OutputOptions oo;
     oo.hidden = a.hidden;
+    oo.keep_specks = a.keep_specks;
+    WriteSummary written;
     const auto t_out = std::chrono::steady_clock::now();
     view.drawing.stats.seconds_output = 0.0;
     view.drawing.stats.seconds_total =
@@ -160,8 +166,10 @@ int run_render(int argc, char** argv) {
         hatch_stats = sv.hatching;
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
         write_styled(sd, out, format);
+        written.strokes = style_stats.strokes;
+        written.specks_dropped = style_stats.specks_dropped;
     } else {
-        write_drawing(view.drawing, out, format, oo);
+        written = write_drawing(view.drawing, out, format, oo);
     }
     const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
     if (!a.quiet) {
@@ -177,6 +185,12 @@ int run_render(int argc, char** argv) {
                     "%.4f, ray tests %.4f), output %.4f\n",
                     s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
                     s.seconds_walks, s.seconds_ray_tests, t_write);
+        if (format == Format::Json)
+            std::printf("paths: the JSON keeps the %zu pieces (svg, pdf, png would leave out %zu as specks)\n",
+                        s.pieces, written.specks_dropped);
+        else
+            std::printf("paths: %zu strokes, %zu specks dropped (pieces shorter than a pixel, alone)\n",
+                        written.strokes, written.specks_dropped);
         if (style)
             std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
                         style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,

@@ -250,10 +250,11 @@ struct Parser {
             else if (k == "kinds") s.kinds = kinds(v, k);
             else if (k == "light") light(v, k, s.light_at_camera, s.light);
             else if (k == "chain") {
-                check_keys(v, k, {"join", "max_turn_degrees", "join_distance"});
+                check_keys(v, k, {"join", "max_turn_degrees", "join_distance", "keep_specks"});
                 for (const auto& [k2, v2] : v.items()) {
                     const std::string key = k + "." + k2;
                     if (k2 == "join") s.chain = boolean(v2, key);
+                    else if (k2 == "keep_specks") s.keep_specks = boolean(v2, key);
                     else if (k2 == "max_turn_degrees") s.max_turn_degrees = number(v2, key, 0, 180);
                     else s.join_distance = number(v2, key, 0, 1);
                 }

@@ -79,6 +79,7 @@ struct Style {
     bool chain = true;                        // join pieces into strokes
     double max_turn_degrees = 30.0;
     double join_distance = 1e-3;              // px
+    bool keep_specks = false;                 // keep lone strokes shorter than a pixel (--keep-specks)
     std::array<LineStyle, kPieceKindCount> lines;  // visible lines, per kind
     // Hidden lines: hidden[k] is for QI k + 1; QI beyond the last entry uses the last one.
     std::vector<LineStyle> hidden;

@@ -225,7 +225,10 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
     co.join = style.chain;
     co.max_turn_degrees = style.max_turn_degrees;
     co.join_distance = style.join_distance;
-    const std::vector<Stroke> strokes = chain_strokes(d, co, attributes);
+    co.keep_specks = style.keep_specks;
+    ChainStats chain_stats;
+    const std::vector<Stroke> strokes = chain_strokes(d, co, attributes, &chain_stats);
+    st.specks_dropped = chain_stats.specks_dropped;
     const double margin = std::max(out.width, out.height);
     const glm::dvec2 lo(-margin, -margin), hi(out.width + margin, out.height + margin);
     Builder builder(style, out.height);
