@@ -150,7 +150,7 @@ int run_render(int argc, char** argv) {
     OutputOptions oo;
     oo.hidden = a.hidden;
     oo.keep_specks = a.keep_specks;
-    WriteSummary written;
+    WriteSummary written;  // the default writers' strokes (a style counts its own)
     const auto t_out = std::chrono::steady_clock::now();
     view.drawing.stats.seconds_output = 0.0;
     view.drawing.stats.seconds_total =
@@ -166,8 +166,6 @@ int run_render(int argc, char** argv) {
         hatch_stats = sv.hatching;
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
         write_styled(sd, out, format);
-        written.strokes = style_stats.strokes;
-        written.specks_dropped = style_stats.specks_dropped;
     } else {
         written = write_drawing(view.drawing, out, format, oo);
     }
@@ -186,15 +184,15 @@ int run_render(int argc, char** argv) {
                     s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
                     s.seconds_walks, s.seconds_ray_tests, t_write);
         if (format == Format::Json)
-            std::printf("paths: the JSON keeps the %zu pieces (svg, pdf, png would leave out %zu as specks)\n",
-                        s.pieces, written.specks_dropped);
-        else
+            std::printf("paths: the JSON keeps every piece (svg, pdf, png would leave out %zu as specks)\n",
+                        written.specks_dropped);
+        else if (!style)  // (a style's line below counts its strokes)
             std::printf("paths: %zu strokes, %zu specks dropped (pieces shorter than a pixel, alone)\n",
                         written.strokes, written.specks_dropped);
         if (style)
-            std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
+            std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %zu specks dropped, %.4f s\n",
                         style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
-                        hatch_stats.ray_tests, t_style);
+                        hatch_stats.ray_tests, style_stats.specks_dropped, t_style);
         std::printf("camera: --eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d\n", fmt3(cam.eye()).c_str(),
                     fmt3(cam.target()).c_str(), fmt3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
                     cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());
