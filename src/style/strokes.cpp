@@ -117,7 +117,7 @@ std::vector<long long> pair_ends(const Drawing& d, const std::vector<std::uint32
         for (std::size_t j = i + 1; j < ends.size() && ends[j].first - ends[i].first <= o.join_distance; ++j) {
             const std::size_t a = std::min(ends[i].second, ends[j].second), b = std::max(ends[i].second, ends[j].second);
             const Piece &pa = d.pieces[a / 2], &pb = d.pieces[b / 2];
-            if (a / 2 == b / 2 || pa.kind != pb.kind || pa.qi != pb.qi || pa.object != pb.object) continue;
+            if (pa.kind != pb.kind || pa.qi != pb.qi || pa.object != pb.object) continue;
             if (glm::distance(tip(a), tip(b)) > o.join_distance) continue;
             // Leaving a, entering b: travel direction inside b is -out(b).
             const glm::dvec2 u = out_direction(pa, int(a % 2)), v = -out_direction(pb, int(b % 2));
