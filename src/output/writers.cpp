@@ -114,7 +114,7 @@ bool clip(glm::dvec2& a, glm::dvec2& b, const glm::dvec2& lo, const glm::dvec2& 
     return inside(a) && inside(b);
 }
 
-// The parts of a piece inside the image grown by an image-sized margin, as polylines. Cairo's
+// The parts of a polyline inside the image grown by an image-sized margin. Cairo's
 // 24.8 fixed point wraps beyond about 8e6 px (and so do SVG renderers built on it), which
 // projections of points near the eye plane easily reach.
 std::vector<std::vector<glm::dvec2>> clipped_runs(const std::vector<glm::dvec2>& points, const Camera& cam) {
