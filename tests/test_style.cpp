@@ -247,6 +247,41 @@ TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
     EXPECT_TRUE(inkline::load_style("hatched").hatching.enabled);
 }
 
+TEST(StyleObjects, LinesChosenByObjectNameOverTheStylesLines) {
+    // The cube's visible lines red (its creases also wider), the ball's as the style's; hidden
+    // lines by QI whatever their object; an object the drawing does not have changes nothing.
+    const inkline::Style style = inkline::parse_style(
+        R"({"lines": {"default": {"width": 2}},
+            "objects": {"Cube": {"default": {"colour": "#ff0000"}, "crease": {"width": 3}}, "Lamp": {}}})",
+        "/tmp/s/objects.json");
+    const std::string cube = "Cube", lamp = "Lamp";
+    EXPECT_EQ(style.for_line(LineKind::Silhouette, 0, &cube).rgb, 0xff0000u);
+    EXPECT_EQ(style.for_line(LineKind::Silhouette, 0, &cube).width, 2.0);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, &cube).width, 3.0);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, &cube).rgb, 0xff0000u);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, &lamp).rgb, 0u);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, nullptr).width, 2.0);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 1, &cube).rgb, 0x7f7f7fu);
+
+    Drawing d = drawing_of({
+        {LineKind::Silhouette, 0, 1, {{0, 0}, {50, 0}}},
+        {LineKind::Silhouette, 0, 2, {{0, 20}, {50, 20}}},
+    });
+    d.object_names = {"Ball", "Cube"};
+    d.pieces[1].object = 1;
+    const auto sd = inkline::stylize(d, style, false);
+    ASSERT_EQ(sd.layers.size(), 1u);
+    ASSERT_EQ(sd.layers[0].marks.size(), 2u);
+    EXPECT_EQ(sd.layers[0].marks[0].rgb, 0u);
+    EXPECT_EQ(sd.layers[0].marks[0].paths.at(0).front().y, 0.0);
+    EXPECT_EQ(sd.layers[0].marks[1].rgb, 0xff0000u);
+    EXPECT_EQ(sd.layers[0].marks[1].paths.at(0).front().y, 20.0);
+
+    EXPECT_NE(error_of(R"({"objects": {"Cube": {"silhuette": {}}}})").find("unknown key 'objects.Cube.silhuette'"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"objects": [1]})").find("objects"), std::string::npos);
+}
+
 TEST(StyleFile, KindsOverrideDefaultKeyByKey) {
     const inkline::Style s = inkline::parse_style(
         R"({"lines": {"default": {"colour": "#102030", "width": 2}, "crease": {"width": 0.5}}, "hidden": [{"dash": [3, 1]}]})",
