@@ -71,6 +71,30 @@ FeatureOptions chained_kinds(const ViewOptions& options) {
         fo.kinds[int(LineKind::Silhouette)] = fo.kinds[int(LineKind::Border)] = true;
     return fo;
 }
+
+// Each piece's object: the face beside its first edge (feature pieces), or under its first
+// segment (surface lines). A scene's objects are welded each on its own, so no curve runs from
+// one object into another.
+void assign_objects(const MeshTopology& mesh, View& v) {
+    Drawing& d = v.drawing;
+    d.object_names.clear();
+    if (mesh.object_names.size() < 2 || mesh.face_object.size() != mesh.face_count()) return;
+    d.object_names = mesh.object_names;
+    const std::uint32_t first_surface = std::uint32_t(v.features.curves.size());
+    for (std::size_t i = 0; i < d.pieces.size(); ++i) {
+        Piece& p = d.pieces[i];
+        std::uint32_t face = kNoFace;
+        if (i < v.spans.size() && !v.spans[i].empty()) {
+            face = mesh.edge_face[v.spans[i].front().edge][0];
+        } else if (p.curve >= first_surface && p.curve - first_surface < v.surface.curves.size()) {
+            const auto& c = v.surface.curves[p.curve - first_surface];
+            for (std::uint32_t k = c.begin; k < c.end && face == kNoFace; ++k)
+                if (k < v.surface.segment_face.size() && v.surface.segment_face[k] != UINT32_MAX)
+                    face = v.surface.segment_face[k];
+        }
+        p.object = face < mesh.face_object.size() ? mesh.face_object[face] : 0;
+    }
+}
 }  // namespace
 
 View render_view(const Model& model, Camera camera, const ViewOptions& options) {
@@ -193,6 +217,7 @@ void ViewSession::finish(const Camera& camera) {
     s.seconds_features = features_seconds_ + s.seconds_surface_lines;
     s.seconds_visibility = seconds_since(t1) - index_seconds - not_visibility;
     s.seconds_total = s.seconds_features + s.seconds_visibility;
+    assign_objects(model.topology(), v);
 }
 
 double ViewSession::add_surface_lines(const Camera& camera, const std::function<const RayCaster&()>& rays,

@@ -138,7 +138,9 @@ TEST(OutputJson, SchemaAndValues) {
     EXPECT_EQ(keys(s), (std::set<std::string>{"triangles", "silhouette_edges", "border_edges",
                                               "crease_edges", "curves", "cusps", "crossings",
                                               "pieces", "ray_tests", "visibility", "clusters", "walks",
-                                              "cluster_decisions", "finder", "fraction", "seconds"}));
+                                              "cluster_decisions", "finder", "fraction", "seconds",
+                                              "specks_dropped"}));
+    EXPECT_EQ(s["specks_dropped"], 0);
     EXPECT_EQ(s["finder"], "exhaustive");
     EXPECT_EQ(s["fraction"], 1.0);
     EXPECT_EQ(s["triangles"], 1234);
@@ -205,11 +207,10 @@ TEST(OutputSvg, LayersInOrder) {
     EXPECT_NE(visible.find("inkscape:groupmode=\"layer\" inkscape:label=\"silhouette-visible\""),
               std::string::npos);
     EXPECT_NE(visible.find("viewBox=\"0 0 200 100\""), std::string::npos);
-    EXPECT_NE(visible.find("points=\"20.000,50.500 100.100,50.500 180.000,50.500\""),
-              std::string::npos);
+    EXPECT_NE(visible.find("d=\"M20,50.5 L100.1,50.5 180,50.5\""), std::string::npos);
     EXPECT_EQ(visible.find("nan"), std::string::npos);
     // Clipped to the image plus a 200 px margin.
-    EXPECT_NE(visible.find("points=\"100.000,20.500 400.000,20.500\""), std::string::npos);
+    EXPECT_NE(visible.find("d=\"M100,20.5 L400,20.5\""), std::string::npos);
 
     inkline::OutputOptions o;
     o.hidden = true;
@@ -322,4 +323,121 @@ TEST_F(OutputFiles, ReplacesExistingFile) {
     inkline::write_drawing(sample_drawing(), p.string(), Format::Svg, {});
     EXPECT_EQ(read_file(p), inkline::drawing_to_svg(sample_drawing(), {}));
     EXPECT_EQ(entries(), std::set<std::string>{"d.svg"});
+}
+
+// ---- For editing: strokes, specks, attributes, objects ---------------------------------------
+
+namespace {
+
+std::size_t occurrences(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
+// Curve 1 cut in two at (50, 10) (a crossing), joined at a straight junction by curve 2; a crease
+// meeting it at a right angle at (100, 10) (another kind, never joined); a silhouette turning by
+// 90 degrees at (100, 40) (two curves: two paths); a piece of 0.4 px hanging off the end of that
+// corner (a speck with a neighbour: joined); a lone piece of 0.5 px (a speck: dropped); a hidden
+// piece of QI 2 continuing curve 1 (another QI: its own path, in its own layer).
+inkline::Drawing editing_drawing() {
+    inkline::Drawing d;
+    d.camera = inkline::Camera::perspective({1, 2, 3}, {0, 0, 0}, {0, 1, 0}, 30.0, kW, kH);
+    d.pieces = {
+        {LineKind::Silhouette, 0, 1, {{10, 10}, {50, 10}}},
+        {LineKind::Silhouette, 0, 1, {{50, 10}, {70, 10}}},
+        {LineKind::Silhouette, 0, 2, {{100, 10}, {70, 10}}},  // stored backwards
+        {LineKind::Crease, 0, 3, {{100, 10}, {100, 40}}},
+        {LineKind::Silhouette, 0, 4, {{20, 40}, {100, 40}}},
+        {LineKind::Silhouette, 0, 5, {{100, 40}, {100, 90}}},
+        {LineKind::Silhouette, 0, 6, {{100, 90}, {100.4, 90}}},
+        {LineKind::Silhouette, 0, 7, {{150, 70}, {150.5, 70}}},
+        {LineKind::Silhouette, 2, 1, {{10, 10}, {0, 10}}},
+    };
+    return d;
+}
+
+}  // namespace
+
+TEST(OutputEditing, ContinuingPiecesOnePathSpecksDroppedOrKept) {
+    const inkline::Drawing d = editing_drawing();
+    const std::string svg = inkline::drawing_to_svg(d, {});
+    // Pieces 0-2: one path from (10, 10) to (100, 10); pieces 4, 5 (+ 6): two; the crease: one.
+    EXPECT_EQ(occurrences(svg, "<path "), 4u);
+    EXPECT_EQ(occurrences(svg, "<polyline"), 0u);
+    EXPECT_NE(svg.find("d=\"M10,10 L50,10 70,10 100,10\""), std::string::npos) << svg;
+    EXPECT_NE(svg.find("d=\"M20,40 L100,40\""), std::string::npos) << svg;
+    EXPECT_NE(svg.find("d=\"M100,40 L100,90 100.4,90\""), std::string::npos) << svg;
+    EXPECT_EQ(svg.find("150"), std::string::npos);  // the lone speck
+    std::size_t dropped = 99;
+    EXPECT_EQ(inkline::drawing_strokes(d, {}, &dropped).size(), 4u);
+    EXPECT_EQ(dropped, 1u);
+    EXPECT_EQ(json::parse(inkline::drawing_to_json(d, {}))["stats"]["specks_dropped"], 1);
+
+    inkline::OutputOptions keep;
+    keep.keep_specks = true;
+    const std::string kept = inkline::drawing_to_svg(d, keep);
+    EXPECT_EQ(occurrences(kept, "<path "), 5u);
+    EXPECT_NE(kept.find("d=\"M150,70 L150.5,70\""), std::string::npos);
+    EXPECT_EQ(json::parse(inkline::drawing_to_json(d, keep))["stats"]["specks_dropped"], 0);
+    // The JSON keeps every visible piece, specks too, whatever the options.
+    EXPECT_EQ(json::parse(inkline::drawing_to_json(d, {}))["polylines"].size(), 8u);
+
+    // A closed chain is closed with Z (one round join where it starts, not two caps).
+    inkline::Drawing loop = d;
+    loop.pieces = {{LineKind::Border, 0, 4, {{0, 0}, {10, 0}, {10, 10}}}, {LineKind::Border, 0, 4, {{10, 10}, {0, 10}, {0, 0}}}};
+    EXPECT_NE(inkline::drawing_to_svg(loop, {}).find("d=\"M0,0 L10,0 10,10 0,10 Z\""), std::string::npos);
+}
+
+TEST(OutputEditing, PathsCarryKindQiAndLayersKeepTheirNames) {
+    inkline::OutputOptions o;
+    o.hidden = true;
+    const std::string svg = inkline::drawing_to_svg(editing_drawing(), o);
+    EXPECT_EQ(occurrences(svg, "class=\"silhouette visible qi0\" data-kind=\"silhouette\" data-qi=\"0\" d="), 3u);
+    EXPECT_EQ(occurrences(svg, "class=\"crease visible qi0\" data-kind=\"crease\" data-qi=\"0\" d="), 1u);
+    EXPECT_EQ(occurrences(svg, "class=\"silhouette hidden qi2\" data-kind=\"silhouette\" data-qi=\"2\" d=\"M10,10 L0,10\""), 1u);
+    EXPECT_EQ(svg.find("data-object"), std::string::npos);  // one mesh: no objects
+    // The hidden path sits in its Inkscape layer, named as before.
+    const std::size_t layer = svg.find("<g id=\"silhouette-hidden-qi2\" inkscape:groupmode=\"layer\" inkscape:label=\"silhouette-hidden-qi2\"");
+    ASSERT_NE(layer, std::string::npos);
+    EXPECT_LT(layer, svg.find("data-qi=\"2\""));
+    EXPECT_LT(svg.find("data-qi=\"2\""), svg.find("<g id=\"silhouette-visible\""));
+
+    // QI 3 and 5 share the "3plus" layer, each path with its own QI.
+    inkline::Drawing deep = editing_drawing();
+    deep.pieces = {{LineKind::Border, 3, 1, {{10, 10}, {50, 10}}}, {LineKind::Border, 5, 1, {{50, 10}, {90, 10}}}};
+    const std::string d3 = inkline::drawing_to_svg(deep, o);
+    EXPECT_EQ(occurrences(d3, "inkscape:groupmode=\"layer\""), 1u);
+    EXPECT_EQ(occurrences(d3, "class=\"border hidden qi3\""), 1u);
+    EXPECT_EQ(occurrences(d3, "class=\"border hidden qi5\""), 1u);
+}
+
+TEST(OutputEditing, ObjectsGroupedInsideEachLayerAndNamedInJson) {
+    inkline::Drawing d = editing_drawing();
+    d.object_names = {"Ball", "Cube & <\"lid\">"};
+    // The crease and the right-angle silhouette belong to the cube; the rest to the ball. Pieces 1
+    // and 2 meet straight but are of two objects: not joined.
+    for (std::size_t i : {2u, 3u, 5u, 6u}) d.pieces[i].object = 1;
+    const std::string svg = inkline::drawing_to_svg(d, {});
+    EXPECT_EQ(occurrences(svg, "<path "), 5u);
+    const std::size_t layer = svg.find("<g id=\"silhouette-visible\""), ball = svg.find("<g id=\"silhouette-visible-object0\" inkscape:label=\"Ball\">"),
+                      cube = svg.find("<g id=\"silhouette-visible-object1\" inkscape:label=\"Cube &amp; &lt;&quot;lid&quot;&gt;\">");
+    ASSERT_NE(layer, std::string::npos);
+    ASSERT_NE(ball, std::string::npos) << svg;
+    ASSERT_NE(cube, std::string::npos) << svg;
+    EXPECT_LT(layer, ball);
+    EXPECT_LT(ball, cube);
+    EXPECT_EQ(occurrences(svg, "data-object=\"Ball\""), 2u);
+    EXPECT_EQ(occurrences(svg, "data-object=\"Cube &amp; &lt;&quot;lid&quot;&gt;\""), 3u);
+    EXPECT_NE(svg.find("<g id=\"crease-visible-object1\""), std::string::npos);
+    EXPECT_EQ(svg.find("<g id=\"crease-visible-object0\""), std::string::npos);  // no empty group
+
+    const json j = json::parse(inkline::drawing_to_json(d, {}));
+    std::vector<std::string> objects;
+    for (const json& p : j["polylines"]) {
+        EXPECT_EQ(keys(p), (std::set<std::string>{"kind", "qi", "object", "points"}));
+        objects.push_back(p["object"]);
+    }
+    const std::string c = "Cube & <\"lid\">";
+    EXPECT_EQ(objects, (std::vector<std::string>{"Ball", "Ball", c, c, "Ball", c, c, "Ball"}));
 }

@@ -425,3 +425,84 @@ TEST(SceneCli, FileCameraByDefaultByNameOrFramed) {
               std::string::npos)
         << missing.err;
 }
+
+// Objects in the outputs (issue 40 part 2): the ball and the cube of CubeInFrontOfSphereHidesItsPart,
+// seen from (0, 0, 8). Every piece knows its object: the pieces on the ball's outline circle
+// are the ball's, the creases (the sphere has none: its faces turn by 7.5 degrees) the cube's.
+// The command's SVG has a group per object inside each layer, labelled with the node's name, and
+// its JSON names the object of every polyline.
+TEST(SceneOutput, PiecesKnowTheirObjectsAndTheOutputsTellThemApart) {
+    const fs::path d = scratch();
+    Gltf g;
+    const int sphere = g.add_mesh(inkline::make_sphere({0, 0, 0}, 1.0, 48, 24), "sphere");
+    const int cube = g.add_mesh(inkline::make_box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), "cube");
+    const int cube_node = g.add_node({{"name", "Cube"}, {"mesh", cube}, {"translation", {0, 0, 2}}});
+    const int parent = g.add_node({{"name", "Holder"}, {"children", {cube_node}}, {"translation", {0.9, 0, 0}},
+                                   {"scale", {1.2, 1.2, 1.2}}});
+    const int sphere_node = g.add_node({{"name", "Ball"}, {"mesh", sphere}});
+    const std::string path = g.save(d, "two", {sphere_node, parent});
+
+    const inkline::Model model = inkline::Model::load(path, inkline::LoadOptions{});
+    const inkline::Camera cam = inkline::Camera::perspective({0, 0, 8}, {0, 0, 0}, {0, 1, 0}, 40, 600, 600);
+    inkline::ViewOptions rays;
+    rays.visibility = inkline::VisibilityMethod::Rays;
+    rays.exact_hidden = true;
+    for (const inkline::ViewOptions& o : {inkline::ViewOptions{}, rays}) {
+        const inkline::View v = inkline::render_view(model, cam, o);
+        EXPECT_EQ(v.drawing.object_names, (std::vector<std::string>{"Ball", "Cube"}));
+        const glm::dvec2 centre = cam.project({0, 0, 0});
+        const double r_px = glm::length(cam.project({std::sin(std::acos(1.0 / 8.0)), 0, 1.0 / 8.0}) - centre);
+        std::size_t ball = 0, cube_pieces = 0;
+        for (const auto& p : v.drawing.pieces) {
+            const bool on_circle = std::all_of(p.points.begin(), p.points.end(), [&](const glm::dvec2& q) {
+                return std::abs(glm::length(q - centre) - r_px) < 1.0;
+            });
+            if (p.kind == inkline::LineKind::Crease) {
+                EXPECT_EQ(p.object, 1u);
+                ++cube_pieces;
+            } else if (on_circle && p.points.size() > 2) {
+                EXPECT_EQ(p.object, 0u);
+                ++ball;
+            }
+        }
+        EXPECT_EQ(ball, 2u);  // the outline cut where it passes behind the cube: one arc in view, one behind
+        EXPECT_GT(cube_pieces, 8u);  // the cube's 12 edges, some cut by the ball's outline
+    }
+
+    const inkline_test::Result svg = run("render " + path + " --eye=0,0,8 --target=0,0,0 --fov=40 --size=600x600 -o " +
+                                         (d / "two.svg").string(), d);
+    ASSERT_EQ(svg.code, 0) << svg.err;
+    const std::string text = inkline_test::slurp(d / "two.svg");
+    const std::size_t layer = text.find("<g id=\"silhouette-visible\" inkscape:groupmode=\"layer\"");
+    const std::size_t ball_group = text.find("<g id=\"silhouette-visible-object0\" inkscape:label=\"Ball\">");
+    const std::size_t cube_group = text.find("<g id=\"silhouette-visible-object1\" inkscape:label=\"Cube\">");
+    ASSERT_NE(layer, std::string::npos) << text;
+    ASSERT_NE(ball_group, std::string::npos) << text;
+    ASSERT_NE(cube_group, std::string::npos) << text;
+    EXPECT_LT(layer, ball_group);
+    EXPECT_LT(ball_group, cube_group);
+    // Every path of a group carries its object's name; the crease layer holds the cube only.
+    const std::size_t ball_end = text.find("</g>", ball_group);
+    EXPECT_EQ(text.substr(ball_group, ball_end - ball_group).find("data-object=\"Cube\""), std::string::npos);
+    EXPECT_NE(text.substr(ball_group, ball_end - ball_group).find("data-object=\"Ball\""), std::string::npos);
+    EXPECT_NE(text.find("<g id=\"crease-visible-object1\" inkscape:label=\"Cube\">"), std::string::npos);
+    EXPECT_EQ(text.find("<g id=\"crease-visible-object0\""), std::string::npos);
+    EXPECT_EQ(std::system(("rsvg-convert -o " + (d / "two.png").string() + " " + (d / "two.svg").string()).c_str()), 0);
+
+    const inkline_test::Result js = run("render " + path + " --eye=0,0,8 --target=0,0,0 --fov=40 --size=600x600 -o " +
+                                        (d / "two.json").string(), d);
+    ASSERT_EQ(js.code, 0) << js.err;
+    const json j = json::parse(inkline_test::slurp(d / "two.json"));
+    std::size_t named[2] = {0, 0};
+    for (const auto& p : j["polylines"]) {
+        ASSERT_TRUE(p.contains("object")) << p.dump();
+        const std::string o = p["object"];
+        ASSERT_TRUE(o == "Ball" || o == "Cube") << o;
+        ++named[o == "Cube"];
+        if (p["kind"] == "crease") {
+            EXPECT_EQ(o, "Cube");
+        }
+    }
+    EXPECT_GT(named[0], 0u);
+    EXPECT_GT(named[1], 0u);
+}

@@ -162,6 +162,41 @@ TEST(Chaining, ClosedLoopAndUnusablePieces) {
     EXPECT_DOUBLE_EQ(s[0].path.length(), 40.0);
 }
 
+TEST(Chaining, NeverAcrossObjectsSpecksJoinAnyNeighbourOrAreDropped) {
+    Drawing d = drawing_of({
+        {LineKind::Silhouette, 0, 1, {{0, 0}, {50, 0}}},
+        {LineKind::Silhouette, 0, 2, {{50, 0}, {100, 0}}},    // straight on, but another object
+        {LineKind::Silhouette, 0, 3, {{100, 0}, {100, 0.6}}},  // a speck at a right angle: joined
+        {LineKind::Silhouette, 0, 4, {{0, 20}, {0.3, 20}, {0.6, 20}}},  // a lone speck of 0.6 px
+        {LineKind::Silhouette, 0, 5, {{0, 40}, {0.5, 40}}},    // two specks, 0.9 px together:
+        {LineKind::Silhouette, 0, 6, {{0.5, 40}, {0.5, 40.4}}},  // still a speck, dropped
+    });
+    d.pieces[1].object = d.pieces[2].object = 1;
+    inkline::ChainStats st;
+    const auto s = inkline::chain_strokes(d, {}, nullptr, &st);
+    ASSERT_EQ(s.size(), 2u);
+    EXPECT_EQ(s[0].pieces, (std::vector<std::uint32_t>{0}));
+    EXPECT_EQ(s[0].object, 0u);
+    EXPECT_EQ(s[1].pieces.size(), 2u);
+    EXPECT_EQ(s[1].object, 1u);
+    EXPECT_DOUBLE_EQ(s[1].path.length(), 50.6);
+    EXPECT_EQ(st.specks_dropped, 3u);  // pieces 3, 4 and 5
+
+    inkline::ChainOptions keep;
+    keep.keep_specks = true;
+    const auto k = inkline::chain_strokes(d, keep, nullptr, &st);
+    EXPECT_EQ(k.size(), 4u);
+    EXPECT_EQ(st.specks_dropped, 0u);
+    // Without joining each piece is a stroke; the specks are still dropped.
+    inkline::ChainOptions apart;
+    apart.join = false;
+    EXPECT_EQ(inkline::chain_strokes(d, apart, nullptr, &st).size(), 2u);
+    EXPECT_EQ(st.specks_dropped, 4u);
+    // A style keeps them with chain.keep_specks (the command's --keep-specks sets it too).
+    EXPECT_TRUE(inkline::parse_style(R"({"chain": {"keep_specks": true}})", "/tmp/s/k.json").keep_specks);
+    EXPECT_FALSE(inkline::Style::clean().keep_specks);
+}
+
 // ---- Style files -----------------------------------------------------------------------------
 
 namespace {
@@ -210,6 +245,41 @@ TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
     EXPECT_FALSE(inkline::load_style("ink-brush").lines[0].brush.empty());
     EXPECT_DOUBLE_EQ(inkline::load_style("ink-brush").lines[0].brush_aspect, 4.0);  // 128 x 32 image
     EXPECT_TRUE(inkline::load_style("hatched").hatching.enabled);
+}
+
+TEST(StyleObjects, LinesChosenByObjectNameOverTheStylesLines) {
+    // The cube's visible lines red (its creases also wider), the ball's as the style's; hidden
+    // lines by QI whatever their object; an object the drawing does not have changes nothing.
+    const inkline::Style style = inkline::parse_style(
+        R"({"lines": {"default": {"width": 2}},
+            "objects": {"Cube": {"default": {"colour": "#ff0000"}, "crease": {"width": 3}}, "Lamp": {}}})",
+        "/tmp/s/objects.json");
+    const std::string cube = "Cube", lamp = "Lamp";
+    EXPECT_EQ(style.for_line(LineKind::Silhouette, 0, &cube).rgb, 0xff0000u);
+    EXPECT_EQ(style.for_line(LineKind::Silhouette, 0, &cube).width, 2.0);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, &cube).width, 3.0);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, &cube).rgb, 0xff0000u);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, &lamp).rgb, 0u);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 0, nullptr).width, 2.0);
+    EXPECT_EQ(style.for_line(LineKind::Crease, 1, &cube).rgb, 0x7f7f7fu);
+
+    Drawing d = drawing_of({
+        {LineKind::Silhouette, 0, 1, {{0, 0}, {50, 0}}},
+        {LineKind::Silhouette, 0, 2, {{0, 20}, {50, 20}}},
+    });
+    d.object_names = {"Ball", "Cube"};
+    d.pieces[1].object = 1;
+    const auto sd = inkline::stylize(d, style, false);
+    ASSERT_EQ(sd.layers.size(), 1u);
+    ASSERT_EQ(sd.layers[0].marks.size(), 2u);
+    EXPECT_EQ(sd.layers[0].marks[0].rgb, 0u);
+    EXPECT_EQ(sd.layers[0].marks[0].paths.at(0).front().y, 0.0);
+    EXPECT_EQ(sd.layers[0].marks[1].rgb, 0xff0000u);
+    EXPECT_EQ(sd.layers[0].marks[1].paths.at(0).front().y, 20.0);
+
+    EXPECT_NE(error_of(R"({"objects": {"Cube": {"silhuette": {}}}})").find("unknown key 'objects.Cube.silhuette'"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"objects": [1]})").find("objects"), std::string::npos);
 }
 
 TEST(StyleFile, KindsOverrideDefaultKeyByKey) {

@@ -53,6 +53,7 @@ struct RenderArgs {
     int subdivide = 0;
     bool walk = true;
     bool hidden = false, quiet = false, recall = false;
+    bool keep_specks = false;  // --keep-specks: SVG, PDF, PNG keep lone strokes shorter than a pixel
     bool strict = false;  // --strict: refuse what tolerant loading repairs
     FeatureOptions features;
     SurfaceLineOptions surface{.suggestive = false};
@@ -80,6 +81,8 @@ FlagTable render_flags(RenderArgs& a) {
                                   "sequence a pattern with one frame number (out_%04d.svg) or a directory (DIR/)",
               [&a](const std::string& v) { a.output = v; }, "-o"})
         .add(text_flag("--format", "svg|pdf|png|json", a.format, "the format, whatever the extension"))
+        .add(switch_flag("--keep-specks", a.keep_specks, true,
+                         "svg, pdf, png: keep lone strokes shorter than a pixel (dropped by default; the JSON keeps every piece)"))
         .add(switch_flag("--quiet", a.quiet, true, "print nothing"));
     t.group("Camera (default framed: the whole model in view, fov 30, +Y up)")
         .add(camera_flags(a.camera));
@@ -159,6 +162,7 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     StylizeStats style_stats;
     HatchStats hatch_stats;
     double t_style = 0.0;
+    WriteSummary written;  // the default writers' strokes (a style counts its own)
     if (style) {
         const auto t_s = std::chrono::steady_clock::now();
         StyledViewStats sv;
@@ -168,7 +172,7 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
         write_styled(sd, out, format);
     } else {
-        write_drawing(view.drawing, out, format, setup.output);
+        written = write_drawing(view.drawing, out, format, setup.output);
     }
     const double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
     std::string report;
@@ -184,10 +188,16 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
             "%.4f, ray tests %.4f), output %.4f\n",
             s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
             s.seconds_walks, s.seconds_ray_tests, t_write);
+    if (format == Format::Json)
+        appendf(report, "paths: the JSON keeps every piece (svg, pdf, png would leave out %zu as specks)\n",
+                written.specks_dropped);
+    else if (!style)  // (a style's line below counts its strokes)
+        appendf(report, "paths: %zu strokes, %zu specks dropped (pieces shorter than a pixel, alone)\n",
+                written.strokes, written.specks_dropped);
     if (style)
-        appendf(report, "style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
+        appendf(report, "style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %zu specks dropped, %.4f s\n",
                 style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
-                hatch_stats.ray_tests, t_style);
+                hatch_stats.ray_tests, style_stats.specks_dropped, t_style);
     appendf(report, "camera: %s\n", camera_flags(cam).c_str());
     return report;
 }
@@ -343,6 +353,7 @@ int run_render(int argc, char** argv) {
     if (!a.style.empty()) {
         if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
         style = load_style(a.style);
+        if (a.keep_specks) style->keep_specks = true;
         if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
     }
     for (const std::string& m : a.models) {
@@ -360,6 +371,7 @@ int run_render(int argc, char** argv) {
     if (style && style->draw_hidden) opt.exact_hidden = true;
     opt.finder = a.finder;
     setup.output.hidden = a.hidden;
+    setup.output.keep_specks = a.keep_specks;
     if (plan.models) {
         render_items(a, setup, plan, nullptr, Camera(), format);
         print_summary(a, plan, seconds_since(t0), "");

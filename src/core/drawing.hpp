@@ -35,6 +35,7 @@ struct Piece {
     int qi = 0;                       // quantitative invisibility: 0 is visible
     std::uint32_t curve = 0;          // index of the feature curve it came from
     std::vector<glm::dvec2> points;   // pixels, DESIGN.md convention
+    std::uint32_t object = 0;         // index into Drawing::object_names (0 when it is empty)
 };
 
 struct DrawingStats {
@@ -79,6 +80,9 @@ struct Drawing {
     Camera camera;
     DrawingStats stats;
     std::vector<Piece> pieces;  // visible and hidden pieces; writers filter by QI
+    // A scene's objects (Piece::object), in the model's order; empty for a single mesh. Writers
+    // tell objects apart only when there are several.
+    std::vector<std::string> object_names;
 };
 
 }  // namespace inkline

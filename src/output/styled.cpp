@@ -88,7 +88,7 @@ void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
     cairo_pattern_destroy(p);
 }
 
-cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool background) {
+cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool background, bool one_path_per_stroke = false) {
     cairo_t* c = cairo_create(surface);
     if (background) {
         set_colour(c, sd.background, 1.0);
@@ -108,8 +108,14 @@ cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool back
                         cairo_set_dash(c, dash, m.dash_on > 0 ? 2 : 0, 0);
                         for (const auto& path : m.paths) {
                             if (path.size() < 2) continue;
+                            // As the default writers draw a stroke (output/writers.cpp): a closed one joined
+                            // round where it starts; in PDF each its own path object, for editing.
+                            const bool closed = path.size() > 2 && path.front() == path.back();
                             cairo_move_to(c, path[0].x, path[0].y);
-                            for (std::size_t i = 1; i < path.size(); ++i) cairo_line_to(c, path[i].x, path[i].y);
+                            for (std::size_t i = 1; i + (closed ? 1 : 0) < path.size(); ++i)
+                                cairo_line_to(c, path[i].x, path[i].y);
+                            if (closed) cairo_close_path(c);
+                            if (one_path_per_stroke) cairo_stroke(c);
                         }
                         cairo_stroke(c);
                         break;
@@ -287,7 +293,7 @@ std::string styled_to_bytes(const StyledDrawing& sd, Format f) {
                        cairo_surface_destroy);
     cairo_surface_t* s = surface.get();
     cairo_status_t st = cairo_surface_status(s);
-    if (st == CAIRO_STATUS_SUCCESS) st = draw(s, sd, f != Format::Pdf || sd.background != 0xffffff);
+    if (st == CAIRO_STATUS_SUCCESS) st = draw(s, sd, f != Format::Pdf || sd.background != 0xffffff, f == Format::Pdf);
     if (st == CAIRO_STATUS_SUCCESS && f == Format::Png) {
         st = cairo_surface_write_to_png_stream(s, append, &bytes);
     } else if (st == CAIRO_STATUS_SUCCESS) {

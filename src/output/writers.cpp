@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "style/strokes.hpp"
 
 namespace inkline {
 namespace {
@@ -57,23 +58,34 @@ bool is_written(const Piece& p, const OutputOptions& o) {
     });
 }
 
-struct Group {
+ChainOptions chain_options(const OutputOptions& o) {
+    ChainOptions c;
+    c.hidden = o.hidden;
+    c.keep_specks = o.keep_specks;
+    return c;
+}
+
+int level_of(int qi) { return std::min<int>(qi, int(kStyles.size()) - 1); }
+
+// One Inkscape layer: the strokes of one kind at one QI level, by object, then in chain order.
+struct Layer {
     const LineStyle& style;
     LineKind kind;
-    std::vector<const Piece*> pieces;
+    std::vector<const Stroke*> strokes;
+    std::string id() const { return std::string(to_string(kind)) + "-" + style.name; }
 };
 
-// Non-empty groups in drawing order: deepest hidden level first, visible last; kinds in enum order.
-std::vector<Group> groups(const Drawing& d, const OutputOptions& o) {
-    std::vector<Group> out;
+// Non-empty layers in drawing order: deepest hidden level first, visible last; kinds in enum order.
+std::vector<Layer> layers(const std::vector<Stroke>& strokes) {
+    std::vector<Layer> out;
     for (int level = int(kStyles.size()) - 1; level >= 0; --level) {
         for (int k = 0; k < kPieceKindCount; ++k) {
-            Group g{kStyles[level], LineKind(k), {}};
-            for (const Piece& p : d.pieces)
-                if (p.kind == g.kind && std::min<int>(p.qi, kStyles.size() - 1) == level &&
-                    is_written(p, o))
-                    g.pieces.push_back(&p);
-            if (!g.pieces.empty()) out.push_back(std::move(g));
+            Layer g{kStyles[std::size_t(level)], LineKind(k), {}};
+            for (const Stroke& s : strokes)
+                if (s.kind == g.kind && level_of(s.qi) == level) g.strokes.push_back(&s);
+            std::stable_sort(g.strokes.begin(), g.strokes.end(),
+                             [](const Stroke* a, const Stroke* b) { return a->object < b->object; });
+            if (!g.strokes.empty()) out.push_back(std::move(g));
         }
     }
     return out;
@@ -102,23 +114,23 @@ bool clip(glm::dvec2& a, glm::dvec2& b, const glm::dvec2& lo, const glm::dvec2& 
     return inside(a) && inside(b);
 }
 
-// The parts of a piece inside the image grown by an image-sized margin, as polylines. Cairo's
+// The parts of a polyline inside the image grown by an image-sized margin. Cairo's
 // 24.8 fixed point wraps beyond about 8e6 px (and so do SVG renderers built on it), which
 // projections of points near the eye plane easily reach.
-std::vector<std::vector<glm::dvec2>> clipped_runs(const Piece& p, const Camera& cam) {
+std::vector<std::vector<glm::dvec2>> clipped_runs(const std::vector<glm::dvec2>& points, const Camera& cam) {
     const double m = std::max(cam.width(), cam.height());
     const glm::dvec2 lo(-m, -m), hi(cam.width() + m, cam.height() + m);
     std::vector<std::vector<glm::dvec2>> runs;
     bool open = false;  // the last run ends at points[i - 1]
-    for (std::size_t i = 1; i < p.points.size(); ++i) {
-        glm::dvec2 a = p.points[i - 1], b = p.points[i];
+    for (std::size_t i = 1; i < points.size(); ++i) {
+        glm::dvec2 a = points[i - 1], b = points[i];
         if (!clip(a, b, lo, hi)) {
             open = false;
             continue;
         }
         if (!open) runs.push_back({a});
         runs.back().push_back(b);
-        open = b == p.points[i];
+        open = b == points[i];
     }
     return runs;
 }
@@ -196,8 +208,10 @@ std::string num(double v, int decimals = -1) {
 using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 using ContextPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 
-cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const OutputOptions& o,
-                          bool background) {
+// `one_path_per_stroke` (PDF): each stroke its own path object, so an editor selects strokes, not a
+// whole layer as one compound path; PNG strokes a layer at once (the same pixels, fewer calls).
+cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const std::vector<Stroke>& strokes,
+                          const OutputOptions& o, bool background, bool one_path_per_stroke) {
     ContextPtr cr(cairo_create(surface), cairo_destroy);
     cairo_t* c = cr.get();
     if (background) {
@@ -207,16 +221,19 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const Outp
     cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     const double width = line_width(d, o);
-    for (const Group& g : groups(d, o)) {
+    for (const Layer& g : layers(strokes)) {
         const auto channel = [&](int shift) { return ((g.style.rgb >> shift) & 0xff) / 255.0; };
         cairo_set_source_rgb(c, channel(16), channel(8), channel(0));
         cairo_set_line_width(c, width * g.style.width_scale * kind_width(g.kind));
         const double dash[2] = {g.style.dash_on, g.style.dash_off};
         cairo_set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
-        for (const Piece* p : g.pieces) {
-            for (const auto& run : clipped_runs(*p, d.camera)) {
+        for (const Stroke* s : g.strokes) {
+            for (const auto& run : clipped_runs(s->path.points(), d.camera)) {
+                const bool closed = run.size() > 2 && run.front() == run.back();
                 cairo_move_to(c, run[0].x, run[0].y);
-                for (std::size_t i = 1; i < run.size(); ++i) cairo_line_to(c, run[i].x, run[i].y);
+                for (std::size_t i = 1; i + (closed ? 1 : 0) < run.size(); ++i) cairo_line_to(c, run[i].x, run[i].y);
+                if (closed) cairo_close_path(c);
+                if (one_path_per_stroke) cairo_stroke(c);
             }
         }
         cairo_stroke(c);
@@ -231,7 +248,8 @@ cairo_status_t to_temp(void* closure, const unsigned char* data, unsigned int le
 
 // Streams through TempFile rather than letting Cairo open the file: one write path, and a
 // failed write reports the real errno instead of Cairo's generic WRITE_ERROR.
-void write_cairo(const Drawing& d, Format f, const OutputOptions& o, TempFile& file) {
+void write_cairo(const Drawing& d, const std::vector<Stroke>& strokes, Format f, const OutputOptions& o,
+                 TempFile& file) {
     const int w = d.camera.width(), h = d.camera.height();
     SurfacePtr surface(f == Format::Pdf
                            ? cairo_pdf_surface_create_for_stream(to_temp, &file, w, h)
@@ -239,7 +257,7 @@ void write_cairo(const Drawing& d, Format f, const OutputOptions& o, TempFile& f
                        cairo_surface_destroy);
     cairo_surface_t* s = surface.get();
     cairo_status_t st = cairo_surface_status(s);
-    if (st == CAIRO_STATUS_SUCCESS) st = draw_cairo(s, d, o, f == Format::Png);
+    if (st == CAIRO_STATUS_SUCCESS) st = draw_cairo(s, d, strokes, o, f == Format::Png, f == Format::Pdf);
     if (st == CAIRO_STATUS_SUCCESS && f == Format::Png) {
         st = cairo_surface_write_to_png_stream(s, to_temp, &file);
     } else if (st == CAIRO_STATUS_SUCCESS) {
@@ -307,6 +325,10 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
+    // What SVG, PDF and PNG of these options leave out (the JSON keeps every piece).
+    std::size_t specks = 0;
+    drawing_strokes(d, o, &specks);
+    stats["specks_dropped"] = specks;
     if (s.surface_curves > 0 || s.seconds_surface_lines > 0.0) {
         stats["surface_curves"] = s.surface_curves;
         stats["curvature_invalid_vertices"] = s.curvature_invalid_vertices;
@@ -318,15 +340,62 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
         if (!is_written(p, o)) continue;
         json points = json::array();
         for (const glm::dvec2& q : p.points) points.push_back({q.x, q.y});
-        polylines.push_back(
-            {{"kind", to_string(p.kind)}, {"qi", p.qi}, {"points", std::move(points)}});
+        json line = {{"kind", to_string(p.kind)}, {"qi", p.qi}};
+        if (d.object_names.size() > 1)
+            line["object"] = p.object < d.object_names.size() ? d.object_names[p.object] : std::string();
+        line["points"] = std::move(points);
+        polylines.push_back(std::move(line));
     }
     json root = {{"width", cam.width()}, {"height", cam.height()}, {"camera", std::move(camera)},
                  {"stats", std::move(stats)}, {"polylines", std::move(polylines)}};
     return root.dump() + "\n";
 }
 
-std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
+namespace {
+
+// Text for an XML attribute value.
+std::string xml_escape(const std::string& text) {
+    std::string out;
+    for (char ch : text) {
+        switch (ch) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\n': out += "&#10;"; break;
+            default: out += ch;
+        }
+    }
+    return out;
+}
+
+// Pixel coordinate for SVG: three decimals, trailing zeros dropped.
+std::string coord(double v) {
+    std::string t = num(v, 3);
+    while (t.back() == '0') t.pop_back();
+    if (t.back() == '.') t.pop_back();
+    return t == "-0" ? "0" : t;
+}
+
+// One <path> per run of a stroke, with its kind, QI and object as attributes (class for
+// Inkscape's Find and CSS selectors, data-* for scripts).
+void append_svg_paths(std::string& out, const Stroke& s, const Drawing& d) {
+    const std::string kind = to_string(s.kind), qi = std::to_string(s.qi);
+    std::string attrs = "class=\"" + kind + (s.qi == 0 ? " visible" : " hidden") + " qi" + qi + "\" data-kind=\"" +
+                        kind + "\" data-qi=\"" + qi + "\"";
+    if (d.object_names.size() > 1 && s.object < d.object_names.size())
+        attrs += " data-object=\"" + xml_escape(d.object_names[s.object]) + "\"";
+    for (const auto& run : clipped_runs(s.path.points(), d.camera)) {
+        const bool closed = run.size() > 2 && run.front() == run.back();
+        out += "<path " + attrs + " d=\"M" + coord(run[0].x) + "," + coord(run[0].y) + " L";
+        for (std::size_t i = 1; i + (closed ? 1 : 0) < run.size(); ++i)
+            out += coord(run[i].x) + "," + coord(run[i].y) + " ";
+        out.pop_back();
+        out += closed ? " Z\"/>\n" : "\"/>\n";
+    }
+}
+
+std::string svg_of(const Drawing& d, const std::vector<Stroke>& strokes, const OutputOptions& o) {
     const std::string w = std::to_string(d.camera.width()), h = std::to_string(d.camera.height());
     std::string out =
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
@@ -336,8 +405,9 @@ std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
         "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h +
         "\" fill=\"#ffffff\"/>\n";
     const double width = line_width(d, o);
-    for (const Group& g : groups(d, o)) {
-        const std::string id = std::string(to_string(g.kind)) + "-" + g.style.name;
+    const bool by_object = d.object_names.size() > 1;
+    for (const Layer& g : layers(strokes)) {
+        const std::string id = g.id();
         char color[8];
         std::snprintf(color, sizeof color, "#%06x", unsigned(g.style.rgb));
         out += "<g id=\"" + id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + id +
@@ -347,28 +417,46 @@ std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
             out += " stroke-dasharray=\"" + num(g.style.dash_on) + "," + num(g.style.dash_off) +
                    "\"";
         out += " stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
-        for (const Piece* p : g.pieces) {
-            for (const auto& run : clipped_runs(*p, d.camera)) {
-                out += "<polyline points=\"";
-                for (const glm::dvec2& q : run) out += num(q.x, 3) + "," + num(q.y, 3) + " ";
-                out.back() = '"';
-                out += "/>\n";
-            }
+        // Strokes come sorted by object: a group per object (several objects only).
+        for (std::size_t i = 0; i < g.strokes.size();) {
+            const std::uint32_t object = g.strokes[i]->object;
+            if (by_object)
+                out += "<g id=\"" + id + "-object" + std::to_string(object) + "\" inkscape:label=\"" +
+                       xml_escape(object < d.object_names.size() ? d.object_names[object] : "") + "\">\n";
+            for (; i < g.strokes.size() && g.strokes[i]->object == object; ++i) append_svg_paths(out, *g.strokes[i], d);
+            if (by_object) out += "</g>\n";
         }
         out += "</g>\n";
     }
     return out + "</svg>\n";
 }
 
-void write_drawing(const Drawing& d, const std::string& path, Format f, const OutputOptions& o) {
+}  // namespace
+
+std::vector<Stroke> drawing_strokes(const Drawing& d, const OutputOptions& o, std::size_t* specks_dropped) {
+    ChainStats stats;
+    std::vector<Stroke> strokes = chain_strokes(d, chain_options(o), nullptr, &stats);
+    if (specks_dropped) *specks_dropped = stats.specks_dropped;
+    return strokes;
+}
+
+std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
+    return svg_of(d, drawing_strokes(d, o), o);
+}
+
+WriteSummary write_drawing(const Drawing& d, const std::string& path, Format f, const OutputOptions& o) {
+    WriteSummary summary;
+    const std::vector<Stroke> strokes = drawing_strokes(d, o, &summary.specks_dropped);
+    for (const Stroke& s : strokes) summary.strokes += clipped_runs(s.path.points(), d.camera).size();
     TempFile file(path);
     switch (f) {
         case Format::Json: file.write_all(drawing_to_json(d, o)); break;
-        case Format::Svg: file.write_all(drawing_to_svg(d, o)); break;
+        case Format::Svg: file.write_all(svg_of(d, strokes, o)); break;
         case Format::Pdf:
-        case Format::Png: write_cairo(d, f, o, file); break;
+        case Format::Png: write_cairo(d, strokes, f, o, file); break;
     }
     file.commit();
+    return summary;
 }
 
 void write_text_file(const std::string& path, const std::string& content) {

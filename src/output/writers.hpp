@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/drawing.hpp"
+#include "style/strokes.hpp"
 
 namespace inkline {
 
@@ -17,19 +18,36 @@ enum class Format { Svg, Pdf, Png, Json };
 Format output_format(const std::string& path, const std::string& explicit_format);
 
 struct OutputOptions {
-    bool hidden = false;      // draw hidden pieces (qi > 0) too
-    double line_width = 0.0;  // visible line width in px; <= 0: max(1, 1.5 * height / 1024)
+    bool hidden = false;       // draw hidden pieces (qi > 0) too
+    double line_width = 0.0;   // visible line width in px; <= 0: max(1, 1.5 * height / 1024)
+    bool keep_specks = false;  // SVG, PDF, PNG: keep strokes shorter than a pixel (--keep-specks)
 };
 
-// Pieces with fewer than two points or a non-finite point are never written. JSON keeps points
-// exactly; SVG, PDF and PNG clip them to the image grown by an image-sized margin on each side.
+// Pieces with fewer than two points or a non-finite point are never written. JSON keeps the
+// pieces and their points exactly (an "object" name per polyline when the drawing has several
+// objects; stats.specks_dropped: pieces that SVG, PDF and PNG of these options leave out).
+// SVG, PDF and PNG draw strokes (drawing_strokes), clipped to the image grown by an image-sized
+// margin on each side.
 std::string drawing_to_json(const Drawing& drawing, const OutputOptions& options);
-// One layer (<g>) per line kind and QI level, hidden layers first, visible last.
+// One Inkscape layer (<g>) per line kind and QI level, hidden layers first, visible last; inside
+// it, with several objects, a group per object labelled with its name; one <path> per stroke
+// with class="KIND visible|hidden qiN", data-kind, data-qi and (several objects) data-object.
 std::string drawing_to_svg(const Drawing& drawing, const OutputOptions& options);
 
+// The strokes that SVG, PDF and PNG draw: chain_strokes (style/strokes.hpp) with its defaults
+// (pieces that continue each other joined; lone specks shorter than a pixel dropped unless
+// options.keep_specks, and counted in *specks_dropped).
+std::vector<Stroke> drawing_strokes(const Drawing& drawing, const OutputOptions& options,
+                                    std::size_t* specks_dropped = nullptr);
+
+struct WriteSummary {
+    std::size_t strokes = 0;         // paths drawn by SVG, PDF, PNG (the JSON's pieces are counted in stats)
+    std::size_t specks_dropped = 0;  // pieces left out of them as specks
+};
+
 // Throws inkline::Error(path, reason) on failure; the target is then left untouched.
-void write_drawing(const Drawing& drawing, const std::string& path, Format format,
-                   const OutputOptions& options);
+WriteSummary write_drawing(const Drawing& drawing, const std::string& path, Format format,
+                           const OutputOptions& options);
 
 // Writes `content` to `path` atomically (same rules as write_drawing).
 void write_text_file(const std::string& path, const std::string& content);

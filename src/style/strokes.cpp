@@ -72,64 +72,81 @@ bool usable(const Piece& p, bool hidden) {
                        [](const glm::dvec2& q) { return std::isfinite(q.x) && std::isfinite(q.y); });
 }
 
-// Direction of travel leaving piece p through its start (end = 0) or its end (end = 1): the first
-// segment of non-zero length from that end. (0, 0) if the piece has zero length.
-glm::dvec2 out_direction(const Piece& p, int end) {
-    const std::size_t n = p.points.size();
-    const glm::dvec2 tip = end ? p.points[n - 1] : p.points[0];
-    for (std::size_t k = 1; k < n; ++k) {
-        const glm::dvec2 q = end ? p.points[n - 1 - k] : p.points[k];
-        if (q != tip) return glm::normalize(tip - q);
-    }
-    return glm::dvec2(0.0);
+double polyline_length(const std::vector<glm::dvec2>& p) {
+    double l = 0.0;
+    for (std::size_t k = 1; k < p.size(); ++k) l += glm::distance(p[k - 1], p[k]);
+    return l;
 }
 
+// Direction of travel leaving piece p through its start (end = 0) or its end (end = 1): from the
+// point `look` px along it (or its far end) to the tip, so that a tiny last segment, as cuts at
+// crossings leave, does not decide the turn. (0, 0) if the piece has zero length.
+glm::dvec2 out_direction(const Piece& p, int end, double look = 2.0) {
+    const std::size_t n = p.points.size();
+    const auto at = [&](std::size_t k) -> const glm::dvec2& { return end ? p.points[n - 1 - k] : p.points[k]; };
+    const glm::dvec2 tip = at(0);
+    double s = 0.0;
+    glm::dvec2 q = tip;
+    for (std::size_t k = 1; k < n && s < look; ++k) {
+        const double len = glm::distance(at(k - 1), at(k));
+        q = s + len > look ? at(k - 1) + (look - s) / len * (at(k) - at(k - 1)) : at(k);
+        s += len;
+    }
+    return q != tip ? glm::normalize(tip - q) : glm::dvec2(0.0);
+}
+
+// Endpoint e = 2 * piece + end. Returns partner[e]: the endpoint it is joined to, or -1. Joins
+// pair ends that nearly coincide, of one kind, QI and object, best first: the same curve (any
+// turn, smallest first), then the smallest turn up to the limit, then specks to whatever is left.
+std::vector<long long> pair_ends(const Drawing& d, const std::vector<std::uint32_t>& used,
+                                 const std::vector<double>& length, const ChainOptions& o) {
+    std::vector<long long> partner(2 * d.pieces.size(), -1);
+    const auto tip = [&](std::size_t e) -> const glm::dvec2& {
+        const Piece& p = d.pieces[e / 2];
+        return e % 2 ? p.points.back() : p.points.front();
+    };
+    // Ends sorted by x; a sweep pairs those within the join distance (they nearly coincide).
+    std::vector<std::pair<double, std::size_t>> ends;
+    ends.reserve(2 * used.size());
+    for (std::uint32_t i : used)
+        for (int end = 0; end < 2; ++end) ends.emplace_back(tip(2 * i + end).x, 2 * i + end);
+    std::sort(ends.begin(), ends.end());
+    const double max_turn = o.max_turn_degrees * M_PI / 180.0;
+    std::vector<std::tuple<int, double, std::size_t, std::size_t>> cand;  // (class, turn, a, b)
+    for (std::size_t i = 0; i < ends.size(); ++i) {
+        for (std::size_t j = i + 1; j < ends.size() && ends[j].first - ends[i].first <= o.join_distance; ++j) {
+            const std::size_t a = std::min(ends[i].second, ends[j].second), b = std::max(ends[i].second, ends[j].second);
+            const Piece &pa = d.pieces[a / 2], &pb = d.pieces[b / 2];
+            if (pa.kind != pb.kind || pa.qi != pb.qi || pa.object != pb.object) continue;
+            if (glm::distance(tip(a), tip(b)) > o.join_distance) continue;
+            // Leaving a, entering b: travel direction inside b is -out(b).
+            const glm::dvec2 u = out_direction(pa, int(a % 2)), v = -out_direction(pb, int(b % 2));
+            const double turn = std::acos(std::clamp(glm::dot(u, v), -1.0, 1.0));
+            const bool speck = length[a / 2] < o.speck_length || length[b / 2] < o.speck_length;
+            const int cls = pa.curve == pb.curve ? 0 : turn <= max_turn ? 1 : speck ? 2 : -1;
+            if (cls >= 0) cand.emplace_back(cls, turn, a, b);
+        }
+    }
+    std::sort(cand.begin(), cand.end());
+    for (const auto& [cls, turn, a, b] : cand) {
+        if (partner[a] >= 0 || partner[b] >= 0) continue;
+        partner[a] = (long long)b;
+        partner[b] = (long long)a;
+    }
+    return partner;
+}
 
 }  // namespace
 
-std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o, const PointAttributes* attr) {
+std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o, const PointAttributes* attr,
+                                  ChainStats* stats) {
     const std::size_t n = d.pieces.size();
     std::vector<std::uint32_t> used;
+    std::vector<double> length(n, 0.0);
     for (std::uint32_t i = 0; i < n; ++i)
-        if (usable(d.pieces[i], o.hidden)) used.push_back(i);
-
-    // Endpoint e = 2 * piece + end. partner[e]: the endpoint it is joined to, or -1.
-    std::vector<long long> partner(2 * n, -1);
-    if (o.join) {
-        const auto tip = [&](std::size_t e) -> const glm::dvec2& {
-            const Piece& p = d.pieces[e / 2];
-            return e % 2 ? p.points.back() : p.points.front();
-        };
-        // Ends sorted by x; a sweep pairs those within the join distance (they nearly coincide).
-        std::vector<std::pair<double, std::size_t>> ends;
-        ends.reserve(2 * used.size());
-        for (std::uint32_t i : used)
-            for (int end = 0; end < 2; ++end) ends.emplace_back(tip(2 * i + end).x, 2 * i + end);
-        std::sort(ends.begin(), ends.end());
-        // Candidate joins: (same curve first, then the smallest turn).
-        const double max_turn = o.max_turn_degrees * M_PI / 180.0;
-        std::vector<std::tuple<int, double, std::size_t, std::size_t>> cand;
-        for (std::size_t i = 0; i < ends.size(); ++i) {
-            for (std::size_t j = i + 1; j < ends.size() && ends[j].first - ends[i].first <= o.join_distance; ++j) {
-                const std::size_t a = std::min(ends[i].second, ends[j].second), b = std::max(ends[i].second, ends[j].second);
-                const Piece &pa = d.pieces[a / 2], &pb = d.pieces[b / 2];
-                if (pa.kind != pb.kind || pa.qi != pb.qi) continue;
-                if (glm::distance(tip(a), tip(b)) > o.join_distance) continue;
-                // Leaving a, entering b: travel direction inside b is -out(b).
-                const glm::dvec2 u = out_direction(pa, int(a % 2)), v = -out_direction(pb, int(b % 2));
-                const double turn = std::acos(std::clamp(glm::dot(u, v), -1.0, 1.0));
-                const bool same_curve = pa.curve == pb.curve;
-                if (!same_curve && !(turn <= max_turn)) continue;
-                cand.emplace_back(same_curve ? 0 : 1, turn, a, b);
-            }
-        }
-        std::sort(cand.begin(), cand.end());
-        for (const auto& [cls, turn, a, b] : cand) {
-            if (partner[a] >= 0 || partner[b] >= 0) continue;
-            partner[a] = (long long)b;
-            partner[b] = (long long)a;
-        }
-    }
+        if (usable(d.pieces[i], o.hidden)) used.push_back(i), length[i] = polyline_length(d.pieces[i].points);
+    const std::vector<long long> partner = o.join ? pair_ends(d, used, length, o) : std::vector<long long>(2 * n, -1);
+    ChainStats st;
 
     std::vector<char> done(n, 0);
     std::vector<Stroke> out;
@@ -153,6 +170,7 @@ std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o, const
         Stroke s;
         s.kind = d.pieces[i].kind;
         s.qi = d.pieces[i].qi;
+        s.object = d.pieces[i].object;
         s.closed = closed;
         std::vector<glm::dvec2> pts;
         std::vector<double> depth, tone;
@@ -206,8 +224,13 @@ std::vector<Stroke> chain_strokes(const Drawing& d, const ChainOptions& o, const
             s.tone = std::move(tone);
         }
         s.path = ArcPolyline(std::move(pts));
+        if (!o.keep_specks && s.path.length() < o.speck_length) {
+            st.specks_dropped += s.pieces.size();
+            continue;
+        }
         out.push_back(std::move(s));
     }
+    if (stats) *stats = st;
     return out;
 }
 

@@ -1,9 +1,11 @@
 // Stylization, step 1: visible (or hidden) pieces of a Drawing become long 2D strokes.
-// Takes a Drawing (pieces with kind, QI, curve id, pixel polylines); gives Strokes: chains of
-// pieces of one kind and one QI joined end to end where an end of one piece lies on an end of
-// another (pieces of the same curve always; across junctions only where the tangent turns by
-// less than a small angle), never across gaps. Strokes are parameterized by arc length
-// (ArcPolyline) and can be resampled at a chosen spacing.
+// Takes a Drawing (pieces with kind, QI, curve id, object, pixel polylines); gives Strokes: chains
+// of pieces of one kind, one QI and one object joined end to end where an end of one piece lies on
+// an end of another (pieces of the same curve always; across junctions only where the tangent
+// turns by less than a small angle; specks, pieces shorter than a pixel, to any neighbour), never
+// across gaps; a chain still shorter than a pixel is a speck alone and dropped unless kept.
+// The default writers (output/) and the styles draw these same strokes. Strokes are
+// parameterized by arc length (ArcPolyline) and can be resampled at a chosen spacing.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +49,7 @@ private:
 struct Stroke {
     LineKind kind = LineKind::Silhouette;
     int qi = 0;
+    std::uint32_t object = 0;            // Piece::object
     bool closed = false;                 // the chain came back to its start (last point == first)
     std::vector<std::uint32_t> pieces;   // indices into Drawing::pieces, in stroke order
     ArcPolyline path;                    // pixels
@@ -62,14 +65,24 @@ struct PointAttributes {
 };
 
 struct ChainOptions {
-    double join_distance = 1e-6;   // px: ends closer than this are the same point (no gaps jumped)
+    double join_distance = 1e-3;   // px: ends closer than this are the same point (no gaps jumped)
     double max_turn_degrees = 30;  // across a junction of different curves: largest tangent turn
     bool hidden = false;           // also chain hidden pieces (qi > 0)
     bool join = true;              // false: one stroke per piece
+    // Pieces shorter than this (px) join a neighbour whatever the turn (after every other join);
+    // strokes still shorter are specks, dropped unless keep_specks. One pixel: less is confetti
+    // to whoever edits the drawing, and within the width of the line beside it.
+    double speck_length = 1.0;
+    bool keep_specks = false;
+};
+
+struct ChainStats {
+    std::size_t specks_dropped = 0;  // pieces dropped in strokes shorter than speck_length
 };
 
 // Pieces with fewer than two points or a non-finite point are skipped (as the writers do).
+// Strokes come in the order of their first piece's index.
 std::vector<Stroke> chain_strokes(const Drawing& drawing, const ChainOptions& options = {},
-                                  const PointAttributes* attributes = nullptr);
+                                  const PointAttributes* attributes = nullptr, ChainStats* stats = nullptr);
 
 }  // namespace inkline

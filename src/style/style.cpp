@@ -63,6 +63,14 @@ const LineStyle& Style::for_qi(LineKind kind, int qi) const {
     return hidden[std::size_t(std::min<int>(qi, int(hidden.size())) - 1)];
 }
 
+const LineStyle& Style::for_line(LineKind kind, int qi, const std::string* object) const {
+    if (qi <= 0 && object) {
+        const auto it = objects.find(*object);
+        if (it != objects.end()) return it->second[std::size_t(kind)];
+    }
+    return for_qi(kind, qi);
+}
+
 namespace {
 
 struct Parser {
@@ -240,7 +248,7 @@ struct Parser {
         s.file = file;
         s.name = fs::path(file).stem().string();
         check_keys(root, "", {"name", "description", "background", "base_width", "draw_hidden", "light", "chain",
-                              "kinds", "lines", "hidden", "hatching"});
+                              "kinds", "lines", "hidden", "hatching", "objects"});
         for (const auto& [k, v] : root.items()) {
             if (k == "name") s.name = string(v, k);
             else if (k == "description") string(v, k);
@@ -250,10 +258,11 @@ struct Parser {
             else if (k == "kinds") s.kinds = kinds(v, k);
             else if (k == "light") light(v, k, s.light_at_camera, s.light);
             else if (k == "chain") {
-                check_keys(v, k, {"join", "max_turn_degrees", "join_distance"});
+                check_keys(v, k, {"join", "max_turn_degrees", "join_distance", "keep_specks"});
                 for (const auto& [k2, v2] : v.items()) {
                     const std::string key = k + "." + k2;
                     if (k2 == "join") s.chain = boolean(v2, key);
+                    else if (k2 == "keep_specks") s.keep_specks = boolean(v2, key);
                     else if (k2 == "max_turn_degrees") s.max_turn_degrees = number(v2, key, 0, 180);
                     else s.join_distance = number(v2, key, 0, 1);
                 }
@@ -267,6 +276,8 @@ struct Parser {
                     const std::string kind = to_string(LineKind(i));
                     s.lines[std::size_t(i)] = v.contains(kind) ? line(v[kind], "lines." + kind, base) : base;
                 }
+            } else if (k == "objects") {
+                if (!v.is_object()) fail(k, "expected an object of object names, got " + v.dump());
             } else if (k == "hidden") {
                 if (!v.is_array()) fail(k, "expected an array of line styles, one per QI level from 1, got " + v.dump());
                 const std::vector<LineStyle> clean = s.hidden;
@@ -292,7 +303,26 @@ struct Parser {
                 }
             }
         }
+        if (root.contains("objects")) objects(root["objects"], s);  // over the final `lines`
         return s;
+    }
+
+    // "objects": {"NAME": {"default": LINE, "silhouette": LINE, ...}}: per kind, the style's line
+    // with the object's "default" over it, then the object's entry for the kind.
+    void objects(const json& v, Style& s) const {
+        std::set<std::string> kinds{"default"};
+        for (int i = 0; i < kPieceKindCount; ++i) kinds.insert(to_string(LineKind(i)));
+        for (const auto& [name, o] : v.items()) {
+            const std::string path = "objects." + name;
+            check_keys(o, path, kinds);
+            auto& lines = s.objects[name];
+            for (int i = 0; i < kPieceKindCount; ++i) {
+                const std::string kind = to_string(LineKind(i));
+                LineStyle l = s.lines[std::size_t(i)];
+                if (o.contains("default")) l = line(o["default"], path + ".default", l);
+                lines[std::size_t(i)] = o.contains(kind) ? line(o[kind], path + "." + kind, l) : l;
+            }
+        }
     }
 };
 

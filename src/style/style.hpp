@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -79,7 +80,11 @@ struct Style {
     bool chain = true;                        // join pieces into strokes
     double max_turn_degrees = 30.0;
     double join_distance = 1e-3;              // px
+    bool keep_specks = false;                 // keep lone strokes shorter than a pixel (--keep-specks)
     std::array<LineStyle, kPieceKindCount> lines;  // visible lines, per kind
+    // Visible lines of a scene's objects by name (Drawing::object_names): per kind, the style's
+    // `lines` with the object's entries over them. An object not named here draws with `lines`.
+    std::map<std::string, std::array<LineStyle, kPieceKindCount>> objects;
     // Hidden lines: hidden[k] is for QI k + 1; QI beyond the last entry uses the last one.
     std::vector<LineStyle> hidden;
     HatchStyle hatching;
@@ -88,6 +93,9 @@ struct Style {
     static Style clean();
     bool uses_attributes() const;  // some line style's width depends on depth or lighting
     const LineStyle& for_qi(LineKind kind, int qi) const;
+    // As for_qi, for a line of the object named `object` (null: no object; hidden lines are
+    // drawn by QI whatever their object).
+    const LineStyle& for_line(LineKind kind, int qi, const std::string* object) const;
 };
 
 // Parses a style from JSON text; `file` names it in errors and is the base for relative paths

@@ -225,7 +225,10 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
     co.join = style.chain;
     co.max_turn_degrees = style.max_turn_degrees;
     co.join_distance = style.join_distance;
-    const std::vector<Stroke> strokes = chain_strokes(d, co, attributes);
+    co.keep_specks = style.keep_specks;
+    ChainStats chain_stats;
+    const std::vector<Stroke> strokes = chain_strokes(d, co, attributes, &chain_stats);
+    st.specks_dropped = chain_stats.specks_dropped;
     const double margin = std::max(out.width, out.height);
     const glm::dvec2 lo(-margin, -margin), hi(out.width + margin, out.height + margin);
     Builder builder(style, out.height);
@@ -247,7 +250,8 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
                                : "hidden-qi" + std::to_string(level) + (level == levels && levels > 1 ? "plus" : ""));
         for (const Stroke& s : strokes) {
             if (int(s.kind) != kind || std::min(s.qi, std::max(levels, 0)) != level || (s.qi > 0 && level == 0)) continue;
-            const LineStyle& ls = style.for_qi(s.kind, s.qi);
+            const bool named = d.object_names.size() > 1 && s.object < d.object_names.size();
+            const LineStyle& ls = style.for_line(s.kind, s.qi, named ? &d.object_names[s.object] : nullptr);
             auto runs = clip_runs(s.path.points(), lo, hi);
             // Attributes follow the points only when clipping left the stroke whole.
             const bool whole = runs.size() == 1 && runs[0].size() == s.path.size() && runs[0] == s.path.points();

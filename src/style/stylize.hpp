@@ -48,6 +48,7 @@ struct StyledDrawing {
 
 struct StylizeStats {
     std::size_t strokes = 0, points = 0, hatches = 0;
+    std::size_t specks_dropped = 0;  // pieces left out as specks (ChainStats)
 };
 
 // `hidden`: --hidden was given (hidden lines are drawn when it is or when the style says so).
