@@ -206,6 +206,9 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
 // about the home camera's up axis, computed from the home camera alone so that a frame does not
 // depend on which frames the run renders before it.
 Camera orbit_frame(const Camera& home, const Bounds3& box, long k, long n, double arc_deg) {
+    // Frame 0 is the home camera itself: the rig re-orthogonalizes the up vector, and a camera
+    // equal only to the last bit can draw a different sub-pixel piece (the still must match).
+    if (k == 0) return home;
     CameraRig rig(home, box);
     rig.orbit(arc_deg * double(k) / double(n), 0.0);
     return rig.camera(home.width(), home.height());
