@@ -51,7 +51,6 @@ std::vector<Flag> freeform_flags(FreeformArgs& a) {
         value("--cones", "M", "cones over the Gauss map that bucket the strokes (default 50)"),
         value("--buckets", "redundant|exclusive", "a stroke in every cone near its normal (default), or in the nearest only"),
         value("--shader", "diffuse|silhouette|combined", "which strokes a view draws (default combined)"),
-        value("--light", "X,Y,Z", "the shader's light direction (default: a headlight from the upper left)"),
         value("--decay-dif", "C", "diffuse shader's exponent, in [0.01, 1000] (default 2)"),
         value("--tau-dif", "T", "diffuse shader's threshold, in [0, 1] (default 0.1)"),
         value("--decay-sil", "D", "silhouette shader's exponent, in [0.01, 1000] (default 2)"),
@@ -96,7 +95,7 @@ FreeformRender::FreeformRender(const std::string& path, const FreeformArgs& args
     }
     if (has("--shader") && !freeform::parse_shader(f.at("--shader"), m.draw.shader.kind))
         throw Error("--shader", "unknown shader '" + f.at("--shader") + "' (expected diffuse, silhouette, combined)");
-    if (has("--light")) m.draw.shader.lights = {vec3("--light", f.at("--light"))}, m.light_given = true;
+    if (!args.lights.empty()) m.draw.shader.lights = args.lights, m.light_given = true;  // --light (app/flags.hpp)
     if (has("--decay-dif")) m.draw.shader.c = in_range("--decay-dif", f.at("--decay-dif"), 0.01, 1000);
     if (has("--tau-dif")) m.draw.shader.tau_dif = in_range("--tau-dif", f.at("--tau-dif"), 0, 1);
     if (has("--decay-sil")) m.draw.shader.d = in_range("--decay-sil", f.at("--decay-sil"), 0.01, 1000);

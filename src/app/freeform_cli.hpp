@@ -17,6 +17,7 @@ namespace inkline {
 struct FreeformArgs {
     std::map<std::string, std::string> flags;  // --strokes, --points, --cones, ...
     bool transparent = false, no_cull = false, open = false;
+    std::vector<glm::dvec3> lights;  // the shared --light flags (app/flags.hpp), unit directions
     bool any() const { return !flags.empty() || transparent || no_cull || open; }
 };
 // The line-art flags (stored in `a`; their values are checked when the surfaces load).

@@ -123,6 +123,28 @@ std::vector<std::vector<glm::dvec2>> clipped_runs(const Piece& p, const Camera& 
     return runs;
 }
 
+// Colour of a group: the level's grey for hidden lines, the kind's colour for visible ones.
+std::uint32_t group_rgb(const Group& g) { return &g.style == &kStyles[0] ? kind_rgb(g.kind) : g.style.rgb; }
+
+// A piece with opacity per point as runs of segments of one opacity (the mean of a segment's
+// ends, in steps of 1/16: a run per change keeps files small). Empty for an opaque piece.
+std::vector<std::pair<Piece, double>> opacity_runs(const Piece& p) {
+    std::vector<std::pair<Piece, double>> runs;
+    if (p.opacity.size() != p.points.size()) return runs;
+    int level = -1;
+    for (std::size_t i = 1; i < p.points.size(); ++i) {
+        const double a = 0.5 * (double(p.opacity[i - 1]) + double(p.opacity[i]));
+        const int l = int(std::lround(std::clamp(a, 0.0, 1.0) * 16.0));
+        if (l != level || runs.empty()) {
+            runs.push_back({Piece{p.kind, p.qi, p.curve, {p.points[i - 1]}, {}}, l / 16.0});
+            level = l;
+        }
+        runs.back().first.points.push_back(p.points[i]);
+    }
+    std::erase_if(runs, [](const auto& r) { return r.second <= 0.0; });
+    return runs;
+}
+
 // ---- Atomic file: "<target>.tmp-XXXXXX" renamed onto the target by commit() ----------------
 
 mode_t process_umask() {  // without the race of umask(umask(0))
@@ -196,6 +218,49 @@ std::string num(double v, int decimals = -1) {
 using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 using ContextPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 
+// The drawing's base layer (RGB24, same size) painted over the whole surface.
+void paint_base(cairo_t* c, const RasterLayer& base) {
+    SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
+    cairo_surface_flush(image.get());
+    unsigned char* data = cairo_image_surface_get_data(image.get());
+    const int stride = cairo_image_surface_get_stride(image.get());
+    if (!data) return;
+    for (int y = 0; y < base.height; ++y)
+        std::memcpy(data + std::size_t(y) * std::size_t(stride), &base.rgb[std::size_t(y) * std::size_t(base.width)],
+                    std::size_t(base.width) * 4);
+    cairo_surface_mark_dirty(image.get());
+    cairo_set_source_surface(c, image.get(), 0, 0);
+    cairo_paint(c);
+}
+
+cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+}
+
+// The base layer as an SVG <image> (a PNG inline), Inkscape layer "base".
+std::string svg_base(const RasterLayer& base) {
+    SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
+    ContextPtr cr(cairo_create(image.get()), cairo_destroy);
+    paint_base(cr.get(), base);
+    std::string png;
+    cairo_surface_write_to_png_stream(image.get(), append_bytes, &png);
+    static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string b64;
+    for (std::size_t i = 0; i < png.size(); i += 3) {
+        const std::uint32_t n = (std::uint32_t(std::uint8_t(png[i])) << 16) |
+                                (i + 1 < png.size() ? std::uint32_t(std::uint8_t(png[i + 1])) << 8 : 0) |
+                                (i + 2 < png.size() ? std::uint32_t(std::uint8_t(png[i + 2])) : 0);
+        b64 += k[(n >> 18) & 63];
+        b64 += k[(n >> 12) & 63];
+        b64 += i + 1 < png.size() ? k[(n >> 6) & 63] : '=';
+        b64 += i + 2 < png.size() ? k[n & 63] : '=';
+    }
+    const std::string w = std::to_string(base.width), h = std::to_string(base.height);
+    return "<g id=\"base\" inkscape:groupmode=\"layer\" inkscape:label=\"base\">\n<image x=\"0\" y=\"0\" width=\"" + w +
+           "\" height=\"" + h + "\" href=\"data:image/png;base64," + b64 + "\"/>\n</g>\n";
+}
+
 cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const OutputOptions& o,
                           bool background) {
     ContextPtr cr(cairo_create(surface), cairo_destroy);
@@ -204,22 +269,34 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const Outp
         cairo_set_source_rgb(c, 1, 1, 1);
         cairo_paint(c);
     }
+    if (!d.base.empty()) paint_base(c, d.base);
     cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     const double width = line_width(d, o);
     for (const Group& g : groups(d, o)) {
-        const auto channel = [&](int shift) { return ((g.style.rgb >> shift) & 0xff) / 255.0; };
+        const std::uint32_t rgb = group_rgb(g);
+        const auto channel = [&](int shift) { return ((rgb >> shift) & 0xff) / 255.0; };
         cairo_set_source_rgb(c, channel(16), channel(8), channel(0));
         cairo_set_line_width(c, width * g.style.width_scale * kind_width(g.kind));
         const double dash[2] = {g.style.dash_on, g.style.dash_off};
         cairo_set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
         for (const Piece* p : g.pieces) {
+            if (!p->opacity.empty()) continue;  // drawn run by run below
             for (const auto& run : clipped_runs(*p, d.camera)) {
                 cairo_move_to(c, run[0].x, run[0].y);
                 for (std::size_t i = 1; i < run.size(); ++i) cairo_line_to(c, run[i].x, run[i].y);
             }
         }
         cairo_stroke(c);
+        for (const Piece* p : g.pieces)
+            for (const auto& [run, alpha] : opacity_runs(*p)) {
+                cairo_set_source_rgba(c, channel(16), channel(8), channel(0), alpha);
+                for (const auto& clipped : clipped_runs(run, d.camera)) {
+                    cairo_move_to(c, clipped[0].x, clipped[0].y);
+                    for (std::size_t i = 1; i < clipped.size(); ++i) cairo_line_to(c, clipped[i].x, clipped[i].y);
+                }
+                cairo_stroke(c);
+            }
     }
     return cairo_status(c);
 }
@@ -307,6 +384,11 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
+    if (s.seconds_tone_shade > 0.0)
+        stats["seconds"]["tone"] = {{"shade", s.seconds_tone_shade},
+                                    {"blur", s.seconds_tone_blur},
+                                    {"ridges", s.seconds_tone_ridges},
+                                    {"trace", s.seconds_tone_trace}};
     if (s.surface_curves > 0 || s.seconds_surface_lines > 0.0) {
         stats["surface_curves"] = s.surface_curves;
         stats["curvature_invalid_vertices"] = s.curvature_invalid_vertices;
@@ -318,8 +400,9 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
         if (!is_written(p, o)) continue;
         json points = json::array();
         for (const glm::dvec2& q : p.points) points.push_back({q.x, q.y});
-        polylines.push_back(
-            {{"kind", to_string(p.kind)}, {"qi", p.qi}, {"points", std::move(points)}});
+        json line = {{"kind", to_string(p.kind)}, {"qi", p.qi}, {"points", std::move(points)}};
+        if (!p.opacity.empty()) line["opacity"] = p.opacity;
+        polylines.push_back(std::move(line));
     }
     json root = {{"width", cam.width()}, {"height", cam.height()}, {"camera", std::move(camera)},
                  {"stats", std::move(stats)}, {"polylines", std::move(polylines)}};
@@ -335,11 +418,12 @@ std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
         w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w + " " + h + "\">\n" +
         "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h +
         "\" fill=\"#ffffff\"/>\n";
+    if (!d.base.empty()) out += svg_base(d.base);
     const double width = line_width(d, o);
     for (const Group& g : groups(d, o)) {
         const std::string id = std::string(to_string(g.kind)) + "-" + g.style.name;
         char color[8];
-        std::snprintf(color, sizeof color, "#%06x", unsigned(g.style.rgb));
+        std::snprintf(color, sizeof color, "#%06x", unsigned(group_rgb(g)));
         out += "<g id=\"" + id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + id +
                "\" fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" +
                num(width * g.style.width_scale * kind_width(g.kind)) + "\"";
@@ -347,13 +431,20 @@ std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
             out += " stroke-dasharray=\"" + num(g.style.dash_on) + "," + num(g.style.dash_off) +
                    "\"";
         out += " stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
+        const auto polyline = [&](const std::vector<glm::dvec2>& run, const std::string& attributes) {
+            out += "<polyline" + attributes + " points=\"";
+            for (const glm::dvec2& q : run) out += num(q.x, 3) + "," + num(q.y, 3) + " ";
+            out.back() = '"';
+            out += "/>\n";
+        };
         for (const Piece* p : g.pieces) {
-            for (const auto& run : clipped_runs(*p, d.camera)) {
-                out += "<polyline points=\"";
-                for (const glm::dvec2& q : run) out += num(q.x, 3) + "," + num(q.y, 3) + " ";
-                out.back() = '"';
-                out += "/>\n";
+            if (p->opacity.empty()) {
+                for (const auto& run : clipped_runs(*p, d.camera)) polyline(run, "");
+                continue;
             }
+            for (const auto& [run, alpha] : opacity_runs(*p))
+                for (const auto& clipped : clipped_runs(run, d.camera))
+                    polyline(clipped, alpha < 1.0 ? " stroke-opacity=\"" + num(alpha) + "\"" : "");
         }
         out += "</g>\n";
     }
