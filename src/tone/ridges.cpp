@@ -36,7 +36,7 @@ std::string tone_options_error(const ToneOptions& o) {
     return "";
 }
 
-void gaussian_blur(const Image& in, double width, Image& out, int threads) {
+void gaussian_blur(const Image& in, double width, Image& out, int threads, Image* scratch) {
     const double sigma = width / 4.0;
     const int radius = sigma > 0 ? int(std::ceil(3.0 * sigma)) : 0;
     if (radius == 0 || in.pixels.empty()) {
@@ -48,7 +48,8 @@ void gaussian_blur(const Image& in, double width, Image& out, int threads) {
     for (int k = -radius; k <= radius; ++k) sum += kernel[std::size_t(k + radius)] = float(std::exp(-0.5 * k * k / (sigma * sigma)));
     for (float& k : kernel) k = float(k / sum);
     const int W = in.width, H = in.height;
-    Image mid;
+    Image local;
+    Image& mid = scratch ? *scratch : local;
     mid.resize(W, H, 0.0f);
     out.resize(W, H, 0.0f);
     for_row_bands(threads, H, [&](int y0, int y1) {  // along rows, border clamped
@@ -126,7 +127,8 @@ std::array<double, 6> fit_quadratic(const std::array<double, 9>& t) {
 
 RidgeLine ridge_line(const std::array<double, 6>& a) {
     // Eigenvalues of M = [a0 a1; a1 a2] as mean +- half-difference (no cancellation at umbilics).
-    const double mean = 0.5 * (a[0] + a[2]), half = std::hypot(0.5 * (a[0] - a[2]), a[1]);
+    // (sqrt rather than hypot: tone values are bounded, and hypot's care costs a third of a fit)
+    const double d = 0.5 * (a[0] - a[2]), mean = 0.5 * (a[0] + a[2]), half = std::sqrt(d * d + a[1] * a[1]);
     RidgeLine l;
     l.curvature = mean >= 0 ? mean + half : mean - half;
     l.other = mean >= 0 ? mean - half : mean + half;
@@ -177,16 +179,35 @@ RidgeLine fit_at(const Image& img, double x, double y, double spacing) {
     return ridge_line(fit_quadratic(stencil(img, x, y, spacing)));
 }
 
-// One pixel: the search toward the line, then the opacity (0 when rejected).
-void ridge_pixel(const Image& img, const Image& tone, int px, int py, bool dark, double lower, double upper,
-                 const ToneOptions& o, float& opacity, glm::vec2& point, glm::vec2& direction) {
-    const double spacing = 0.5 * o.width, half = 0.5 * o.width;
+// An upper bound on |curvature| of a fit per unit of its samples' range: the rows of H for a0,
+// a1, a2 sum to zero, so |a_r| <= range/2 * sum|H_r|, and |lambda| <= max(|a0|, |a2|) + |a1|
+// (Gershgorin). A stencil whose range times this is below c_l is rejected without a fit: the same
+// result, at the cost of the samples only (most of an image is background or flat).
+double curvature_bound_per_range() {
+    static const double k = [] {
+        double sum[3] = {0, 0, 0};
+        for (int r = 0; r < 3; ++r)
+            for (double h : fit_matrix()[std::size_t(r)]) sum[r] += std::abs(h);
+        return 0.5 * (std::max(sum[0], sum[2]) + sum[1]);
+    }();
+    return k;
+}
+
+struct Target {
+    RidgeField* field = nullptr;  // null: this polarity is not wanted
+    double lower = 0.0, upper = 0.0;
+};
+
+// One pixel, from its first fit `l` (at the centre): the search toward the line, then the
+// opacity (the field is left at 0 when rejected).
+void ridge_pixel(const Image& img, const Image& tone, int px, int py, RidgeLine l, bool dark, const Target& target,
+                 const ToneOptions& o) {
+    const double spacing = 0.5 * o.width, half = 0.5 * o.width, lower = target.lower, upper = target.upper;
     const glm::dvec2 centre(px + 0.5, py + 0.5);
     glm::dvec2 pos = centre;
     double travel = 0.0;
-    RidgeLine l;
     for (int step = 0;; ++step) {
-        l = fit_at(img, pos.x, pos.y, spacing);
+        if (step > 0) l = fit_at(img, pos.x, pos.y, spacing);
         const double c = dark ? l.curvature : -l.curvature;  // > 0 on the wanted kind of line
         if (!(c >= lower) || c <= 0.0) return;
         if (step == o.steps) break;
@@ -211,31 +232,95 @@ void ridge_pixel(const Image& img, const Image& tone, int px, int py, bool dark,
         alpha *= dark ? 1.0 - t : t;
     }
     if (!(alpha > 0.0)) return;
-    opacity = float(alpha);
-    point = glm::vec2(centre - distance * l.normal);
-    direction = glm::vec2(-l.normal.y, l.normal.x);
+    RidgeField& f = *target.field;
+    const std::size_t i = std::size_t(py) * std::size_t(f.width) + std::size_t(px);
+    f.opacity[i] = float(alpha);
+    f.point[i] = glm::vec2(centre - distance * l.normal);
+    f.direction[i] = glm::vec2(-l.normal.y, l.normal.x);
+}
+
+void clear_field(RidgeField* f, int W, int H) {
+    if (!f) return;
+    const std::size_t n = std::size_t(W) * std::size_t(H);
+    f->width = W;
+    f->height = H;
+    f->opacity.assign(n, 0.0f);
+    f->point.assign(n, glm::vec2(0.0f));
+    f->direction.assign(n, glm::vec2(0.0f));
+}
+
+// The first fit's larger curvature at every pixel of row y in [x0, x1), where the stencil at
+// integral spacing `step` lies inside the image: rows 0-2 of H applied to the pixels directly, a
+// loop the compiler vectorizes. (The same values as fit_quadratic, up to float rounding.)
+void row_curvature(const Image& img, int y, int step, int x0, int x1, float* out) {
+    const auto& H = fit_matrix();
+    float h[3][9];
+    for (int r = 0; r < 3; ++r)
+        for (int i = 0; i < 9; ++i) h[r][i] = float(H[std::size_t(r)][std::size_t(i)]);
+    const std::size_t W = std::size_t(img.width);
+    const float* rows[3] = {&img.pixels[std::size_t(y - step) * W], &img.pixels[std::size_t(y) * W],
+                            &img.pixels[std::size_t(y + step) * W]};
+    for (int x = x0; x < x1; ++x) {
+        float a[3] = {0.0f, 0.0f, 0.0f};
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) {
+                const float t = rows[j][x + (i - 1) * step];
+                for (int r = 0; r < 3; ++r) a[r] += h[r][3 * j + i] * t;
+            }
+        const float mean = 0.5f * (a[0] + a[2]), d = 0.5f * (a[0] - a[2]);
+        const float half = std::sqrt(d * d + a[1] * a[1]);
+        out[x] = mean >= 0.0f ? mean + half : mean - half;
+    }
+}
+
+// Dark and light lines of one channel in one pass: a pixel's first fit has one sign of
+// curvature, so it starts at most one of the two searches. Pixels whose first curvature is
+// clearly below the thresholds are skipped without the full fit (a cheap pass over the image
+// where the spacing is a whole number of pixels, a bound from the samples' range elsewhere).
+void detect(const Image& channel, const Image& tone, const Target& dark, const Target& light, const ToneOptions& o) {
+    const int W = channel.width, H = channel.height;
+    clear_field(dark.field, W, H);
+    clear_field(light.field, W, H);
+    const double spacing = 0.5 * o.width, bound = curvature_bound_per_range();
+    const double dark_lower = dark.field ? dark.lower : 1e300, light_lower = light.field ? light.lower : 1e300;
+    const double least = std::min(dark_lower, light_lower);
+    const int step = int(spacing);
+    const bool integral = double(step) == spacing && step >= 1 && 2 * step < W && 2 * step < H;
+    // Float rounding of the quick pass: a pixel within this of a threshold takes the exact path.
+    constexpr double kSlack = 1e-4;
+    for_row_bands(o.threads, H, [&](int y0, int y1) {
+        std::vector<float> quick(std::size_t(W), 0.0f);
+        for (int y = y0; y < y1; ++y) {
+            const bool inner_row = integral && y >= step && y + step < H;
+            if (inner_row) row_curvature(channel, y, step, step, W - step, quick.data());
+            for (int x = 0; x < W; ++x) {
+                if (inner_row && x >= step && x + step < W) {
+                    const double c = quick[std::size_t(x)];
+                    if (c + kSlack < dark_lower && -c + kSlack < light_lower) continue;
+                }
+                const std::array<double, 9> t = stencil(channel, x + 0.5, y + 0.5, spacing);
+                const auto [lo, hi] = std::minmax_element(t.begin(), t.end());
+                if ((*hi - *lo) * bound < least || *hi == *lo) continue;
+                const RidgeLine l = ridge_line(fit_quadratic(t));
+                const Target& target = l.curvature > 0 ? dark : light;
+                if (target.field) ridge_pixel(channel, tone, x, y, l, l.curvature > 0, target, o);
+            }
+        }
+    });
 }
 
 }  // namespace
 
 void detect_ridges(const Image& channel, const Image& tone, Polarity polarity, double lower, double upper,
                    const ToneOptions& options, RidgeField& out) {
-    const int W = channel.width, H = channel.height;
-    const std::size_t n = std::size_t(W) * std::size_t(H);
-    out.width = W;
-    out.height = H;
-    out.opacity.assign(n, 0.0f);
-    out.point.assign(n, glm::vec2(0.0f));
-    out.direction.assign(n, glm::vec2(0.0f));
-    const bool dark = polarity == Polarity::Dark;
-    for_row_bands(options.threads, H, [&](int y0, int y1) {
-        for (int y = y0; y < y1; ++y)
-            for (int x = 0; x < W; ++x) {
-                const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-                ridge_pixel(channel, tone, x, y, dark, lower, upper, options, out.opacity[i], out.point[i],
-                            out.direction[i]);
-            }
-    });
+    const Target wanted{&out, lower, upper};
+    if (polarity == Polarity::Dark) detect(channel, tone, wanted, {}, options);
+    else detect(channel, tone, {}, wanted, options);
+}
+
+void detect_ridges_both(const Image& channel, const Image& tone, RidgeField* dark, RidgeField* light,
+                        const ToneOptions& o) {
+    detect(channel, tone, {dark, o.dark_lower, o.dark_upper}, {light, o.highlight_lower, o.highlight_upper}, o);
 }
 
 void merge_max(RidgeField& a, const RidgeField& b) {

@@ -153,8 +153,10 @@ void shade(const MeshTopology& mesh, const ToneMesh& normals, const Camera& cam,
            ShadedImages& out) {
     const int W = cam.width(), H = cam.height();
     const std::size_t n = std::size_t(W) * std::size_t(H);
-    std::vector<float> closeness(n, -INFINITY);
-    std::vector<glm::vec3> normal(n);
+    std::vector<float>& closeness = out.closeness;
+    std::vector<glm::vec3>& normal = out.normal;
+    closeness.assign(n, -INFINITY);
+    normal.resize(n);
     std::vector<glm::dvec3> cv(mesh.vertex_count());
     const glm::dvec3 eye = cam.eye(), r = cam.right(), u = cam.upward(), f = cam.forward();
     for (std::size_t i = 0; i < cv.size(); ++i) {

@@ -84,6 +84,10 @@ struct ShadedImages {
     Image tone;                         // mean over lights of max(0, n.L); background 1
     Image specular;                     // max over lights of max(0, n.h)^e where n.L > 0; background 0
     std::vector<std::uint8_t> covered;  // 1 where a surface is seen
+    // Working storage of the z-buffer, kept so that a pass over the same size allocates nothing
+    // (fresh pages cost as much as the rasterization).
+    std::vector<float> closeness;
+    std::vector<glm::vec3> normal;
 };
 // Z-buffer rasterization of the mesh at the camera's size (near plane clipped), two-sided
 // shading with the interpolated corner normals (perspective-correct).
@@ -92,7 +96,8 @@ void shade(const MeshTopology& mesh, const ToneMesh& normals, const Camera& came
 
 // Separable Gaussian of size w: sigma = w / 4 (the kernel's +-2 sigma span w), cut at 3 sigma,
 // border clamped. w <= 0 copies.
-void gaussian_blur(const Image& in, double width, Image& out, int threads = 1);
+// `scratch` (optional) keeps the intermediate image between calls.
+void gaussian_blur(const Image& in, double width, Image& out, int threads = 1, Image* scratch = nullptr);
 
 // ---- Stage 2: ridges and valleys -------------------------------------------------------
 
@@ -126,6 +131,10 @@ struct RidgeField {
 // tone image counterchange reads. lower/upper: c_l, c_u.
 void detect_ridges(const Image& channel, const Image& tone, Polarity polarity, double lower, double upper,
                    const ToneOptions& options, RidgeField& out);
+// Dark lines (c_l, c_u: options' dark_*) and highlight lines (highlight_*) of one channel in one
+// pass (a pixel's first fit starts at most one of the two searches); a null field is not wanted.
+void detect_ridges_both(const Image& channel, const Image& tone, RidgeField* dark, RidgeField* light,
+                        const ToneOptions& options);
 // Per pixel the larger opacity of a and b (with its point and direction): highlight lines from
 // the tone image and the specular channel.
 void merge_max(RidgeField& a, const RidgeField& b);
@@ -145,7 +154,8 @@ struct ToneTimes {
 
 struct ToneResult {
     ShadedImages shaded;
-    Image tone_blurred, specular_blurred;
+    Image tone_blurred, specular_blurred, blur_scratch;
+    RidgeField specular;  // highlight lines of the specular channel, before merge_max
     RidgeField dark, highlight;
     std::vector<Piece> pieces;  // ToneDark then ToneHighlight polylines (as asked)
     ToneTimes seconds;

@@ -99,7 +99,10 @@ struct Tracer {
 
 std::vector<Piece> trace_lines(const RidgeField& field, LineKind kind, const ToneOptions& options) {
     Tracer t{field, {}};
-    t.thin_out(float(options.min_opacity));
+    // Hysteresis (as Canny's): a line is followed through pixels down to a quarter of the least
+    // opacity, and kept when it reaches that least opacity somewhere, so that counterchange's
+    // faint stretches do not cut lines into dashes.
+    t.thin_out(float(options.min_opacity) * 0.25f);
     const double min_length = options.min_length >= 0 ? options.min_length : options.width;
     std::vector<Piece> pieces;
     std::vector<std::size_t> forward, backward;
@@ -118,13 +121,15 @@ std::vector<Piece> trace_lines(const RidgeField& field, LineKind kind, const Ton
         backward.push_back(i);
         backward.insert(backward.end(), forward.begin(), forward.end());
         double length = 0.0;
+        float strongest = 0.0f;
         for (std::size_t k = 0; k < backward.size(); ++k) {
             const std::size_t j = backward[k];
             p.points.push_back(glm::dvec2(field.point[j]));
             p.opacity.push_back(field.opacity[j]);
+            strongest = std::max(strongest, field.opacity[j]);
             if (k > 0) length += glm::length(p.points[k] - p.points[k - 1]);
         }
-        if (length < min_length) continue;
+        if (length < min_length || strongest < float(options.min_opacity)) continue;
         pieces.push_back(std::move(p));
     }
     return pieces;
@@ -136,23 +141,20 @@ void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera
     shade(mesh, normals, camera, options, out.shaded);
     out.seconds.shade = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
-    gaussian_blur(out.shaded.tone, options.width, out.tone_blurred, options.threads);
-    if (highlight) gaussian_blur(out.shaded.specular, options.width, out.specular_blurred, options.threads);
+    gaussian_blur(out.shaded.tone, options.width, out.tone_blurred, options.threads, &out.blur_scratch);
+    if (highlight)
+        gaussian_blur(out.shaded.specular, options.width, out.specular_blurred, options.threads, &out.blur_scratch);
     out.seconds.blur = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     out.dark = {};
     out.highlight = {};
-    if (dark)
-        detect_ridges(out.tone_blurred, out.tone_blurred, Polarity::Dark, options.dark_lower, options.dark_upper, options,
-                      out.dark);
+    detect_ridges_both(out.tone_blurred, out.tone_blurred, dark ? &out.dark : nullptr,
+                       highlight ? &out.highlight : nullptr, options);
     if (highlight) {
-        detect_ridges(out.tone_blurred, out.tone_blurred, Polarity::Light, options.highlight_lower,
-                      options.highlight_upper, options, out.highlight);
-        RidgeField specular;
         // The specular channel's own tone is its counterchange: a highlight is as strong as it is bright.
         detect_ridges(out.specular_blurred, out.specular_blurred, Polarity::Light, options.highlight_lower,
-                      options.highlight_upper, options, specular);
-        merge_max(out.highlight, specular);
+                      options.highlight_upper, options, out.specular);
+        merge_max(out.highlight, out.specular);
     }
     out.seconds.ridges = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
