@@ -1,7 +1,9 @@
 // The tone stage (src/tone/): known answers on synthetic tone images, a lit sphere, bad options.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -257,4 +259,87 @@ TEST(ToneOptionsCheck, BadValuesNameTheFlag) {
         EXPECT_NE(e.find(c.words), std::string::npos) << e;
         EXPECT_EQ(e.find('\n'), std::string::npos);
     }
+}
+
+// ---- The command line ------------------------------------------------------------------
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.hpp"
+
+namespace {
+std::string mesh(const std::string& name) { return std::string(INKLINE_DATA_DIR) + "/meshes/" + name + ".off"; }
+}  // namespace
+
+// Bad tone input: one line naming the flag, exit 2, no output file.
+TEST(ToneCli, BadValuesAreOneLineUsageErrors) {
+    const auto dir = inkline_test::scratch("tone_");
+    const std::string out = (dir / "x.png").string();
+    const struct {
+        const char* flags;
+        const char* words;
+    } cases[] = {
+        {"--lines=tone-dark --tone-width=0", "--tone-width: expected a width in (0, 256] px"},
+        {"--lines=tone-dark --tone-width=-3", "--tone-width"},
+        {"--lines=tone-dark --tone-beta=1.5", "--tone-beta: expected a share in [0, 1]"},
+        {"--lines=tone-dark --tone-beta=-0.1", "--tone-beta"},
+        {"--lines=tone-dark --tone-dark=0.5,0.1", "--tone-dark: the lower threshold is above the upper one"},
+        {"--lines=tone-highlight --tone-highlight=0.3", "--tone-highlight: expected CL,CU"},
+        {"--lines=tone-dark --light=0,0,0", "--light: expected a non-zero direction"},
+        {"--lines=tone-dark --specular=0", "--specular"},
+        {"--base=flat", "--base: unknown base 'flat'"},
+        {"--base=toon --toon-bands=5", "--toon-bands"},
+        {"--lines=tone-dark --size=16384x16384", "--size: tone lines and the base coat need at most 8192 x 8192"},
+    };
+    for (const auto& c : cases) {
+        const auto r = inkline_test::run_inkline("", "render " + mesh("bunny00") + " -o " + out + " " + c.flags, dir);
+        EXPECT_EQ(r.code, 2) << c.flags << ": " << r.err;
+        EXPECT_NE(r.err.find(c.words), std::string::npos) << c.flags << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.flags << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.flags;
+    }
+    // The window has no tone stage yet: said, not ignored.
+    const auto v = inkline_test::run_inkline("", "view " + mesh("bunny00") + " --lines=tone-dark", dir);
+    EXPECT_EQ(v.code, 2);
+    EXPECT_NE(v.err.find("drawn by 'inkline render' only"), std::string::npos) << v.err;
+}
+
+// A 1 x 1 image works (nothing traced); JSON holds tone lines with an opacity per point, mixed
+// with silhouettes; SVG has the base coat as an image layer under the line layers.
+TEST(ToneCli, OutputsMixTheKinds) {
+    const auto dir = inkline_test::scratch("tone_");
+    const std::string flags = " --lines=silhouette,tone-dark,tone-highlight --base=toon --quiet";
+    auto r = inkline_test::run_inkline("", "render " + mesh("armadillo") + " -o " + (dir / "one.png").string() +
+                                               " --size=1x1" + flags, dir);
+    EXPECT_EQ(r.code, 0) << r.err;
+    r = inkline_test::run_inkline("", "render " + mesh("armadillo") + " -o " + (dir / "a.json").string() +
+                                          " --size=400x300" + flags, dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(inkline_test::slurp(dir / "a.json"));
+    std::map<std::string, int> kinds;
+    for (const auto& p : j["polylines"]) {
+        ++kinds[p["kind"].get<std::string>()];
+        if (p["kind"] == "tone-dark" || p["kind"] == "tone-highlight") {
+            ASSERT_EQ(p["opacity"].size(), p["points"].size());
+            for (const auto& o : p["opacity"]) EXPECT_TRUE(o.get<double>() > 0.0 && o.get<double>() <= 1.0);
+        } else {
+            EXPECT_FALSE(p.contains("opacity"));
+        }
+    }
+    EXPECT_GT(kinds["silhouette"], 0);
+    EXPECT_GT(kinds["tone-dark"], 0);
+    EXPECT_GT(kinds["tone-highlight"], 0);
+    EXPECT_TRUE(j["stats"]["seconds"].contains("tone"));
+    r = inkline_test::run_inkline("", "render " + mesh("armadillo") + " -o " + (dir / "a.svg").string() +
+                                          " --size=400x300" + flags, dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string svg = inkline_test::slurp(dir / "a.svg");
+    const auto base = svg.find("<g id=\"base\""), dark = svg.find("<g id=\"tone-dark-visible\"");
+    const auto light = svg.find("<g id=\"tone-highlight-visible\" ");
+    ASSERT_NE(base, std::string::npos);
+    ASSERT_NE(dark, std::string::npos);
+    ASSERT_NE(light, std::string::npos);
+    EXPECT_LT(base, dark);
+    EXPECT_NE(svg.find("data:image/png;base64,"), std::string::npos);
+    EXPECT_NE(svg.find("stroke=\"#ffffff\"", light), std::string::npos);  // highlights drawn light
 }
