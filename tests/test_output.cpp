@@ -56,15 +56,15 @@ inkline::Drawing sample_drawing() {
     d.stats.seconds_total = 0.9375;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     d.pieces = {
-        {LineKind::Silhouette, 0, 0, {{20, 50.5}, {100.1, 50.5}, {180, 50.5}}},
-        {LineKind::Crease, 0, 1, {{1.0 / 3.0, 0.1}, {-40, 250}}},  // leaves the image
-        {LineKind::Border, 0, 2, {{150, 10}, {190, 20}}},
-        {LineKind::Silhouette, 0, 5, {{100, 20.5}, {1e12, 20.5}}},  // as from near the eye plane
-        {LineKind::Silhouette, 1, 0, {{20, 80}, {180, 80}}},
-        {LineKind::Crease, 2, 1, {{20, 90}, {180, 90}}},
-        {LineKind::Border, 5, 2, {{10, 10}, {10, 90}}},
-        {LineKind::Silhouette, 0, 3, {{60, 60}}},                      // too short
-        {LineKind::Crease, 0, 4, {{70, 70}, {nan, 70}, {80, 80}}},     // NaN
+        {LineKind::Silhouette, 0, 0, {{20, 50.5}, {100.1, 50.5}, {180, 50.5}}, {}},
+        {LineKind::Crease, 0, 1, {{1.0 / 3.0, 0.1}, {-40, 250}}, {}},  // leaves the image
+        {LineKind::Border, 0, 2, {{150, 10}, {190, 20}}, {}},
+        {LineKind::Silhouette, 0, 5, {{100, 20.5}, {1e12, 20.5}}, {}},  // as from near the eye plane
+        {LineKind::Silhouette, 1, 0, {{20, 80}, {180, 80}}, {}},
+        {LineKind::Crease, 2, 1, {{20, 90}, {180, 90}}, {}},
+        {LineKind::Border, 5, 2, {{10, 10}, {10, 90}}, {}},
+        {LineKind::Silhouette, 0, 3, {{60, 60}}, {}},                      // too short
+        {LineKind::Crease, 0, 4, {{70, 70}, {nan, 70}, {80, 80}}, {}},     // NaN
     };
     return d;
 }

@@ -95,9 +95,9 @@ TEST(Chaining, PiecesOfOneCurveJoinEndToEndWhateverTheirOrientation) {
     // Curve 7 cut into three pieces, the middle one stored backwards, and a sharp corner between
     // the last two: pieces of the same curve join whatever the turn.
     const Drawing d = drawing_of({
-        {LineKind::Silhouette, 0, 7, {{10, 10}, {20, 10}}},
-        {LineKind::Silhouette, 0, 7, {{40, 10}, {30, 10}, {20, 10}}},
-        {LineKind::Silhouette, 0, 7, {{40, 10}, {40, 50}}},
+        {LineKind::Silhouette, 0, 7, {{10, 10}, {20, 10}}, {}},
+        {LineKind::Silhouette, 0, 7, {{40, 10}, {30, 10}, {20, 10}}, {}},
+        {LineKind::Silhouette, 0, 7, {{40, 10}, {40, 50}}, {}},
     });
     const auto s = inkline::chain_strokes(d);
     ASSERT_EQ(s.size(), 1u);
@@ -113,9 +113,9 @@ TEST(Chaining, PiecesOfOneCurveJoinEndToEndWhateverTheirOrientation) {
 
 TEST(Chaining, AcrossJunctionsOnlyWhereTheTangentContinues) {
     const Drawing d = drawing_of({
-        {LineKind::Crease, 0, 1, {{0, 0}, {50, 0}}},
-        {LineKind::Crease, 0, 2, {{50, 0}, {100, 5}}},    // turns by ~5.7 degrees: joined
-        {LineKind::Crease, 0, 3, {{100, 5}, {100, 60}}},  // turns by ~84 degrees: not joined
+        {LineKind::Crease, 0, 1, {{0, 0}, {50, 0}}, {}},
+        {LineKind::Crease, 0, 2, {{50, 0}, {100, 5}}, {}},    // turns by ~5.7 degrees: joined
+        {LineKind::Crease, 0, 3, {{100, 5}, {100, 60}}, {}},  // turns by ~84 degrees: not joined
     });
     const auto s = inkline::chain_strokes(d);
     ASSERT_EQ(s.size(), 2u);
@@ -134,10 +134,10 @@ TEST(Chaining, AcrossJunctionsOnlyWhereTheTangentContinues) {
 
 TEST(Chaining, NeverAcrossGapsKindsOrQi) {
     const Drawing d = drawing_of({
-        {LineKind::Silhouette, 0, 1, {{0, 0}, {50, 0}}},
-        {LineKind::Silhouette, 0, 1, {{50.5, 0}, {100, 0}}},  // same curve, half a pixel gap
-        {LineKind::Border, 0, 1, {{100, 0}, {150, 0}}},       // other kind
-        {LineKind::Silhouette, 1, 1, {{0, 0}, {-50, 0}}},     // hidden (QI 1)
+        {LineKind::Silhouette, 0, 1, {{0, 0}, {50, 0}}, {}},
+        {LineKind::Silhouette, 0, 1, {{50.5, 0}, {100, 0}}, {}},  // same curve, half a pixel gap
+        {LineKind::Border, 0, 1, {{100, 0}, {150, 0}}, {}},       // other kind
+        {LineKind::Silhouette, 1, 1, {{0, 0}, {-50, 0}}, {}},     // hidden (QI 1)
     });
     EXPECT_EQ(inkline::chain_strokes(d).size(), 3u);  // the hidden piece is not drawn
     inkline::ChainOptions hidden;
@@ -150,10 +150,10 @@ TEST(Chaining, NeverAcrossGapsKindsOrQi) {
 TEST(Chaining, ClosedLoopAndUnusablePieces) {
     const double nan = std::nan("");
     const Drawing d = drawing_of({
-        {LineKind::Silhouette, 0, 4, {{0, 0}, {10, 0}, {10, 10}}},
-        {LineKind::Silhouette, 0, 4, {{10, 10}, {0, 10}, {0, 0}}},
-        {LineKind::Silhouette, 0, 5, {{30, 30}}},                // one point
-        {LineKind::Silhouette, 0, 6, {{40, 40}, {nan, 40}}},     // not finite
+        {LineKind::Silhouette, 0, 4, {{0, 0}, {10, 0}, {10, 10}}, {}},
+        {LineKind::Silhouette, 0, 4, {{10, 10}, {0, 10}, {0, 0}}, {}},
+        {LineKind::Silhouette, 0, 5, {{30, 30}}, {}},                // one point
+        {LineKind::Silhouette, 0, 6, {{40, 40}, {nan, 40}}, {}},     // not finite
     });
     const auto s = inkline::chain_strokes(d);
     ASSERT_EQ(s.size(), 1u);
@@ -193,7 +193,8 @@ TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
     for (int k = 0; k < inkline::kPieceKindCount; ++k) {
         const auto& l = file.lines[std::size_t(k)];
         EXPECT_TRUE(l.plain()) << inkline::to_string(LineKind(k));
-        EXPECT_EQ(l.rgb, 0u) << inkline::to_string(LineKind(k));
+        EXPECT_EQ(l.rgb, inkline::kind_rgb(LineKind(k))) << inkline::to_string(LineKind(k));  // black, highlights white
+        EXPECT_EQ(l.rgb, LineKind(k) == LineKind::ToneHighlight ? 0xffffffu : 0u) << inkline::to_string(LineKind(k));
         EXPECT_EQ(l.width, builtin.lines[std::size_t(k)].width) << inkline::to_string(LineKind(k));
         // Lines from curvature are drawn lighter than the outline (as the plain writers draw them).
         EXPECT_EQ(l.width, inkline::kind_width(LineKind(k)) == 0.7 ? 0.7 : 1.0) << inkline::to_string(LineKind(k));
@@ -425,9 +426,9 @@ TEST(Noise, SameScreenPointSameOffsetInEveryStrokeAndFrame) {
         l.noise = {3.0, 2.0, 25.0};
         l.spacing = 1.0;
     }
-    const Drawing a = drawing_of({{LineKind::Silhouette, 0, 1, {{10, 50}, {110, 50}}}});
-    const Drawing b = drawing_of({{LineKind::Silhouette, 0, 9, {{30, 50}, {80, 50}}},
-                                  {LineKind::Crease, 0, 3, {{5, 5}, {7, 190}}}});
+    const Drawing a = drawing_of({{LineKind::Silhouette, 0, 1, {{10, 50}, {110, 50}}, {}}});
+    const Drawing b = drawing_of({{LineKind::Silhouette, 0, 9, {{30, 50}, {80, 50}}, {}},
+                                  {LineKind::Crease, 0, 3, {{5, 5}, {7, 190}}, {}}});
     const auto sa = inkline::stylize(a, style, false), sa2 = inkline::stylize(a, style, false);
     const auto sb = inkline::stylize(b, style, false);
     const auto& pa = sa.layers.at(0).marks.at(0).paths.at(0);
@@ -489,7 +490,7 @@ TEST(WidthOutline, StraightTaperedStrokeIsClosedAndSimple) {
     style.lines[0].width_rule = inkline::WidthRule::Taper;
     style.lines[0].width = 4;
     style.lines[0].taper_length = 15;
-    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 20}, {60, 50}, {100, 80}}}}), style, false);
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 20}, {60, 50}, {100, 80}}, {}}}), style, false);
     ASSERT_EQ(sd.layers.size(), 1u);
     ASSERT_EQ(sd.layers[0].marks.size(), 1u);
     EXPECT_EQ(sd.layers[0].marks[0].type, inkline::Mark::Type::Fill);
@@ -580,7 +581,7 @@ TEST(Brush, QuadsFollowTheSpineWithCrossbarsAtVerticesAndSeams) {
     ls.spacing = 7.0;   // spine vertices every 7 px
     style.base_width = 1.0;
     // Straight, 100 px: the 128 x 32 brush (aspect 4) repeats every 20 px.
-    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{50, 100}, {150, 100}}}}), style, false);
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{50, 100}, {150, 100}}, {}}}), style, false);
     ASSERT_EQ(sd.layers.size(), 1u);
     const inkline::Mark& m = sd.layers[0].marks.at(0);
     ASSERT_EQ(m.type, inkline::Mark::Type::Brush);
@@ -613,7 +614,7 @@ TEST(Brush, InkOnlyInsideTheStrokeInEveryFormat) {
     inkline::Style style = inkline::load_style("ink-brush");
     for (auto& l : style.lines) l.noise = {}, l.width_rule = inkline::WidthRule::Constant, l.width = 8.0;
     style.base_width = 1.0;
-    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{40, 100}, {160, 100}}}}), style, false);
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{40, 100}, {160, 100}}, {}}}), style, false);
     const std::string png = inkline::styled_to_bytes(sd, inkline::Format::Png);
     cairo_surface_t* s = [&] {
         struct Reader { const std::string* b; std::size_t at; } r{&png, 0};
@@ -676,11 +677,11 @@ TEST(Hatching, ChosenDirectionalLightShadesTheFarSide) {
 TEST(StyledSvg, OneLayerPerLineClassAndBrushImageEmbeddedOnce) {
     // Visible silhouette and crease, hidden silhouette at QI 1 and crease at QI 2, technical style.
     const Drawing d = drawing_of({
-        {LineKind::Silhouette, 0, 1, {{10, 10}, {100, 10}}},
-        {LineKind::Crease, 0, 2, {{10, 50}, {100, 60}}},
-        {LineKind::Silhouette, 1, 3, {{10, 90}, {100, 90}}},
-        {LineKind::Crease, 2, 4, {{10, 120}, {100, 120}}},
-        {LineKind::Border, 5, 5, {{10, 150}, {100, 150}}},  // QI >= 3: omitted by technical
+        {LineKind::Silhouette, 0, 1, {{10, 10}, {100, 10}}, {}},
+        {LineKind::Crease, 0, 2, {{10, 50}, {100, 60}}, {}},
+        {LineKind::Silhouette, 1, 3, {{10, 90}, {100, 90}}, {}},
+        {LineKind::Crease, 2, 4, {{10, 120}, {100, 120}}, {}},
+        {LineKind::Border, 5, 5, {{10, 150}, {100, 150}}, {}},  // QI >= 3: omitted by technical
     });
     const std::string svg = inkline::styled_to_bytes(inkline::stylize(d, inkline::load_style("technical"), false),
                                                      inkline::Format::Svg);
@@ -696,7 +697,7 @@ TEST(StyledSvg, OneLayerPerLineClassAndBrushImageEmbeddedOnce) {
 
     // A brush stroke: the image once, one clipped copy per quad.
     const inkline::StyledDrawing sd = inkline::stylize(
-        drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}}, {LineKind::Crease, 0, 2, {{20, 50}, {180, 40}}}}),
+        drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}, {}}, {LineKind::Crease, 0, 2, {{20, 50}, {180, 40}}, {}}}),
         inkline::load_style("ink-brush"), false);
     std::size_t quads = 0;
     for (const auto& l : sd.layers)
@@ -717,8 +718,8 @@ TEST(StyledSvg, OneLayerPerLineClassAndBrushImageEmbeddedOnce) {
 TEST(PointAttributes, ChainedWithTheirPointsAndScaleWidths) {
     // Two pieces of one curve, the second stored backwards; depth 1..2 along the stroke.
     const Drawing d = drawing_of({
-        {LineKind::Silhouette, 0, 1, {{10, 50}, {60, 50}}},
-        {LineKind::Silhouette, 0, 1, {{110, 50}, {85, 50}, {60, 50}}},
+        {LineKind::Silhouette, 0, 1, {{10, 50}, {60, 50}}, {}},
+        {LineKind::Silhouette, 0, 1, {{110, 50}, {85, 50}, {60, 50}}, {}},
     });
     inkline::PointAttributes a;
     a.depth = {{1.0, 1.5}, {2.0, 1.75, 1.5}};
@@ -794,11 +795,11 @@ TEST(PointAttributes, FromAViewDepthAndToneAtEveryPoint) {
 TEST(Brush, ZeroWidthEndsDrawNothingAndTerminate) {
     inkline::Style style = inkline::load_style("ink-brush");
     for (auto& l : style.lines) l.taper_min = 0.0, l.noise = {};
-    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}}}), style, false);
+    const auto sd = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}, {}}}), style, false);
     ASSERT_EQ(sd.layers.size(), 1u);
     for (const auto& q : sd.layers[0].marks.at(0).quads) EXPECT_GT(q.u1, q.u0);
     style.lines[0].width = 0.0;
-    const auto none = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}}}), style, false);
+    const auto none = inkline::stylize(drawing_of({{LineKind::Silhouette, 0, 1, {{20, 100}, {180, 100}}, {}}}), style, false);
     std::size_t quads = 0;
     for (const auto& l : none.layers)
         for (const auto& m : l.marks) quads += m.quads.size();

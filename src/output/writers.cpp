@@ -218,8 +218,10 @@ std::string num(double v, int decimals = -1) {
 using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 using ContextPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 
+}  // namespace
+
 // The drawing's base layer (RGB24, same size) painted over the whole surface.
-void paint_base(cairo_t* c, const RasterLayer& base) {
+void paint_raster_layer(cairo_t* c, const RasterLayer& base) {
     SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
     cairo_surface_flush(image.get());
     unsigned char* data = cairo_image_surface_get_data(image.get());
@@ -233,16 +235,16 @@ void paint_base(cairo_t* c, const RasterLayer& base) {
     cairo_paint(c);
 }
 
-cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
+static cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
     static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
     return CAIRO_STATUS_SUCCESS;
 }
 
 // The base layer as an SVG <image> (a PNG inline), Inkscape layer "base".
-std::string svg_base(const RasterLayer& base) {
+std::string svg_raster_layer(const RasterLayer& base) {
     SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
     ContextPtr cr(cairo_create(image.get()), cairo_destroy);
-    paint_base(cr.get(), base);
+    paint_raster_layer(cr.get(), base);
     std::string png;
     cairo_surface_write_to_png_stream(image.get(), append_bytes, &png);
     static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -261,6 +263,8 @@ std::string svg_base(const RasterLayer& base) {
            "\" height=\"" + h + "\" href=\"data:image/png;base64," + b64 + "\"/>\n</g>\n";
 }
 
+namespace {
+
 cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const OutputOptions& o,
                           bool background) {
     ContextPtr cr(cairo_create(surface), cairo_destroy);
@@ -269,7 +273,7 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const Outp
         cairo_set_source_rgb(c, 1, 1, 1);
         cairo_paint(c);
     }
-    if (!d.base.empty()) paint_base(c, d.base);
+    if (!d.base.empty()) paint_raster_layer(c, d.base);
     cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     const double width = line_width(d, o);
@@ -418,7 +422,7 @@ std::string drawing_to_svg(const Drawing& d, const OutputOptions& o) {
         w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w + " " + h + "\">\n" +
         "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h +
         "\" fill=\"#ffffff\"/>\n";
-    if (!d.base.empty()) out += svg_base(d.base);
+    if (!d.base.empty()) out += svg_raster_layer(d.base);
     const double width = line_width(d, o);
     for (const Group& g : groups(d, o)) {
         const std::string id = std::string(to_string(g.kind)) + "-" + g.style.name;
