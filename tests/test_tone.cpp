@@ -102,7 +102,7 @@ TEST(ToneLines, GaussianValleyAtItsCentreAndAngle) {
             const double d = glm::dot(glm::dvec2(x, y) - centre, normal);
             return 1.0 - 0.6 * std::exp(-d * d / (2 * 1.5 * 1.5));
         });
-        ToneOptions o;  // w = 4, beta = 0.2
+        ToneOptions o;  // w = 6, beta = 0.2
         const std::vector<Piece> lines = dark_lines(tone, o);
         ASSERT_EQ(lines.size(), 1u) << degrees;
         const Piece& p = lines[0];
@@ -201,7 +201,7 @@ TEST(ToneSphere, OneHighlightAtTheSpotNoDarkLinesInside) {
     EXPECT_GT(r.shaded.specular.at(128, 128), 0.95f);  // (its centre is 0.7 px from the spot's)
     EXPECT_FLOAT_EQ(r.shaded.specular.at(128, 128), r.shaded.specular.at(127, 127));
     // Toon base: background white, the lit centre in the top band, the rim darker.
-    const RasterLayer base = toon_base(r.shaded, 3);
+    const RasterLayer base = toon_base(r.shaded.tone, r.shaded.covered, 3);
     EXPECT_EQ(base.rgb[0], 0xffffffu);
     EXPECT_EQ(base.rgb[128 * 256 + 128], 0xebebebu);
     EXPECT_LT(base.rgb[128 * 256 + 128 + int(radius) - 2] & 0xff, 0xebu);

@@ -125,7 +125,11 @@ void add_tone(const Model& model, const Camera& cam, const RenderArgs& a, Drawin
     tone::render_tone(model.topology(), normals, cam, a.tone_options, a.tone.dark, a.tone.highlight, result);
     for (const Piece& p : result.pieces) d.pieces.push_back(p);
     d.stats.pieces = d.pieces.size();
-    if (a.toon_base) d.base = tone::toon_base(result.shaded, a.tone_options.toon_bands);
+    if (a.toon_base) {
+        if (result.tone_blurred.pixels.empty())  // (the pass blurs it for any line kind)
+            tone::gaussian_blur(result.shaded.tone, a.tone_options.width, result.tone_blurred, a.tone_options.threads);
+        d.base = tone::toon_base(result.tone_blurred, result.shaded.covered, a.tone_options.toon_bands);
+    }
     d.stats.seconds_tone_shade = result.seconds.shade;
     d.stats.seconds_tone_blur = result.seconds.blur;
     d.stats.seconds_tone_ridges = result.seconds.ridges;

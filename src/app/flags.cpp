@@ -407,7 +407,7 @@ std::vector<Flag> tone_flags(tone::ToneOptions& o, bool& toon_base) {
         };
     };
     return {
-        {"--tone-width", "PX", "tone lines: line width w in px, (0, 256]: blur size and fit spacing w/2 (default 4)",
+        {"--tone-width", "PX", "tone lines: line width w in px, (0, 256]: blur size and fit spacing w/2 (default 6)",
          [&o](const std::string& v) {
              const double w = parse_number("--tone-width", v);
              if (!(w > 0.0 && w <= 256.0)) throw Error("--tone-width", "expected a width in (0, 256] px, got '" + v + "'");
@@ -417,7 +417,7 @@ std::vector<Flag> tone_flags(tone::ToneOptions& o, bool& toon_base) {
          "tone lines: share of the way moved toward the ridge per step, [0, 1]; 0 keeps tone edges, 1 only ridges "
          "(default 0.2)",
          number("--tone-beta", 0.0, 1.0, "a share in [0, 1]", o.beta)},
-        {"--tone-dark", "CL,CU", "dark lines' soft curvature thresholds, per (w/2)^2 (default 0.02,0.06)",
+        {"--tone-dark", "CL,CU", "dark lines' soft curvature thresholds, per (w/2)^2 (default 0.015,0.05)",
          pair("--tone-dark", o.dark_lower, o.dark_upper)},
         {"--tone-highlight", "CL,CU", "highlight lines' soft curvature thresholds (default 0.05,0.12)",
          pair("--tone-highlight", o.highlight_lower, o.highlight_upper)},

@@ -217,12 +217,19 @@ void ridge_pixel(const Image& img, const Image& tone, int px, int py, RidgeLine 
         pos += move * l.normal;
     }
     glm::dvec2 on_line = pos + l.offset * spacing * l.normal;
-    if (l.other * l.curvature > 0.0 && std::abs(l.other) > kSpotRatio * std::abs(l.curvature)) {
-        // A spot (both curvatures alike): every pixel around it sees a line through its centre,
+    if (l.other * l.curvature > 0.0) {
+        // M definite: c = -M^-1 (a3 a4) / 2 exists. Where the fit at c has both curvatures alike,
+        // c is a spot's centre (a round highlight): every pixel around it sees a line through it,
         // each at its own angle (a star once traced). One dash through the centre instead,
-        // horizontal: c = -M^-1 (a3 a4) / 2 exists, M being definite.
-        on_line = pos + spacing * l.centre;
-        l.normal = {0.0, 1.0};
+        // horizontal. (Decided at c, not at the pixel: on a spot's flank the two differ.)
+        const glm::dvec2 c = pos + spacing * l.centre;
+        if (glm::length(c - centre) <= half) {
+            const RidgeLine at_c = fit_at(img, c.x, c.y, spacing);
+            if (at_c.other * at_c.curvature > 0.0 && std::abs(at_c.other) > kSpotRatio * std::abs(at_c.curvature)) {
+                on_line = c + spacing * at_c.centre;
+                l.normal = {0.0, 1.0};
+            }
+        }
     }
     const double distance = glm::dot(centre - on_line, l.normal);
     double alpha = upper > lower ? std::clamp((std::abs(l.curvature) - lower) / (upper - lower), 0.0, 1.0) : 1.0;

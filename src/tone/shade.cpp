@@ -210,18 +210,18 @@ void shade(const MeshTopology& mesh, const ToneMesh& normals, const Camera& cam,
     });
 }
 
-RasterLayer toon_base(const ShadedImages& shaded, int bands) {
+RasterLayer toon_base(const Image& tone, const std::vector<std::uint8_t>& covered, int bands) {
     RasterLayer layer;
-    layer.width = shaded.tone.width;
-    layer.height = shaded.tone.height;
-    layer.rgb.resize(shaded.tone.pixels.size());
+    layer.width = tone.width;
+    layer.height = tone.height;
+    layer.rgb.resize(tone.pixels.size());
     bands = std::clamp(bands, 2, 4);
     for (std::size_t i = 0; i < layer.rgb.size(); ++i) {
         std::uint32_t g = 255;
-        if (shaded.covered[i]) {
+        if (covered[i]) {
             // Band k of `bands` over [0, 1]; greys from a mid-dark to a light one, so that dark
             // lines and white highlight lines both show over every band.
-            const int k = std::min(bands - 1, int(shaded.tone.pixels[i] * float(bands)));
+            const int k = std::clamp(int(tone.pixels[i] * float(bands)), 0, bands - 1);
             g = std::uint32_t(std::lround(110.0 + 125.0 * k / (bands - 1)));
         }
         layer.rgb[i] = (g << 16) | (g << 8) | g;

@@ -57,12 +57,12 @@ struct ToneOptions {
     // World directions towards the lights (need not be unit); empty: default_light(camera).
     std::vector<glm::dvec3> lights;
     double specular_exponent = 40.0;  // Blinn-Phong exponent of the specular channel, >= 1
-    double width = 4.0;               // w: line width in px; blur size, sample spacing w/2
+    double width = 6.0;               // w: line width in px; blur size, sample spacing w/2
     double beta = 0.2;                // share of the way moved toward the ridge at each step, [0, 1]
     int steps = 5;                    // ridge search steps (the paper's 5)
     // Soft thresholds c_l < c_u on the larger curvature magnitude (section 3.3), dark lines and
     // highlight lines (the paper sets a higher one for highlights).
-    double dark_lower = 0.02, dark_upper = 0.06;
+    double dark_lower = 0.015, dark_upper = 0.05;
     double highlight_lower = 0.05, highlight_upper = 0.12;
     bool distance_falloff = true;  // opacity falls to 0 as the distance to the ridge reaches w/2
     bool counterchange = true;     // times 1 - t for dark lines, t for highlight lines
@@ -165,8 +165,8 @@ struct ToneResult {
 void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera& camera, const ToneOptions& options,
                  bool dark, bool highlight, ToneResult& out);
 
-// Toon base coat: `bands` flat grey levels from the unblurred tone (background white), as
-// 0x00RRGGBB pixels for a RasterLayer.
-RasterLayer toon_base(const ShadedImages& shaded, int bands);
+// Toon base coat: `bands` flat grey levels of `tone` where `covered` (white elsewhere), as
+// 0x00RRGGBB pixels for a RasterLayer. The blurred tone gives smooth band borders on noisy meshes.
+RasterLayer toon_base(const Image& tone, const std::vector<std::uint8_t>& covered, int bands);
 
 }  // namespace inkline::tone
