@@ -159,6 +159,22 @@ std::array<double, 9> stencil(const Image& img, double x, double y, double spaci
     const int W = img.width, H = img.height;
     if (fx >= 0.0 && fy >= 0.0 && fx + 2 * spacing < W - 1 && fy + 2 * spacing < H - 1) {
         const float* p = img.pixels.data();
+        const int step = int(spacing);
+        if (double(step) == spacing) {
+            // A whole-pixel spacing: the 9 samples share their bilinear weights.
+            const int x0 = int(fx), y0 = int(fy);
+            const float tx = float(fx - x0), ty = float(fy - y0);
+            const float w00 = (1 - tx) * (1 - ty), w10 = tx * (1 - ty), w01 = (1 - tx) * ty, w11 = tx * ty;
+            for (int j = 0; j < 3; ++j) {
+                const float* r0 = p + std::size_t(y0 + j * step) * std::size_t(W) + std::size_t(x0);
+                const float* r1 = r0 + W;
+                for (int i = 0; i < 3; ++i) {
+                    const int o = i * step;
+                    t[std::size_t(3 * j + i)] = w00 * r0[o] + w10 * r0[o + 1] + w01 * r1[o] + w11 * r1[o + 1];
+                }
+            }
+            return t;
+        }
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 3; ++i) {
                 const double sx = fx + i * spacing, sy = fy + j * spacing;
