@@ -1,5 +1,6 @@
 #include "app/cli.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -123,13 +124,14 @@ void check_tone(const tone::ToneOptions& options, const CameraFlags& camera) {
 void add_tone(const Model& model, const Camera& cam, const RenderArgs& a, Drawing& d, tone::ToneResult& result) {
     const tone::ToneMesh normals = tone::prepare_tone_mesh(model.topology());
     tone::render_tone(model.topology(), normals, cam, a.tone_options, a.tone.dark, a.tone.highlight, result);
-    for (const Piece& p : result.pieces) d.pieces.push_back(p);
-    d.stats.pieces = d.pieces.size();
-    if (a.toon_base) {
-        if (result.tone_blurred.pixels.empty())  // (the pass blurs it for any line kind)
-            tone::gaussian_blur(result.shaded.tone, a.tone_options.width, result.tone_blurred, a.tone_options.threads);
-        d.base = tone::toon_base(result.tone_blurred, result.shaded.covered, a.tone_options.toon_bands);
+    std::uint32_t curves = 0;  // tone lines numbered after the drawing's curves
+    for (const Piece& p : d.pieces) curves = std::max(curves, p.curve + 1);
+    for (Piece p : result.pieces) {
+        p.curve += curves;
+        d.pieces.push_back(std::move(p));
     }
+    d.stats.pieces = d.pieces.size();
+    if (a.toon_base) d.base = tone::toon_base(result.tone_blurred, result.shaded.covered, a.tone_options.toon_bands);
     d.stats.seconds_tone_shade = result.seconds.shade;
     d.stats.seconds_tone_blur = result.seconds.blur;
     d.stats.seconds_tone_ridges = result.seconds.ridges;

@@ -148,8 +148,9 @@ void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera
     t0 = std::chrono::steady_clock::now();
     out.dark = {};
     out.highlight = {};
-    detect_ridges_both(out.tone_blurred, out.tone_blurred, dark ? &out.dark : nullptr,
-                       highlight ? &out.highlight : nullptr, options);
+    if (dark || highlight)
+        detect_ridges_both(out.tone_blurred, out.tone_blurred, dark ? &out.dark : nullptr,
+                           highlight ? &out.highlight : nullptr, options);
     if (highlight) {
         // The specular channel's own tone is its counterchange: a highlight is as strong as it is bright.
         detect_ridges(out.specular_blurred, out.specular_blurred, Polarity::Light, options.highlight_lower,
