@@ -806,7 +806,7 @@ TEST(FreeformCli, BadInputIsOneLineNamingTheProblem) {
         {" --strokes=iso --shader=phong", "inkline: --shader: unknown shader 'phong'"},
         {" --strokes=iso --cones=0", "inkline: --cones: expected an integer from 1 to 100000\n"},
         {" --strokes=iso --tau-dif=3", "inkline: --tau-dif: expected a number in [0, 1]\n"},
-        {" --strokes=iso --light=0,0,0", "inkline: --light: expected a non-zero direction\n"},
+        {" --strokes=iso --light=0,0,0", "inkline: --light: expected a non-zero direction, got '0,0,0'\n"},
         {" --strokes=iso --points=abc", "inkline: --points: expected a number, got 'abc'\n"},
         {" --cones=20", "inkline: --strokes: line-art flags given without --strokes\n"},
     };

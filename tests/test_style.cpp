@@ -228,7 +228,8 @@ TEST(StyleFile, PresetsLoadAndCleanIsTheBuiltInDefault) {
     for (int k = 0; k < inkline::kPieceKindCount; ++k) {
         const auto& l = file.lines[std::size_t(k)];
         EXPECT_TRUE(l.plain()) << inkline::to_string(LineKind(k));
-        EXPECT_EQ(l.rgb, 0u) << inkline::to_string(LineKind(k));
+        EXPECT_EQ(l.rgb, inkline::kind_rgb(LineKind(k))) << inkline::to_string(LineKind(k));  // black, highlights white
+        EXPECT_EQ(l.rgb, LineKind(k) == LineKind::ToneHighlight ? 0xffffffu : 0u) << inkline::to_string(LineKind(k));
         EXPECT_EQ(l.width, builtin.lines[std::size_t(k)].width) << inkline::to_string(LineKind(k));
         // Lines from curvature are drawn lighter than the outline (as the plain writers draw them).
         EXPECT_EQ(l.width, inkline::kind_width(LineKind(k)) == 0.7 ? 0.7 : 1.0) << inkline::to_string(LineKind(k));

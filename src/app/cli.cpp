@@ -68,6 +68,10 @@ struct RenderArgs {
     double arc = 360.0;  // a turntable: frame N would be frame 0 again
     FrameRange range;
     int jobs = int(std::max(1u, std::thread::hardware_concurrency()));
+    ToneKinds tone;     // tone-dark, tone-highlight (src/tone/)
+    tone::ToneOptions tone_options;
+    bool toon_base = false;           // --base=toon
+    std::vector<glm::dvec3> lights;   // --light (tone lines and the freeform shaders)
 };
 
 FlagTable render_flags(RenderArgs& a) {
@@ -87,7 +91,7 @@ FlagTable render_flags(RenderArgs& a) {
     t.group("Camera (default framed: the whole model in view, fov 30, +Y up)")
         .add(camera_flags(a.camera));
     t.group("Lines")
-        .add(lines_flag(a.features, a.surface, &a.lines_given))
+        .add(lines_flag(a.features, a.surface, &a.lines_given, &a.tone))
         .add(crease_flag(a.crease))
         .add(suggestive_threshold_flag(a.surface))
         .add(ridge_threshold_flag(a.surface))
@@ -103,6 +107,10 @@ FlagTable render_flags(RenderArgs& a) {
     t.group("Visibility")
         .add(visibility_flag(a.visibility))
         .add(switch_flag("--no-walk", a.walk, false, "appel: a ray test where a walk on the surface would do"));
+    t.group("Lighting").add(light_flag(a.lights));
+    t.group("Tone lines (--lines=...,tone-dark,tone-highlight) and base coat: docs/tone.md")
+        .add(tone_flags(a.tone_options, a.toon_base))
+        .add(threads_flag(a.tone_options.threads, "threads of the tone pass", "1"));
     t.group("Style").add(style_flag(a.style));
     t.group("Surfaces (.bpt, .json): silhouettes and borders of the tessellation, and Elber's line art")
         .add(freeform_flags(a.freeform));
@@ -134,6 +142,34 @@ std::string default_output(const std::string& model) {
     out += buf;
 }
 
+// Tone options checked before any work: relations between flags, and the image's size (the pass
+// holds about 80 bytes a pixel).
+void check_tone(const tone::ToneOptions& options, const CameraFlags& camera) {
+    if (const std::string e = tone::tone_options_error(options); !e.empty()) throw BadValue(e);
+    const long pixels = long(camera.width.value_or(1024)) * long(camera.height.value_or(1024));
+    if (pixels > 8192L * 8192L)
+        throw BadValue("--size: tone lines and the base coat need at most 8192 x 8192 pixels (about 80 bytes each)");
+}
+
+// The tone pass (src/tone/) at the camera's size: its pieces join the drawing's, its base coat
+// goes under the lines.
+void add_tone(const Model& model, const Camera& cam, const RenderArgs& a, Drawing& d, tone::ToneResult& result) {
+    const tone::ToneMesh normals = tone::prepare_tone_mesh(model.topology());
+    tone::render_tone(model.topology(), normals, cam, a.tone_options, a.tone.dark, a.tone.highlight, result);
+    std::uint32_t curves = 0;  // tone lines numbered after the drawing's curves
+    for (const Piece& p : d.pieces) curves = std::max(curves, p.curve + 1);
+    for (Piece p : result.pieces) {
+        p.curve += curves;
+        d.pieces.push_back(std::move(p));
+    }
+    d.stats.pieces = d.pieces.size();
+    if (a.toon_base) d.base = tone::toon_base(result.tone_blurred, result.shaded.covered, a.tone_options.toon_bands);
+    d.stats.seconds_tone_shade = result.seconds.shade;
+    d.stats.seconds_tone_blur = result.seconds.blur;
+    d.stats.seconds_tone_ridges = result.seconds.ridges;
+    d.stats.seconds_tone_trace = result.seconds.trace;
+}
+
 // What every drawing of a run shares, read once before any work.
 struct RenderSetup {
     std::optional<Style> style;
@@ -155,6 +191,9 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
             total > 0.0 ? edges_length(model.topology(), view.features.silhouette_edges) / total : 1.0;
     }
     if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet || in_batch);  // (it prints as it goes)
+    tone::ToneResult tone_result;
+    const bool tone_pass = a.tone.any() || a.toon_base;
+    if (tone_pass) add_tone(model, cam, a, view.drawing, tone_result);
     const auto t_out = std::chrono::steady_clock::now();
     view.drawing.stats.seconds_output = 0.0;
     view.drawing.stats.seconds_total =
@@ -198,6 +237,13 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
         appendf(report, "style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %zu specks dropped, %.4f s\n",
                 style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
                 hatch_stats.ray_tests, style_stats.specks_dropped, t_style);
+    if (tone_pass) {
+        std::size_t dark = 0, light = 0;
+        for (const Piece& p : tone_result.pieces) (p.kind == LineKind::ToneDark ? dark : light) += 1;
+        const tone::ToneTimes& ts = tone_result.seconds;
+        appendf(report, "tone: %zu dark lines, %zu highlight lines%s; seconds: shade %.4f, blur %.4f, ridges %.4f, trace %.4f\n",
+                dark, light, a.toon_base ? ", toon base" : "", ts.shade, ts.blur, ts.ridges, ts.trace);
+    }
     appendf(report, "camera: %s\n", camera_flags(cam).c_str());
     return report;
 }
@@ -357,8 +403,11 @@ int run_render(int argc, char** argv) {
         if (format == Format::Json) throw BadValue("--style: a style draws svg, pdf or png; JSON keeps the exact pieces");
         style = load_style(a.style);
         if (a.keep_specks) style->keep_specks = true;
-        if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface);
+        if (!a.lines_given && !style->kinds.empty()) set_line_kinds(style->kinds, a.features, a.surface, &a.tone);
     }
+    a.tone_options.lights = a.lights;
+    a.freeform.lights = a.lights;
+    if (a.tone.any() || a.toon_base) check_tone(a.tone_options, a.camera);
     for (const std::string& m : a.models) {
         if (!is_freeform_model(m) && a.freeform.any())
             throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include <glm/geometric.hpp>
+
 #include "app/batch.hpp"
 #include "app/progress.hpp"
 #include "core/error.hpp"
@@ -314,7 +316,8 @@ Flag crease_flag(double& degrees) {
 }
 
 namespace {
-const char* const kLineKindNames = "silhouette, crease, border, suggestive, smooth-contour, ridge, valley";
+const char* const kLineKindNames =
+    "silhouette, crease, border, suggestive, smooth-contour, ridge, valley, tone-dark, tone-highlight";
 // The switch of a surface line kind (curvature/curvature.hpp); null for the mesh edge kinds.
 bool* surface_switch(SurfaceLineOptions& surface, LineKind k) {
     switch (k) {
@@ -336,27 +339,33 @@ bool parse_drawn_kind(const std::string& name, LineKind& out) {
 }
 }  // namespace
 
-void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface) {
+void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface,
+                    ToneKinds* tone) {
     for (auto& k : features.kinds) k = false;
     surface.suggestive = surface.smooth_contour = surface.ridge = surface.valley = false;
+    if (tone) *tone = {};
     for (LineKind k : kinds) {
         if (bool* on = surface_switch(surface, k)) *on = true;
+        else if (k == LineKind::ToneDark && tone) tone->dark = true;
+        else if (k == LineKind::ToneHighlight && tone) tone->highlight = true;
         else if (int(k) < kLineKindCount) features.kinds[int(k)] = true;
     }
 }
 
-Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given) {
+Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given, ToneKinds* tone) {
     return {"--lines", "KIND,...", std::string("line kinds drawn: ") + kLineKindNames + " (default the first three)",
-            [&features, &surface, given](const std::string& v) {
+            [&features, &surface, given, tone](const std::string& v) {
                 std::vector<LineKind> kinds;
                 std::stringstream ss(v);
                 for (std::string name; std::getline(ss, name, ',');) {
                     LineKind kind;
                     if (!parse_drawn_kind(name, kind))
                         throw Error("--lines", "unknown line kind '" + name + "' (expected " + kLineKindNames + ")");
+                    if (!tone && (kind == LineKind::ToneDark || kind == LineKind::ToneHighlight))
+                        throw Error("--lines", name + " lines are drawn by 'inkline render' only (not in the window yet)");
                     kinds.push_back(kind);
                 }
-                set_line_kinds(kinds, features, surface);
+                set_line_kinds(kinds, features, surface, tone);
                 if (given) *given = true;
             }};
 }
@@ -384,6 +393,61 @@ Flag ridge_threshold_flag(SurfaceLineOptions& surface) {
                           "ridges and valleys: the least principal curvature drawn, relative to the model's "
                           "feature size (default 0.1)",
                           surface.ridge_threshold);
+}
+
+Flag light_flag(std::vector<glm::dvec3>& lights) {
+    return {"--light", "X,Y,Z",
+            "a light: world direction towards it; repeat for more (default: a headlight from the upper left)",
+            [&lights](const std::string& v) {
+                const glm::dvec3 l = parse_vec3("--light", v);
+                if (!(glm::length(l) > 0.0)) throw Error("--light", "expected a non-zero direction, got '" + v + "'");
+                lights.push_back(glm::normalize(l));
+            }};
+}
+
+std::vector<Flag> tone_flags(tone::ToneOptions& o, bool& toon_base) {
+    const auto pair = [](const char* name, double& lo, double& hi) {
+        return [name, &lo, &hi](const std::string& v) {
+            const auto comma = v.find(',');
+            if (comma == std::string::npos) throw Error(name, "expected CL,CU, got '" + v + "'");
+            const double a = parse_number(name, v.substr(0, comma)), b = parse_number(name, v.substr(comma + 1));
+            if (a < 0 || b < 0) throw Error(name, "expected thresholds CL,CU >= 0, got '" + v + "'");
+            if (a > b) throw Error(name, "the lower threshold is above the upper one in '" + v + "' (expected CL <= CU)");
+            lo = a, hi = b;
+        };
+    };
+    const auto number = [](const char* name, double lo, double hi, const char* what, double& to) {
+        return [=, &to](const std::string& v) {
+            const double x = parse_number(name, v);
+            if (!(x >= lo && x <= hi)) throw Error(name, std::string("expected ") + what + ", got '" + v + "'");
+            to = x;
+        };
+    };
+    return {
+        {"--tone-width", "PX", "tone lines: line width w in px, (0, 256]: blur size and fit spacing w/2 (default 6)",
+         [&o](const std::string& v) {
+             const double w = parse_number("--tone-width", v);
+             if (!(w > 0.0 && w <= 256.0)) throw Error("--tone-width", "expected a width in (0, 256] px, got '" + v + "'");
+             o.width = w;
+         }},
+        {"--tone-beta", "B",
+         "tone lines: share of the way moved toward the ridge per step, [0, 1]; 0 keeps tone edges, 1 only ridges "
+         "(default 0.2)",
+         number("--tone-beta", 0.0, 1.0, "a share in [0, 1]", o.beta)},
+        {"--tone-dark", "CL,CU", "dark lines' soft curvature thresholds, per (w/2)^2 (default 0.015,0.05)",
+         pair("--tone-dark", o.dark_lower, o.dark_upper)},
+        {"--tone-highlight", "CL,CU", "highlight lines' soft curvature thresholds (default 0.05,0.12)",
+         pair("--tone-highlight", o.highlight_lower, o.highlight_upper)},
+        {"--specular", "E", "Blinn-Phong exponent of the specular channel, [1, 10000] (default 40)",
+         number("--specular", 1.0, 10000.0, "an exponent in [1, 10000]", o.specular_exponent)},
+        {"--base", "none|toon", "under the lines: nothing (default) or a toon-shaded base coat of the tone image",
+         [&toon_base](const std::string& v) {
+             if (v != "none" && v != "toon") throw Error("--base", "unknown base '" + v + "' (expected none or toon)");
+             toon_base = v == "toon";
+         }},
+        {"--toon-bands", "N", "tone bands of the toon base coat, 2 to 4 (default 3)",
+         [&o](const std::string& v) { o.toon_bands = parse_integer("--toon-bands", v, 2, 4); }},
+    };
 }
 
 Flag finder_flag(FinderKind& kind) {

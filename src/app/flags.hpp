@@ -22,6 +22,7 @@
 #include <glm/vec3.hpp>
 
 #include "pipeline.hpp"
+#include "tone/tone.hpp"
 
 namespace inkline {
 
@@ -112,13 +113,26 @@ Model load_model_file(const std::string& path, bool strict, double crease_degree
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);
 Flag seed_flag(std::uint64_t& seed);
 Flag crease_flag(double& degrees);
-// --lines: mesh edge kinds (silhouette, crease, border) and surface line kinds (suggestive, ...);
-// *given set when the flag was given (a style's kinds apply only when it was not).
-Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given = nullptr);
-// Turns on exactly `kinds` (a style's "kinds", or --lines).
-void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface);
+// The tone stage's line kinds (src/tone/), drawn by `render` only.
+struct ToneKinds {
+    bool dark = false, highlight = false;
+    bool any() const { return dark || highlight; }
+};
+// --lines: mesh edge kinds (silhouette, crease, border), surface line kinds (suggestive, ...) and,
+// where `tone` is given, tone-dark and tone-highlight (refused otherwise: the window has no tone
+// stage yet); *given set when the flag was given (a style's kinds apply only when it was not).
+Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given = nullptr, ToneKinds* tone = nullptr);
+// Turns on exactly `kinds` (a style's "kinds", or --lines); tone kinds only where `tone` is given.
+void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface,
+                    ToneKinds* tone = nullptr);
+// --light=X,Y,Z, a world direction towards a light; each use adds one (tone lines, freeform shaders).
+Flag light_flag(std::vector<glm::dvec3>& lights);
 Flag suggestive_threshold_flag(SurfaceLineOptions& surface);
 Flag ridge_threshold_flag(SurfaceLineOptions& surface);
+// The tone stage's parameters (--tone-width, --tone-beta, --tone-dark, --tone-highlight, --specular,
+// --toon-bands) and --base=none|toon (*toon_base set for toon). Each value is checked by range
+// here; relations between them (c_l <= c_u) by tone::tone_options_error.
+std::vector<Flag> tone_flags(tone::ToneOptions& options, bool& toon_base);
 Flag finder_flag(FinderKind& kind);
 Flag fraction_flag(double& share);
 Flag first_view_flag(bool& first_full);

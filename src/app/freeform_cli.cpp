@@ -70,11 +70,6 @@ std::vector<Flag> freeform_flags(FreeformArgs& a) {
                   if (!freeform::parse_shader(v, d.shader.kind))
                       throw Error(f, "unknown shader '" + v + "' (expected diffuse, silhouette, combined)");
               }),
-        value("--light", "X,Y,Z", "the shader's light direction (default: a headlight from the upper left)",
-              [&a, &d](const char* f, const std::string& v) {
-                  d.shader.lights = {direction(f, v)};
-                  a.light = true;
-              }),
         value("--decay-dif", "C", "diffuse shader's exponent, in [0.01, 1000] (default 2)",
               [&d](const char* f, const std::string& v) { d.shader.c = in_range(f, v, 0.01, 1000, "[0.01, 1000]"); }),
         value("--tau-dif", "T", "diffuse shader's threshold, in [0, 1] (default 0.1)",
@@ -110,6 +105,7 @@ FreeformRender::FreeformRender(const std::string& path, const FreeformArgs& args
     Impl& m = *impl_;
     if (!args.strokes && (args.given > 0 || args.transparent || args.no_cull)) throw BadValue("--strokes: line-art flags given without --strokes");
     m.args = args;
+    if (!args.lights.empty()) m.args.draw.shader.lights = args.lights;  // --light (app/flags.hpp)
     m.args.options.closed = !args.open;
     m.args.draw.cull = !args.no_cull;
     m.args.draw.visibility = !args.transparent;
@@ -127,7 +123,7 @@ void FreeformRender::add_strokes(const Camera& camera, Drawing& drawing, bool qu
     if (!m.args.strokes) return;
     const glm::dvec3 v = glm::normalize(camera.eye() - camera.target());
     m.args.options.strokes.isophote_direction = v;  // "silhouette lines" of this view direction
-    if (!m.args.light)  // a headlight from the upper left
+    if (m.args.lights.empty())  // a headlight from the upper left
         m.args.draw.shader.lights = {glm::normalize(v + 1.0 * camera.upward() - 0.7 * camera.right())};
     m.art->grow(m.args.options);
     freeform::DrawStats ds;

@@ -18,9 +18,9 @@ struct FreeformArgs {
     freeform::LineArtOptions options;
     freeform::DrawOptions draw;
     bool strokes = false;      // --strokes given: line art is drawn
-    bool light = false;        // --light given (else a headlight from the upper left)
     int given = 0;             // line-art flags given, --strokes included
     bool transparent = false, no_cull = false, open = false;
+    std::vector<glm::dvec3> lights;  // the shared --light flags (app/flags.hpp), unit directions
     bool any() const { return given > 0 || transparent || no_cull || open; }
 };
 // The line-art flags, each value checked where it stands (a bad one is a usage error).

@@ -12,6 +12,8 @@ const char* to_string(LineKind k) {
         case LineKind::SmoothContour: return "smooth-contour";
         case LineKind::Ridge: return "ridge";
         case LineKind::Valley: return "valley";
+        case LineKind::ToneDark: return "tone-dark";
+        case LineKind::ToneHighlight: return "tone-highlight";
     }
     return "unknown";
 }
@@ -25,6 +27,8 @@ double kind_width(LineKind k) {
         default: return 1.0;
     }
 }
+
+std::uint32_t kind_rgb(LineKind k) { return k == LineKind::ToneHighlight ? 0xffffff : 0x000000; }
 
 bool parse_line_kind(const std::string& s, LineKind& out) {
     for (int i = 0; i < kLineKindCount; ++i) {

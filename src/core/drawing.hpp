@@ -18,15 +18,20 @@ namespace inkline {
 // mesh edges.
 enum class LineKind : std::uint8_t {
     Silhouette = 0, Border = 1, Crease = 2, Freeform = 3,
-    Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7
+    Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7,
+    // Lines of the tone image (src/tone/): dark lines in valleys, light lines on ridges of tone.
+    ToneDark = 8, ToneHighlight = 9,
 };
 inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
-inline constexpr int kPieceKindCount = 8;  // every kind a Drawing can hold (writers draw these)
+inline constexpr int kPieceKindCount = 10;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
 // Width of a kind's lines as a share of the outline's, in every writer and the window: freeform
 // strokes are hatching, and lines from curvature suggest shape inside the outline, so both are
 // drawn lighter than the lines around them.
 double kind_width(LineKind k);
+// Colour of a kind's visible lines in the default look (0xRRGGBB): black, but highlight lines,
+// which are drawn light over the base coat.
+std::uint32_t kind_rgb(LineKind k);
 // Parses "silhouette", "border", "crease" (the feature kinds); returns false for anything else.
 bool parse_line_kind(const std::string& s, LineKind& out);
 
@@ -36,6 +41,15 @@ struct Piece {
     std::uint32_t curve = 0;          // index of the feature curve it came from
     std::vector<glm::dvec2> points;   // pixels, DESIGN.md convention
     std::uint32_t object = 0;         // index into Drawing::object_names (0 when it is empty)
+    std::vector<float> opacity = {};  // per point, in [0, 1]; empty: opaque (every kind but tone's)
+};
+
+// An image drawn under the lines (the tone stage's toon base coat): 0x00RRGGBB, row by row from
+// the top, at the drawing's size; empty: a white background.
+struct RasterLayer {
+    int width = 0, height = 0;
+    std::vector<std::uint32_t> rgb;
+    bool empty() const { return rgb.empty(); }
 };
 
 struct DrawingStats {
@@ -72,6 +86,9 @@ struct DrawingStats {
     // curvature and extraction time, and their visibility's time (included in seconds_visibility).
     std::size_t surface_curves = 0, curvature_invalid_vertices = 0, crossings_surface = 0, surface_ray_tests = 0;
     double seconds_surface_lines = 0.0, seconds_surface_visibility = 0.0;
+    // Tone lines (src/tone/), when asked for: the pass's stages (shading, blur, ridge search,
+    // tracing); not part of seconds_total's features and visibility.
+    double seconds_tone_shade = 0.0, seconds_tone_blur = 0.0, seconds_tone_ridges = 0.0, seconds_tone_trace = 0.0;
     double seconds_output = 0.0;
     double seconds_total = 0.0;
 };
@@ -83,6 +100,7 @@ struct Drawing {
     // A scene's objects (Piece::object), in the model's order; empty for a single mesh. Writers
     // tell objects apart only when there are several.
     std::vector<std::string> object_names;
+    RasterLayer base;           // under the lines (PNG/PDF painted, SVG an embedded image)
 };
 
 }  // namespace inkline

@@ -94,6 +94,7 @@ cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool back
         set_colour(c, sd.background, 1.0);
         cairo_paint(c);
     }
+    if (!sd.base.empty()) paint_raster_layer(c, sd.base);
     cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     Brushes brushes;
@@ -278,7 +279,8 @@ std::string styled_to_svg(const StyledDrawing& sd) {
            "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" "
            "version=\"1.1\" width=\"" + W + "\" height=\"" + H + "\" viewBox=\"0 0 " + W + " " + H + "\">\n" +
            (defs.empty() ? "" : "<defs>\n" + defs + "</defs>\n") + "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" +
-           W + "\" height=\"" + H + "\" fill=\"" + hex_colour(sd.background) + "\"/>\n" + body + "</svg>\n";
+           W + "\" height=\"" + H + "\" fill=\"" + hex_colour(sd.background) + "\"/>\n" +
+           (sd.base.empty() ? std::string() : svg_raster_layer(sd.base)) + body + "</svg>\n";
 }
 
 }  // namespace

@@ -91,6 +91,33 @@ std::vector<Layer> layers(const std::vector<Stroke>& strokes) {
     return out;
 }
 
+// Colour of a layer: the level's grey for hidden lines, the kind's colour for visible ones.
+std::uint32_t layer_rgb(const Layer& g) { return &g.style == &kStyles[0] ? kind_rgb(g.kind) : g.style.rgb; }
+
+// Whether a stroke's pieces carry an opacity per point (tone lines): drawn run by run.
+bool has_opacity(const Stroke& s, const Drawing& d) {
+    return !s.pieces.empty() && !d.pieces[s.pieces[0]].opacity.empty();
+}
+
+// A piece with opacity per point as runs of segments of one opacity (the mean of a segment's
+// ends, in steps of 1/16: a run per change keeps files small). Empty for an opaque piece.
+std::vector<std::pair<std::vector<glm::dvec2>, double>> opacity_runs(const Piece& p) {
+    std::vector<std::pair<std::vector<glm::dvec2>, double>> runs;
+    if (p.opacity.size() != p.points.size()) return runs;
+    int level = -1;
+    for (std::size_t i = 1; i < p.points.size(); ++i) {
+        const double a = 0.5 * (double(p.opacity[i - 1]) + double(p.opacity[i]));
+        const int l = int(std::lround(std::clamp(a, 0.0, 1.0) * 16.0));
+        if (l != level || runs.empty()) {
+            runs.push_back({{p.points[i - 1]}, l / 16.0});
+            level = l;
+        }
+        runs.back().first.push_back(p.points[i]);
+    }
+    std::erase_if(runs, [](const auto& r) { return r.second <= 0.0; });
+    return runs;
+}
+
 // Liang-Barsky: clips segment a-b to the box [lo, hi]; false when nothing is left (or the
 // arithmetic overflowed). An endpoint inside the box is kept bit-exact.
 bool clip(glm::dvec2& a, glm::dvec2& b, const glm::dvec2& lo, const glm::dvec2& hi) {
@@ -208,6 +235,53 @@ std::string num(double v, int decimals = -1) {
 using SurfacePtr = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 using ContextPtr = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 
+cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+}
+
+}  // namespace
+
+// The drawing's base layer (RGB24, same size) painted over the whole surface.
+void paint_raster_layer(cairo_t* c, const RasterLayer& base) {
+    SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
+    cairo_surface_flush(image.get());
+    unsigned char* data = cairo_image_surface_get_data(image.get());
+    const int stride = cairo_image_surface_get_stride(image.get());
+    if (!data) return;
+    for (int y = 0; y < base.height; ++y)
+        std::memcpy(data + std::size_t(y) * std::size_t(stride), &base.rgb[std::size_t(y) * std::size_t(base.width)],
+                    std::size_t(base.width) * 4);
+    cairo_surface_mark_dirty(image.get());
+    cairo_set_source_surface(c, image.get(), 0, 0);
+    cairo_paint(c);
+}
+
+// The base layer as an SVG <image> (a PNG inline), Inkscape layer "base".
+std::string svg_raster_layer(const RasterLayer& base) {
+    SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
+    ContextPtr cr(cairo_create(image.get()), cairo_destroy);
+    paint_raster_layer(cr.get(), base);
+    std::string png;
+    cairo_surface_write_to_png_stream(image.get(), append_bytes, &png);
+    static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string b64;
+    for (std::size_t i = 0; i < png.size(); i += 3) {
+        const std::uint32_t n = (std::uint32_t(std::uint8_t(png[i])) << 16) |
+                                (i + 1 < png.size() ? std::uint32_t(std::uint8_t(png[i + 1])) << 8 : 0) |
+                                (i + 2 < png.size() ? std::uint32_t(std::uint8_t(png[i + 2])) : 0);
+        b64 += k[(n >> 18) & 63];
+        b64 += k[(n >> 12) & 63];
+        b64 += i + 1 < png.size() ? k[(n >> 6) & 63] : '=';
+        b64 += i + 2 < png.size() ? k[n & 63] : '=';
+    }
+    const std::string w = std::to_string(base.width), h = std::to_string(base.height);
+    return "<g id=\"base\" inkscape:groupmode=\"layer\" inkscape:label=\"base\">\n<image x=\"0\" y=\"0\" width=\"" + w +
+           "\" height=\"" + h + "\" href=\"data:image/png;base64," + b64 + "\"/>\n</g>\n";
+}
+
+namespace {
+
 // `one_path_per_stroke` (PDF): each stroke its own path object, so an editor selects strokes, not a
 // whole layer as one compound path; PNG strokes a layer at once (the same pixels, fewer calls).
 cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const std::vector<Stroke>& strokes,
@@ -218,16 +292,19 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const std:
         cairo_set_source_rgb(c, 1, 1, 1);
         cairo_paint(c);
     }
+    if (!d.base.empty()) paint_raster_layer(c, d.base);
     cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     const double width = line_width(d, o);
     for (const Layer& g : layers(strokes)) {
-        const auto channel = [&](int shift) { return ((g.style.rgb >> shift) & 0xff) / 255.0; };
+        const std::uint32_t rgb = layer_rgb(g);
+        const auto channel = [&](int shift) { return ((rgb >> shift) & 0xff) / 255.0; };
         cairo_set_source_rgb(c, channel(16), channel(8), channel(0));
         cairo_set_line_width(c, width * g.style.width_scale * kind_width(g.kind));
         const double dash[2] = {g.style.dash_on, g.style.dash_off};
         cairo_set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
         for (const Stroke* s : g.strokes) {
+            if (has_opacity(*s, d)) continue;  // drawn run by run below
             for (const auto& run : clipped_runs(s->path.points(), d.camera)) {
                 const bool closed = run.size() > 2 && run.front() == run.back();
                 cairo_move_to(c, run[0].x, run[0].y);
@@ -237,6 +314,18 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const std:
             }
         }
         cairo_stroke(c);
+        for (const Stroke* s : g.strokes) {
+            if (!has_opacity(*s, d)) continue;
+            for (std::uint32_t i : s->pieces)
+                for (const auto& [run, alpha] : opacity_runs(d.pieces[i])) {
+                    cairo_set_source_rgba(c, channel(16), channel(8), channel(0), alpha);
+                    for (const auto& clipped : clipped_runs(run, d.camera)) {
+                        cairo_move_to(c, clipped[0].x, clipped[0].y);
+                        for (std::size_t k = 1; k < clipped.size(); ++k) cairo_line_to(c, clipped[k].x, clipped[k].y);
+                    }
+                    cairo_stroke(c);
+                }
+        }
     }
     return cairo_status(c);
 }
@@ -329,6 +418,11 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
     std::size_t specks = 0;
     drawing_strokes(d, o, &specks);
     stats["specks_dropped"] = specks;
+    if (s.seconds_tone_shade > 0.0)
+        stats["seconds"]["tone"] = {{"shade", s.seconds_tone_shade},
+                                    {"blur", s.seconds_tone_blur},
+                                    {"ridges", s.seconds_tone_ridges},
+                                    {"trace", s.seconds_tone_trace}};
     if (s.surface_curves > 0 || s.seconds_surface_lines > 0.0) {
         stats["surface_curves"] = s.surface_curves;
         stats["curvature_invalid_vertices"] = s.curvature_invalid_vertices;
@@ -344,6 +438,7 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
         if (d.object_names.size() > 1)
             line["object"] = p.object < d.object_names.size() ? d.object_names[p.object] : std::string();
         line["points"] = std::move(points);
+        if (!p.opacity.empty()) line["opacity"] = p.opacity;
         polylines.push_back(std::move(line));
     }
     json root = {{"width", cam.width()}, {"height", cam.height()}, {"camera", std::move(camera)},
@@ -385,14 +480,22 @@ void append_svg_paths(std::string& out, const Stroke& s, const Drawing& d) {
                         kind + "\" data-qi=\"" + qi + "\"";
     if (d.object_names.size() > 1 && s.object < d.object_names.size())
         attrs += " data-object=\"" + xml_escape(d.object_names[s.object]) + "\"";
-    for (const auto& run : clipped_runs(s.path.points(), d.camera)) {
+    const auto path = [&](const std::vector<glm::dvec2>& run, const std::string& more) {
         const bool closed = run.size() > 2 && run.front() == run.back();
-        out += "<path " + attrs + " d=\"M" + coord(run[0].x) + "," + coord(run[0].y) + " L";
+        out += "<path " + attrs + more + " d=\"M" + coord(run[0].x) + "," + coord(run[0].y) + " L";
         for (std::size_t i = 1; i + (closed ? 1 : 0) < run.size(); ++i)
             out += coord(run[i].x) + "," + coord(run[i].y) + " ";
         out.pop_back();
         out += closed ? " Z\"/>\n" : "\"/>\n";
+    };
+    if (!has_opacity(s, d)) {
+        for (const auto& run : clipped_runs(s.path.points(), d.camera)) path(run, "");
+        return;
     }
+    for (std::uint32_t i : s.pieces)  // tone lines: a path per run of one opacity
+        for (const auto& [run, alpha] : opacity_runs(d.pieces[i]))
+            for (const auto& clipped : clipped_runs(run, d.camera))
+                path(clipped, alpha < 1.0 ? " stroke-opacity=\"" + num(alpha) + "\"" : "");
 }
 
 std::string svg_of(const Drawing& d, const std::vector<Stroke>& strokes, const OutputOptions& o) {
@@ -404,12 +507,13 @@ std::string svg_of(const Drawing& d, const std::vector<Stroke>& strokes, const O
         w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w + " " + h + "\">\n" +
         "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h +
         "\" fill=\"#ffffff\"/>\n";
+    if (!d.base.empty()) out += svg_raster_layer(d.base);
     const double width = line_width(d, o);
     const bool by_object = d.object_names.size() > 1;
     for (const Layer& g : layers(strokes)) {
         const std::string id = g.id();
         char color[8];
-        std::snprintf(color, sizeof color, "#%06x", unsigned(g.style.rgb));
+        std::snprintf(color, sizeof color, "#%06x", unsigned(layer_rgb(g)));
         out += "<g id=\"" + id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + id +
                "\" fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" +
                num(width * g.style.width_scale * kind_width(g.kind)) + "\"";

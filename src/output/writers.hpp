@@ -9,6 +9,8 @@
 #include "core/drawing.hpp"
 #include "style/strokes.hpp"
 
+struct _cairo;  // cairo_t, without Cairo's header
+
 namespace inkline {
 
 enum class Format { Svg, Pdf, Png, Json };
@@ -48,6 +50,11 @@ struct WriteSummary {
 // Throws inkline::Error(path, reason) on failure; the target is then left untouched.
 WriteSummary write_drawing(const Drawing& drawing, const std::string& path, Format format,
                            const OutputOptions& options);
+
+// A base layer (Drawing::base) for the writers: painted over a Cairo context (cairo_t), and as an
+// SVG Inkscape layer "base" holding the image as an inline PNG.
+void paint_raster_layer(::_cairo* context, const RasterLayer& layer);
+std::string svg_raster_layer(const RasterLayer& layer);
 
 // Writes `content` to `path` atomically (same rules as write_drawing).
 void write_text_file(const std::string& path, const std::string& content);

@@ -30,6 +30,7 @@ Style Style::clean() {
     // Lines from curvature suggest shape inside the outline: lighter than it (as the plain
     // writers draw them, output/writers.cpp).
     for (LineKind k : {LineKind::Suggestive, LineKind::Ridge, LineKind::Valley}) s.lines[std::size_t(k)].width = 0.7;
+    s.lines[std::size_t(LineKind::ToneHighlight)].rgb = kind_rgb(LineKind::ToneHighlight);  // light lines
     const auto hidden = [](std::uint32_t rgb, double on, double off, double w) {
         LineStyle l;
         l.rgb = rgb;
@@ -274,7 +275,10 @@ struct Parser {
                 if (v.contains("default")) base = line(v["default"], "lines.default", base);
                 for (int i = 0; i < kPieceKindCount; ++i) {
                     const std::string kind = to_string(LineKind(i));
-                    s.lines[std::size_t(i)] = v.contains(kind) ? line(v[kind], "lines." + kind, base) : base;
+                    // Highlight lines are light whatever colour the other lines take, unless named.
+                    LineStyle own = base;
+                    if (LineKind(i) == LineKind::ToneHighlight) own.rgb = kind_rgb(LineKind::ToneHighlight);
+                    s.lines[std::size_t(i)] = v.contains(kind) ? line(v[kind], "lines." + kind, own) : own;
                 }
             } else if (k == "objects") {
                 if (!v.is_object()) fail(k, "expected an object of object names, got " + v.dump());

@@ -201,6 +201,16 @@ private:
 
 }  // namespace
 
+// The mean opacity of a stroke's points (Piece::opacity; 1 where a piece has none), in steps of
+// 1/8 so that a layer keeps few marks.
+double stroke_opacity(const Drawing& d, const Stroke& s) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::uint32_t i : s.pieces)
+        for (float o : d.pieces[i].opacity) sum += o, ++n;
+    return n == 0 ? 1.0 : std::round(8.0 * sum / double(n)) / 8.0;
+}
+
 std::vector<glm::dvec2> width_outline(const std::vector<glm::dvec2>& p, const std::vector<double>& widths) {
     std::vector<glm::dvec2> out;
     if (p.size() < 2) return out;
@@ -219,6 +229,7 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
     out.width = d.camera.width();
     out.height = d.camera.height();
     out.background = style.background;
+    out.base = d.base;
     const bool draw_hidden = (hidden || style.draw_hidden) && !style.hidden.empty();
     ChainOptions co;
     co.hidden = draw_hidden;
@@ -251,7 +262,9 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
         for (const Stroke& s : strokes) {
             if (int(s.kind) != kind || std::min(s.qi, std::max(levels, 0)) != level || (s.qi > 0 && level == 0)) continue;
             const bool named = d.object_names.size() > 1 && s.object < d.object_names.size();
-            const LineStyle& ls = style.for_line(s.kind, s.qi, named ? &d.object_names[s.object] : nullptr);
+            LineStyle ls = style.for_line(s.kind, s.qi, named ? &d.object_names[s.object] : nullptr);
+            ls.opacity *= stroke_opacity(d, s);  // tone lines carry an opacity per point
+            if (!(ls.opacity > 0.0)) continue;
             auto runs = clip_runs(s.path.points(), lo, hi);
             // Attributes follow the points only when clipping left the stroke whole.
             const bool whole = runs.size() == 1 && runs[0].size() == s.path.size() && runs[0] == s.path.points();

@@ -43,6 +43,7 @@ struct StyledLayer {
 struct StyledDrawing {
     int width = 0, height = 0;
     std::uint32_t background = 0xffffff;
+    RasterLayer base;                 // over the background, under the layers (Drawing::base)
     std::vector<StyledLayer> layers;  // in drawing order
 };
 
@@ -58,6 +59,9 @@ struct StylizeStats {
 StyledDrawing stylize(const Drawing& drawing, const Style& style, bool hidden,
                       const std::vector<std::vector<glm::dvec2>>& hatches = {}, StylizeStats* stats = nullptr,
                       const PointAttributes* attributes = nullptr);
+
+// A stroke's opacity from its pieces' per-point opacity (tone lines): their mean, in steps of 1/8.
+double stroke_opacity(const Drawing& drawing, const Stroke& stroke);
 
 // The outline of a stroke of variable width: left side forward, right side back, closed (the
 // first point repeated at the end). widths[i] is the full width at points[i].
