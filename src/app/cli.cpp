@@ -127,6 +127,7 @@ int run_render(int argc, char** argv) {
     if (freeform && a.subdivide > 0) throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
     Model model = freeform ? Model(freeform->mesh(), a.crease) : load_model_file(a.model, a.strict, a.crease, a.subdivide);
     const Camera cam = make_camera(a.camera, model);
+    default_intersection_lines(a.features, model, a.lines_given || (style && !style->kinds.empty()));
     ViewOptions opt;
     opt.features = a.features;
     opt.surface = a.surface;

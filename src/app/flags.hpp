@@ -112,6 +112,11 @@ Flag crease_flag(double& degrees);
 Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given = nullptr);
 // Turns on exactly `kinds` (a style's "kinds", or --lines).
 void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface);
+// Intersection lines are on by default for a scene of several objects (parts pressed into one
+// another draw the curve where they meet, as in an assembly drawing; Blender's Line Art does the
+// same), unless the kinds were chosen (--lines, a style's "kinds"). A single mesh keeps the
+// default kinds: its crossings are more often modelling slips than edges meant to be seen.
+void default_intersection_lines(FeatureOptions& features, const Model& model, bool kinds_chosen);
 Flag suggestive_threshold_flag(SurfaceLineOptions& surface);
 Flag ridge_threshold_flag(SurfaceLineOptions& surface);
 Flag finder_flag(FinderKind& kind);

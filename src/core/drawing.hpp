@@ -15,13 +15,13 @@ namespace inkline {
 
 // Freeform: line-art strokes on freeform surfaces (src/freeform/), not a feature of the mesh.
 // Suggestive .. Valley: curves across faces from the mesh's curvature (src/curvature/), not along
-// mesh edges.
+// mesh edges. Intersection: where two surfaces of the model cross (model/intersection_curves.hpp).
 enum class LineKind : std::uint8_t {
     Silhouette = 0, Border = 1, Crease = 2, Freeform = 3,
-    Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7
+    Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7, Intersection = 8
 };
 inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
-inline constexpr int kPieceKindCount = 8;  // every kind a Drawing can hold (writers draw these)
+inline constexpr int kPieceKindCount = 9;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
 // Width of a kind's lines as a share of the outline's, in every writer and the window: freeform
 // strokes are hatching, and lines from curvature suggest shape inside the outline, so both are
@@ -71,6 +71,9 @@ struct DrawingStats {
     // curvature and extraction time, and their visibility's time (included in seconds_visibility).
     std::size_t surface_curves = 0, curvature_invalid_vertices = 0, crossings_surface = 0, surface_ray_tests = 0;
     double seconds_surface_lines = 0.0, seconds_surface_visibility = 0.0;
+    // Intersection lines, when asked for: their curves (once per model, not counted in the view's
+    // time), and the crossings and ray tests of their visibility (included in the totals above).
+    std::size_t intersection_curves = 0, crossings_intersection = 0, intersection_ray_tests = 0;
     double seconds_output = 0.0;
     double seconds_total = 0.0;
 };

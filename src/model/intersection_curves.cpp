@@ -1,0 +1,300 @@
+#include "model/intersection_curves.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/intersections.h>
+
+namespace inkline {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+glm::dvec3 to_glm(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
+
+// Segment ends as nodes of a graph: one per name (an edge and the face it passes through), united
+// where several names meet at one point (an edge through an edge or a vertex).
+class Nodes {
+public:
+    std::uint32_t named(std::uint32_t edge, std::uint32_t face, const glm::dvec3& p) {
+        const auto [it, added] = by_name_.try_emplace((std::uint64_t(edge) << 32) | face, std::uint32_t(point_.size()));
+        if (added) add(p);
+        return it->second;
+    }
+    std::uint32_t unnamed(const glm::dvec3& p) {
+        add(p);
+        return std::uint32_t(point_.size() - 1);
+    }
+    std::uint32_t root(std::uint32_t n) {
+        while (parent_[n] != n) n = parent_[n] = parent_[parent_[n]];
+        return n;
+    }
+    void unite(std::uint32_t a, std::uint32_t b) {
+        a = root(a), b = root(b);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // the first point made stays the node's
+    }
+    const glm::dvec3& point(std::uint32_t n) const { return point_[n]; }
+    std::size_t size() const { return point_.size(); }
+
+private:
+    void add(const glm::dvec3& p) {
+        parent_.push_back(std::uint32_t(point_.size()));
+        point_.push_back(p);
+    }
+    std::unordered_map<std::uint64_t, std::uint32_t> by_name_;
+    std::vector<std::uint32_t> parent_;
+    std::vector<glm::dvec3> point_;
+};
+
+struct End {
+    std::uint32_t node;
+    glm::dvec3 p;
+};
+struct Seg {
+    std::uint32_t a, b;  // nodes
+    std::array<std::uint32_t, 2> faces;
+};
+
+class Builder {
+public:
+    Builder(const MeshTopology& mesh, IntersectionCurves& out)
+        : mesh_(mesh), out_(out), eps_(1e-9 * std::max(mesh.bounds.half_diagonal(), 1e-300)) {}
+
+    // The crossing segment of faces f and g (they intersect: the search said so).
+    void add_pair(std::uint32_t f, std::uint32_t g) {
+        const auto& tg = mesh_.faces[g];
+        int coplanar = 0;
+        for (std::uint32_t v : mesh_.faces[f])
+            coplanar += CGAL::orientation(P(tg[0]), P(tg[1]), P(tg[2]), P(v)) == CGAL::COPLANAR;
+        if (coplanar == 3) {
+            ++out_.coplanar_pairs;
+            return;
+        }
+        ends_.clear();
+        if (!edge_ends(f, g) || !edge_ends(g, f)) return add_degenerate(f, g);
+        if (ends_.empty()) {  // (the search and these tests are exact alike: only a touch at a point)
+            ++out_.point_pairs;
+            return;
+        }
+        // The ends lie on the line where the planes meet: the segment runs between the extremes
+        // along it; names at the same extreme are one point.
+        const glm::dvec3 d = glm::cross(mesh_.face_normal(f), mesh_.face_normal(g));
+        std::size_t lo = 0, hi = 0;
+        for (std::size_t i = 1; i < ends_.size(); ++i) {
+            if (glm::dot(ends_[i].p, d) < glm::dot(ends_[lo].p, d)) lo = i;
+            if (glm::dot(ends_[i].p, d) > glm::dot(ends_[hi].p, d)) hi = i;
+        }
+        const bool point_only = glm::length(ends_[hi].p - ends_[lo].p) <= eps_;
+        for (const End& e : ends_) {
+            if (point_only || glm::length(e.p - ends_[lo].p) <= eps_) nodes_.unite(e.node, ends_[lo].node);
+            else if (glm::length(e.p - ends_[hi].p) <= eps_) nodes_.unite(e.node, ends_[hi].node);
+        }
+        if (point_only) ++out_.point_pairs;
+        else segs_.push_back({ends_[lo].node, ends_[hi].node, {f, g}});
+    }
+
+    void finish() {
+        join_open_ends();
+        chain();
+        mark_meetings();
+    }
+
+private:
+    K::Point_3 P(std::uint32_t v) const { return cgal(mesh_.positions[v]); }
+
+    // Where the edges of face f pass through face g (not coplanar with f): one End per edge that
+    // meets g, the point computed from the edge (in its own vertex order) and g's plane alone, so
+    // that every pair naming it gets the same bits. False when an edge of f lies in g's plane.
+    bool edge_ends(std::uint32_t f, std::uint32_t g) {
+        const auto& tg = mesh_.faces[g];
+        const K::Point_3 q0 = P(tg[0]), q1 = P(tg[1]), q2 = P(tg[2]);
+        const K::Triangle_3 tri(q0, q1, q2);
+        const glm::dvec3 Q0 = mesh_.positions[tg[0]];
+        const glm::dvec3 n = glm::cross(mesh_.positions[tg[1]] - Q0, mesh_.positions[tg[2]] - Q0);
+        for (std::uint32_t e : mesh_.face_edges[f].edge) {
+            const auto [va, vb] = mesh_.edge_vertex[e];
+            const auto oa = CGAL::orientation(q0, q1, q2, P(va)), ob = CGAL::orientation(q0, q1, q2, P(vb));
+            if (oa == CGAL::COPLANAR && ob == CGAL::COPLANAR) return false;
+            if (oa == ob || !CGAL::do_intersect(K::Segment_3(P(va), P(vb)), tri)) continue;
+            const glm::dvec3 A = mesh_.positions[va], B = mesh_.positions[vb];
+            glm::dvec3 X;
+            if (oa == CGAL::COPLANAR) X = A;
+            else if (ob == CGAL::COPLANAR) X = B;
+            else {
+                const double da = glm::dot(n, A - Q0), db = glm::dot(n, B - Q0);
+                X = A + std::clamp(da / (da - db), 0.0, 1.0) * (B - A);
+            }
+            ends_.push_back({nodes_.named(e, g, X), X});
+        }
+        return true;
+    }
+
+    // A pair where an edge lies in the other face's plane. The surfaces cross there only where the
+    // edge's two faces leave that plane to opposite sides; where they stay on one side (a box
+    // resting on another, a side face along the other's top) they only touch: no line. A crossing
+    // along the edge is met by both its faces: only the one on the positive side adds it (CGAL's
+    // construction; its ends are joined to the others by position).
+    void add_degenerate(std::uint32_t f, std::uint32_t g) {
+        int along = 0;  // +1 or -1: f's side of the crossing; 0: no crossing (touching)
+        for (int k = 0; k < 2 && along == 0; ++k) along = crossing_along_edge(k ? g : f, k ? f : g);
+        const auto& a = mesh_.faces[f];
+        const auto& b = mesh_.faces[g];
+        const auto x = along > 0 ? CGAL::intersection(K::Triangle_3(P(a[0]), P(a[1]), P(a[2])),
+                                                      K::Triangle_3(P(b[0]), P(b[1]), P(b[2])))
+                                 : boost::none;
+        const K::Segment_3* s = x ? boost::get<K::Segment_3>(&*x) : nullptr;
+        if (!s || glm::length(to_glm(s->target()) - to_glm(s->source())) <= eps_) {
+            ++out_.point_pairs;
+            return;
+        }
+        segs_.push_back({nodes_.unnamed(to_glm(s->source())), nodes_.unnamed(to_glm(s->target())), {f, g}});
+    }
+
+    // For an edge of face f that lies in face g's plane: +1 if f is on the positive side of the
+    // plane and the face across the edge on the negative side, -1 the other way round, 0 if they
+    // do not cross the plane there (or no edge of f lies in it).
+    int crossing_along_edge(std::uint32_t f, std::uint32_t g) const {
+        const auto& tg = mesh_.faces[g];
+        const auto side = [&](std::uint32_t v) { return CGAL::orientation(P(tg[0]), P(tg[1]), P(tg[2]), P(v)); };
+        const auto& ff = mesh_.faces[f];
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t far = ff[(j + 2) % 3];  // edge j is (ff[j], ff[j + 1])
+            if (side(ff[j]) != CGAL::COPLANAR || side(ff[(j + 1) % 3]) != CGAL::COPLANAR) continue;
+            const std::uint32_t h = mesh_.face_edges[f].face[j];
+            if (h == kNoFace) return 0;
+            std::uint32_t h_far = 0;
+            for (std::uint32_t v : mesh_.faces[h])
+                if (v != ff[j] && v != ff[(j + 1) % 3]) h_far = v;
+            const auto sf = side(far), sh = side(h_far);
+            if (sf == CGAL::COPLANAR || sh == CGAL::COPLANAR || sf == sh) return 0;
+            return sf == CGAL::POSITIVE ? 1 : -1;
+        }
+        return 0;
+    }
+
+    std::vector<std::uint32_t> degrees() {
+        std::vector<std::uint32_t> deg(nodes_.size(), 0);
+        for (const Seg& s : segs_) ++deg[nodes_.root(s.a)], ++deg[nodes_.root(s.b)];
+        return deg;
+    }
+
+    // Curve ends that are one point under names the pairs could not tie (an edge through an
+    // edge met from two sides, the degenerate pairs' ends): joined by position.
+    void join_open_ends() {
+        const std::vector<std::uint32_t> deg = degrees();
+        std::vector<std::uint32_t> open;
+        for (std::uint32_t n = 0; n < deg.size(); ++n)
+            if (deg[n] == 1) open.push_back(n);
+        std::sort(open.begin(), open.end(), [&](auto x, auto y) { return nodes_.point(x).x < nodes_.point(y).x; });
+        for (std::size_t i = 0; i < open.size(); ++i)
+            for (std::size_t j = i + 1; j < open.size() && nodes_.point(open[j]).x - nodes_.point(open[i]).x <= eps_; ++j)
+                if (glm::length(nodes_.point(open[j]) - nodes_.point(open[i])) <= eps_) nodes_.unite(open[i], open[j]);
+    }
+
+    // Walks the segments into polylines: from every node that is not a plain pass (an end, or a
+    // junction of more than two), then the loops left.
+    void chain() {
+        for (Seg& s : segs_) s.a = nodes_.root(s.a), s.b = nodes_.root(s.b);
+        std::erase_if(segs_, [](const Seg& s) { return s.a == s.b; });
+        const std::vector<std::uint32_t> deg = degrees();
+        std::vector<std::uint32_t> first(nodes_.size() + 1, 0), incident(2 * segs_.size());
+        for (const Seg& s : segs_) ++first[s.a + 1], ++first[s.b + 1];
+        for (std::size_t n = 0; n < nodes_.size(); ++n) first[n + 1] += first[n];
+        std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+        for (std::uint32_t i = 0; i < segs_.size(); ++i) incident[fill[segs_[i].a]++] = i, incident[fill[segs_[i].b]++] = i;
+        used_.assign(segs_.size(), 0);
+        seg_curve_.assign(segs_.size(), 0);
+        auto walk_from = [&](std::uint32_t node) {
+            for (std::uint32_t k = first[node]; k < first[node + 1]; ++k)
+                if (!used_[incident[k]]) walk(node, incident[k], deg, first, incident);
+        };
+        for (std::uint32_t n = 0; n < nodes_.size(); ++n)
+            if (deg[n] != 0 && deg[n] != 2) walk_from(n);
+        for (std::uint32_t i = 0; i < segs_.size(); ++i)
+            if (!used_[i]) walk(segs_[i].a, i, deg, first, incident);
+    }
+
+    void walk(std::uint32_t start, std::uint32_t seg, const std::vector<std::uint32_t>& deg,
+              const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& incident) {
+        const auto curve = std::uint32_t(out_.curves.size());
+        const auto begin = std::uint32_t(out_.points.size());
+        std::array<std::uint32_t, 2> slots{kNoFace, kNoFace};
+        std::uint32_t node = start;
+        out_.points.push_back(nodes_.point(node));
+        while (true) {
+            used_[seg] = 1;
+            seg_curve_[seg] = curve;
+            slots = continue_slots(slots, segs_[seg].faces);
+            out_.segment_faces.push_back(slots);
+            node = segs_[seg].a == node ? segs_[seg].b : segs_[seg].a;
+            out_.points.push_back(nodes_.point(node));
+            if (deg[node] != 2) break;
+            std::uint32_t next = UINT32_MAX;
+            for (std::uint32_t k = first[node]; k < first[node + 1]; ++k)
+                if (!used_[incident[k]]) next = incident[k];
+            if (next == UINT32_MAX) break;  // back at the start of a loop
+            seg = next;
+        }
+        out_.segment_faces.push_back({kNoFace, kNoFace});
+        const bool closed = node == start && deg[node] == 2;
+        out_.curves.push_back({begin, std::uint32_t(out_.points.size()), closed, false});
+    }
+
+    // The faces of the next segment in the slots of the last: the surface a face shares with the
+    // last segment keeps its slot.
+    static std::array<std::uint32_t, 2> continue_slots(const std::array<std::uint32_t, 2>& last,
+                                                        const std::array<std::uint32_t, 2>& faces) {
+        if (faces[1] == last[0] || faces[0] == last[1]) return {faces[1], faces[0]};
+        return faces;
+    }
+
+    // Curves that may pass through a third surface: two segments on one face, not joined end to
+    // end, whose images in that face's plane meet (touching counts: the test only has to be safe).
+    void mark_meetings() {
+        std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> on_face;
+        for (std::uint32_t i = 0; i < segs_.size(); ++i)
+            for (std::uint32_t f : segs_[i].faces) on_face[f].push_back(i);
+        for (const auto& [f, list] : on_face)
+            for (std::size_t i = 0; i < list.size(); ++i)
+                for (std::size_t j = i + 1; j < list.size(); ++j)
+                    if (segments_meet(f, segs_[list[i]], segs_[list[j]]))
+                        out_.curves[seg_curve_[list[i]]].meets_other = out_.curves[seg_curve_[list[j]]].meets_other = true;
+    }
+
+    bool segments_meet(std::uint32_t f, const Seg& s, const Seg& t) const {
+        if (s.a == t.a || s.a == t.b || s.b == t.a || s.b == t.b) return false;  // consecutive
+        const glm::dvec3 n = glm::abs(mesh_.face_normal(f));
+        const int drop = n.x >= n.y && n.x >= n.z ? 0 : n.y >= n.z ? 1 : 2;
+        auto flat = [&](std::uint32_t node) {
+            const glm::dvec3& p = nodes_.point(node);
+            return K::Point_2(p[(drop + 1) % 3], p[(drop + 2) % 3]);
+        };
+        return CGAL::do_intersect(K::Segment_2(flat(s.a), flat(s.b)), K::Segment_2(flat(t.a), flat(t.b)));
+    }
+
+    const MeshTopology& mesh_;
+    IntersectionCurves& out_;
+    const double eps_;
+    Nodes nodes_;
+    std::vector<End> ends_;
+    std::vector<Seg> segs_;
+    std::vector<std::uint8_t> used_;
+    std::vector<std::uint32_t> seg_curve_;
+};
+
+}  // namespace
+
+IntersectionCurves intersection_curves(const MeshTopology& mesh,
+                                       const std::vector<std::array<std::uint32_t, 2>>& pairs) {
+    IntersectionCurves out;
+    Builder b(mesh, out);
+    for (const auto& [f, g] : pairs) b.add_pair(f, g);
+    b.finish();
+    return out;
+}
+
+}  // namespace inkline
