@@ -174,10 +174,17 @@ double distance_to_polyline(const glm::dvec2& q, const std::vector<glm::dvec2>& 
     return best;
 }
 
+double image_length(const inkline::Piece& p) {
+    double l = 0.0;
+    for (std::size_t i = 1; i < p.points.size(); ++i) l += glm::length(p.points[i] - p.points[i - 1]);
+    return l;
+}
+
 // Per view: propagation gives the same intersection pieces and QI as the ray reference, and at
 // sample points of the curves (segment middles) the drawn QI is the brute-force count.
+// With `differ`, pieces where propagation and the reference disagree are counted there instead.
 void expect_exact_visibility(const Model& model, const std::vector<inkline::Camera>& cams, std::size_t& checked,
-                             std::size_t& hidden) {
+                             std::size_t& hidden, std::size_t* differ = nullptr) {
     const IntersectionCurves& c = model.intersection_curves();
     for (std::size_t k = 0; k < cams.size(); ++k) {
         const inkline::Camera& cam = cams[k];
@@ -192,8 +199,12 @@ void expect_exact_visibility(const Model& model, const std::vector<inkline::Came
             if (p.kind == LineKind::Intersection) pb.push_back(&p);
         ASSERT_EQ(pa.size(), pb.size()) << "view " << k;
         for (std::size_t i = 0; i < pa.size(); ++i) {
-            EXPECT_EQ(pa[i]->qi, pb[i]->qi) << "view " << k << " piece " << i;
-            EXPECT_EQ(pa[i]->points, pb[i]->points) << "view " << k << " piece " << i;
+            ASSERT_EQ(pa[i]->points, pb[i]->points) << "view " << k << " piece " << i;
+            // As in test_surface_view: on a piece much shorter than a pixel the reference's probe
+            // point, constructed inside it, can round past its end and answer for the neighbour.
+            if (image_length(*pa[i]) < 0.01) continue;
+            if (differ) *differ += pa[i]->qi != pb[i]->qi;
+            else EXPECT_EQ(pa[i]->qi, pb[i]->qi) << "view " << k << " piece " << i;
         }
         for (const auto& curve : c.curves)
             for (std::uint32_t i = curve.begin; i + 1 < curve.end; i += 2) {
@@ -258,6 +269,37 @@ TEST(IntersectionVisibility, CrossedToriAgreeWithTheReference) {
     expect_exact_visibility(model, cams, checked, hidden);
     EXPECT_EQ(checked, 562u);  // pinned, as above
     EXPECT_EQ(hidden, 443u);
+}
+
+// Sample meshes that pass through themselves: bones.off (its bones pushed into one another: closed
+// loops), cow.off (open curves too: folds that start at a shared vertex) and mannequin-devil.off
+// (curves that meet, at triple points: those take the reference). Counts pinned; visibility as above.
+TEST(IntersectionVisibility, SelfIntersectingSampleMeshes) {
+    struct Case {
+        const char* name;
+        std::size_t curves, closed, meeting, differ;
+    };
+    for (const Case& k : {Case{"bones.off", 20, 20, 0, 0}, Case{"cow.off", 6, 1, 0, 0},
+                          Case{"mannequin-devil.off", 61, 40, 24, 1}}) {
+        const Model model = Model::load(inkline::test::mesh_path(k.name));
+        const IntersectionCurves& c = model.intersection_curves();
+        std::size_t closed = 0, meeting = 0;
+        for (const auto& curve : c.curves) closed += curve.closed, meeting += curve.meets_other;
+        EXPECT_EQ(c.curves.size(), k.curves) << k.name;
+        EXPECT_EQ(closed, k.closed) << k.name;
+        EXPECT_EQ(meeting, k.meeting) << k.name;
+        std::mt19937 rng(3);
+        std::vector<inkline::Camera> cams;
+        for (int v = 0; v < 3; ++v) cams.push_back(inkline::test::framed_then_random(v, rng, model.topology().bounds));
+        std::size_t checked = 0, hidden = 0, differ = 0;
+        expect_exact_visibility(model, cams, checked, hidden, &differ);
+        EXPECT_GT(checked, 20u) << k.name;
+        // One piece of mannequin-devil (third view, 1.2 px, next to a fold of one surface): the
+        // ray reference says 4, propagation 5, and so does the brute-force count at points along
+        // it; RayCaster::count_layers misses a face there that its ray grazes (left alone here).
+        EXPECT_EQ(differ, k.differ) << k.name;
+        std::printf("[intersections] %s: %zu samples checked, %zu hidden\n", k.name, checked, hidden);
+    }
 }
 
 // The command: a glTF scene of the two objects draws intersection lines by default (several

@@ -99,8 +99,10 @@ public:
 
     void finish() {
         join_open_ends();
+        for (Seg& s : segs_) s.a = nodes_.root(s.a), s.b = nodes_.root(s.b);
+        std::erase_if(segs_, [](const Seg& s) { return s.a == s.b; });
+        find_meetings();
         chain();
-        mark_meetings();
     }
 
 private:
@@ -198,8 +200,6 @@ private:
     // Walks the segments into polylines: from every node that is not a plain pass (an end, or a
     // junction of more than two), then the loops left.
     void chain() {
-        for (Seg& s : segs_) s.a = nodes_.root(s.a), s.b = nodes_.root(s.b);
-        std::erase_if(segs_, [](const Seg& s) { return s.a == s.b; });
         const std::vector<std::uint32_t> deg = degrees();
         std::vector<std::uint32_t> first(nodes_.size() + 1, 0), incident(2 * segs_.size());
         for (const Seg& s : segs_) ++first[s.a + 1], ++first[s.b + 1];
@@ -207,7 +207,6 @@ private:
         std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
         for (std::uint32_t i = 0; i < segs_.size(); ++i) incident[fill[segs_[i].a]++] = i, incident[fill[segs_[i].b]++] = i;
         used_.assign(segs_.size(), 0);
-        seg_curve_.assign(segs_.size(), 0);
         auto walk_from = [&](std::uint32_t node) {
             for (std::uint32_t k = first[node]; k < first[node + 1]; ++k)
                 if (!used_[incident[k]]) walk(node, incident[k], deg, first, incident);
@@ -220,18 +219,34 @@ private:
 
     void walk(std::uint32_t start, std::uint32_t seg, const std::vector<std::uint32_t>& deg,
               const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& incident) {
-        const auto curve = std::uint32_t(out_.curves.size());
         const auto begin = std::uint32_t(out_.points.size());
         std::array<std::uint32_t, 2> slots{kNoFace, kNoFace};
         std::uint32_t node = start;
+        bool meets = false, reference = false;
         out_.points.push_back(nodes_.point(node));
+        out_.point_cut.push_back(0);
         while (true) {
             used_[seg] = 1;
-            seg_curve_[seg] = curve;
+            reference |= unlocated_[seg] != 0;
             slots = continue_slots(slots, segs_[seg].faces);
-            out_.segment_faces.push_back(slots);
             node = segs_[seg].a == node ? segs_[seg].b : segs_[seg].a;
+            // Where the segment passes through a third surface, in travel order.
+            auto& at = splits_[seg];
+            if (!at.empty()) {
+                meets = true;
+                const bool reversed = segs_[seg].a == node;  // travelling b -> a
+                std::sort(at.begin(), at.end());
+                if (reversed) std::reverse(at.begin(), at.end());
+                for (double u : at) {
+                    out_.segment_faces.push_back(slots);
+                    const glm::dvec3 A = nodes_.point(segs_[seg].a), B = nodes_.point(segs_[seg].b);
+                    out_.points.push_back(A + u * (B - A));
+                    out_.point_cut.push_back(1);
+                }
+            }
+            out_.segment_faces.push_back(slots);
             out_.points.push_back(nodes_.point(node));
+            out_.point_cut.push_back(0);
             if (deg[node] != 2) break;
             std::uint32_t next = UINT32_MAX;
             for (std::uint32_t k = first[node]; k < first[node + 1]; ++k)
@@ -241,7 +256,7 @@ private:
         }
         out_.segment_faces.push_back({kNoFace, kNoFace});
         const bool closed = node == start && deg[node] == 2;
-        out_.curves.push_back({begin, std::uint32_t(out_.points.size()), closed, false});
+        out_.curves.push_back({begin, std::uint32_t(out_.points.size()), closed, meets || reference, reference});
     }
 
     // The faces of the next segment in the slots of the last: the surface a face shares with the
@@ -252,28 +267,45 @@ private:
         return faces;
     }
 
-    // Curves that may pass through a third surface: two segments on one face, not joined end to
-    // end, whose images in that face's plane meet (touching counts: the test only has to be safe).
-    void mark_meetings() {
+    // Where curves pass through a third surface (a triple point): two segments on one face, not
+    // joined end to end, that cross there (exact 2D predicates in the face's plane, the point a
+    // construction). Each gets a split at the crossing. Segments that overlap along a line (no
+    // single crossing) cannot be split: their curves take the reference.
+    void find_meetings() {
+        splits_.assign(segs_.size(), {});
+        unlocated_.assign(segs_.size(), 0);
         std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> on_face;
         for (std::uint32_t i = 0; i < segs_.size(); ++i)
             for (std::uint32_t f : segs_[i].faces) on_face[f].push_back(i);
         for (const auto& [f, list] : on_face)
             for (std::size_t i = 0; i < list.size(); ++i)
-                for (std::size_t j = i + 1; j < list.size(); ++j)
-                    if (segments_meet(f, segs_[list[i]], segs_[list[j]]))
-                        out_.curves[seg_curve_[list[i]]].meets_other = out_.curves[seg_curve_[list[j]]].meets_other = true;
+                for (std::size_t j = i + 1; j < list.size(); ++j) split_where_they_meet(f, list[i], list[j]);
     }
 
-    bool segments_meet(std::uint32_t f, const Seg& s, const Seg& t) const {
-        if (s.a == t.a || s.a == t.b || s.b == t.a || s.b == t.b) return false;  // consecutive
+    void split_where_they_meet(std::uint32_t f, std::uint32_t si, std::uint32_t ti) {
+        const Seg& s = segs_[si];
+        const Seg& t = segs_[ti];
+        if (s.a == t.a || s.a == t.b || s.b == t.a || s.b == t.b) return;  // consecutive
         const glm::dvec3 n = glm::abs(mesh_.face_normal(f));
         const int drop = n.x >= n.y && n.x >= n.z ? 0 : n.y >= n.z ? 1 : 2;
         auto flat = [&](std::uint32_t node) {
             const glm::dvec3& p = nodes_.point(node);
             return K::Point_2(p[(drop + 1) % 3], p[(drop + 2) % 3]);
         };
-        return CGAL::do_intersect(K::Segment_2(flat(s.a), flat(s.b)), K::Segment_2(flat(t.a), flat(t.b)));
+        const K::Segment_2 s2(flat(s.a), flat(s.b)), t2(flat(t.a), flat(t.b));
+        if (!CGAL::do_intersect(s2, t2)) return;
+        // The parameters along each: solve s.a + u (s.b - s.a) = t.a + v (t.b - t.a) in the plane.
+        const K::Vector_2 ds = s2.target() - s2.source(), dt = t2.target() - t2.source(), w = t2.source() - s2.source();
+        const double den = ds.x() * dt.y() - ds.y() * dt.x();
+        if (den == 0.0 || (CGAL::collinear(s2.source(), s2.target(), t2.source()) &&
+                               CGAL::collinear(s2.source(), s2.target(), t2.target()))) {
+            unlocated_[si] = unlocated_[ti] = 1;
+            return;
+        }
+        const double u = std::clamp((w.x() * dt.y() - w.y() * dt.x()) / den, 0.0, 1.0);
+        const double v = std::clamp((w.x() * ds.y() - w.y() * ds.x()) / den, 0.0, 1.0);
+        splits_[si].push_back(u);
+        splits_[ti].push_back(v);
     }
 
     const MeshTopology& mesh_;
@@ -283,7 +315,8 @@ private:
     std::vector<End> ends_;
     std::vector<Seg> segs_;
     std::vector<std::uint8_t> used_;
-    std::vector<std::uint32_t> seg_curve_;
+    std::vector<std::vector<double>> splits_;  // per segment: parameters (a = 0, b = 1) of triple points
+    std::vector<std::uint8_t> unlocated_;      // per segment: meets another along a line
 };
 
 }  // namespace

@@ -20,10 +20,13 @@ struct IntersectionCurves {
     struct Curve {
         std::uint32_t begin, end;  // points [begin, end)
         bool closed;               // a loop: last point == first point
-        // The curve may pass through a third surface (a face of it holds a segment of another
-        // intersection curve, or of itself, that meets its own): its QI can change there with no
-        // event in the image, so its visibility takes a ray test per piece.
+        // The curve passes through a third surface (a face of it holds a segment of another
+        // intersection curve, or of itself, that crosses its own): its QI can change there with
+        // no event in the image. Visibility cuts it at those points (point_cut).
         bool meets_other;
+        // Such a meeting could not be located (segments that overlap along a line): its
+        // visibility takes a ray test per piece.
+        bool reference;
     };
     std::vector<Curve> curves;
     std::vector<glm::dvec3> points;
@@ -31,6 +34,9 @@ struct IntersectionCurves {
     // a curve's last point). Along a curve slot 0 stays on one surface and slot 1 on the other
     // while the curve passes from face to face across edges.
     std::vector<std::array<std::uint32_t, 2>> segment_faces;
+    // Per point: 1 where the curve passes through a third surface (a triple point; never a
+    // curve's first or last point).
+    std::vector<std::uint8_t> point_cut;
     // Intersecting pairs that gave no segment: coplanar (overlapping faces lie on one another:
     // no crossing to draw) or meeting at a single point (touching).
     std::size_t coplanar_pairs = 0, point_pairs = 0;

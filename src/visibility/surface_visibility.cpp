@@ -281,6 +281,7 @@ struct CurveInfo {
     bool closed;
     bool reference;  // a ray test per piece
 };
+// (Sources also give cut(i): the QI may change at point i with no event in the image.)
 
 struct SurfaceSource {
     const SurfaceCurves& c;
@@ -291,6 +292,7 @@ struct SurfaceSource {
     }
     const glm::dvec3& point(std::uint32_t i) const { return c.points[i]; }
     std::array<std::uint32_t, 2> faces(std::uint32_t i) const { return {c.segment_face[i], kNoFace}; }
+    bool cut(std::uint32_t) const { return false; }
 };
 
 struct IntersectionSource {
@@ -298,10 +300,11 @@ struct IntersectionSource {
     std::size_t size() const { return c.curves.size(); }
     CurveInfo curve(std::size_t k) const {
         const auto& x = c.curves[k];
-        return {LineKind::Intersection, x.begin, x.end, x.closed, x.meets_other};
+        return {LineKind::Intersection, x.begin, x.end, x.closed, x.reference};
     }
     const glm::dvec3& point(std::uint32_t i) const { return c.points[i]; }
     std::array<std::uint32_t, 2> faces(std::uint32_t i) const { return c.segment_faces[i]; }
+    bool cut(std::uint32_t i) const { return c.point_cut[i] != 0; }
 };
 
 // Each curve clipped at the near plane and cut into runs (RunPieces) where it leaves the view or
@@ -341,8 +344,9 @@ SurfaceVisibilityStats visit_curves(const MeshTopology& mesh, const Features& fe
             const auto [face, face2] = curves.faces(i);
             // A curve that passes through a vertex from one face to another that shares no edge
             // with it can change QI there by what hides the vertex's other faces (local
-            // occlusion): the run ends, and the next starts with a ray test of its own.
-            if (!s.run.empty() && !joined(mesh, s.run.back(), face, face2)) {
+            // occlusion), and one that passes through a third surface changes QI there: the run
+            // ends, and the next starts with a ray test of its own.
+            if (!s.run.empty() && (!joined(mesh, s.run.back(), face, face2) || curves.cut(i))) {
                 broken = true;
                 end_run();
             }

@@ -12,8 +12,8 @@
 // Intersection curves (model/intersection_curves.hpp) take the same path with two faces per
 // segment, one of each surface: the point lies on both, so neither counts in its QI (the ray test
 // skips both, as a silhouette edge's skips its two faces), neither's edges occlude it, and it
-// passes over a fold of either surface (+-1 each). They leave the reference only where the curve
-// may pass through a third surface (IntersectionCurves::Curve::meets_other).
+// passes over a fold of either surface (+-1 each); a run also ends where the curve passes through
+// a third surface (IntersectionCurves::point_cut: QI changes there with no event in the image).
 #pragma once
 
 #include <cstdint>
