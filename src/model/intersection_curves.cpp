@@ -8,13 +8,13 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/intersections.h>
+#include <glm/vec2.hpp>
 
 namespace inkline {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
-glm::dvec3 to_glm(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 
 // Segment ends as nodes of a graph: one per name (an edge and the face it passes through), united
 // where several names meet at one point (an edge through an edge or a vertex).
@@ -138,44 +138,67 @@ private:
     // A pair where an edge lies in the other face's plane. The surfaces cross there only where the
     // edge's two faces leave that plane to opposite sides; where they stay on one side (a box
     // resting on another, a side face along the other's top) they only touch: no line. A crossing
-    // along the edge is met by both its faces: only the one on the positive side adds it (CGAL's
-    // construction; its ends are joined to the others by position).
+    // along the edge is met by both its faces: only the one on the positive side adds it, as the
+    // part of the edge inside the other face (its ends joined to the others by position).
     void add_degenerate(std::uint32_t f, std::uint32_t g) {
-        int along = 0;  // +1 or -1: f's side of the crossing; 0: no crossing (touching)
-        for (int k = 0; k < 2 && along == 0; ++k) along = crossing_along_edge(k ? g : f, k ? f : g);
-        const auto& a = mesh_.faces[f];
-        const auto& b = mesh_.faces[g];
-        const auto x = along > 0 ? CGAL::intersection(K::Triangle_3(P(a[0]), P(a[1]), P(a[2])),
-                                                      K::Triangle_3(P(b[0]), P(b[1]), P(b[2])))
-                                 : boost::none;
-        const K::Segment_3* s = x ? boost::get<K::Segment_3>(&*x) : nullptr;
-        if (!s || glm::length(to_glm(s->target()) - to_glm(s->source())) <= eps_) {
+        EdgeInPlane in{};
+        for (int k = 0; k < 2 && in.side == 0; ++k) in = crossing_along_edge(k ? g : f, k ? f : g);
+        double t0 = 0.0, t1 = 1.0;
+        const glm::dvec3 A = mesh_.positions[in.a], B = mesh_.positions[in.b];
+        if (in.side <= 0 || !clip_to_face(A, B, in.plane_face, t0, t1) || (t1 - t0) * glm::length(B - A) <= eps_) {
             ++out_.point_pairs;
             return;
         }
-        segs_.push_back({nodes_.unnamed(to_glm(s->source())), nodes_.unnamed(to_glm(s->target())), {f, g}});
+        segs_.push_back({nodes_.unnamed(A + t0 * (B - A)), nodes_.unnamed(A + t1 * (B - A)), {f, g}});
     }
 
-    // For an edge of face f that lies in face g's plane: +1 if f is on the positive side of the
-    // plane and the face across the edge on the negative side, -1 the other way round, 0 if they
-    // do not cross the plane there (or no edge of f lies in it).
-    int crossing_along_edge(std::uint32_t f, std::uint32_t g) const {
+    struct EdgeInPlane {
+        int side = 0;  // +1 or -1: the edge's face on the positive or negative side; 0: no crossing
+        std::uint32_t a = 0, b = 0, plane_face = 0;
+    };
+    // For an edge of face f that lies in face g's plane: side +1 if f is on the positive side of
+    // the plane and the face across the edge on the negative side, -1 the other way round, 0 if
+    // they do not cross the plane there (or no edge of f lies in it).
+    EdgeInPlane crossing_along_edge(std::uint32_t f, std::uint32_t g) const {
         const auto& tg = mesh_.faces[g];
         const auto side = [&](std::uint32_t v) { return CGAL::orientation(P(tg[0]), P(tg[1]), P(tg[2]), P(v)); };
         const auto& ff = mesh_.faces[f];
         for (int j = 0; j < 3; ++j) {
-            const std::uint32_t far = ff[(j + 2) % 3];  // edge j is (ff[j], ff[j + 1])
-            if (side(ff[j]) != CGAL::COPLANAR || side(ff[(j + 1) % 3]) != CGAL::COPLANAR) continue;
+            const std::uint32_t a = ff[j], b = ff[(j + 1) % 3], far = ff[(j + 2) % 3];  // edge j is (a, b)
+            if (side(a) != CGAL::COPLANAR || side(b) != CGAL::COPLANAR) continue;
             const std::uint32_t h = mesh_.face_edges[f].face[j];
-            if (h == kNoFace) return 0;
+            if (h == kNoFace) return {};
             std::uint32_t h_far = 0;
             for (std::uint32_t v : mesh_.faces[h])
-                if (v != ff[j] && v != ff[(j + 1) % 3]) h_far = v;
+                if (v != a && v != b) h_far = v;
             const auto sf = side(far), sh = side(h_far);
-            if (sf == CGAL::COPLANAR || sh == CGAL::COPLANAR || sf == sh) return 0;
-            return sf == CGAL::POSITIVE ? 1 : -1;
+            if (sf == CGAL::COPLANAR || sh == CGAL::COPLANAR || sf == sh) return {};
+            return {sf == CGAL::POSITIVE ? 1 : -1, a, b, g};
         }
-        return 0;
+        return {};
+    }
+
+    // The part [t0, t1] of segment A-B (in face g's plane) inside face g, clipped against g's
+    // sides in the plane of its two largest normal axes. Written here rather than taken from
+    // CGAL::intersection(Triangle_3, Triangle_3): its coplanar branch crashed on nearly flat
+    // pairs of an IFC building (AC14-FZK-Haus).
+    bool clip_to_face(const glm::dvec3& A, const glm::dvec3& B, std::uint32_t g, double& t0, double& t1) const {
+        const glm::dvec3 n = mesh_.face_normal(g), an = glm::abs(n);
+        const int drop = an.x >= an.y && an.x >= an.z ? 0 : an.y >= an.z ? 1 : 2;
+        const auto flat = [&](const glm::dvec3& p) { return glm::dvec2(p[(drop + 1) % 3], p[(drop + 2) % 3]); };
+        const auto& t = mesh_.faces[g];
+        const glm::dvec2 q[3] = {flat(mesh_.positions[t[0]]), flat(mesh_.positions[t[1]]), flat(mesh_.positions[t[2]])};
+        const glm::dvec2 a = flat(A), b = flat(B);
+        const auto cross = [](const glm::dvec2& u, const glm::dvec2& v) { return u.x * v.y - u.y * v.x; };
+        const double orient = cross(q[1] - q[0], q[2] - q[0]) < 0.0 ? -1.0 : 1.0;
+        for (int i = 0; i < 3; ++i) {
+            const glm::dvec2 &qi = q[i], &qj = q[(i + 1) % 3];
+            const double fa = orient * cross(qj - qi, a - qi), fb = orient * cross(qj - qi, b - qi);
+            if (fa < 0.0 && fb < 0.0) return false;
+            if (fa < 0.0) t0 = std::max(t0, fa / (fa - fb));
+            if (fb < 0.0) t1 = std::min(t1, fa / (fa - fb));
+        }
+        return t1 > t0;
     }
 
     std::vector<std::uint32_t> degrees() {
