@@ -125,6 +125,22 @@ TEST(IntersectionCurves, CrossedTori) {
     }
 }
 
+// A sheet (the plane y = 0.5, grid lines every 1 in x and z) through a box [-0.5, 1] x [0, 1] x
+// [-0.5, 0.5]: the box's side x = 1 holds sheet edges (the grid line x = 1), the sheet's faces on
+// both sides of it, and the diagonal of that side passes through a sheet vertex; the crossing is
+// still the one rectangle, 1.5 by 1, closed.
+TEST(IntersectionCurves, CrossingAlongEdgesAndThroughVertices) {
+    const Model m(inkline::merge_meshes(inkline::make_sheet(2.0, 0.5, 4), inkline::make_box({-0.5, 0, -0.5}, {1, 1, 0.5})));
+    const IntersectionCurves& c = m.intersection_curves();
+    ASSERT_EQ(c.curves.size(), 1u);
+    EXPECT_TRUE(c.curves[0].closed);
+    EXPECT_NEAR(polyline_length(c, c.curves[0]), 5.0, 1e-12);
+    for (std::uint32_t i = c.curves[0].begin; i < c.curves[0].end; ++i) EXPECT_NEAR(c.points[i].y, 0.5, 1e-15);
+    // Touching is not crossing: the sheet laid on the box's top draws nothing.
+    const Model on_top(inkline::merge_meshes(inkline::make_sheet(2.0, 1.0, 4), inkline::make_box({-0.5, 0, -0.5}, {1, 1, 0.5})));
+    EXPECT_TRUE(on_top.intersection_curves().curves.empty());
+}
+
 // Nothing is computed for a view that does not draw intersection lines; once asked for, the
 // curves are built once and every view reads the same.
 TEST(IntersectionCurves, BuiltOnlyWhenDrawnAndOnce) {

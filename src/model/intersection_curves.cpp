@@ -136,16 +136,19 @@ private:
     }
 
     // A pair where an edge lies in the other face's plane. The surfaces cross there only where the
-    // edge's two faces leave that plane to opposite sides; where they stay on one side (a box
-    // resting on another, a side face along the other's top) they only touch: no line. A crossing
-    // along the edge is met by both its faces: only the one on the positive side adds it, as the
-    // part of the edge inside the other face (its ends joined to the others by position).
+    // edge's two faces leave that plane to opposite sides (and, when the other face also has its
+    // edge on that line, its two faces leave this face's plane to opposite sides too); where they
+    // stay on one side (a box resting on another, a sheet laid on a box) they only touch: no line.
+    // A crossing along the line is met by the pairs of faces around it: only the pair where the
+    // faces with an edge there are on the positive side adds it, as the part of the edge inside
+    // the other face (its ends joined to the others by position).
     void add_degenerate(std::uint32_t f, std::uint32_t g) {
-        EdgeInPlane in{};
-        for (int k = 0; k < 2 && in.side == 0; ++k) in = crossing_along_edge(k ? g : f, k ? f : g);
+        const EdgeInPlane in_f = crossing_along_edge(f, g), in_g = crossing_along_edge(g, f);
+        const EdgeInPlane& in = in_f.lies ? in_f : in_g;
+        const bool crosses = (!in_f.lies || in_f.side > 0) && (!in_g.lies || in_g.side > 0);
         double t0 = 0.0, t1 = 1.0;
         const glm::dvec3 A = mesh_.positions[in.a], B = mesh_.positions[in.b];
-        if (in.side <= 0 || !clip_to_face(A, B, in.plane_face, t0, t1) || (t1 - t0) * glm::length(B - A) <= eps_) {
+        if (!crosses || !clip_to_face(A, B, in.plane_face, t0, t1) || (t1 - t0) * glm::length(B - A) <= eps_) {
             ++out_.point_pairs;
             return;
         }
@@ -153,12 +156,14 @@ private:
     }
 
     struct EdgeInPlane {
-        int side = 0;  // +1 or -1: the edge's face on the positive or negative side; 0: no crossing
+        bool lies = false;  // an edge of the face lies in the other's plane
+        int side = 0;       // +1 or -1: the face on the positive or negative side, the face across
+                            // the edge on the other; 0: not so (no crossing there)
         std::uint32_t a = 0, b = 0, plane_face = 0;
     };
     // For an edge of face f that lies in face g's plane: side +1 if f is on the positive side of
     // the plane and the face across the edge on the negative side, -1 the other way round, 0 if
-    // they do not cross the plane there (or no edge of f lies in it).
+    // they do not cross the plane there.
     EdgeInPlane crossing_along_edge(std::uint32_t f, std::uint32_t g) const {
         const auto& tg = mesh_.faces[g];
         const auto side = [&](std::uint32_t v) { return CGAL::orientation(P(tg[0]), P(tg[1]), P(tg[2]), P(v)); };
@@ -167,13 +172,13 @@ private:
             const std::uint32_t a = ff[j], b = ff[(j + 1) % 3], far = ff[(j + 2) % 3];  // edge j is (a, b)
             if (side(a) != CGAL::COPLANAR || side(b) != CGAL::COPLANAR) continue;
             const std::uint32_t h = mesh_.face_edges[f].face[j];
-            if (h == kNoFace) return {};
+            if (h == kNoFace) return {true, 0, a, b, g};
             std::uint32_t h_far = 0;
             for (std::uint32_t v : mesh_.faces[h])
                 if (v != a && v != b) h_far = v;
             const auto sf = side(far), sh = side(h_far);
-            if (sf == CGAL::COPLANAR || sh == CGAL::COPLANAR || sf == sh) return {};
-            return {sf == CGAL::POSITIVE ? 1 : -1, a, b, g};
+            if (sf == CGAL::COPLANAR || sh == CGAL::COPLANAR || sf == sh) return {true, 0, a, b, g};
+            return {true, sf == CGAL::POSITIVE ? 1 : -1, a, b, g};
         }
         return {};
     }
