@@ -57,6 +57,14 @@ const SelfIntersections& Model::self_intersections() const {
     return *lazy_->pierced;
 }
 
+const IntersectionCurves& Model::intersection_curves() const {
+    std::call_once(lazy_->intersections_once, [this] {
+        lazy_->intersections =
+            std::make_unique<IntersectionCurves>(inkline::intersection_curves(topo_, self_intersections().pairs));
+    });
+    return *lazy_->intersections;
+}
+
 const CurvatureField& Model::curvature() const {
     std::call_once(lazy_->curvature_once,
                    [this] { lazy_->curvature = std::make_unique<CurvatureField>(estimate_curvature(topo_)); });
@@ -191,6 +199,11 @@ void ViewSession::finish(const Camera& camera) {
         d.stats.crossings_surface = d.stats.surface_ray_tests = 0;
         d.stats.seconds_surface_lines = d.stats.seconds_surface_visibility = 0.0;
     }
+    if (options.features.intersection) not_visibility += add_intersection_lines(camera, rays);
+    else {
+        v.intersections = nullptr;
+        d.stats.intersection_curves = d.stats.crossings_intersection = d.stats.intersection_ray_tests = 0;
+    }
 
     d.camera = camera;
     DrawingStats& s = d.stats;
@@ -200,9 +213,9 @@ void ViewSession::finish(const Camera& camera) {
     s.crease_edges = v.features.crease_edges.size();
     s.curves = v.features.curves.size();
     s.cusps = v.features.cusp_vertices.size();
-    s.crossings = curves.crossings + s.crossings_surface;
+    s.crossings = curves.crossings + s.crossings_surface + s.crossings_intersection;
     s.pieces = d.pieces.size();
-    s.ray_tests = curves.ray_tests + s.surface_ray_tests;
+    s.ray_tests = curves.ray_tests + s.surface_ray_tests + s.intersection_ray_tests;
     s.visibility = appel ? "appel" : "rays";
     s.clusters = as.clusters;
     s.walks = as.walks;
@@ -247,6 +260,25 @@ double ViewSession::add_surface_lines(const Camera& camera, const std::function<
     s.surface_ray_tests = st.ray_tests;
     s.crossings_surface = st.crossings;
     return std::chrono::duration<double>(t1 - tc).count();  // what is not visibility time
+}
+
+double ViewSession::add_intersection_lines(const Camera& camera, const std::function<const RayCaster&()>& rays) {
+    View& v = view_;
+    DrawingStats& s = v.drawing.stats;
+    const auto t0 = std::chrono::steady_clock::now();
+    const IntersectionCurves& curves = model_->intersection_curves();  // once per model
+    const double build_seconds = seconds_since(t0);
+    SurfaceVisibilityOptions so;
+    so.propagate = options_.visibility == VisibilityMethod::Appel;
+    so.curve_offset = std::uint32_t(v.features.curves.size() + v.surface.curves.size());
+    const SurfaceVisibilityStats st = intersection_visibility(model_->topology(), v.features, camera, curves, rays, so,
+                                                              surface_scratch_, v.drawing.pieces);
+    v.spans.resize(v.drawing.pieces.size());  // intersection pieces lie across faces: no edge spans
+    v.intersections = &curves;
+    s.intersection_curves = curves.curves.size();
+    s.crossings_intersection = st.crossings;
+    s.intersection_ray_tests = st.ray_tests;
+    return build_seconds;
 }
 
 double edges_length(const MeshTopology& mesh, const std::vector<std::uint32_t>& edges) {

@@ -9,6 +9,7 @@
 #include "core/drawing.hpp"
 #include "curvature/curvature.hpp"
 #include "features/features.hpp"
+#include "model/intersection_curves.hpp"
 #include "model/self_intersections.hpp"
 #include "model/subdivide.hpp"
 #include "model/topology.hpp"
@@ -49,6 +50,11 @@ public:
     // Per-vertex curvature and its derivative (curvature/curvature.hpp), computed on first use, once:
     // only the curvature line kinds need it, so a render without them never pays for it.
     const CurvatureField& curvature() const;
+    // Where surfaces of the model cross (model/intersection_curves.hpp), from the self-intersections'
+    // face pairs; computed on first use, once: only intersection lines need them.
+    const IntersectionCurves& intersection_curves() const;
+    // Those curves if some view has asked for them already, else null (nothing is computed).
+    const IntersectionCurves* intersection_curves_if_computed() const { return lazy_->intersections.get(); }
     // The curvature if some view has asked for it already, else null (nothing is computed).
     const CurvatureField* curvature_if_computed() const { return lazy_->curvature.get(); }
     double load_seconds() const { return load_seconds_; }
@@ -61,10 +67,11 @@ private:
     // Built on first use, once, also when several threads ask at the same time (the preview
     // window's two sessions); behind a pointer so that the model stays movable.
     struct Lazy {
-        std::once_flag rays_once, pierced_once, curvature_once;
+        std::once_flag rays_once, pierced_once, curvature_once, intersections_once;
         std::unique_ptr<RayCaster> rays;
         std::unique_ptr<SelfIntersections> pierced;
         std::unique_ptr<CurvatureField> curvature;
+        std::unique_ptr<IntersectionCurves> intersections;
     };
     std::unique_ptr<Lazy> lazy_ = std::make_unique<Lazy>();
     double load_seconds_ = 0.0;
@@ -92,11 +99,15 @@ struct ViewOptions {
     bool wants_surface_lines() const {
         return surface.suggestive || surface.smooth_contour || surface.ridge || surface.valley;
     }
+    // Intersection lines are FeatureOptions::intersection (off by default: the curves are then
+    // never built).
 };
 
 struct View {
     Features features;
     SurfaceCurves surface;                     // curves across faces (ViewOptions::surface), 3D
+    // Intersection lines (FeatureOptions::intersection): the model's curves, null when not drawn.
+    const IntersectionCurves* intersections = nullptr;
     Drawing drawing;                           // pieces with QI, in pixels, and statistics
     std::vector<std::vector<EdgeSpan>> spans;  // where each piece of the drawing lies on the mesh
                                                // (empty for pieces of surface curves)
@@ -125,6 +136,9 @@ public:
     // The surface lines drawn from the next view on (their kinds and thresholds: a window's
     // toggles and sliders); the curvature is computed on first need, once per model.
     void set_surface_lines(const SurfaceLineOptions& surface) { options_.surface = surface; }
+    // Intersection lines drawn from the next view on (a window's toggle); their curves are built on
+    // first need, once per model.
+    void set_intersection_lines(bool on) { options_.features.intersection = on; }
 
 private:
     void finish(const Camera& camera);
@@ -136,6 +150,9 @@ private:
     // curvature and the extraction (the rest was their visibility).
     double add_surface_lines(const Camera& camera, const std::function<const RayCaster&()>& rays,
                              const std::vector<std::uint8_t>* pierced);
+    // Appends the intersection lines' pieces to the view's drawing; returns the seconds spent
+    // building the model's curves (0 after the first view: they are not the view's time).
+    double add_intersection_lines(const Camera& camera, const std::function<const RayCaster&()>& rays);
     PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
     ViewCurvature view_curvature_;           // surface lines: per-vertex quantities of the view
     SurfaceVisibilityScratch surface_scratch_;

@@ -341,7 +341,7 @@ TEST(Cli, SharedFlagsHaveOneDefinition) {
         for (const auto& [flags, expect] : std::vector<std::array<std::string, 2>>{
                  {"--fraction=0", "inkline: --fraction: expected a share in (0, 1]\n"},
                  {"--finder=lucky", "inkline: --finder: unknown finder 'lucky' (expected exhaustive or randomized)\n"},
-                 {"--lines=hatch", "inkline: --lines: unknown line kind 'hatch' (expected silhouette, crease, border, suggestive, smooth-contour, ridge, valley, tone-dark, tone-highlight)\n"}}) {
+                 {"--lines=hatch", "inkline: --lines: unknown line kind 'hatch' (expected silhouette, crease, border, suggestive, smooth-contour, ridge, valley, intersection, tone-dark, tone-highlight)\n"}}) {
             const Result r = run(cmd + " " + flags, d);
             EXPECT_EQ(r.code, 2) << cmd << " " << flags;
             EXPECT_EQ(r.err, expect) << cmd << " " << flags;

@@ -177,13 +177,21 @@ struct RenderSetup {
     OutputOptions output;
 };
 
+// The view options for `model`: the run's, with intersection lines on for a scene of several
+// objects unless the kinds were chosen (app/flags.hpp).
+ViewOptions view_options(const RenderArgs& a, const RenderSetup& setup, const Model& model) {
+    ViewOptions options = setup.view;
+    default_intersection_lines(options.features, model, a.lines_given || (setup.style && !setup.style->kinds.empty()));
+    return options;
+}
+
 // One drawing: `model` seen by `cam`, written to `out`. Returns its report (what it drew, the
 // times, the camera flags that reproduce it); `t0`: the start its total seconds count from.
 std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const Model& model, FreeformRender* freeform,
                            const Camera& cam, const std::string& out, Format format, StageClock::time_point t0,
                            bool in_batch = false) {
     const std::optional<Style>& style = setup.style;
-    View view = render_view(model, cam, setup.view);
+    View view = render_view(model, cam, view_options(a, setup, model));
     if (a.recall) {
         const Features reference = extract_features(model.topology(), cam);
         const double total = edges_length(model.topology(), reference.silhouette_edges);
@@ -446,6 +454,7 @@ int run_render(int argc, char** argv) {
     model.self_intersections();
     model.rays();
     if (setup.view.wants_surface_lines()) model.curvature();
+    if (view_options(a, setup, model).features.intersection) model.intersection_curves();
     render_items(a, setup, plan, &model, home, format);
     print_summary(a, plan, seconds_since(t0), camera_flags(home));
     return 0;

@@ -317,7 +317,7 @@ Flag crease_flag(double& degrees) {
 
 namespace {
 const char* const kLineKindNames =
-    "silhouette, crease, border, suggestive, smooth-contour, ridge, valley, tone-dark, tone-highlight";
+    "silhouette, crease, border, suggestive, smooth-contour, ridge, valley, intersection, tone-dark, tone-highlight";
 // The switch of a surface line kind (curvature/curvature.hpp); null for the mesh edge kinds.
 bool* surface_switch(SurfaceLineOptions& surface, LineKind k) {
     switch (k) {
@@ -343,17 +343,24 @@ void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features
                     ToneKinds* tone) {
     for (auto& k : features.kinds) k = false;
     surface.suggestive = surface.smooth_contour = surface.ridge = surface.valley = false;
+    features.intersection = false;
     if (tone) *tone = {};
     for (LineKind k : kinds) {
         if (bool* on = surface_switch(surface, k)) *on = true;
+        else if (k == LineKind::Intersection) features.intersection = true;
         else if (k == LineKind::ToneDark && tone) tone->dark = true;
         else if (k == LineKind::ToneHighlight && tone) tone->highlight = true;
         else if (int(k) < kLineKindCount) features.kinds[int(k)] = true;
     }
 }
 
+void default_intersection_lines(FeatureOptions& features, const Model& model, bool kinds_chosen) {
+    if (!kinds_chosen && model.topology().object_names.size() > 1) features.intersection = true;
+}
+
 Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given, ToneKinds* tone) {
-    return {"--lines", "KIND,...", std::string("line kinds drawn: ") + kLineKindNames + " (default the first three)",
+    return {"--lines", "KIND,...", std::string("line kinds drawn: ") + kLineKindNames +
+                " (default the first three, and intersection for a scene of several objects)",
             [&features, &surface, given, tone](const std::string& v) {
                 std::vector<LineKind> kinds;
                 std::stringstream ss(v);

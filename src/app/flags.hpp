@@ -127,6 +127,11 @@ void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features
                     ToneKinds* tone = nullptr);
 // --light=X,Y,Z, a world direction towards a light; each use adds one (tone lines, freeform shaders).
 Flag light_flag(std::vector<glm::dvec3>& lights);
+// Intersection lines are on by default for a scene of several objects (parts pressed into one
+// another draw the curve where they meet, as in an assembly drawing; Blender's Line Art does the
+// same), unless the kinds were chosen (--lines, a style's "kinds"). A single mesh keeps the
+// default kinds: its crossings are more often modelling slips than edges meant to be seen.
+void default_intersection_lines(FeatureOptions& features, const Model& model, bool kinds_chosen);
 Flag suggestive_threshold_flag(SurfaceLineOptions& surface);
 Flag ridge_threshold_flag(SurfaceLineOptions& surface);
 // The tone stage's parameters (--tone-width, --tone-beta, --tone-dark, --tone-highlight, --specular,

@@ -82,14 +82,17 @@ int run_view(int argc, char** argv) {
               }})
         .add(switch_flag("--fps", o.fps, true, "with --frames: print the frames per second and where the time goes"));
     if (!flags.parse(argc, argv, 2, model_path)) return 0;  // --help
+    bool style_kinds = false;  // the style chose the line kinds
     if (!o.style.empty()) {  // a bad style file fails before the window opens
         const Style style = load_style(o.style);
         if (!lines_given && !style.kinds.empty()) set_line_kinds(style.kinds, o.view.features, o.view.surface);
+        style_kinds = !style.kinds.empty();
     }
     if (!frames_given && (o.orbit || !o.screenshot.empty() || o.fps || !o.export_path.empty()))
         throw Usage("--orbit, --screenshot, --export and --fps drive the window for --frames=N frames", "view");
     o.model_path = model_path;
     Model model = load_model_file(model_path, strict, crease, o.subdivide);
+    default_intersection_lines(o.view.features, model, lines_given || style_kinds);
     const Camera home = make_camera(camera, model);
     return run_viewer(model, home, o);
 }

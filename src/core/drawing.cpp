@@ -12,6 +12,7 @@ const char* to_string(LineKind k) {
         case LineKind::SmoothContour: return "smooth-contour";
         case LineKind::Ridge: return "ridge";
         case LineKind::Valley: return "valley";
+        case LineKind::Intersection: return "intersection";
         case LineKind::ToneDark: return "tone-dark";
         case LineKind::ToneHighlight: return "tone-highlight";
     }

@@ -15,15 +15,17 @@ namespace inkline {
 
 // Freeform: line-art strokes on freeform surfaces (src/freeform/), not a feature of the mesh.
 // Suggestive .. Valley: curves across faces from the mesh's curvature (src/curvature/), not along
-// mesh edges.
+// mesh edges. Intersection: where two surfaces of the model cross (model/intersection_curves.hpp).
 enum class LineKind : std::uint8_t {
     Silhouette = 0, Border = 1, Crease = 2, Freeform = 3,
     Suggestive = 4, SmoothContour = 5, Ridge = 6, Valley = 7,
+    // Where two surfaces cross (features/intersections): curves on two faces at once.
+    Intersection = 8,
     // Lines of the tone image (src/tone/): dark lines in valleys, light lines on ridges of tone.
-    ToneDark = 8, ToneHighlight = 9,
+    ToneDark = 9, ToneHighlight = 10,
 };
 inline constexpr int kLineKindCount = 3;   // kinds of mesh feature curves (features/ chains these)
-inline constexpr int kPieceKindCount = 10;  // every kind a Drawing can hold (writers draw these)
+inline constexpr int kPieceKindCount = 11;  // every kind a Drawing can hold (writers draw these)
 const char* to_string(LineKind k);
 // Width of a kind's lines as a share of the outline's, in every writer and the window: freeform
 // strokes are hatching, and lines from curvature suggest shape inside the outline, so both are
@@ -89,6 +91,9 @@ struct DrawingStats {
     // Tone lines (src/tone/), when asked for: the pass's stages (shading, blur, ridge search,
     // tracing); not part of seconds_total's features and visibility.
     double seconds_tone_shade = 0.0, seconds_tone_blur = 0.0, seconds_tone_ridges = 0.0, seconds_tone_trace = 0.0;
+    // Intersection lines, when asked for: their curves (once per model, not counted in the view's
+    // time), and the crossings and ray tests of their visibility (included in the totals above).
+    std::size_t intersection_curves = 0, crossings_intersection = 0, intersection_ray_tests = 0;
     double seconds_output = 0.0;
     double seconds_total = 0.0;
 };

@@ -20,7 +20,10 @@ namespace inkline {
 
 struct FeatureOptions {
     bool kinds[kLineKindCount] = {true, true, true};  // indexed by LineKind: which curves to chain
-    bool wants(LineKind k) const { return kinds[int(k)]; }
+    // Intersection lines (where surfaces cross): not chained per view but built once per model
+    // (Model::intersection_curves); the switch lives here with the other kinds a view draws.
+    bool intersection = false;
+    bool wants(LineKind k) const { return kinds[int(k)]; }  // (a mesh feature kind only)
 };
 
 enum class CuspCase : std::uint8_t {

@@ -148,6 +148,7 @@ std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
 SelfIntersections self_intersections(const MeshTopology& mesh) {
     SelfIntersections si;
     intersecting_pairs(mesh, si.faces, false, [&](std::uint32_t fa, std::uint32_t fb) {
+        si.pairs.push_back({fa, fb});
         for (int k = 0; k < 2; ++k) {
             const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
             const auto& fe = mesh.face_edges[f];

@@ -2,6 +2,7 @@
 // curve passes through a face, its QI changes without any image-space event, so the fast
 // visibility must not propagate across such curves, and both methods cut curves there.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct SelfIntersections {
     // where an edge lies on another face (touching or coincident surfaces). Empty for an embedded
     // surface; a few per intersecting pair otherwise (16 bytes each).
     std::vector<EdgeCut> cuts;
+    // Every intersecting pair of faces (f, g), as the search met them (8 bytes each): the
+    // intersection lines start from these (model/intersection_curves.hpp), without a second search.
+    std::vector<std::array<std::uint32_t, 2>> pairs;
 };
 
 // Per face: 1 if it intersects another face (exact predicates). Candidate pairs come from CGAL's

@@ -433,6 +433,7 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
     if (s.smooth_contour) add_kind(LineKind::SmoothContour);
     if (s.ridge) add_kind(LineKind::Ridge);
     if (s.valley) add_kind(LineKind::Valley);
+    if (vopt_.features.intersection) add_kind(LineKind::Intersection);
     c += " --lines=" + kinds;  // (empty: no line kind, as render takes it)
     if (s.suggestive && s.suggestive_threshold != SurfaceLineOptions{}.suggestive_threshold) {
         std::snprintf(buf, sizeof buf, " --suggestive-threshold=%.17g", s.suggestive_threshold);
@@ -505,6 +506,7 @@ void Viewer::panel_lines() {
         if (k > 0) ImGui::SameLine();
         dirty_ |= ImGui::Checkbox(to_string(LineKind(k)), &vopt_.features.kinds[k]);
     }
+    dirty_ |= ImGui::Checkbox("intersection", &vopt_.features.intersection);
     panel_surface_lines();
     dirty_ |= ImGui::Checkbox("hidden lines (dashed by QI)", &hidden_);
     ImGui::Checkbox("shading under the lines", &shading_);

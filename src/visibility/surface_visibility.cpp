@@ -1,6 +1,7 @@
 #include "visibility/surface_visibility.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "visibility/appel.hpp"
@@ -37,6 +38,13 @@ bool joined(const MeshTopology& mesh, std::uint32_t fa, std::uint32_t fb) {
     return false;
 }
 
+// Both faces of consecutive segments joined (intersection curves: the second face on the other
+// surface; kNoFace for surface curves, joined to itself).
+bool joined(const MeshTopology& mesh, const SurfaceVisibilityScratch::RunSegment& last, std::uint32_t face,
+            std::uint32_t face2) {
+    return joined(mesh, last.face, face) && joined(mesh, last.face2, face2);
+}
+
 // Where along 3D segment A->B (s in [0, 1]) the image parameter t lies: the image of a point
 // moving linearly in 3D moves with perspective foreshortening.
 double segment_param(const Camera& camera, const glm::dvec3& A, const glm::dvec3& B, double t) {
@@ -56,7 +64,8 @@ public:
         : mesh_(mesh), face_front_(face_front), camera_(camera), rays_(rays), opt_(options), s_(s), st_(st),
           out_(out) {}
 
-    void process(LineKind kind, std::uint32_t curve, bool closed) {
+    // `reference`: a ray test per piece (the curve may change QI where the image shows nothing).
+    void process(LineKind kind, std::uint32_t curve, bool closed, bool reference) {
         if (s_.run.empty()) return;
         find_crossings(closed);
         const std::size_t n_pieces = closed ? std::max<std::size_t>(s_.crossings.size(), 1) : s_.crossings.size() + 1;
@@ -68,7 +77,7 @@ public:
             piece_points(k, closed, p.points);
             out_.push_back(std::move(p));
         }
-        assign_qi(first, closed);
+        assign_qi(first, closed, reference);
         // Pieces of no length (a crossing at a curve's end) are dropped after their QI passed on.
         std::size_t w = first;
         for (std::size_t i = first; i < out_.size(); ++i)
@@ -89,7 +98,8 @@ private:
 
     // Every crossing of the run's image with an occluder's, in travel order. A crossing at a
     // segment's end is kept once (as the next segment's start), and an occluder that is an edge of
-    // the segment's own face cannot hide it (they are in one plane), so it is skipped.
+    // the segment's own face (either of an intersection curve's two) cannot hide it (they are in
+    // one plane), so it is skipped.
     void find_crossings(bool closed) {
         auto& xs = s_.crossings;
         xs.clear();
@@ -98,15 +108,22 @@ private:
             const auto& seg = s_.run[j];
             const Segment2 q{seg.a, seg.b, kNoVertex, kNoVertex, kNoVertex, 0.0};
             const auto& own = mesh_.face_edges[seg.face].edge;
+            static constexpr std::array<std::uint32_t, 3> kNone{kNoVertex, kNoVertex, kNoVertex};
+            const auto& own2 = seg.face2 == kNoFace ? kNone : mesh_.face_edges[seg.face2].edge;
             s_.grid.candidates(q, [&](std::uint32_t k) {
                 const Segment2& o = s_.occluders[k];
                 if (o.edge == own[0] || o.edge == own[1] || o.edge == own[2]) return;
+                if (o.edge == own2[0] || o.edge == own2[1] || o.edge == own2[2]) return;
                 double t[2];
                 if (segment_crossings(q, o, t) != 1) return;  // (collinear images: not generic)
                 if (t[0] >= 1.0 && (closed || j + 1 < n)) return;
                 xs.push_back({std::uint32_t(j), t[0], o.edge, 0});
             });
-            if (j > 0 || closed) add_fold(s_.run[j > 0 ? j - 1 : n - 1].face, seg.face, std::uint32_t(j));
+            if (j > 0 || closed) {
+                const auto& last = s_.run[j > 0 ? j - 1 : n - 1];
+                add_fold(last.face, seg.face, std::uint32_t(j));
+                if (seg.face2 != kNoFace) add_fold(last.face2, seg.face2, std::uint32_t(j));
+            }
         }
         std::sort(xs.begin(), xs.end(), [](const auto& x, const auto& y) {
             return x.seg != y.seg ? x.seg < y.seg : x.t < y.t;
@@ -197,7 +214,7 @@ private:
         const double s = 0.5 * (segment_param(camera_, r.A, r.B, b0) + segment_param(camera_, r.A, r.B, b1));
         const glm::dvec3 P = r.A + s * (r.B - r.A);
         ++st_.ray_tests;
-        return rays_().count_layers(camera_.ray_origin(P), P, r.face, kNoFace);
+        return rays_().count_layers(camera_.ray_origin(P), P, r.face, r.face2);
     }
 
     bool on_pierced_face() const {
@@ -214,9 +231,9 @@ private:
         return crossing_delta(mesh_, camera_, x.edge, r.A, r.B);
     }
 
-    void assign_qi(std::size_t first, bool closed) {
+    void assign_qi(std::size_t first, bool closed, bool reference) {
         const std::size_t n = out_.size() - first;
-        if (!opt_.propagate || n == 1 || on_pierced_face()) {
+        if (!opt_.propagate || n == 1 || reference || on_pierced_face()) {
             if (opt_.propagate && n > 1) ++st_.fallbacks;
             for (std::size_t k = 0; k < n; ++k) out_[first + k].qi = ray_qi(k, closed);
             return;
@@ -257,6 +274,92 @@ private:
     std::vector<Piece>& out_;
 };
 
+// A curve as the run loop reads it; Source gives curve(c), point(i) and faces(i).
+struct CurveInfo {
+    LineKind kind;
+    std::uint32_t begin, end;
+    bool closed;
+    bool reference;  // a ray test per piece
+};
+// (Sources also give cut(i): the QI may change at point i with no event in the image.)
+
+struct SurfaceSource {
+    const SurfaceCurves& c;
+    std::size_t size() const { return c.curves.size(); }
+    CurveInfo curve(std::size_t k) const {
+        const auto& x = c.curves[k];
+        return {x.kind, x.begin, x.end, x.closed, false};
+    }
+    const glm::dvec3& point(std::uint32_t i) const { return c.points[i]; }
+    std::array<std::uint32_t, 2> faces(std::uint32_t i) const { return {c.segment_face[i], kNoFace}; }
+    bool cut(std::uint32_t) const { return false; }
+};
+
+struct IntersectionSource {
+    const IntersectionCurves& c;
+    std::size_t size() const { return c.curves.size(); }
+    CurveInfo curve(std::size_t k) const {
+        const auto& x = c.curves[k];
+        return {LineKind::Intersection, x.begin, x.end, x.closed, x.reference};
+    }
+    const glm::dvec3& point(std::uint32_t i) const { return c.points[i]; }
+    std::array<std::uint32_t, 2> faces(std::uint32_t i) const { return c.segment_faces[i]; }
+    bool cut(std::uint32_t i) const { return c.point_cut[i] != 0; }
+};
+
+// Each curve clipped at the near plane and cut into runs (RunPieces) where it leaves the view or
+// jumps between faces that share no edge.
+template <class Source>
+SurfaceVisibilityStats visit_curves(const MeshTopology& mesh, const Features& features, const Camera& camera,
+                                    const Source& curves, const std::function<const RayCaster&()>& rays,
+                                    const SurfaceVisibilityOptions& options, SurfaceVisibilityScratch& s,
+                                    std::vector<Piece>& out) {
+    SurfaceVisibilityStats st;
+    if (curves.size() == 0) return st;
+    project_occluders(mesh, features, camera, s.occluders);
+    s.grid.build(s.occluders, camera.width(), camera.height());
+    RunPieces runs(mesh, features.face_front, camera, rays, options, s, st, out);
+    const double near = camera.near_distance();
+    for (std::uint32_t c = 0; c < curves.size(); ++c) {
+        const CurveInfo curve = curves.curve(c);
+        auto end_run = [&] {
+            runs.process(curve.kind, c, false, curve.reference);
+            s.run.clear();
+        };
+        s.run.clear();
+        bool broken = false;  // cut by the near plane or at a vertex: not one closed loop
+        for (std::uint32_t i = curve.begin; i + 1 < curve.end; ++i) {
+            glm::dvec3 A = curves.point(i), B = curves.point(i + 1);
+            const double dA = camera.depth(A) - near, dB = camera.depth(B) - near;
+            if (!(dA > 0.0) || !(dB > 0.0)) {
+                broken = true;
+                if (!(dA > 0.0)) {
+                    end_run();  // what came before ends here
+                    if (!(dB > 0.0)) continue;
+                    A += (B - A) * (dA / (dA - dB));
+                } else {
+                    B += (A - B) * (dB / (dB - dA));
+                }
+            }
+            const auto [face, face2] = curves.faces(i);
+            // A curve that passes through a vertex from one face to another that shares no edge
+            // with it can change QI there by what hides the vertex's other faces (local
+            // occlusion), and one that passes through a third surface changes QI there: the run
+            // ends, and the next starts with a ray test of its own.
+            if (!s.run.empty() && (!joined(mesh, s.run.back(), face, face2) || curves.cut(i))) {
+                broken = true;
+                end_run();
+            }
+            s.run.push_back({A, B, camera.project(A), camera.project(B), face, face2});
+            if (!(dB > 0.0)) end_run();
+        }
+        const bool loop = curve.closed && !broken && !s.run.empty() &&
+                          joined(mesh, s.run.back(), s.run.front().face, s.run.front().face2);
+        runs.process(curve.kind, c, loop, curve.reference);
+    }
+    return st;
+}
+
 }  // namespace
 
 SurfaceVisibilityStats surface_visibility(const MeshTopology& mesh, const Features& features, const Camera& camera,
@@ -264,49 +367,17 @@ SurfaceVisibilityStats surface_visibility(const MeshTopology& mesh, const Featur
                                           const std::function<const RayCaster&()>& rays,
                                           const SurfaceVisibilityOptions& options, SurfaceVisibilityScratch& s,
                                           std::vector<Piece>& out) {
-    SurfaceVisibilityStats st;
-    if (curves.curves.empty()) return st;
-    project_occluders(mesh, features, camera, s.occluders);
-    s.grid.build(s.occluders, camera.width(), camera.height());
-    RunPieces runs(mesh, features.face_front, camera, rays, options, s, st, out);
-    const double near = camera.near_distance();
-    for (std::uint32_t c = 0; c < curves.curves.size(); ++c) {
-        const SurfaceCurves::Curve& curve = curves.curves[c];
-        s.run.clear();
-        bool broken = false;  // cut by the near plane or at a vertex: not one closed loop
-        for (std::uint32_t i = curve.begin; i + 1 < curve.end; ++i) {
-            glm::dvec3 A = curves.points[i], B = curves.points[i + 1];
-            const double dA = camera.depth(A) - near, dB = camera.depth(B) - near;
-            if (!(dA > 0.0) || !(dB > 0.0)) {
-                broken = true;
-                if (!(dA > 0.0)) {
-                    runs.process(curve.kind, c, false);  // what came before ends here
-                    s.run.clear();
-                    if (!(dB > 0.0)) continue;
-                    A += (B - A) * (dA / (dA - dB));
-                } else {
-                    B += (A - B) * (dB / (dB - dA));
-                }
-            }
-            const std::uint32_t face = curves.segment_face[i];
-            // A curve that passes through a vertex from one face to another that shares no edge
-            // with it can change QI there by what hides the vertex's other faces (local
-            // occlusion): the run ends, and the next starts with a ray test of its own.
-            if (!s.run.empty() && !joined(mesh, s.run.back().face, face)) {
-                broken = true;
-                runs.process(curve.kind, c, false);
-                s.run.clear();
-            }
-            s.run.push_back({A, B, camera.project(A), camera.project(B), face});
-            if (!(dB > 0.0)) {
-                runs.process(curve.kind, c, false);
-                s.run.clear();
-            }
-        }
-        const bool loop = curve.closed && !broken && !s.run.empty() && joined(mesh, s.run.back().face, s.run.front().face);
-        runs.process(curve.kind, c, loop);
-    }
-    return st;
+    return visit_curves(mesh, features, camera, SurfaceSource{curves}, rays, options, s, out);
+}
+
+SurfaceVisibilityStats intersection_visibility(const MeshTopology& mesh, const Features& features,
+                                               const Camera& camera, const IntersectionCurves& curves,
+                                               const std::function<const RayCaster&()>& rays,
+                                               const SurfaceVisibilityOptions& options,
+                                               SurfaceVisibilityScratch& s, std::vector<Piece>& out) {
+    SurfaceVisibilityOptions o = options;
+    o.pierced_faces = nullptr;  // (every face of theirs is pierced: meets_other says where it matters)
+    return visit_curves(mesh, features, camera, IntersectionSource{curves}, rays, o, s, out);
 }
 
 }  // namespace inkline

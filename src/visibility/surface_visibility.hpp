@@ -9,6 +9,11 @@
 //   occluder lies behind the curve), and +-1 where the curve itself passes over a silhouette edge
 //   into the fold behind (or in front of) its own sheet. Curves on self-intersecting faces, and
 //   any curve whose propagated QI would go negative (a non-generic view), take the reference.
+// Intersection curves (model/intersection_curves.hpp) take the same path with two faces per
+// segment, one of each surface: the point lies on both, so neither counts in its QI (the ray test
+// skips both, as a silhouette edge's skips its two faces), neither's edges occlude it, and it
+// passes over a fold of either surface (+-1 each); a run also ends where the curve passes through
+// a third surface (IntersectionCurves::point_cut: QI changes there with no event in the image).
 #pragma once
 
 #include <cstdint>
@@ -19,6 +24,7 @@
 #include "core/drawing.hpp"
 #include "curvature/curvature.hpp"
 #include "features/features.hpp"
+#include "model/intersection_curves.hpp"
 #include "model/topology.hpp"
 #include "visibility/crossings.hpp"
 #include "visibility/ray_caster.hpp"
@@ -56,6 +62,7 @@ struct SurfaceVisibilityScratch {
         glm::dvec3 A, B;        // clipped to the near plane, in travel order
         glm::dvec2 a, b;        // their images
         std::uint32_t face;
+        std::uint32_t face2;    // intersection curves: the other surface's face; else kNoFace
     };
     std::vector<RunSegment> run;
     std::vector<int> qi;
@@ -69,5 +76,13 @@ SurfaceVisibilityStats surface_visibility(const MeshTopology& mesh, const Featur
                                           const std::function<const RayCaster&()>& rays,
                                           const SurfaceVisibilityOptions& options, SurfaceVisibilityScratch& scratch,
                                           std::vector<Piece>& out);
+
+// The same for the intersection curves of the model (pieces of kind LineKind::Intersection);
+// options.pierced_faces is not used (see above).
+SurfaceVisibilityStats intersection_visibility(const MeshTopology& mesh, const Features& features,
+                                               const Camera& camera, const IntersectionCurves& curves,
+                                               const std::function<const RayCaster&()>& rays,
+                                               const SurfaceVisibilityOptions& options,
+                                               SurfaceVisibilityScratch& scratch, std::vector<Piece>& out);
 
 }  // namespace inkline
