@@ -29,6 +29,7 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     m.repairs_ = repairs;
     m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);
+    LoadProgressReporter(&options.progress, 0).finish();
     return m;
 }
 

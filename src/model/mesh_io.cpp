@@ -41,6 +41,7 @@ std::string lower_extension(const std::string& path) {
 struct Soup {
     std::vector<glm::dvec3> positions;
     std::vector<std::vector<std::int64_t>> polygons;
+    LoadProgressReporter* progress = nullptr;  // the text readers report how far they are
 };
 
 // The text readers below are strict: OpenMesh's ASCII readers do not report malformed input
@@ -50,7 +51,8 @@ struct Soup {
 // with line numbers in every message, and so are binary OFF and PLY (see read_ply_binary).
 class Lines {
 public:
-    Lines(const std::string& text, bool hash_comments) : text_(text), comments_(hash_comments) {}
+    Lines(const std::string& text, bool hash_comments, LoadProgressReporter* progress = nullptr)
+        : text_(text), comments_(hash_comments), progress_(progress) {}
     // Next line with at least one token (comments removed); false at the end of the text.
     bool next(std::vector<std::string_view>& tokens) {
         while (pos_ < text_.size()) {
@@ -58,7 +60,7 @@ public:
             if (end == std::string::npos) end = text_.size();
             std::string_view line(text_.data() + pos_, end - pos_);
             pos_ = end + 1;
-            ++line_;
+            if ((++line_ & 0xffff) == 0 && progress_) progress_->bytes(pos_, 0.0, kProgressParsed);
             if (comments_) line = line.substr(0, line.find('#'));
             split(line, tokens);
             if (!tokens.empty()) return true;
@@ -83,6 +85,7 @@ public:
 private:
     const std::string& text_;
     bool comments_;
+    LoadProgressReporter* progress_;
     std::size_t pos_ = 0, line_ = 0;
 };
 
@@ -114,7 +117,7 @@ std::string lower(std::string_view s) {
 // (further values on the line: normals, colours, texture coordinates), one face per line
 // ("n i0 .. i(n-1)" then an optional colour).
 void read_off(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, true);
+    Lines lines(text, true, soup.progress);
     std::vector<std::string_view> tok;
     if (!lines.next(tok)) throw Error(path, "no OFF header");
     const std::string key(tok[0]);
@@ -191,7 +194,7 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
 // OBJ: "v x y z [...]" and "f a b c ..." with a, b, c of the forms v, v/vt, v//vn, v/vt/vn (1-based,
 // negative: relative to the end); every other statement is ignored.
 void read_obj(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, true);
+    Lines lines(text, true, soup.progress);
     std::vector<std::string_view> tok;
     while (lines.next(tok)) {
         if (tok[0] == "v") {
@@ -253,7 +256,7 @@ struct Welder {
 };
 
 void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, false);
+    Lines lines(text, false, soup.progress);
     std::vector<std::string_view> tok;
     Welder weld{soup, {}};
     auto expect = [&](const char* word) {
@@ -403,7 +406,7 @@ std::vector<PlyElement> read_ply_header(Lines& lines, const std::string& path, b
 // ASCII PLY: header of elements and (scalar or list) properties; the "vertex" element gives x, y,
 // z and the "face" element its "vertex_indices" (or "vertex_index") list; others are skipped.
 void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, false);
+    Lines lines(text, false, soup.progress);
     const std::vector<PlyElement> elements = read_ply_header(lines, path, false);
     std::vector<std::string_view> tok;
     // The body as one token stream (an element instance is conventionally one line).
@@ -1061,7 +1064,9 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
     if (data.size() >= 2 && ((data[0] == '\xff' && data[1] == '\xfe') || (data[0] == '\xfe' && data[1] == '\xff')))
         throw Error(path, "UTF-16 text (byte-order mark) is not read: save the file as UTF-8 or ASCII");
 
+    LoadProgressReporter progress(&options.progress, data.size());
     Soup soup;
+    soup.progress = &progress;
     std::vector<std::string_view> first;
     Lines::split(std::string_view(data).substr(0, data.find('\n')), first);
     if (ext == "off") {
@@ -1097,7 +1102,10 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
                                   " facets): truncated or malformed");
     }
 
-    return triangulate(std::move(soup), path, options);
+    progress.stage(kProgressParsed);
+    TriangleMesh mesh = triangulate(std::move(soup), path, options);
+    progress.stage(kProgressRepaired);
+    return mesh;
 }
 
 CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t nv) {
@@ -1177,6 +1185,9 @@ std::vector<std::string> LoadReport::warnings(const std::string& where) const {
     if (components_reoriented > 0)
         out.push_back(where + ": re-oriented " + std::to_string(components_reoriented) +
                       " connected parts whose faces disagreed in orientation");
+    if (cameras_dropped > 0)
+        out.push_back(where + ": left out " + std::to_string(cameras_dropped) +
+                      " of the file's cameras that cannot make a view (the first, " + first_camera_problem + ")");
     return out;
 }
 
