@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <unordered_set>
 
 #include <assimp/DefaultIOSystem.h>
@@ -307,9 +308,9 @@ void check_node_graph(const nlohmann::json& nodes, const std::string& path) {
     }
 }
 
-// What a glTF file says it holds, to check Assimp's scene against: per primitive (in file order,
-// as Assimp makes one mesh of each) the triangles it lists, or -1 where that is not simply known
-// (not a triangle list, or an accessor Assimp refuses itself).
+// What a glTF file says it holds, to check Assimp's scene against: per primitive (in file order)
+// the triangles it lists, or -1 where that is not simply known (not a triangle list, or an
+// accessor Assimp refuses itself).
 struct GltfFacts {
     bool known = false;  // a glTF 2.0 document was read
     std::vector<std::int64_t> triangles;
@@ -401,15 +402,26 @@ GltfFacts check_gltf(const std::string& path) {
 }
 
 // Assimp's glTF 2 reader drops the triangles whose indices are out of range with only a log
-// line; inkline refuses such files by name (compares each primitive's mesh with what it lists).
+// line; inkline refuses such files by name. Assimp's meshes are not in the file's order (it makes
+// them as nodes refer to them, and skips the unreferenced), so each is matched to the file's
+// primitives by its vertex count (POSITION's count, which Assimp keeps): where all primitives of
+// that count list the same number of triangles and the mesh has fewer, some were dropped.
 void check_triangles_kept(const aiScene& s, const GltfFacts& facts, const std::string& path) {
-    if (!facts.known || facts.triangles.size() != s.mNumMeshes) return;
+    if (!facts.known) return;
+    std::map<std::int64_t, std::int64_t> listed;  // vertex count -> triangles (-1: primitives disagree)
+    for (std::size_t i = 0; i < facts.triangles.size(); ++i) {
+        if (facts.vertices[i] < 0 || facts.triangles[i] < 0) continue;
+        const auto [it, inserted] = listed.try_emplace(facts.vertices[i], facts.triangles[i]);
+        if (!inserted && it->second != facts.triangles[i]) it->second = -1;
+    }
     for (unsigned i = 0; i < s.mNumMeshes; ++i) {
         const aiMesh* m = s.mMeshes[i];
-        if (!m || facts.triangles[i] < 0 || std::int64_t(m->mNumFaces) >= facts.triangles[i]) continue;
+        if (!m || (m->mPrimitiveTypes & ~unsigned(aiPrimitiveType_TRIANGLE)) != 0) continue;
+        const auto it = listed.find(std::int64_t(m->mNumVertices));
+        if (it == listed.end() || it->second < 0 || std::int64_t(m->mNumFaces) >= it->second) continue;
         throw Error(path, "mesh '" + std::string(m->mName.C_Str()) + "': " +
-                              std::to_string(facts.triangles[i] - std::int64_t(m->mNumFaces)) + " of its " +
-                              std::to_string(facts.triangles[i]) + " triangles refer to vertices beyond its " +
+                              std::to_string(it->second - std::int64_t(m->mNumFaces)) + " of its " +
+                              std::to_string(it->second) + " triangles refer to vertices beyond its " +
                               std::to_string(m->mNumVertices) + " (indices out of range)");
     }
 }
