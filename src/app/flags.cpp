@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "app/load_progress_line.hpp"
 #include "core/error.hpp"
 
 namespace inkline {
@@ -244,7 +245,7 @@ Camera make_camera(const CameraFlags& c, const Model& model) {
 }
 
 Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide) {
-    Model model = Model::load(path, LoadOptions{.strict = strict}, crease_degrees, subdivide);
+    Model model = Model::load(path, LoadOptions{.strict = strict, .progress = load_progress_line(path)}, crease_degrees, subdivide);
     for (const std::string& w : model.repairs().warnings(path)) std::fprintf(stderr, "inkline: warning: %s\n", w.c_str());
     return model;
 }
