@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 
@@ -13,6 +15,7 @@ LoadProgressCallback load_progress_line(const std::string& path) {
     struct State {
         std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
         bool shown = false;
+        std::uint64_t bytes = 0;  // the most read so far (later stages report none)
     };
     auto state = std::make_shared<State>();
     return [path, state](const LoadProgress& p) {
@@ -22,7 +25,8 @@ LoadProgressCallback load_progress_line(const std::string& path) {
             return;
         }
         if (seconds < 1.0 || p.fraction <= 0.0) return;
-        const double rate_mb = double(p.bytes_read) / seconds / 1e6;
+        state->bytes = std::max(state->bytes, p.bytes_read);
+        const double rate_mb = double(state->bytes) / seconds / 1e6;
         const double left = seconds * (1.0 - p.fraction) / p.fraction;
         std::fprintf(stderr, "\r\033[Kinkline: loading %s: %d%% (%.1f MB/s, %.0f s left)", path.c_str(),
                      int(100.0 * p.fraction), rate_mb, left);

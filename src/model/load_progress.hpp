@@ -20,7 +20,8 @@ using LoadProgressCallback = std::function<void(const LoadProgress&)>;
 
 // The stages' shares of the whole, in order.
 inline constexpr double kProgressParsed = 0.7;    // the file read and parsed
-inline constexpr double kProgressRepaired = 0.85; // welded, checked and repaired; the topology follows
+inline constexpr double kProgressRepaired = 0.85; // welded, checked and repaired
+inline constexpr double kProgressOrdered = 0.92;  // in Hilbert order; the topology follows
 
 class LoadProgressReporter {
 public:
@@ -36,9 +37,9 @@ public:
         state_.bytes_read = std::min(bytes, state_.file_bytes);
         report(from + (to - from) * share, false);
     }
-    // `fraction` of the whole reached (bytes read unchanged).
+    // `fraction` of the whole reached (bytes read unchanged); reported when it advanced.
     void at(double fraction) {
-        if (callback_) report(fraction, false);
+        if (callback_) report(fraction, true);
     }
     // A stage finished: the file is read whole from here on.
     void stage(double fraction) {
@@ -57,7 +58,7 @@ public:
 private:
     void report(double fraction, bool always) {
         fraction = std::clamp(fraction, state_.fraction, 1.0);
-        if (!always && fraction - last_ < 1.0 / 256) return;
+        if (fraction - last_ < (always ? 1e-9 : 1.0 / 256)) return;
         state_.fraction = last_ = fraction;
         (*callback_)(state_);
     }
