@@ -389,6 +389,8 @@ std::vector<BadFile> bad_scene_files(const fs::path& d) {
     }
     write(d / "garbage.glb", "glTF\x02\x00\x00\x00garbage");
     cases.push_back({(d / "garbage.glb").string(), "truncated: the file ends inside the 12-byte binary glTF header"});
+    write(d / "not_binary.glb", "solid cube\nendsolid cube\n");  // (Assimp's other readers read past a buffer on such bytes)
+    cases.push_back({(d / "not_binary.glb").string(), "not a binary glTF file (it does not start with 'glTF')"});
     write(d / "garbage.fbx", "not an fbx at all\n");
     cases.push_back({(d / "garbage.fbx").string(), "unexpected token"});
     return cases;
@@ -400,7 +402,7 @@ std::vector<BadFile> bad_scene_files(const fs::path& d) {
 // before load_scene checked glTF node graphs itself).
 TEST(Scene, BadFilesAreRefusedWithOneLine) {
     const std::vector<BadFile> cases = bad_scene_files(scratch());
-    ASSERT_EQ(cases.size(), 21u);
+    ASSERT_EQ(cases.size(), 22u);
     for (const BadFile& c : cases) {
         try {
             const inkline::Scene s = inkline::load_scene(c.path);

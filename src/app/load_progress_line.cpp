@@ -16,6 +16,7 @@ LoadProgressCallback load_progress_line(const std::string& path) {
         std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
         bool shown = false;
         std::uint64_t bytes = 0;  // the most read so far (later stages report none)
+        double rate_mb = 0.0;     // MB/s while the file was read
     };
     auto state = std::make_shared<State>();
     return [path, state](const LoadProgress& p) {
@@ -24,12 +25,14 @@ LoadProgressCallback load_progress_line(const std::string& path) {
             if (state->shown) std::fprintf(stderr, "\r\033[K");
             return;
         }
+        if (p.bytes_read > state->bytes) {
+            state->bytes = p.bytes_read;
+            state->rate_mb = double(state->bytes) / std::max(seconds, 1e-3) / 1e6;
+        }
         if (seconds < 1.0 || p.fraction <= 0.0) return;
-        state->bytes = std::max(state->bytes, p.bytes_read);
-        const double rate_mb = double(state->bytes) / seconds / 1e6;
         const double left = seconds * (1.0 - p.fraction) / p.fraction;
         std::fprintf(stderr, "\r\033[Kinkline: loading %s: %d%% (%.1f MB/s, %.0f s left)", path.c_str(),
-                     int(100.0 * p.fraction), rate_mb, left);
+                     int(100.0 * p.fraction), state->rate_mb, left);
         std::fflush(stderr);
         state->shown = true;
     };

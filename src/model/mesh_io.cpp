@@ -961,15 +961,19 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
 }
 
 // Checks and repairs a mesh whose vertices are already welded (see repair_mesh).
-void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict) {
+void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
+                   const LoadProgressCallback* progress_callback = nullptr) {
+    LoadProgressReporter progress(progress_callback, 0);
     check_coordinates_and_indices(mesh, where);
     drop_degenerate_faces(mesh, where, strict);
+    progress.at(kProgressParsed + 0.4 * (kProgressRepaired - kProgressParsed));
     CornerMates mates = corner_mates(mesh.triangles, mesh.positions.size());
     if (mates.extra > 0) {
         if (strict) throw Error(where, nonmanifold_message(mates));
         cut_nonmanifold_edges(mesh, mates);
         mates = corner_mates(mesh.triangles, mesh.positions.size());
     }
+    progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
     orient(mesh, mates, where);
 }
 
@@ -1088,7 +1092,8 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
     if (mesh.triangles.empty() && mesh.repairs.faces_dropped > 0)
         throw Error(path, "no faces left: all " + std::to_string(mesh.repairs.faces_dropped) +
                               " faces are degenerate (repeated corners)");
-    repair_welded(mesh, path, options.strict);
+    LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
+    repair_welded(mesh, path, options.strict, &options.progress);
     return mesh;
 }
 
@@ -1210,7 +1215,8 @@ void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions
     if (!weld.empty())
         for (auto& t : mesh.triangles)
             for (auto& i : t) i = weld[i];
-    repair_welded(mesh, where, options.strict);
+    LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
+    repair_welded(mesh, where, options.strict, &options.progress);
 }
 
 void validate_mesh(TriangleMesh& mesh, const std::string& where) { repair_welded(mesh, where, true); }

@@ -210,6 +210,9 @@ std::string gltf_json(const std::string& path) {
     head.resize(std::size_t(in.gcount()));
     const std::string ext = lower_extension(path);
     if (head.compare(0, 4, "glTF") != 0) {
+        // Not left to Assimp: it then tries its other readers on the bytes, and one of them reads
+        // past its buffer (ASan in Assimp 5.2.5; fuzz/regressions/glb-no-magic).
+        if (ext == "glb") throw Error(path, "not a binary glTF file (it does not start with 'glTF')");
         if (ext != "gltf") return "";
         in.clear();
         in.seekg(0);
@@ -438,7 +441,7 @@ std::string explain_gltf_error(const std::string& message, const GltfFacts& fact
     return message;
 }
 
-// Assimp reads through this: each Read goes in pieces of at most 4 MiB, and the bytes read so far
+// Assimp reads through this: large reads go in pieces of at most 4 MiB, and the bytes read so far
 // (of every file the import opens) are reported, so a large file shows its progress while read.
 class ProgressIO : public Assimp::DefaultIOSystem {
 public:
@@ -456,18 +459,16 @@ private:
         ~Stream() override { io_.Assimp::DefaultIOSystem::Close(inner_); }
         size_t Read(void* buffer, size_t size, size_t count) override {
             if (size == 0 || count == 0) return 0;
-            constexpr size_t kPiece = size_t(4) << 20;
-            const size_t per = std::max<size_t>(1, kPiece / size);
+            // In pieces of bytes (Assimp reads a glb's whole binary chunk as one element).
+            const size_t total = size * count;
             size_t done = 0;
-            while (done < count) {
-                const size_t want = std::min(per, count - done);
-                const size_t got = inner_->Read(static_cast<char*>(buffer) + done * size, size, want);
+            while (done < total) {
+                const size_t want = std::min(kPiece, total - done);
+                const size_t got = account(inner_->Read(static_cast<char*>(buffer) + done, 1, want));
                 done += got;
-                io_.bytes_ += got * size;
-                io_.progress_.bytes(io_.bytes_, 0.0, io_.share_);
                 if (got < want) break;
             }
-            return done;
+            return done / size;
         }
         size_t Write(const void* buffer, size_t size, size_t count) override { return inner_->Write(buffer, size, count); }
         aiReturn Seek(size_t offset, aiOrigin origin) override { return inner_->Seek(offset, origin); }
@@ -476,6 +477,12 @@ private:
         void Flush() override { inner_->Flush(); }
 
     private:
+        static constexpr size_t kPiece = size_t(4) << 20;
+        size_t account(size_t bytes) {
+            io_.bytes_ += bytes;
+            io_.progress_.bytes(io_.bytes_, 0.0, io_.share_);
+            return bytes;
+        }
         ProgressIO& io_;
         Assimp::IOStream* inner_;
     };
