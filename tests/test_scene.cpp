@@ -519,3 +519,37 @@ TEST(SceneCli, UnusableFileCameraIsLeftOutOrRefused) {
     EXPECT_EQ(strict.err, "inkline: " + path + ": camera 'Cam': field of view must be in (0, 180) degrees\n");
     EXPECT_FALSE(fs::exists(d / "strict.json"));
 }
+
+// LoadOptions::progress: through Assimp's reading (a .glb, read through inkline's IO system) and
+// inkline's own parser (an OFF of the same sphere), the fractions never go back, the file's bytes
+// are all reported read, and the last call (Model::load's) is the only one marked done, at 1.
+TEST(Scene, ProgressReportsTheWholeLoadInOrder) {
+    const fs::path d = scratch();
+    const inkline::TriangleMesh sphere = inkline::make_sphere({0, 0, 0}, 1.0, 64, 32);
+    Gltf g;
+    g.add_mesh(sphere, "sphere");
+    write(d / "sphere.glb", g.glb({g.add_node({{"mesh", 0}})}));
+    std::string off = "OFF\n" + std::to_string(sphere.positions.size()) + " " + std::to_string(sphere.triangles.size()) + " 0\n";
+    for (const auto& p : sphere.positions) off += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    for (const auto& t : sphere.triangles) off += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+    write(d / "sphere.off", off);
+    for (const char* name : {"sphere.glb", "sphere.off"}) {
+        std::vector<inkline::LoadProgress> calls;
+        inkline::LoadOptions options;
+        options.progress = [&](const inkline::LoadProgress& p) { calls.push_back(p); };
+        const inkline::Model m = inkline::Model::load((d / name).string(), options);
+        EXPECT_EQ(m.topology().face_count(), sphere.triangles.size()) << name;
+        ASSERT_GE(calls.size(), 4u) << name;  // parsed, repair steps, ordered, done
+        const std::uint64_t size = fs::file_size(d / name);
+        std::uint64_t most = 0;
+        for (std::size_t i = 0; i < calls.size(); ++i) {
+            if (i > 0) {
+                EXPECT_GE(calls[i].fraction, calls[i - 1].fraction) << name << " call " << i;
+            }
+            EXPECT_EQ(calls[i].done, i + 1 == calls.size()) << name << " call " << i;
+            most = std::max(most, calls[i].bytes_read);
+        }
+        EXPECT_EQ(most, size) << name;
+        EXPECT_EQ(calls.back().fraction, 1.0) << name;
+    }
+}
