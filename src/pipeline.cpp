@@ -25,11 +25,15 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
         mesh = load_mesh(path, options);
     }
     const LoadReport repairs = mesh.repairs;
+    LoadProgressReporter progress(&options.progress, 0);
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    Model m(hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide)), crease_degrees);
+    TriangleMesh ordered = hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide));
+    progress.at(kProgressOrdered);
+    Model m(std::move(ordered), crease_degrees);
     m.repairs_ = repairs;
     m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);
+    progress.finish();
     return m;
 }
 

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "app/batch.hpp"
+#include "app/load_progress_line.hpp"
 #include "app/progress.hpp"
 #include "core/error.hpp"
 
@@ -261,7 +262,7 @@ Model load_model_file(const std::string& path, bool strict, double crease_degree
         line->set_done(done);
         if (done == total) line->finish();  // (the ordering and topology that follow are not counted)
     };
-    Model model = Model::load(path, LoadOptions{.strict = strict}, crease_degrees, subdivide,
+    Model model = Model::load(path, LoadOptions{.strict = strict, .progress = progress ? load_progress_line(path) : LoadProgressCallback()}, crease_degrees, subdivide,
                               progress ? on_level : SubdivideProgress());
     line.reset();
     for (const std::string& w : model.repairs().warnings(path)) std::fprintf(stderr, "inkline: warning: %s\n", w.c_str());

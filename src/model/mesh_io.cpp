@@ -41,6 +41,7 @@ std::string lower_extension(const std::string& path) {
 struct Soup {
     std::vector<glm::dvec3> positions;
     std::vector<std::vector<std::int64_t>> polygons;
+    LoadProgressReporter* progress = nullptr;  // the text readers report how far they are
 };
 
 // The text readers below are strict: OpenMesh's ASCII readers do not report malformed input
@@ -50,7 +51,8 @@ struct Soup {
 // with line numbers in every message, and so are binary OFF and PLY (see read_ply_binary).
 class Lines {
 public:
-    Lines(const std::string& text, bool hash_comments) : text_(text), comments_(hash_comments) {}
+    Lines(const std::string& text, bool hash_comments, LoadProgressReporter* progress = nullptr)
+        : text_(text), comments_(hash_comments), progress_(progress) {}
     // Next line with at least one token (comments removed); false at the end of the text.
     bool next(std::vector<std::string_view>& tokens) {
         while (pos_ < text_.size()) {
@@ -58,7 +60,7 @@ public:
             if (end == std::string::npos) end = text_.size();
             std::string_view line(text_.data() + pos_, end - pos_);
             pos_ = end + 1;
-            ++line_;
+            if ((++line_ & 0xffff) == 0 && progress_) progress_->bytes(pos_, 0.0, kProgressParsed);
             if (comments_) line = line.substr(0, line.find('#'));
             split(line, tokens);
             if (!tokens.empty()) return true;
@@ -83,6 +85,7 @@ public:
 private:
     const std::string& text_;
     bool comments_;
+    LoadProgressReporter* progress_;
     std::size_t pos_ = 0, line_ = 0;
 };
 
@@ -114,7 +117,7 @@ std::string lower(std::string_view s) {
 // (further values on the line: normals, colours, texture coordinates), one face per line
 // ("n i0 .. i(n-1)" then an optional colour).
 void read_off(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, true);
+    Lines lines(text, true, soup.progress);
     std::vector<std::string_view> tok;
     if (!lines.next(tok)) throw Error(path, "no OFF header");
     const std::string key(tok[0]);
@@ -191,7 +194,7 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
 // OBJ: "v x y z [...]" and "f a b c ..." with a, b, c of the forms v, v/vt, v//vn, v/vt/vn (1-based,
 // negative: relative to the end); every other statement is ignored.
 void read_obj(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, true);
+    Lines lines(text, true, soup.progress);
     std::vector<std::string_view> tok;
     while (lines.next(tok)) {
         if (tok[0] == "v") {
@@ -253,7 +256,7 @@ struct Welder {
 };
 
 void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, false);
+    Lines lines(text, false, soup.progress);
     std::vector<std::string_view> tok;
     Welder weld{soup, {}};
     auto expect = [&](const char* word) {
@@ -403,7 +406,7 @@ std::vector<PlyElement> read_ply_header(Lines& lines, const std::string& path, b
 // ASCII PLY: header of elements and (scalar or list) properties; the "vertex" element gives x, y,
 // z and the "face" element its "vertex_indices" (or "vertex_index") list; others are skipped.
 void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup) {
-    Lines lines(text, false);
+    Lines lines(text, false, soup.progress);
     const std::vector<PlyElement> elements = read_ply_header(lines, path, false);
     std::vector<std::string_view> tok;
     // The body as one token stream (an element instance is conventionally one line).
@@ -594,42 +597,44 @@ void read_off_binary(const std::string& data, const std::string& path, const std
 // ---------------------------------------------------------------------------------------------
 // Repairs (tolerant loading) and checks.
 
-// A position within a group of vertices (an object of a scene): welding never joins two groups.
-struct GroupedPoint {
-    glm::dvec3 p;
-    std::uint32_t group;
-    bool operator==(const GroupedPoint& o) const { return PointEq()(p, o.p) && group == o.group; }
-};
-struct GroupedPointKey {
-    std::size_t operator()(const GroupedPoint& g) const { return PointKey()(g.p) * 31u ^ g.group; }
-};
-
 // New index of each vertex after merging vertices at exactly the same position (-0 == +0) into the
 // first of them; positions are compacted in their order. Non-finite positions are never merged
 // (they are refused afterwards by name), nor vertices of different groups (`group`, per vertex,
-// when not empty). Empty when nothing merges: then nothing changes.
+// when not empty). Empty when nothing merges: then nothing changes. Vertices are sorted by group
+// and position (their index breaking ties), so each run of equal ones starts with the first of
+// them; a sort, where a hash map allocated per vertex and was a large share of loading.
 std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, std::size_t& welded,
                                           const std::vector<std::uint32_t>& group = {}) {
-    std::unordered_map<GroupedPoint, std::uint32_t, GroupedPointKey> first;
-    first.reserve(positions.size());
-    std::vector<std::uint32_t> map(positions.size());
-    std::uint32_t next = 0;
-    welded = 0;
-    for (std::size_t i = 0; i < positions.size(); ++i) {
+    const std::size_t nv = positions.size();
+    auto group_of = [&](std::size_t i) { return group.empty() ? 0u : group[i]; };
+    auto finite = [&](std::size_t i) {
         const glm::dvec3& p = positions[i];
-        const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-        if (finite) {
-            auto [it, inserted] = first.try_emplace(GroupedPoint{p, group.empty() ? 0u : group[i]}, next);
-            if (!inserted) {
-                map[i] = it->second;
-                ++welded;
-                continue;
-            }
+        return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+    };
+    std::vector<std::uint32_t> order;
+    order.reserve(nv);
+    for (std::uint32_t i = 0; i < nv; ++i)
+        if (finite(i)) order.push_back(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+        const glm::dvec3 &a = positions[x], &b = positions[y];  // -0 == +0 in these comparisons
+        if (group_of(x) != group_of(y)) return group_of(x) < group_of(y);
+        return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z != b.z ? a.z < b.z : x < y;
+    });
+    std::vector<std::uint32_t> first(nv);  // the first vertex at each one's position (itself if none)
+    std::iota(first.begin(), first.end(), 0u);
+    welded = 0;
+    for (std::size_t k = 1; k < order.size(); ++k) {
+        const std::uint32_t v = order[k], u = order[k - 1];
+        if (group_of(v) == group_of(u) && PointEq()(positions[v], positions[u])) {
+            first[v] = first[u];
+            ++welded;
         }
-        map[i] = next++;
     }
     if (welded == 0) return {};
-    for (std::size_t i = 0; i < positions.size(); ++i) positions[map[i]] = positions[i];  // map[i] <= i
+    std::vector<std::uint32_t> map(nv);
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < nv; ++i) map[i] = first[i] == i ? next++ : map[first[i]];  // first[i] <= i
+    for (std::size_t i = 0; i < nv; ++i) positions[map[i]] = positions[i];  // map[i] <= i
     positions.resize(next);
     return map;
 }
@@ -671,6 +676,78 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
     return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
 }
 
+// Exactly whether a, b, c are collinear: a float filter, then CGAL's exact predicate only where
+// the filter cannot decide (nearly every face of a mesh is decided by the filter, and CGAL's
+// interval filter alone was a large share of loading). Collinear means every coordinate-plane
+// projection has a zero 2D orientation; one projection whose determinant exceeds the float error
+// bound of its computation (Shewchuk's ccwerrboundA, 3.3e-16 of the terms' magnitude, taken as
+// 4e-16; terms far from underflow) is certainly non-zero.
+bool collinear(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 u = b - a, v = c - a;
+    for (int k = 0; k < 3; ++k) {
+        const int i = k, j = (k + 1) % 3;
+        const double l = u[i] * v[j], r = u[j] * v[i];
+        const double magnitude = std::abs(l) + std::abs(r);
+        if (magnitude > 1e-280 && std::abs(l - r) > 4e-16 * magnitude) return false;
+    }
+    return CGAL::collinear(cgal_point(a), cgal_point(b), cgal_point(c));
+}
+
+// Per vertex, an id shared exactly by the vertices at the same position. After welding (tolerant
+// mode) only a scene's objects keep vertices apart at one position; without objects the vertex
+// index is the id.
+std::vector<std::uint32_t> position_ids(const TriangleMesh& mesh) {
+    const std::size_t nv = mesh.positions.size();
+    std::vector<std::uint32_t> id(nv);
+    std::iota(id.begin(), id.end(), 0u);
+    if (mesh.object_names.size() <= 1) return id;
+    std::vector<std::uint32_t> order = id;
+    auto before = [&](std::uint32_t x, std::uint32_t y) {
+        const glm::dvec3 &a = mesh.positions[x], &b = mesh.positions[y];  // -0 == +0 in these comparisons
+        return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z != b.z ? a.z < b.z : x < y;
+    };
+    std::sort(order.begin(), order.end(), before);
+    for (std::size_t k = 1; k < nv; ++k)
+        if (PointEq()(mesh.positions[order[k]], mesh.positions[order[k - 1]])) id[order[k]] = id[order[k - 1]];
+    return id;
+}
+
+// Marks (keep = 0) each face on the same three points as an earlier kept face; returns how many.
+// Double-sided exports and objects listed twice: coincident surfaces have no defined QI, and the
+// copy adds nothing. Faces sorted by their sorted position ids, so equal ones are neighbours.
+std::size_t drop_duplicate_faces(const TriangleMesh& mesh, std::vector<char>& keep) {
+    const std::vector<std::uint32_t> id = position_ids(mesh);
+    struct Key {
+        std::array<std::uint32_t, 3> corners;
+        std::uint32_t face;
+        bool operator<(const Key& o) const {  // (std::array's comparisons call memcmp)
+            for (int k = 0; k < 3; ++k)
+                if (corners[k] != o.corners[k]) return corners[k] < o.corners[k];
+            return face < o.face;
+        }
+        bool same_corners(const Key& o) const {
+            return corners[0] == o.corners[0] && corners[1] == o.corners[1] && corners[2] == o.corners[2];
+        }
+    };
+    std::vector<Key> keys;
+    keys.reserve(mesh.triangles.size());
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        if (!keep[f]) continue;
+        const auto& t = mesh.triangles[f];
+        std::array<std::uint32_t, 3> c{id[t[0]], id[t[1]], id[t[2]]};
+        std::sort(c.begin(), c.end());
+        keys.push_back({c, f});
+    }
+    std::sort(keys.begin(), keys.end());
+    std::size_t dropped = 0;
+    for (std::size_t k = 1; k < keys.size(); ++k)
+        if (keys[k].same_corners(keys[k - 1])) {
+            keep[keys[k].face] = 0;
+            ++dropped;
+        }
+    return dropped;
+}
+
 // Drops faces with a repeated corner, faces on the same three points as an earlier face (tolerant),
 // and zero-area faces (exactly collinear corners) whose every
 // edge has at least two other faces: removing those opens nothing (they are fins on edges that are
@@ -689,40 +766,11 @@ void drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool st
         }
     }
     if (!strict) {
-        // A face on the same three points as an earlier one (double-sided exports, an object
-        // listed twice): coincident surfaces have no defined QI, and the copy adds nothing.
-        struct Corners {
-            std::array<glm::dvec3, 3> p;
-            bool operator==(const Corners& o) const {
-                return PointEq()(p[0], o.p[0]) && PointEq()(p[1], o.p[1]) && PointEq()(p[2], o.p[2]);
-            }
-        };
-        struct CornersKey {
-            std::size_t operator()(const Corners& c) const {
-                return PointKey()(c.p[0]) ^ (PointKey()(c.p[1]) * 31u) ^ (PointKey()(c.p[2]) * 961u);
-            }
-        };
-        std::unordered_set<Corners, CornersKey> seen;
-        seen.reserve(nf);
-        auto before = [](const glm::dvec3& a, const glm::dvec3& b) {
-            return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
-        };
-        for (std::size_t f = 0; f < nf; ++f) {
-            if (!keep[f]) continue;
-            const auto& t = mesh.triangles[f];
-            Corners c{{mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]}};
-            for (auto& q : c.p) q += glm::dvec3(0.0);  // -0 becomes +0 (the order below compares values)
-            std::sort(c.p.begin(), c.p.end(), before);
-            if (!seen.insert(c).second) {
-                keep[f] = 0;
-                ++dropped;
-            }
-        }
+        dropped += drop_duplicate_faces(mesh, keep);
         std::vector<std::uint32_t> flat;
         for (std::size_t f = 0; f < nf; ++f) {
             const auto& t = mesh.triangles[f];
-            if (keep[f] && CGAL::collinear(cgal_point(mesh.positions[t[0]]), cgal_point(mesh.positions[t[1]]),
-                                           cgal_point(mesh.positions[t[2]])))
+            if (keep[f] && collinear(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]))
                 flat.push_back(std::uint32_t(f));
         }
         if (!flat.empty()) {
@@ -913,15 +961,19 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
 }
 
 // Checks and repairs a mesh whose vertices are already welded (see repair_mesh).
-void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict) {
+void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
+                   const LoadProgressCallback* progress_callback = nullptr) {
+    LoadProgressReporter progress(progress_callback, 0);
     check_coordinates_and_indices(mesh, where);
     drop_degenerate_faces(mesh, where, strict);
+    progress.at(kProgressParsed + 0.4 * (kProgressRepaired - kProgressParsed));
     CornerMates mates = corner_mates(mesh.triangles, mesh.positions.size());
     if (mates.extra > 0) {
         if (strict) throw Error(where, nonmanifold_message(mates));
         cut_nonmanifold_edges(mesh, mates);
         mates = corner_mates(mesh.triangles, mesh.positions.size());
     }
+    progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
     orient(mesh, mates, where);
 }
 
@@ -1040,7 +1092,8 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
     if (mesh.triangles.empty() && mesh.repairs.faces_dropped > 0)
         throw Error(path, "no faces left: all " + std::to_string(mesh.repairs.faces_dropped) +
                               " faces are degenerate (repeated corners)");
-    repair_welded(mesh, path, options.strict);
+    LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
+    repair_welded(mesh, path, options.strict, &options.progress);
     return mesh;
 }
 
@@ -1061,7 +1114,9 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
     if (data.size() >= 2 && ((data[0] == '\xff' && data[1] == '\xfe') || (data[0] == '\xfe' && data[1] == '\xff')))
         throw Error(path, "UTF-16 text (byte-order mark) is not read: save the file as UTF-8 or ASCII");
 
+    LoadProgressReporter progress(&options.progress, data.size());
     Soup soup;
+    soup.progress = &progress;
     std::vector<std::string_view> first;
     Lines::split(std::string_view(data).substr(0, data.find('\n')), first);
     if (ext == "off") {
@@ -1097,7 +1152,10 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
                                   " facets): truncated or malformed");
     }
 
-    return triangulate(std::move(soup), path, options);
+    progress.stage(kProgressParsed);
+    TriangleMesh mesh = triangulate(std::move(soup), path, options);
+    progress.stage(kProgressRepaired);
+    return mesh;
 }
 
 CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t nv) {
@@ -1157,7 +1215,8 @@ void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions
     if (!weld.empty())
         for (auto& t : mesh.triangles)
             for (auto& i : t) i = weld[i];
-    repair_welded(mesh, where, options.strict);
+    LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
+    repair_welded(mesh, where, options.strict, &options.progress);
 }
 
 void validate_mesh(TriangleMesh& mesh, const std::string& where) { repair_welded(mesh, where, true); }
@@ -1177,6 +1236,9 @@ std::vector<std::string> LoadReport::warnings(const std::string& where) const {
     if (components_reoriented > 0)
         out.push_back(where + ": re-oriented " + std::to_string(components_reoriented) +
                       " connected parts whose faces disagreed in orientation");
+    if (cameras_dropped > 0)
+        out.push_back(where + ": left out " + std::to_string(cameras_dropped) +
+                      " of the file's cameras that cannot make a view (the first, " + first_camera_problem + ")");
     return out;
 }
 

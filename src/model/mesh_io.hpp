@@ -12,6 +12,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "model/load_progress.hpp"
+
 namespace inkline {
 
 // The repairs made while loading, each counted (zero: none needed). warnings() gives one line per
@@ -23,8 +25,10 @@ struct LoadReport {
     std::size_t nonmanifold_edges_cut = 0;   // edges of more than two faces, cut so each sheet has a border there
     std::size_t vertices_split = 0;          // vertex copies those cuts made
     std::size_t components_reoriented = 0;   // connected parts whose faces disagreed in orientation
+    std::size_t cameras_dropped = 0;         // a scene's cameras that cannot make a view (zero field of view ...)
+    std::string first_camera_problem;        // why the first of them could not
     bool any() const {
-        return vertices_welded + faces_dropped + nonmanifold_edges_cut + components_reoriented > 0;
+        return vertices_welded + faces_dropped + nonmanifold_edges_cut + components_reoriented + cameras_dropped > 0;
     }
     std::vector<std::string> warnings(const std::string& where) const;  // "<where>: <repair>" lines
 };
@@ -33,6 +37,9 @@ struct LoadOptions {
     // Load as before the repairs existed: nothing welded (but STL corners, as always), degenerate
     // faces and non-manifold edges refused. Re-orientation happens in both modes.
     bool strict = false;
+    // Called as the load advances (model/load_progress.hpp), from the loading thread; none when
+    // empty. Model::load makes the last call (done) once the topology is built.
+    LoadProgressCallback progress = {};
 };
 
 struct TriangleMesh {

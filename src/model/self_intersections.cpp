@@ -130,6 +130,9 @@ void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, std::v
     const bool shares0 = std::find(t.begin(), t.end(), v0) != t.end(), shares1 = std::find(t.begin(), t.end(), v1) != t.end();
     auto add = [&](const K::Point_3& p) {
         const double s = std::clamp(glm::dot(glm::dvec3(p.x(), p.y(), p.z()) - E0, d) / dd, 0.0, 1.0);
+        // A rounded construction can come out NaN on nearly degenerate pairs (4 cuts of
+        // AC14-FZK-Haus.ifc); a NaN cut hung the visibility's curve cutting (no order, no progress).
+        if (std::isnan(s)) return;
         if ((s == 0.0 && shares0) || (s == 1.0 && shares1)) return;
         cuts.push_back({e, s});
     };

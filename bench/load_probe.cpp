@@ -1,0 +1,118 @@
+// Loading alone, for whole-process timings and profilers (bench/run_loading.sh).
+//   load_probe write NAME[@N] DIR   writes DIR/NAME[@N].off and .glb: the sample mesh NAME
+//                                    (INKLINE_DATA_DIR/meshes/NAME.off), N rounds of Loop subdivision,
+//                                    positions rounded to float in both files so they hold the same
+//                                    geometry (the .glb: float positions, uint32 indices, one node)
+//   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
+//                                    (Model::load, tolerant) and prints the fastest of the N in
+//                                    seconds: parse and repair alone, then the whole Model::load
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/clock.hpp"
+#include "core/error.hpp"
+#include "model/mesh_io.hpp"
+#include "model/subdivide.hpp"
+#include "pipeline.hpp"
+#include "scene/scene.hpp"
+
+namespace {
+
+void append_u32(std::string& s, std::uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
+
+void write_off(const inkline::TriangleMesh& m, const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) throw inkline::Error(path, "cannot write");
+    std::fprintf(f, "OFF\n%zu %zu 0\n", m.positions.size(), m.triangles.size());
+    for (const auto& p : m.positions) std::fprintf(f, "%.9g %.9g %.9g\n", p.x, p.y, p.z);
+    for (const auto& t : m.triangles) std::fprintf(f, "3 %u %u %u\n", t[0], t[1], t[2]);
+    std::fclose(f);
+}
+
+void write_glb(const inkline::TriangleMesh& m, const std::string& path) {
+    std::string bin;
+    float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+    for (const auto& p : m.positions)
+        for (int k = 0; k < 3; ++k) {
+            const float v = float(p[k]);
+            bin.append(reinterpret_cast<const char*>(&v), 4);
+            lo[k] = std::min(lo[k], v), hi[k] = std::max(hi[k], v);
+        }
+    const std::size_t index_at = bin.size();
+    for (const auto& t : m.triangles)
+        for (auto i : t) append_u32(bin, i);
+    char json[2048];
+    std::snprintf(json, sizeof json,
+                  "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+                  "\"nodes\":[{\"name\":\"mesh\",\"mesh\":0}],"
+                  "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+                  "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
+                  "\"min\":[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},"
+                  "{\"bufferView\":1,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+                  "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu,\"target\":34962},"
+                  "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}],"
+                  "\"buffers\":[{\"byteLength\":%zu}]}",
+                  m.positions.size(), lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], 3 * m.triangles.size(), index_at,
+                  index_at, bin.size() - index_at, bin.size());
+    std::string js = json;
+    while (js.size() % 4) js.push_back(' ');
+    std::string out = "glTF";
+    append_u32(out, 2);
+    append_u32(out, std::uint32_t(12 + 8 + js.size() + 8 + bin.size()));
+    append_u32(out, std::uint32_t(js.size()));
+    out += "JSON" + js;
+    append_u32(out, std::uint32_t(bin.size()));
+    out.append("BIN\0", 4);
+    out += bin;
+    std::ofstream(path, std::ios::binary) << out;
+}
+
+int write(const std::string& name, const std::string& dir) {
+    const auto at = name.find('@');
+    const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
+    inkline::TriangleMesh m =
+        inkline::subdivide_loop(inkline::load_mesh(std::string(INKLINE_DATA_DIR) + "/meshes/" + name.substr(0, at) + ".off"),
+                                levels);
+    for (auto& p : m.positions) p = glm::dvec3(glm::vec3(p));  // the same float geometry in both files
+    write_off(m, dir + "/" + name + ".off");
+    write_glb(m, dir + "/" + name + ".glb");
+    std::printf("%s: %zu vertices, %zu triangles\n", name.c_str(), m.positions.size(), m.triangles.size());
+    return 0;
+}
+
+int load(const std::string& path, int repeat) {
+    double parse = 1e300, whole = 1e300;
+    std::size_t triangles = 0;
+    for (int r = 0; r < repeat; ++r) {
+        auto t0 = inkline::StageClock::now();
+        const inkline::TriangleMesh m = inkline::is_scene_file(path) ? inkline::load_scene(path).mesh : inkline::load_mesh(path);
+        parse = std::min(parse, inkline::seconds_since(t0));
+        triangles = m.triangles.size();
+        t0 = inkline::StageClock::now();
+        const inkline::Model model = inkline::Model::load(path, inkline::LoadOptions{});
+        whole = std::min(whole, inkline::seconds_since(t0));
+    }
+    std::printf("%s: %zu triangles, parse+repair %.4f s, Model::load %.4f s\n", path.c_str(), triangles, parse, whole);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        if (argc == 4 && std::strcmp(argv[1], "write") == 0) return write(argv[2], argv[3]);
+        if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "load") == 0) return load(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
+    } catch (const inkline::Error& e) {
+        std::fprintf(stderr, "load_probe: %s\n", e.what());
+        return 1;
+    }
+    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N]\n");
+    return 2;
+}
