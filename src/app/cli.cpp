@@ -10,6 +10,7 @@
 
 #include "app/flags.hpp"
 #include "app/freeform_cli.hpp"
+#include "app/version.hpp"
 #include "core/error.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
@@ -197,7 +198,7 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
         if (cmd == "--version" || cmd == "-V") {
-            std::printf("inkline %s\n", INKLINE_VERSION);
+            std::printf("inkline %s\n", version_text());
             return 0;
         }
         if (cmd == "help") {  // `inkline help render`: as `inkline render --help`
