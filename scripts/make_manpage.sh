@@ -69,6 +69,10 @@ one line naming the flag). A failed run leaves no output file.
 .TP
 .I PREFIX/share/inkline/styles/
 the style presets (\fINAME\fR.json), their offset tables and brushes, and README.md describing the format.
+.TP
+.I PREFIX/share/doc/inkline/
+the documentation (docs/: formats, styles, freeform surfaces, the window, the library) and example
+surfaces (examples/teapot.bpt, ...).
 ROFF
 } > "$tmp"
 mv "$tmp" "$out"

@@ -20,7 +20,8 @@ install)
   for f in bin/inkline include/inkline/inkline.hpp include/inkline/version.hpp lib/cmake/inkline/inklineConfig.cmake \
            lib/cmake/inkline/inklineConfigVersion.cmake lib/cmake/inkline/inklineTargets.cmake \
            share/inkline/styles/sketchy.json share/inkline/styles/README.md share/man/man1/inkline.1 \
-           share/bash-completion/completions/inkline; do
+           share/bash-completion/completions/inkline share/doc/inkline/docs/freeform.md \
+           share/doc/inkline/examples/teapot.bpt; do
     [ -e "$root/prefix/$f" ] || fail "not installed: $f"
   done
   ;;

@@ -56,8 +56,8 @@ struct RenderArgs {
 FlagTable render_flags(RenderArgs& a) {
     FlagTable t("render", "render MODEL [-o OUT] [FLAGS]",
                 "Draws MODEL's lines to a file. MODEL: .obj .off .ply .stl (a triangle or polygon mesh), "
-                "a scene Assimp reads (.gltf .glb .fbx .dae .3ds .blend ...), or SURFACES: .bpt Bezier patches (e.g. examples/teapot.bpt) or .json "
-                "(src/freeform/README.md). Prints what it drew and the camera flags that reproduce it.");
+                "a scene Assimp reads (.gltf .glb .fbx .dae .3ds .blend ...), or SURFACES: .bpt Bezier patches or .json "
+                "surfaces (formats: docs/freeform.md; installed in share/doc/inkline). Prints what it drew and the camera flags that reproduce it.");
     t.group("Output")
         .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg)",
               [&a](const std::string& v) { a.output = v; }, "-o"})
