@@ -49,6 +49,15 @@ run)
   "$inkline" render model.off -o sketchy.png --size=200x150 --style=sketchy --quiet 2>err.txt ||
     fail "installed inkline render --style=sketchy: $(cat err.txt)"
   head -c 4 sketchy.png | grep -q PNG || fail "installed inkline wrote no PNG"
+  # The man page holds every command's flags; bash completion offers fixed values and the installed presets.
+  grep -q '^\.TH INKLINE 1' "$root/prefix/share/man/man1/inkline.1" && grep -q 'fB\\-\\-eye\\fR' "$root/prefix/share/man/man1/inkline.1" ||
+    fail "the man page lacks its header or the render flags"
+  complete_words() {
+    PATH="$root/prefix/bin:$PATH" bash -c 'source "$1"; shift; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _inkline
+      echo "${COMPREPLY[*]}"' _ "$root/prefix/share/bash-completion/completions/inkline" "$@"
+  }
+  [ "$(complete_words inkline render --format =)" = "svg pdf png json" ] || fail "completion of --format=: $(complete_words inkline render --format =)"
+  [ "$(complete_words inkline render --style = tech)" = "technical" ] || fail "completion of --style=tech: $(complete_words inkline render --style = tech)"
   # The installed tree finds its styles from where it is, so it can be moved.
   mv "$root/prefix" "$root/moved"
   "$root/moved/bin/inkline" render model.off -o moved.svg --size=200x150 --style=technical --quiet 2>err.txt ||

@@ -23,6 +23,14 @@ _inkline() {
         # A value of fixed choices ("--format=svg|pdf|png|json") completes to them, any other to files.
         local values
         values=$(sed -n "s/^  ${flag}=\([a-z0-9-]*|[a-z0-9|-]*\).*/\1/p" <<<"$help" | tr '|' ' ')
+        if [[ $flag == --style ]]; then
+            # The presets installed beside the program ($INKLINE_STYLES first, as inkline looks).
+            local dir=${INKLINE_STYLES:-$(dirname "$(readlink -f "$(command -v "${COMP_WORDS[0]}")")")/../share/inkline/styles} f
+            for f in "$dir"/*.json; do [[ -e $f ]] && values+=" $(basename "$f" .json)"; done
+            compopt -o filenames 2>/dev/null  # and style files
+            COMPREPLY=($(compgen -W "$values" -- "$cur") $(compgen -f -- "$cur"))
+            return
+        fi
         if [[ -n $values ]]; then
             COMPREPLY=($(compgen -W "$values" -- "$cur"))
         else
