@@ -32,7 +32,7 @@ build_library() {
   mkdir -p fuzz/out/obj
   local newest_header objs=() pending=()
   newest_header=$(find src -name '*.hpp' -newer fuzz/out/libinkline.a 2>/dev/null | head -1 || true)
-  for src in $(find src -name '*.cpp' ! -path 'src/app/*' ! -path 'src/view/*' | sort); do
+  for src in $(find src -name '*.cpp' ! -path 'src/app/*' ! -path 'src/view/*' ! -path 'src/api/*' | sort); do
     local obj=fuzz/out/obj/$(echo "$src" | tr / _).o
     if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ -n "$newest_header" ]; then pending+=("$src:$obj"); fi
     objs+=("$obj")

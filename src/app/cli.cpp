@@ -18,6 +18,7 @@
 #include "app/freeform_cli.hpp"
 #include "app/progress.hpp"
 #include "core/clock.hpp"
+#include "app/version.hpp"
 #include "core/error.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
@@ -77,8 +78,8 @@ struct RenderArgs {
 FlagTable render_flags(RenderArgs& a) {
     FlagTable t("render", "render MODEL... [-o OUT] [FLAGS]",
                 "Draws MODEL's lines to a file. MODEL: .obj .off .ply .stl (a triangle or polygon mesh), "
-                "a scene Assimp reads (.gltf .glb .fbx .dae .3ds .blend ...), or SURFACES: .bpt Bezier patches (e.g. examples/teapot.bpt) or .json "
-                "(src/freeform/README.md). Prints what it drew and the camera flags that reproduce it. "
+                "a scene Assimp reads (.gltf .glb .fbx .dae .3ds .blend ...), or SURFACES: .bpt Bezier patches or .json "
+                "surfaces (formats: docs/freeform.md; installed in share/doc/inkline). Prints what it drew and the camera flags that reproduce it. "
                 "Several models, or --frames=N --orbit, write a numbered sequence (-o out_%04d.svg or -o DIR/).");
     t.group("Output")
         .add({"--output", "FILE", "the drawing; its extension gives the format (default: MODEL's name .svg); for a "
@@ -469,7 +470,7 @@ int run_cli(int argc, char** argv) {
             return 0;
         }
         if (cmd == "--version" || cmd == "-V") {
-            std::printf("inkline %s\n", INKLINE_VERSION);
+            std::printf("inkline %s\n", version_text());
             return 0;
         }
         if (cmd == "help") {  // `inkline help render`: as `inkline render --help`

@@ -550,8 +550,9 @@ Flag arc_flag(double& degrees, const std::string& what) {
 
 Flag style_flag(std::string& style) {
     return {"--style", "NAME|FILE.json",
-            "a preset (clean, technical, sketchy, charcoal, ink-brush, hatched; found in $INKLINE_STYLES, "
-            "else the source tree's styles/) or a style file (styles/README.md)",
+            "a preset (clean, technical, sketchy, charcoal, ink-brush, hatched, illustration; found in "
+            "$INKLINE_STYLES, else in the styles installed with inkline) or a style file (the format: README.md "
+            "beside the presets)",
             [&style](const std::string& v) { style = v; }};
 }
 

@@ -14,8 +14,10 @@
 #include "core/error.hpp"
 #include "core/files.hpp"
 
-#ifndef INKLINE_STYLES_DIR
-#define INKLINE_STYLES_DIR "styles"
+// The styles' directory relative to the running program's (src/CMakeLists.txt: the install layout,
+// which the build tree mirrors with a link to the source's styles/).
+#ifndef INKLINE_STYLES_RELATIVE
+#define INKLINE_STYLES_RELATIVE "../share/inkline/styles"
 #endif
 
 namespace inkline {
@@ -351,23 +353,28 @@ Style load_style_file(const std::string& path) {
 
 std::string styles_dir() {
     if (const char* env = std::getenv("INKLINE_STYLES"); env && *env) return env;
+    // Found from the program, not from a path compiled in: an installed tree can be moved, and a
+    // program built against the installed library passes its directory to load_style instead.
     std::error_code ec;
-    if (fs::is_directory(INKLINE_STYLES_DIR, ec)) return INKLINE_STYLES_DIR;
-    // Moved source tree: styles/ two levels above the executable (build/src/inkline).
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec && fs::is_directory(exe.parent_path() / "../../styles", ec)) return (exe.parent_path() / "../../styles").string();
-    return INKLINE_STYLES_DIR;
+    if (ec) return INKLINE_STYLES_RELATIVE;
+    return (exe.parent_path() / INKLINE_STYLES_RELATIVE).lexically_normal().string();
 }
 
-Style load_style(const std::string& name) {
+Style load_style(const std::string& name) { return load_style(name, styles_dir()); }
+
+Style load_style(const std::string& name, const std::string& dir) {
     if (name.find('/') != std::string::npos || fs::path(name).extension() == ".json") return load_style_file(name);
-    const fs::path p = fs::path(styles_dir()) / (name + ".json");
+    const fs::path p = fs::path(dir) / (name + ".json");
     if (std::error_code missing; !fs::exists(p, missing)) {
-        std::string known;
         std::error_code ec;
-        for (const auto& e : fs::directory_iterator(styles_dir(), ec))
+        if (!fs::is_directory(dir, ec))
+            throw Error("--style", "no style '" + name + "': the styles directory " + dir +
+                                       " does not exist (set INKLINE_STYLES to the directory of the style files)");
+        std::string known;
+        for (const auto& e : fs::directory_iterator(dir, ec))
             if (e.path().extension() == ".json") known += (known.empty() ? "" : ", ") + e.path().stem().string();
-        throw Error("--style", "no style '" + name + "' in " + styles_dir() + " (expected one of " + known +
+        throw Error("--style", "no style '" + name + "' in " + dir + " (expected one of " + known +
                                    ", or a .json file)");
     }
     return load_style_file(p.string());

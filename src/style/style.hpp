@@ -105,7 +105,10 @@ Style parse_style(const std::string& json_text, const std::string& file);
 Style load_style_file(const std::string& path);
 // NAME (looked up as NAME.json in styles_dir()) or a FILE (a path with '/' or ending in .json).
 Style load_style(const std::string& name_or_file);
-// $INKLINE_STYLES if set, else the source tree's styles/ (compile definition).
+// The same with NAME looked up in `dir` (a program built against the installed library).
+Style load_style(const std::string& name_or_file, const std::string& dir);
+// Where style names are found: $INKLINE_STYLES if set, else the styles installed with the running
+// program, <its directory>/../share/inkline/styles (the build tree links that to the source's styles/).
 std::string styles_dir();
 
 }  // namespace inkline
