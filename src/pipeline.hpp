@@ -30,6 +30,7 @@ public:
     // Strict loading (refuses what tolerant loading repairs), for callers that predate the repairs.
     static Model load(const std::string& path, double crease_degrees = 40.0, int subdivide = 0);
     explicit Model(TriangleMesh mesh, double crease_degrees = 40.0);  // moved into the topology
+    explicit Model(MeshTopology topology);  // e.g. a copy whose vertices then move (detail/)
 
     const MeshTopology& topology() const { return topo_; }
     MeshTopology& topology() { return topo_; }
@@ -49,6 +50,12 @@ public:
     const CurvatureField& curvature() const;
     // The curvature if some view has asked for it already, else null (nothing is computed).
     const CurvatureField* curvature_if_computed() const { return lazy_->curvature.get(); }
+    // Moves the vertices (`positions` swapped in, same count; the old ones come back in it) and
+    // brings along what depends on them: the topology's geometry (MeshTopology::refresh_geometry),
+    // the ray-test index refitted if it was built, and the self-intersections: `known` adopted
+    // when given, else computed again if they were. The curvature is not recomputed. Not
+    // thread-safe against views of this model in flight.
+    void move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersections* known = nullptr);
     double load_seconds() const { return load_seconds_; }
     const LoadReport& repairs() const { return repairs_; }
     // The file's cameras (scenes only; empty for mesh files), in file order.
@@ -123,6 +130,13 @@ public:
     // The surface lines drawn from the next view on (their kinds and thresholds: a window's
     // toggles and sliders); the curvature is computed on first need, once per model.
     void set_surface_lines(const SurfaceLineOptions& surface) { options_.surface = surface; }
+    // The surface lines of the next views from these per-vertex quantities (both or neither)
+    // instead of the model's curvature and compute_view_curvature: the multi-scale detail's fields
+    // blended between smoothed copies of the shape (detail/). They must outlive the views.
+    void use_surface_fields(const CurvatureField* field, const ViewCurvature* view) {
+        field_override_ = field;
+        view_override_ = view;
+    }
 
 private:
     void finish(const Camera& camera);
@@ -136,6 +150,8 @@ private:
                              const std::vector<std::uint8_t>* pierced);
     PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
     ViewCurvature view_curvature_;           // surface lines: per-vertex quantities of the view
+    const CurvatureField* field_override_ = nullptr;  // use_surface_fields
+    const ViewCurvature* view_override_ = nullptr;
     SurfaceVisibilityScratch surface_scratch_;
     double features_seconds_ = 0.0;
 };

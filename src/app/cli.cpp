@@ -11,6 +11,7 @@
 #include "app/flags.hpp"
 #include "app/freeform_cli.hpp"
 #include "core/error.hpp"
+#include "detail/multiscale.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -50,6 +51,7 @@ struct RenderArgs {
     VisibilityMethod visibility = VisibilityMethod::Appel;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
     std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
+    DetailFlags detail;  // --detail: features of a target size in the image (detail/)
 };
 
 FlagTable render_flags(RenderArgs& a) {
@@ -72,6 +74,7 @@ FlagTable render_flags(RenderArgs& a) {
         .add(switch_flag("--hidden", a.hidden, true, "also draw hidden lines (dashed, by QI)"))
         .add(subdivide_flag(a.subdivide))
         .add(strict_flag(a.strict));
+    t.group("Detail control").add(detail_flags(a.detail));
     t.group("Silhouette finder")
         .add(finder_flag(a.finder.kind))
         .add(fraction_flag(a.finder.fraction))
@@ -125,6 +128,8 @@ int run_render(int argc, char** argv) {
     if (is_freeform_model(a.model)) freeform = std::make_unique<FreeformRender>(a.model, a.freeform);
     else if (a.freeform.any()) throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
     if (freeform && a.subdivide > 0) throw BadValue("--subdivide: not for surface models (use --tessellation=N)");
+    a.detail.check("render");
+    if (freeform && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models");
     Model model = freeform ? Model(freeform->mesh(), a.crease) : load_model_file(a.model, a.strict, a.crease, a.subdivide);
     const Camera cam = make_camera(a.camera, model);
     ViewOptions opt;
@@ -135,12 +140,23 @@ int run_render(int argc, char** argv) {
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
     if (style && style->draw_hidden) opt.exact_hidden = true;
     opt.finder = a.finder;
-    View view = render_view(model, cam, opt);
+    std::unique_ptr<MultiscaleLevels> levels;  // --detail: the smoothed levels and the session drawing them
+    std::unique_ptr<MultiscaleSession> detail;
+    if (a.detail.target_px > 0.0) {
+        levels = std::make_unique<MultiscaleLevels>(
+            build_multiscale_levels(model, {.levels = a.detail.levels.value_or(4), .ratio = 0.75}));
+        if (!levels->note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", a.model.c_str(), levels->note.c_str());
+        detail = std::make_unique<MultiscaleSession>(
+            model, *levels, opt,
+            MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0)});
+    }
+    View view = detail ? std::move(detail->render(cam)) : render_view(model, cam, opt);
+    // (with --detail the lines are those of the blended shape: the recall compares with its own)
+    const MeshTopology& drawn = detail ? detail->blended().topology() : model.topology();
     if (a.recall) {
-        const Features reference = extract_features(model.topology(), cam);
-        const double total = edges_length(model.topology(), reference.silhouette_edges);
-        view.drawing.stats.recall =
-            total > 0.0 ? edges_length(model.topology(), view.features.silhouette_edges) / total : 1.0;
+        const Features reference = extract_features(drawn, cam);
+        const double total = edges_length(drawn, reference.silhouette_edges);
+        view.drawing.stats.recall = total > 0.0 ? edges_length(drawn, view.features.silhouette_edges) / total : 1.0;
     }
     if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet);
     OutputOptions oo;
@@ -155,7 +171,7 @@ int run_render(int argc, char** argv) {
     if (style) {
         const auto t_s = std::chrono::steady_clock::now();
         StyledViewStats sv;
-        const StyledDrawing sd = stylize_view(model, cam, view, *style, a.hidden, &sv);
+        const StyledDrawing sd = stylize_view(detail ? detail->blended() : model, cam, view, *style, a.hidden, &sv);
         style_stats = sv.stylize;
         hatch_stats = sv.hatching;
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
@@ -177,6 +193,12 @@ int run_render(int argc, char** argv) {
                     "%.4f, ray tests %.4f), output %.4f\n",
                     s.seconds_load, s.seconds_features, s.seconds_visibility, s.seconds_pieces, s.seconds_propagation,
                     s.seconds_walks, s.seconds_ray_tests, t_write);
+        if (levels)
+            std::printf("detail: multiscale, target %g px, %d levels (%zu of %zu vertices collapsed), pre-process %.4f s, "
+                        "%.1f bytes a vertex a level, blend %.4f s\n",
+                        a.detail.target_px, levels->levels, levels->collapses, levels->vertices, levels->seconds,
+                        levels->levels > 1 ? double(levels->bytes()) / double(levels->vertices * std::size_t(levels->levels - 1)) : 0.0,
+                        detail->seconds_blend());
         if (style)
             std::printf("style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %.4f s\n",
                         style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,

@@ -124,6 +124,17 @@ Flag threads_flag(int& threads, const std::string& what, const std::string& unse
 Flag frames_flag(int& frames, const std::string& what, bool* given = nullptr);
 Flag arc_flag(double& degrees, const std::string& what);  // help shows its default
 Flag style_flag(std::string& style);
+// Detail control (docs/detail.md): --detail=PX turns it on; --levels, --detail-method and
+// --detail-depth tune it (and need --detail).
+struct DetailFlags {
+    double target_px = 0.0;  // 0: off (the drawing unchanged)
+    std::optional<int> levels;
+    std::string method = "multiscale";
+    std::optional<double> depth_exponent;
+    // Usage error when a tuning flag comes without --detail.
+    void check(const std::string& command) const;
+};
+std::vector<Flag> detail_flags(DetailFlags& detail);
 Flag switch_flag(const std::string& name, bool& target, bool value_when_given, const std::string& help);
 Flag text_flag(const std::string& name, const std::string& value, std::string& target, const std::string& help);
 

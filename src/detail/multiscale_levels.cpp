@@ -1,0 +1,258 @@
+// The multi-scale pre-process: simplification with detail coefficients, then the smoothed levels
+// rebuilt by vertex splits (multiscale.hpp; Guskov, Sweldens, Schroder 1999 as seed 001 uses it).
+//
+// The fairing functional is the umbrella (membrane) energy: the position that minimizes it for one
+// vertex, its neighbours fixed, is their centroid. GSS use a second-order functional with
+// parameter-dependent weights; the umbrella is simpler, needs no parameterization, and its
+// tangential drift only moves vertices along the smoothed surface.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModBaseT.hh>
+#include <OpenMesh/Tools/Decimater/ModEdgeLengthT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <glm/geometric.hpp>
+
+#include "core/clock.hpp"
+#include "detail/multiscale.hpp"
+#include "detail/octahedral.hpp"
+#include "model/self_intersections.hpp"
+
+namespace inkline {
+
+namespace {
+
+struct OmTraits : OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+    using Normal = OpenMesh::Vec3d;
+    VertexAttributes(OpenMesh::Attributes::Status);
+    EdgeAttributes(OpenMesh::Attributes::Status);
+    FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
+};
+using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
+
+// The collapses in order. Each is a stencil of blocks [vertex, count, neighbours...]: first the
+// removed vertex, then each vertex of its ring; the neighbours are those whose centroid predicts
+// the vertex (all its neighbours; along a border only its two border neighbours, so that borders
+// are smoothed along themselves). Per block one detail coefficient: actual minus predicted.
+struct CollapseRecord {
+    std::vector<std::uint32_t> begin{0};   // per collapse, into `blocks`; one more at the end
+    std::vector<std::uint32_t> blocks;
+    std::vector<std::uint32_t> detail_begin{0};  // per collapse, into `detail`
+    std::vector<glm::dvec3> detail;
+    std::size_t count() const { return begin.size() - 1; }
+};
+
+void predictors(const OmMesh& m, OmMesh::VertexHandle x, std::vector<std::uint32_t>& out) {
+    const std::size_t at = out.size();
+    out.push_back(std::uint32_t(x.idx()));
+    out.push_back(0);
+    const bool border = m.is_boundary(x);
+    for (auto h : m.voh_range(x))
+        if (!border || m.is_boundary(m.edge_handle(h))) out.push_back(std::uint32_t(m.to_vertex_handle(h).idx()));
+    out[at + 1] = std::uint32_t(out.size() - at - 2);
+}
+
+glm::dvec3 point(const OmMesh& m, std::uint32_t v) {
+    const auto& p = m.point(OmMesh::VertexHandle(int(v)));
+    return {p[0], p[1], p[2]};
+}
+
+// Records each collapse before it happens (positions never move: half-edge collapses).
+template <class MeshT>
+class ModRecordT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+public:
+    DECIMATING_MODULE(ModRecordT, MeshT, Record);
+    explicit ModRecordT(MeshT& mesh) : Base(mesh, true), mesh_(mesh) {}
+    CollapseRecord* out = nullptr;
+
+    void preprocess_collapse(const CollapseInfo& ci) override {
+        CollapseRecord& r = *out;
+        const std::size_t first = r.blocks.size();
+        predictors(mesh_, ci.v0, r.blocks);
+        for (auto w : mesh_.vv_range(ci.v0)) predictors(mesh_, w, r.blocks);
+        for (std::size_t b = first; b < r.blocks.size(); b += 2 + r.blocks[b + 1]) {
+            glm::dvec3 sum(0.0);
+            const std::uint32_t count = r.blocks[b + 1];
+            for (std::uint32_t i = 0; i < count; ++i) sum += point(mesh_, r.blocks[b + 2 + i]);
+            const glm::dvec3 p = point(mesh_, r.blocks[b]);
+            r.detail.push_back(count ? p - sum / double(count) : glm::dvec3(0.0));
+        }
+        r.begin.push_back(std::uint32_t(r.blocks.size()));
+        r.detail_begin.push_back(std::uint32_t(r.detail.size()));
+    }
+
+private:
+    MeshT& mesh_;
+};
+
+// Simplifies a copy of the mesh, shortest edge first (so the mesh at every stage has about uniform
+// edge lengths, as the seed's r assumes), no collapse that flips a face. Returns false when
+// OpenMesh refuses a face (a non-manifold vertex).
+bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why) {
+    OmMesh m;
+    std::vector<OmMesh::VertexHandle> vh;
+    vh.reserve(mesh.vertex_count());
+    for (const auto& p : mesh.positions) vh.push_back(m.add_vertex({p.x, p.y, p.z}));
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto& t = mesh.faces[f];
+        if (!m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) {
+            why = "face " + std::to_string(f) + " has a vertex shared by separate fans (non-manifold), which "
+                  "edge collapses cannot handle";
+            return false;
+        }
+    }
+    m.update_face_normals();
+    OpenMesh::Decimater::DecimaterT<OmMesh> decimater(m);
+    OpenMesh::Decimater::ModEdgeLengthT<OmMesh>::Handle length;
+    OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
+    ModRecordT<OmMesh>::Handle recorder;
+    decimater.add(length);
+    decimater.add(flipping);
+    decimater.add(recorder);
+    decimater.module(length).set_edge_length(std::numeric_limits<float>::max() / 4.0f);
+    decimater.module(length).set_binary(false);
+    decimater.module(flipping).set_max_normal_deviation(60.0);
+    decimater.module(recorder).out = &record;
+    const std::size_t n = mesh.vertex_count();
+    record.begin.reserve(n + 1);
+    record.detail_begin.reserve(n + 1);
+    record.blocks.reserve(16 * 7 * n / 2);
+    record.detail.reserve(7 * n);
+    if (!decimater.initialize()) {
+        why = "OpenMesh's decimater could not start";
+        return false;
+    }
+    decimater.decimate(n);
+    return true;
+}
+
+// Rebuilds by vertex splits (the collapses in reverse), each placing the new vertex and relaxing
+// its ring at their predicted positions, plus the detail for the first `with_detail` splits.
+void synthesize(const CollapseRecord& r, std::size_t with_detail, std::vector<glm::dvec3>& pos,
+                std::vector<glm::dvec3>& ring) {
+    const std::size_t n = r.count();
+    for (std::size_t s = 0; s < n; ++s) {
+        const std::size_t j = n - 1 - s;
+        const bool add = s < with_detail;
+        ring.clear();
+        std::size_t d = r.detail_begin[j];
+        for (std::uint32_t b = r.begin[j]; b < r.begin[j + 1]; b += 2 + r.blocks[b + 1], ++d) {
+            const std::uint32_t count = r.blocks[b + 1];
+            glm::dvec3 sum(0.0);
+            for (std::uint32_t i = 0; i < count; ++i) sum += pos[r.blocks[b + 2 + i]];
+            glm::dvec3 p = count ? sum / double(count) : pos[r.blocks[b]];
+            if (add) p += r.detail[d];
+            if (b == r.begin[j]) pos[r.blocks[b]] = p;  // the new vertex first: its ring sees it
+            else ring.push_back(p);
+        }
+        // Then the ring all at once (each predicted from the others' positions before the split).
+        std::size_t k = 0;
+        std::uint32_t b = r.begin[j];
+        for (b += 2 + r.blocks[b + 1]; b < r.begin[j + 1]; b += 2 + r.blocks[b + 1]) pos[r.blocks[b]] = ring[k++];
+    }
+}
+
+double mean_abs_k1(const CurvatureField& field) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t v = 0; v < field.size(); ++v)
+        if (field.valid[v]) sum += std::fabs(double(field.k1[v])), ++count;
+    return count ? sum / double(count) : 0.0;
+}
+
+void store_level(MultiscaleLevels& out, int k, const std::vector<glm::dvec3>& pos, const CurvatureField& field) {
+    for (std::size_t v = 0; v < out.vertices; ++v) {
+        const std::size_t i = out.at(k, v);
+        out.position[i] = glm::vec3(pos[v]);
+        out.normal_oct[i] = octahedral_encode(field.normal[v]);
+        out.dir1_angle[i] = angle_in_frame(octahedral_decode(out.normal_oct[i]), field.dir1[v]);
+        out.k1[i] = field.k1[v];
+        out.k2[i] = field.k2[v];
+        out.dcurv[i] = field.dcurv[v];
+        out.valid[i] = field.valid[v];
+    }
+}
+
+double mean_edge_length(const MeshTopology& mesh) {
+    double sum = 0.0;
+    for (const auto& e : mesh.edge_vertex) sum += glm::length(mesh.positions[e[1]] - mesh.positions[e[0]]);
+    return mesh.edge_count() ? sum / double(mesh.edge_count()) : 0.0;
+}
+
+}  // namespace
+
+std::size_t MultiscaleLevels::bytes() const {
+    return position.size() * sizeof(glm::vec3) + normal_oct.size() * sizeof(glm::vec2) +
+           dir1_angle.size() * sizeof(float) + (k1.size() + k2.size()) * sizeof(float) +
+           dcurv.size() * sizeof(std::array<float, 4>) + valid.size();
+}
+
+glm::vec3 MultiscaleLevels::normal(int k, std::size_t v) const { return octahedral_decode(normal_oct[at(k, v)]); }
+
+glm::vec3 MultiscaleLevels::dir1(int k, std::size_t v) const {
+    const std::size_t i = at(k, v);
+    return direction_in_frame(octahedral_decode(normal_oct[i]), dir1_angle[i]);
+}
+
+MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const MeshTopology& mesh = model.topology();
+    MultiscaleLevels out;
+    out.ratio = options.ratio;
+    out.vertices = mesh.vertex_count();
+    out.feature_size = mean_edge_length(mesh);
+    out.mean_abs_k1.push_back(mean_abs_k1(model.curvature()));
+    CollapseRecord record;
+    std::string why;
+    const bool simplified = options.levels > 1 && simplify(mesh, record, why);
+    out.collapses = record.count();
+    out.base_vertices = out.vertices - out.collapses;
+    if (options.levels > 1 && simplified && 2 * out.collapses < out.vertices)
+        why = "only " + std::to_string(out.collapses) + " of its " + std::to_string(out.vertices) +
+              " vertices can be removed by edge collapses (too small, or borders everywhere), so smoothed levels "
+              "would smooth parts of it only";
+    if (options.levels > 1 && !why.empty()) out.note = "only the input level: " + why;
+    out.levels = options.levels > 1 && why.empty() ? options.levels : 1;
+
+    const std::size_t stored = std::size_t(out.levels - 1) * out.vertices;
+    out.position.resize(stored);
+    out.normal_oct.resize(stored);
+    out.dir1_angle.resize(stored);
+    out.k1.resize(stored);
+    out.k2.resize(stored);
+    out.dcurv.resize(stored);
+    out.valid.resize(stored);
+    MeshTopology scratch;  // the level's positions with the model's connectivity, for the curvature
+    if (out.levels > 1) scratch = mesh;
+    out.levels_self_intersect = out.levels > 1 && model.self_intersections().flagged > 0;
+    std::vector<glm::dvec3> ring;
+    for (int k = 1; k < out.levels; ++k) {
+        const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
+        scratch.positions = mesh.positions;
+        synthesize(record, with_detail, scratch.positions, ring);
+        const CurvatureField field = estimate_curvature(scratch);
+        store_level(out, k, scratch.positions, field);
+        out.mean_abs_k1.push_back(mean_abs_k1(field));
+        if (!out.levels_self_intersect) {
+            scratch.refresh_geometry();
+            const std::vector<std::uint8_t> pierced = self_intersecting_faces(scratch);
+            out.levels_self_intersect = std::ranges::any_of(pierced, [](std::uint8_t f) { return f != 0; });
+        }
+    }
+    out.seconds = seconds_since(t0);
+    return out;
+}
+
+std::vector<glm::dvec3> level_positions(const Model& model, const MultiscaleLevels& levels, int k) {
+    if (k <= 0) return model.topology().positions;
+    std::vector<glm::dvec3> out(levels.vertices);
+    for (std::size_t v = 0; v < levels.vertices; ++v) out[v] = glm::dvec3(levels.position[levels.at(k, v)]);
+    return out;
+}
+
+}  // namespace inkline
