@@ -50,7 +50,8 @@ struct MultiscaleLevels {
     // self-intersections anew (exact, slower); else they are taken as none.
     bool levels_self_intersect = false;
     std::string note;                // empty, or why fewer levels than asked were built
-    double seconds = 0.0;            // the pre-process's time
+    double seconds = 0.0;            // the pre-process's time, with
+    double seconds_model = 0.0;      // the model's curvature and self-intersections (if not yet computed)
     std::size_t bytes() const;       // of the arrays above (the levels' memory)
 
     // Level k >= 1 of vertex v, decoded.
@@ -60,8 +61,8 @@ struct MultiscaleLevels {
 };
 
 // The pre-process (section 3 of the seed, after Guskov, Sweldens, Schroder 1999): OpenMesh's
-// Decimater collapses the shortest edge first (so that every stage of the simplification has about
-// uniform edge lengths) down to a base mesh, recording per collapse the removed vertex's ring
+// half-edge collapses with the Decimater's legality rules, shortest edge first (so that every stage of the simplification has about
+// uniform edge lengths), down to a base mesh, recording per collapse the removed vertex's ring
 // and the detail coefficients of it and its ring (actual position minus the position the local
 // umbrella fairing predicts); then M_k is rebuilt by vertex splits from the base mesh, adding
 // the detail back only for the first r^k n splits. Curvature of each level by estimate_curvature.

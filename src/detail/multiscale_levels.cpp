@@ -8,13 +8,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
+#include <queue>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
-#include <OpenMesh/Tools/Decimater/ModBaseT.hh>
-#include <OpenMesh/Tools/Decimater/ModEdgeLengthT.hh>
-#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <glm/geometric.hpp>
 
 #include "core/clock.hpp"
@@ -30,8 +26,9 @@ struct OmTraits : OpenMesh::DefaultTraits {
     using Point = OpenMesh::Vec3d;
     using Normal = OpenMesh::Vec3d;
     VertexAttributes(OpenMesh::Attributes::Status);
+    HalfedgeAttributes(OpenMesh::Attributes::Status);
     EdgeAttributes(OpenMesh::Attributes::Status);
-    FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
+    FaceAttributes(OpenMesh::Attributes::Status);
 };
 using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
 
@@ -62,37 +59,66 @@ glm::dvec3 point(const OmMesh& m, std::uint32_t v) {
     return {p[0], p[1], p[2]};
 }
 
-// Records each collapse before it happens (positions never move: half-edge collapses).
-template <class MeshT>
-class ModRecordT : public OpenMesh::Decimater::ModBaseT<MeshT> {
-public:
-    DECIMATING_MODULE(ModRecordT, MeshT, Record);
-    explicit ModRecordT(MeshT& mesh) : Base(mesh, true), mesh_(mesh) {}
-    CollapseRecord* out = nullptr;
-
-    void preprocess_collapse(const CollapseInfo& ci) override {
-        CollapseRecord& r = *out;
-        const std::size_t first = r.blocks.size();
-        predictors(mesh_, ci.v0, r.blocks);
-        for (auto w : mesh_.vv_range(ci.v0)) predictors(mesh_, w, r.blocks);
-        for (std::size_t b = first; b < r.blocks.size(); b += 2 + r.blocks[b + 1]) {
-            glm::dvec3 sum(0.0);
-            const std::uint32_t count = r.blocks[b + 1];
-            for (std::uint32_t i = 0; i < count; ++i) sum += point(mesh_, r.blocks[b + 2 + i]);
-            const glm::dvec3 p = point(mesh_, r.blocks[b]);
-            r.detail.push_back(count ? p - sum / double(count) : glm::dvec3(0.0));
-        }
-        r.begin.push_back(std::uint32_t(r.blocks.size()));
-        r.detail_begin.push_back(std::uint32_t(r.detail.size()));
+// Records the collapse of halfedge h (its from-vertex removed) before it happens. Positions never
+// move (half-edge collapses), so every detail is measured on the input's own positions.
+void record_collapse(const OmMesh& m, OmMesh::HalfedgeHandle h, CollapseRecord& r) {
+    const auto v0 = m.from_vertex_handle(h);
+    const std::size_t first = r.blocks.size();
+    predictors(m, v0, r.blocks);
+    for (auto w : m.vv_range(v0)) predictors(m, w, r.blocks);
+    for (std::size_t b = first; b < r.blocks.size(); b += 2 + r.blocks[b + 1]) {
+        glm::dvec3 sum(0.0);
+        const std::uint32_t count = r.blocks[b + 1];
+        for (std::uint32_t i = 0; i < count; ++i) sum += point(m, r.blocks[b + 2 + i]);
+        const glm::dvec3 p = point(m, r.blocks[b]);
+        r.detail.push_back(count ? p - sum / double(count) : glm::dvec3(0.0));
     }
+    r.begin.push_back(std::uint32_t(r.blocks.size()));
+    r.detail_begin.push_back(std::uint32_t(r.detail.size()));
+}
 
-private:
-    MeshT& mesh_;
+// The rules of OpenMesh's BaseDecimaterT::is_collapse_legal (topology, borders), and no face
+// around the removed vertex turning by more than 60 degrees or collapsing (ModNormalFlippingT's
+// test): the coarse meshes fold nowhere.
+bool collapse_allowed(OmMesh& m, OmMesh::HalfedgeHandle h) {  // (is_collapse_ok is not const)
+    if (!m.is_collapse_ok(h)) return false;
+    const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
+    const auto o = m.opposite_halfedge_handle(h);
+    const auto vl = m.face_handle(h).is_valid() ? m.to_vertex_handle(m.next_halfedge_handle(h)) : OmMesh::VertexHandle();
+    const auto vr = m.face_handle(o).is_valid() ? m.to_vertex_handle(m.next_halfedge_handle(o)) : OmMesh::VertexHandle();
+    if (vl.is_valid() && vr.is_valid() && m.find_halfedge(vl, vr).is_valid() && m.valence(vl) == 3 && m.valence(vr) == 3)
+        return false;
+    if (m.is_boundary(v0) && (!m.is_boundary(v1) || (vl.is_valid() && vr.is_valid()))) return false;
+    if (m.cw_rotated_halfedge_handle(m.cw_rotated_halfedge_handle(h)) == h) return false;
+    const OmMesh::Point q = m.point(v1);
+    for (auto f : m.vf_range(v0)) {
+        OmMesh::Point p[3], moved[3];
+        int k = 0;
+        bool touches_v1 = false;
+        for (auto w : m.fv_range(f)) {
+            touches_v1 |= w == v1;
+            p[k] = m.point(w);
+            moved[k++] = w == v0 ? q : m.point(w);
+        }
+        if (touches_v1) continue;  // removed by the collapse
+        const auto n0 = (p[1] - p[0]) % (p[2] - p[0]), n1 = (moved[1] - moved[0]) % (moved[2] - moved[0]);
+        const double l1 = n1.norm();
+        if (!(l1 > 0.0) || (n0 | n1) < 0.5 * n0.norm() * l1) return false;
+    }
+    return true;
+}
+
+struct Candidate {
+    double length2;
+    std::uint32_t edge, version;
+    bool operator>(const Candidate& o) const { return length2 != o.length2 ? length2 > o.length2 : edge > o.edge; }
 };
 
-// Simplifies a copy of the mesh, shortest edge first (so the mesh at every stage has about uniform
-// edge lengths, as the seed's r assumes), no collapse that flips a face. Returns false when
-// OpenMesh refuses a face (a non-manifold vertex).
+// Simplifies a copy of the mesh with OpenMesh's collapses, shortest edge first (so that the mesh
+// has about uniform edge lengths at every stage, as the seed's r assumes), until no edge may
+// collapse. A lazy heap of edges, re-queued when they touch a collapse: OpenMesh's DecimaterT
+// re-tests every outgoing halfedge of every ring vertex after each collapse, which made it most of
+// the pre-process (bench/results/multiscale.md). False when OpenMesh refuses a face.
 bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why) {
     OmMesh m;
     std::vector<OmMesh::VertexHandle> vh;
@@ -106,28 +132,51 @@ bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why
             return false;
         }
     }
-    m.update_face_normals();
-    OpenMesh::Decimater::DecimaterT<OmMesh> decimater(m);
-    OpenMesh::Decimater::ModEdgeLengthT<OmMesh>::Handle length;
-    OpenMesh::Decimater::ModNormalFlippingT<OmMesh>::Handle flipping;
-    ModRecordT<OmMesh>::Handle recorder;
-    decimater.add(length);
-    decimater.add(flipping);
-    decimater.add(recorder);
-    decimater.module(length).set_edge_length(std::numeric_limits<float>::max() / 4.0f);
-    decimater.module(length).set_binary(false);
-    decimater.module(flipping).set_max_normal_deviation(60.0);
-    decimater.module(recorder).out = &record;
     const std::size_t n = mesh.vertex_count();
     record.begin.reserve(n + 1);
     record.detail_begin.reserve(n + 1);
     record.blocks.reserve(16 * 7 * n / 2);
     record.detail.reserve(7 * n);
-    if (!decimater.initialize()) {
-        why = "OpenMesh's decimater could not start";
-        return false;
+    std::vector<std::uint32_t> version(m.n_edges(), 0);
+    std::vector<std::uint8_t> refused(m.n_edges(), 0);  // popped and not allowed: may be later
+    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+    auto push = [&](OmMesh::EdgeHandle e) {
+        const auto h = m.halfedge_handle(e, 0);
+        const double l2 = (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).sqrnorm();
+        queue.push({l2, std::uint32_t(e.idx()), ++version[std::size_t(e.idx())]});
+    };
+    for (auto e : m.edges()) push(e);
+    std::vector<OmMesh::VertexHandle> moved;
+    while (!queue.empty()) {
+        const Candidate c = queue.top();
+        queue.pop();
+        const OmMesh::EdgeHandle e(int(c.edge));
+        if (c.version != version[c.edge] || m.status(e).deleted()) continue;
+        OmMesh::HalfedgeHandle h = m.halfedge_handle(e, 0);
+        if (!collapse_allowed(m, h)) h = m.halfedge_handle(e, 1);
+        if (!collapse_allowed(m, h)) {  // queued again when a collapse next to it may allow it
+            refused[c.edge] = 1;
+            continue;
+        }
+        const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
+        record_collapse(m, h, record);
+        moved.clear();  // v0's edges that become v1's: the only ones whose length changes
+        for (auto w : m.vv_range(v0))
+            if (w != v1 && !m.find_halfedge(v1, w).is_valid()) moved.push_back(w);
+        m.collapse(h);
+        for (auto w : moved) {
+            const auto k = m.edge_handle(m.find_halfedge(v1, w));
+            refused[std::size_t(k.idx())] = 0;
+            push(k);
+        }
+        // Refused edges next to the collapse may be allowed now.
+        for (auto f : m.vf_range(v1))
+            for (auto fe : m.fe_range(f))
+                if (refused[std::size_t(fe.idx())]) {
+                    refused[std::size_t(fe.idx())] = 0;
+                    push(fe);
+                }
     }
-    decimater.decimate(n);
     return true;
 }
 
@@ -206,7 +255,10 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     out.ratio = options.ratio;
     out.vertices = mesh.vertex_count();
     out.feature_size = mean_edge_length(mesh);
+    // (the model's own curvature and self-intersections, which a plain render computes too)
     out.mean_abs_k1.push_back(mean_abs_k1(model.curvature()));
+    const bool input_self_intersects = model.self_intersections().flagged > 0;
+    out.seconds_model = seconds_since(t0);
     CollapseRecord record;
     std::string why;
     const bool simplified = options.levels > 1 && simplify(mesh, record, why);
@@ -229,7 +281,7 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     out.valid.resize(stored);
     MeshTopology scratch;  // the level's positions with the model's connectivity, for the curvature
     if (out.levels > 1) scratch = mesh;
-    out.levels_self_intersect = out.levels > 1 && model.self_intersections().flagged > 0;
+    out.levels_self_intersect = out.levels > 1 && input_self_intersects;
     std::vector<glm::dvec3> ring;
     for (int k = 1; k < out.levels; ++k) {
         const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
@@ -238,7 +290,10 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
         const CurvatureField field = estimate_curvature(scratch);
         store_level(out, k, scratch.positions, field);
         out.mean_abs_k1.push_back(mean_abs_k1(field));
-        if (!out.levels_self_intersect) {
+        // Only the smoothest level is searched (a second each at 200 k faces): the levels between
+        // it and the input smooth less, and a view that finds the blend self-intersecting where
+        // neither does would need a search per view (docs/detail.md).
+        if (!out.levels_self_intersect && k == out.levels - 1) {
             scratch.refresh_geometry();
             const std::vector<std::uint8_t> pierced = self_intersecting_faces(scratch);
             out.levels_self_intersect = std::ranges::any_of(pierced, [](std::uint8_t f) { return f != 0; });
