@@ -144,7 +144,7 @@ int run_render(int argc, char** argv) {
     std::unique_ptr<MultiscaleSession> detail;
     if (a.detail.target_px > 0.0) {
         levels = std::make_unique<MultiscaleLevels>(
-            build_multiscale_levels(model, {.levels = a.detail.levels.value_or(4), .ratio = 0.75}));
+            build_multiscale_levels(model, a.detail.levels_options()));
         if (!levels->note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", a.model.c_str(), levels->note.c_str());
         detail = std::make_unique<MultiscaleSession>(
             model, *levels, opt,

@@ -425,6 +425,14 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              if (v != "multiscale") throw Error("--detail-method", "unknown method '" + v + "' (expected multiscale)");
              d.method = v;
          }},
+        {"--detail-ratio", "R",
+         "--detail: level k keeps the detail of the first R^k of the vertex splits, in (0, 1) (default 0.5; "
+         "the seed's 0.75 smooths less)",
+         [&d](const std::string& v) {
+             const double r = parse_number("--detail-ratio", v);
+             if (!(r > 0.0 && r < 1.0)) throw Error("--detail-ratio", "expected a ratio in (0, 1)");
+             d.ratio = r;
+         }},
         {"--detail-depth", "E",
          "--detail: the target grows with depth as (d / d_centre)^E, 0 to 4 (default 0: the same everywhere)",
          [&d](const std::string& v) {
@@ -435,8 +443,16 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
     };
 }
 
+MultiscaleOptions DetailFlags::levels_options() const {
+    MultiscaleOptions o;
+    o.levels = levels.value_or(o.levels);
+    o.ratio = ratio.value_or(o.ratio);
+    return o;
+}
+
 void DetailFlags::check(const std::string& command) const {
     if (target_px > 0.0) return;
+    if (ratio) throw Usage("--detail-ratio needs --detail=PX", command);
     if (levels) throw Usage("--levels needs --detail=PX", command);
     if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);
 }

@@ -21,6 +21,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "detail/multiscale.hpp"
 #include "pipeline.hpp"
 
 namespace inkline {
@@ -124,13 +125,15 @@ Flag threads_flag(int& threads, const std::string& what, const std::string& unse
 Flag frames_flag(int& frames, const std::string& what, bool* given = nullptr);
 Flag arc_flag(double& degrees, const std::string& what);  // help shows its default
 Flag style_flag(std::string& style);
-// Detail control (docs/detail.md): --detail=PX turns it on; --levels, --detail-method and
-// --detail-depth tune it (and need --detail).
+// Detail control (docs/detail.md): --detail=PX turns it on; --levels, --detail-method,
+// --detail-ratio and --detail-depth tune it (and need --detail).
 struct DetailFlags {
     double target_px = 0.0;  // 0: off (the drawing unchanged)
     std::optional<int> levels;
     std::string method = "multiscale";
     std::optional<double> depth_exponent;
+    std::optional<double> ratio;
+    MultiscaleOptions levels_options() const;
     // Usage error when a tuning flag comes without --detail.
     void check(const std::string& command) const;
 };

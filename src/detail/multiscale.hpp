@@ -22,9 +22,15 @@
 
 namespace inkline {
 
+// Defaults measured on armadillo, bunny and elephant (bench/results/multiscale.md): with the
+// umbrella functional the seed's r = 3/4 smooths too little for the density check; 1/2
+// doubles the feature size per level, at the price of a few folded faces in the smoothest levels.
 struct MultiscaleOptions {
     int levels = 4;        // N: M0 (the input) and N - 1 smoothed copies
-    double ratio = 0.75;   // r: M_k keeps the detail of the first r^k n vertex splits (the seed's 3/4)
+    double ratio = 0.5;    // r: M_k keeps the detail of the first r^k n vertex splits (the seed: 3/4)
+    double relax = 1.0;    // analysis: share of the way each ring vertex moves to its neighbours' centroid
+    double shrink_back = 0.0;  // analysis: then the same with this (negative) share (Taubin's mu)
+    double spread = 0.5;   // synthesis: the same for the ring of each vertex split
 };
 
 // The smoothed levels. M0 is the model itself (its positions and Model::curvature(), exactly);
@@ -34,7 +40,7 @@ struct MultiscaleOptions {
 // [(k - 1) V, k V).
 struct MultiscaleLevels {
     int levels = 1;                  // N actually built (1: only M0; `note` says why)
-    double ratio = 0.75;
+    double ratio = 0.5;
     double feature_size = 0.0;       // L: mean edge length of M0
     std::size_t vertices = 0;        // V
     std::size_t collapses = 0;       // n: edge collapses down to the base mesh
@@ -45,7 +51,9 @@ struct MultiscaleLevels {
     std::vector<float> k1, k2;
     std::vector<std::array<float, 4>> dcurv;
     std::vector<std::uint8_t> valid;
-    std::vector<double> mean_abs_k1;  // per level 0..N-1 (over valid vertices), a check of smoothing
+    // Per level 0..N-1, over the valid vertices: a check of the smoothing. (The mean is pulled up by
+    // the few folds of the smoothest levels: docs/detail.md.)
+    std::vector<double> mean_abs_k1, median_abs_k1;
     // Where some level self-intersects the blend may too: views then find the blend's
     // self-intersections anew (exact, slower); else they are taken as none.
     bool levels_self_intersect = false;

@@ -54,27 +54,80 @@ void predictors(const OmMesh& m, OmMesh::VertexHandle x, std::vector<std::uint32
     out[at + 1] = std::uint32_t(out.size() - at - 2);
 }
 
-glm::dvec3 point(const OmMesh& m, std::uint32_t v) {
+[[maybe_unused]] glm::dvec3 point(const OmMesh& m, std::uint32_t v) {
     const auto& p = m.point(OmMesh::VertexHandle(int(v)));
     return {p[0], p[1], p[2]};
 }
 
-// Records the collapse of halfedge h (its from-vertex removed) before it happens. Positions never
-// move (half-edge collapses), so every detail is measured on the input's own positions.
-void record_collapse(const OmMesh& m, OmMesh::HalfedgeHandle h, CollapseRecord& r) {
+// Records the stencil of the collapse of halfedge h (its from-vertex removed) before it happens.
+void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, CollapseRecord& r) {
     const auto v0 = m.from_vertex_handle(h);
-    const std::size_t first = r.blocks.size();
     predictors(m, v0, r.blocks);
     for (auto w : m.vv_range(v0)) predictors(m, w, r.blocks);
-    for (std::size_t b = first; b < r.blocks.size(); b += 2 + r.blocks[b + 1]) {
-        glm::dvec3 sum(0.0);
-        const std::uint32_t count = r.blocks[b + 1];
-        for (std::uint32_t i = 0; i < count; ++i) sum += point(m, r.blocks[b + 2 + i]);
-        const glm::dvec3 p = point(m, r.blocks[b]);
-        r.detail.push_back(count ? p - sum / double(count) : glm::dvec3(0.0));
-    }
     r.begin.push_back(std::uint32_t(r.blocks.size()));
+}
+
+// After the collapse recorded last: GSS's analysis. The ring is smoothed on the coarse mesh
+// (each vertex moved `relax` of the way to the centroid of its coarse predictors: the coarser
+// meshes low-pass filtered), and each stencil vertex's detail is its position minus the position
+// the synthesis predicts from the smoothed ring (synthesize: the new vertex at its ring's
+// centroid, then each ring vertex at its fine predictors' centroid), so that adding the details
+// back rebuilds the finer mesh. `smooth` holds the current level's positions (the mesh's own
+// points stay the input's: the simplification's choices do not depend on the smoothing).
+void analyse_collapse(const OmMesh& m, CollapseRecord& r, double relax, double shrink_back, double spread,
+                      std::vector<glm::dvec3>& smooth, std::vector<std::uint32_t>& scratch_ids,
+                      std::vector<glm::dvec3>& coarse, std::vector<glm::dvec3>& original) {
+    const std::size_t j = r.count() - 1;
+    const std::uint32_t first = r.begin[j], end = r.begin[j + 1];
+    const std::uint32_t v = r.blocks[first];
+    // A step toward the centroid, and optionally Taubin's step back (lambda|mu: less shrinking; it
+    // also smoothed less here, bench/results/multiscale.md).
+    original.clear();
+    for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) original.push_back(smooth[r.blocks[b]]);
+    for (const double factor : {relax, shrink_back}) {
+        if (factor == 0.0) continue;
+        coarse.clear();
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) {
+            const std::uint32_t w = r.blocks[b];
+            scratch_ids.clear();
+            predictors(m, OmMesh::VertexHandle(int(w)), scratch_ids);  // on the coarse mesh
+            glm::dvec3 sum(0.0);
+            const std::uint32_t count = scratch_ids[1];
+            for (std::uint32_t i = 0; i < count; ++i) sum += smooth[scratch_ids[2 + i]];
+            coarse.push_back(count ? smooth[w] + factor * (sum / double(count) - smooth[w]) : smooth[w]);
+        }
+        std::size_t k = 0;
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = coarse[k++];
+    }
+    if (relax == 0.0 && shrink_back == 0.0) coarse = original;
+    {  // the details are measured from the positions before the smoothing
+        std::size_t k = 0;
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = original[k++];
+    }
+    // The value synthesis sees at vertex u when it predicts the ring: v's own, the smoothed ring's,
+    // or the unchanged rest.
+    auto ring_index = [&](std::uint32_t u) -> std::size_t {
+        std::size_t k = 0;
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1], ++k)
+            if (r.blocks[b] == u) return k;
+        return SIZE_MAX;
+    };
+    auto seen = [&](std::uint32_t u) {
+        if (u == v) return smooth[v];
+        const std::size_t k = ring_index(u);
+        return k == SIZE_MAX ? smooth[u] : coarse[k];
+    };
+    for (std::uint32_t b = first; b < end; b += 2 + r.blocks[b + 1]) {
+        const std::uint32_t count = r.blocks[b + 1], x = r.blocks[b];
+        glm::dvec3 sum(0.0);
+        for (std::uint32_t i = 0; i < count; ++i) sum += seen(r.blocks[b + 2 + i]);
+        const glm::dvec3 centroid = count ? sum / double(count) : seen(x);
+        const glm::dvec3 predicted = b == first ? centroid : seen(x) + spread * (centroid - seen(x));
+        r.detail.push_back(smooth[x] - predicted);
+    }
     r.detail_begin.push_back(std::uint32_t(r.detail.size()));
+    std::size_t k = 0;
+    for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = coarse[k++];
 }
 
 // The rules of OpenMesh's BaseDecimaterT::is_collapse_legal (topology, borders), and no face
@@ -119,7 +172,8 @@ struct Candidate {
 // collapse. A lazy heap of edges, re-queued when they touch a collapse: OpenMesh's DecimaterT
 // re-tests every outgoing halfedge of every ring vertex after each collapse, which made it most of
 // the pre-process (bench/results/multiscale.md). False when OpenMesh refuses a face.
-bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why) {
+bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double spread, CollapseRecord& record, std::vector<glm::dvec3>& smooth,
+              std::string& why) {
     OmMesh m;
     std::vector<OmMesh::VertexHandle> vh;
     vh.reserve(mesh.vertex_count());
@@ -147,6 +201,9 @@ bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why
     };
     for (auto e : m.edges()) push(e);
     std::vector<OmMesh::VertexHandle> moved;
+    std::vector<std::uint32_t> ids;
+    std::vector<glm::dvec3> coarse, original;
+    smooth = mesh.positions;
     while (!queue.empty()) {
         const Candidate c = queue.top();
         queue.pop();
@@ -159,11 +216,12 @@ bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why
             continue;
         }
         const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
-        record_collapse(m, h, record);
+        record_stencil(m, h, record);
         moved.clear();  // v0's edges that become v1's: the only ones whose length changes
         for (auto w : m.vv_range(v0))
             if (w != v1 && !m.find_halfedge(v1, w).is_valid()) moved.push_back(w);
         m.collapse(h);
+        analyse_collapse(m, record, relax, shrink_back, spread, smooth, ids, coarse, original);
         for (auto w : moved) {
             const auto k = m.edge_handle(m.find_halfedge(v1, w));
             refused[std::size_t(k.idx())] = 0;
@@ -182,7 +240,7 @@ bool simplify(const MeshTopology& mesh, CollapseRecord& record, std::string& why
 
 // Rebuilds by vertex splits (the collapses in reverse), each placing the new vertex and relaxing
 // its ring at their predicted positions, plus the detail for the first `with_detail` splits.
-void synthesize(const CollapseRecord& r, std::size_t with_detail, std::vector<glm::dvec3>& pos,
+void synthesize(const CollapseRecord& r, double spread, std::size_t with_detail, std::vector<glm::dvec3>& pos,
                 std::vector<glm::dvec3>& ring) {
     const std::size_t n = r.count();
     for (std::size_t s = 0; s < n; ++s) {
@@ -194,7 +252,9 @@ void synthesize(const CollapseRecord& r, std::size_t with_detail, std::vector<gl
             const std::uint32_t count = r.blocks[b + 1];
             glm::dvec3 sum(0.0);
             for (std::uint32_t i = 0; i < count; ++i) sum += pos[r.blocks[b + 2 + i]];
-            glm::dvec3 p = count ? sum / double(count) : pos[r.blocks[b]];
+            const glm::dvec3 centroid = count ? sum / double(count) : pos[r.blocks[b]];
+            // The new vertex at its ring's centroid; a ring vertex `spread` of the way to its own.
+            glm::dvec3 p = b == r.begin[j] ? centroid : pos[r.blocks[b]] + spread * (centroid - pos[r.blocks[b]]);
             if (add) p += r.detail[d];
             if (b == r.begin[j]) pos[r.blocks[b]] = p;  // the new vertex first: its ring sees it
             else ring.push_back(p);
@@ -206,12 +266,17 @@ void synthesize(const CollapseRecord& r, std::size_t with_detail, std::vector<gl
     }
 }
 
-double mean_abs_k1(const CurvatureField& field) {
-    double sum = 0.0;
-    std::size_t count = 0;
+// Mean and median of |k1| over the valid vertices.
+std::pair<double, double> abs_k1(const CurvatureField& field) {
+    std::vector<float> a;
+    a.reserve(field.size());
     for (std::size_t v = 0; v < field.size(); ++v)
-        if (field.valid[v]) sum += std::fabs(double(field.k1[v])), ++count;
-    return count ? sum / double(count) : 0.0;
+        if (field.valid[v]) a.push_back(std::fabs(field.k1[v]));
+    if (a.empty()) return {0.0, 0.0};
+    double sum = 0.0;
+    for (float x : a) sum += double(x);
+    std::nth_element(a.begin(), a.begin() + std::ptrdiff_t(a.size() / 2), a.end());
+    return {sum / double(a.size()), double(a[a.size() / 2])};
 }
 
 void store_level(MultiscaleLevels& out, int k, const std::vector<glm::dvec3>& pos, const CurvatureField& field) {
@@ -256,12 +321,15 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     out.vertices = mesh.vertex_count();
     out.feature_size = mean_edge_length(mesh);
     // (the model's own curvature and self-intersections, which a plain render computes too)
-    out.mean_abs_k1.push_back(mean_abs_k1(model.curvature()));
+    const auto [mean0, median0] = abs_k1(model.curvature());
+    out.mean_abs_k1.push_back(mean0);
+    out.median_abs_k1.push_back(median0);
     const bool input_self_intersects = model.self_intersections().flagged > 0;
     out.seconds_model = seconds_since(t0);
     CollapseRecord record;
+    std::vector<glm::dvec3> base;  // the smoothed base mesh's positions, where synthesis starts
     std::string why;
-    const bool simplified = options.levels > 1 && simplify(mesh, record, why);
+    const bool simplified = options.levels > 1 && simplify(mesh, options.relax, options.shrink_back, options.spread, record, base, why);
     out.collapses = record.count();
     out.base_vertices = out.vertices - out.collapses;
     if (options.levels > 1 && simplified && 2 * out.collapses < out.vertices)
@@ -285,11 +353,13 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     std::vector<glm::dvec3> ring;
     for (int k = 1; k < out.levels; ++k) {
         const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
-        scratch.positions = mesh.positions;
-        synthesize(record, with_detail, scratch.positions, ring);
+        scratch.positions = base;
+        synthesize(record, options.spread, with_detail, scratch.positions, ring);
         const CurvatureField field = estimate_curvature(scratch);
         store_level(out, k, scratch.positions, field);
-        out.mean_abs_k1.push_back(mean_abs_k1(field));
+        const auto [mean, median] = abs_k1(field);
+        out.mean_abs_k1.push_back(mean);
+        out.median_abs_k1.push_back(median);
         // Only the smoothest level is searched (a second each at 200 k faces): the levels between
         // it and the input smooth less, and a view that finds the blend self-intersecting where
         // neither does would need a search per view (docs/detail.md).
