@@ -147,6 +147,7 @@ View& MultiscaleSession::render(Camera camera) {
     View& v = session_->render(camera);
     v.drawing.stats.seconds_features += seconds_blend_;
     v.drawing.stats.seconds_total += seconds_blend_;
+    v.drawing.stats.seconds_load = model_->load_seconds();
     return v;
 }
 

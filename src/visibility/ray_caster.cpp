@@ -257,6 +257,10 @@ void RayCaster::Impl::find_degenerate() {
 void RayCaster::refit() {
     Impl& m = *impl_;
     if (!m.refittable) {  // the first refit builds the tree anew, later ones refit it
+        // (Embree refits a geometry's tree only in a dynamic scene of low build quality, a
+        // two-level structure: 1 ms instead of 11 for armadillo's 52 k triangles.)
+        rtcSetSceneFlags(m.scene, RTCSceneFlags(rtcGetSceneFlags(m.scene) | RTC_SCENE_FLAG_DYNAMIC));
+        rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_LOW);
         rtcSetGeometryBuildQuality(m.geometry, RTC_BUILD_QUALITY_REFIT);
         m.refittable = true;
     }
