@@ -2,6 +2,7 @@
 // along a dolly (issue 43's checks). Geometry only: no timings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -9,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "detail/multiscale.hpp"
+#include "cli_util.hpp"
 #include "model/primitives.hpp"
 #include "test_data.hpp"
 
@@ -239,6 +241,43 @@ TEST(MultiscaleDensity, Elephant) { check_density("elephant", 0.5); }
 // The bunny falls short of half: at 8x its drawing with detail is little more than the outline,
 // whose density grows 8x like any fixed drawing's; measured 4.31 against 7.35 (0.59).
 TEST(MultiscaleDensity, Bunny) { check_density("bunny00", 0.6); }
+
+// The command: flags checked before any work (usage errors, exit 2, one line naming the flag);
+// --detail draws and reports its levels; a mesh without smoothed levels warns and still draws.
+TEST(MultiscaleCli, FlagsAndWarnings) {
+    using inkline_test::run_inkline;
+    const auto dir = inkline_test::scratch("detail_");
+    const std::string bunny = test::mesh_path("bunny00") + " -o " + (dir / "b.json").string();
+    const struct {
+        std::string args, words;
+    } bad[] = {
+        {"--detail=0", "--detail: expected a target size in pixels"},
+        {"--detail=-3", "--detail: expected a target size in pixels"},
+        {"--detail=4 --levels=1", "--levels"},
+        {"--detail=4 --levels=9", "--levels"},
+        {"--levels=3", "--levels needs --detail=PX"},
+        {"--detail-ratio=0.5", "--detail-ratio needs --detail=PX"},
+        {"--detail=4 --detail-ratio=1", "--detail-ratio: expected a ratio in (0, 1)"},
+        {"--detail=4 --detail-method=pm", "--detail-method: unknown method 'pm'"},
+        {"--detail=4 --detail-depth=5", "--detail-depth: expected an exponent in [0, 4]"},
+    };
+    for (const auto& b : bad) {
+        const auto r = run_inkline("", "render " + bunny + " " + b.args, dir);
+        EXPECT_EQ(r.code, 2) << b.args;
+        EXPECT_NE(r.err.find(b.words), std::string::npos) << b.args << ": " << r.err;
+    }
+    const auto ok = run_inkline("", "render " + bunny + " --detail=5 --levels=3", dir);
+    EXPECT_EQ(ok.code, 0) << ok.err;
+    EXPECT_NE(ok.out.find("detail: multiscale, target 5 px, 3 levels"), std::string::npos) << ok.out;
+    // Two tetrahedra sharing a vertex: drawn, with one warning line naming the file.
+    const auto off = dir / "bowtie.off";
+    std::ofstream(off) << "OFF\n7 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n-1 0 0\n0 -1 0\n0 0 -1\n"
+                          "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 0 5 4\n3 0 4 6\n3 0 6 5\n3 4 5 6\n";
+    const auto warned = run_inkline("", "render " + off.string() + " --detail=5 -o " + (dir / "t.json").string(), dir);
+    EXPECT_EQ(warned.code, 0) << warned.err;
+    EXPECT_NE(warned.err.find("warning: " + off.string() + ": only the input level"), std::string::npos) << warned.err;
+    EXPECT_EQ(std::count(warned.err.begin(), warned.err.end(), '\n'), 1) << warned.err;  // (not OpenMesh's own too)
+}
 
 }  // namespace
 }  // namespace inkline

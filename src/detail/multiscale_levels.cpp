@@ -11,6 +11,7 @@
 #include <queue>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <glm/geometric.hpp>
 
 #include "core/clock.hpp"
@@ -178,6 +179,12 @@ bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double
     std::vector<OmMesh::VertexHandle> vh;
     vh.reserve(mesh.vertex_count());
     for (const auto& p : mesh.positions) vh.push_back(m.add_vertex({p.x, p.y, p.z}));
+    // OpenMesh prints its own line for a refused face; the caller's warning says it once.
+    struct Quiet {
+        bool was = ::omerr().is_enabled();
+        Quiet() { ::omerr().disable(); }
+        ~Quiet() { if (was) ::omerr().enable(); }
+    } quiet;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const auto& t = mesh.faces[f];
         if (!m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) {
