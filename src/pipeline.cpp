@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/clock.hpp"
+#include "core/error.hpp"
 #include "model/self_intersections.hpp"
 #include "model/reorder.hpp"
 #include "model/subdivide.hpp"
@@ -42,6 +43,23 @@ Model Model::load(const std::string& path, double crease_degrees, int subdivide)
 }
 
 Model::Model(TriangleMesh mesh, double crease_degrees) : topo_(build_topology(std::move(mesh), crease_degrees)) {}
+
+Model::Model(MeshTopology topology) : topo_(std::move(topology)) {}
+
+void Model::move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersections* known) {
+    if (positions.size() != topo_.positions.size())
+        throw Error("model", "move_vertices: " + std::to_string(positions.size()) + " positions for " +
+                                 std::to_string(topo_.positions.size()) + " vertices");
+    topo_.positions.swap(positions);
+    topo_.refresh_geometry();
+    if (lazy_->rays) lazy_->rays->refit();
+    if (known) {
+        std::call_once(lazy_->pierced_once, [] {});
+        lazy_->pierced = std::make_unique<SelfIntersections>(*known);
+    } else if (lazy_->pierced) {
+        *lazy_->pierced = inkline::self_intersections(topo_);
+    }
+}
 
 const RayCaster& Model::rays() const {
     std::call_once(lazy_->rays_once, [this] { lazy_->rays = std::make_unique<RayCaster>(topo_); });
@@ -245,10 +263,11 @@ double ViewSession::add_surface_lines(const Camera& camera, const std::function<
     DrawingStats& s = v.drawing.stats;
     // Once per model, like the ray-test index: not the view's time.
     const auto tc = std::chrono::steady_clock::now();
-    const CurvatureField& field = model.curvature();
+    const CurvatureField& field = field_override_ ? *field_override_ : model.curvature();
     const auto t0 = std::chrono::steady_clock::now();
-    compute_view_curvature(field, mesh, camera, view_curvature_);
-    extract_surface_lines(mesh, field, view_curvature_, camera, options_.surface, v.surface);
+    if (!view_override_) compute_view_curvature(field, mesh, camera, view_curvature_);
+    const ViewCurvature& quantities = view_override_ ? *view_override_ : view_curvature_;
+    extract_surface_lines(mesh, field, quantities, camera, options_.surface, v.surface);
     const auto t1 = std::chrono::steady_clock::now();
     SurfaceVisibilityOptions so;
     so.propagate = options_.visibility == VisibilityMethod::Appel;

@@ -33,6 +33,7 @@ public:
     // Strict loading (refuses what tolerant loading repairs), for callers that predate the repairs.
     static Model load(const std::string& path, double crease_degrees = 40.0, int subdivide = 0);
     explicit Model(TriangleMesh mesh, double crease_degrees = 40.0);  // moved into the topology
+    explicit Model(MeshTopology topology);  // e.g. a copy whose vertices then move (detail/)
 
     const MeshTopology& topology() const { return topo_; }
     MeshTopology& topology() { return topo_; }
@@ -57,6 +58,12 @@ public:
     const IntersectionCurves* intersection_curves_if_computed() const { return lazy_->intersections.get(); }
     // The curvature if some view has asked for it already, else null (nothing is computed).
     const CurvatureField* curvature_if_computed() const { return lazy_->curvature.get(); }
+    // Moves the vertices (`positions` swapped in, same count; the old ones come back in it) and
+    // brings along what depends on them: the topology's geometry (MeshTopology::refresh_geometry),
+    // the ray-test index refitted if it was built, and the self-intersections: `known` adopted
+    // when given, else computed again if they were. The curvature is not recomputed. Not
+    // thread-safe against views of this model in flight.
+    void move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersections* known = nullptr);
     double load_seconds() const { return load_seconds_; }
     const LoadReport& repairs() const { return repairs_; }
     // The file's cameras (scenes only; empty for mesh files), in file order.
@@ -139,6 +146,13 @@ public:
     // Intersection lines drawn from the next view on (a window's toggle); their curves are built on
     // first need, once per model.
     void set_intersection_lines(bool on) { options_.features.intersection = on; }
+    // The surface lines of the next views from these per-vertex quantities (both or neither)
+    // instead of the model's curvature and compute_view_curvature: the multi-scale detail's fields
+    // blended between smoothed copies of the shape (detail/). They must outlive the views.
+    void use_surface_fields(const CurvatureField* field, const ViewCurvature* view) {
+        field_override_ = field;
+        view_override_ = view;
+    }
 
 private:
     void finish(const Camera& camera);
@@ -155,6 +169,8 @@ private:
     double add_intersection_lines(const Camera& camera, const std::function<const RayCaster&()>& rays);
     PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
     ViewCurvature view_curvature_;           // surface lines: per-vertex quantities of the view
+    const CurvatureField* field_override_ = nullptr;  // use_surface_fields
+    const ViewCurvature* view_override_ = nullptr;
     SurfaceVisibilityScratch surface_scratch_;
     double features_seconds_ = 0.0;
 };

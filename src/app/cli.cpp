@@ -20,6 +20,7 @@
 #include "core/clock.hpp"
 #include "app/version.hpp"
 #include "core/error.hpp"
+#include "detail/multiscale.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -73,6 +74,7 @@ struct RenderArgs {
     tone::ToneOptions tone_options;
     bool toon_base = false;           // --base=toon
     std::vector<glm::dvec3> lights;   // --light (tone lines and the freeform shaders)
+    DetailFlags detail;  // --detail: features of a target size in the image (detail/)
 };
 
 FlagTable render_flags(RenderArgs& a) {
@@ -99,6 +101,7 @@ FlagTable render_flags(RenderArgs& a) {
         .add(switch_flag("--hidden", a.hidden, true, "also draw hidden lines (dashed, by QI)"))
         .add(subdivide_flag(a.subdivide))
         .add(strict_flag(a.strict));
+    t.group("Detail control").add(detail_flags(a.detail));
     t.group("Silhouette finder")
         .add(finder_flag(a.finder.kind))
         .add(fraction_flag(a.finder.fraction))
@@ -176,6 +179,7 @@ struct RenderSetup {
     std::optional<Style> style;
     ViewOptions view;
     OutputOptions output;
+    const MultiscaleLevels* detail = nullptr;  // --detail: the model's smoothed levels (one drawing)
 };
 
 // The view options for `model`: the run's, with intersection lines on for a scene of several
@@ -192,12 +196,18 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
                            const Camera& cam, const std::string& out, Format format, StageClock::time_point t0,
                            bool in_batch = false) {
     const std::optional<Style>& style = setup.style;
-    View view = render_view(model, cam, view_options(a, setup, model));
+    std::unique_ptr<MultiscaleSession> detail;  // --detail: the session drawing the blended shape
+    if (setup.detail)
+        detail = std::make_unique<MultiscaleSession>(
+            model, *setup.detail, view_options(a, setup, model),
+            MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0)});
+    View view = detail ? std::move(detail->render(cam)) : render_view(model, cam, view_options(a, setup, model));
+    // (with --detail the lines are those of the blended shape: the recall compares with its own)
+    const MeshTopology& drawn = detail ? detail->blended().topology() : model.topology();
     if (a.recall) {
-        const Features reference = extract_features(model.topology(), cam);
-        const double total = edges_length(model.topology(), reference.silhouette_edges);
-        view.drawing.stats.recall =
-            total > 0.0 ? edges_length(model.topology(), view.features.silhouette_edges) / total : 1.0;
+        const Features reference = extract_features(drawn, cam);
+        const double total = edges_length(drawn, reference.silhouette_edges);
+        view.drawing.stats.recall = total > 0.0 ? edges_length(drawn, view.features.silhouette_edges) / total : 1.0;
     }
     if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet || in_batch);  // (it prints as it goes)
     tone::ToneResult tone_result;
@@ -214,7 +224,7 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     if (style) {
         const auto t_s = std::chrono::steady_clock::now();
         StyledViewStats sv;
-        const StyledDrawing sd = stylize_view(model, cam, view, *style, a.hidden, &sv);
+        const StyledDrawing sd = stylize_view(detail ? detail->blended() : model, cam, view, *style, a.hidden, &sv);
         style_stats = sv.stylize;
         hatch_stats = sv.hatching;
         t_style = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_s).count();
@@ -246,6 +256,12 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
         appendf(report, "style: %s, %zu strokes, %zu points, %zu hatching strokes (%zu ray tests), %zu specks dropped, %.4f s\n",
                 style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
                 hatch_stats.ray_tests, style_stats.specks_dropped, t_style);
+    if (const MultiscaleLevels* levels = setup.detail)
+        appendf(report, "detail: multiscale, target %g px, %d levels (%zu of %zu vertices collapsed), pre-process %.4f s, "
+                "%.1f bytes a vertex a level, blend %.4f s\n",
+                a.detail.target_px, levels->levels, levels->collapses, levels->vertices, levels->seconds,
+                levels->levels > 1 ? double(levels->bytes()) / double(levels->vertices * std::size_t(levels->levels - 1)) : 0.0,
+                detail->seconds_blend());
     if (tone_pass) {
         std::size_t dark = 0, light = 0;
         for (const Piece& p : tone_result.pieces) (p.kind == LineKind::ToneDark ? dark : light) += 1;
@@ -417,7 +433,11 @@ int run_render(int argc, char** argv) {
     a.tone_options.lights = a.lights;
     a.freeform.lights = a.lights;
     if (a.tone.any() || a.toon_base) check_tone(a.tone_options, a.camera);
+    a.detail.check("render");
+    if (a.detail.target_px > 0.0 && plan.count > 1)
+        throw BadValue("--detail: one drawing at a time for now (not with several models or --frames)");
     for (const std::string& m : a.models) {
+        if (is_freeform_model(m) && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models");
         if (!is_freeform_model(m) && a.freeform.any())
             throw Usage("line-art flags (--strokes, ...) need a .bpt or .json surface model", "render");
         if (is_freeform_model(m) && a.subdivide > 0)
@@ -445,6 +465,12 @@ int run_render(int argc, char** argv) {
                                  : load_model_file(path, a.strict, a.crease, a.subdivide);
     const Camera home = make_camera(a.camera, model);
     if (plan.count == 1) {
+        std::optional<MultiscaleLevels> levels;
+        if (a.detail.target_px > 0.0) {
+            levels = build_multiscale_levels(model, a.detail.levels_options());
+            if (!levels->note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", path.c_str(), levels->note.c_str());
+            setup.detail = &*levels;
+        }
         const std::string report = render_drawing(a, setup, model, freeform.get(), home, plan.outputs[0], format, t0);
         if (!a.quiet) std::fputs(report.c_str(), stdout);
         return 0;

@@ -497,6 +497,55 @@ Flag visibility_flag(VisibilityMethod& method) {
             }};
 }
 
+std::vector<Flag> detail_flags(DetailFlags& d) {
+    return {
+        {"--detail", "PX",
+         "draw shape features of about PX pixels: finer ones near the eye, coarser far away (a blend of "
+         "smoothed copies of the model; docs/detail.md). Default: off, every feature of the mesh",
+         [&d](const std::string& v) {
+             const double px = parse_number("--detail", v);
+             if (!(px > 0.0 && px <= 10000.0)) throw Error("--detail", "expected a target size in pixels in (0, 10000]");
+             d.target_px = px;
+         }},
+        {"--levels", "N", "--detail: smoothed levels of the model, the input included, 2 to 8 (default 4)",
+         [&d](const std::string& v) { d.levels = parse_integer("--levels", v, 2, 8); }},
+        {"--detail-method", "multiscale", "--detail: how detail is removed (default multiscale, the only one yet)",
+         [&d](const std::string& v) {
+             if (v != "multiscale") throw Error("--detail-method", "unknown method '" + v + "' (expected multiscale)");
+             d.method = v;
+         }},
+        {"--detail-ratio", "R",
+         "--detail: level k keeps the detail of the first R^k of the vertex splits, in (0, 1) (default 0.5; "
+         "the seed's 0.75 smooths less)",
+         [&d](const std::string& v) {
+             const double r = parse_number("--detail-ratio", v);
+             if (!(r > 0.0 && r < 1.0)) throw Error("--detail-ratio", "expected a ratio in (0, 1)");
+             d.ratio = r;
+         }},
+        {"--detail-depth", "E",
+         "--detail: the target grows with depth as (d / d_centre)^E, 0 to 4 (default 0: the same everywhere)",
+         [&d](const std::string& v) {
+             const double e = parse_number("--detail-depth", v);
+             if (!(e >= 0.0 && e <= 4.0)) throw Error("--detail-depth", "expected an exponent in [0, 4]");
+             d.depth_exponent = e;
+         }},
+    };
+}
+
+MultiscaleOptions DetailFlags::levels_options() const {
+    MultiscaleOptions o;
+    o.levels = levels.value_or(o.levels);
+    o.ratio = ratio.value_or(o.ratio);
+    return o;
+}
+
+void DetailFlags::check(const std::string& command) const {
+    if (target_px > 0.0) return;
+    if (ratio) throw Usage("--detail-ratio needs --detail=PX", command);
+    if (levels) throw Usage("--levels needs --detail=PX", command);
+    if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);
+}
+
 Flag subdivide_flag(int& levels) {
     return {"--subdivide", "N", "Loop subdivision levels, 0 to 6, before drawing (default 0)",
             [&levels](const std::string& v) {

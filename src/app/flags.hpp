@@ -21,6 +21,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "detail/multiscale.hpp"
 #include "pipeline.hpp"
 #include "tone/tone.hpp"
 
@@ -152,6 +153,19 @@ Flag jobs_flag(int& jobs);
 struct FrameRange;  // app/batch.hpp
 Flag frame_range_flag(FrameRange& range);
 Flag style_flag(std::string& style);
+// Detail control (docs/detail.md): --detail=PX turns it on; --levels, --detail-method,
+// --detail-ratio and --detail-depth tune it (and need --detail).
+struct DetailFlags {
+    double target_px = 0.0;  // 0: off (the drawing unchanged)
+    std::optional<int> levels;
+    std::string method = "multiscale";
+    std::optional<double> depth_exponent;
+    std::optional<double> ratio;
+    MultiscaleOptions levels_options() const;
+    // Usage error when a tuning flag comes without --detail.
+    void check(const std::string& command) const;
+};
+std::vector<Flag> detail_flags(DetailFlags& detail);
 Flag switch_flag(const std::string& name, bool& target, bool value_when_given, const std::string& help);
 Flag text_flag(const std::string& name, const std::string& value, std::string& target, const std::string& help);
 

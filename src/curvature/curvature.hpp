@@ -4,10 +4,12 @@
 // curves that run across faces (SurfaceCurves). Built only when a requested line kind needs it.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "core/camera.hpp"
@@ -51,6 +53,28 @@ struct ViewCurvature {
 // Storage of `out` is reused from view to view.
 void compute_view_curvature(const CurvatureField& field, const MeshTopology& mesh, const Camera& camera,
                             ViewCurvature& out);
+
+// The same quantities at one vertex (view_curvature.cpp gives the formulas): from its unit normal,
+// first principal direction, curvatures and C, and v (unit, toward the eye). Inline: the
+// multi-scale detail evaluates it per vertex for two levels of smoothing (detail/).
+inline void view_curvature_at(const glm::vec3& nrm, const glm::vec3& d1, float k1, float k2,
+                              const std::array<float, 4>& C, const glm::vec3& v, float& ndotv, float& kr,
+                              float& dwkr) {
+    // Below this sin^2(theta) the view is head-on at the vertex: w has no direction, kr and D_w kr
+    // are 0 there (their limits times sin), and the clamp only keeps the division finite.
+    constexpr float kMinSin2 = 1e-12f;
+    const glm::vec3 d2 = glm::cross(nrm, d1);
+    const float nv = glm::dot(nrm, v);
+    const float u = glm::dot(v, d1), t = glm::dot(v, d2);
+    const float u2 = u * u, t2 = t * t;
+    const float inv_sin2 = 1.0f / std::max(u2 + t2, kMinSin2);
+    // C(w,w,w) / sin^2 = sin * C(w^,w^,w^); tau, the geodesic torsion along w^, times sin^2 / sin^2.
+    const float cwww = (u2 * (u * C[0] + 3.0f * t * C[1]) + t2 * (3.0f * u * C[2] + t * C[3])) * inv_sin2;
+    const float tau = (k2 - k1) * u * t * inv_sin2;
+    ndotv = nv;
+    kr = k1 * u2 + k2 * t2;
+    dwkr = cwww - 2.0f * nv * tau * tau;
+}
 
 // Curves across faces: each a polyline whose points lie on mesh edges (or vertices), every
 // segment inside one face. Points of neighbouring faces on a shared edge are identical (computed

@@ -19,14 +19,6 @@
 
 namespace inkline {
 
-namespace {
-
-// Below this sin^2(theta) the view is head-on at the vertex: w has no direction, kr and D_w kr
-// are 0 there (their limits times sin), and the clamp only keeps the division finite.
-constexpr float kMinSin2 = 1e-12f;
-
-}  // namespace
-
 void compute_view_curvature(const CurvatureField& field, const MeshTopology& mesh, const Camera& camera,
                             ViewCurvature& out) {
     const std::size_t n = std::min(field.size(), mesh.vertex_count());
@@ -53,19 +45,7 @@ void compute_view_curvature(const CurvatureField& field, const MeshTopology& mes
             const float len2 = glm::dot(v, v);
             v *= len2 > 0.0f ? 1.0f / std::sqrt(len2) : 0.0f;
         }
-        const glm::vec3 nrm = normal[i], d1 = dir1[i];
-        const glm::vec3 d2 = glm::cross(nrm, d1);
-        const float nv = glm::dot(nrm, v);
-        const float u = glm::dot(v, d1), t = glm::dot(v, d2);
-        const float u2 = u * u, t2 = t * t;
-        const float inv_sin2 = 1.0f / std::max(u2 + t2, kMinSin2);
-        const std::array<float, 4>& C = dcurv[i];
-        // C(w,w,w) / sin^2 = sin * C(w^,w^,w^); tau as above, times sin^2 / sin^2.
-        const float cwww = (u2 * (u * C[0] + 3.0f * t * C[1]) + t2 * (3.0f * u * C[2] + t * C[3])) * inv_sin2;
-        const float tau = (k2[i] - k1[i]) * u * t * inv_sin2;
-        ndotv[i] = nv;
-        kr[i] = k1[i] * u2 + k2[i] * t2;
-        dwkr[i] = cwww - 2.0f * nv * tau * tau;
+        view_curvature_at(normal[i], dir1[i], k1[i], k2[i], dcurv[i], v, ndotv[i], kr[i], dwkr[i]);
     }
 }
 

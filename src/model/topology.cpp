@@ -12,36 +12,10 @@ namespace inkline {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
-}  // namespace
 
-void MeshTopology::set_crease_angle(double degrees) {
-    crease_degrees = degrees;
-    const float threshold = float(degrees * M_PI / 180.0);
-    crease_list.clear();
-    for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
-        edge_flags[e] &= std::uint8_t(~kEdgeCrease);
-        if (!(edge_flags[e] & kEdgeBorder) && edge_normal_angle[e] > threshold) {
-            edge_flags[e] |= kEdgeCrease;
-            crease_list.push_back(e);
-        }
-    }
-}
-
-glm::dvec3 MeshTopology::face_normal(std::uint32_t f) const {
-    const auto& v = faces[f];
-    const glm::dvec3 n = glm::cross(positions[v[1]] - positions[v[0]], positions[v[2]] - positions[v[0]]);
-    const double len = glm::length(n);
-    return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
-}
-
-MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
-    MeshTopology t;
-    t.positions = std::move(mesh.positions);
-    t.faces = std::move(mesh.triangles);
-    t.face_object = std::move(mesh.face_object);
-    t.object_names = std::move(mesh.object_names);
-    const std::size_t nv = t.positions.size(), nf = t.faces.size();
-
+// Bounds, the facing origin and radius, and the float facing planes, from the positions.
+void compute_bounds_and_facing(MeshTopology& t) {
+    const std::size_t nf = t.faces.size();
     t.bounds.lo = t.bounds.hi = t.positions.empty() ? glm::dvec3(0.0) : t.positions[0];
     for (const auto& p : t.positions) {
         t.bounds.lo = glm::min(t.bounds.lo, p);
@@ -80,6 +54,59 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
         const glm::dvec3 u = n / len;
         t.facing[f] = {float(u.x), float(u.y), float(u.z), float(glm::dot(u, a - t.facing_origin))};
     }
+}
+
+// kEdgeConvex, kEdgeConcave or neither for interior edge e: the far corner of face 1 below the
+// oriented plane of face 0 (exact predicate).
+std::uint8_t convexity(const MeshTopology& t, std::uint32_t e) {
+    const auto [f0, f1] = t.edge_face[e];
+    std::uint32_t opp = 0;
+    for (auto v : t.faces[f1])
+        if (v != t.edge_vertex[e][0] && v != t.edge_vertex[e][1]) opp = v;
+    const auto& v0 = t.faces[f0];
+    const auto o = CGAL::orientation(cgal(t.positions[v0[0]]), cgal(t.positions[v0[1]]), cgal(t.positions[v0[2]]),
+                                     cgal(t.positions[opp]));
+    return o == CGAL::NEGATIVE ? kEdgeConvex : o == CGAL::POSITIVE ? kEdgeConcave : 0;
+}
+}  // namespace
+
+void MeshTopology::set_crease_angle(double degrees) {
+    crease_degrees = degrees;
+    const float threshold = float(degrees * M_PI / 180.0);
+    crease_list.clear();
+    for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
+        edge_flags[e] &= std::uint8_t(~kEdgeCrease);
+        if (!(edge_flags[e] & kEdgeBorder) && edge_normal_angle[e] > threshold) {
+            edge_flags[e] |= kEdgeCrease;
+            crease_list.push_back(e);
+        }
+    }
+}
+
+glm::dvec3 MeshTopology::face_normal(std::uint32_t f) const {
+    const auto& v = faces[f];
+    const glm::dvec3 n = glm::cross(positions[v[1]] - positions[v[0]], positions[v[2]] - positions[v[0]]);
+    const double len = glm::length(n);
+    return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+}
+
+void MeshTopology::refresh_geometry() {
+    compute_bounds_and_facing(*this);
+    for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
+        if (edge_flags[e] & kEdgeBorder) continue;
+        edge_flags[e] = std::uint8_t((edge_flags[e] & ~(kEdgeConvex | kEdgeConcave)) | convexity(*this, e));
+    }
+}
+
+MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
+    MeshTopology t;
+    t.positions = std::move(mesh.positions);
+    t.faces = std::move(mesh.triangles);
+    t.face_object = std::move(mesh.face_object);
+    t.object_names = std::move(mesh.object_names);
+    const std::size_t nv = t.positions.size(), nf = t.faces.size();
+
+    compute_bounds_and_facing(t);
 
     // Edges, numbered in the order of their first traversal (face by face, corner by corner); the
     // first traversal a->b gives face 0, the last other one face 1 (the only other one in a
@@ -122,15 +149,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
         }
         const double c = std::clamp(glm::dot(t.face_normal(f0), t.face_normal(f1)), -1.0, 1.0);
         t.edge_normal_angle[e] = float(std::acos(c));
-        // Convexity: the far corner of face 1 below the oriented plane of face 0 (exact predicate).
-        std::uint32_t opp = 0;
-        for (auto v : t.faces[f1])
-            if (v != t.edge_vertex[e][0] && v != t.edge_vertex[e][1]) opp = v;
-        const auto& v0 = t.faces[f0];
-        const auto o = CGAL::orientation(cgal(t.positions[v0[0]]), cgal(t.positions[v0[1]]),
-                                         cgal(t.positions[v0[2]]), cgal(t.positions[opp]));
-        if (o == CGAL::NEGATIVE) t.edge_flags[e] |= kEdgeConvex;
-        if (o == CGAL::POSITIVE) t.edge_flags[e] |= kEdgeConcave;
+        t.edge_flags[e] |= convexity(t, std::uint32_t(e));
     }
     t.set_crease_angle(crease_degrees);
 

@@ -86,6 +86,11 @@ struct MeshTopology {
 
     // Re-flags creases for another threshold (angle between face normals, degrees).
     void set_crease_angle(double degrees);
+    // After `positions` moved (same connectivity: a smoothed copy of the shape, detail/): the
+    // bounds, facing planes and convexity flags follow them, exactly as build_topology makes them.
+    // The angles between face normals and the crease flags are kept (the creases stay those of the
+    // shape the topology was built from).
+    void refresh_geometry();
 };
 
 MeshTopology build_topology(TriangleMesh mesh, double crease_degrees = 40.0);

@@ -73,6 +73,11 @@ struct RayCaster::Impl {
     std::vector<std::uint8_t> degenerate;                        // per face: zero area (never crossed)
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
+    RTCGeometry geometry = nullptr;  // owned by the scene
+    bool refittable = false;         // the geometry's build quality is Embree's refit
+    // Vertices into the Embree buffer (relative to `origin`) and the degenerate faces.
+    void load_vertices(float* v);
+    void find_degenerate();
     explicit Impl(const MeshTopology& m) : mesh(m), origin(m.bounds.center()), radius(m.bounds.half_diagonal()) {}
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
@@ -210,12 +215,7 @@ RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(me
     RTCGeometry geom = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                           3 * sizeof(float), mesh.vertex_count()));
-    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
-        const glm::dvec3 p = mesh.positions[i] - m.origin;
-        v[3 * i] = float(p.x);
-        v[3 * i + 1] = float(p.y);
-        v[3 * i + 2] = float(p.z);
-    }
+    m.load_vertices(v);
     auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                3 * sizeof(unsigned), mesh.face_count()));
     for (std::size_t f = 0; f < mesh.face_count(); ++f)
@@ -223,6 +223,7 @@ RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(me
     rtcCommitGeometry(geom);
     rtcAttachGeometry(m.scene, geom);
     rtcReleaseGeometry(geom);
+    m.geometry = geom;
     rtcCommitScene(m.scene);
 
     m.vertex_face_begin.assign(mesh.vertex_count() + 1, 0);
@@ -233,11 +234,44 @@ RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(me
     std::vector<std::uint32_t> fill(m.vertex_face_begin.begin(), m.vertex_face_begin.end() - 1);
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
         for (std::uint32_t w : mesh.faces[f]) m.vertex_faces[fill[w]++] = f;
-    m.degenerate.resize(mesh.face_count());
+    m.find_degenerate();
+}
+
+void RayCaster::Impl::load_vertices(float* v) {
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
+        const glm::dvec3 p = mesh.positions[i] - origin;
+        v[3 * i] = float(p.x);
+        v[3 * i + 1] = float(p.y);
+        v[3 * i + 2] = float(p.z);
+    }
+}
+
+void RayCaster::Impl::find_degenerate() {
+    degenerate.resize(mesh.face_count());
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const auto& t = mesh.faces[f];
-        m.degenerate[f] = CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
+        degenerate[f] = CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
     }
+}
+
+void RayCaster::refit() {
+    Impl& m = *impl_;
+    if (!m.refittable) {  // the first refit builds the tree anew, later ones refit it
+        // (Embree refits a geometry's tree only in a dynamic scene of low build quality, a
+        // two-level structure: 1 ms instead of 11 for armadillo's 52 k triangles.)
+        rtcSetSceneFlags(m.scene, RTCSceneFlags(rtcGetSceneFlags(m.scene) | RTC_SCENE_FLAG_DYNAMIC));
+        rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_LOW);
+        rtcSetGeometryBuildQuality(m.geometry, RTC_BUILD_QUALITY_REFIT);
+        m.refittable = true;
+    }
+    m.load_vertices(static_cast<float*>(rtcGetGeometryBufferData(m.geometry, RTC_BUFFER_TYPE_VERTEX, 0)));
+    rtcUpdateGeometryBuffer(m.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(m.geometry);
+    rtcCommitScene(m.scene);
+    // The origin stays (the buffer is relative to it); the sphere that rays start on must still
+    // hold the whole model.
+    m.radius = glm::length(m.mesh.bounds.center() - m.origin) + m.mesh.bounds.half_diagonal();
+    m.find_degenerate();
 }
 
 RayCaster::~RayCaster() = default;

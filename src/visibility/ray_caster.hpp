@@ -28,6 +28,12 @@ public:
     int count_layers(const glm::dvec3& from, const glm::dvec3& to, std::uint32_t skip0,
                      std::uint32_t skip1) const;
 
+    // The mesh's positions moved (same connectivity, MeshTopology::refresh_geometry done): the
+    // index is refitted to them (Embree's refit build quality: the tree's structure is kept and
+    // its boxes grown to the new triangles, much cheaper than a new build), the degenerate faces
+    // and the ray-start sphere follow. Not thread-safe against count_layers.
+    void refit();
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

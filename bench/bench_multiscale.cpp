@@ -1,0 +1,178 @@
+// Detail control, multi-scale method (src/detail/): per model the pre-process (time, memory per
+// vertex and level) and a dolly from the framed view to 8x farther, per frame the visible line
+// length, the model's image area and the time of a frame with and without detail; then a slow
+// dolly (1 % of the distance a frame) for temporal coherence: the symmetric difference of
+// consecutive drawings' visible lines, counting only what is more than 1 px from the other
+// drawing's lines. Times are the thread's CPU time on one core (a shared machine's wall time
+// mostly measures the others). Prints Markdown.
+// Usage: bench_multiscale [--frames=N] [--target=PX] [--ratio=R] [MODEL ...]  (default armadillo bunny00
+// elephant armadillo@1; MODEL@N: N rounds of Loop subdivision). Without --target, T is the
+// projection of the mean edge length at the model's centre in the framed view.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "bench_models.hpp"
+#include "detail/multiscale.hpp"
+
+namespace {
+
+using namespace inkline;
+
+double thread_seconds() {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+double visible_length(const Drawing& d) {
+    double sum = 0.0;
+    for (const Piece& p : d.pieces)
+        if (p.qi == 0)
+            for (std::size_t i = 1; i < p.points.size(); ++i) sum += glm::length(p.points[i] - p.points[i - 1]);
+    return sum;
+}
+
+// Visible lines sampled every half pixel, and a mask of the pixels within 1 px of them.
+struct Raster {
+    int w, h;
+    std::vector<glm::dvec2> samples;
+    std::vector<std::uint8_t> near;
+    Raster(const Drawing& d, int width, int height) : w(width), h(height), near(std::size_t(w) * std::size_t(h), 0) {
+        for (const Piece& p : d.pieces) {
+            if (p.qi != 0) continue;
+            for (std::size_t i = 1; i < p.points.size(); ++i) {
+                const glm::dvec2 a = p.points[i - 1], b = p.points[i];
+                const int n = std::max(1, int(std::ceil(2.0 * glm::length(b - a))));
+                for (int k = 0; k < n; ++k) samples.push_back(a + (b - a) * ((double(k) + 0.5) / double(n)));
+            }
+        }
+        for (const glm::dvec2& s : samples)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = int(std::floor(s.x)) + dx, y = int(std::floor(s.y)) + dy;
+                    if (x >= 0 && y >= 0 && x < w && y < h) near[std::size_t(y) * std::size_t(w) + std::size_t(x)] = 1;
+                }
+    }
+    // Length (px) of this drawing's lines farther than about 1 px from the other's.
+    double apart_from(const Raster& o) const {
+        std::size_t n = 0;
+        for (const glm::dvec2& s : samples) {
+            const int x = int(std::floor(s.x)), y = int(std::floor(s.y));
+            n += x < 0 || y < 0 || x >= w || y >= h || !o.near[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+        }
+        return 0.5 * double(n);
+    }
+    double length() const { return 0.5 * double(samples.size()); }
+};
+
+ViewOptions line_options() {
+    ViewOptions o;
+    o.features.kinds[int(LineKind::Crease)] = false;  // the seed's lines: silhouettes, suggestive contours
+    o.surface.suggestive = true;
+    return o;
+}
+
+void bench(const std::string& name, int frames, double target_arg, const MultiscaleOptions& options) {
+    const Model* m = bench_model_for(name, "bench_multiscale");
+    if (!m) return;
+    const MeshTopology& t = m->topology();
+    // The model's own curvature and self-intersections (a plain render computes them too).
+    double t0 = thread_seconds();
+    m->curvature();
+    m->self_intersections();
+    m->rays();
+    const double model_s = thread_seconds() - t0;
+    t0 = thread_seconds();
+    const MultiscaleLevels L = build_multiscale_levels(*m, options);
+    const double levels_s = thread_seconds() - t0;
+    const double per_vertex_level = L.levels > 1 ? double(L.bytes()) / double(L.vertices * std::size_t(L.levels - 1)) : 0.0;
+    std::printf("\n## %s: %zu triangles, %zu vertices (r = %g)\n\n", name.c_str(), t.face_count(), t.vertex_count(), options.ratio);
+    std::printf("pre-process: %.2f s CPU (+ %.2f s for the model's curvature, self-intersections and ray index), "
+                "%d levels, %zu collapses, %.1f bytes a vertex a level (%.1f MB), mean edge %.4g%s%s\n",
+                levels_s, model_s, L.levels, L.collapses, per_vertex_level, double(L.bytes()) / 1e6, L.feature_size,
+                L.note.empty() ? "" : ", ", L.note.c_str());
+    const Camera framed = Camera::framing(t.bounds, 1024, 1024);
+    const glm::dvec3 c = t.bounds.center(), offset = framed.eye() - c;
+    const double target = target_arg > 0.0 ? target_arg : L.feature_size * framed.focal() / glm::length(offset);
+    MultiscaleSession detail(*m, L, line_options(), {.target_px = target});
+    ViewSession plain(*m, line_options());
+    auto camera_at = [&](double factor) { return Camera::perspective(c + factor * offset, c, {0, 1, 0}, 30.0, 1024, 1024); };
+    detail.render(camera_at(1.0));  // warm: storage and the blended model's ray index
+    plain.render(camera_at(1.0));
+    std::printf("\nT = %.2f px. Dolly from the framed view (1x) to 8x: visible length per image area of the model "
+                "(bounding sphere), relative to 1x; frame times in ms (CPU, one core).\n\n",
+                target);
+    std::printf("| distance | plain length px | detail length px | plain density | detail density | plain ms | detail ms |\n");
+    std::printf("|---|---|---|---|---|---|---|\n");
+    double d0p = 0.0, d0d = 0.0;
+    std::vector<double> plain_ms, detail_ms;
+    for (int i = 0; i < frames; ++i) {
+        const double factor = std::pow(8.0, double(i) / double(frames - 1));
+        const Camera cam = camera_at(factor);
+        double s = thread_seconds();
+        const double lp = visible_length(plain.render(cam).drawing);
+        plain_ms.push_back(1e3 * (thread_seconds() - s));
+        s = thread_seconds();
+        const double ld = visible_length(detail.render(cam).drawing);
+        detail_ms.push_back(1e3 * (thread_seconds() - s));
+        const double r = t.bounds.half_diagonal() * cam.focal() / (factor * glm::length(offset));
+        const double area = M_PI * r * r;
+        if (i == 0) d0p = lp / area, d0d = ld / area;
+        std::printf("| %.2fx | %.0f | %.0f | %.2f | %.2f | %.2f | %.2f |\n", factor, lp, ld, lp / area / d0p,
+                    ld / area / d0d, plain_ms.back(), detail_ms.back());
+    }
+    std::printf("\nmedian frame: plain %.2f ms, detail %.2f ms\n", median(plain_ms), median(detail_ms));
+    // Temporal coherence: 20 frames from 2x outward, 1 % farther each.
+    double worst = 0.0, sum = 0.0, sum_plain = 0.0;
+    std::unique_ptr<Raster> prev, prev_plain;
+    for (int i = 0; i <= 20; ++i) {
+        const Camera cam = camera_at(2.0 * std::pow(1.01, i));
+        auto now = std::make_unique<Raster>(detail.render(cam).drawing, 1024, 1024);
+        auto now_plain = std::make_unique<Raster>(plain.render(cam).drawing, 1024, 1024);
+        if (prev) {
+            const double diff = (now->apart_from(*prev) + prev->apart_from(*now)) / std::max(1.0, now->length());
+            const double diff_plain = (now_plain->apart_from(*prev_plain) + prev_plain->apart_from(*now_plain)) /
+                                      std::max(1.0, now_plain->length());
+            worst = std::max(worst, diff);
+            sum += diff;
+            sum_plain += diff_plain;
+        }
+        prev = std::move(now);
+        prev_plain = std::move(now_plain);
+    }
+    std::printf("slow dolly (1 %% a frame from 2x): symmetric difference beyond 1 px, per frame, as a share of the "
+                "drawing's length: detail mean %.3f (worst %.3f), plain mean %.3f\n",
+                sum / 20.0, worst, sum_plain / 20.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int frames = 13;
+    double target = 0.0;
+    MultiscaleOptions options;
+    std::vector<std::string> models;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a.rfind("--frames=", 0) == 0) frames = std::max(2, std::stoi(a.substr(9)));
+        else if (a.rfind("--target=", 0) == 0) target = std::stod(a.substr(9));
+        else if (a.rfind("--ratio=", 0) == 0) options.ratio = std::stod(a.substr(8));
+        else models.push_back(a);
+    }
+    if (models.empty()) models = {"armadillo", "bunny00", "elephant", "armadillo@1"};
+    std::printf("# Multi-scale detail: pre-process and dolly (bench_multiscale)\n");
+    for (const std::string& m : models) bench(m, frames, target, options);
+    return 0;
+}

@@ -1,0 +1,390 @@
+// The multi-scale pre-process: simplification with detail coefficients, then the smoothed levels
+// rebuilt by vertex splits (multiscale.hpp; Guskov, Sweldens, Schroder 1999 as seed 001 uses it).
+//
+// The fairing functional is the umbrella (membrane) energy: the position that minimizes it for one
+// vertex, its neighbours fixed, is their centroid. GSS use a second-order functional with
+// parameter-dependent weights; the umbrella is simpler, needs no parameterization, and its
+// tangential drift only moves vertices along the smoothed surface.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <queue>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#include <glm/geometric.hpp>
+
+#include "core/clock.hpp"
+#include "detail/multiscale.hpp"
+#include "detail/octahedral.hpp"
+#include "model/self_intersections.hpp"
+
+namespace inkline {
+
+namespace {
+
+struct OmTraits : OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+    using Normal = OpenMesh::Vec3d;
+    VertexAttributes(OpenMesh::Attributes::Status);
+    HalfedgeAttributes(OpenMesh::Attributes::Status);
+    EdgeAttributes(OpenMesh::Attributes::Status);
+    FaceAttributes(OpenMesh::Attributes::Status);
+};
+using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
+
+// The collapses in order. Each is a stencil of blocks [vertex, count, neighbours...]: first the
+// removed vertex, then each vertex of its ring; the neighbours are those whose centroid predicts
+// the vertex (all its neighbours; along a border only its two border neighbours, so that borders
+// are smoothed along themselves). Per block one detail coefficient: actual minus predicted.
+struct CollapseRecord {
+    std::vector<std::uint32_t> begin{0};   // per collapse, into `blocks`; one more at the end
+    std::vector<std::uint32_t> blocks;
+    std::vector<std::uint32_t> detail_begin{0};  // per collapse, into `detail`
+    std::vector<glm::dvec3> detail;
+    std::size_t count() const { return begin.size() - 1; }
+};
+
+void predictors(const OmMesh& m, OmMesh::VertexHandle x, std::vector<std::uint32_t>& out) {
+    const std::size_t at = out.size();
+    out.push_back(std::uint32_t(x.idx()));
+    out.push_back(0);
+    const bool border = m.is_boundary(x);
+    for (auto h : m.voh_range(x))
+        if (!border || m.is_boundary(m.edge_handle(h))) out.push_back(std::uint32_t(m.to_vertex_handle(h).idx()));
+    out[at + 1] = std::uint32_t(out.size() - at - 2);
+}
+
+[[maybe_unused]] glm::dvec3 point(const OmMesh& m, std::uint32_t v) {
+    const auto& p = m.point(OmMesh::VertexHandle(int(v)));
+    return {p[0], p[1], p[2]};
+}
+
+// Records the stencil of the collapse of halfedge h (its from-vertex removed) before it happens.
+void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, CollapseRecord& r) {
+    const auto v0 = m.from_vertex_handle(h);
+    predictors(m, v0, r.blocks);
+    for (auto w : m.vv_range(v0)) predictors(m, w, r.blocks);
+    r.begin.push_back(std::uint32_t(r.blocks.size()));
+}
+
+// After the collapse recorded last: GSS's analysis. The ring is smoothed on the coarse mesh
+// (each vertex moved `relax` of the way to the centroid of its coarse predictors: the coarser
+// meshes low-pass filtered), and each stencil vertex's detail is its position minus the position
+// the synthesis predicts from the smoothed ring (synthesize: the new vertex at its ring's
+// centroid, then each ring vertex at its fine predictors' centroid), so that adding the details
+// back rebuilds the finer mesh. `smooth` holds the current level's positions (the mesh's own
+// points stay the input's: the simplification's choices do not depend on the smoothing).
+void analyse_collapse(const OmMesh& m, CollapseRecord& r, double relax, double shrink_back, double spread,
+                      std::vector<glm::dvec3>& smooth, std::vector<std::uint32_t>& scratch_ids,
+                      std::vector<glm::dvec3>& coarse, std::vector<glm::dvec3>& original) {
+    const std::size_t j = r.count() - 1;
+    const std::uint32_t first = r.begin[j], end = r.begin[j + 1];
+    const std::uint32_t v = r.blocks[first];
+    // A step toward the centroid, and optionally Taubin's step back (lambda|mu: less shrinking; it
+    // also smoothed less here, bench/results/multiscale.md).
+    original.clear();
+    for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) original.push_back(smooth[r.blocks[b]]);
+    for (const double factor : {relax, shrink_back}) {
+        if (factor == 0.0) continue;
+        coarse.clear();
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) {
+            const std::uint32_t w = r.blocks[b];
+            scratch_ids.clear();
+            predictors(m, OmMesh::VertexHandle(int(w)), scratch_ids);  // on the coarse mesh
+            glm::dvec3 sum(0.0);
+            const std::uint32_t count = scratch_ids[1];
+            for (std::uint32_t i = 0; i < count; ++i) sum += smooth[scratch_ids[2 + i]];
+            coarse.push_back(count ? smooth[w] + factor * (sum / double(count) - smooth[w]) : smooth[w]);
+        }
+        std::size_t k = 0;
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = coarse[k++];
+    }
+    if (relax == 0.0 && shrink_back == 0.0) coarse = original;
+    {  // the details are measured from the positions before the smoothing
+        std::size_t k = 0;
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = original[k++];
+    }
+    // The value synthesis sees at vertex u when it predicts the ring: v's own, the smoothed ring's,
+    // or the unchanged rest.
+    auto ring_index = [&](std::uint32_t u) -> std::size_t {
+        std::size_t k = 0;
+        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1], ++k)
+            if (r.blocks[b] == u) return k;
+        return SIZE_MAX;
+    };
+    auto seen = [&](std::uint32_t u) {
+        if (u == v) return smooth[v];
+        const std::size_t k = ring_index(u);
+        return k == SIZE_MAX ? smooth[u] : coarse[k];
+    };
+    for (std::uint32_t b = first; b < end; b += 2 + r.blocks[b + 1]) {
+        const std::uint32_t count = r.blocks[b + 1], x = r.blocks[b];
+        glm::dvec3 sum(0.0);
+        for (std::uint32_t i = 0; i < count; ++i) sum += seen(r.blocks[b + 2 + i]);
+        const glm::dvec3 centroid = count ? sum / double(count) : seen(x);
+        const glm::dvec3 predicted = b == first ? centroid : seen(x) + spread * (centroid - seen(x));
+        r.detail.push_back(smooth[x] - predicted);
+    }
+    r.detail_begin.push_back(std::uint32_t(r.detail.size()));
+    std::size_t k = 0;
+    for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = coarse[k++];
+}
+
+// The rules of OpenMesh's BaseDecimaterT::is_collapse_legal (topology, borders), and no face
+// around the removed vertex turning by more than 60 degrees or collapsing (ModNormalFlippingT's
+// test): the coarse meshes fold nowhere.
+bool collapse_allowed(OmMesh& m, OmMesh::HalfedgeHandle h) {  // (is_collapse_ok is not const)
+    if (!m.is_collapse_ok(h)) return false;
+    const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
+    const auto o = m.opposite_halfedge_handle(h);
+    const auto vl = m.face_handle(h).is_valid() ? m.to_vertex_handle(m.next_halfedge_handle(h)) : OmMesh::VertexHandle();
+    const auto vr = m.face_handle(o).is_valid() ? m.to_vertex_handle(m.next_halfedge_handle(o)) : OmMesh::VertexHandle();
+    if (vl.is_valid() && vr.is_valid() && m.find_halfedge(vl, vr).is_valid() && m.valence(vl) == 3 && m.valence(vr) == 3)
+        return false;
+    if (m.is_boundary(v0) && (!m.is_boundary(v1) || (vl.is_valid() && vr.is_valid()))) return false;
+    if (m.cw_rotated_halfedge_handle(m.cw_rotated_halfedge_handle(h)) == h) return false;
+    const OmMesh::Point q = m.point(v1);
+    for (auto f : m.vf_range(v0)) {
+        OmMesh::Point p[3], moved[3];
+        int k = 0;
+        bool touches_v1 = false;
+        for (auto w : m.fv_range(f)) {
+            touches_v1 |= w == v1;
+            p[k] = m.point(w);
+            moved[k++] = w == v0 ? q : m.point(w);
+        }
+        if (touches_v1) continue;  // removed by the collapse
+        const auto n0 = (p[1] - p[0]) % (p[2] - p[0]), n1 = (moved[1] - moved[0]) % (moved[2] - moved[0]);
+        const double l1 = n1.norm();
+        if (!(l1 > 0.0) || (n0 | n1) < 0.5 * n0.norm() * l1) return false;
+    }
+    return true;
+}
+
+struct Candidate {
+    double length2;
+    std::uint32_t edge, version;
+    bool operator>(const Candidate& o) const { return length2 != o.length2 ? length2 > o.length2 : edge > o.edge; }
+};
+
+// Simplifies a copy of the mesh with OpenMesh's collapses, shortest edge first (so that the mesh
+// has about uniform edge lengths at every stage, as the seed's r assumes), until no edge may
+// collapse. A lazy heap of edges, re-queued when they touch a collapse: OpenMesh's DecimaterT
+// re-tests every outgoing halfedge of every ring vertex after each collapse, which made it most of
+// the pre-process (bench/results/multiscale.md). False when OpenMesh refuses a face.
+bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double spread, CollapseRecord& record, std::vector<glm::dvec3>& smooth,
+              std::string& why) {
+    OmMesh m;
+    std::vector<OmMesh::VertexHandle> vh;
+    vh.reserve(mesh.vertex_count());
+    for (const auto& p : mesh.positions) vh.push_back(m.add_vertex({p.x, p.y, p.z}));
+    // OpenMesh prints its own line for a refused face; the caller's warning says it once.
+    struct Quiet {
+        bool was = ::omerr().is_enabled();
+        Quiet() { ::omerr().disable(); }
+        ~Quiet() { if (was) ::omerr().enable(); }
+    } quiet;
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const auto& t = mesh.faces[f];
+        if (!m.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) {
+            why = "face " + std::to_string(f) + " has a vertex shared by separate fans (non-manifold), which "
+                  "edge collapses cannot handle";
+            return false;
+        }
+    }
+    const std::size_t n = mesh.vertex_count();
+    record.begin.reserve(n + 1);
+    record.detail_begin.reserve(n + 1);
+    record.blocks.reserve(16 * 7 * n / 2);
+    record.detail.reserve(7 * n);
+    std::vector<std::uint32_t> version(m.n_edges(), 0);
+    std::vector<std::uint8_t> refused(m.n_edges(), 0);  // popped and not allowed: may be later
+    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+    auto push = [&](OmMesh::EdgeHandle e) {
+        const auto h = m.halfedge_handle(e, 0);
+        const double l2 = (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).sqrnorm();
+        queue.push({l2, std::uint32_t(e.idx()), ++version[std::size_t(e.idx())]});
+    };
+    for (auto e : m.edges()) push(e);
+    std::vector<OmMesh::VertexHandle> moved;
+    std::vector<std::uint32_t> ids;
+    std::vector<glm::dvec3> coarse, original;
+    smooth = mesh.positions;
+    while (!queue.empty()) {
+        const Candidate c = queue.top();
+        queue.pop();
+        const OmMesh::EdgeHandle e(int(c.edge));
+        if (c.version != version[c.edge] || m.status(e).deleted()) continue;
+        OmMesh::HalfedgeHandle h = m.halfedge_handle(e, 0);
+        if (!collapse_allowed(m, h)) h = m.halfedge_handle(e, 1);
+        if (!collapse_allowed(m, h)) {  // queued again when a collapse next to it may allow it
+            refused[c.edge] = 1;
+            continue;
+        }
+        const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
+        record_stencil(m, h, record);
+        moved.clear();  // v0's edges that become v1's: the only ones whose length changes
+        for (auto w : m.vv_range(v0))
+            if (w != v1 && !m.find_halfedge(v1, w).is_valid()) moved.push_back(w);
+        m.collapse(h);
+        analyse_collapse(m, record, relax, shrink_back, spread, smooth, ids, coarse, original);
+        for (auto w : moved) {
+            const auto k = m.edge_handle(m.find_halfedge(v1, w));
+            refused[std::size_t(k.idx())] = 0;
+            push(k);
+        }
+        // Refused edges next to the collapse may be allowed now.
+        for (auto f : m.vf_range(v1))
+            for (auto fe : m.fe_range(f))
+                if (refused[std::size_t(fe.idx())]) {
+                    refused[std::size_t(fe.idx())] = 0;
+                    push(fe);
+                }
+    }
+    return true;
+}
+
+// Rebuilds by vertex splits (the collapses in reverse), each placing the new vertex and relaxing
+// its ring at their predicted positions, plus the detail for the first `with_detail` splits.
+void synthesize(const CollapseRecord& r, double spread, std::size_t with_detail, std::vector<glm::dvec3>& pos,
+                std::vector<glm::dvec3>& ring) {
+    const std::size_t n = r.count();
+    for (std::size_t s = 0; s < n; ++s) {
+        const std::size_t j = n - 1 - s;
+        const bool add = s < with_detail;
+        ring.clear();
+        std::size_t d = r.detail_begin[j];
+        for (std::uint32_t b = r.begin[j]; b < r.begin[j + 1]; b += 2 + r.blocks[b + 1], ++d) {
+            const std::uint32_t count = r.blocks[b + 1];
+            glm::dvec3 sum(0.0);
+            for (std::uint32_t i = 0; i < count; ++i) sum += pos[r.blocks[b + 2 + i]];
+            const glm::dvec3 centroid = count ? sum / double(count) : pos[r.blocks[b]];
+            // The new vertex at its ring's centroid; a ring vertex `spread` of the way to its own.
+            glm::dvec3 p = b == r.begin[j] ? centroid : pos[r.blocks[b]] + spread * (centroid - pos[r.blocks[b]]);
+            if (add) p += r.detail[d];
+            if (b == r.begin[j]) pos[r.blocks[b]] = p;  // the new vertex first: its ring sees it
+            else ring.push_back(p);
+        }
+        // Then the ring all at once (each predicted from the others' positions before the split).
+        std::size_t k = 0;
+        std::uint32_t b = r.begin[j];
+        for (b += 2 + r.blocks[b + 1]; b < r.begin[j + 1]; b += 2 + r.blocks[b + 1]) pos[r.blocks[b]] = ring[k++];
+    }
+}
+
+// Mean and median of |k1| over the valid vertices.
+std::pair<double, double> abs_k1(const CurvatureField& field) {
+    std::vector<float> a;
+    a.reserve(field.size());
+    for (std::size_t v = 0; v < field.size(); ++v)
+        if (field.valid[v]) a.push_back(std::fabs(field.k1[v]));
+    if (a.empty()) return {0.0, 0.0};
+    double sum = 0.0;
+    for (float x : a) sum += double(x);
+    std::nth_element(a.begin(), a.begin() + std::ptrdiff_t(a.size() / 2), a.end());
+    return {sum / double(a.size()), double(a[a.size() / 2])};
+}
+
+void store_level(MultiscaleLevels& out, int k, const std::vector<glm::dvec3>& pos, const CurvatureField& field) {
+    for (std::size_t v = 0; v < out.vertices; ++v) {
+        const std::size_t i = out.at(k, v);
+        out.position[i] = glm::vec3(pos[v]);
+        out.normal_oct[i] = octahedral_encode(field.normal[v]);
+        out.dir1_angle[i] = angle_in_frame(octahedral_decode(out.normal_oct[i]), field.dir1[v]);
+        out.k1[i] = field.k1[v];
+        out.k2[i] = field.k2[v];
+        out.dcurv[i] = field.dcurv[v];
+        out.valid[i] = field.valid[v];
+    }
+}
+
+double mean_edge_length(const MeshTopology& mesh) {
+    double sum = 0.0;
+    for (const auto& e : mesh.edge_vertex) sum += glm::length(mesh.positions[e[1]] - mesh.positions[e[0]]);
+    return mesh.edge_count() ? sum / double(mesh.edge_count()) : 0.0;
+}
+
+}  // namespace
+
+std::size_t MultiscaleLevels::bytes() const {
+    return position.size() * sizeof(glm::vec3) + normal_oct.size() * sizeof(glm::vec2) +
+           dir1_angle.size() * sizeof(float) + (k1.size() + k2.size()) * sizeof(float) +
+           dcurv.size() * sizeof(std::array<float, 4>) + valid.size();
+}
+
+glm::vec3 MultiscaleLevels::normal(int k, std::size_t v) const { return octahedral_decode(normal_oct[at(k, v)]); }
+
+glm::vec3 MultiscaleLevels::dir1(int k, std::size_t v) const {
+    const std::size_t i = at(k, v);
+    return direction_in_frame(octahedral_decode(normal_oct[i]), dir1_angle[i]);
+}
+
+MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const MeshTopology& mesh = model.topology();
+    MultiscaleLevels out;
+    out.ratio = options.ratio;
+    out.vertices = mesh.vertex_count();
+    out.feature_size = mean_edge_length(mesh);
+    // (the model's own curvature and self-intersections, which a plain render computes too)
+    const auto [mean0, median0] = abs_k1(model.curvature());
+    out.mean_abs_k1.push_back(mean0);
+    out.median_abs_k1.push_back(median0);
+    const bool input_self_intersects = model.self_intersections().flagged > 0;
+    out.seconds_model = seconds_since(t0);
+    CollapseRecord record;
+    std::vector<glm::dvec3> base;  // the smoothed base mesh's positions, where synthesis starts
+    std::string why;
+    const bool simplified = options.levels > 1 && simplify(mesh, options.relax, options.shrink_back, options.spread, record, base, why);
+    out.collapses = record.count();
+    out.base_vertices = out.vertices - out.collapses;
+    if (options.levels > 1 && simplified && 2 * out.collapses < out.vertices)
+        why = "only " + std::to_string(out.collapses) + " of its " + std::to_string(out.vertices) +
+              " vertices can be removed by edge collapses (too small, or borders everywhere), so smoothed levels "
+              "would smooth parts of it only";
+    if (options.levels > 1 && !why.empty()) out.note = "only the input level: " + why;
+    out.levels = options.levels > 1 && why.empty() ? options.levels : 1;
+
+    const std::size_t stored = std::size_t(out.levels - 1) * out.vertices;
+    out.position.resize(stored);
+    out.normal_oct.resize(stored);
+    out.dir1_angle.resize(stored);
+    out.k1.resize(stored);
+    out.k2.resize(stored);
+    out.dcurv.resize(stored);
+    out.valid.resize(stored);
+    MeshTopology scratch;  // the level's positions with the model's connectivity, for the curvature
+    if (out.levels > 1) scratch = mesh;
+    out.levels_self_intersect = out.levels > 1 && input_self_intersects;
+    std::vector<glm::dvec3> ring;
+    for (int k = 1; k < out.levels; ++k) {
+        const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
+        scratch.positions = base;
+        synthesize(record, options.spread, with_detail, scratch.positions, ring);
+        const CurvatureField field = estimate_curvature(scratch);
+        store_level(out, k, scratch.positions, field);
+        const auto [mean, median] = abs_k1(field);
+        out.mean_abs_k1.push_back(mean);
+        out.median_abs_k1.push_back(median);
+        // Only the smoothest level is searched (a second each at 200 k faces): the levels between
+        // it and the input smooth less, and a view that finds the blend self-intersecting where
+        // neither does would need a search per view (docs/detail.md).
+        if (!out.levels_self_intersect && k == out.levels - 1) {
+            scratch.refresh_geometry();
+            const std::vector<std::uint8_t> pierced = self_intersecting_faces(scratch);
+            out.levels_self_intersect = std::ranges::any_of(pierced, [](std::uint8_t f) { return f != 0; });
+        }
+    }
+    out.seconds = seconds_since(t0);
+    return out;
+}
+
+std::vector<glm::dvec3> level_positions(const Model& model, const MultiscaleLevels& levels, int k) {
+    if (k <= 0) return model.topology().positions;
+    std::vector<glm::dvec3> out(levels.vertices);
+    for (std::size_t v = 0; v < levels.vertices; ++v) out[v] = glm::dvec3(levels.position[levels.at(k, v)]);
+    return out;
+}
+
+}  // namespace inkline
