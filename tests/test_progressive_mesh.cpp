@@ -1,0 +1,154 @@
+// The view-dependent progressive mesh (src/detail/progressive_mesh.hpp): the adapted mesh is a
+// manifold of the input's topology, the input itself at T -> 0, coarse far away, and it meets the
+// criterion of seed 000's section 3.1 once converged.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "detail/progressive_mesh.hpp"
+#include "model/mesh_io.hpp"
+#include "model/primitives.hpp"
+#include "test_data.hpp"
+
+using namespace inkline;
+
+namespace {
+
+Bounds3 bounds_of(const TriangleMesh& m) {
+    Bounds3 b{m.positions[0], m.positions[0]};
+    for (const auto& p : m.positions) {
+        b.lo = glm::min(b.lo, p);
+        b.hi = glm::max(b.hi, p);
+    }
+    return b;
+}
+
+// V - E + F of the faces' vertices and edges.
+long euler_characteristic(const TriangleMesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++edges[std::minmax(t[k], t[(k + 1) % 3])];
+    return long(m.positions.size()) - long(edges.size()) + long(m.triangles.size());
+}
+
+const ProgressiveMesh& armadillo_pm() {
+    static const ProgressiveMesh pm(load_mesh(test::mesh_path("armadillo")));
+    return pm;
+}
+
+DetailCriterion target_area(double t) {
+    DetailCriterion c;
+    c.target_area_px = t;
+    return c;
+}
+DetailCriterion target_px(double px) { return target_area(px * px); }
+
+}  // namespace
+
+TEST(ProgressiveMesh, HierarchyReachesFarDown) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    // 26002 vertices, a closed genus-0 surface: the quadric sequence stops only a few vertices
+    // short of a tetrahedron.
+    EXPECT_EQ(pm.input().positions.size(), 26002u);
+    EXPECT_GE(pm.collapses(), 25990u);
+    EXPECT_LT(pm.collapses(), 26002u - 3u);
+}
+
+TEST(ProgressiveMesh, TinyTargetGivesTheInputExactly) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    for (double t : {0.0, 1e-9}) {
+        AdaptStats s;
+        const TriangleMesh m = pm.adapt(cam, target_area(t), &s);
+        EXPECT_EQ(s.collapses, 0u) << t;
+        EXPECT_EQ(m.positions, pm.input().positions) << t;
+        EXPECT_EQ(m.triangles, pm.input().triangles) << t;
+    }
+}
+
+TEST(ProgressiveMesh, AdaptedMeshIsAManifoldOfTheSameTopology) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    AdaptStats s;
+    TriangleMesh m = pm.adapt(cam, target_px(4.0), &s);
+    EXPECT_GT(s.collapses, 0u);
+    EXPECT_EQ(m.triangles.size() + 2 * s.collapses, pm.input().triangles.size());  // a collapse removes 2 faces
+    EXPECT_EQ(euler_characteristic(m), euler_characteristic(pm.input()));
+    EXPECT_NO_THROW(validate_mesh(m, "adapted"));  // strict: no degenerate face, no non-manifold edge
+    EXPECT_EQ(m.faces_reoriented, 0u);              // orientation kept
+}
+
+TEST(ProgressiveMesh, FarAwayKeepsFarFewerTriangles) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    const Camera framed = test::framed_camera(box);
+    const auto at_distance = [&](double times) {
+        const glm::dvec3 eye = box.center() + times * (framed.eye() - box.center());
+        AdaptStats s;
+        pm.adapt(Camera::perspective(eye, box.center(), framed.up(), framed.fov_deg(), 1024, 1024), target_px(2.0), &s);
+        return s.triangles;
+    };
+    const std::size_t near = at_distance(1.0), far = at_distance(8.0), farther = at_distance(16.0);
+    // Framed, 2 px features need nearly all of the input's 52000 triangles; 8x farther the model's
+    // image area is 64x smaller, 16x farther 4x smaller again: the triangle count follows it.
+    EXPECT_GT(near, 50000u);
+    EXPECT_LT(far * 10, pm.input().triangles.size());
+    EXPECT_LT(farther * 3, far);
+    std::printf("armadillo 2 px at 1x, 8x, 16x the framed distance: %zu, %zu, %zu triangles\n", near, far, farther);
+}
+
+TEST(ProgressiveMesh, CriterionHoldsAfterConvergence) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    const DetailCriterion c = target_px(4.0);
+    AdaptStats s;
+    std::vector<std::uint32_t> from;
+    const TriangleMesh m = pm.adapt(cam, c, &s, &from);
+    EXPECT_LT(s.passes, 32u);  // a pass that changed nothing ended it: the mesh stopped changing
+    const std::vector<double> now = ring_image_areas(m, cam), input = ring_image_areas(pm.input(), cam);
+    std::size_t above = 0, below = 0;
+    for (std::size_t v = 0; v < now.size(); ++v) {
+        // Above t_s T only where the input's own triangles are (the hierarchy's bottom), never grown.
+        EXPECT_LE(now[v], std::max(c.split * c.target_area_px, input[from[v]]) * (1 + 1e-12)) << v;
+        above += now[v] > c.split * c.target_area_px;
+        below += now[v] < c.collapse * c.target_area_px;
+    }
+    // Below t_c T: vertices whose collapse is illegal or would push a neighbour over t_s T (the
+    // hierarchy's limits), a small share.
+    EXPECT_LT(below * 5, now.size()) << below << " of " << now.size();
+    // A second adaptation from scratch gives the same mesh (deterministic).
+    EXPECT_EQ(pm.adapt(cam, c).triangles, m.triangles);
+    std::printf("armadillo 4 px: %zu vertices, %zu above t_s T, %zu below t_c T, %zu passes\n", now.size(), above,
+                below, s.passes);
+}
+
+TEST(ProgressiveMesh, DetailMapKeepsFullDetailWhereItIsZero) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    DetailCriterion c = target_px(6.0);
+    c.map = [](glm::dvec2 px, double) { return px.x < 512.0 ? 0.0 : 1.0; };  // left half: full detail
+    AdaptStats s;
+    std::vector<std::uint32_t> from;
+    pm.adapt(cam, c, &s, &from);
+    EXPECT_GT(s.collapses, 0u);
+    std::vector<char> kept(pm.input().positions.size(), 0);
+    for (std::uint32_t v : from) kept[v] = 1;
+    std::size_t left = 0;
+    for (std::size_t v = 0; v < kept.size(); ++v)
+        if (cam.project(pm.input().positions[v]).x < 512.0) {
+            ++left;
+            EXPECT_TRUE(kept[v]) << v;
+        }
+    EXPECT_GT(left, 1000u);
+}
+
+TEST(ProgressiveMesh, TooSmallToSimplifyWorksAtFullDetail) {
+    const TriangleMesh box = make_box({0, 0, 0}, {1, 1, 1});  // 8 vertices, 12 triangles
+    const ProgressiveMesh pm(box);
+    const Camera far = Camera::perspective({50, 40, 60}, {0.5, 0.5, 0.5}, {0, 1, 0}, 30, 256, 256);
+    AdaptStats s;
+    const TriangleMesh m = pm.adapt(far, target_px(50.0), &s);
+    // The box can lose at most its non-tetrahedral vertices; whatever is left is a closed manifold.
+    EXPECT_GE(m.positions.size(), 4u);
+    EXPECT_EQ(euler_characteristic(m), 2);
+}
