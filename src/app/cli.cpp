@@ -19,6 +19,7 @@
 #include "app/progress.hpp"
 #include "core/clock.hpp"
 #include "core/error.hpp"
+#include "detail/progressive_mesh.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -61,6 +62,8 @@ struct RenderArgs {
     VisibilityMethod visibility = VisibilityMethod::Appel;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
     std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
+    DetailFlags detail;  // --detail, --detail-method
+    bool detail_method_given = false;
     // A sequence (docs/batch.md): several models, or --frames=N along --orbit.
     int frames = 1;
     bool frames_given = false, orbit = false, verbose = false;
@@ -101,6 +104,7 @@ FlagTable render_flags(RenderArgs& a) {
         .add(visibility_flag(a.visibility))
         .add(switch_flag("--no-walk", a.walk, false, "appel: a ray test where a walk on the surface would do"));
     t.group("Style").add(style_flag(a.style));
+    t.group("Detail control (one drawing at a time)").add(detail_flags(a.detail, &a.detail_method_given));
     t.group("Surfaces (.bpt, .json): silhouettes and borders of the tessellation, and Elber's line art")
         .add(freeform_flags(a.freeform));
     t.group("Sequence (several models, or a camera path; frames numbered from 0)")
@@ -190,6 +194,21 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
                 hatch_stats.ray_tests, t_style);
     appendf(report, "camera: %s\n", camera_flags(cam).c_str());
     return report;
+}
+
+// --detail=PX by the view-dependent progressive mesh: the model converged to the criterion at
+// `cam` (a single frame: no geomorphs), and a report line on what was kept and what it cost.
+Model detail_model(const Model& model, const Camera& cam, const RenderArgs& a, std::string& report) {
+    const ProgressiveMesh pm(triangle_mesh_of(model.topology()));
+    DetailCriterion criterion;
+    criterion.target_area_px = a.detail.target_area_px();
+    AdaptStats s;
+    Model adapted(pm.adapt(cam, criterion, &s), a.crease);
+    appendf(report, "detail: pm, target %g px (T = %g px^2): %zu of %zu triangles kept, %zu collapses in %zu passes, "
+            "%.4f s; hierarchy of %zu collapses built in %.4f s\n",
+            a.detail.target_px, criterion.target_area_px, s.triangles, model.topology().faces.size(), s.collapses,
+            s.passes, s.seconds, pm.collapses(), pm.build_seconds());
+    return adapted;
 }
 
 // Frame k of N along the orbit: the window's orbit (view/camera_rig.hpp), k * arc / N degrees
@@ -331,6 +350,9 @@ int run_render(int argc, char** argv) {
     RenderArgs a;
     if (!render_flags(a).parse(argc, argv, 2, a.models)) return 0;  // --help
     const RenderPlan plan = plan_render(a);
+    a.detail.check("render", a.detail_method_given);
+    if (a.detail.target_px > 0.0 && (plan.models || plan.count != 1))
+        throw Usage("--detail: one drawing at a time on this build (sequences are not adapted yet)", "render");
     const Format format = [&] {  // refuse a bad format before any work (a usage error)
         try {
             return output_format(plan.outputs[0], a.format);
@@ -371,9 +393,14 @@ int run_render(int argc, char** argv) {
     const Model model = freeform ? Model(freeform->mesh(), a.crease)
                                  : load_model_file(path, a.strict, a.crease, a.subdivide);
     const Camera home = make_camera(a.camera, model);
+    if (freeform && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models (.bpt, .json) yet");
     if (plan.count == 1) {
-        const std::string report = render_drawing(a, setup, model, freeform.get(), home, plan.outputs[0], format, t0);
-        if (!a.quiet) std::fputs(report.c_str(), stdout);
+        std::string detail_report;
+        const std::optional<Model> adapted =
+            a.detail.target_px > 0.0 ? std::optional<Model>(detail_model(model, home, a, detail_report)) : std::nullopt;
+        const std::string report = render_drawing(a, setup, adapted ? *adapted : model, freeform.get(), home,
+                                                  plan.outputs[0], format, t0);
+        if (!a.quiet) std::fputs((report + detail_report).c_str(), stdout);
         return 0;
     }
     // The model's lazy parts, built before the jobs start (each frame needs the self-intersections,

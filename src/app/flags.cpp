@@ -476,6 +476,31 @@ Flag arc_flag(double& degrees, const std::string& what) {
             }};
 }
 
+std::vector<Flag> detail_flags(DetailFlags& d, bool* method_given) {
+    return {
+        {"--detail", "PX",
+         "draw shape features of about PX pixels: the mesh is coarsened where its triangles look smaller "
+         "than PX^2 square pixels (farther away: coarser; docs/progressive_mesh.md). Default: off, every "
+         "triangle of the mesh",
+         [&d](const std::string& v) {
+             const double px = parse_number("--detail", v);
+             if (!(px > 0.0 && px <= 10000.0)) throw Error("--detail", "expected a target size in pixels in (0, 10000]");
+             d.target_px = px;
+         }},
+        {"--detail-method", "pm",
+         "--detail: how detail is removed: pm, a view-dependent progressive mesh (the only one on this build)",
+         [&d, method_given](const std::string& v) {
+             if (v != "pm") throw Error("--detail-method", "unknown method '" + v + "' (expected pm)");
+             d.method = v;
+             if (method_given) *method_given = true;
+         }},
+    };
+}
+
+void DetailFlags::check(const std::string& command, bool method_given) const {
+    if (target_px <= 0.0 && method_given) throw Usage("--detail-method needs --detail=PX", command);
+}
+
 Flag style_flag(std::string& style) {
     return {"--style", "NAME|FILE.json",
             "a preset (clean, technical, sketchy, charcoal, ink-brush, hatched; found in $INKLINE_STYLES, "

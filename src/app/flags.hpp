@@ -133,6 +133,17 @@ Flag jobs_flag(int& jobs);
 struct FrameRange;  // app/batch.hpp
 Flag frame_range_flag(FrameRange& range);
 Flag style_flag(std::string& style);
+// Detail control: --detail=PX turns it on, --detail-method picks how (docs/progressive_mesh.md).
+// (This branch's own minimal definition, beside the multi-scale branch's: one to keep at merge.)
+struct DetailFlags {
+    double target_px = 0.0;  // 0: off (the drawing unchanged)
+    std::string method = "pm";
+    // The target image area T of the progressive mesh's criterion: PX^2 square pixels.
+    double target_area_px() const { return target_px * target_px; }
+    // Usage error when a tuning flag comes without --detail.
+    void check(const std::string& command, bool method_given) const;
+};
+std::vector<Flag> detail_flags(DetailFlags& d, bool* method_given);
 Flag switch_flag(const std::string& name, bool& target, bool value_when_given, const std::string& help);
 Flag text_flag(const std::string& name, const std::string& value, std::string& target, const std::string& help);
 

@@ -245,6 +245,15 @@ TriangleMesh ProgressiveMesh::adapt(const Camera& camera, const DetailCriterion&
     return out;
 }
 
+TriangleMesh triangle_mesh_of(const MeshTopology& topology) {
+    TriangleMesh m;
+    m.positions = topology.positions;
+    m.triangles = topology.faces;
+    m.face_object = topology.face_object;
+    m.object_names = topology.object_names;
+    return m;
+}
+
 std::vector<double> ring_image_areas(const TriangleMesh& mesh, const Camera& camera) {
     std::vector<double> sum(mesh.positions.size(), 0.0);
     std::vector<std::uint32_t> count(mesh.positions.size(), 0);

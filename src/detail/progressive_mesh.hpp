@@ -21,6 +21,7 @@
 
 #include "core/camera.hpp"
 #include "model/mesh_io.hpp"
+#include "model/topology.hpp"
 
 namespace inkline {
 
@@ -78,6 +79,9 @@ private:
     std::vector<std::uint32_t> removed_, kept_;  // collapse i moves removed_[i] onto kept_[i]
     double build_seconds_ = 0.0;
 };
+
+// A model's vertices and faces (and objects) as a TriangleMesh, to build a hierarchy from.
+TriangleMesh triangle_mesh_of(const MeshTopology& topology);
 
 // Per vertex of `mesh`: the average image area of its 1-ring's triangles (0 for a vertex in no
 // triangle), as the criterion measures it.
