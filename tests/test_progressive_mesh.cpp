@@ -3,7 +3,12 @@
 // criterion of seed 000's section 3.1 once converged.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_util.hpp"
 
 #include "detail/progressive_mesh.hpp"
 #include "model/mesh_io.hpp"
@@ -11,6 +16,7 @@
 #include "test_data.hpp"
 
 using namespace inkline;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -151,4 +157,34 @@ TEST(ProgressiveMesh, TooSmallToSimplifyWorksAtFullDetail) {
     // The box can lose at most its non-tetrahedral vertices; whatever is left is a closed manifold.
     EXPECT_GE(m.positions.size(), 4u);
     EXPECT_EQ(euler_characteristic(m), 2);
+}
+
+// render --detail=PX --detail-method=pm: the drawing is made from the adapted mesh (its triangle
+// count in the JSON), and the flags' misuse exits 2 with one line naming the flag.
+TEST(ProgressiveMeshCli, RenderDrawsTheAdaptedMesh) {
+    const fs::path d = inkline_test::scratch("inkline_pm_");
+    const std::string m = test::mesh_path("armadillo");
+    const auto triangles = [&](const std::string& flags) {
+        const inkline_test::Result r =
+            inkline_test::run_inkline("", "render " + m + " --quiet -o " + (d / "a.json").string() + flags, d);
+        EXPECT_EQ(r.code, 0) << flags << ": " << r.err;
+        return nlohmann::json::parse(inkline_test::slurp(d / "a.json"))["stats"]["triangles"].get<std::size_t>();
+    };
+    const std::size_t plain = triangles(""), fine = triangles(" --detail=0.01"),
+                      coarse = triangles(" --detail=8 --detail-method=pm");
+    EXPECT_EQ(plain, 52000u);
+    EXPECT_EQ(fine, 52000u);  // T -> 0: the input
+    // The same mesh as the library's adaptation at the same (framed) camera: 8 px is T = 64.
+    const ProgressiveMesh& pm = armadillo_pm();
+    EXPECT_EQ(coarse, pm.adapt(test::framed_camera(bounds_of(pm.input())), target_px(8.0)).triangles.size());
+    EXPECT_LT(coarse * 3, plain);
+    for (const auto& [flags, expect] : std::vector<std::array<std::string, 2>>{
+             {"--detail=0", "inkline: --detail: expected a target size in pixels in (0, 10000]"},
+             {"--detail=3 --detail-method=multiscale", "inkline: --detail-method: unknown method 'multiscale' (expected pm)"},
+             {"--detail-method=pm", "inkline: --detail-method needs --detail=PX"},
+             {"--detail=3 --orbit --frames=2 -o f_%02d.svg", "inkline: --detail: one drawing at a time on this build"}}) {
+        const inkline_test::Result r = inkline_test::run_inkline("", "render " + m + " " + flags, d);
+        EXPECT_EQ(r.code, 2) << flags;
+        EXPECT_EQ(r.err.substr(0, r.err.find('\n')).substr(0, expect.size()), expect) << flags << ": " << r.err;
+    }
 }
