@@ -1,7 +1,7 @@
 // The progressive mesh (src/detail/progressive_mesh.hpp) along a dolly: hierarchy build time and
 // memory, then per frame the adaptation (ms, triangles kept, collapses, passes) and the drawing's
 // line density (visible silhouette and suggestive-contour length per square pixel of the model's
-// image box), beside the density of the full mesh. Not a test: numbers go to bench/results/pm.md.
+// image disc), beside the density of the full mesh. Not a test: numbers go to bench/results/pm.md.
 //
 //   pm_dolly [MESH[@N]] [PX] [FRAMES] [FROM] [TO]   (defaults armadillo 4 9 1 8: distances in
 //                                                     multiples of the framed distance)
@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "bench_models.hpp"
@@ -39,20 +40,16 @@ double status_mib(const std::string& field) {
     return kib / 1024.0;
 }
 
-// Visible ink (silhouettes, suggestive contours) in pixels over the model's image box in px^2.
-double line_density(const View& view, const MeshTopology& mesh, const Camera& cam) {
+// Visible ink (silhouettes, suggestive contours) in pixels over the image area of the model's
+// bounding sphere (issue 43's measure, so that the two methods' tables compare).
+double line_density(const View& view, const MeshTopology& mesh, const Camera& cam,
+                    std::optional<LineKind> kind = std::nullopt) {
     double length = 0.0;
     for (const Piece& p : view.drawing.pieces)
-        if (p.qi == 0)
+        if (p.qi == 0 && (!kind || p.kind == *kind))
             for (std::size_t i = 1; i < p.points.size(); ++i) length += glm::length(p.points[i] - p.points[i - 1]);
-    glm::dvec2 lo(1e300), hi(-1e300);
-    for (const glm::dvec3& v : mesh.positions) {
-        const glm::dvec2 q = cam.project(v);
-        lo = glm::min(lo, q);
-        hi = glm::max(hi, q);
-    }
-    const double area = (hi.x - lo.x) * (hi.y - lo.y);
-    return area > 0.0 ? length / area : 0.0;
+    const double radius_px = mesh.bounds.half_diagonal() * cam.focal() / glm::length(cam.eye() - mesh.bounds.center());
+    return length / (M_PI * radius_px * radius_px);
 }
 
 }  // namespace
@@ -80,7 +77,8 @@ int main(int argc, char** argv) {
     criterion.target_area_px = px * px;
     ViewOptions options;
     options.surface.suggestive = true;
-    std::printf("frame distance triangles collapses passes adapt_ms adapt_cpu_ms density_pm density_full\n");
+    options.features.kinds[int(LineKind::Crease)] = false;  // silhouettes and suggestive contours
+    std::printf("frame distance triangles collapses passes adapt_ms adapt_cpu_ms density_pm density_full suggestive_pm suggestive_full\n");
     for (int k = 0; k < frames; ++k) {
         const double t = frames > 1 ? double(k) / (frames - 1) : 0.0;
         const double times = from * std::pow(to / from, t);  // geometric: the same zoom factor a frame
@@ -90,10 +88,13 @@ int main(int argc, char** argv) {
         TriangleMesh mesh = pm.adapt(cam, criterion, &s);
         const double adapt_cpu = cpu_seconds() - c0;
         const Model adapted(std::move(mesh), model->topology().crease_degrees);
-        const double d_pm = line_density(render_view(adapted, cam, options), adapted.topology(), cam);
-        const double d_full = line_density(render_view(*model, cam, options), model->topology(), cam);
-        std::printf("%d %.3f %zu %zu %zu %.1f %.1f %.5f %.5f\n", k, times, s.triangles, s.collapses, s.passes,
-                    s.seconds * 1e3, adapt_cpu * 1e3, d_pm, d_full);
+        const View v_pm = render_view(adapted, cam, options), v_full = render_view(*model, cam, options);
+        const double d_pm = line_density(v_pm, model->topology(), cam);
+        const double d_full = line_density(v_full, model->topology(), cam);
+        const double s_pm = line_density(v_pm, model->topology(), cam, LineKind::Suggestive);
+        const double s_full = line_density(v_full, model->topology(), cam, LineKind::Suggestive);
+        std::printf("%d %.3f %zu %zu %zu %.1f %.1f %.5f %.5f %.5f %.5f\n", k, times, s.triangles, s.collapses,
+                    s.passes, s.seconds * 1e3, adapt_cpu * 1e3, d_pm, d_full, s_pm, s_full);
     }
     std::printf("peak RSS %.1f MiB\n", status_mib("VmHWM"));
     return 0;
