@@ -21,6 +21,7 @@
 #include "app/version.hpp"
 #include "core/error.hpp"
 #include "detail/multiscale.hpp"
+#include "detail/progressive_mesh.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -273,6 +274,21 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     return report;
 }
 
+// --detail=PX by the view-dependent progressive mesh: the model converged to the criterion at
+// `cam` (a single frame: no geomorphs), and a report line on what was kept and what it cost.
+Model detail_model(const Model& model, const Camera& cam, const RenderArgs& a, std::string& report) {
+    const ProgressiveMesh pm(triangle_mesh_of(model.topology()));
+    DetailCriterion criterion;
+    criterion.target_area_px = a.detail.target_area_px();
+    AdaptStats s;
+    Model adapted(pm.adapt(cam, criterion, &s), a.crease);
+    appendf(report, "detail: pm, target %g px (T = %g px^2): %zu of %zu triangles kept, %zu collapses in %zu passes, "
+            "%.4f s; hierarchy of %zu collapses built in %.4f s\n",
+            a.detail.target_px, criterion.target_area_px, s.triangles, model.topology().faces.size(), s.collapses,
+            s.passes, s.seconds, pm.collapses(), pm.build_seconds());
+    return adapted;
+}
+
 // Frame k of N along the orbit: the window's orbit (view/camera_rig.hpp), k * arc / N degrees
 // about the home camera's up axis, computed from the home camera alone so that a frame does not
 // depend on which frames the run renders before it.
@@ -465,6 +481,13 @@ int run_render(int argc, char** argv) {
                                  : load_model_file(path, a.strict, a.crease, a.subdivide);
     const Camera home = make_camera(a.camera, model);
     if (plan.count == 1) {
+        if (a.detail.target_px > 0.0 && a.detail.method == "pm") {
+            std::string detail_report;
+            const Model adapted = detail_model(model, home, a, detail_report);
+            const std::string report = render_drawing(a, setup, adapted, nullptr, home, plan.outputs[0], format, t0);
+            if (!a.quiet) std::fputs((report + detail_report).c_str(), stdout);
+            return 0;
+        }
         std::optional<MultiscaleLevels> levels;
         if (a.detail.target_px > 0.0) {
             levels = build_multiscale_levels(model, a.detail.levels_options());

@@ -509,9 +509,12 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
          }},
         {"--levels", "N", "--detail: smoothed levels of the model, the input included, 2 to 8 (default 4)",
          [&d](const std::string& v) { d.levels = parse_integer("--levels", v, 2, 8); }},
-        {"--detail-method", "multiscale", "--detail: how detail is removed (default multiscale, the only one yet)",
+        {"--detail-method", "multiscale|pm",
+         "--detail: how detail is removed: multiscale, smoothed copies of the shape blended per vertex (the default), "
+         "or pm, a view-dependent progressive mesh (docs/progressive_mesh.md)",
          [&d](const std::string& v) {
-             if (v != "multiscale") throw Error("--detail-method", "unknown method '" + v + "' (expected multiscale)");
+             if (v != "multiscale" && v != "pm")
+                 throw Error("--detail-method", "unknown method '" + v + "' (expected multiscale or pm)");
              d.method = v;
          }},
         {"--detail-ratio", "R",

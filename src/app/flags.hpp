@@ -158,7 +158,9 @@ Flag style_flag(std::string& style);
 struct DetailFlags {
     double target_px = 0.0;  // 0: off (the drawing unchanged)
     std::optional<int> levels;
-    std::string method = "multiscale";
+    std::string method = "multiscale";  // or "pm": the view-dependent progressive mesh
+    // The target image area T of the progressive mesh's criterion: PX^2 square pixels.
+    double target_area_px() const { return target_px * target_px; }
     std::optional<double> depth_exponent;
     std::optional<double> ratio;
     MultiscaleOptions levels_options() const;

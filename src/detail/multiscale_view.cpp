@@ -58,7 +58,7 @@ MultiscaleSession::MultiscaleSession(const Model& model, const MultiscaleLevels&
         known_pierced_ = std::make_unique<SelfIntersections>(model.self_intersections());
     else if (!levels.levels_self_intersect)
         known_pierced_ = std::make_unique<SelfIntersections>(
-            SelfIntersections{std::vector<std::uint8_t>(model.topology().face_count(), 0), 0, {}});
+            SelfIntersections{std::vector<std::uint8_t>(model.topology().face_count(), 0), 0, {}, {}});
 }
 
 MultiscaleSession::~MultiscaleSession() = default;
