@@ -258,7 +258,7 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         {"--levels=3", "--levels needs --detail=PX"},
         {"--detail-ratio=0.5", "--detail-ratio needs --detail=PX"},
         {"--detail=4 --detail-ratio=1", "--detail-ratio: expected a ratio in (0, 1)"},
-        {"--detail=4 --detail-method=pm", "--detail-method: unknown method 'pm'"},
+        {"--detail=4 --detail-method=spiral", "--detail-method: unknown method 'spiral' (expected multiscale or pm)"},
         {"--detail=4 --detail-depth=5", "--detail-depth: expected an exponent in [0, 4]"},
     };
     for (const auto& b : bad) {

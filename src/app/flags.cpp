@@ -500,8 +500,8 @@ Flag visibility_flag(VisibilityMethod& method) {
 std::vector<Flag> detail_flags(DetailFlags& d) {
     return {
         {"--detail", "PX",
-         "draw shape features of about PX pixels: finer ones near the eye, coarser far away (a blend of "
-         "smoothed copies of the model; docs/detail.md). Default: off, every feature of the mesh",
+         "draw shape features of about PX pixels: finer ones near the eye, coarser far away (as "
+         "--detail-method says; docs/detail.md). Default: off, every feature of the mesh",
          [&d](const std::string& v) {
              const double px = parse_number("--detail", v);
              if (!(px > 0.0 && px <= 10000.0)) throw Error("--detail", "expected a target size in pixels in (0, 10000]");
@@ -516,6 +516,7 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              if (v != "multiscale" && v != "pm")
                  throw Error("--detail-method", "unknown method '" + v + "' (expected multiscale or pm)");
              d.method = v;
+             d.method_given = true;
          }},
         {"--detail-ratio", "R",
          "--detail: level k keeps the detail of the first R^k of the vertex splits, in (0, 1) (default 0.5; "
@@ -547,6 +548,7 @@ void DetailFlags::check(const std::string& command) const {
     if (ratio) throw Usage("--detail-ratio needs --detail=PX", command);
     if (levels) throw Usage("--levels needs --detail=PX", command);
     if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);
+    if (method_given) throw Usage("--detail-method needs --detail=PX", command);
 }
 
 Flag subdivide_flag(int& levels) {

@@ -163,6 +163,7 @@ struct DetailFlags {
     double target_area_px() const { return target_px * target_px; }
     std::optional<double> depth_exponent;
     std::optional<double> ratio;
+    bool method_given = false;  // --detail-method
     MultiscaleOptions levels_options() const;
     // Usage error when a tuning flag comes without --detail.
     void check(const std::string& command) const;
