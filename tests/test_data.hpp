@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 
 #include <glm/geometric.hpp>
 
 #include "core/camera.hpp"
+#include "core/drawing.hpp"
 #include "model/primitives.hpp"
 #include "random_camera.hpp"
 
@@ -45,4 +47,41 @@ inline TriangleMesh bumped_sphere(glm::dvec3 dir, double height, double width) {
     return m;
 }
 
+
+// Visible line length of a drawing, in pixels.
+inline double visible_length_px(const Drawing& d) {
+    double sum = 0.0;
+    for (const Piece& p : d.pieces)
+        if (p.qi == 0)
+            for (std::size_t i = 1; i < p.points.size(); ++i) sum += glm::length(p.points[i] - p.points[i - 1]);
+    return sum;
+}
+
+// Issue 43's measure of detail along a dolly from `framed` to 8x farther (same target and up):
+// visible line length (`plain`, `detail`: a drawing's at a camera) per unit of the model's image
+// disc. A fixed drawing's density grows about 8x (an outline shrinks like 1/d, the disc like 1/d^2).
+struct DollyDensity {
+    double plain_start = 0.0, detail_start = 0.0;    // lengths at the start, px
+    double plain_growth = 0.0, detail_growth = 0.0;  // density at 8x over density at 1x
+};
+inline DollyDensity dolly_density(const Bounds3& bounds, const Camera& framed,
+                                  const std::function<double(const Camera&)>& plain,
+                                  const std::function<double(const Camera&)>& detail) {
+    const glm::dvec3 c = bounds.center(), offset = framed.eye() - c;
+    DollyDensity r;
+    double plain_density = 0.0, detail_density = 0.0;  // at the start
+    for (double factor : {1.0, 8.0}) {
+        const Camera cam = Camera::perspective(c + factor * offset, c, {0, 1, 0}, 30.0, framed.width(), framed.height());
+        const double radius_px = bounds.half_diagonal() * cam.focal() / (factor * glm::length(offset));
+        const double area = M_PI * radius_px * radius_px;
+        const double lp = plain(cam), ld = detail(cam);
+        if (factor == 1.0) {
+            r.plain_start = lp, r.detail_start = ld;
+            plain_density = lp / area, detail_density = ld / area;
+        } else {
+            r.plain_growth = (lp / area) / plain_density, r.detail_growth = (ld / area) / detail_density;
+        }
+    }
+    return r;
+}
 }  // namespace inkline::test

@@ -204,29 +204,14 @@ void check_density(const std::string& name, double most) {
     ViewOptions options;
     options.features.kinds[int(LineKind::Crease)] = false;
     options.surface.suggestive = true;
-    const Camera framed = test::framed_camera(m.bounds);
-    const glm::dvec3 c = m.bounds.center(), offset = framed.eye() - c;
-    const auto visible_length = [](const View& view) {
-        double length = 0.0;
-        for (const Piece& p : view.drawing.pieces)
-            if (p.qi == 0)
-                for (std::size_t i = 1; i < p.points.size(); ++i) length += glm::length(p.points[i] - p.points[i - 1]);
-        return length;
-    };
-    double first_plain = 0.0, first_detail = 0.0, growth_plain = 0.0, growth_detail = 0.0;
-    for (double factor : {1.0, 8.0}) {
-        const Camera cam = Camera::perspective(c + factor * offset, c, {0, 1, 0}, 30.0, 1024, 1024);
-        const double radius_px = m.bounds.half_diagonal() * cam.focal() / (factor * glm::length(offset));
-        const double area = M_PI * radius_px * radius_px;
-        const double lp = visible_length(render_view(model, cam, options));
-        const double ld = visible_length(render_view(Model(pm.adapt(cam, target_px(3.0))), cam, options));
-        if (factor == 1.0) {
-            first_plain = lp / area, first_detail = ld / area;
-            EXPECT_NEAR(ld, lp, 0.1 * lp) << name << ": at the start";
-        } else {
-            growth_plain = (lp / area) / first_plain, growth_detail = (ld / area) / first_detail;
-        }
-    }
+    const test::DollyDensity g = test::dolly_density(
+        m.bounds, test::framed_camera(m.bounds),
+        [&](const Camera& cam) { return test::visible_length_px(render_view(model, cam, options).drawing); },
+        [&](const Camera& cam) {
+            return test::visible_length_px(render_view(Model(pm.adapt(cam, target_px(3.0))), cam, options).drawing);
+        });
+    EXPECT_NEAR(g.detail_start, g.plain_start, 0.1 * g.plain_start) << name << ": at the start";
+    const double growth_plain = g.plain_growth, growth_detail = g.detail_growth;
     std::printf("%s: density growth 1x -> 8x: plain %.2f, detail %.2f\n", name.c_str(), growth_plain, growth_detail);
     EXPECT_GT(growth_plain, 4.0) << name;
     EXPECT_LE(growth_detail, most * growth_plain) << name;

@@ -50,6 +50,18 @@ double signed_volume(const inkline::TriangleMesh& m, std::uint32_t object) {
     return v / 6.0;
 }
 
+// The scene of CubeInFrontOfSphereHidesItsPart (below), written into `d` as two.gltf.
+std::string ball_and_cube(const fs::path& d) {
+    Gltf g;
+    const int sphere = g.add_mesh(inkline::make_sphere({0, 0, 0}, 1.0, 48, 24), "sphere");
+    const int cube = g.add_mesh(inkline::make_box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), "cube");
+    const int cube_node = g.add_node({{"name", "Cube"}, {"mesh", cube}, {"translation", {0, 0, 2}}});
+    const int parent = g.add_node({{"name", "Holder"}, {"children", {cube_node}}, {"translation", {0.9, 0, 0}},
+                                   {"scale", {1.2, 1.2, 1.2}}});
+    const int sphere_node = g.add_node({{"name", "Ball"}, {"mesh", sphere}});
+    return g.save(d, "two", {sphere_node, parent});
+}
+
 }  // namespace
 
 // A unit-radius sphere at the origin and a cube of side 1.2 in front of it, placed by a parent
@@ -59,14 +71,7 @@ double signed_volume(const inkline::TriangleMesh& m, std::uint32_t object) {
 // is hidden there and visible elsewhere; the ray reference agrees.
 TEST(Scene, CubeInFrontOfSphereHidesItsPart) {
     const fs::path d = scratch();
-    Gltf g;
-    const int sphere = g.add_mesh(inkline::make_sphere({0, 0, 0}, 1.0, 48, 24), "sphere");
-    const int cube = g.add_mesh(inkline::make_box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), "cube");
-    const int cube_node = g.add_node({{"name", "Cube"}, {"mesh", cube}, {"translation", {0, 0, 2}}});
-    const int parent = g.add_node({{"name", "Holder"}, {"children", {cube_node}}, {"translation", {0.9, 0, 0}},
-                                   {"scale", {1.2, 1.2, 1.2}}});
-    const int sphere_node = g.add_node({{"name", "Ball"}, {"mesh", sphere}});
-    const std::string path = g.save(d, "two", {sphere_node, parent});
+    const std::string path = ball_and_cube(d);
 
     const inkline::Scene s = inkline::load_scene(path);
     ASSERT_EQ(s.mesh.object_names.size(), 2u);
@@ -424,14 +429,7 @@ TEST(SceneCli, FileCameraByDefaultByNameOrFramed) {
 // its JSON names the object of every polyline.
 TEST(SceneOutput, PiecesKnowTheirObjectsAndTheOutputsTellThemApart) {
     const fs::path d = scratch();
-    Gltf g;
-    const int sphere = g.add_mesh(inkline::make_sphere({0, 0, 0}, 1.0, 48, 24), "sphere");
-    const int cube = g.add_mesh(inkline::make_box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), "cube");
-    const int cube_node = g.add_node({{"name", "Cube"}, {"mesh", cube}, {"translation", {0, 0, 2}}});
-    const int parent = g.add_node({{"name", "Holder"}, {"children", {cube_node}}, {"translation", {0.9, 0, 0}},
-                                   {"scale", {1.2, 1.2, 1.2}}});
-    const int sphere_node = g.add_node({{"name", "Ball"}, {"mesh", sphere}});
-    const std::string path = g.save(d, "two", {sphere_node, parent});
+    const std::string path = ball_and_cube(d);
 
     const inkline::Model model = inkline::Model::load(path, inkline::LoadOptions{});
     const inkline::Camera cam = inkline::Camera::perspective({0, 0, 8}, {0, 0, 0}, {0, 1, 0}, 40, 600, 600);
