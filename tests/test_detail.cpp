@@ -141,6 +141,23 @@ TEST(MultiscaleLevels, TinyMeshGetsOnlyTheInputAndSaysSo) {
     EXPECT_EQ(v.drawing.pieces.size(), render_view(model, cam).drawing.pieces.size());
 }
 
+// The progress of the pre-process: one call a step (the model's curvature, the simplification,
+// each smoothed level), in order, the last at the total, also when fewer levels are built.
+TEST(MultiscaleLevels, ProgressCountsEachStepOnce) {
+    for (const std::string name : {"elephant", "tetrahedron"}) {
+        const Model model = Model::load(test::mesh_path(name));
+        std::vector<std::pair<int, int>> calls;
+        MultiscaleOptions options;
+        options.progress = [&calls](int done, int total) { calls.emplace_back(done, total); };
+        const MultiscaleLevels L = build_multiscale_levels(model, options);
+        ASSERT_FALSE(calls.empty()) << name;
+        for (std::size_t i = 0; i < calls.size(); ++i) EXPECT_EQ(calls[i].second, 5) << name;
+        for (std::size_t i = 1; i < calls.size(); ++i) EXPECT_GT(calls[i].first, calls[i - 1].first) << name;
+        EXPECT_EQ(calls.back().first, 5) << name;
+        EXPECT_EQ(calls.size(), L.levels == 4 ? 5u : 3u) << name;
+    }
+}
+
 TEST(MultiscaleLevels, BordersEverywhereStillDraw) {
     // A strip of 2 x 40 vertices: every vertex on the border. Collapses along the border may go,
     // the rest cannot: the levels the mesh allows, and a drawing either way.

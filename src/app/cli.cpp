@@ -490,7 +490,13 @@ int run_render(int argc, char** argv) {
         }
         std::optional<MultiscaleLevels> levels;
         if (a.detail.target_px > 0.0) {
-            levels = build_multiscale_levels(model, a.detail.levels_options());
+            MultiscaleOptions options = a.detail.levels_options();
+            // (the model's curvature, the simplification, then each smoothed level: as build_multiscale_levels counts)
+            const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr(
+                "detail: smoothed levels", std::size_t(2 + std::max(options.levels - 1, 0)), "steps", !a.quiet);
+            options.progress = [&line](int done, int) { line->set_done(std::size_t(done)); };
+            levels = build_multiscale_levels(model, options);
+            line->finish();
             if (!levels->note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", path.c_str(), levels->note.c_str());
             setup.detail = &*levels;
         }

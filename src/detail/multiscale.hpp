@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ struct MultiscaleOptions {
     double relax = 1.0;    // analysis: share of the way each ring vertex moves to its neighbours' centroid
     double shrink_back = 0.0;  // analysis: then the same with this (negative) share (Taubin's mu)
     double spread = 0.5;   // synthesis: the same for the ring of each vertex split
+    // Called after each step of the pre-process (the model's curvature, the simplification, each
+    // smoothed level): steps done and steps in all, for a progress line on long builds.
+    std::function<void(int done, int total)> progress = {};
 };
 
 // The smoothed levels. M0 is the model itself (its positions and Model::curvature(), exactly);

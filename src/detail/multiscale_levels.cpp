@@ -328,11 +328,17 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     out.vertices = mesh.vertex_count();
     out.feature_size = mean_edge_length(mesh);
     // (the model's own curvature and self-intersections, which a plain render computes too)
+    int steps = 0;
+    const int total_steps = 2 + std::max(options.levels - 1, 0);
+    const auto step_done = [&] {
+        if (options.progress) options.progress(++steps, total_steps);
+    };
     const auto [mean0, median0] = abs_k1(model.curvature());
     out.mean_abs_k1.push_back(mean0);
     out.median_abs_k1.push_back(median0);
     const bool input_self_intersects = model.self_intersections().flagged > 0;
     out.seconds_model = seconds_since(t0);
+    step_done();
     CollapseRecord record;
     std::vector<glm::dvec3> base;  // the smoothed base mesh's positions, where synthesis starts
     std::string why;
@@ -345,6 +351,7 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
               "would smooth parts of it only";
     if (options.levels > 1 && !why.empty()) out.note = "only the input level: " + why;
     out.levels = options.levels > 1 && why.empty() ? options.levels : 1;
+    step_done();
 
     const std::size_t stored = std::size_t(out.levels - 1) * out.vertices;
     out.position.resize(stored);
@@ -375,7 +382,9 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
             const std::vector<std::uint8_t> pierced = self_intersecting_faces(scratch);
             out.levels_self_intersect = std::ranges::any_of(pierced, [](std::uint8_t f) { return f != 0; });
         }
+        step_done();
     }
+    if (options.progress && steps < total_steps) options.progress(total_steps, total_steps);  // fewer levels built
     out.seconds = seconds_since(t0);
     return out;
 }
