@@ -478,6 +478,23 @@ TEST(SceneOutput, PiecesKnowTheirObjectsAndTheOutputsTellThemApart) {
     EXPECT_EQ(text.find("<g id=\"crease-visible-object0\""), std::string::npos);
     EXPECT_EQ(std::system(("rsvg-convert -o " + (d / "two.png").string() + " " + (d / "two.svg").string()).c_str()), 0);
 
+    // The same groups in a styled drawing (sketchy: marks of one look kept apart per object).
+    const inkline_test::Result styled = run("render " + path + " --eye=0,0,8 --target=0,0,0 --fov=40 --size=600x600 "
+                                            "--style=sketchy -o " + (d / "styled.svg").string(), d);
+    ASSERT_EQ(styled.code, 0) << styled.err;
+    const std::string st = inkline_test::slurp(d / "styled.svg");
+    const std::size_t s_layer = st.find("<g id=\"silhouette-visible\" inkscape:groupmode=\"layer\"");
+    const std::size_t s_ball = st.find("<g id=\"silhouette-visible-object0\" inkscape:label=\"Ball\" data-object=\"Ball\">");
+    const std::size_t s_cube = st.find("<g id=\"silhouette-visible-object1\" inkscape:label=\"Cube\" data-object=\"Cube\">");
+    ASSERT_NE(s_layer, std::string::npos) << st;
+    ASSERT_NE(s_ball, std::string::npos) << st;
+    ASSERT_NE(s_cube, std::string::npos) << st;
+    EXPECT_LT(s_layer, s_ball);
+    EXPECT_LT(s_ball, s_cube);
+    EXPECT_NE(st.find("<g id=\"crease-visible-object1\" inkscape:label=\"Cube\""), std::string::npos);
+    EXPECT_EQ(st.find("<g id=\"crease-visible-object0\""), std::string::npos);
+    EXPECT_EQ(std::system(("rsvg-convert -o " + (d / "styled.png").string() + " " + (d / "styled.svg").string()).c_str()), 0);
+
     const inkline_test::Result js = run("render " + path + " --eye=0,0,8 --target=0,0,0 --fov=40 --size=600x600 -o " +
                                         (d / "two.json").string(), d);
     ASSERT_EQ(js.code, 0) << js.err;

@@ -375,7 +375,9 @@ Format output_format(const std::string& path, const std::string& explicit_format
                 "unknown output format '" + name + "' (expected svg, pdf, png or json)");
 }
 
-std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
+namespace {
+// specks: what SVG, PDF and PNG of these options leave out (the JSON keeps every piece).
+std::string json_of(const Drawing& d, const OutputOptions& o, std::size_t specks) {
     using json = nlohmann::ordered_json;
     const auto vec3 = [](const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); };
     const Camera& cam = d.camera;
@@ -414,9 +416,6 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
-    // What SVG, PDF and PNG of these options leave out (the JSON keeps every piece).
-    std::size_t specks = 0;
-    drawing_strokes(d, o, &specks);
     stats["specks_dropped"] = specks;
     if (s.seconds_tone_shade > 0.0)
         stats["seconds"]["tone"] = {{"shade", s.seconds_tone_shade},
@@ -445,8 +444,7 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                  {"stats", std::move(stats)}, {"polylines", std::move(polylines)}};
     return root.dump() + "\n";
 }
-
-namespace {
+}  // namespace
 
 // Text for an XML attribute value.
 std::string xml_escape(const std::string& text) {
@@ -463,6 +461,15 @@ std::string xml_escape(const std::string& text) {
     }
     return out;
 }
+
+std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
+    std::size_t specks = 0;
+    drawing_strokes(d, o, &specks);
+    return json_of(d, o, specks);
+}
+
+namespace {
+
 
 // Pixel coordinate for SVG: three decimals, trailing zeros dropped.
 std::string coord(double v) {
@@ -554,7 +561,7 @@ WriteSummary write_drawing(const Drawing& d, const std::string& path, Format f, 
     for (const Stroke& s : strokes) summary.strokes += clipped_runs(s.path.points(), d.camera).size();
     TempFile file(path);
     switch (f) {
-        case Format::Json: file.write_all(drawing_to_json(d, o)); break;
+        case Format::Json: file.write_all(json_of(d, o, summary.specks_dropped)); break;
         case Format::Svg: file.write_all(svg_of(d, strokes, o)); break;
         case Format::Pdf:
         case Format::Png: write_cairo(d, strokes, f, o, file); break;

@@ -59,6 +59,9 @@ std::string svg_raster_layer(const RasterLayer& layer);
 // Writes `content` to `path` atomically (same rules as write_drawing).
 void write_text_file(const std::string& path, const std::string& content);
 
+// Text for an XML attribute value (&, <, >, quotes and newlines escaped).
+std::string xml_escape(const std::string& text);
+
 // A scatter plot as SVG (drawn with Cairo): one labelled point per entry, x and y axes with ticks.
 struct PlotPoint {
     double x = 0.0, y = 0.0;

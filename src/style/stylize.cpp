@@ -70,9 +70,12 @@ public:
     double depth_lo = 0.0, depth_hi = 0.0;  // depth range of the drawing (width_by_depth)
 
     // depth, tone: per spine point, or null.
+    // object: the stroke's object (scenes of several objects), kept apart in the marks.
     void add(const ArcPolyline& spine, const LineStyle& ls, StyledLayer& layer, StylizeStats& st,
-             const std::vector<double>* depth = nullptr, const std::vector<double>* tone = nullptr) {
+             const std::vector<double>* depth = nullptr, const std::vector<double>* tone = nullptr,
+             std::uint32_t object = 0) {
         if (ls.omit || spine.size() < 2) return;
+        object_ = object;
         ++st.strokes;
         const double w = ls.width * bw_;
         if (ls.plain()) {
@@ -138,7 +141,7 @@ private:
     Mark& mark(StyledLayer& layer, Mark::Type type, const LineStyle& ls, double w) {
         for (Mark& m : layer.marks)
             if (m.type == type && m.rgb == ls.rgb && m.opacity == ls.opacity && m.width == w &&
-                m.dash_on == ls.dash_on && m.dash_off == ls.dash_off && m.brush == ls.brush)
+                m.dash_on == ls.dash_on && m.dash_off == ls.dash_off && m.brush == ls.brush && m.object == object_)
                 return m;
         Mark m;
         m.type = type;
@@ -148,6 +151,7 @@ private:
         m.dash_on = ls.dash_on;
         m.dash_off = ls.dash_off;
         m.brush = ls.brush;
+        m.object = object_;
         layer.marks.push_back(std::move(m));
         return layer.marks.back();
     }
@@ -197,6 +201,7 @@ private:
     const Style& style_;
     double bw_;
     PerlinNoise noise_{0};
+    std::uint32_t object_ = 0;  // add()'s object, for mark()
 };
 
 }  // namespace
@@ -230,6 +235,7 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
     out.height = d.camera.height();
     out.background = style.background;
     out.base = d.base;
+    out.object_names = d.object_names;
     const bool draw_hidden = (hidden || style.draw_hidden) && !style.hidden.empty();
     ChainOptions co;
     co.hidden = draw_hidden;
@@ -270,7 +276,7 @@ StyledDrawing stylize(const Drawing& d, const Style& style, bool hidden,
             const bool whole = runs.size() == 1 && runs[0].size() == s.path.size() && runs[0] == s.path.points();
             for (auto& run : runs)
                 builder.add(ArcPolyline(std::move(run)), ls, layer, st, whole && !s.depth.empty() ? &s.depth : nullptr,
-                            whole && !s.tone.empty() ? &s.tone : nullptr);
+                            whole && !s.tone.empty() ? &s.tone : nullptr, s.object);
         }
         if (!layer.marks.empty()) out.layers.push_back(std::move(layer));
     };

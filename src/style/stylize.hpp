@@ -33,6 +33,7 @@ struct Mark {
     std::vector<std::vector<glm::dvec2>> paths;  // Stroke: open polylines; Fill: closed outlines
     std::string brush;                   // Brush: PNG path
     std::vector<BrushQuad> quads;        // Brush
+    std::uint32_t object = 0;            // index in StyledDrawing::object_names
 };
 
 struct StyledLayer {
@@ -45,6 +46,7 @@ struct StyledDrawing {
     std::uint32_t background = 0xffffff;
     RasterLayer base;                 // over the background, under the layers (Drawing::base)
     std::vector<StyledLayer> layers;  // in drawing order
+    std::vector<std::string> object_names;  // Drawing::object_names (several: a group per object)
 };
 
 struct StylizeStats {
