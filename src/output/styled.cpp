@@ -194,12 +194,92 @@ std::string base64(const std::string& in) {
     return out;
 }
 
-std::string styled_to_svg(const StyledDrawing& sd) {
-    const std::string W = std::to_string(sd.width), H = std::to_string(sd.height);
-    std::string defs, body;
+// One mark as SVG into body; brush images go into defs once per brush and colour.
+class SvgMarks {
+public:
+    std::string defs;
+
+    void add(std::string& body, const Mark& m) {
+        const std::string colour = hex_colour(m.rgb);
+        const std::string opacity = m.opacity < 1.0 ? " opacity=\"" + num(m.opacity) + "\"" : "";
+        switch (m.type) {
+            case Mark::Type::Stroke:
+                body += "<g fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" + num(m.width, 4) + "\"" + opacity;
+                if (m.dash_on > 0) body += " stroke-dasharray=\"" + num(m.dash_on) + "," + num(m.dash_off) + "\"";
+                body += " stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
+                for (const auto& path : m.paths) {
+                    if (path.size() < 2) continue;
+                    body += "<polyline points=\"";
+                    for (const glm::dvec2& q : path) body += num(q.x) + "," + num(q.y) + " ";
+                    body.back() = '"';
+                    body += "/>\n";
+                }
+                body += "</g>\n";
+                break;
+            case Mark::Type::Fill: {
+                body += "<path fill=\"" + colour + "\" fill-rule=\"nonzero\" stroke=\"none\"" + opacity + " d=\"";
+                for (const auto& path : m.paths) {
+                    if (path.size() < 3) continue;
+                    body += "M";
+                    for (const glm::dvec2& q : path) body += num(q.x) + "," + num(q.y) + " ";
+                    body += "Z";
+                }
+                body += "\"/>\n";
+                break;
+            }
+            case Mark::Type::Brush: {
+                cairo_surface_t* b = brushes.get(m.brush, m.rgb);
+                const double iw = cairo_image_surface_get_width(b), ih = cairo_image_surface_get_height(b);
+                auto [it, fresh] = brush_ids.emplace(std::make_pair(m.brush, m.rgb), "brush" + std::to_string(brush_ids.size()));
+                if (fresh) {
+                    std::string png;
+                    cairo_surface_write_to_png_stream(b, append, &png);
+                    defs += "<image id=\"" + it->second + "\" width=\"" + num(iw) + "\" height=\"" + num(ih) +
+                            "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
+                }
+                body += "<g" + opacity + ">\n";
+                for (const BrushQuad& q : m.quads) {
+                    const glm::dvec2 c0 = 0.5 * (q.corner[0] + q.corner[1]), c1 = 0.5 * (q.corner[2] + q.corner[3]);
+                    const double len = glm::length(c1 - c0);
+                    const double w = 0.5 * (glm::length(q.corner[0] - q.corner[1]) + glm::length(q.corner[3] - q.corner[2]));
+                    if (!(len > 1e-9) || !(w > 1e-9) || !(q.u1 > q.u0)) continue;
+                    const glm::dvec2 d = (c1 - c0) / len, n(-d.y, d.x);
+                    // Image -> user space (the inverse of the Cairo pattern matrix in draw_quad):
+                    // the image's columns u0 iw .. u1 iw, clipped by a nested <svg> viewport, land on
+                    // the quad (a parallelogram from the start crossbar along the spine), grown by
+                    // 0.3 px each way so neighbours overlap.
+                    const glm::dvec2 A = d * (len / ((q.u1 - q.u0) * iw)), B = -n * (w / ih);
+                    const glm::dvec2 e = c0 - A * (q.u0 * iw) - B * (0.5 * ih);
+                    const double grow = 0.3 / glm::length(A);
+                    const double x0 = q.u0 * iw - grow, x1 = q.u1 * iw + grow;
+                    const auto g6 = [](double v) {
+                        char buf[64];
+                        const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 7);
+                        return std::string(buf, r.ptr);
+                    };
+                    body += "<g transform=\"matrix(" + g6(A.x) + " " + g6(A.y) + " " + g6(B.x) + " " + g6(B.y) + " " +
+                            g6(e.x) + " " + g6(e.y) + ")\"><svg x=\"" + g6(x0) + "\" y=\"0\" width=\"" + g6(x1 - x0) +
+                            "\" height=\"" + num(ih) + "\" viewBox=\"" + g6(x0) + " 0 " + g6(x1 - x0) + " " + num(ih) +
+                            "\"><use href=\"#" + it->second + "\"/>";
+                    if (x0 < 0) body += "<use href=\"#" + it->second + "\" x=\"" + num(-iw) + "\"/>";   // wrap at seams
+                    if (x1 > iw) body += "<use href=\"#" + it->second + "\" x=\"" + num(iw) + "\"/>";
+                    body += "</svg></g>\n";
+                }
+                body += "</g>\n";
+                break;
+            }
+        }
+    }
+
+private:
     Brushes brushes;
     std::map<std::pair<std::string, std::uint32_t>, std::string> brush_ids;
-    std::size_t patterns = 0;
+};
+
+std::string styled_to_svg(const StyledDrawing& sd) {
+    const std::string W = std::to_string(sd.width), H = std::to_string(sd.height);
+    std::string body;
+    SvgMarks marks;
     for (const StyledLayer& layer : sd.layers) {
         body += "<g id=\"" + layer.id + "\" inkscape:groupmode=\"layer\" inkscape:label=\"" + layer.id + "\">\n";
         // A group per object (scenes of several), in the scene's order as the plain writer has them.
@@ -216,76 +296,7 @@ std::string styled_to_svg(const StyledDrawing& sd) {
             }
             for (const Mark& m : layer.marks) {
                 if (m.object != object) continue;
-                const std::string colour = hex_colour(m.rgb);
-                const std::string opacity = m.opacity < 1.0 ? " opacity=\"" + num(m.opacity) + "\"" : "";
-                switch (m.type) {
-                    case Mark::Type::Stroke:
-                        body += "<g fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" + num(m.width, 4) + "\"" + opacity;
-                        if (m.dash_on > 0) body += " stroke-dasharray=\"" + num(m.dash_on) + "," + num(m.dash_off) + "\"";
-                        body += " stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
-                        for (const auto& path : m.paths) {
-                            if (path.size() < 2) continue;
-                            body += "<polyline points=\"";
-                            for (const glm::dvec2& q : path) body += num(q.x) + "," + num(q.y) + " ";
-                            body.back() = '"';
-                            body += "/>\n";
-                        }
-                        body += "</g>\n";
-                        break;
-                    case Mark::Type::Fill: {
-                        body += "<path fill=\"" + colour + "\" fill-rule=\"nonzero\" stroke=\"none\"" + opacity + " d=\"";
-                        for (const auto& path : m.paths) {
-                            if (path.size() < 3) continue;
-                            body += "M";
-                            for (const glm::dvec2& q : path) body += num(q.x) + "," + num(q.y) + " ";
-                            body += "Z";
-                        }
-                        body += "\"/>\n";
-                        break;
-                    }
-                    case Mark::Type::Brush: {
-                        cairo_surface_t* b = brushes.get(m.brush, m.rgb);
-                        const double iw = cairo_image_surface_get_width(b), ih = cairo_image_surface_get_height(b);
-                        auto [it, fresh] = brush_ids.emplace(std::make_pair(m.brush, m.rgb), "brush" + std::to_string(brush_ids.size()));
-                        if (fresh) {
-                            std::string png;
-                            cairo_surface_write_to_png_stream(b, append, &png);
-                            defs += "<image id=\"" + it->second + "\" width=\"" + num(iw) + "\" height=\"" + num(ih) +
-                                    "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
-                        }
-                        body += "<g" + opacity + ">\n";
-                        for (const BrushQuad& q : m.quads) {
-                            const glm::dvec2 c0 = 0.5 * (q.corner[0] + q.corner[1]), c1 = 0.5 * (q.corner[2] + q.corner[3]);
-                            const double len = glm::length(c1 - c0);
-                            const double w = 0.5 * (glm::length(q.corner[0] - q.corner[1]) + glm::length(q.corner[3] - q.corner[2]));
-                            if (!(len > 1e-9) || !(w > 1e-9) || !(q.u1 > q.u0)) continue;
-                            const glm::dvec2 d = (c1 - c0) / len, n(-d.y, d.x);
-                            // Image -> user space (the inverse of the Cairo pattern matrix in draw_quad):
-                            // the image's columns u0 iw .. u1 iw, clipped by a nested <svg> viewport, land on
-                            // the quad (a parallelogram from the start crossbar along the spine), grown by
-                            // 0.3 px each way so neighbours overlap.
-                            const glm::dvec2 A = d * (len / ((q.u1 - q.u0) * iw)), B = -n * (w / ih);
-                            const glm::dvec2 e = c0 - A * (q.u0 * iw) - B * (0.5 * ih);
-                            const double grow = 0.3 / glm::length(A);
-                            const double x0 = q.u0 * iw - grow, x1 = q.u1 * iw + grow;
-                            const auto g6 = [](double v) {
-                                char buf[64];
-                                const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 7);
-                                return std::string(buf, r.ptr);
-                            };
-                            body += "<g transform=\"matrix(" + g6(A.x) + " " + g6(A.y) + " " + g6(B.x) + " " + g6(B.y) + " " +
-                                    g6(e.x) + " " + g6(e.y) + ")\"><svg x=\"" + g6(x0) + "\" y=\"0\" width=\"" + g6(x1 - x0) +
-                                    "\" height=\"" + num(ih) + "\" viewBox=\"" + g6(x0) + " 0 " + g6(x1 - x0) + " " + num(ih) +
-                                    "\"><use href=\"#" + it->second + "\"/>";
-                            if (x0 < 0) body += "<use href=\"#" + it->second + "\" x=\"" + num(-iw) + "\"/>";   // wrap at seams
-                            if (x1 > iw) body += "<use href=\"#" + it->second + "\" x=\"" + num(iw) + "\"/>";
-                            body += "</svg></g>\n";
-                            ++patterns;
-                        }
-                        body += "</g>\n";
-                        break;
-                    }
-                }
+                marks.add(body, m);
             }
             if (by_object) body += "</g>\n";
         }
@@ -294,7 +305,7 @@ std::string styled_to_svg(const StyledDrawing& sd) {
     return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
            "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" "
            "version=\"1.1\" width=\"" + W + "\" height=\"" + H + "\" viewBox=\"0 0 " + W + " " + H + "\">\n" +
-           (defs.empty() ? "" : "<defs>\n" + defs + "</defs>\n") + "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" +
+           (marks.defs.empty() ? "" : "<defs>\n" + marks.defs + "</defs>\n") + "<rect id=\"background\" x=\"0\" y=\"0\" width=\"" +
            W + "\" height=\"" + H + "\" fill=\"" + hex_colour(sd.background) + "\"/>\n" +
            (sd.base.empty() ? std::string() : svg_raster_layer(sd.base)) + body + "</svg>\n";
 }
