@@ -5,7 +5,7 @@
 // consecutive drawings' visible lines, counting only what is more than 1 px from the other
 // drawing's lines. Times are the thread's CPU time on one core (a shared machine's wall time
 // mostly measures the others). Prints Markdown.
-// Usage: bench_multiscale [--frames=N] [--target=PX] [--ratio=R] [MODEL ...]  (default armadillo bunny00
+// Usage: bench_multiscale [--frames=N] [--target=PX] [--ratio=R] [--relax=A] [--spread=S] [--second-order] [--no-coherence] [--write-levels=DIR] [MODEL ...]  (default armadillo bunny00
 // elephant armadillo@1; MODEL@N: N rounds of Loop subdivision). Without --target, T is the
 // projection of the mean edge length at the model's centre in the framed view.
 #include <algorithm>
@@ -84,7 +84,48 @@ ViewOptions line_options() {
     return o;
 }
 
-void bench(const std::string& name, int frames, double target_arg, const MultiscaleOptions& options) {
+// Faces of level k whose normal turned over against the input's (folds of the smoothing), and
+// the mean |k1| of level k over the vertices of no such face.
+std::size_t flipped_faces(const Model& m, const MultiscaleLevels& L, int k, double* mean_away = nullptr) {
+    const MeshTopology& t = m.topology();
+    const std::vector<glm::dvec3> p = level_positions(m, L, k);
+    std::size_t n = 0;
+    std::vector<std::uint8_t> near(t.vertex_count(), 0);
+    for (std::uint32_t f = 0; f < t.face_count(); ++f) {
+        const auto& v = t.faces[f];
+        const glm::dvec3 normal = glm::cross(p[v[1]] - p[v[0]], p[v[2]] - p[v[0]]);
+        const bool flipped = glm::dot(normal, t.face_normal(f)) < 0.0;
+        n += flipped;
+        if (flipped) near[v[0]] = near[v[1]] = near[v[2]] = 1;
+    }
+    if (mean_away) {
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (std::size_t v = 0; v < t.vertex_count(); ++v) {
+            const bool valid = k == 0 ? m.curvature().valid[v] != 0 : L.valid[L.at(k, v)] != 0;
+            if (near[v] || !valid) continue;
+            sum += std::fabs(k == 0 ? m.curvature().k1[v] : L.k1[L.at(k, v)]);
+            ++count;
+        }
+        *mean_away = count ? sum / double(count) : 0.0;
+    }
+    return n;
+}
+
+// Level k of the model as an OFF file (to render and look at).
+void write_level_off(const Model& m, const MultiscaleLevels& L, int k, const std::string& path) {
+    const MeshTopology& t = m.topology();
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) return;
+    std::fprintf(f, "OFF\n%zu %zu 0\n", t.vertex_count(), t.face_count());
+    for (const glm::dvec3& p : level_positions(m, L, k)) std::fprintf(f, "%.9g %.9g %.9g\n", p.x, p.y, p.z);
+    for (const auto& v : t.faces) std::fprintf(f, "3 %u %u %u\n", v[0], v[1], v[2]);
+    std::fclose(f);
+}
+
+std::string g_write_levels;  // --write-levels=DIR
+
+void bench(const std::string& name, int frames, double target_arg, const MultiscaleOptions& options, bool coherence) {
     const Model* m = bench_model_for(name, "bench_multiscale");
     if (!m) return;
     const MeshTopology& t = m->topology();
@@ -103,6 +144,15 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
                 "%d levels, %zu collapses, %.1f bytes a vertex a level (%.1f MB), mean edge %.4g%s%s\n",
                 levels_s, model_s, L.levels, L.collapses, per_vertex_level, double(L.bytes()) / 1e6, L.feature_size,
                 L.note.empty() ? "" : ", ", L.note.c_str());
+    std::printf("\n| level | mean abs k1 | median abs k1 | faces turned over | mean abs k1 away from them |\n|---|---|---|---|---|\n");
+    for (int k = 0; k < L.levels; ++k) {
+        double away = 0.0;
+        const std::size_t flipped = flipped_faces(*m, L, k, &away);
+        std::printf("| M%d | %.4g | %.4g | %zu | %.4g |\n", k, L.mean_abs_k1[std::size_t(k)], L.median_abs_k1[std::size_t(k)],
+                    flipped, away);
+    }
+    if (!g_write_levels.empty())
+        for (int k = 0; k < L.levels; ++k) write_level_off(*m, L, k, g_write_levels + "/" + name + "_M" + std::to_string(k) + ".off");
     const Camera framed = Camera::framing(t.bounds, 1024, 1024);
     const glm::dvec3 c = t.bounds.center(), offset = framed.eye() - c;
     const double target = target_arg > 0.0 ? target_arg : L.feature_size * framed.focal() / glm::length(offset);
@@ -134,6 +184,7 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
                     ld / area / d0d, plain_ms.back(), detail_ms.back());
     }
     std::printf("\nmedian frame: plain %.2f ms, detail %.2f ms\n", median(plain_ms), median(detail_ms));
+    if (!coherence) return;
     // Temporal coherence: 20 frames from 2x outward, 1 % farther each.
     double worst = 0.0, sum = 0.0, sum_plain = 0.0;
     std::unique_ptr<Raster> prev, prev_plain;
@@ -163,16 +214,22 @@ int main(int argc, char** argv) {
     int frames = 13;
     double target = 0.0;
     MultiscaleOptions options;
+    bool coherence = true;
     std::vector<std::string> models;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a.rfind("--frames=", 0) == 0) frames = std::max(2, std::stoi(a.substr(9)));
         else if (a.rfind("--target=", 0) == 0) target = std::stod(a.substr(9));
         else if (a.rfind("--ratio=", 0) == 0) options.ratio = std::stod(a.substr(8));
+        else if (a.rfind("--relax=", 0) == 0) options.relax = std::stod(a.substr(8));
+        else if (a.rfind("--spread=", 0) == 0) options.spread = std::stod(a.substr(9));
+        else if (a == "--no-coherence") coherence = false;
+        else if (a.rfind("--write-levels=", 0) == 0) g_write_levels = a.substr(15);
+        else if (a == "--second-order") options.fairing = MultiscaleFairing::SecondOrder;
         else models.push_back(a);
     }
     if (models.empty()) models = {"armadillo", "bunny00", "elephant", "armadillo@1"};
     std::printf("# Multi-scale detail: pre-process and dolly (bench_multiscale)\n");
-    for (const std::string& m : models) bench(m, frames, target, options);
+    for (const std::string& m : models) bench(m, frames, target, options, coherence);
     return 0;
 }

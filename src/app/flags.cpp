@@ -526,6 +526,21 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              if (!(r > 0.0 && r < 1.0)) throw Error("--detail-ratio", "expected a ratio in (0, 1)");
              d.ratio = r;
          }},
+        {"--detail-fairing", "umbrella|second-order",
+         "--detail: the fairing functional that predicts the smoothed levels: umbrella (the default) or "
+         "second-order (keeps volume, folds fewer faces, smooths less; docs/detail.md)",
+         [&d](const std::string& v) {
+             if (v == "umbrella") d.fairing = MultiscaleFairing::Umbrella;
+             else if (v == "second-order") d.fairing = MultiscaleFairing::SecondOrder;
+             else throw Error("--detail-fairing", "unknown functional '" + v + "' (expected umbrella or second-order)");
+         }},
+        {"--cache", "DIR",
+         "--detail: keep the smoothed levels in DIR, keyed by the model file's content and the options that "
+         "change them; reused when they match, rebuilt (one warning) when a file there is corrupt or stale",
+         [&d](const std::string& v) {
+             if (v.empty()) throw Error("--cache", "expected a folder");
+             d.cache_dir = v;
+         }},
         {"--detail-depth", "E",
          "--detail: the target grows with depth as (d / d_centre)^E, 0 to 4 (default 0: the same everywhere)",
          [&d](const std::string& v) {
@@ -540,6 +555,7 @@ MultiscaleOptions DetailFlags::levels_options() const {
     MultiscaleOptions o;
     o.levels = levels.value_or(o.levels);
     o.ratio = ratio.value_or(o.ratio);
+    o.fairing = fairing.value_or(o.fairing);
     return o;
 }
 
@@ -549,6 +565,8 @@ void DetailFlags::check(const std::string& command) const {
     if (levels) throw Usage("--levels needs --detail=PX", command);
     if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);
     if (method_given) throw Usage("--detail-method needs --detail=PX", command);
+    if (fairing) throw Usage("--detail-fairing needs --detail=PX", command);
+    if (!cache_dir.empty()) throw Usage("--cache needs --detail=PX", command);
 }
 
 Flag subdivide_flag(int& levels) {

@@ -163,6 +163,8 @@ struct DetailFlags {
     double target_area_px() const { return target_px * target_px; }
     std::optional<double> depth_exponent;
     std::optional<double> ratio;
+    std::optional<MultiscaleFairing> fairing;
+    std::string cache_dir;  // --cache: where the smoothed levels are kept (empty: not kept)
     bool method_given = false;  // --detail-method
     MultiscaleOptions levels_options() const;
     // Usage error when a tuning flag comes without --detail.

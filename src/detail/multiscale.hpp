@@ -23,15 +23,22 @@
 
 namespace inkline {
 
+// The fairing functional whose local minimizer predicts a vertex from its neighbourhood (GSS
+// section 3): the umbrella (membrane) energy, the neighbours' centroid; or the second-order one
+// (squared jumps of the gradient across edges, uniform weights), which keeps curved surfaces'
+// volume and folds far fewer faces but smooths less per level (bench/results/multiscale.md).
+enum class MultiscaleFairing { Umbrella, SecondOrder };
+
 // Defaults measured on armadillo, bunny and elephant (bench/results/multiscale.md): with the
 // umbrella functional the seed's r = 3/4 smooths too little for the density check; 1/2
 // doubles the feature size per level, at the price of a few folded faces in the smoothest levels.
 struct MultiscaleOptions {
     int levels = 4;        // N: M0 (the input) and N - 1 smoothed copies
     double ratio = 0.5;    // r: M_k keeps the detail of the first r^k n vertex splits (the seed: 3/4)
-    double relax = 1.0;    // analysis: share of the way each ring vertex moves to its neighbours' centroid
+    double relax = 1.0;    // analysis: share of the way each ring vertex moves to its fairing minimizer
     double shrink_back = 0.0;  // analysis: then the same with this (negative) share (Taubin's mu)
     double spread = 0.5;   // synthesis: the same for the ring of each vertex split
+    MultiscaleFairing fairing = MultiscaleFairing::Umbrella;
     // Called after each step of the pre-process (the model's curvature, the simplification, each
     // smoothed level): steps done and steps in all, for a progress line on long builds.
     std::function<void(int done, int total)> progress = {};
