@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <string>
 #include <vector>
@@ -148,8 +149,18 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
     for (int k = 0; k < L.levels; ++k) {
         double away = 0.0;
         const std::size_t flipped = flipped_faces(*m, L, k, &away);
-        std::printf("| M%d | %.4g | %.4g | %zu | %.4g |\n", k, L.mean_abs_k1[std::size_t(k)], L.median_abs_k1[std::size_t(k)],
+        std::printf("| M%d | %.4g | %.4g | %zu | %.4g |", k, L.mean_abs_k1[std::size_t(k)], L.median_abs_k1[std::size_t(k)],
                     flipped, away);
+        if (std::getenv("MSD_PCT")) {
+            std::vector<float> a;
+            for (std::size_t v = 0; v < L.vertices; ++v) a.push_back(std::fabs(k == 0 ? m->curvature().k1[v] : L.k1[L.at(k, v)]));
+            std::sort(a.begin(), a.end());
+            double top = 0.0;
+            for (std::size_t i = a.size() * 99 / 100; i < a.size(); ++i) top += a[i];
+            std::printf(" p90 %.3g p99 %.3g p99.9 %.3g max %.3g, top 1%% share of sum %.2f |", a[a.size() * 9 / 10], a[a.size() * 99 / 100],
+                        a[a.size() * 999 / 1000], a.back(), top / (L.mean_abs_k1[std::size_t(k)] * double(a.size())));
+        }
+        std::printf("\n");
     }
     if (!g_write_levels.empty())
         for (int k = 0; k < L.levels; ++k) write_level_off(*m, L, k, g_write_levels + "/" + name + "_M" + std::to_string(k) + ".off");
@@ -226,6 +237,7 @@ int main(int argc, char** argv) {
         else if (a == "--no-coherence") coherence = false;
         else if (a.rfind("--write-levels=", 0) == 0) g_write_levels = a.substr(15);
         else if (a == "--second-order") options.fairing = MultiscaleFairing::SecondOrder;
+        else if (a.rfind("--sweeps=", 0) == 0) options.sweeps = std::stoi(a.substr(9));
         else models.push_back(a);
     }
     if (models.empty()) models = {"armadillo", "bunny00", "elephant", "armadillo@1"};

@@ -556,6 +556,9 @@ MultiscaleOptions DetailFlags::levels_options() const {
     o.levels = levels.value_or(o.levels);
     o.ratio = ratio.value_or(o.ratio);
     o.fairing = fairing.value_or(o.fairing);
+    // The second-order functional's splits leave folds and spikes at thin tips; sweeps over each
+    // level take some (bench/results/multiscale.md: armadillo's M3 at r = 1/2, 166 -> 120 folded faces).
+    if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8;
     return o;
 }
 

@@ -39,6 +39,7 @@ struct MultiscaleOptions {
     double shrink_back = 0.0;  // analysis: then the same with this (negative) share (Taubin's mu)
     double spread = 0.5;   // synthesis: the same for the ring of each vertex split
     MultiscaleFairing fairing = MultiscaleFairing::Umbrella;
+    int sweeps = 0;        // then relaxation sweeps over each smoothed level (`spread` each; 8 for second-order)
     // Called after each step of the pre-process (the model's curvature, the simplification, each
     // smoothed level): steps done and steps in all, for a progress line on long builds.
     std::function<void(int done, int total)> progress = {};

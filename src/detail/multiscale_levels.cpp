@@ -47,6 +47,8 @@ struct CollapseRecord {
     std::vector<std::uint32_t> blocks;
     std::vector<std::uint32_t> detail_begin{0};  // per collapse, into `detail`
     std::vector<glm::dvec3> detail;
+    // Every vertex's stencil on the input mesh (the final relaxation sweeps of the levels).
+    std::vector<std::uint32_t> fine_blocks;
     std::size_t count() const { return begin.size() - 1; }
 };
 
@@ -225,6 +227,8 @@ bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, Collap
         }
     }
     const std::size_t n = mesh.vertex_count();
+    if (options.sweeps > 0)
+        for (auto v : m.vertices()) predictors(m, v, options.fairing == MultiscaleFairing::SecondOrder, record.fine_blocks);
     record.begin.reserve(n + 1);
     record.detail_begin.reserve(n + 1);
     record.blocks.reserve(7 * 16 * n);
@@ -302,6 +306,18 @@ void synthesize(const CollapseRecord& r, double spread, std::size_t with_detail,
         std::size_t k = 0;
         for (std::uint32_t b = ring_first; b < end; b += block_size(r.blocks, b)) pos[r.blocks[b]] = ring[k++];
     }
+}
+
+// Relaxation sweeps over the whole level (Gauss-Seidel, each vertex `spread` of the way to its
+// minimizer): what the vertex splits without detail leave of high frequencies (spikes at thin
+// tips, folds) goes.
+void relax_level(const CollapseRecord& r, double spread, int sweeps, std::vector<glm::dvec3>& pos) {
+    const auto at_pos = [&pos](std::uint32_t u) { return pos[u]; };
+    for (int i = 0; i < sweeps; ++i)
+        for (std::uint32_t b = 0; b < r.fine_blocks.size(); b += block_size(r.fine_blocks, b)) {
+            glm::dvec3& x = pos[r.fine_blocks[b]];
+            x += spread * (predict(r.fine_blocks, b, at_pos) - x);
+        }
 }
 
 // Mean and median of |k1| over the valid vertices.
@@ -400,6 +416,7 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
         const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
         scratch.positions = base;
         synthesize(record, options.spread, with_detail, scratch.positions, ring);
+        relax_level(record, options.spread, options.sweeps, scratch.positions);
         const CurvatureField field = estimate_curvature(scratch);
         store_level(out, k, scratch.positions, field);
         const auto [mean, median] = abs_k1(field);
