@@ -258,6 +258,43 @@ TEST(MultiscaleView, LevelsFollowDistance) {
     for (std::size_t v = 0; v < m.vertex_count(); v += 997) EXPECT_FLOAT_EQ(levels[v], std::clamp(l, 0.0f, 3.0f));
 }
 
+// The target per object (--detail-object) and with depth (--detail-depth): two spheres, objects
+// "A" and "B"; B's own target 4x A's puts B two levels finer; E = -1 puts every vertex at the
+// centre's level, E = 1 doubles the level's growth with distance.
+TEST(MultiscaleView, TargetPerObjectAndWithDepth) {
+    TriangleMesh a = make_sphere({-2, 0, 0}, 1.0, 32, 16), b = make_sphere({2, 0, 0}, 1.0, 32, 16);
+    TriangleMesh t = a;
+    const auto offset = std::uint32_t(a.positions.size());
+    t.positions.insert(t.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto f : b.triangles) t.triangles.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+    t.face_object.assign(a.triangles.size(), 0);
+    t.face_object.resize(t.triangles.size(), 1);
+    t.object_names = {"A", "B"};
+    const Model model(t);
+    const MeshTopology& m = model.topology();
+    MultiscaleLevels L;
+    L.levels = 8;
+    L.feature_size = 0.002;  // (every level between 2 and 6: none clamped)
+    const Camera cam = Camera::perspective({0, 3, 12}, {0, 0, 0}, {0, 1, 0}, 30.0, 800, 800);
+    const double d0 = L.feature_size * cam.focal() / 2.0;  // T = 2 px: level log2(d / d0)
+    std::vector<float> levels;
+    multiscale_vertex_levels(model, L, cam, {.target_px = 2.0, .object_target_px = {{"B", 8.0}}}, levels);
+    for (std::size_t v = 0; v < m.vertex_count(); v += 7) {
+        const double base = std::log2(glm::length(cam.eye() - m.positions[v]) / d0);
+        ASSERT_GT(base, 1.0);
+        EXPECT_NEAR(levels[v], v < offset ? base : base + 2.0, 1e-5) << v;
+    }
+    EXPECT_EQ(unknown_detail_objects(m, {.object_target_px = {{"B", 8.0}, {"C", 1.0}, {"D", 1.0}}}), "'C', 'D'");
+    const double log_ref = std::log2(glm::length(cam.eye() - m.bounds.center()));
+    multiscale_vertex_levels(model, L, cam, {.target_px = 2.0, .depth_exponent = -1.0}, levels);
+    for (std::size_t v = 0; v < m.vertex_count(); v += 7) EXPECT_NEAR(levels[v], log_ref - std::log2(d0), 1e-5) << v;
+    multiscale_vertex_levels(model, L, cam, {.target_px = 2.0, .depth_exponent = 1.0}, levels);
+    for (std::size_t v = 0; v < m.vertex_count(); v += 7) {
+        const double log_d = std::log2(glm::length(cam.eye() - m.positions[v]));
+        EXPECT_NEAR(levels[v], 2.0 * log_d - log_ref - std::log2(d0), 1e-5) << v;
+    }
+}
+
 // Issue 43's density check: along a dolly from the framed view to 8x farther, visible line length
 // per unit of the model's image area grows with distance (an outline's length shrinks like 1/d,
 // the area like 1/d^2: a fixed drawing's density grows 8x); with detail control the fine lines
@@ -305,7 +342,13 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         {"--detail-ratio=0.5", "--detail-ratio needs --detail=PX"},
         {"--detail=4 --detail-ratio=1", "--detail-ratio: expected a ratio in (0, 1)"},
         {"--detail=4 --detail-method=spiral", "--detail-method: unknown method 'spiral' (expected multiscale or pm)"},
-        {"--detail=4 --detail-depth=5", "--detail-depth: expected an exponent in [0, 4]"},
+        {"--detail=4 --detail-depth=5", "--detail-depth: expected an exponent in [-1, 4]"},
+        {"--detail=4 --detail-depth=-1.5", "--detail-depth: expected an exponent in [-1, 4]"},
+        {"--detail-object=a=3", "--detail-object needs --detail=PX"},
+        {"--detail=4 --detail-object=a", "--detail-object: expected NAME=PX"},
+        {"--detail=4 --detail-object=a=0", "--detail-object: expected a target size in pixels"},
+        {"--detail=4 --detail-object=Head=3", "has no object named 'Head'"},
+        {"--detail=4 --cache=", "--cache: expected a folder"},
     };
     for (const auto& b : bad) {
         const auto r = run_inkline("", "render " + bunny + " " + b.args, dir);

@@ -232,7 +232,8 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     if (setup.detail)
         detail = std::make_unique<MultiscaleSession>(
             model, *setup.detail, view_options(a, setup, model),
-            MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0)});
+            MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0),
+                                  .object_target_px = a.detail.object_target_px});
     View view = detail ? std::move(detail->render(cam)) : render_view(model, cam, view_options(a, setup, model));
     // (with --detail the lines are those of the blended shape: the recall compares with its own)
     const MeshTopology& drawn = detail ? detail->blended().topology() : model.topology();
@@ -517,6 +518,9 @@ int run_render(int argc, char** argv) {
     // --detail (multiscale): the smoothed levels, built (or read from --cache) once for every frame.
     std::optional<MultiscaleLevels> levels;
     if (a.detail.target_px > 0.0 && a.detail.method != "pm") {
+        if (const std::string unknown = unknown_detail_objects(
+                model.topology(), {.object_target_px = a.detail.object_target_px}); !unknown.empty())
+            throw BadValue("--detail-object: " + path + " has no object named " + unknown);
         levels = detail_levels(a, model, path, setup.detail_source);
         setup.detail = &*levels;
     }

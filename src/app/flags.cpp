@@ -541,11 +541,22 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              if (v.empty()) throw Error("--cache", "expected a folder");
              d.cache_dir = v;
          }},
+        {"--detail-object", "NAME=PX",
+         "--detail: object NAME of a scene gets its own target size PX (repeat for more objects; the others take --detail)",
+         [&d](const std::string& v) {
+             const std::size_t eq = v.rfind('=');
+             if (eq == std::string::npos || eq == 0)
+                 throw Error("--detail-object", "expected NAME=PX (an object of the scene and its target size), got '" + v + "'");
+             const double px = parse_number("--detail-object", v.substr(eq + 1));
+             if (!(px > 0.0 && px <= 10000.0)) throw Error("--detail-object", "expected a target size in pixels in (0, 10000]");
+             d.object_target_px.emplace_back(v.substr(0, eq), px);
+         }},
         {"--detail-depth", "E",
-         "--detail: the target grows with depth as (d / d_centre)^E, 0 to 4 (default 0: the same everywhere)",
+         "--detail: the target grows with depth as (d / d_centre)^E, -1 to 4 (default 0: the same everywhere; "
+         "-1: one level for the whole model, the centre's)",
          [&d](const std::string& v) {
              const double e = parse_number("--detail-depth", v);
-             if (!(e >= 0.0 && e <= 4.0)) throw Error("--detail-depth", "expected an exponent in [0, 4]");
+             if (!(e >= -1.0 && e <= 4.0)) throw Error("--detail-depth", "expected an exponent in [-1, 4]");
              d.depth_exponent = e;
          }},
     };
@@ -570,6 +581,7 @@ void DetailFlags::check(const std::string& command) const {
     if (method_given) throw Usage("--detail-method needs --detail=PX", command);
     if (fairing) throw Usage("--detail-fairing needs --detail=PX", command);
     if (!cache_dir.empty()) throw Usage("--cache needs --detail=PX", command);
+    if (!object_target_px.empty()) throw Usage("--detail-object needs --detail=PX", command);
 }
 
 Flag subdivide_flag(int& levels) {

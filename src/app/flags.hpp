@@ -165,6 +165,7 @@ struct DetailFlags {
     std::optional<double> ratio;
     std::optional<MultiscaleFairing> fairing;
     std::string cache_dir;  // --cache: where the smoothed levels are kept (empty: not kept)
+    std::vector<std::pair<std::string, double>> object_target_px;  // --detail-object=NAME=PX
     bool method_given = false;  // --detail-method
     MultiscaleOptions levels_options() const;
     // Usage error when a tuning flag comes without --detail.

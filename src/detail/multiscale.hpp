@@ -96,13 +96,22 @@ std::vector<glm::dvec3> level_positions(const Model& model, const MultiscaleLeve
 struct MultiscaleViewOptions {
     double target_px = 4.0;  // T: features of about this size in the image
     // Depth-dependent target (seed section 5, Figure 3): T * (d / d_ref)^depth_exponent with d_ref
-    // the distance of the model's centre; 0: constant T (the seed's results).
+    // the distance of the model's centre. 0: constant T (the seed's results); > 0: far surfaces
+    // coarser still (depth cueing); -1: every vertex at the level of the centre (detail fixed on
+    // the object, as without detail control but smoothed); between -1 and 0: Figure 3's "between".
     double depth_exponent = 0.0;
+    // Per object of a scene (MeshTopology::object_names): its own T (the seed's "finer features
+    // for important objects"); objects not named take target_px.
+    std::vector<std::pair<std::string, double>> object_target_px = {};
 };
+
+// The names in `options.object_target_px` that `mesh` has no object of ("" when all are there).
+std::string unknown_detail_objects(const MeshTopology& mesh, const MultiscaleViewOptions& options);
 
 // Per vertex level for a view: l = log2(d / d0), d0 = F L / T (F the camera's focal length in
 // pixels, so L at distance d0 projects to T pixels), clamped to [0, N - 1]; orthographic views
-// one level for the whole model (L's projection, the same everywhere).
+// one level for the whole model (L's projection, the same everywhere) or per object with
+// per-object targets. A vertex shared by two objects takes the first object's target.
 void multiscale_vertex_levels(const Model& model, const MultiscaleLevels& levels, const Camera& camera,
                               const MultiscaleViewOptions& options, std::vector<float>& out);
 
