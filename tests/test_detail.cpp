@@ -349,6 +349,7 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         {"--detail=4 --detail-object=a=0", "--detail-object: expected a target size in pixels"},
         {"--detail=4 --detail-object=Head=3", "has no object named 'Head'"},
         {"--detail=4 --cache=", "--cache: expected a folder"},
+        {"--detail=4 --detail-method=pm --cache=c", "are for --detail-method=multiscale"},
     };
     for (const auto& b : bad) {
         const auto r = run_inkline("", "render " + bunny + " " + b.args, dir);

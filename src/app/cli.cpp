@@ -487,6 +487,8 @@ int run_render(int argc, char** argv) {
         throw BadValue("--detail: one model a run (its smoothed levels are built once for all its frames)");
     if (a.detail.target_px > 0.0 && a.detail.method == "pm" && plan.count > 1)
         throw BadValue("--detail-method=pm: one drawing at a time for now (not with --frames)");
+    if (a.detail.method == "pm" && (a.detail.fairing || !a.detail.cache_dir.empty() || !a.detail.object_target_px.empty()))
+        throw BadValue("--detail-fairing, --cache and --detail-object are for --detail-method=multiscale");
     for (const std::string& m : a.models) {
         if (is_freeform_model(m) && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models");
         if (!is_freeform_model(m) && a.freeform.any())
