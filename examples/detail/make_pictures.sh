@@ -1,7 +1,8 @@
 #!/bin/sh
 # The armadillo at three distances (the framed view, 3x and 8x farther), plain, with --detail
-# (the default umbrella levels) and with --detail-fairing=second-order (docs/detail.md): the plain
-# drawing darkens as the model recedes, the detail ones keep about the same density of lines.
+# (the default umbrella levels) and with --detail-fairing=second-order --detail-ratio=0.75
+# (docs/detail.md): the plain drawing darkens as the model recedes, the detail ones keep about the
+# same density of lines.
 # Then, where ImageMagick is installed, the rows side by side (armadillo-rows.png) and the middle
 # of the 3x and 8x pictures magnified 3x without smoothing (armadillo-far-zoom.png), so that the
 # far drawings' pixels can be compared. See examples/detail.md.
@@ -17,7 +18,7 @@ for f in 1 3 8; do
   COMMON="render $MESHES/armadillo.off --lines=silhouette,suggestive --size=768x768 --eye=$EYE --target=$T --quiet"
   "$INKLINE" $COMMON -o "$OUT/armadillo-${f}x-plain.png"
   "$INKLINE" $COMMON --detail=5 -o "$OUT/armadillo-${f}x-detail.png"
-  "$INKLINE" $COMMON --detail=5 --detail-fairing=second-order -o "$OUT/armadillo-${f}x-second-order.png"
+  "$INKLINE" $COMMON --detail=5 --detail-fairing=second-order --detail-ratio=0.75 -o "$OUT/armadillo-${f}x-second-order.png"
 done
 if convert -version 2>/dev/null | grep -q ImageMagick; then
   cd "$OUT"

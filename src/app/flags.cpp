@@ -528,7 +528,7 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
          }},
         {"--detail-fairing", "umbrella|second-order",
          "--detail: the fairing functional that predicts the smoothed levels: umbrella (the default) or "
-         "second-order (keeps volume, folds fewer faces, smooths less; docs/detail.md)",
+         "second-order (keeps volume, folds fewer faces, smooths less; best with --detail-ratio=0.75; docs/detail.md)",
          [&d](const std::string& v) {
              if (v == "umbrella") d.fairing = MultiscaleFairing::Umbrella;
              else if (v == "second-order") d.fairing = MultiscaleFairing::SecondOrder;
@@ -567,9 +567,10 @@ MultiscaleOptions DetailFlags::levels_options() const {
     o.levels = levels.value_or(o.levels);
     o.ratio = ratio.value_or(o.ratio);
     o.fairing = fairing.value_or(o.fairing);
-    // The second-order functional's splits leave folds and spikes at thin tips; sweeps over each
-    // level take some (bench/results/multiscale.md: armadillo's M3 at r = 1/2, 166 -> 120 folded faces).
-    if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8;
+    // The second-order functional's splits leave folds, spikes at thin tips and slivers; sweeps over
+    // each level take most (bench/results/multiscale.md: armadillo's M3 at r = 3/4, mean |k1| 0.193
+    // -> 0.151 against M0's 0.187).
+    if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8, o.tangential_sweeps = 32;
     return o;
 }
 

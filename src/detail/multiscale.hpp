@@ -40,6 +40,7 @@ struct MultiscaleOptions {
     double spread = 0.5;   // synthesis: the same for the ring of each vertex split
     MultiscaleFairing fairing = MultiscaleFairing::Umbrella;
     int sweeps = 0;        // then relaxation sweeps over each smoothed level (`spread` each; 8 for second-order)
+    int tangential_sweeps = 0;  // then sweeps moving vertices along the surface only (32 for second-order)
     // Called after each step of the pre-process (the model's curvature, the simplification, each
     // smoothed level): steps done and steps in all, for a progress line on long builds.
     std::function<void(int done, int total)> progress = {};

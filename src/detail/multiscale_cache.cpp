@@ -41,6 +41,7 @@ std::uint64_t levels_key(std::uint64_t content_hash, const MultiscaleOptions& o,
     for (double x : {o.ratio, o.relax, o.shrink_back, o.spread}) h = fnv_value(x, h);
     h = fnv_value(std::int32_t(o.fairing), h);
     h = fnv_value(std::int32_t(o.sweeps), h);
+    h = fnv_value(std::int32_t(o.tangential_sweeps), h);
     return fnv(variant.data(), variant.size(), h);
 }
 

@@ -47,7 +47,7 @@ struct CollapseRecord {
     std::vector<std::uint32_t> blocks;
     std::vector<std::uint32_t> detail_begin{0};  // per collapse, into `detail`
     std::vector<glm::dvec3> detail;
-    // Every vertex's stencil on the input mesh (the final relaxation sweeps of the levels).
+    // Every vertex's stencil on the input mesh (the final sweeps over the levels).
     std::vector<std::uint32_t> fine_blocks;
     std::size_t count() const { return begin.size() - 1; }
 };
@@ -227,7 +227,7 @@ bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, Collap
         }
     }
     const std::size_t n = mesh.vertex_count();
-    if (options.sweeps > 0)
+    if (options.sweeps > 0 || options.tangential_sweeps > 0)
         for (auto v : m.vertices()) predictors(m, v, options.fairing == MultiscaleFairing::SecondOrder, record.fine_blocks);
     record.begin.reserve(n + 1);
     record.detail_begin.reserve(n + 1);
@@ -317,6 +317,28 @@ void relax_level(const CollapseRecord& r, double spread, int sweeps, std::vector
         for (std::uint32_t b = 0; b < r.fine_blocks.size(); b += block_size(r.fine_blocks, b)) {
             glm::dvec3& x = pos[r.fine_blocks[b]];
             x += spread * (predict(r.fine_blocks, b, at_pos) - x);
+        }
+}
+
+// Tangential relaxation: each interior vertex half way to its ring's centroid within the plane
+// of the ring's vector area. The shape stays (to first order); the slivers that the splits
+// without detail leave open up, whose curvature estimates were the tail of the levels' |k1|.
+void tangential_level(const CollapseRecord& r, int sweeps, std::vector<glm::dvec3>& pos) {
+    for (int i = 0; i < sweeps; ++i)
+        for (std::uint32_t b = 0; b < r.fine_blocks.size(); b += block_size(r.fine_blocks, b)) {
+            const std::uint32_t ring = r.fine_blocks[b + 1];
+            if (ring < 3) continue;  // borders stay
+            glm::dvec3 c(0.0), area(0.0);
+            for (std::uint32_t k = 0; k < ring; ++k) {
+                c += pos[r.fine_blocks[b + 3 + k]];
+                area += glm::cross(pos[r.fine_blocks[b + 3 + k]], pos[r.fine_blocks[b + 3 + (k + 1) % ring]]);
+            }
+            c /= double(ring);
+            const double a2 = glm::dot(area, area);
+            if (!(a2 > 0.0)) continue;
+            glm::dvec3& x = pos[r.fine_blocks[b]];
+            const glm::dvec3 d = c - x;
+            x += 0.5 * (d - area * (glm::dot(d, area) / a2));
         }
 }
 
@@ -417,6 +439,7 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
         scratch.positions = base;
         synthesize(record, options.spread, with_detail, scratch.positions, ring);
         relax_level(record, options.spread, options.sweeps, scratch.positions);
+        tangential_level(record, options.tangential_sweeps, scratch.positions);
         const CurvatureField field = estimate_curvature(scratch);
         store_level(out, k, scratch.positions, field);
         const auto [mean, median] = abs_k1(field);
