@@ -5,12 +5,15 @@
 // consecutive drawings' visible lines, counting only what is more than 1 px from the other
 // drawing's lines. Times are the thread's CPU time on one core (a shared machine's wall time
 // mostly measures the others). Prints Markdown.
-// Usage: bench_multiscale [--frames=N] [--target=PX] [--ratio=R] [MODEL ...]  (default armadillo bunny00
-// elephant armadillo@1; MODEL@N: N rounds of Loop subdivision). Without --target, T is the
-// projection of the mean edge length at the model's centre in the framed view.
+// Usage: bench_multiscale [--frames=N] [--target=PX] [--ratio=R] [--relax=A] [--spread=S]
+//        [--second-order] [--sweeps=N] [--tangential=N] [--no-coherence] [--write-levels=DIR] [--plot=FILE.svg] [MODEL ...]
+// (default armadillo bunny00 elephant armadillo@1; MODEL@N: N rounds of Loop subdivision). Without
+// --target, T is the projection of the mean edge length at the model's centre in the framed view.
+// --write-levels writes each level as DIR/MODEL_Mk.off; --plot the density curves of the dolly.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <string>
 #include <vector>
@@ -84,7 +87,113 @@ ViewOptions line_options() {
     return o;
 }
 
-void bench(const std::string& name, int frames, double target_arg, const MultiscaleOptions& options) {
+// Faces of level k whose normal turned over against the input's (folds of the smoothing), and
+// the mean |k1| of level k over the vertices of no such face.
+std::size_t flipped_faces(const Model& m, const MultiscaleLevels& L, int k, double* mean_away = nullptr) {
+    const MeshTopology& t = m.topology();
+    const std::vector<glm::dvec3> p = level_positions(m, L, k);
+    std::size_t n = 0;
+    std::vector<std::uint8_t> near(t.vertex_count(), 0);
+    for (std::uint32_t f = 0; f < t.face_count(); ++f) {
+        const auto& v = t.faces[f];
+        const glm::dvec3 normal = glm::cross(p[v[1]] - p[v[0]], p[v[2]] - p[v[0]]);
+        const bool flipped = glm::dot(normal, t.face_normal(f)) < 0.0;
+        n += flipped;
+        if (flipped) near[v[0]] = near[v[1]] = near[v[2]] = 1;
+    }
+    if (mean_away) {
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (std::size_t v = 0; v < t.vertex_count(); ++v) {
+            const bool valid = k == 0 ? m.curvature().valid[v] != 0 : L.valid[L.at(k, v)] != 0;
+            if (near[v] || !valid) continue;
+            sum += std::fabs(k == 0 ? m.curvature().k1[v] : L.k1[L.at(k, v)]);
+            ++count;
+        }
+        *mean_away = count ? sum / double(count) : 0.0;
+    }
+    return n;
+}
+
+// Level k of the model as an OFF file (to render and look at).
+void write_level_off(const Model& m, const MultiscaleLevels& L, int k, const std::string& path) {
+    const MeshTopology& t = m.topology();
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) return;
+    std::fprintf(f, "OFF\n%zu %zu 0\n", t.vertex_count(), t.face_count());
+    for (const glm::dvec3& p : level_positions(m, L, k)) std::fprintf(f, "%.9g %.9g %.9g\n", p.x, p.y, p.z);
+    for (const auto& v : t.faces) std::fprintf(f, "3 %u %u %u\n", v[0], v[1], v[2]);
+    std::fclose(f);
+}
+
+std::string g_write_levels;  // --write-levels=DIR
+
+// The dolly's density curves of each model, for --plot.
+struct Curve {
+    std::string model;
+    std::vector<double> factor, plain, detail;
+};
+std::vector<Curve> g_curves;
+
+// The density curves as an SVG plot: distance (log scale, 1x to 8x) against visible length per
+// image area relative to 1x (log scale), plain dashed and --detail solid, a colour per model.
+void write_plot(const std::string& path) {
+    const double w = 640, h = 440, left = 60, right = 150, top = 20, bottom = 50;
+    const double pw = w - left - right, ph = h - top - bottom;
+    double ymax = 1.0;
+    for (const Curve& c : g_curves)
+        for (double y : c.plain) ymax = std::max(ymax, y);
+    ymax = std::pow(2.0, std::ceil(std::log2(ymax)));
+    const auto x_of = [&](double f) { return left + pw * std::log2(f) / 3.0; };
+    const auto y_of = [&](double d) { return top + ph * (1.0 - std::log2(std::max(d, 1e-9)) / std::log2(ymax)); };
+    std::string svg;
+    char line[512];
+    const auto add = [&](const char* fmt, auto... args) {
+        std::snprintf(line, sizeof line, fmt, args...);
+        svg += line;
+    };
+    add("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" font-family=\"sans-serif\" font-size=\"12\">\n", w, h);
+    add("<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
+    for (double f : {1.0, 2.0, 4.0, 8.0}) {
+        add("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", x_of(f), top, x_of(f), top + ph);
+        add("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%gx</text>\n", x_of(f), top + ph + 18, f);
+    }
+    for (double d = 1.0; d <= ymax; d *= 2.0) {
+        add("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", left, y_of(d), left + pw, y_of(d));
+        add("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n", left - 6, y_of(d) + 4, d);
+    }
+    add("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">camera distance (framed view = 1x)</text>\n", left + pw / 2, h - 10);
+    add("<text transform=\"translate(16 %.1f) rotate(-90)\" text-anchor=\"middle\">line length per image area (1x = 1)</text>\n",
+        top + ph / 2);
+    const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
+    for (std::size_t i = 0; i < g_curves.size(); ++i) {
+        const Curve& c = g_curves[i];
+        const char* colour = colours[i % 5];
+        for (int kind = 0; kind < 2; ++kind) {
+            const std::vector<double>& ys = kind == 0 ? c.plain : c.detail;
+            svg += "<polyline fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"2\"" +
+                   (kind == 0 ? " stroke-dasharray=\"6 4\"" : "") + " points=\"";
+            for (std::size_t k = 0; k < ys.size(); ++k) add("%.1f,%.1f ", x_of(c.factor[k]), y_of(ys[k]));
+            svg += "\"/>\n";
+        }
+        const double y = top + 10 + 36.0 * double(i);
+        add("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"6 4\"/>\n",
+            w - right + 10, y, w - right + 34, y, colour);
+        add("<text x=\"%.1f\" y=\"%.1f\">%s plain</text>\n", w - right + 40, y + 4, c.model.c_str());
+        add("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/>\n", w - right + 10,
+            y + 16, w - right + 34, y + 16, colour);
+        add("<text x=\"%.1f\" y=\"%.1f\">%s --detail</text>\n", w - right + 40, y + 20, c.model.c_str());
+    }
+    svg += "</svg>\n";
+    const std::string tmp = path + ".tmp";
+    if (std::FILE* f = std::fopen(tmp.c_str(), "w")) {
+        std::fputs(svg.c_str(), f);
+        std::fclose(f);
+        std::rename(tmp.c_str(), path.c_str());
+    }
+}
+
+void bench(const std::string& name, int frames, double target_arg, const MultiscaleOptions& options, bool coherence) {
     const Model* m = bench_model_for(name, "bench_multiscale");
     if (!m) return;
     const MeshTopology& t = m->topology();
@@ -103,6 +212,25 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
                 "%d levels, %zu collapses, %.1f bytes a vertex a level (%.1f MB), mean edge %.4g%s%s\n",
                 levels_s, model_s, L.levels, L.collapses, per_vertex_level, double(L.bytes()) / 1e6, L.feature_size,
                 L.note.empty() ? "" : ", ", L.note.c_str());
+    std::printf("\n| level | mean abs k1 | median abs k1 | faces turned over | mean abs k1 away from them |\n|---|---|---|---|---|\n");
+    for (int k = 0; k < L.levels; ++k) {
+        double away = 0.0;
+        const std::size_t flipped = flipped_faces(*m, L, k, &away);
+        std::printf("| M%d | %.4g | %.4g | %zu | %.4g |", k, L.mean_abs_k1[std::size_t(k)], L.median_abs_k1[std::size_t(k)],
+                    flipped, away);
+        if (std::getenv("MSD_PCT")) {
+            std::vector<float> a;
+            for (std::size_t v = 0; v < L.vertices; ++v) a.push_back(std::fabs(k == 0 ? m->curvature().k1[v] : L.k1[L.at(k, v)]));
+            std::sort(a.begin(), a.end());
+            double top = 0.0;
+            for (std::size_t i = a.size() * 99 / 100; i < a.size(); ++i) top += a[i];
+            std::printf(" p90 %.3g p99 %.3g p99.9 %.3g max %.3g, top 1%% share of sum %.2f |", a[a.size() * 9 / 10], a[a.size() * 99 / 100],
+                        a[a.size() * 999 / 1000], a.back(), top / (L.mean_abs_k1[std::size_t(k)] * double(a.size())));
+        }
+        std::printf("\n");
+    }
+    if (!g_write_levels.empty())
+        for (int k = 0; k < L.levels; ++k) write_level_off(*m, L, k, g_write_levels + "/" + name + "_M" + std::to_string(k) + ".off");
     const Camera framed = Camera::framing(t.bounds, 1024, 1024);
     const glm::dvec3 c = t.bounds.center(), offset = framed.eye() - c;
     const double target = target_arg > 0.0 ? target_arg : L.feature_size * framed.focal() / glm::length(offset);
@@ -117,6 +245,7 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
     std::printf("| distance | plain length px | detail length px | plain density | detail density | plain ms | detail ms |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
     double d0p = 0.0, d0d = 0.0;
+    Curve curve{name, {}, {}, {}};
     std::vector<double> plain_ms, detail_ms;
     for (int i = 0; i < frames; ++i) {
         const double factor = std::pow(8.0, double(i) / double(frames - 1));
@@ -132,8 +261,13 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
         if (i == 0) d0p = lp / area, d0d = ld / area;
         std::printf("| %.2fx | %.0f | %.0f | %.2f | %.2f | %.2f | %.2f |\n", factor, lp, ld, lp / area / d0p,
                     ld / area / d0d, plain_ms.back(), detail_ms.back());
+        curve.factor.push_back(factor);
+        curve.plain.push_back(lp / area / d0p);
+        curve.detail.push_back(ld / area / d0d);
     }
+    g_curves.push_back(std::move(curve));
     std::printf("\nmedian frame: plain %.2f ms, detail %.2f ms\n", median(plain_ms), median(detail_ms));
+    if (!coherence) return;
     // Temporal coherence: 20 frames from 2x outward, 1 % farther each.
     double worst = 0.0, sum = 0.0, sum_plain = 0.0;
     std::unique_ptr<Raster> prev, prev_plain;
@@ -163,16 +297,27 @@ int main(int argc, char** argv) {
     int frames = 13;
     double target = 0.0;
     MultiscaleOptions options;
+    bool coherence = true;
+    std::string plot;
     std::vector<std::string> models;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a.rfind("--frames=", 0) == 0) frames = std::max(2, std::stoi(a.substr(9)));
         else if (a.rfind("--target=", 0) == 0) target = std::stod(a.substr(9));
         else if (a.rfind("--ratio=", 0) == 0) options.ratio = std::stod(a.substr(8));
+        else if (a.rfind("--relax=", 0) == 0) options.relax = std::stod(a.substr(8));
+        else if (a.rfind("--spread=", 0) == 0) options.spread = std::stod(a.substr(9));
+        else if (a == "--no-coherence") coherence = false;
+        else if (a.rfind("--write-levels=", 0) == 0) g_write_levels = a.substr(15);
+        else if (a.rfind("--plot=", 0) == 0) plot = a.substr(7);
+        else if (a == "--second-order") options.fairing = MultiscaleFairing::SecondOrder;
+        else if (a.rfind("--sweeps=", 0) == 0) options.sweeps = std::stoi(a.substr(9));
+        else if (a.rfind("--tangential=", 0) == 0) options.tangential_sweeps = std::stoi(a.substr(13));
         else models.push_back(a);
     }
     if (models.empty()) models = {"armadillo", "bunny00", "elephant", "armadillo@1"};
     std::printf("# Multi-scale detail: pre-process and dolly (bench_multiscale)\n");
-    for (const std::string& m : models) bench(m, frames, target, options);
+    for (const std::string& m : models) bench(m, frames, target, options, coherence);
+    if (!plot.empty()) write_plot(plot);
     return 0;
 }

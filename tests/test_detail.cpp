@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 
 #include <glm/geometric.hpp>
 
 #include "detail/multiscale.hpp"
+#include "detail/multiscale_cache.hpp"
 #include "cli_util.hpp"
 #include "model/primitives.hpp"
 #include "test_data.hpp"
@@ -125,6 +128,54 @@ TEST(MultiscaleLevels, SmoothedLevelsLoseTheSmallBumps) {
     EXPECT_NEAR(L.median_abs_k1[3], 0.1122, 0.0005);
 }
 
+// The second-order functional (GSS's, uniform weights; --detail-fairing=second-order, with its 8
+// relaxation and 32 tangential sweeps a level): M0 is the input, every level keeps the
+// connectivity, level k keeps the detail of exactly the first r^k n splits (level 2 at r equals
+// level 1 at r^2), and at the seed's r = 3/4 the smoothed levels lose the small bumps without the
+// umbrella's folds: mean |k1| of M3 0.151 against M0's 0.187 on armadillo (the umbrella's: 0.83),
+// 18.6 against 20.6 on bunny; folded faces 4, 6, 8 (the umbrella's at r = 1/2: 15, 23, 89).
+TEST(MultiscaleLevels, SecondOrderKeepsTheShape) {
+    const Built& b = built("armadillo");
+    MultiscaleOptions o{.ratio = 0.75, .fairing = MultiscaleFairing::SecondOrder, .sweeps = 8, .tangential_sweeps = 32};
+    const MultiscaleLevels L = build_multiscale_levels(*b.model, o);
+    ASSERT_EQ(L.levels, 4);
+    EXPECT_EQ(level_positions(*b.model, L, 0), b.model->topology().positions);
+    const MeshTopology& m0 = b.model->topology();
+    std::vector<std::size_t> flipped;
+    for (int k = 1; k < L.levels; ++k) {
+        TriangleMesh t;
+        t.positions = level_positions(*b.model, L, k);
+        t.triangles = m0.faces;
+        const MeshTopology mk = build_topology(std::move(t));
+        EXPECT_EQ(mk.edge_vertex, m0.edge_vertex) << "level " << k;
+        EXPECT_EQ(mk.edge_face, m0.edge_face) << "level " << k;
+        std::size_t n = 0;
+        for (std::uint32_t f = 0; f < m0.face_count(); ++f) n += glm::dot(mk.face_normal(f), m0.face_normal(f)) < 0.0;
+        flipped.push_back(n);
+    }
+    EXPECT_EQ(flipped, (std::vector<std::size_t>{4, 6, 8}));
+    EXPECT_NEAR(L.mean_abs_k1[3], 0.1512, 0.0005);
+    EXPECT_LT(L.mean_abs_k1[3], 0.85 * L.mean_abs_k1[0]);
+    EXPECT_NEAR(L.median_abs_k1[3], 0.0932, 0.0005);
+    EXPECT_LT(L.median_abs_k1[3], 0.75 * L.median_abs_k1[0]);
+    const MultiscaleLevels bunny = build_multiscale_levels(*built("bunny00").model, o);
+    EXPECT_NEAR(bunny.mean_abs_k1[3], 18.65, 0.05);
+    EXPECT_LT(bunny.mean_abs_k1[3], 0.92 * bunny.mean_abs_k1[0]);
+    // The r^k n rule: level 2 at r = 0.75 is level 1 at r = 0.5625, to the bit.
+    o.levels = 2;
+    o.ratio = 0.5625;
+    const MultiscaleLevels one = build_multiscale_levels(*b.model, o);
+    EXPECT_EQ(level_positions(*b.model, one, 1), level_positions(*b.model, L, 2));
+    // The umbrella folds more at every level (measured 15, 23, 89 at r = 1/2).
+    std::size_t umbrella_m3 = 0;
+    const auto p3 = level_positions(*b.model, b.levels, 3);
+    for (std::uint32_t f = 0; f < m0.face_count(); ++f) {
+        const auto& v = m0.faces[f];
+        umbrella_m3 += glm::dot(glm::cross(p3[v[1]] - p3[v[0]], p3[v[2]] - p3[v[0]]), m0.face_normal(f)) < 0.0;
+    }
+    EXPECT_EQ(umbrella_m3, 89u);
+}
+
 // A tetrahedron: nothing can be collapsed (each collapse would leave a non-manifold two faces).
 TEST(MultiscaleLevels, TinyMeshGetsOnlyTheInputAndSaysSo) {
     TriangleMesh t;
@@ -211,6 +262,43 @@ TEST(MultiscaleView, LevelsFollowDistance) {
     for (std::size_t v = 0; v < m.vertex_count(); v += 997) EXPECT_FLOAT_EQ(levels[v], std::clamp(l, 0.0f, 3.0f));
 }
 
+// The target per object (--detail-object) and with depth (--detail-depth): two spheres, objects
+// "A" and "B"; B's own target 4x A's puts B two levels finer; E = -1 puts every vertex at the
+// centre's level, E = 1 doubles the level's growth with distance.
+TEST(MultiscaleView, TargetPerObjectAndWithDepth) {
+    TriangleMesh a = make_sphere({-2, 0, 0}, 1.0, 32, 16), b = make_sphere({2, 0, 0}, 1.0, 32, 16);
+    TriangleMesh t = a;
+    const auto offset = std::uint32_t(a.positions.size());
+    t.positions.insert(t.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto f : b.triangles) t.triangles.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+    t.face_object.assign(a.triangles.size(), 0);
+    t.face_object.resize(t.triangles.size(), 1);
+    t.object_names = {"A", "B"};
+    const Model model(t);
+    const MeshTopology& m = model.topology();
+    MultiscaleLevels L;
+    L.levels = 8;
+    L.feature_size = 0.002;  // (every level between 2 and 6: none clamped)
+    const Camera cam = Camera::perspective({0, 3, 12}, {0, 0, 0}, {0, 1, 0}, 30.0, 800, 800);
+    const double d0 = L.feature_size * cam.focal() / 2.0;  // T = 2 px: level log2(d / d0)
+    std::vector<float> levels;
+    multiscale_vertex_levels(model, L, cam, {.target_px = 2.0, .object_target_px = {{"B", 8.0}}}, levels);
+    for (std::size_t v = 0; v < m.vertex_count(); v += 7) {
+        const double base = std::log2(glm::length(cam.eye() - m.positions[v]) / d0);
+        ASSERT_GT(base, 1.0);
+        EXPECT_NEAR(levels[v], v < offset ? base : base + 2.0, 1e-5) << v;
+    }
+    EXPECT_EQ(unknown_detail_objects(m, {.object_target_px = {{"B", 8.0}, {"C", 1.0}, {"D", 1.0}}}), "'C', 'D'");
+    const double log_ref = std::log2(glm::length(cam.eye() - m.bounds.center()));
+    multiscale_vertex_levels(model, L, cam, {.target_px = 2.0, .depth_exponent = -1.0}, levels);
+    for (std::size_t v = 0; v < m.vertex_count(); v += 7) EXPECT_NEAR(levels[v], log_ref - std::log2(d0), 1e-5) << v;
+    multiscale_vertex_levels(model, L, cam, {.target_px = 2.0, .depth_exponent = 1.0}, levels);
+    for (std::size_t v = 0; v < m.vertex_count(); v += 7) {
+        const double log_d = std::log2(glm::length(cam.eye() - m.positions[v]));
+        EXPECT_NEAR(levels[v], 2.0 * log_d - log_ref - std::log2(d0), 1e-5) << v;
+    }
+}
+
 // Issue 43's density check: along a dolly from the framed view to 8x farther, visible line length
 // per unit of the model's image area grows with distance (an outline's length shrinks like 1/d,
 // the area like 1/d^2: a fixed drawing's density grows 8x); with detail control the fine lines
@@ -258,7 +346,14 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         {"--detail-ratio=0.5", "--detail-ratio needs --detail=PX"},
         {"--detail=4 --detail-ratio=1", "--detail-ratio: expected a ratio in (0, 1)"},
         {"--detail=4 --detail-method=spiral", "--detail-method: unknown method 'spiral' (expected multiscale or pm)"},
-        {"--detail=4 --detail-depth=5", "--detail-depth: expected an exponent in [0, 4]"},
+        {"--detail=4 --detail-depth=5", "--detail-depth: expected an exponent in [-1, 4]"},
+        {"--detail=4 --detail-depth=-1.5", "--detail-depth: expected an exponent in [-1, 4]"},
+        {"--detail-object=a=3", "--detail-object needs --detail=PX"},
+        {"--detail=4 --detail-object=a", "--detail-object: expected NAME=PX"},
+        {"--detail=4 --detail-object=a=0", "--detail-object: expected a target size in pixels"},
+        {"--detail=4 --detail-object=Head=3", "has no object named 'Head'"},
+        {"--detail=4 --cache=", "--cache: expected a folder"},
+        {"--detail=4 --detail-method=pm --cache=c", "are for --detail-method=multiscale"},
     };
     for (const auto& b : bad) {
         const auto r = run_inkline("", "render " + bunny + " " + b.args, dir);
@@ -276,6 +371,218 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
     EXPECT_EQ(warned.code, 0) << warned.err;
     EXPECT_NE(warned.err.find("warning: " + off.string() + ": only the input level"), std::string::npos) << warned.err;
     EXPECT_EQ(std::count(warned.err.begin(), warned.err.end(), '\n'), 1) << warned.err;  // (not OpenMesh's own too)
+}
+
+// --cache: the levels written once, read back identical; a changed option is another file; a
+// corrupt, truncated or stale file is detected, rebuilt and rewritten; no temporary file stays.
+void expect_same_levels(const MultiscaleLevels& a, const MultiscaleLevels& b) {
+    EXPECT_EQ(a.levels, b.levels);
+    EXPECT_EQ(a.ratio, b.ratio);
+    EXPECT_EQ(a.feature_size, b.feature_size);
+    EXPECT_EQ(a.collapses, b.collapses);
+    EXPECT_EQ(a.position, b.position);
+    EXPECT_EQ(a.normal_oct, b.normal_oct);
+    EXPECT_EQ(a.dir1_angle, b.dir1_angle);
+    EXPECT_EQ(a.k1, b.k1);
+    EXPECT_EQ(a.k2, b.k2);
+    EXPECT_EQ(a.dcurv, b.dcurv);
+    EXPECT_EQ(a.valid, b.valid);
+    EXPECT_EQ(a.mean_abs_k1, b.mean_abs_k1);
+    EXPECT_EQ(a.levels_self_intersect, b.levels_self_intersect);
+}
+
+TEST(MultiscaleCache, WrittenOnceReadBackRebuiltWhenBad) {
+    const std::string path = test::mesh_path("elephant");
+    const Model model = Model::load(path);
+    const auto dir = inkline_test::scratch("detail_cache_");
+    const std::string folder = (dir / "levels").string();  // made by the first write
+    const MultiscaleOptions options;
+    const CachedLevels first = cached_multiscale_levels(model, path, "v", options, folder);
+    ASSERT_EQ(first.outcome, CacheOutcome::Built) << first.problem;
+    expect_same_levels(first.levels, build_multiscale_levels(model, options));
+    const CachedLevels again = cached_multiscale_levels(model, path, "v", options, folder);
+    ASSERT_EQ(again.outcome, CacheOutcome::Loaded) << again.problem;
+    EXPECT_EQ(again.path, first.path);
+    expect_same_levels(again.levels, first.levels);
+    // Another ratio, fairing or loader variant: another file, built.
+    EXPECT_EQ(cached_multiscale_levels(model, path, "v", {.ratio = 0.75}, folder).outcome, CacheOutcome::Built);
+    EXPECT_EQ(cached_multiscale_levels(model, path, "w", options, folder).outcome, CacheOutcome::Built);
+    EXPECT_EQ(cached_multiscale_levels(model, path, "v", {.fairing = MultiscaleFairing::SecondOrder}, folder).outcome,
+              CacheOutcome::Built);
+    const auto size = std::filesystem::file_size(first.path);
+    const auto damage = [&](const std::string& what) {
+        std::fstream f(first.path, std::ios::in | std::ios::out | std::ios::binary);
+        if (what == "flip") {
+            f.seekg(std::streamoff(size / 2));
+            const char c = char(f.get());
+            f.seekp(std::streamoff(size / 2));
+            f.put(char(c ^ 0x10));
+        }
+        f.close();
+        if (what == "truncate") std::filesystem::resize_file(first.path, size - 100);
+        if (what == "empty") std::filesystem::resize_file(first.path, 0);
+        if (what == "stale") write_levels_file(first.path, 12345, first.levels);  // another key, valid checksum
+    };
+    for (const std::string what : {"flip", "truncate", "empty", "stale"}) {
+        damage(what);
+        const CachedLevels bad = cached_multiscale_levels(model, path, "v", options, folder);
+        EXPECT_EQ(bad.outcome, CacheOutcome::Rebuilt) << what;
+        EXPECT_NE(bad.problem.find(first.path), std::string::npos) << what << ": " << bad.problem;
+        EXPECT_NE(bad.problem.find(what == "stale" ? "stale" : what == "empty" ? "truncated" : "checksum"),
+                  std::string::npos) << what << ": " << bad.problem;
+        expect_same_levels(bad.levels, first.levels);
+        EXPECT_EQ(cached_multiscale_levels(model, path, "v", options, folder).outcome, CacheOutcome::Loaded) << what;
+    }
+    // Four files (two options, a variant, a fairing besides the first), no temporary ones.
+    std::size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(folder)) {
+        ++files;
+        EXPECT_EQ(e.path().extension(), ".levels") << e.path();
+    }
+    EXPECT_EQ(files, 4u);
+}
+
+// The command: --cache needs --detail; the second run reads the levels; a corrupt file gives one
+// warning line and the same drawing.
+TEST(MultiscaleCache, Command) {
+    using inkline_test::run_inkline;
+    const auto dir = inkline_test::scratch("detail_cache_cli_");
+    const std::string cache = (dir / "c").string();
+    const std::string elephant = test::mesh_path("elephant");
+    const auto bad = run_inkline("", "render " + elephant + " --cache=" + cache + " -o " + (dir / "x.json").string(), dir);
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--cache needs --detail=PX"), std::string::npos) << bad.err;
+    const std::string args = "render " + elephant + " --detail=8 --cache=" + cache + " -o ";
+    const auto built = run_inkline("", args + (dir / "a.json").string(), dir);
+    ASSERT_EQ(built.code, 0) << built.err;
+    EXPECT_NE(built.out.find("(built, cached as " + cache), std::string::npos) << built.out;
+    const auto read = run_inkline("", args + (dir / "b.json").string(), dir);
+    ASSERT_EQ(read.code, 0) << read.err;
+    EXPECT_NE(read.out.find("(read from " + cache), std::string::npos) << read.out;
+    EXPECT_EQ(read.err, "");
+    const auto slurp = [](const std::filesystem::path& p) {
+        std::ifstream in(p);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const auto polylines = [&](const std::filesystem::path& p) {
+        const std::string j = slurp(p);
+        return j.substr(j.find("\"polylines\""));
+    };
+    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "b.json"));
+    for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 1000);
+    const auto rebuilt = run_inkline("", args + (dir / "c.json").string(), dir);
+    ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
+    EXPECT_EQ(std::count(rebuilt.err.begin(), rebuilt.err.end(), '\n'), 1) << rebuilt.err;
+    EXPECT_NE(rebuilt.err.find("inkline: warning: --cache: " + cache), std::string::npos) << rebuilt.err;
+    EXPECT_NE(rebuilt.err.find("checksum"), std::string::npos) << rebuilt.err;
+    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "c.json"));
+}
+
+// Issue 43's temporal coherence: along a slow dolly (1 % of the distance a frame) no line pops in
+// or out in one frame at full length. The previous drawing is scaled about the image centre by
+// the dolly's zoom (exact at the target's depth) before the two are compared; a pop is a visible
+// piece of at least 20 px of which less than a tenth lies within 2 px of the other drawing's lines.
+struct NearMask {
+    int w, h;
+    std::vector<std::uint8_t> near;
+    NearMask(const Drawing& d, int width, int height, double scale, double reach)
+        : w(width), h(height), near(std::size_t(w) * std::size_t(h), 0) {
+        const glm::dvec2 centre(0.5 * w, 0.5 * h);
+        const int r = int(std::ceil(reach));
+        for (const Piece& p : d.pieces) {
+            if (p.qi != 0) continue;
+            for (std::size_t i = 1; i < p.points.size(); ++i) {
+                const glm::dvec2 a = centre + scale * (p.points[i - 1] - centre), b = centre + scale * (p.points[i] - centre);
+                const int n = std::max(1, int(std::ceil(2.0 * glm::length(b - a))));
+                for (int k = 0; k <= n; ++k) {
+                    const glm::dvec2 q = a + (b - a) * (double(k) / double(n));
+                    for (int dy = -r; dy <= r; ++dy)
+                        for (int dx = -r; dx <= r; ++dx) {
+                            const int x = int(std::floor(q.x)) + dx, y = int(std::floor(q.y)) + dy;
+                            if (x >= 0 && y >= 0 && x < w && y < h) near[std::size_t(y) * std::size_t(w) + std::size_t(x)] = 1;
+                        }
+                }
+            }
+        }
+    }
+    bool covers(glm::dvec2 q) const {
+        const int x = int(std::floor(q.x)), y = int(std::floor(q.y));
+        return x >= 0 && y >= 0 && x < w && y < h && near[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+    }
+};
+
+// Pieces of `d` (at least `min_px` long) of which less than a tenth is covered by `other`.
+int popped_pieces(const Drawing& d, const NearMask& other, double min_px) {
+    int popped = 0;
+    for (const Piece& p : d.pieces) {
+        if (p.qi != 0) continue;
+        double length = 0.0, covered = 0.0;
+        for (std::size_t i = 1; i < p.points.size(); ++i) {
+            const double l = glm::length(p.points[i] - p.points[i - 1]);
+            length += l;
+            if (other.covers(0.5 * (p.points[i] + p.points[i - 1]))) covered += l;
+        }
+        popped += length >= min_px && covered < 0.1 * length;
+    }
+    return popped;
+}
+
+TEST(MultiscaleCoherence, SlowDollyPopsNoLine) {
+    const Built& b = built("armadillo");
+    const MeshTopology& m = b.model->topology();
+    const Camera framed = test::framed_camera(m.bounds);
+    const double target = b.levels.feature_size * framed.focal() / glm::length(framed.eye() - m.bounds.center());
+    MultiscaleSession s(*b.model, b.levels, suggestive_view(), {.target_px = target});
+    const glm::dvec3 c = m.bounds.center(), offset = framed.eye() - c;
+    std::unique_ptr<Drawing> previous;
+    int pops = 0;
+    for (int i = 0; i <= 20; ++i) {  // from 2x, where every vertex blends between levels 0 .. 2
+        const double factor = 2.0 * std::pow(1.01, i);
+        const Camera cam = Camera::perspective(c + factor * offset, c, {0, 1, 0}, 30.0, 1024, 1024);
+        auto now = std::make_unique<Drawing>(s.render(cam).drawing);
+        if (previous) {
+            // (each drawing compared with the other brought to its scale)
+            const NearMask before(*previous, 1024, 1024, 1.0 / 1.01, 2.0), after(*now, 1024, 1024, 1.01, 2.0);
+            pops += popped_pieces(*now, before, 20.0) + popped_pieces(*previous, after, 20.0);
+        }
+        previous = std::move(now);
+    }
+    EXPECT_EQ(pops, 0);
+}
+
+// --detail with a sequence (--frames --orbit, on two jobs): the levels built once for the run,
+// and each frame is the drawing a single render with that frame's camera makes.
+TEST(MultiscaleCli, OrbitFramesWithDetail) {
+    using inkline_test::run_inkline;
+    const auto dir = inkline_test::scratch("detail_orbit_");
+    const std::string elephant = test::mesh_path("elephant");
+    const auto run = run_inkline("", "render " + elephant + " --detail=8 --frames=3 --orbit --jobs=2 --verbose -o " +
+                                         (dir / "f_%d.json").string(), dir);
+    ASSERT_EQ(run.code, 0) << run.err;
+    std::vector<std::string> cameras;
+    for (std::size_t at = run.out.find("\ncamera: "); at != std::string::npos; at = run.out.find("\ncamera: ", at + 1)) {
+        const std::size_t end = run.out.find('\n', at + 1);
+        cameras.push_back(run.out.substr(at + 9, end - at - 9));
+    }
+    ASSERT_EQ(cameras.size(), 4u) << run.out;  // three frames and the run's summary
+    std::size_t detail_lines = 0;
+    for (std::size_t at = run.out.find("detail: multiscale"); at != std::string::npos; at = run.out.find("detail: multiscale", at + 1))
+        ++detail_lines;
+    EXPECT_EQ(detail_lines, 3u) << run.out;
+    const auto slurp = [](const std::filesystem::path& p) {
+        std::ifstream in(p);
+        const std::string j((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        return j.substr(std::min(j.size(), j.find("\"polylines\"")));
+    };
+    const auto single = run_inkline("", "render " + elephant + " --detail=8 " + cameras[2] + " -o " +
+                                            (dir / "single.json").string(), dir);
+    ASSERT_EQ(single.code, 0) << single.err;
+    EXPECT_EQ(slurp(dir / "f_2.json"), slurp(dir / "single.json"));
+    EXPECT_NE(slurp(dir / "f_0.json"), slurp(dir / "f_2.json"));
+    // Several models with --detail: refused before any work, as before.
+    const auto two = run_inkline("", "render " + elephant + " " + test::mesh_path("bunny00") + " --detail=8 -o " + (dir / "m/").string(), dir);
+    EXPECT_EQ(two.code, 2);
+    EXPECT_NE(two.err.find("--detail: one model a run"), std::string::npos) << two.err;
 }
 
 }  // namespace

@@ -183,7 +183,8 @@ TEST(ProgressiveMeshCli, RenderDrawsTheAdaptedMesh) {
              {"--detail=0", "inkline: --detail: expected a target size in pixels in (0, 10000]"},
              {"--detail=3 --detail-method=spiral", "inkline: --detail-method: unknown method 'spiral' (expected multiscale or pm)"},
              {"--detail-method=pm", "inkline: --detail-method needs --detail=PX"},
-             {"--detail=3 --orbit --frames=2 -o f_%02d.svg", "inkline: --detail: one drawing at a time for now"}}) {
+             {"--detail=3 --detail-method=pm --orbit --frames=2 -o f_%02d.svg",
+              "inkline: --detail-method=pm: one drawing at a time for now"}}) {
         const inkline_test::Result r = inkline_test::run_inkline("", "render " + m + " " + flags, d);
         EXPECT_EQ(r.code, 2) << flags;
         EXPECT_EQ(r.err.substr(0, r.err.find('\n')).substr(0, expect.size()), expect) << flags << ": " << r.err;

@@ -21,6 +21,7 @@
 #include "app/version.hpp"
 #include "core/error.hpp"
 #include "detail/multiscale.hpp"
+#include "detail/multiscale_cache.hpp"
 #include "detail/progressive_mesh.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
@@ -180,8 +181,38 @@ struct RenderSetup {
     std::optional<Style> style;
     ViewOptions view;
     OutputOptions output;
-    const MultiscaleLevels* detail = nullptr;  // --detail: the model's smoothed levels (one drawing)
+    const MultiscaleLevels* detail = nullptr;  // --detail: the model's smoothed levels (every frame's)
+    std::string detail_source;                 // how this run got them ("built", "read from the cache", ...)
 };
+
+// --detail's smoothed levels of `model` (loaded from `path`): built, or with --cache read from the
+// cache folder or built and written there, with a progress line and at most one warning line.
+MultiscaleLevels detail_levels(const RenderArgs& a, const Model& model, const std::string& path, std::string& source) {
+    MultiscaleOptions options = a.detail.levels_options();
+    // (the model's curvature, the simplification, then each smoothed level: as build_multiscale_levels counts)
+    const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr(
+        "detail: smoothed levels", std::size_t(2 + std::max(options.levels - 1, 0)), "steps", !a.quiet);
+    options.progress = [&line](int done, int) { line->set_done(std::size_t(done)); };
+    MultiscaleLevels levels;
+    source = "built";
+    if (a.detail.cache_dir.empty()) {
+        levels = build_multiscale_levels(model, options);
+    } else {
+        const std::string variant = "subdivide=" + std::to_string(a.subdivide) + " strict=" + std::to_string(int(a.strict));
+        CachedLevels cached = cached_multiscale_levels(model, path, variant, options, a.detail.cache_dir);
+        levels = std::move(cached.levels);
+        source = cached.outcome == CacheOutcome::Loaded ? "read from " + cached.path
+                 : cached.outcome == CacheOutcome::Unwritable ? "built (not cached)"
+                                                               : "built, cached as " + cached.path;
+        if (!cached.problem.empty()) {
+            line->finish();
+            std::fprintf(stderr, "inkline: warning: --cache: %s\n", cached.problem.c_str());
+        }
+    }
+    line->finish();
+    if (!levels.note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", path.c_str(), levels.note.c_str());
+    return levels;
+}
 
 // The view options for `model`: the run's, with intersection lines on for a scene of several
 // objects unless the kinds were chosen (app/flags.hpp).
@@ -201,7 +232,8 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     if (setup.detail)
         detail = std::make_unique<MultiscaleSession>(
             model, *setup.detail, view_options(a, setup, model),
-            MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0)});
+            MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0),
+                                  .object_target_px = a.detail.object_target_px});
     View view = detail ? std::move(detail->render(cam)) : render_view(model, cam, view_options(a, setup, model));
     // (with --detail the lines are those of the blended shape: the recall compares with its own)
     const MeshTopology& drawn = detail ? detail->blended().topology() : model.topology();
@@ -258,9 +290,10 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
                 style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
                 hatch_stats.ray_tests, style_stats.specks_dropped, t_style);
     if (const MultiscaleLevels* levels = setup.detail)
-        appendf(report, "detail: multiscale, target %g px, %d levels (%zu of %zu vertices collapsed), pre-process %.4f s, "
+        appendf(report, "detail: multiscale, target %g px, %d levels (%zu of %zu vertices collapsed), pre-process %.4f s (%s), "
                 "%.1f bytes a vertex a level, blend %.4f s\n",
                 a.detail.target_px, levels->levels, levels->collapses, levels->vertices, levels->seconds,
+                setup.detail_source.c_str(),
                 levels->levels > 1 ? double(levels->bytes()) / double(levels->vertices * std::size_t(levels->levels - 1)) : 0.0,
                 detail->seconds_blend());
     if (tone_pass) {
@@ -450,8 +483,12 @@ int run_render(int argc, char** argv) {
     a.freeform.lights = a.lights;
     if (a.tone.any() || a.toon_base) check_tone(a.tone_options, a.camera);
     a.detail.check("render");
-    if (a.detail.target_px > 0.0 && plan.count > 1)
-        throw BadValue("--detail: one drawing at a time for now (not with several models or --frames)");
+    if (a.detail.target_px > 0.0 && plan.models)
+        throw BadValue("--detail: one model a run (its smoothed levels are built once for all its frames)");
+    if (a.detail.target_px > 0.0 && a.detail.method == "pm" && plan.count > 1)
+        throw BadValue("--detail-method=pm: one drawing at a time for now (not with --frames)");
+    if (a.detail.method == "pm" && (a.detail.fairing || !a.detail.cache_dir.empty() || !a.detail.object_target_px.empty()))
+        throw BadValue("--detail-fairing, --cache and --detail-object are for --detail-method=multiscale");
     for (const std::string& m : a.models) {
         if (is_freeform_model(m) && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models");
         if (!is_freeform_model(m) && a.freeform.any())
@@ -480,6 +517,15 @@ int run_render(int argc, char** argv) {
     const Model model = freeform ? Model(freeform->mesh(), a.crease)
                                  : load_model_file(path, a.strict, a.crease, a.subdivide);
     const Camera home = make_camera(a.camera, model);
+    // --detail (multiscale): the smoothed levels, built (or read from --cache) once for every frame.
+    std::optional<MultiscaleLevels> levels;
+    if (a.detail.target_px > 0.0 && a.detail.method != "pm") {
+        if (const std::string unknown = unknown_detail_objects(
+                model.topology(), {.object_target_px = a.detail.object_target_px}); !unknown.empty())
+            throw BadValue("--detail-object: " + path + " has no object named " + unknown);
+        levels = detail_levels(a, model, path, setup.detail_source);
+        setup.detail = &*levels;
+    }
     if (plan.count == 1) {
         if (a.detail.target_px > 0.0 && a.detail.method == "pm") {
             std::string detail_report;
@@ -487,18 +533,6 @@ int run_render(int argc, char** argv) {
             const std::string report = render_drawing(a, setup, adapted, nullptr, home, plan.outputs[0], format, t0);
             if (!a.quiet) std::fputs((report + detail_report).c_str(), stdout);
             return 0;
-        }
-        std::optional<MultiscaleLevels> levels;
-        if (a.detail.target_px > 0.0) {
-            MultiscaleOptions options = a.detail.levels_options();
-            // (the model's curvature, the simplification, then each smoothed level: as build_multiscale_levels counts)
-            const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr(
-                "detail: smoothed levels", std::size_t(2 + std::max(options.levels - 1, 0)), "steps", !a.quiet);
-            options.progress = [&line](int done, int) { line->set_done(std::size_t(done)); };
-            levels = build_multiscale_levels(model, options);
-            line->finish();
-            if (!levels->note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", path.c_str(), levels->note.c_str());
-            setup.detail = &*levels;
         }
         const std::string report = render_drawing(a, setup, model, freeform.get(), home, plan.outputs[0], format, t0);
         if (!a.quiet) std::fputs(report.c_str(), stdout);

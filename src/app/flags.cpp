@@ -526,11 +526,37 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              if (!(r > 0.0 && r < 1.0)) throw Error("--detail-ratio", "expected a ratio in (0, 1)");
              d.ratio = r;
          }},
+        {"--detail-fairing", "umbrella|second-order",
+         "--detail: the fairing functional that predicts the smoothed levels: umbrella (the default) or "
+         "second-order (keeps volume, folds fewer faces, smooths less; best with --detail-ratio=0.75; docs/detail.md)",
+         [&d](const std::string& v) {
+             if (v == "umbrella") d.fairing = MultiscaleFairing::Umbrella;
+             else if (v == "second-order") d.fairing = MultiscaleFairing::SecondOrder;
+             else throw Error("--detail-fairing", "unknown functional '" + v + "' (expected umbrella or second-order)");
+         }},
+        {"--cache", "DIR",
+         "--detail: keep the smoothed levels in DIR, keyed by the model file's content and the options that "
+         "change them; reused when they match, rebuilt (one warning) when a file there is corrupt or stale",
+         [&d](const std::string& v) {
+             if (v.empty()) throw Error("--cache", "expected a folder");
+             d.cache_dir = v;
+         }},
+        {"--detail-object", "NAME=PX",
+         "--detail: object NAME of a scene gets its own target size PX (repeat for more objects; the others take --detail)",
+         [&d](const std::string& v) {
+             const std::size_t eq = v.rfind('=');
+             if (eq == std::string::npos || eq == 0)
+                 throw Error("--detail-object", "expected NAME=PX (an object of the scene and its target size), got '" + v + "'");
+             const double px = parse_number("--detail-object", v.substr(eq + 1));
+             if (!(px > 0.0 && px <= 10000.0)) throw Error("--detail-object", "expected a target size in pixels in (0, 10000]");
+             d.object_target_px.emplace_back(v.substr(0, eq), px);
+         }},
         {"--detail-depth", "E",
-         "--detail: the target grows with depth as (d / d_centre)^E, 0 to 4 (default 0: the same everywhere)",
+         "--detail: the target grows with depth as (d / d_centre)^E, -1 to 4 (default 0: the same everywhere; "
+         "-1: one level for the whole model, the centre's)",
          [&d](const std::string& v) {
              const double e = parse_number("--detail-depth", v);
-             if (!(e >= 0.0 && e <= 4.0)) throw Error("--detail-depth", "expected an exponent in [0, 4]");
+             if (!(e >= -1.0 && e <= 4.0)) throw Error("--detail-depth", "expected an exponent in [-1, 4]");
              d.depth_exponent = e;
          }},
     };
@@ -540,6 +566,11 @@ MultiscaleOptions DetailFlags::levels_options() const {
     MultiscaleOptions o;
     o.levels = levels.value_or(o.levels);
     o.ratio = ratio.value_or(o.ratio);
+    o.fairing = fairing.value_or(o.fairing);
+    // The second-order functional's splits leave folds, spikes at thin tips and slivers; sweeps over
+    // each level take most (bench/results/multiscale.md: armadillo's M3 at r = 3/4, mean |k1| 0.193
+    // -> 0.151 against M0's 0.187).
+    if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8, o.tangential_sweeps = 32;
     return o;
 }
 
@@ -549,6 +580,9 @@ void DetailFlags::check(const std::string& command) const {
     if (levels) throw Usage("--levels needs --detail=PX", command);
     if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);
     if (method_given) throw Usage("--detail-method needs --detail=PX", command);
+    if (fairing) throw Usage("--detail-fairing needs --detail=PX", command);
+    if (!cache_dir.empty()) throw Usage("--cache needs --detail=PX", command);
+    if (!object_target_px.empty()) throw Usage("--detail-object needs --detail=PX", command);
 }
 
 Flag subdivide_flag(int& levels) {

@@ -163,6 +163,9 @@ struct DetailFlags {
     double target_area_px() const { return target_px * target_px; }
     std::optional<double> depth_exponent;
     std::optional<double> ratio;
+    std::optional<MultiscaleFairing> fairing;
+    std::string cache_dir;  // --cache: where the smoothed levels are kept (empty: not kept)
+    std::vector<std::pair<std::string, double>> object_target_px;  // --detail-object=NAME=PX
     bool method_given = false;  // --detail-method
     MultiscaleOptions levels_options() const;
     // Usage error when a tuning flag comes without --detail.

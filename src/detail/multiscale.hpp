@@ -23,15 +23,24 @@
 
 namespace inkline {
 
+// The fairing functional whose local minimizer predicts a vertex from its neighbourhood (GSS
+// section 3): the umbrella (membrane) energy, the neighbours' centroid; or the second-order one
+// (squared jumps of the gradient across edges, uniform weights), which keeps curved surfaces'
+// volume and folds far fewer faces but smooths less per level (bench/results/multiscale.md).
+enum class MultiscaleFairing { Umbrella, SecondOrder };
+
 // Defaults measured on armadillo, bunny and elephant (bench/results/multiscale.md): with the
 // umbrella functional the seed's r = 3/4 smooths too little for the issue's density check; 1/2
 // doubles the feature size per level, at the price of a few folded faces in the smoothest levels.
 struct MultiscaleOptions {
     int levels = 4;        // N: M0 (the input) and N - 1 smoothed copies
     double ratio = 0.5;    // r: M_k keeps the detail of the first r^k n vertex splits (the seed: 3/4)
-    double relax = 1.0;    // analysis: share of the way each ring vertex moves to its neighbours' centroid
+    double relax = 1.0;    // analysis: share of the way each ring vertex moves to its fairing minimizer
     double shrink_back = 0.0;  // analysis: then the same with this (negative) share (Taubin's mu)
     double spread = 0.5;   // synthesis: the same for the ring of each vertex split
+    MultiscaleFairing fairing = MultiscaleFairing::Umbrella;
+    int sweeps = 0;        // then relaxation sweeps over each smoothed level (`spread` each; 8 for second-order)
+    int tangential_sweeps = 0;  // then sweeps moving vertices along the surface only (32 for second-order)
     // Called after each step of the pre-process (the model's curvature, the simplification, each
     // smoothed level): steps done and steps in all, for a progress line on long builds.
     std::function<void(int done, int total)> progress = {};
@@ -88,13 +97,22 @@ std::vector<glm::dvec3> level_positions(const Model& model, const MultiscaleLeve
 struct MultiscaleViewOptions {
     double target_px = 4.0;  // T: features of about this size in the image
     // Depth-dependent target (seed section 5, Figure 3): T * (d / d_ref)^depth_exponent with d_ref
-    // the distance of the model's centre; 0: constant T (the seed's results).
+    // the distance of the model's centre. 0: constant T (the seed's results); > 0: far surfaces
+    // coarser still (depth cueing); -1: every vertex at the level of the centre (detail fixed on
+    // the object, as without detail control but smoothed); between -1 and 0: Figure 3's "between".
     double depth_exponent = 0.0;
+    // Per object of a scene (MeshTopology::object_names): its own T (the seed's "finer features
+    // for important objects"); objects not named take target_px.
+    std::vector<std::pair<std::string, double>> object_target_px = {};
 };
+
+// The names in `options.object_target_px` that `mesh` has no object of ("" when all are there).
+std::string unknown_detail_objects(const MeshTopology& mesh, const MultiscaleViewOptions& options);
 
 // Per vertex level for a view: l = log2(d / d0), d0 = F L / T (F the camera's focal length in
 // pixels, so L at distance d0 projects to T pixels), clamped to [0, N - 1]; orthographic views
-// one level for the whole model (L's projection, the same everywhere).
+// one level for the whole model (L's projection, the same everywhere) or per object with
+// per-object targets. A vertex shared by two objects takes the first object's target.
 void multiscale_vertex_levels(const Model& model, const MultiscaleLevels& levels, const Camera& camera,
                               const MultiscaleViewOptions& options, std::vector<float>& out);
 

@@ -1,10 +1,15 @@
 // The multi-scale pre-process: simplification with detail coefficients, then the smoothed levels
 // rebuilt by vertex splits (multiscale.hpp; Guskov, Sweldens, Schroder 1999 as seed 001 uses it).
 //
-// The fairing functional is the umbrella (membrane) energy: the position that minimizes it for one
-// vertex, its neighbours fixed, is their centroid. GSS use a second-order functional with
-// parameter-dependent weights; the umbrella is simpler, needs no parameterization, and its
-// tangential drift only moves vertices along the smoothed surface.
+// Two fairing functionals (MultiscaleFairing). The umbrella (membrane) energy: the minimizer for
+// one vertex, its neighbours fixed, is their centroid. GSS's second-order one with uniform
+// parameter weights: the sum over interior edges of |p_a + p_b - p_i - p_j|^2, edge (i, j) with
+// the opposite vertices a, b of its two faces (the jump of the gradient across the edge, zero
+// where the surface is flat); its minimizer for one vertex x is the mean of the 2n targets its n
+// edges and n ring edges give: 3/2 of its ring's centroid minus 1/2 of the centroid of the
+// vertices across its ring edges. That reproduces quadratics on a regular mesh, so it does not
+// shrink a curved surface as the umbrella does, but it also smooths much less per relaxation
+// (bench/results/multiscale.md).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,26 +38,61 @@ struct OmTraits : OpenMesh::DefaultTraits {
 };
 using OmMesh = OpenMesh::TriMesh_ArrayKernelT<OmTraits>;
 
-// The collapses in order. Each is a stencil of blocks [vertex, count, neighbours...]: first the
-// removed vertex, then each vertex of its ring; the neighbours are those whose centroid predicts
-// the vertex (all its neighbours; along a border only its two border neighbours, so that borders
-// are smoothed along themselves). Per block one detail coefficient: actual minus predicted.
+// The collapses in order. Each is a stencil of blocks [vertex, ring count, outer count, ring...,
+// outer...]: first the removed vertex, then each vertex of its ring; ring and outer are the
+// vertices the fairing predictor reads (`predict`). Per block one detail coefficient: actual
+// minus predicted.
 struct CollapseRecord {
     std::vector<std::uint32_t> begin{0};   // per collapse, into `blocks`; one more at the end
     std::vector<std::uint32_t> blocks;
     std::vector<std::uint32_t> detail_begin{0};  // per collapse, into `detail`
     std::vector<glm::dvec3> detail;
+    // Every vertex's stencil on the input mesh (the final sweeps over the levels).
+    std::vector<std::uint32_t> fine_blocks;
     std::size_t count() const { return begin.size() - 1; }
 };
 
-void predictors(const OmMesh& m, OmMesh::VertexHandle x, std::vector<std::uint32_t>& out) {
+// The predictor's stencil of x on mesh m, appended to `out` as one block: its neighbours and, for
+// the second-order functional, the vertices across its ring edges (the flaps). Where a flap is
+// missing (a border near) the umbrella stands in: the neighbours' centroid, along a border only
+// the two border neighbours (so that borders are smoothed along themselves).
+void predictors(const OmMesh& m, OmMesh::VertexHandle x, bool second_order, std::vector<std::uint32_t>& out) {
     const std::size_t at = out.size();
     out.push_back(std::uint32_t(x.idx()));
+    out.push_back(0);
     out.push_back(0);
     const bool border = m.is_boundary(x);
     for (auto h : m.voh_range(x))
         if (!border || m.is_boundary(m.edge_handle(h))) out.push_back(std::uint32_t(m.to_vertex_handle(h).idx()));
-    out[at + 1] = std::uint32_t(out.size() - at - 2);
+    const std::uint32_t ring = std::uint32_t(out.size() - at - 3);
+    out[at + 1] = ring;
+    if (!second_order || border || ring < 3) return;
+    for (auto h : m.voh_range(x)) {
+        const auto across = m.opposite_halfedge_handle(m.next_halfedge_handle(h));  // the ring edge's other side
+        if (m.is_boundary(across)) {  // no flap there: the umbrella
+            out.resize(at + 3 + ring);
+            return;
+        }
+        out.push_back(std::uint32_t(m.to_vertex_handle(m.next_halfedge_handle(across)).idx()));
+    }
+    out[at + 2] = ring;
+}
+
+std::uint32_t block_size(const std::vector<std::uint32_t>& blocks, std::uint32_t b) {
+    return 3 + blocks[b + 1] + blocks[b + 2];
+}
+
+// The fairing functional's minimizer for the block at b, positions by `at(vertex)`.
+template <class At>
+glm::dvec3 predict(const std::vector<std::uint32_t>& blocks, std::uint32_t b, const At& at) {
+    const std::uint32_t ring = blocks[b + 1], outer = blocks[b + 2];
+    if (ring == 0) return at(blocks[b]);
+    glm::dvec3 sum_ring(0.0), sum_outer(0.0);
+    for (std::uint32_t i = 0; i < ring; ++i) sum_ring += at(blocks[b + 3 + i]);
+    const glm::dvec3 centroid = sum_ring / double(ring);
+    if (outer == 0) return centroid;
+    for (std::uint32_t i = 0; i < outer; ++i) sum_outer += at(blocks[b + 3 + ring + i]);
+    return 1.5 * centroid - 0.5 * (sum_outer / double(outer));
 }
 
 [[maybe_unused]] glm::dvec3 point(const OmMesh& m, std::uint32_t v) {
@@ -61,74 +101,67 @@ void predictors(const OmMesh& m, OmMesh::VertexHandle x, std::vector<std::uint32
 }
 
 // Records the stencil of the collapse of halfedge h (its from-vertex removed) before it happens.
-void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, CollapseRecord& r) {
+void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, bool second_order, CollapseRecord& r) {
     const auto v0 = m.from_vertex_handle(h);
-    predictors(m, v0, r.blocks);
-    for (auto w : m.vv_range(v0)) predictors(m, w, r.blocks);
+    predictors(m, v0, second_order, r.blocks);
+    for (auto w : m.vv_range(v0)) predictors(m, w, second_order, r.blocks);
     r.begin.push_back(std::uint32_t(r.blocks.size()));
 }
 
-// After the collapse recorded last: GSS's analysis. The ring is smoothed on the coarse mesh
-// (each vertex moved `relax` of the way to the centroid of its coarse predictors: the coarser
-// meshes low-pass filtered), and each stencil vertex's detail is its position minus the position
-// the synthesis predicts from the smoothed ring (synthesize: the new vertex at its ring's
-// centroid, then each ring vertex at its fine predictors' centroid), so that adding the details
-// back rebuilds the finer mesh. `smooth` holds the current level's positions (the mesh's own
-// points stay the input's: the simplification's choices do not depend on the smoothing).
-void analyse_collapse(const OmMesh& m, CollapseRecord& r, double relax, double shrink_back, double spread,
-                      std::vector<glm::dvec3>& smooth, std::vector<std::uint32_t>& scratch_ids,
+// After the collapse recorded last: GSS's analysis. The ring is relaxed on the coarse mesh
+// (each vertex moved `relax` of the way to its fairing minimizer there: the coarser meshes are
+// low-pass filtered), and each stencil vertex's detail is its position minus the position the
+// synthesis predicts from the relaxed ring (synthesize: the new vertex at its minimizer, then each
+// ring vertex `spread` of the way to its own), so that adding the details back rebuilds the finer
+// mesh. `smooth` holds the current level's positions (the mesh's own points stay the input's: the
+// simplification's choices do not depend on the smoothing).
+void analyse_collapse(const OmMesh& m, CollapseRecord& r, const MultiscaleOptions& o, std::vector<glm::dvec3>& smooth, std::vector<std::uint32_t>& scratch_ids,
                       std::vector<glm::dvec3>& coarse, std::vector<glm::dvec3>& original) {
     const std::size_t j = r.count() - 1;
     const std::uint32_t first = r.begin[j], end = r.begin[j + 1];
     const std::uint32_t v = r.blocks[first];
-    // A step toward the centroid, and optionally Taubin's step back (lambda|mu: less shrinking; it
-    // also smoothed less here, bench/results/multiscale.md).
+    const std::uint32_t ring_first = first + block_size(r.blocks, first);
+    const auto next = [&r](std::uint32_t b) { return b + block_size(r.blocks, b); };
     original.clear();
-    for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) original.push_back(smooth[r.blocks[b]]);
-    for (const double factor : {relax, shrink_back}) {
+    for (std::uint32_t b = ring_first; b < end; b = next(b)) original.push_back(smooth[r.blocks[b]]);
+    const auto at_smooth = [&smooth](std::uint32_t u) { return smooth[u]; };
+    // A step toward the minimizer, and optionally Taubin's step back (lambda|mu: less shrinking).
+    const bool second_order = o.fairing == MultiscaleFairing::SecondOrder;
+    for (const double factor : {o.relax, o.shrink_back}) {
         if (factor == 0.0) continue;
         coarse.clear();
-        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) {
+        for (std::uint32_t b = ring_first; b < end; b = next(b)) {
             const std::uint32_t w = r.blocks[b];
             scratch_ids.clear();
-            predictors(m, OmMesh::VertexHandle(int(w)), scratch_ids);  // on the coarse mesh
-            glm::dvec3 sum(0.0);
-            const std::uint32_t count = scratch_ids[1];
-            for (std::uint32_t i = 0; i < count; ++i) sum += smooth[scratch_ids[2 + i]];
-            coarse.push_back(count ? smooth[w] + factor * (sum / double(count) - smooth[w]) : smooth[w]);
+            predictors(m, OmMesh::VertexHandle(int(w)), second_order, scratch_ids);  // on the coarse mesh
+            coarse.push_back(smooth[w] + factor * (predict(scratch_ids, 0, at_smooth) - smooth[w]));
         }
         std::size_t k = 0;
-        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = coarse[k++];
+        for (std::uint32_t b = ring_first; b < end; b = next(b)) smooth[r.blocks[b]] = coarse[k++];
     }
-    if (relax == 0.0 && shrink_back == 0.0) coarse = original;
-    {  // the details are measured from the positions before the smoothing
+    if (o.relax == 0.0 && o.shrink_back == 0.0) coarse = original;
+    {  // the details are measured from the positions before the relaxation
         std::size_t k = 0;
-        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = original[k++];
+        for (std::uint32_t b = ring_first; b < end; b = next(b)) smooth[r.blocks[b]] = original[k++];
     }
-    // The value synthesis sees at vertex u when it predicts the ring: v's own, the smoothed ring's,
+    // The value synthesis sees at vertex u when it predicts the ring: v's own, the relaxed ring's,
     // or the unchanged rest.
-    auto ring_index = [&](std::uint32_t u) -> std::size_t {
-        std::size_t k = 0;
-        for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1], ++k)
-            if (r.blocks[b] == u) return k;
-        return SIZE_MAX;
-    };
-    auto seen = [&](std::uint32_t u) {
+    const auto seen = [&](std::uint32_t u) {
         if (u == v) return smooth[v];
-        const std::size_t k = ring_index(u);
-        return k == SIZE_MAX ? smooth[u] : coarse[k];
+        std::size_t k = 0;
+        for (std::uint32_t b = ring_first; b < end; b = next(b), ++k)
+            if (r.blocks[b] == u) return coarse[k];
+        return smooth[u];
     };
-    for (std::uint32_t b = first; b < end; b += 2 + r.blocks[b + 1]) {
-        const std::uint32_t count = r.blocks[b + 1], x = r.blocks[b];
-        glm::dvec3 sum(0.0);
-        for (std::uint32_t i = 0; i < count; ++i) sum += seen(r.blocks[b + 2 + i]);
-        const glm::dvec3 centroid = count ? sum / double(count) : seen(x);
-        const glm::dvec3 predicted = b == first ? centroid : seen(x) + spread * (centroid - seen(x));
+    for (std::uint32_t b = first; b < end; b = next(b)) {
+        const std::uint32_t x = r.blocks[b];
+        const glm::dvec3 minimizer = predict(r.blocks, b, seen);
+        const glm::dvec3 predicted = b == first ? minimizer : seen(x) + o.spread * (minimizer - seen(x));
         r.detail.push_back(smooth[x] - predicted);
     }
     r.detail_begin.push_back(std::uint32_t(r.detail.size()));
     std::size_t k = 0;
-    for (std::uint32_t b = first + 2 + r.blocks[first + 1]; b < end; b += 2 + r.blocks[b + 1]) smooth[r.blocks[b]] = coarse[k++];
+    for (std::uint32_t b = ring_first; b < end; b = next(b)) smooth[r.blocks[b]] = coarse[k++];
 }
 
 // The rules of OpenMesh's BaseDecimaterT::is_collapse_legal (topology, borders), and no face
@@ -173,8 +206,8 @@ struct Candidate {
 // collapse. A lazy heap of edges, re-queued when they touch a collapse: OpenMesh's DecimaterT
 // re-tests every outgoing halfedge of every ring vertex after each collapse, which made it most of
 // the pre-process (bench/results/multiscale.md). False when OpenMesh refuses a face.
-bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double spread, CollapseRecord& record, std::vector<glm::dvec3>& smooth,
-              std::string& why) {
+bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, CollapseRecord& record,
+              std::vector<glm::dvec3>& smooth, std::string& why) {
     OmMesh m;
     std::vector<OmMesh::VertexHandle> vh;
     vh.reserve(mesh.vertex_count());
@@ -194,9 +227,11 @@ bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double
         }
     }
     const std::size_t n = mesh.vertex_count();
+    if (options.sweeps > 0 || options.tangential_sweeps > 0)
+        for (auto v : m.vertices()) predictors(m, v, options.fairing == MultiscaleFairing::SecondOrder, record.fine_blocks);
     record.begin.reserve(n + 1);
     record.detail_begin.reserve(n + 1);
-    record.blocks.reserve(16 * 7 * n / 2);
+    record.blocks.reserve(7 * 16 * n);
     record.detail.reserve(7 * n);
     std::vector<std::uint32_t> version(m.n_edges(), 0);
     std::vector<std::uint8_t> refused(m.n_edges(), 0);  // popped and not allowed: may be later
@@ -223,12 +258,12 @@ bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double
             continue;
         }
         const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
-        record_stencil(m, h, record);
+        record_stencil(m, h, options.fairing == MultiscaleFairing::SecondOrder, record);
         moved.clear();  // v0's edges that become v1's: the only ones whose length changes
         for (auto w : m.vv_range(v0))
             if (w != v1 && !m.find_halfedge(v1, w).is_valid()) moved.push_back(w);
         m.collapse(h);
-        analyse_collapse(m, record, relax, shrink_back, spread, smooth, ids, coarse, original);
+        analyse_collapse(m, record, options, smooth, ids, coarse, original);
         for (auto w : moved) {
             const auto k = m.edge_handle(m.find_halfedge(v1, w));
             refused[std::size_t(k.idx())] = 0;
@@ -250,27 +285,61 @@ bool simplify(const MeshTopology& mesh, double relax, double shrink_back, double
 void synthesize(const CollapseRecord& r, double spread, std::size_t with_detail, std::vector<glm::dvec3>& pos,
                 std::vector<glm::dvec3>& ring) {
     const std::size_t n = r.count();
+    const auto at_pos = [&pos](std::uint32_t u) { return pos[u]; };
     for (std::size_t s = 0; s < n; ++s) {
         const std::size_t j = n - 1 - s;
         const bool add = s < with_detail;
-        ring.clear();
+        const std::uint32_t first = r.begin[j], end = r.begin[j + 1];
         std::size_t d = r.detail_begin[j];
-        for (std::uint32_t b = r.begin[j]; b < r.begin[j + 1]; b += 2 + r.blocks[b + 1], ++d) {
-            const std::uint32_t count = r.blocks[b + 1];
-            glm::dvec3 sum(0.0);
-            for (std::uint32_t i = 0; i < count; ++i) sum += pos[r.blocks[b + 2 + i]];
-            const glm::dvec3 centroid = count ? sum / double(count) : pos[r.blocks[b]];
-            // The new vertex at its ring's centroid; a ring vertex `spread` of the way to its own.
-            glm::dvec3 p = b == r.begin[j] ? centroid : pos[r.blocks[b]] + spread * (centroid - pos[r.blocks[b]]);
-            if (add) p += r.detail[d];
-            if (b == r.begin[j]) pos[r.blocks[b]] = p;  // the new vertex first: its ring sees it
-            else ring.push_back(p);
+        const auto detail = [&] { return add ? r.detail[d] : glm::dvec3(0.0); };
+        // The new vertex first (its ring sees it), at its minimizer.
+        pos[r.blocks[first]] = predict(r.blocks, first, at_pos) + detail();
+        // Then the ring all at once, each `spread` of the way to its minimizer from the others'
+        // positions before the split.
+        ring.clear();
+        const std::uint32_t ring_first = first + block_size(r.blocks, first);
+        for (std::uint32_t b = ring_first; b < end; b += block_size(r.blocks, b)) {
+            ++d;
+            const glm::dvec3& x = pos[r.blocks[b]];
+            ring.push_back(x + spread * (predict(r.blocks, b, at_pos) - x) + detail());
         }
-        // Then the ring all at once (each predicted from the others' positions before the split).
         std::size_t k = 0;
-        std::uint32_t b = r.begin[j];
-        for (b += 2 + r.blocks[b + 1]; b < r.begin[j + 1]; b += 2 + r.blocks[b + 1]) pos[r.blocks[b]] = ring[k++];
+        for (std::uint32_t b = ring_first; b < end; b += block_size(r.blocks, b)) pos[r.blocks[b]] = ring[k++];
     }
+}
+
+// Relaxation sweeps over the whole level (Gauss-Seidel, each vertex `spread` of the way to its
+// minimizer): what the vertex splits without detail leave of high frequencies (spikes at thin
+// tips, folds) goes.
+void relax_level(const CollapseRecord& r, double spread, int sweeps, std::vector<glm::dvec3>& pos) {
+    const auto at_pos = [&pos](std::uint32_t u) { return pos[u]; };
+    for (int i = 0; i < sweeps; ++i)
+        for (std::uint32_t b = 0; b < r.fine_blocks.size(); b += block_size(r.fine_blocks, b)) {
+            glm::dvec3& x = pos[r.fine_blocks[b]];
+            x += spread * (predict(r.fine_blocks, b, at_pos) - x);
+        }
+}
+
+// Tangential relaxation: each interior vertex half way to its ring's centroid within the plane
+// of the ring's vector area. The shape stays (to first order); the slivers that the splits
+// without detail leave open up, whose curvature estimates were the tail of the levels' |k1|.
+void tangential_level(const CollapseRecord& r, int sweeps, std::vector<glm::dvec3>& pos) {
+    for (int i = 0; i < sweeps; ++i)
+        for (std::uint32_t b = 0; b < r.fine_blocks.size(); b += block_size(r.fine_blocks, b)) {
+            const std::uint32_t ring = r.fine_blocks[b + 1];
+            if (ring < 3) continue;  // borders stay
+            glm::dvec3 c(0.0), area(0.0);
+            for (std::uint32_t k = 0; k < ring; ++k) {
+                c += pos[r.fine_blocks[b + 3 + k]];
+                area += glm::cross(pos[r.fine_blocks[b + 3 + k]], pos[r.fine_blocks[b + 3 + (k + 1) % ring]]);
+            }
+            c /= double(ring);
+            const double a2 = glm::dot(area, area);
+            if (!(a2 > 0.0)) continue;
+            glm::dvec3& x = pos[r.fine_blocks[b]];
+            const glm::dvec3 d = c - x;
+            x += 0.5 * (d - area * (glm::dot(d, area) / a2));
+        }
 }
 
 // Mean and median of |k1| over the valid vertices.
@@ -342,7 +411,7 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     CollapseRecord record;
     std::vector<glm::dvec3> base;  // the smoothed base mesh's positions, where synthesis starts
     std::string why;
-    const bool simplified = options.levels > 1 && simplify(mesh, options.relax, options.shrink_back, options.spread, record, base, why);
+    const bool simplified = options.levels > 1 && simplify(mesh, options, record, base, why);
     out.collapses = record.count();
     out.base_vertices = out.vertices - out.collapses;
     if (options.levels > 1 && simplified && 2 * out.collapses < out.vertices)
@@ -369,6 +438,8 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
         const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
         scratch.positions = base;
         synthesize(record, options.spread, with_detail, scratch.positions, ring);
+        relax_level(record, options.spread, options.sweeps, scratch.positions);
+        tangential_level(record, options.tangential_sweeps, scratch.positions);
         const CurvatureField field = estimate_curvature(scratch);
         store_level(out, k, scratch.positions, field);
         const auto [mean, median] = abs_k1(field);

@@ -12,6 +12,37 @@
 
 namespace inkline {
 
+namespace {
+
+// log2 of each vertex's own target T (its object's, else options.target_px); empty when all are
+// options.target_px.
+std::vector<double> vertex_log_targets(const MeshTopology& mesh, const MultiscaleViewOptions& options) {
+    if (options.object_target_px.empty() || mesh.face_object.size() != mesh.face_count()) return {};
+    std::vector<double> per_object(mesh.object_names.size(), std::log2(options.target_px));
+    for (const auto& [name, px] : options.object_target_px)
+        for (std::size_t o = 0; o < mesh.object_names.size(); ++o)
+            if (mesh.object_names[o] == name && px > 0.0) per_object[o] = std::log2(px);
+    std::vector<double> out(mesh.vertex_count(), std::log2(options.target_px));
+    std::vector<std::uint8_t> seen(mesh.vertex_count(), 0);
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        const std::uint32_t o = mesh.face_object[f];
+        if (o >= per_object.size()) continue;
+        for (std::uint32_t v : mesh.faces[f])
+            if (!seen[v]) seen[v] = 1, out[v] = per_object[o];
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string unknown_detail_objects(const MeshTopology& mesh, const MultiscaleViewOptions& options) {
+    std::string unknown;
+    for (const auto& entry : options.object_target_px)
+        if (std::find(mesh.object_names.begin(), mesh.object_names.end(), entry.first) == mesh.object_names.end())
+            unknown += (unknown.empty() ? "'" : ", '") + entry.first + "'";
+    return unknown;
+}
+
 void multiscale_vertex_levels(const Model& model, const MultiscaleLevels& levels, const Camera& camera,
                               const MultiscaleViewOptions& options, std::vector<float>& out) {
     const MeshTopology& mesh = model.topology();
@@ -22,9 +53,12 @@ void multiscale_vertex_levels(const Model& model, const MultiscaleLevels& levels
         std::fill(out.begin(), out.end(), 0.0f);
         return;
     }
-    if (camera.is_ortho()) {  // the same projection everywhere: one level
-        const double l = std::clamp(std::log2(options.target_px / projected_px), 0.0, top);
-        std::fill(out.begin(), out.end(), float(l));
+    const std::vector<double> log_targets = vertex_log_targets(mesh, options);
+    const double log_projected = std::log2(projected_px);
+    if (camera.is_ortho()) {  // the same projection everywhere: one level (per object)
+        const double l = std::log2(options.target_px / projected_px);
+        for (std::size_t v = 0; v < out.size(); ++v)
+            out[v] = float(std::clamp(log_targets.empty() ? l : log_targets[v] - log_projected, 0.0, top));
         return;
     }
     // l = log2(d / d0) with d0 = F L / T; with a depth-dependent target T (d / d_ref)^e it gains
@@ -35,7 +69,7 @@ void multiscale_vertex_levels(const Model& model, const MultiscaleLevels& levels
     const double log_ref = std::log2(std::max(glm::length(eye - mesh.bounds.center()), 1e-300));
     for (std::size_t v = 0; v < out.size(); ++v) {
         const double log_d = std::log2(std::max(glm::length(eye - mesh.positions[v]), 1e-300));
-        double l = log_d - log_d0;
+        double l = log_d - (log_targets.empty() ? log_d0 : log_projected - log_targets[v]);
         if (e != 0.0) l += e * (log_d - log_ref);
         out[v] = float(std::clamp(l, 0.0, top));
     }
