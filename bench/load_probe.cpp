@@ -6,6 +6,9 @@
 //   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
 //                                    (Model::load, tolerant) and prints the fastest of the N in
 //                                    seconds: parse and repair alone, then the whole Model::load
+//   load_probe stages FILE [N]       the fastest of N of each stage of a render's loading: parse and
+//                                    repair (load_mesh), Hilbert order, topology, and the lazy parts a
+//                                    render may build (self-intersections, ray-test index)
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
@@ -19,6 +22,9 @@
 #include "core/clock.hpp"
 #include "core/error.hpp"
 #include "model/mesh_io.hpp"
+#include "model/reorder.hpp"
+#include "model/self_intersections.hpp"
+#include "visibility/ray_caster.hpp"
 #include "model/subdivide.hpp"
 #include "pipeline.hpp"
 #include "scene/scene.hpp"
@@ -103,16 +109,45 @@ int load(const std::string& path, int repeat) {
     return 0;
 }
 
+int stages(const std::string& path, int repeat) {
+    double t[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
+    std::size_t triangles = 0;
+    for (int r = 0; r < repeat; ++r) {
+        auto t0 = inkline::StageClock::now();
+        inkline::TriangleMesh m = inkline::load_mesh(path);
+        t[0] = std::min(t[0], inkline::seconds_since(t0));
+        triangles = m.triangles.size();
+        t0 = inkline::StageClock::now();
+        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m));
+        t[1] = std::min(t[1], inkline::seconds_since(t0));
+        t0 = inkline::StageClock::now();
+        const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
+        t[2] = std::min(t[2], inkline::seconds_since(t0));
+        t0 = inkline::StageClock::now();
+        const inkline::SelfIntersections si = inkline::self_intersections(topo);
+        t[3] = std::min(t[3], inkline::seconds_since(t0));
+        t0 = inkline::StageClock::now();
+        const inkline::RayCaster rays(topo);
+        t[4] = std::min(t[4], inkline::seconds_since(t0));
+    }
+    std::printf("%s: %zu triangles, parse+repair %.4f s, hilbert %.4f s, topology %.4f s, "
+                "self-intersections %.4f s, ray index %.4f s\n",
+                path.c_str(), triangles, t[0], t[1], t[2], t[3], t[4]);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     try {
         if (argc == 4 && std::strcmp(argv[1], "write") == 0) return write(argv[2], argv[3]);
+        if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "stages") == 0)
+            return stages(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
         if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "load") == 0) return load(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
     } catch (const inkline::Error& e) {
         std::fprintf(stderr, "load_probe: %s\n", e.what());
         return 1;
     }
-    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N]\n");
+    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N] | stages FILE [N]\n");
     return 2;
 }
