@@ -6,14 +6,17 @@
 //   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
 //                                    (Model::load, tolerant) and prints the fastest of the N in
 //                                    seconds: parse and repair alone, then the whole Model::load
-//   load_probe stages FILE [N]       the fastest of N of each stage of a render's loading: parse and
-//                                    repair (load_mesh), Hilbert order, topology, and the lazy parts a
-//                                    render may build (self-intersections, ray-test index)
+//   load_probe stages FILE [N]       the least of N of each stage of a render's loading, in CPU
+//                                    seconds of the thread (steadier than wall time on a shared
+//                                    machine): parse and repair (load_mesh), Hilbert order, topology,
+//                                    and the lazy parts a render may build (self-intersections,
+//                                    ray-test index)
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -109,26 +112,33 @@ int load(const std::string& path, int repeat) {
     return 0;
 }
 
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 int stages(const std::string& path, int repeat) {
     double t[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
     std::size_t triangles = 0;
     for (int r = 0; r < repeat; ++r) {
-        auto t0 = inkline::StageClock::now();
+        double t0 = thread_cpu_seconds();
+        const auto lap = [&](double& least) {
+            const double now = thread_cpu_seconds();
+            least = std::min(least, now - t0);
+            t0 = now;
+        };
         inkline::TriangleMesh m = inkline::load_mesh(path);
-        t[0] = std::min(t[0], inkline::seconds_since(t0));
+        lap(t[0]);
         triangles = m.triangles.size();
-        t0 = inkline::StageClock::now();
         inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m));
-        t[1] = std::min(t[1], inkline::seconds_since(t0));
-        t0 = inkline::StageClock::now();
+        lap(t[1]);
         const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
-        t[2] = std::min(t[2], inkline::seconds_since(t0));
-        t0 = inkline::StageClock::now();
+        lap(t[2]);
         const inkline::SelfIntersections si = inkline::self_intersections(topo);
-        t[3] = std::min(t[3], inkline::seconds_since(t0));
-        t0 = inkline::StageClock::now();
+        lap(t[3]);
         const inkline::RayCaster rays(topo);
-        t[4] = std::min(t[4], inkline::seconds_since(t0));
+        lap(t[4]);
     }
     std::printf("%s: %zu triangles, parse+repair %.4f s, hilbert %.4f s, topology %.4f s, "
                 "self-intersections %.4f s, ray index %.4f s\n",

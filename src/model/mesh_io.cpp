@@ -650,9 +650,47 @@ void read_off_binary(const std::string& data, const std::string& path, const std
 // when not empty). Empty when nothing merges: then nothing changes. Vertices are sorted by group
 // and position (their index breaking ties), so each run of equal ones starts with the first of
 // them; a sort, where a hash map allocated per vertex and was a large share of loading.
+// Whether any two of the keys are equal: an open-addressing set of the keys' indices, at most
+// half full (the repairs' quick check: most files need no repair, and a check that finds none
+// costs a fraction of the sort that would make it). `hash(i)` and `equal(i, j)` take indices.
+template <class Hash, class Equal>
+bool any_equal(std::size_t n, Hash&& hash, Equal&& equal) {
+    std::size_t size = 64;
+    while (size < 2 * n) size *= 2;
+    std::vector<std::uint32_t> slot(size, UINT32_MAX);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        std::uint64_t h = hash(i);
+        h ^= h >> 33;
+        h *= 0xff51afd7ed558ccdull;
+        h ^= h >> 33;
+        for (std::size_t k = std::size_t(h) & (size - 1);; k = (k + 1) & (size - 1)) {
+            if (slot[k] == UINT32_MAX) {
+                slot[k] = i;
+                break;
+            }
+            if (equal(slot[k], i)) return true;
+        }
+    }
+    return false;
+}
+
 std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, std::size_t& welded,
                                           const std::vector<std::uint32_t>& group = {}) {
     const std::size_t nv = positions.size();
+    welded = 0;
+    if (!any_equal(
+            nv,
+            [&](std::uint32_t i) {
+                const glm::dvec3& p = positions[i];  // non-finite ones all alike: never merged, rarely there
+                const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+                return finite ? PointKey()(p) ^ (group.empty() ? 0u : group[i]) : 0u;
+            },
+            [&](std::uint32_t i, std::uint32_t j) {
+                const glm::dvec3 &a = positions[i], &b = positions[j];
+                return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z) && PointEq()(a, b) &&
+                       (group.empty() || group[i] == group[j]);
+            }))
+        return {};
     auto group_of = [&](std::size_t i) { return group.empty() ? 0u : group[i]; };
     auto finite = [&](std::size_t i) {
         const glm::dvec3& p = positions[i];
@@ -669,7 +707,6 @@ std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, st
     });
     std::vector<std::uint32_t> first(nv);  // the first vertex at each one's position (itself if none)
     std::iota(first.begin(), first.end(), 0u);
-    welded = 0;
     for (std::size_t k = 1; k < order.size(); ++k) {
         const std::uint32_t v = order[k], u = order[k - 1];
         if (group_of(v) == group_of(u) && PointEq()(positions[v], positions[u])) {
@@ -764,6 +801,22 @@ std::vector<std::uint32_t> position_ids(const TriangleMesh& mesh) {
 // copy adds nothing. Faces sorted by their sorted position ids, so equal ones are neighbours.
 std::size_t drop_duplicate_faces(const TriangleMesh& mesh, std::vector<char>& keep) {
     const std::vector<std::uint32_t> id = position_ids(mesh);
+    const auto corners = [&](std::uint32_t f) {
+        const auto& t = mesh.triangles[f];
+        std::array<std::uint32_t, 3> c{id[t[0]], id[t[1]], id[t[2]]};
+        std::sort(c.begin(), c.end());
+        return c;
+    };
+    const auto kept = [&](std::uint32_t f) { return keep[f] != 0; };
+    if (!any_equal(
+            mesh.triangles.size(),
+            [&](std::uint32_t f) {
+                if (!kept(f)) return std::uint64_t(f) * 0x9e3779b97f4a7c15ull;  // apart from all
+                const auto c = corners(f);
+                return (std::uint64_t(c[0]) * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(c[1]) << 21) ^ (std::uint64_t(c[2]) << 42);
+            },
+            [&](std::uint32_t f, std::uint32_t g) { return kept(f) && kept(g) && corners(f) == corners(g); }))
+        return 0;
     struct Key {
         std::array<std::uint32_t, 3> corners;
         std::uint32_t face;
