@@ -1,8 +1,9 @@
 // Loading alone, for whole-process timings and profilers (bench/run_loading.sh).
-//   load_probe write NAME[@N] DIR   writes DIR/NAME[@N].off and .glb: the sample mesh NAME
-//                                    (INKLINE_DATA_DIR/meshes/NAME.off), N rounds of Loop subdivision,
-//                                    positions rounded to float in both files so they hold the same
-//                                    geometry (the .glb: float positions, uint32 indices, one node)
+//   load_probe write NAME[@N] DIR   writes DIR/NAME[@N].off, .glb, .ply and .stl: the sample mesh
+//                                    NAME (INKLINE_DATA_DIR/meshes/NAME.off), N rounds of Loop
+//                                    subdivision, positions rounded to float in every file so they
+//                                    hold the same geometry (the .glb: float positions, uint32
+//                                    indices, one node; .ply and .stl binary little-endian)
 //   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
 //                                    (Model::load, tolerant) and prints the fastest of the N in
 //                                    seconds: parse and repair alone, then the whole Model::load
@@ -83,6 +84,37 @@ void write_glb(const inkline::TriangleMesh& m, const std::string& path) {
     std::ofstream(path, std::ios::binary) << out;
 }
 
+void write_ply(const inkline::TriangleMesh& m, const std::string& path) {
+    std::string out = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(m.positions.size()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                      std::to_string(m.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : m.positions)
+        for (int k = 0; k < 3; ++k) {
+            const float v = float(p[k]);
+            out.append(reinterpret_cast<const char*>(&v), 4);
+        }
+    for (const auto& t : m.triangles) {
+        out.push_back(char(3));
+        for (auto i : t) append_u32(out, i);
+    }
+    std::ofstream(path, std::ios::binary) << out;
+}
+
+void write_stl(const inkline::TriangleMesh& m, const std::string& path) {
+    std::string out(80, ' ');
+    append_u32(out, std::uint32_t(m.triangles.size()));
+    for (const auto& t : m.triangles) {
+        out.append(12, '\0');  // the normal: readers recompute it
+        for (auto i : t)
+            for (int k = 0; k < 3; ++k) {
+                const float v = float(m.positions[i][k]);
+                out.append(reinterpret_cast<const char*>(&v), 4);
+            }
+        out.append(2, '\0');
+    }
+    std::ofstream(path, std::ios::binary) << out;
+}
+
 int write(const std::string& name, const std::string& dir) {
     const auto at = name.find('@');
     const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
@@ -92,6 +124,8 @@ int write(const std::string& name, const std::string& dir) {
     for (auto& p : m.positions) p = glm::dvec3(glm::vec3(p));  // the same float geometry in both files
     write_off(m, dir + "/" + name + ".off");
     write_glb(m, dir + "/" + name + ".glb");
+    write_ply(m, dir + "/" + name + ".ply");
+    write_stl(m, dir + "/" + name + ".stl");
     std::printf("%s: %zu vertices, %zu triangles\n", name.c_str(), m.positions.size(), m.triangles.size());
     return 0;
 }

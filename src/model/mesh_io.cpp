@@ -798,53 +798,35 @@ std::vector<std::uint32_t> position_ids(const TriangleMesh& mesh) {
 
 // Marks (keep = 0) each face on the same three points as an earlier kept face; returns how many.
 // Double-sided exports and objects listed twice: coincident surfaces have no defined QI, and the
-// copy adds nothing. Faces sorted by their sorted position ids, so equal ones are neighbours.
+// copy adds nothing. Faces are bucketed by their lowest corner's position id (a counting sort,
+// a few faces a bucket), so equal ones meet in one bucket, in face order.
 std::size_t drop_duplicate_faces(const TriangleMesh& mesh, std::vector<char>& keep) {
     const std::vector<std::uint32_t> id = position_ids(mesh);
-    const auto corners = [&](std::uint32_t f) {
+    const std::size_t nf = mesh.triangles.size();
+    std::vector<std::array<std::uint32_t, 3>> corners(nf);  // sorted ids
+    std::vector<std::uint32_t> begin(id.size() + 2, 0), order(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.triangles[f];
-        std::array<std::uint32_t, 3> c{id[t[0]], id[t[1]], id[t[2]]};
-        std::sort(c.begin(), c.end());
-        return c;
-    };
-    const auto kept = [&](std::uint32_t f) { return keep[f] != 0; };
-    if (!any_equal(
-            mesh.triangles.size(),
-            [&](std::uint32_t f) {
-                if (!kept(f)) return std::uint64_t(f) * 0x9e3779b97f4a7c15ull;  // apart from all
-                const auto c = corners(f);
-                return (std::uint64_t(c[0]) * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(c[1]) << 21) ^ (std::uint64_t(c[2]) << 42);
-            },
-            [&](std::uint32_t f, std::uint32_t g) { return kept(f) && kept(g) && corners(f) == corners(g); }))
-        return 0;
-    struct Key {
-        std::array<std::uint32_t, 3> corners;
-        std::uint32_t face;
-        bool operator<(const Key& o) const {  // (std::array's comparisons call memcmp)
-            for (int k = 0; k < 3; ++k)
-                if (corners[k] != o.corners[k]) return corners[k] < o.corners[k];
-            return face < o.face;
-        }
-        bool same_corners(const Key& o) const {
-            return corners[0] == o.corners[0] && corners[1] == o.corners[1] && corners[2] == o.corners[2];
-        }
-    };
-    std::vector<Key> keys;
-    keys.reserve(mesh.triangles.size());
-    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-        if (!keep[f]) continue;
-        const auto& t = mesh.triangles[f];
-        std::array<std::uint32_t, 3> c{id[t[0]], id[t[1]], id[t[2]]};
-        std::sort(c.begin(), c.end());
-        keys.push_back({c, f});
+        corners[f] = {id[t[0]], id[t[1]], id[t[2]]};
+        std::sort(corners[f].begin(), corners[f].end());
+        if (keep[f]) ++begin[corners[f][0] + 2];
     }
-    std::sort(keys.begin(), keys.end());
+    for (std::size_t v = 0; v < id.size(); ++v) begin[v + 2] += begin[v + 1];
+    for (std::uint32_t f = 0; f < nf; ++f)
+        if (keep[f]) order[begin[corners[f][0] + 1]++] = f;
     std::size_t dropped = 0;
-    for (std::size_t k = 1; k < keys.size(); ++k)
-        if (keys[k].same_corners(keys[k - 1])) {
-            keep[keys[k].face] = 0;
-            ++dropped;
-        }
+    for (std::size_t v = 0; v < id.size(); ++v) {
+        const auto b0 = order.begin() + begin[v], b1 = order.begin() + begin[v + 1];
+        if (b1 - b0 > 32)  // a vertex of many faces: sorted, so equal ones are neighbours (face order kept)
+            std::sort(b0, b1, [&](std::uint32_t f, std::uint32_t g) { return corners[f] != corners[g] ? corners[f] < corners[g] : f < g; });
+        for (auto j = b0 + 1; j < b1; ++j)
+            for (auto i = b1 - b0 > 32 ? j - 1 : b0; i < j; ++i)
+                if (corners[*i] == corners[*j]) {  // an earlier face on the same points
+                    keep[*j] = 0;
+                    ++dropped;
+                    break;
+                }
+    }
     return dropped;
 }
 
