@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -35,31 +34,46 @@ float up(double x) {
     return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
-// The side of the plane through a, b, c that d lies on (+1 or -1, a fixed convention), or 0 when
-// a float filter cannot tell (then only an exact predicate can). The bound is Shewchuk's
-// o3derrboundA, (7 + 56 eps) eps times the permanent, valid away from underflow and overflow.
-int side_if_certain(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
-    const glm::dvec3 u = a - d, v = b - d, w = c - d;
-    const double vw_z = v.x * w.y - v.y * w.x, wu_z = w.x * u.y - w.y * u.x, uv_z = u.x * v.y - u.y * v.x;
-    const double det = u.z * vw_z + v.z * wu_z + w.z * uv_z;
-    const double permanent = (std::abs(v.x * w.y) + std::abs(v.y * w.x)) * std::abs(u.z) +
-                             (std::abs(w.x * u.y) + std::abs(w.y * u.x)) * std::abs(v.z) +
-                             (std::abs(u.x * v.y) + std::abs(u.y * v.x)) * std::abs(w.z);
+// A face's plane for the float filter below: n = (b - a) x (c - a) as Shewchuk's orient3d
+// computes it with a as the origin, and per component the permanent of that product (the sum of
+// the absolute values of its two terms).
+struct FacePlane {
+    glm::dvec3 n, permanent;
+};
+
+FacePlane face_plane(const MeshTopology& mesh, std::uint32_t f) {
+    const auto& t = mesh.faces[f];
+    const glm::dvec3 u = mesh.positions[t[1]] - mesh.positions[t[0]], v = mesh.positions[t[2]] - mesh.positions[t[0]];
+    return {{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x},
+            {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
+             std::abs(u.x * v.y) + std::abs(u.y * v.x)}};
+}
+
+// The side of face f's plane that x lies on (+1 or -1, a fixed convention), or 0 when the float
+// filter cannot tell (then only an exact predicate can). The orientation determinant
+// dot(n, x - a) has the shape of Shewchuk's orient3d (each term a difference times a 2x2 minor of
+// differences, three terms summed), so his bound o3derrboundA, (7 + 56 eps) eps times the
+// permanent, holds; away from underflow and overflow only.
+int side_if_certain(const FacePlane& plane, const glm::dvec3& a, const glm::dvec3& x) {
+    const glm::dvec3 w = x - a;
+    const double det = plane.n.x * w.x + plane.n.y * w.y + plane.n.z * w.z;
+    const double permanent =
+        plane.permanent.x * std::abs(w.x) + plane.permanent.y * std::abs(w.y) + plane.permanent.z * std::abs(w.z);
     if (!(permanent > 1e-250) || !(permanent < 1e250)) return 0;
     const double bound = 7.7715611723761027e-16 * permanent;
     return det > bound ? 1 : det < -bound ? -1 : 0;
 }
 
 // Certainly apart beyond their shared corners: the corners `far` (of one face) all strictly on one
-// side of the plane of the other face (p, q, r), so that the faces can meet only where they share.
-bool certainly_one_side(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r,
-                        std::initializer_list<glm::dvec3> far) {
-    int first = 0;
-    for (const glm::dvec3& x : far) {
-        const int side = side_if_certain(p, q, r, x);
-        if (side == 0 || (first != 0 && side != first)) return false;
-        first = side;
-    }
+// side of the plane of face f, so that the faces can meet only where they share corners.
+template <std::size_t N>
+bool certainly_one_side(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f,
+                        const std::array<std::uint32_t, N>& far) {
+    const glm::dvec3& a = mesh.positions[mesh.faces[f][0]];
+    const int first = side_if_certain(planes[f], a, mesh.positions[far[0]]);
+    if (first == 0) return false;
+    for (std::size_t k = 1; k < N; ++k)
+        if (side_if_certain(planes[f], a, mesh.positions[far[k]]) != first) return false;
     return true;
 }
 
@@ -68,7 +82,7 @@ bool certainly_one_side(const glm::dvec3& p, const glm::dvec3& q, const glm::dve
 // self_intersections (which needs a halfedge copy of the mesh, see the header); every test is an
 // exact predicate of the Epick kernel, after a float filter that settles most pairs the box
 // search finds (faces around a common vertex or edge, each on one side of the other's plane).
-bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g) {
+bool faces_intersect(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f, std::uint32_t g) {
     const auto& a = mesh.faces[f];
     const auto& b = mesh.faces[g];
     int shared = 0, ia = -1, ib = -1;  // last shared corner, in a and in b
@@ -79,19 +93,16 @@ bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g)
                 ia = i;
                 ib = j;
             }
-    const auto& X = mesh.positions;
-    if (shared == 0 && (certainly_one_side(X[a[0]], X[a[1]], X[a[2]], {X[b[0]], X[b[1]], X[b[2]]}) ||
-                        certainly_one_side(X[b[0]], X[b[1]], X[b[2]], {X[a[0]], X[a[1]], X[a[2]]})))
-        return false;
+    if (shared == 0 && (certainly_one_side(mesh, planes, f, b) || certainly_one_side(mesh, planes, g, a))) return false;
     if (shared == 1) {
-        const glm::dvec3 &s = X[a[ia]], &a1 = X[a[(ia + 1) % 3]], &a2 = X[a[(ia + 2) % 3]], &b1 = X[b[(ib + 1) % 3]],
-                         &b2 = X[b[(ib + 2) % 3]];
-        if (certainly_one_side(s, a1, a2, {b1, b2}) || certainly_one_side(s, b1, b2, {a1, a2})) return false;
+        const std::array<std::uint32_t, 2> a_far{a[(ia + 1) % 3], a[(ia + 2) % 3]}, b_far{b[(ib + 1) % 3], b[(ib + 2) % 3]};
+        if (certainly_one_side(mesh, planes, f, b_far) || certainly_one_side(mesh, planes, g, a_far)) return false;
     }
     if (shared == 2) {
         // Not coplanar: the far corner of one is off the other's plane.
         for (int i = 0; i < 3; ++i)
-            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] && side_if_certain(X[a[0]], X[a[1]], X[a[2]], X[b[i]]) != 0)
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] &&
+                side_if_certain(planes[f], mesh.positions[a[0]], mesh.positions[b[i]]) != 0)
                 return false;
     }
     const auto P = [&](std::uint32_t v) { return cgal(mesh.positions[v]); };
@@ -282,12 +293,14 @@ private:
 template <class Fn>
 void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
     std::vector<Box> boxes = face_boxes(mesh, out);
+    std::vector<FacePlane> planes(mesh.face_count());
+    for (const Box& box : boxes) planes[box.face] = face_plane(mesh, box.face);
     std::vector<std::uint64_t> found;  // intersecting pairs, lower face << 32 | upper
     const auto pair_key = [](std::uint32_t f, std::uint32_t g) {
         return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g);
     };
     BoxPairs(boxes).each([&](std::uint32_t f, std::uint32_t g) {
-        if (faces_intersect(mesh, f, g)) found.push_back(pair_key(f, g));
+        if (faces_intersect(mesh, planes, f, g)) found.push_back(pair_key(f, g));
     });
     for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
     if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
