@@ -5,6 +5,8 @@
 // failure message.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -279,6 +281,28 @@ TEST_P(LoadingPins, SameArraysAsBefore) {
     EXPECT_EQ(strict, c.strict) << path;
     if (tolerant != c.tolerant && tolerant.rfind("error", 0) != 0)
         for (const auto& [name, value] : model_hashes(path)) std::printf("  %s %016llx\n", name.c_str(), static_cast<unsigned long long>(value));
+}
+
+// Duplicate faces around a vertex of many faces (more than 32: its bucket is sorted, not
+// compared pairwise): a fan of 40 triangles around vertex 0 with one face listed again, once in
+// another rotation and once as it is, at the end. The two copies are dropped, the fan kept in order.
+TEST(LoadingRepairs, DuplicatesAroundAVertexOfManyFaces) {
+    TriangleMesh m;
+    m.positions.push_back({0, 0, 0});
+    for (int i = 0; i <= 40; ++i) m.positions.push_back({std::cos(0.1 * i), std::sin(0.1 * i), 0.05 * i});
+    for (std::uint32_t i = 1; i <= 40; ++i) m.triangles.push_back({0, i, i + 1});
+    const auto fan = m.triangles;
+    m.triangles.push_back({6, 0, 5});
+    m.triangles.push_back({0, 5, 6});
+    repair_mesh(m, "fan");
+    EXPECT_EQ(m.repairs.faces_dropped, 2u);
+    ASSERT_EQ(m.triangles.size(), fan.size());
+    for (std::size_t f = 0; f < fan.size(); ++f) {
+        auto a = m.triangles[f], b = fan[f];  // (orientation may be flipped as a whole)
+        std::sort(a.begin(), a.end());
+        std::sort(b.begin(), b.end());
+        EXPECT_EQ(a, b) << "face " << f;
+    }
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
