@@ -1,16 +1,23 @@
 // Loading alone, for whole-process timings and profilers (bench/run_loading.sh).
-//   load_probe write NAME[@N] DIR   writes DIR/NAME[@N].off and .glb: the sample mesh NAME
-//                                    (INKLINE_DATA_DIR/meshes/NAME.off), N rounds of Loop subdivision,
-//                                    positions rounded to float in both files so they hold the same
-//                                    geometry (the .glb: float positions, uint32 indices, one node)
+//   load_probe write NAME[@N] DIR   writes DIR/NAME[@N].off, .glb, .ply and .stl: the sample mesh
+//                                    NAME (INKLINE_DATA_DIR/meshes/NAME.off), N rounds of Loop
+//                                    subdivision, positions rounded to float in every file so they
+//                                    hold the same geometry (the .glb: float positions, uint32
+//                                    indices, one node; .ply and .stl binary little-endian)
 //   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
 //                                    (Model::load, tolerant) and prints the fastest of the N in
 //                                    seconds: parse and repair alone, then the whole Model::load
+//   load_probe stages FILE [N]       the least of N of each stage of a render's loading, in CPU
+//                                    seconds of the thread (steadier than wall time on a shared
+//                                    machine): parse and repair (load_mesh), Hilbert order, topology,
+//                                    and the lazy parts a render may build (self-intersections,
+//                                    ray-test index)
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -19,6 +26,9 @@
 #include "core/clock.hpp"
 #include "core/error.hpp"
 #include "model/mesh_io.hpp"
+#include "model/reorder.hpp"
+#include "model/self_intersections.hpp"
+#include "visibility/ray_caster.hpp"
 #include "model/subdivide.hpp"
 #include "pipeline.hpp"
 #include "scene/scene.hpp"
@@ -74,6 +84,37 @@ void write_glb(const inkline::TriangleMesh& m, const std::string& path) {
     std::ofstream(path, std::ios::binary) << out;
 }
 
+void write_ply(const inkline::TriangleMesh& m, const std::string& path) {
+    std::string out = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(m.positions.size()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                      std::to_string(m.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : m.positions)
+        for (int k = 0; k < 3; ++k) {
+            const float v = float(p[k]);
+            out.append(reinterpret_cast<const char*>(&v), 4);
+        }
+    for (const auto& t : m.triangles) {
+        out.push_back(char(3));
+        for (auto i : t) append_u32(out, i);
+    }
+    std::ofstream(path, std::ios::binary) << out;
+}
+
+void write_stl(const inkline::TriangleMesh& m, const std::string& path) {
+    std::string out(80, ' ');
+    append_u32(out, std::uint32_t(m.triangles.size()));
+    for (const auto& t : m.triangles) {
+        out.append(12, '\0');  // the normal: readers recompute it
+        for (auto i : t)
+            for (int k = 0; k < 3; ++k) {
+                const float v = float(m.positions[i][k]);
+                out.append(reinterpret_cast<const char*>(&v), 4);
+            }
+        out.append(2, '\0');
+    }
+    std::ofstream(path, std::ios::binary) << out;
+}
+
 int write(const std::string& name, const std::string& dir) {
     const auto at = name.find('@');
     const int levels = at == std::string::npos ? 0 : std::stoi(name.substr(at + 1));
@@ -83,6 +124,8 @@ int write(const std::string& name, const std::string& dir) {
     for (auto& p : m.positions) p = glm::dvec3(glm::vec3(p));  // the same float geometry in both files
     write_off(m, dir + "/" + name + ".off");
     write_glb(m, dir + "/" + name + ".glb");
+    write_ply(m, dir + "/" + name + ".ply");
+    write_stl(m, dir + "/" + name + ".stl");
     std::printf("%s: %zu vertices, %zu triangles\n", name.c_str(), m.positions.size(), m.triangles.size());
     return 0;
 }
@@ -103,16 +146,52 @@ int load(const std::string& path, int repeat) {
     return 0;
 }
 
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+int stages(const std::string& path, int repeat) {
+    double t[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
+    std::size_t triangles = 0;
+    for (int r = 0; r < repeat; ++r) {
+        double t0 = thread_cpu_seconds();
+        const auto lap = [&](double& least) {
+            const double now = thread_cpu_seconds();
+            least = std::min(least, now - t0);
+            t0 = now;
+        };
+        inkline::TriangleMesh m = inkline::load_mesh(path);
+        lap(t[0]);
+        triangles = m.triangles.size();
+        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m));
+        lap(t[1]);
+        const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
+        lap(t[2]);
+        const inkline::SelfIntersections si = inkline::self_intersections(topo);
+        lap(t[3]);
+        const inkline::RayCaster rays(topo);
+        lap(t[4]);
+    }
+    std::printf("%s: %zu triangles, parse+repair %.4f s, hilbert %.4f s, topology %.4f s, "
+                "self-intersections %.4f s, ray index %.4f s\n",
+                path.c_str(), triangles, t[0], t[1], t[2], t[3], t[4]);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     try {
         if (argc == 4 && std::strcmp(argv[1], "write") == 0) return write(argv[2], argv[3]);
+        if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "stages") == 0)
+            return stages(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
         if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "load") == 0) return load(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
     } catch (const inkline::Error& e) {
         std::fprintf(stderr, "load_probe: %s\n", e.what());
         return 1;
     }
-    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N]\n");
+    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N] | stages FILE [N]\n");
     return 2;
 }

@@ -14,6 +14,7 @@
 
 #include "app/batch.hpp"
 #include "app/flags.hpp"
+#include "app/load_progress_line.hpp"
 #include "app/progress.hpp"
 #include "cli_util.hpp"
 #include "core/error.hpp"
@@ -119,6 +120,32 @@ TEST(Progress, NothingWhenNotATerminal) {
 }
 
 // ---- output names, frame ranges, jobs ----
+
+// The load's progress line is the shared one: the file's size in kB as the total, the load's
+// fraction of it as the count (so the rate is the file over the whole load), cleared when done.
+TEST(Progress, LoadingUsesTheSharedLine) {
+    EXPECT_EQ(load_progress_total_kb(0), 1u);
+    EXPECT_EQ(load_progress_total_kb(2'600'001), 2601u);
+    FakeTerminal t;
+    auto line = std::make_shared<ProgressLine>("loading armadillo@3.off", load_progress_total_kb(100'000'000), "kB",
+                                               t.out, true, [&t] { return t.now; });
+    const LoadProgressCallback report = load_progress_callback(line);
+    LoadProgress p;
+    p.file_bytes = 100'000'000;
+    p.fraction = 0.1;
+    t.now = 0.4;  // within the quiet half second
+    report(p);
+    EXPECT_EQ(t.take(), "");
+    p.fraction = 0.25;
+    t.now = 5.0;  // 25000 kB in 5 s: 5000 kB/s, 75000 kB left: 15 s
+    report(p);
+    EXPECT_EQ(t.take(), "\rloading armadillo@3.off: 25000/100000 kB   25%  5000 kB/s  0:15 left");
+    p.done = true;
+    p.fraction = 1.0;
+    t.now = 13.0;
+    report(p);
+    EXPECT_EQ(t.take(), "\r" + std::string(68, ' ') + "\r");
+}
 
 TEST(OutputPatterns, OneIntegerConversion) {
     const std::vector<std::array<std::string, 3>> cases = {

@@ -3,39 +3,33 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdint>
-#include <cstdio>
-#include <memory>
+#include <cmath>
+#include <filesystem>
+#include <system_error>
 
 namespace inkline {
 
-LoadProgressCallback load_progress_line(const std::string& path) {
-    if (!::isatty(STDERR_FILENO)) return {};
-    struct State {
-        std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-        bool shown = false;
-        std::uint64_t bytes = 0;  // the most read so far (later stages report none)
-        double rate_mb = 0.0;     // MB/s while the file was read
-    };
-    auto state = std::make_shared<State>();
-    return [path, state](const LoadProgress& p) {
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - state->start).count();
+std::size_t load_progress_total_kb(std::uint64_t file_bytes) {
+    return std::max<std::size_t>(1, std::size_t((file_bytes + 999) / 1000));
+}
+
+LoadProgressCallback load_progress_callback(std::shared_ptr<ProgressLine> line) {
+    return [line = std::move(line)](const LoadProgress& p) {
         if (p.done) {
-            if (state->shown) std::fprintf(stderr, "\r\033[K");
+            line->finish();
             return;
         }
-        if (p.bytes_read > state->bytes) {
-            state->bytes = p.bytes_read;
-            state->rate_mb = double(state->bytes) / std::max(seconds, 1e-3) / 1e6;
-        }
-        if (seconds < 1.0 || p.fraction <= 0.0) return;
-        const double left = seconds * (1.0 - p.fraction) / p.fraction;
-        std::fprintf(stderr, "\r\033[Kinkline: loading %s: %d%% (%.1f MB/s, %.0f s left)", path.c_str(),
-                     int(100.0 * p.fraction), state->rate_mb, left);
-        std::fflush(stderr);
-        state->shown = true;
+        line->set_done(std::size_t(std::floor(p.fraction * double(line->total()))));
     };
+}
+
+LoadProgressCallback load_progress_line(const std::string& path) {
+    if (!::isatty(STDERR_FILENO)) return {};
+    std::error_code error;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, error);
+    std::shared_ptr<ProgressLine> line =
+        ProgressLine::on_stderr("loading " + path, load_progress_total_kb(error ? 0 : bytes), "kB");
+    return load_progress_callback(std::move(line));
 }
 
 }  // namespace inkline

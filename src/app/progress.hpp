@@ -40,6 +40,7 @@ public:
     void print_above(const std::function<void()>& print);
     // Clears the line for good (later updates write nothing). Idempotent.
     void finish();
+    std::size_t total() const { return total_; }
 
     // The text of the line for `done` of `total` after `elapsed_s` seconds (no '\r'); exposed for
     // the tests. The rate and the time left appear once something is done.

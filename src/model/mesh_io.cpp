@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <span>
 #include <string_view>
 #include <unordered_map>
 #include <unordered_set>
@@ -37,12 +38,19 @@ std::string lower_extension(const std::string& path) {
 }
 
 
-// Vertex positions and raw polygons (0-based indices, unchecked) as read from a file.
+// Vertex positions and raw polygons (0-based indices, unchecked) as read from a file. The
+// polygons' corners lie one after another in one array (no allocation per face).
 struct Soup {
     std::vector<glm::dvec3> positions;
-    std::vector<std::vector<std::int64_t>> polygons;
+    std::vector<std::int64_t> corners;
+    std::vector<std::size_t> polygon_end;  // per polygon, where its corners end in `corners`
     LoadProgressReporter* progress = nullptr;  // the text readers report how far they are
+    std::size_t polygon_count() const { return polygon_end.size(); }
+    void end_polygon() { polygon_end.push_back(corners.size()); }
 };
+
+// ' ', '\t', '\n', '\v', '\f', '\r': std::isspace in the "C" locale, without a call per character.
+inline bool is_space(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 
 // The text readers below are strict: OpenMesh's ASCII readers do not report malformed input
 // (a failed number leaves the stream failed and later indices uninitialized, NaN/inf coordinates
@@ -55,13 +63,16 @@ public:
         : text_(text), comments_(hash_comments), progress_(progress) {}
     // Next line with at least one token (comments removed); false at the end of the text.
     bool next(std::vector<std::string_view>& tokens) {
+        const char* const text = text_.data();
         while (pos_ < text_.size()) {
-            std::size_t end = text_.find('\n', pos_);
-            if (end == std::string::npos) end = text_.size();
-            std::string_view line(text_.data() + pos_, end - pos_);
+            const void* nl = std::memchr(text + pos_, '\n', text_.size() - pos_);
+            const std::size_t end = nl ? std::size_t(static_cast<const char*>(nl) - text) : text_.size();
+            std::string_view line(text + pos_, end - pos_);
             pos_ = end + 1;
             if ((++line_ & 0xffff) == 0 && progress_) progress_->bytes(pos_, 0.0, kProgressParsed);
-            if (comments_) line = line.substr(0, line.find('#'));
+            if (comments_)
+                if (const void* hash = std::memchr(line.data(), '#', line.size()))
+                    line = line.substr(0, std::size_t(static_cast<const char*>(hash) - line.data()));
             split(line, tokens);
             if (!tokens.empty()) return true;
         }
@@ -74,9 +85,9 @@ public:
         tokens.clear();
         std::size_t i = 0;
         while (i < line.size()) {
-            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+            while (i < line.size() && is_space(line[i])) ++i;
             std::size_t j = i;
-            while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+            while (j < line.size() && !is_space(line[j])) ++j;
             if (j > i) tokens.push_back(line.substr(i, j - i));
             i = j;
         }
@@ -89,10 +100,15 @@ private:
     std::size_t pos_ = 0, line_ = 0;
 };
 
-// A whole token as a double (strtod: accepts nan and inf, which validation refuses with its own
-// message; out-of-range values become infinite).
+// A whole token as a double, as strtod reads it: nan and inf are accepted (validation refuses them
+// with its own message) and out-of-range values become infinite (or zero). std::from_chars
+// (libstdc++ 12: the fast_float algorithm, correctly rounded like glibc's strtod, so the same
+// doubles) reads the plain decimal numbers of nearly every file; strtod takes what it leaves: a
+// leading '+', hexadecimal floats, values out of range.
 bool parse_double(std::string_view tok, double& out) {
     if (tok.empty()) return false;
+    const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+    if (r.ec == std::errc() && r.ptr == tok.data() + tok.size()) return true;
     const std::string copy(tok);
     char* end = nullptr;
     out = std::strtod(copy.c_str(), &end);
@@ -182,12 +198,14 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
             throw Error(path, lines.at() + "face " + std::to_string(f) + " lists " +
                                   std::to_string(tok.size() - 1) + " of its " + std::to_string(n) +
                                   " vertex indices");
-        std::vector<std::int64_t> poly(std::size_t(n), 0);
-        for (std::int64_t j = 0; j < n; ++j)
-            if (!parse_int(tok[j + 1], poly[j]))
+        for (std::int64_t j = 0; j < n; ++j) {
+            std::int64_t v = 0;
+            if (!parse_int(tok[j + 1], v))
                 throw Error(path, lines.at() + "face " + std::to_string(f) + ": " + in_quotes(tok[j + 1]) +
                                       " is not a vertex index");
-        soup.polygons.push_back(std::move(poly));
+            soup.corners.push_back(v);
+        }
+        soup.end_polygon();
     }
 }
 
@@ -208,16 +226,15 @@ void read_obj(const std::string& text, const std::string& path, Soup& soup) {
                                           in_quotes(tok[j + 1]) + " is not a number");
             soup.positions.emplace_back(c[0], c[1], c[2]);
         } else if (tok[0] == "f") {
-            std::vector<std::int64_t> poly;
             for (std::size_t j = 1; j < tok.size(); ++j) {
                 const std::string_view t = tok[j].substr(0, tok[j].find('/'));
                 std::int64_t i = 0;
                 if (!parse_int(t, i) || i == 0)
-                    throw Error(path, lines.at() + "face " + std::to_string(soup.polygons.size()) + ": " +
+                    throw Error(path, lines.at() + "face " + std::to_string(soup.polygon_count()) + ": " +
                                           in_quotes(tok[j]) + " is not a vertex index");
-                poly.push_back(i > 0 ? i - 1 : std::int64_t(soup.positions.size()) + i);
+                soup.corners.push_back(i > 0 ? i - 1 : std::int64_t(soup.positions.size()) + i);
             }
-            soup.polygons.push_back(std::move(poly));
+            soup.end_polygon();
         }
     }
 }
@@ -241,24 +258,58 @@ struct PointEq {
         return a.x == b.x && a.y == b.y && a.z == b.z;
     }
 };
-struct Welder {
-    Soup& soup;
-    std::unordered_map<glm::dvec3, std::int64_t, PointKey, PointEq> index;
+// The index of the first corner at each position: an open-addressing table of vertex indices (4
+// bytes a slot, at most half full), where a node-based hash map allocated per vertex.
+class Welder {
+public:
+    Welder(Soup& soup, std::size_t expected_vertices) : soup_(soup) { grow(std::max<std::size_t>(64, 4 * expected_vertices)); }
     std::int64_t operator()(const glm::dvec3& p) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {  // refused later
-            soup.positions.push_back(p);
-            return std::int64_t(soup.positions.size() - 1);
+            soup_.positions.push_back(p);
+            return std::int64_t(soup_.positions.size() - 1);
         }
-        auto [it, inserted] = index.try_emplace(p, std::int64_t(soup.positions.size()));
-        if (inserted) soup.positions.push_back(p);
-        return it->second;
+        for (std::size_t i = slot_of(p);; i = (i + 1) & mask_) {
+            if (slot_[i] == kEmpty) {
+                slot_[i] = std::uint32_t(soup_.positions.size());
+                soup_.positions.push_back(p);
+                if (2 * ++used_ > slot_.size()) grow(2 * slot_.size());
+                return std::int64_t(soup_.positions.size() - 1);
+            }
+            if (PointEq()(soup_.positions[slot_[i]], p)) return slot_[i];
+        }
     }
+
+private:
+    static constexpr std::uint32_t kEmpty = UINT32_MAX;
+    std::size_t slot_of(const glm::dvec3& p) const {  // PointKey mixed: its low bits alone cluster
+        std::uint64_t h = PointKey()(p);
+        h ^= h >> 33;
+        h *= 0xff51afd7ed558ccdull;
+        h ^= h >> 33;
+        return std::size_t(h) & mask_;
+    }
+    void grow(std::size_t at_least) {
+        std::size_t size = 64;
+        while (size < at_least) size *= 2;
+        slot_.assign(size, kEmpty);
+        mask_ = size - 1;
+        for (std::uint32_t v = 0; v < soup_.positions.size(); ++v) {
+            const glm::dvec3& p = soup_.positions[v];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+            std::size_t i = slot_of(p);
+            while (slot_[i] != kEmpty) i = (i + 1) & mask_;
+            slot_[i] = v;
+        }
+    }
+    Soup& soup_;
+    std::vector<std::uint32_t> slot_;
+    std::size_t mask_ = 0, used_ = 0;
 };
 
 void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup) {
     Lines lines(text, false, soup.progress);
     std::vector<std::string_view> tok;
-    Welder weld{soup, {}};
+    Welder weld(soup, text.size() / 256);
     auto expect = [&](const char* word) {
         if (!lines.next(tok)) throw Error(path, std::string("file ends before '") + word + "' (truncated)");
         if (lower(tok[0]) != word)
@@ -271,37 +322,37 @@ void read_stl_ascii(const std::string& text, const std::string& path, Soup& soup
         if (w == "endsolid") break;
         if (w != "facet") throw Error(path, lines.at() + "expected 'facet' or 'endsolid', found " + in_quotes(tok[0]));
         expect("outer");
-        std::vector<std::int64_t> poly;
         for (int c = 0; c < 3; ++c) {
             expect("vertex");
             if (tok.size() != 4)
-                throw Error(path, lines.at() + "facet " + std::to_string(soup.polygons.size()) +
+                throw Error(path, lines.at() + "facet " + std::to_string(soup.polygon_count()) +
                                       ": a vertex needs 3 coordinates");
             glm::dvec3 p;
             for (int j = 0; j < 3; ++j)
                 if (!parse_double(tok[j + 1], p[j]))
                     throw Error(path, lines.at() + in_quotes(tok[j + 1]) + " is not a number");
-            poly.push_back(weld(p));
+            soup.corners.push_back(weld(p));
         }
         expect("endloop");
         expect("endfacet");
-        soup.polygons.push_back(std::move(poly));
+        soup.end_polygon();
     }
 }
 
 void read_stl_binary(const std::string& data, const std::string& path, Soup& soup) {
     std::uint32_t n = 0;
     std::memcpy(&n, data.data() + 80, 4);  // little-endian files on little-endian hosts
-    Welder weld{soup, {}};
+    Welder weld(soup, n);
+    soup.corners.reserve(3 * std::size_t(n));
+    soup.polygon_end.reserve(n);
     for (std::uint32_t f = 0; f < n; ++f) {
         const char* rec = data.data() + 84 + std::size_t(f) * 50;
-        std::vector<std::int64_t> poly;
         for (int c = 0; c < 3; ++c) {
             float v[3];
             std::memcpy(v, rec + 12 + 12 * c, 12);
-            poly.push_back(weld(glm::dvec3(v[0], v[1], v[2])));
+            soup.corners.push_back(weld(glm::dvec3(v[0], v[1], v[2])));
         }
-        soup.polygons.push_back(std::move(poly));
+        soup.end_polygon();
     }
     (void)path;
 }
@@ -419,7 +470,6 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
         const int indices = roles.indices;
         for (std::int64_t i = 0; i < e.count; ++i) {
             glm::dvec3 p(0.0);
-            std::vector<std::int64_t> poly;
             for (int j = 0; j < int(e.props.size()); ++j) {
                 auto next = [&]() {
                     while (k >= tok.size()) {
@@ -442,7 +492,7 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
                             if (!parse_int(u, v))
                                 throw Error(path, "face " + std::to_string(i) + ": " + in_quotes(u) +
                                                       " is not a vertex index");
-                            poly.push_back(v);
+                            soup.corners.push_back(v);
                         }
                     }
                 } else {
@@ -455,7 +505,7 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
                 }
             }
             if (is_vertex) soup.positions.push_back(p);
-            if (is_face) soup.polygons.push_back(std::move(poly));
+            if (is_face) soup.end_polygon();
         }
     }
 }
@@ -510,10 +560,9 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
         const int* xyz = roles.xyz;
         const int indices = roles.indices;
         if (is_vertex) soup.positions.reserve(std::size_t(e.count));  // fits in the file: checked
-        if (is_face) soup.polygons.reserve(std::size_t(e.count));
+        if (is_face) soup.polygon_end.reserve(std::size_t(e.count));
         for (std::int64_t i = 0; i < e.count; ++i) {
             glm::dvec3 p(0.0);
-            std::vector<std::int64_t> poly;
             for (int j = 0; j < int(e.props.size()); ++j) {
                 const PlyProperty& pr = e.props[j];
                 if (pr.list) {
@@ -522,14 +571,13 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
                         throw Error(path, e.name + " " + std::to_string(i) + ": list length " +
                                               std::to_string(std::int64_t(n)) +
                                               " does not fit in the rest of the file (truncated or malformed)");
-                    if (j == indices) poly.reserve(std::size_t(n));
                     for (std::int64_t m = 0; m < std::int64_t(n); ++m) {
                         const double v = read(pr.value);
                         if (j == indices) {
                             if (v != std::floor(v))
                                 throw Error(path, "face " + std::to_string(i) + ": index " + std::to_string(v) +
                                                       " is not an integer");
-                            poly.push_back(std::int64_t(v));
+                            soup.corners.push_back(std::int64_t(v));
                         }
                     }
                 } else {
@@ -539,7 +587,7 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
                 }
             }
             if (is_vertex) soup.positions.push_back(p);
-            if (is_face) soup.polygons.push_back(std::move(poly));
+            if (is_face) soup.end_polygon();
         }
     }
 }
@@ -581,15 +629,14 @@ void read_off_binary(const std::string& data, const std::string& path, const std
         at += 4 * floats;
         soup.positions.emplace_back(c[0], c[1], c[2]);
     }
-    soup.polygons.reserve(nf);
+    soup.polygon_end.reserve(nf);
     for (std::uint64_t f = 0; f < nf; ++f) {
         const std::uint64_t n = u32("faces");
         if (n * 4 > data.size() - at)
             throw Error(path, "face " + std::to_string(f) + " claims " + std::to_string(n) +
                                   " corners, more than the rest of the file holds (truncated or malformed)");
-        std::vector<std::int64_t> poly(n);
-        for (auto& v : poly) v = u32("faces");
-        soup.polygons.push_back(std::move(poly));
+        for (std::uint64_t k = 0; k < n; ++k) soup.corners.push_back(u32("faces"));
+        soup.end_polygon();
     }
 }
 
@@ -603,9 +650,47 @@ void read_off_binary(const std::string& data, const std::string& path, const std
 // when not empty). Empty when nothing merges: then nothing changes. Vertices are sorted by group
 // and position (their index breaking ties), so each run of equal ones starts with the first of
 // them; a sort, where a hash map allocated per vertex and was a large share of loading.
+// Whether any two of the keys are equal: an open-addressing set of the keys' indices, at most
+// half full (the repairs' quick check: most files need no repair, and a check that finds none
+// costs a fraction of the sort that would make it). `hash(i)` and `equal(i, j)` take indices.
+template <class Hash, class Equal>
+bool any_equal(std::size_t n, Hash&& hash, Equal&& equal) {
+    std::size_t size = 64;
+    while (size < 2 * n) size *= 2;
+    std::vector<std::uint32_t> slot(size, UINT32_MAX);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        std::uint64_t h = hash(i);
+        h ^= h >> 33;
+        h *= 0xff51afd7ed558ccdull;
+        h ^= h >> 33;
+        for (std::size_t k = std::size_t(h) & (size - 1);; k = (k + 1) & (size - 1)) {
+            if (slot[k] == UINT32_MAX) {
+                slot[k] = i;
+                break;
+            }
+            if (equal(slot[k], i)) return true;
+        }
+    }
+    return false;
+}
+
 std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, std::size_t& welded,
                                           const std::vector<std::uint32_t>& group = {}) {
     const std::size_t nv = positions.size();
+    welded = 0;
+    if (!any_equal(
+            nv,
+            [&](std::uint32_t i) {
+                const glm::dvec3& p = positions[i];  // non-finite ones all alike: never merged, rarely there
+                const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+                return finite ? PointKey()(p) ^ (group.empty() ? 0u : group[i]) : 0u;
+            },
+            [&](std::uint32_t i, std::uint32_t j) {
+                const glm::dvec3 &a = positions[i], &b = positions[j];
+                return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z) && PointEq()(a, b) &&
+                       (group.empty() || group[i] == group[j]);
+            }))
+        return {};
     auto group_of = [&](std::size_t i) { return group.empty() ? 0u : group[i]; };
     auto finite = [&](std::size_t i) {
         const glm::dvec3& p = positions[i];
@@ -622,7 +707,6 @@ std::vector<std::uint32_t> weld_positions(std::vector<glm::dvec3>& positions, st
     });
     std::vector<std::uint32_t> first(nv);  // the first vertex at each one's position (itself if none)
     std::iota(first.begin(), first.end(), 0u);
-    welded = 0;
     for (std::size_t k = 1; k < order.size(); ++k) {
         const std::uint32_t v = order[k], u = order[k - 1];
         if (group_of(v) == group_of(u) && PointEq()(positions[v], positions[u])) {
@@ -714,37 +798,35 @@ std::vector<std::uint32_t> position_ids(const TriangleMesh& mesh) {
 
 // Marks (keep = 0) each face on the same three points as an earlier kept face; returns how many.
 // Double-sided exports and objects listed twice: coincident surfaces have no defined QI, and the
-// copy adds nothing. Faces sorted by their sorted position ids, so equal ones are neighbours.
+// copy adds nothing. Faces are bucketed by their lowest corner's position id (a counting sort,
+// a few faces a bucket), so equal ones meet in one bucket, in face order.
 std::size_t drop_duplicate_faces(const TriangleMesh& mesh, std::vector<char>& keep) {
     const std::vector<std::uint32_t> id = position_ids(mesh);
-    struct Key {
-        std::array<std::uint32_t, 3> corners;
-        std::uint32_t face;
-        bool operator<(const Key& o) const {  // (std::array's comparisons call memcmp)
-            for (int k = 0; k < 3; ++k)
-                if (corners[k] != o.corners[k]) return corners[k] < o.corners[k];
-            return face < o.face;
-        }
-        bool same_corners(const Key& o) const {
-            return corners[0] == o.corners[0] && corners[1] == o.corners[1] && corners[2] == o.corners[2];
-        }
-    };
-    std::vector<Key> keys;
-    keys.reserve(mesh.triangles.size());
-    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-        if (!keep[f]) continue;
+    const std::size_t nf = mesh.triangles.size();
+    std::vector<std::array<std::uint32_t, 3>> corners(nf);  // sorted ids
+    std::vector<std::uint32_t> begin(id.size() + 2, 0), order(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.triangles[f];
-        std::array<std::uint32_t, 3> c{id[t[0]], id[t[1]], id[t[2]]};
-        std::sort(c.begin(), c.end());
-        keys.push_back({c, f});
+        corners[f] = {id[t[0]], id[t[1]], id[t[2]]};
+        std::sort(corners[f].begin(), corners[f].end());
+        if (keep[f]) ++begin[corners[f][0] + 2];
     }
-    std::sort(keys.begin(), keys.end());
+    for (std::size_t v = 0; v < id.size(); ++v) begin[v + 2] += begin[v + 1];
+    for (std::uint32_t f = 0; f < nf; ++f)
+        if (keep[f]) order[begin[corners[f][0] + 1]++] = f;
     std::size_t dropped = 0;
-    for (std::size_t k = 1; k < keys.size(); ++k)
-        if (keys[k].same_corners(keys[k - 1])) {
-            keep[keys[k].face] = 0;
-            ++dropped;
-        }
+    for (std::size_t v = 0; v < id.size(); ++v) {
+        const auto b0 = order.begin() + begin[v], b1 = order.begin() + begin[v + 1];
+        if (b1 - b0 > 32)  // a vertex of many faces: sorted, so equal ones are neighbours (face order kept)
+            std::sort(b0, b1, [&](std::uint32_t f, std::uint32_t g) { return corners[f] != corners[g] ? corners[f] < corners[g] : f < g; });
+        for (auto j = b0 + 1; j < b1; ++j)
+            for (auto i = b1 - b0 > 32 ? j - 1 : b0; i < j; ++i)
+                if (corners[*i] == corners[*j]) {  // an earlier face on the same points
+                    keep[*j] = 0;
+                    ++dropped;
+                    break;
+                }
+    }
     return dropped;
 }
 
@@ -1040,8 +1122,12 @@ bool ear_clip(const std::vector<glm::dvec3>& positions, std::vector<std::int64_t
 // and fan-triangulated, as OpenMesh's own triangulate() does for convex polygons.
 TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& options) {
     const std::int64_t nv = std::int64_t(soup.positions.size());
-    for (std::size_t fi = 0; fi < soup.polygons.size(); ++fi) {
-        const auto& poly = soup.polygons[fi];
+    const auto polygon = [&soup](std::size_t fi) {  // the corners of polygon fi
+        const std::size_t begin = fi == 0 ? 0 : soup.polygon_end[fi - 1];
+        return std::span<std::int64_t>(soup.corners.data() + begin, soup.polygon_end[fi] - begin);
+    };
+    for (std::size_t fi = 0; fi < soup.polygon_count(); ++fi) {
+        const std::span<const std::int64_t> poly = polygon(fi);
         if (poly.size() < 3) throw Error(path, "face " + std::to_string(fi) + " has fewer than 3 vertices");
         for (std::size_t a = 0; a < poly.size(); ++a) {
             if (poly[a] < 0 || poly[a] >= nv)
@@ -1058,10 +1144,20 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
     const std::vector<std::uint32_t> weld =
         options.strict ? std::vector<std::uint32_t>{} : weld_positions(soup.positions, mesh.repairs.vertices_welded);
     mesh.positions = std::move(soup.positions);
-    std::vector<std::int64_t> clean;
-    for (auto& poly : soup.polygons) {
-        if (!weld.empty())
-            for (auto& i : poly) i = weld[std::size_t(i)];
+    if (!weld.empty())
+        for (auto& i : soup.corners) i = weld[std::size_t(i)];
+    mesh.triangles.reserve(soup.corners.size() - 2 * soup.polygon_count());  // as many as a fan makes
+    std::vector<std::int64_t> clean, poly;
+    for (std::size_t fi = 0; fi < soup.polygon_count(); ++fi) {
+        const std::span<const std::int64_t> corners = polygon(fi);
+        if (corners.size() == 3 && (options.strict || (corners[0] != corners[1] && corners[1] != corners[2] &&
+                                                       corners[2] != corners[0]))) {
+            // A proper triangle (nearly every face): taken as it is, as the general path below would.
+            mesh.triangles.push_back(
+                {std::uint32_t(corners[0]), std::uint32_t(corners[1]), std::uint32_t(corners[2])});
+            continue;
+        }
+        poly.assign(corners.begin(), corners.end());
         if (!options.strict) {
             clean.clear();
             for (std::size_t a = 0; a < poly.size(); ++a)
@@ -1105,9 +1201,19 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
         throw Error(path, "unsupported mesh format '" + ext + "' (expected .obj, .off, .ply or .stl)");
     std::string data;
     {
-        std::ifstream in(path, std::ios::binary);
+        // In one read of the file's size (a stream copied through its iterators took a few ms
+        // of a 2.6 MB file), then to its end in case the file grew meanwhile.
+        std::ifstream in(path, std::ios::binary | std::ios::ate);
         if (!in) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-        data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        const std::streamoff size = in.tellg();
+        in.seekg(0);
+        if (size > 0) {
+            data.resize(std::size_t(size));
+            in.read(data.data(), size);
+            data.resize(std::size_t(in.gcount()));
+        }
+        if (in.bad()) throw Error(path, "read error");
+        if (in) data.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
         if (in.bad()) throw Error(path, "read error");
     }
     if (data.empty()) throw Error(path, "file is empty");

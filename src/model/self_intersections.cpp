@@ -34,11 +34,55 @@ float up(double x) {
     return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
+// A face's plane for the float filter below: n = (b - a) x (c - a) as Shewchuk's orient3d
+// computes it with a as the origin, and per component the permanent of that product (the sum of
+// the absolute values of its two terms).
+struct FacePlane {
+    glm::dvec3 n, permanent;
+};
+
+FacePlane face_plane(const MeshTopology& mesh, std::uint32_t f) {
+    const auto& t = mesh.faces[f];
+    const glm::dvec3 u = mesh.positions[t[1]] - mesh.positions[t[0]], v = mesh.positions[t[2]] - mesh.positions[t[0]];
+    return {{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x},
+            {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
+             std::abs(u.x * v.y) + std::abs(u.y * v.x)}};
+}
+
+// The side of face f's plane that x lies on (+1 or -1, a fixed convention), or 0 when the float
+// filter cannot tell (then only an exact predicate can). The orientation determinant
+// dot(n, x - a) has the shape of Shewchuk's orient3d (each term a difference times a 2x2 minor of
+// differences, three terms summed), so his bound o3derrboundA, (7 + 56 eps) eps times the
+// permanent, holds; away from underflow and overflow only.
+int side_if_certain(const FacePlane& plane, const glm::dvec3& a, const glm::dvec3& x) {
+    const glm::dvec3 w = x - a;
+    const double det = plane.n.x * w.x + plane.n.y * w.y + plane.n.z * w.z;
+    const double permanent =
+        plane.permanent.x * std::abs(w.x) + plane.permanent.y * std::abs(w.y) + plane.permanent.z * std::abs(w.z);
+    if (!(permanent > 1e-250) || !(permanent < 1e250)) return 0;
+    const double bound = 7.7715611723761027e-16 * permanent;
+    return det > bound ? 1 : det < -bound ? -1 : 0;
+}
+
+// Certainly apart beyond their shared corners: the corners `far` (of one face) all strictly on one
+// side of the plane of face f, so that the faces can meet only where they share corners.
+template <std::size_t N>
+bool certainly_one_side(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f,
+                        const std::array<std::uint32_t, N>& far) {
+    const glm::dvec3& a = mesh.positions[mesh.faces[f][0]];
+    const int first = side_if_certain(planes[f], a, mesh.positions[far[0]]);
+    if (first == 0) return false;
+    for (std::size_t k = 1; k < N; ++k)
+        if (side_if_certain(planes[f], a, mesh.positions[far[k]]) != first) return false;
+    return true;
+}
+
 // Do faces f and g meet anywhere but where the mesh joins them (a shared edge or vertex)?
 // The case analysis on shared corners is the one of CGAL's Polygon_mesh_processing::
 // self_intersections (which needs a halfedge copy of the mesh, see the header); every test is an
-// exact predicate of the Epick kernel.
-bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g) {
+// exact predicate of the Epick kernel, after a float filter that settles most pairs the box
+// search finds (faces around a common vertex or edge, each on one side of the other's plane).
+bool faces_intersect(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f, std::uint32_t g) {
     const auto& a = mesh.faces[f];
     const auto& b = mesh.faces[g];
     int shared = 0, ia = -1, ib = -1;  // last shared corner, in a and in b
@@ -49,6 +93,18 @@ bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g)
                 ia = i;
                 ib = j;
             }
+    if (shared == 0 && (certainly_one_side(mesh, planes, f, b) || certainly_one_side(mesh, planes, g, a))) return false;
+    if (shared == 1) {
+        const std::array<std::uint32_t, 2> a_far{a[(ia + 1) % 3], a[(ia + 2) % 3]}, b_far{b[(ib + 1) % 3], b[(ib + 2) % 3]};
+        if (certainly_one_side(mesh, planes, f, b_far) || certainly_one_side(mesh, planes, g, a_far)) return false;
+    }
+    if (shared == 2) {
+        // Not coplanar: the far corner of one is off the other's plane.
+        for (int i = 0; i < 3; ++i)
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] &&
+                side_if_certain(planes[f], mesh.positions[a[0]], mesh.positions[b[i]]) != 0)
+                return false;
+    }
     const auto P = [&](std::uint32_t v) { return cgal(mesh.positions[v]); };
     const K::Triangle_3 ta(P(a[0]), P(a[1]), P(a[2])), tb(P(b[0]), P(b[1]), P(b[2]));
     if (shared == 0) return CGAL::do_intersect(ta, tb);
@@ -77,19 +133,17 @@ bool faces_intersect(const MeshTopology& mesh, std::uint32_t f, std::uint32_t g)
     return true;  // the same three vertices twice
 }
 
-// Calls fn(f, g) for pairs of faces that intersect (every pair, or, with `once`, only pairs with
-// a face not reported yet: enough to flag the faces).
-template <class Fn>
-void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
+// The boxes of the faces that have an area; degenerate faces (collinear corners) are flagged in
+// `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
+// PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
+// pipeline).
+std::vector<Box> face_boxes(const MeshTopology& mesh, std::vector<std::uint8_t>& out) {
     const std::size_t nf = mesh.face_count();
     out.assign(nf, 0);
     std::vector<Box> boxes;
     boxes.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
-        // A degenerate face (collinear corners) counts as self-intersecting and is tested against
-        // nothing, as in CGAL's PMP::self_intersections (CGAL's triangle tests require a proper
-        // triangle: found by fuzz/run.sh pipeline).
         if (CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
             out[f] = 1;
             continue;
@@ -102,15 +156,162 @@ void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out
         }
         boxes.emplace_back(lo, hi, f);
     }
+    return boxes;
+}
+
+// Every pair of boxes that meet (closed), each once, in no particular order: a bounding-volume
+// hierarchy over the boxes in Morton order of their centres (consecutive runs of kLeaf boxes,
+// halved recursively), searched against itself. Its nodes take a few hundred kilobytes and are
+// read in order, where CGAL's segment tree spent most of a model's loading in long scans.
+class BoxPairs {
+public:
+    explicit BoxPairs(const std::vector<Box>& boxes) {
+        morton_order(boxes);
+        if (!flat_.empty()) build(0, std::uint32_t(flat_.size()));
+    }
+    // Calls fn(f, g) with the faces of each pair.
+    template <class Fn>
+    void each(Fn&& fn) const {
+        if (!nodes_.empty()) self(0, fn);
+    }
+
+private:
+    static constexpr std::uint32_t kLeaf = 4;
+    struct Node {
+        float lo[3], hi[3];
+        std::uint32_t begin, end;  // boxes [begin, end)
+        std::uint32_t left = 0;    // children left and left + 1 ... (0: a leaf)
+        std::uint32_t right = 0;
+    };
+    template <class A, class B>
+    static bool meet(const A& x, const B& y) {
+        for (int d = 0; d < 3; ++d)
+            if (x.lo[d] > y.hi[d] || y.lo[d] > x.hi[d]) return false;
+        return true;
+    }
+    struct Flat {
+        float lo[3], hi[3];
+        std::uint32_t face;
+    };
+    static std::uint64_t spread(std::uint64_t v) {  // 21 bits to every third of 63
+        v &= 0x1fffff;
+        v = (v | v << 32) & 0x1f00000000ffffull;
+        v = (v | v << 16) & 0x1f0000ff0000ffull;
+        v = (v | v << 8) & 0x100f00f00f00f00full;
+        v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+        v = (v | v << 2) & 0x1249249249249249ull;
+        return v;
+    }
+    void morton_order(const std::vector<Box>& boxes) {
+        const std::size_t n = boxes.size();
+        flat_.resize(n);
+        double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+        for (std::uint32_t i = 0; i < n; ++i) {
+            Flat& f = flat_[i];
+            for (int d = 0; d < 3; ++d) {
+                f.lo[d] = boxes[i].min_coord(d), f.hi[d] = boxes[i].max_coord(d);
+                lo[d] = std::min(lo[d], double(f.lo[d])), hi[d] = std::max(hi[d], double(f.hi[d]));
+            }
+            f.face = boxes[i].face;
+        }
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            std::uint64_t code = 0;
+            for (int d = 0; d < 3; ++d) {
+                const double span = hi[d] - lo[d];
+                const double c = 0.5 * (double(flat_[i].lo[d]) + double(flat_[i].hi[d]));
+                const double q = span > 0.0 ? (c - lo[d]) / span * 2097151.0 : 0.0;
+                code |= spread(std::uint64_t(std::clamp(q, 0.0, 2097151.0))) << d;
+            }
+            keys[i] = {code, i};
+        }
+        std::sort(keys.begin(), keys.end());
+        std::vector<Flat> sorted(n);
+        for (std::size_t i = 0; i < n; ++i) sorted[i] = flat_[keys[i].second];
+        flat_.swap(sorted);
+    }
+    std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
+        const auto at = std::uint32_t(nodes_.size());
+        nodes_.push_back({});
+        Node node{};
+        node.begin = begin, node.end = end;
+        for (int d = 0; d < 3; ++d) node.lo[d] = flat_[begin].lo[d], node.hi[d] = flat_[begin].hi[d];
+        for (std::uint32_t i = begin + 1; i < end; ++i)
+            for (int d = 0; d < 3; ++d)
+                node.lo[d] = std::min(node.lo[d], flat_[i].lo[d]), node.hi[d] = std::max(node.hi[d], flat_[i].hi[d]);
+        if (end - begin > kLeaf) {
+            const std::uint32_t mid = begin + (end - begin) / 2;
+            node.left = build(begin, mid);
+            node.right = build(mid, end);
+        }
+        nodes_[at] = node;
+        return at;
+    }
+    template <class Fn>
+    void self(std::uint32_t a, Fn& fn) const {
+        const Node& n = nodes_[a];
+        if (!n.left) {
+            for (std::uint32_t i = n.begin; i < n.end; ++i)
+                for (std::uint32_t j = i + 1; j < n.end; ++j) report(i, j, fn);
+            return;
+        }
+        self(n.left, fn);
+        self(n.right, fn);
+        across(n.left, n.right, fn);
+    }
+    template <class Fn>
+    void across(std::uint32_t a, std::uint32_t b, Fn& fn) const {
+        const Node &x = nodes_[a], &y = nodes_[b];
+        if (!meet(x, y)) return;
+        if (!x.left && !y.left) {
+            for (std::uint32_t i = x.begin; i < x.end; ++i)
+                for (std::uint32_t j = y.begin; j < y.end; ++j) report(i, j, fn);
+        } else if (!y.left || (x.left && x.end - x.begin >= y.end - y.begin)) {
+            across(x.left, b, fn);
+            across(x.right, b, fn);
+        } else {
+            across(a, y.left, fn);
+            across(a, y.right, fn);
+        }
+    }
+    template <class Fn>
+    void report(std::uint32_t i, std::uint32_t j, Fn& fn) const {
+        if (meet(flat_[i], flat_[j])) fn(flat_[i].face, flat_[j].face);
+    }
+    std::vector<Flat> flat_;
+    std::vector<Node> nodes_;
+};
+
+// Calls fn(f, g) for pairs of faces that intersect (every pair, or, with `once`, only pairs with
+// a face not reported yet: enough to flag the faces).
+//
+// The pairs come in the order of CGAL's box_self_intersection_d, which the intersection lines'
+// chaining follows. A model that does not intersect itself (the usual case) never pays for that
+// search: the hierarchy above finds every intersecting pair first (in its own order), and only
+// when there are some does the segment tree run, to list them in its order (without testing a
+// pair again).
+template <class Fn>
+void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
+    std::vector<Box> boxes = face_boxes(mesh, out);
+    std::vector<FacePlane> planes(mesh.face_count());
+    for (const Box& box : boxes) planes[box.face] = face_plane(mesh, box.face);
+    std::vector<std::uint64_t> found;  // intersecting pairs, lower face << 32 | upper
+    const auto pair_key = [](std::uint32_t f, std::uint32_t g) {
+        return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g);
+    };
+    BoxPairs(boxes).each([&](std::uint32_t f, std::uint32_t g) {
+        if (faces_intersect(mesh, planes, f, g)) found.push_back(pair_key(f, g));
+    });
+    for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
+    if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
+    std::sort(found.begin(), found.end());
     // Closed boxes (the default): faces that only touch reach the exact test too. Cutoff: below
     // this many boxes CGAL's streamed segment tree compares boxes by a plain scan, which for sets
     // this small costs less than recursing further; the same pairs either way (bench/results/model.md).
     constexpr std::ptrdiff_t kCutoff = 3000;
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
         const auto f = std::uint32_t(x.id()), g = std::uint32_t(y.id());
-        if ((once && out[f] && out[g]) || !faces_intersect(mesh, f, g)) return;
-        out[f] = out[g] = 1;
-        fn(f, g);
+        if (std::binary_search(found.begin(), found.end(), pair_key(f, g))) fn(f, g);
     }, kCutoff);
 }
 

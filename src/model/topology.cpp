@@ -139,6 +139,8 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     t.edge_normal_angle.assign(ne, 0.0f);
     t.edge_flags.assign(ne, 0);
     t.closed = true;
+    std::vector<glm::dvec3> normal(nf);  // each face's once, not once per edge
+    for (std::uint32_t f = 0; f < nf; ++f) normal[f] = t.face_normal(f);
     for (std::size_t e = 0; e < ne; ++e) {
         const auto [f0, f1] = t.edge_face[e];
         if (f1 == kNoFace) {
@@ -147,7 +149,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
             t.closed = false;
             continue;
         }
-        const double c = std::clamp(glm::dot(t.face_normal(f0), t.face_normal(f1)), -1.0, 1.0);
+        const double c = std::clamp(glm::dot(normal[f0], normal[f1]), -1.0, 1.0);
         t.edge_normal_angle[e] = float(std::acos(c));
         t.edge_flags[e] |= convexity(t, std::uint32_t(e));
     }

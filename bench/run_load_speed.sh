@@ -1,0 +1,76 @@
+#!/bin/bash
+# Loading and the whole render command (issue 46, item 3), before and after: `inkline render FILE
+# -o OUT.svg` of an earlier build (BEFORE, e.g. main's binary before the loading work) against this
+# build's, in alternated pairs (before, after, before, ...; one warm-up each), on the sample meshes
+# and on armadillo subdivided twice (832 k triangles) written as ASCII OFF, binary PLY and binary STL
+# by bench/load_probe. Per file: the median of the load's seconds as `render` reports them, the
+# median whole-process wall time, the median of the per-pair ratios after/before, whether both
+# drew the same SVG, and this build's stages in process (load_probe stages: CPU seconds of the
+# thread, the least of 3). Writes bench/results/load_speed.md.
+# Usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BEFORE="${1:?usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]}"
+BUILD="${2:-build}"
+PAIRS="${3:-7}"
+AFTER="$BUILD/src/inkline"
+PROBE="$BUILD/bench/load_probe"
+DATA=$(sed -n 's/^INKLINE_DATA_DIR:[A-Z]*=//p' "$BUILD/CMakeCache.txt")
+OUT=bench/results/load_speed.md
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+"$PROBE" write armadillo@2 "$tmp" >/dev/null
+files=("$DATA/meshes/armadillo.off" "$DATA/meshes/fandisk.off" "$DATA/meshes/bunny00.off"
+       "$tmp/armadillo@2.off" "$tmp/armadillo@2.ply" "$tmp/armadillo@2.stl")
+
+# "wall_ms load_ms" of one render.
+run_once() {
+    local t0 t1 load
+    t0=$(date +%s%N)
+    "$1" render "$2" -o "$3" >"$tmp/stdout" 2>/dev/null
+    t1=$(date +%s%N)
+    load=$(sed -n 's/^seconds: load \([0-9.]*\).*/\1/p' "$tmp/stdout")
+    awk -v w="$(( (t1 - t0) / 1000 ))" -v l="$load" 'BEGIN { printf "%.1f %.1f\n", w / 1000, l * 1000 }'
+}
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+{
+    echo "### Loading and the whole render command, before and after"
+    echo
+    echo "$(date -u +%Y-%m-%d), $(git rev-parse --short HEAD), $(nproc) cores, load average $(cut -d' ' -f1 /proc/loadavg) at the start."
+    echo "Whole process: \`inkline render FILE -o OUT.svg\`, $PAIRS alternated pairs (before, after) after one warm-up"
+    echo "each; medians of the runs and of the per-pair ratios after/before. 'load' is the load's wall time as"
+    echo "render prints it (Model::load: parse, repairs, Hilbert order, topology). In process, this build only:"
+    echo "load_probe stages, CPU ms of the thread, the least of 3."
+    echo
+    echo "| file | format | triangles | load ms before | load ms after | render ms before | render ms after | after/before | same SVG | parse+repair | Hilbert | topology | self-intersections |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+    for f in "${files[@]}"; do
+        name=$(basename "$f")
+        ext="${name##*.}"
+        format=$ext
+        [ "$ext" = off ] && format="OFF (ASCII)"
+        [ "$ext" = ply ] && format="PLY (binary)"
+        [ "$ext" = stl ] && format="STL (binary)"
+        run_once "$BEFORE" "$f" "$tmp/before.svg" >/dev/null
+        run_once "$AFTER" "$f" "$tmp/after.svg" >/dev/null
+        same=yes
+        cmp -s "$tmp/before.svg" "$tmp/after.svg" || same=no
+        : >"$tmp/pairs"
+        for _ in $(seq "$PAIRS"); do
+            read -r bw bl < <(run_once "$BEFORE" "$f" "$tmp/before.svg")
+            read -r aw al < <(run_once "$AFTER" "$f" "$tmp/after.svg")
+            echo "$bw $bl $aw $al" >>"$tmp/pairs"
+        done
+        bw=$(awk '{ print $1 }' "$tmp/pairs" | median)
+        bl=$(awk '{ print $2 }' "$tmp/pairs" | median)
+        aw=$(awk '{ print $3 }' "$tmp/pairs" | median)
+        al=$(awk '{ print $4 }' "$tmp/pairs" | median)
+        ratio=$(awk '{ printf "%.3f\n", $3 / $1 }' "$tmp/pairs" | median)
+        s=$("$PROBE" stages "$f" 3)
+        tris=$(echo "$s" | sed -n 's/.*: \([0-9]*\) triangles.*/\1/p')
+        ms() { echo "$s" | sed -n "s/.*$1 \([0-9.]*\) s.*/\1/p" | awk '{ printf "%.1f", $1 * 1000 }'; }
+        echo "| $name | $format | $tris | $bl | $al | $bw | $aw | $ratio | $same | $(ms 'parse+repair') | $(ms hilbert) | $(ms topology) | $(ms self-intersections) |"
+    done
+} >"$OUT.tmp"
+mv "$OUT.tmp" "$OUT"
+cat "$OUT"

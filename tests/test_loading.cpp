@@ -1,0 +1,318 @@
+// Loading gives the same model as before it was made fast (issue 46, item 3): every array of the
+// loaded mesh and of its topology, the repairs' counts and the self-intersections, hashed, for
+// sample meshes written in every format the own parsers read. The hashes were pinned with the
+// loader as it was before the speed work (main at 6577e15); a changed array names itself in the
+// failure message.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "model/mesh_io.hpp"
+#include "pipeline.hpp"
+#include "test_data.hpp"
+
+namespace inkline {
+namespace {
+
+// Positions and polygons as a sample OFF file lists them (read here without inkline's parser, so
+// the files below are written from what the file says, not from what the loader made of it).
+struct Polygons {
+    std::vector<glm::dvec3> positions;
+    std::vector<std::vector<std::uint32_t>> faces;
+};
+
+Polygons read_sample(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    std::string line;
+    while (std::getline(in, line)) text << line.substr(0, line.find('#')) << '\n';
+    std::string header;
+    std::size_t nv = 0, nf = 0, ne = 0;
+    text >> header >> nv >> nf >> ne;
+    Polygons p;
+    p.positions.resize(nv);
+    for (auto& v : p.positions) text >> v.x >> v.y >> v.z;
+    p.faces.resize(nf);
+    for (auto& f : p.faces) {
+        std::size_t n = 0;
+        text >> n;
+        f.resize(n);
+        for (auto& i : f) text >> i;
+        std::getline(text, line);  // a colour, if any
+    }
+    return p;
+}
+
+// A small non-manifold soup: a fin (a third face on an edge of a tetrahedron), a face listed
+// twice and one with a repeated corner, so that tolerant loading cuts, drops and welds.
+Polygons repair_sample() {
+    Polygons p;
+    p.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {0, 0, 0}, {0.5, -1, 0.2}};
+    p.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {5, 1, 6}, {1, 2, 3}, {1, 1, 4}, {1, 4, 2, 0}};
+    return p;
+}
+
+void put_u32(std::string& s, std::uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
+void put_f32(std::string& s, float v) { s.append(reinterpret_cast<const char*>(&v), 4); }
+template <class T>
+void put_be(std::string& s, T v) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    for (std::size_t k = sizeof(T); k-- > 0;) s.push_back(b[k]);
+}
+
+std::string g17(double x) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", x);
+    return b;
+}
+
+// The polygons fanned into triangles, for STL.
+std::vector<std::array<std::uint32_t, 3>> fan(const Polygons& p) {
+    std::vector<std::array<std::uint32_t, 3>> t;
+    for (const auto& f : p.faces)
+        for (std::size_t k = 1; k + 1 < f.size(); ++k) t.push_back({f[0], f[k], f[k + 1]});
+    return t;
+}
+
+std::string write_as(const Polygons& p, const std::string& format) {
+    std::string s;
+    if (format == "off") {
+        s = "OFF\n" + std::to_string(p.positions.size()) + " " + std::to_string(p.faces.size()) + " 0\n";
+        for (const auto& v : p.positions) s += g17(v.x) + " " + g17(v.y) + " " + g17(v.z) + "\n";
+        for (const auto& f : p.faces) {
+            s += std::to_string(f.size());
+            for (auto i : f) s.append(" ").append(std::to_string(i));
+            s += "\n";
+        }
+    } else if (format == "obj") {
+        s = "# written by test_loading\n";
+        for (const auto& v : p.positions) s += "v " + g17(v.x) + " " + g17(v.y) + " " + g17(v.z) + "\n";
+        for (const auto& f : p.faces) {
+            s += "f";
+            for (auto i : f) s.append(" ").append(std::to_string(i + 1));
+            s += "\n";
+        }
+    } else if (format == "ply" || format == "ply-le" || format == "ply-be") {
+        const std::string kind = format == "ply" ? "ascii" : format == "ply-le" ? "binary_little_endian" : "binary_big_endian";
+        s = "ply\nformat " + kind + " 1.0\nelement vertex " + std::to_string(p.positions.size()) +
+            "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+            std::to_string(p.faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+        for (const auto& v : p.positions) {
+            if (format == "ply") s += g17(v.x) + " " + g17(v.y) + " " + g17(v.z) + "\n";
+            for (int k = 0; k < 3 && format != "ply"; ++k) {
+                if (format == "ply-le") s.append(reinterpret_cast<const char*>(&v[k]), 8);
+                else put_be(s, v[k]);
+            }
+        }
+        for (const auto& f : p.faces) {
+            if (format == "ply") {
+                s += std::to_string(f.size());
+                for (auto i : f) s.append(" ").append(std::to_string(i));
+                s += "\n";
+                continue;
+            }
+            s.push_back(char(f.size()));
+            for (auto i : f) {
+                if (format == "ply-le") put_u32(s, i);
+                else put_be(s, std::int32_t(i));
+            }
+        }
+    } else if (format == "off-bin") {
+        s = "OFF BINARY\n";
+        put_u32(s, std::uint32_t(p.positions.size()));
+        put_u32(s, std::uint32_t(p.faces.size()));
+        put_u32(s, 0);
+        for (const auto& v : p.positions)
+            for (int k = 0; k < 3; ++k) put_f32(s, float(v[k]));
+        for (const auto& f : p.faces) {
+            put_u32(s, std::uint32_t(f.size()));
+            for (auto i : f) put_u32(s, i);
+        }
+    } else if (format == "stl") {
+        s = "solid test\n";
+        for (const auto& t : fan(p)) {
+            s += "facet normal 0 0 0\nouter loop\n";
+            for (auto i : t) {
+                const auto& v = p.positions[i];
+                s += "vertex " + g17(v.x) + " " + g17(v.y) + " " + g17(v.z) + "\n";
+            }
+            s += "endloop\nendfacet\n";
+        }
+        s += "endsolid test\n";
+    } else {  // binary STL
+        s.assign(80, ' ');
+        const auto tris = fan(p);
+        put_u32(s, std::uint32_t(tris.size()));
+        for (const auto& t : tris) {
+            for (int k = 0; k < 3; ++k) put_f32(s, 0.0f);
+            for (auto i : t)
+                for (int k = 0; k < 3; ++k) put_f32(s, float(p.positions[i][k]));
+            s.append(2, '\0');
+        }
+    }
+    return s;
+}
+
+std::string extension(const std::string& format) { return format.substr(0, format.find('-')) == "stl" ? "stl" : format.substr(0, 3); }
+
+// FNV-1a, 64 bits, over an array's bytes (every array here is of plain values without padding).
+template <class T>
+std::uint64_t hash_of(const std::vector<T>& v) {
+    std::uint64_t h = 1469598103934665603ull;
+    const auto* b = reinterpret_cast<const unsigned char*>(v.data());
+    for (std::size_t i = 0; i < v.size() * sizeof(T); ++i) h = (h ^ b[i]) * 1099511628211ull;
+    return h ^ v.size();
+}
+
+// Every array of the model as render loads it (tolerant), with its self-intersections.
+std::map<std::string, std::uint64_t> model_hashes(const std::string& path) {
+    const Model model = Model::load(path, LoadOptions{});
+    const MeshTopology& t = model.topology();
+    std::map<std::string, std::uint64_t> h;
+    h["positions"] = hash_of(t.positions);
+    h["faces"] = hash_of(t.faces);
+    h["face_edges"] = hash_of(t.face_edges);
+    h["facing"] = hash_of(t.facing);
+    h["edge_vertex"] = hash_of(t.edge_vertex);
+    h["edge_face"] = hash_of(t.edge_face);
+    h["edge_normal_angle"] = hash_of(t.edge_normal_angle);
+    h["edge_flags"] = hash_of(t.edge_flags);
+    h["border_list"] = hash_of(t.border_list);
+    h["crease_list"] = hash_of(t.crease_list);
+    h["vertex_edge_begin"] = hash_of(t.vertex_edge_begin);
+    h["vertex_edges"] = hash_of(t.vertex_edges);
+    h["scalars"] = hash_of(std::vector<double>{t.bounds.lo.x, t.bounds.lo.y, t.bounds.lo.z, t.bounds.hi.x, t.bounds.hi.y,
+                                               t.bounds.hi.z, t.facing_origin.x, t.facing_origin.y, t.facing_origin.z,
+                                               t.facing_radius, double(t.closed)});
+    const LoadReport& r = model.repairs();
+    h["repairs"] = hash_of(std::vector<std::size_t>{r.vertices_welded, r.faces_dropped, r.nonmanifold_edges_cut,
+                                                    r.vertices_split, r.components_reoriented});
+    const SelfIntersections& si = model.self_intersections();
+    h["si_faces"] = hash_of(si.faces);
+    std::vector<std::pair<std::uint32_t, double>> cuts;
+    for (const auto& c : si.cuts) cuts.emplace_back(c.edge, c.s);
+    std::vector<std::uint64_t> cut_words;
+    for (const auto& [e, s] : cuts) {
+        std::uint64_t b;
+        std::memcpy(&b, &s, 8);
+        cut_words.push_back(e);
+        cut_words.push_back(b);
+    }
+    h["si_cuts"] = hash_of(cut_words);
+    h["si_pairs"] = hash_of(si.pairs);
+    return h;
+}
+
+// All of them in one: "V<vertices> F<faces> E<edges> <hash>".
+std::string summary(const std::string& path) {
+    const Model model = Model::load(path, LoadOptions{});
+    std::uint64_t all = 1469598103934665603ull;
+    for (const auto& [name, value] : model_hashes(path)) all = (all ^ value) * 1099511628211ull;
+    char b[96];
+    std::snprintf(b, sizeof b, "V%zu F%zu E%zu %016llx", model.topology().vertex_count(), model.topology().face_count(),
+                  model.topology().edge_count(), static_cast<unsigned long long>(all));
+    return b;
+}
+
+// Strict loading: the triangle mesh's arrays, or the error.
+std::string strict_summary(const std::string& path) {
+    try {
+        LoadOptions strict;
+        strict.strict = true;
+        const TriangleMesh m = load_mesh(path, strict);
+        char b[96];
+        std::snprintf(b, sizeof b, "V%zu F%zu %016llx", m.positions.size(), m.triangles.size(),
+                      static_cast<unsigned long long>(hash_of(m.positions) ^ (hash_of(m.triangles) * 31) ^ m.faces_reoriented));
+        return b;
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        return "error: " + what.substr(what.find(": ") + 2);
+    }
+}
+
+struct Case {
+    const char* mesh;    // sample mesh name, or "repair" for repair_sample()
+    const char* format;  // off obj ply ply-le ply-be off-bin stl stl-bin, or file (the sample as it is)
+    const char* tolerant;
+    const char* strict;
+};
+
+// Pinned with main at 6577e15 (before the loading speed work).
+const Case kCases[] = {
+#include "test_loading_pins.inc"
+};
+
+class LoadingPins : public ::testing::TestWithParam<Case> {};
+
+TEST_P(LoadingPins, SameArraysAsBefore) {
+    const Case& c = GetParam();
+    const std::string dir = ::testing::TempDir() + "/test_loading";
+    std::filesystem::create_directories(dir);
+    const std::string mesh = c.mesh, format = c.format;
+    std::string path = test::mesh_path(mesh);  // format "file": the sample file as it is
+    if (format != "file") {
+        const Polygons p = mesh == "repair" ? repair_sample() : read_sample(test::mesh_path(mesh));
+        path = dir + "/" + mesh + "." + format + "." + extension(format);
+        std::ofstream(path, std::ios::binary) << write_as(p, format);
+    }
+    std::string tolerant;
+    try {
+        tolerant = summary(path);
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        tolerant = "error: " + what.substr(what.find(": ") + 2);
+    }
+    const std::string strict = strict_summary(path);
+    if (std::getenv("INKLINE_PRINT_PINS"))
+        std::printf("    {\"%s\", \"%s\", \"%s\", \"%s\"},\n", c.mesh, c.format, tolerant.c_str(), strict.c_str());
+    EXPECT_EQ(tolerant, c.tolerant) << path;
+    EXPECT_EQ(strict, c.strict) << path;
+    if (tolerant != c.tolerant && tolerant.rfind("error", 0) != 0)
+        for (const auto& [name, value] : model_hashes(path)) std::printf("  %s %016llx\n", name.c_str(), static_cast<unsigned long long>(value));
+}
+
+// Duplicate faces around a vertex of many faces (more than 32: its bucket is sorted, not
+// compared pairwise): a fan of 40 triangles around vertex 0 with one face listed again, once in
+// another rotation and once as it is, at the end. The two copies are dropped, the fan kept in order.
+TEST(LoadingRepairs, DuplicatesAroundAVertexOfManyFaces) {
+    TriangleMesh m;
+    m.positions.push_back({0, 0, 0});
+    for (int i = 0; i <= 40; ++i) m.positions.push_back({std::cos(0.1 * i), std::sin(0.1 * i), 0.05 * i});
+    for (std::uint32_t i = 1; i <= 40; ++i) m.triangles.push_back({0, i, i + 1});
+    const auto fan = m.triangles;
+    m.triangles.push_back({6, 0, 5});
+    m.triangles.push_back({0, 5, 6});
+    repair_mesh(m, "fan");
+    EXPECT_EQ(m.repairs.faces_dropped, 2u);
+    ASSERT_EQ(m.triangles.size(), fan.size());
+    for (std::size_t f = 0; f < fan.size(); ++f) {
+        auto a = m.triangles[f], b = fan[f];  // (orientation may be flipped as a whole)
+        std::sort(a.begin(), a.end());
+        std::sort(b.begin(), b.end());
+        EXPECT_EQ(a, b) << "face " << f;
+    }
+}
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+    std::string n = std::string(info.param.mesh) + "_" + info.param.format;
+    for (auto& ch : n)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return n;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryFormat, LoadingPins, ::testing::ValuesIn(kCases), case_name);
+
+}  // namespace
+}  // namespace inkline
