@@ -159,10 +159,14 @@ void LayerCount::follow_queue() {
             for (std::uint32_t w : mesh.faces[face]) look_around(w);
             continue;
         }
-        for (std::uint32_t g : mesh.face_edges[face].face) {  // the faces across its edges
+        const auto& fe = mesh.face_edges[face];
+        for (int k = 0; k < 3; ++k) {  // the faces across its edges
+            const std::uint32_t g = fe.face[k];
             if (g == kNoFace || g == skip0 || g == skip1) continue;
             const int fg = facing_of(g);
-            if (fg == facing(i)) continue;
+            // (facing the same way as the surface continues: across an orientation seam the
+            // windings differ, so the facings are opposite)
+            if (mesh.is_seam(fe.edge[k]) ? fg == -facing(i) : fg == facing(i)) continue;
             const std::size_t n = seen.size(), j = decide(g);
             seen[j].facing = fg;
             if (j == n && seen[j].crossed) queue.push_back(g);
@@ -173,15 +177,19 @@ void LayerCount::follow_queue() {
 // Two crossed faces that share an edge and face the segment's start the same way are one layer:
 // seen from there they lie on opposite sides of the plane through the start and the shared edge,
 // so a line of sight meets both only on that edge. Faces folding over a shared silhouette edge
-// can both be crossed and stay apart. The layers: the crossed faces, so merged.
+// can both be crossed and stay apart. The layers: the crossed faces, so merged. (The same way
+// relative to the continuous surface: on an orientation seam, whose faces' windings differ,
+// opposite facings.)
 int LayerCount::merge_layers() {
     thread_local std::vector<std::size_t> crossed;
     crossed.clear();
     for (std::size_t i = 0; i < seen.size(); ++i)
         if (seen[i].crossed) crossed.push_back(i);
-    auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
-        const auto& across = mesh.face_edges[a].face;
-        return std::find(across.begin(), across.end(), b) != across.end();
+    auto shared_edge = [&](std::uint32_t a, std::uint32_t b) {  // UINT32_MAX: none
+        const auto& fe = mesh.face_edges[a];
+        for (int k = 0; k < 3; ++k)
+            if (fe.face[k] == b) return fe.edge[k];
+        return UINT32_MAX;
     };
     int layers = int(crossed.size());
     thread_local std::vector<std::uint32_t> parent;
@@ -193,9 +201,10 @@ int LayerCount::merge_layers() {
     };
     for (std::uint32_t i = 0; i < crossed.size(); ++i)
         for (std::uint32_t j = i + 1; j < crossed.size(); ++j) {
-            if (!share_edge(seen[crossed[i]].face, seen[crossed[j]].face)) continue;
-            const int si = facing(crossed[i]);
-            if (si == int(CGAL::COPLANAR) || si != facing(crossed[j])) continue;
+            const std::uint32_t e = shared_edge(seen[crossed[i]].face, seen[crossed[j]].face);
+            if (e == UINT32_MAX) continue;
+            const int si = facing(crossed[i]), sj = facing(crossed[j]);
+            if (si == int(CGAL::COPLANAR) || si != (mesh.is_seam(e) ? -sj : sj)) continue;
             const std::uint32_t ri = root(i), rj = root(j);
             if (ri != rj) {
                 parent[ri] = rj;
