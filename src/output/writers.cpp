@@ -414,6 +414,7 @@ std::string drawing_to_json(const Drawing& d, const OutputOptions& o) {
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
+    if (s.seam_edges > 0) stats["orientation_seam_edges"] = s.seam_edges;  // (a non-orientable surface's repair)
     // What SVG, PDF and PNG of these options leave out (the JSON keeps every piece).
     std::size_t specks = 0;
     drawing_strokes(d, o, &specks);
