@@ -35,7 +35,7 @@ inline bool facing_relative_to_first(const MeshTopology& t, std::uint32_t e, std
     return t.is_seam(e) && f != t.edge_face[e][0] ? !front : front;
 }
 
-// Appends to `faces` each face around vertex v once: the faces of v's edges that leave v along
+// Calls out(f) for each face f around vertex v once: the faces of v's edges that leave v along
 // them in their own winding (on a seam edge both faces leave v, or neither, by its direction).
 template <class Out>
 void for_each_face_around(const MeshTopology& t, std::uint32_t v, Out&& out) {
