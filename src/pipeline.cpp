@@ -230,6 +230,7 @@ void ViewSession::finish(const Camera& camera) {
     d.camera = camera;
     DrawingStats& s = d.stats;
     s.triangles = model.topology().face_count();
+    s.seam_edges = model.topology().seam_list.size();
     s.silhouette_edges = v.features.silhouette_edges.size();
     s.border_edges = v.features.border_edges.size();
     s.crease_edges = v.features.crease_edges.size();

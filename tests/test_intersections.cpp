@@ -198,9 +198,8 @@ double image_length(const inkline::Piece& p) {
 
 // Per view: propagation gives the same intersection pieces and QI as the ray reference, and at
 // sample points of the curves (segment middles) the drawn QI is the brute-force count.
-// With `differ`, pieces where propagation and the reference disagree are counted there instead.
 void expect_exact_visibility(const Model& model, const std::vector<inkline::Camera>& cams, std::size_t& checked,
-                             std::size_t& hidden, std::size_t* differ = nullptr) {
+                             std::size_t& hidden) {
     const IntersectionCurves& c = model.intersection_curves();
     for (std::size_t k = 0; k < cams.size(); ++k) {
         const inkline::Camera& cam = cams[k];
@@ -219,8 +218,7 @@ void expect_exact_visibility(const Model& model, const std::vector<inkline::Came
             // As in test_surface_view: on a piece much shorter than a pixel the reference's probe
             // point, constructed inside it, can round past its end and answer for the neighbour.
             if (image_length(*pa[i]) < 0.01) continue;
-            if (differ) *differ += pa[i]->qi != pb[i]->qi;
-            else EXPECT_EQ(pa[i]->qi, pb[i]->qi) << "view " << k << " piece " << i;
+            EXPECT_EQ(pa[i]->qi, pb[i]->qi) << "view " << k << " piece " << i;
         }
         for (const auto& curve : c.curves)
             for (std::uint32_t i = curve.begin; i + 1 < curve.end; i += 2) {
@@ -293,10 +291,10 @@ TEST(IntersectionVisibility, CrossedToriAgreeWithTheReference) {
 TEST(IntersectionVisibility, SelfIntersectingSampleMeshes) {
     struct Case {
         const char* name;
-        std::size_t curves, closed, meeting, differ;
+        std::size_t curves, closed, meeting;
     };
-    for (const Case& k : {Case{"bones.off", 20, 20, 0, 0}, Case{"cow.off", 6, 1, 0, 0},
-                          Case{"mannequin-devil.off", 61, 40, 24, 1}}) {
+    for (const Case& k : {Case{"bones.off", 20, 20, 0}, Case{"cow.off", 6, 1, 0},
+                          Case{"mannequin-devil.off", 61, 40, 24}}) {
         const Model model = Model::load(inkline::test::mesh_path(k.name));
         const IntersectionCurves& c = model.intersection_curves();
         std::size_t closed = 0, meeting = 0;
@@ -307,13 +305,12 @@ TEST(IntersectionVisibility, SelfIntersectingSampleMeshes) {
         std::mt19937 rng(3);
         std::vector<inkline::Camera> cams;
         for (int v = 0; v < 3; ++v) cams.push_back(inkline::test::framed_then_random(v, rng, model.topology().bounds));
-        std::size_t checked = 0, hidden = 0, differ = 0;
-        expect_exact_visibility(model, cams, checked, hidden, &differ);
+        std::size_t checked = 0, hidden = 0;
+        // (Every piece as the reference. One piece of mannequin-devil, third view, 1.2 px next to
+        // a fold, once differed: the reference missed a face its ray grazes, in a fan folding
+        // about a vertex; RayCaster now looks around the vertices of every crossed face.)
+        expect_exact_visibility(model, cams, checked, hidden);
         EXPECT_GT(checked, 20u) << k.name;
-        // One piece of mannequin-devil (third view, 1.2 px, next to a fold of one surface): the
-        // ray reference says 4, propagation 5, and so does the brute-force count at points along
-        // it; RayCaster::count_layers misses a face there that its ray grazes (left alone here).
-        EXPECT_EQ(differ, k.differ) << k.name;
         std::printf("[intersections] %s: %zu samples checked, %zu hidden\n", k.name, checked, hidden);
     }
 }

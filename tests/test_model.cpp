@@ -368,9 +368,23 @@ std::string moebius_off(int n) {
 }
 }  // namespace
 
+// Strict loading refuses a surface that cannot be oriented; tolerant loading (the default) loads
+// it with an orientation seam, named in its one warning line (tests/test_orientation.cpp draws them).
 TEST(LoadMeshErrors, MoebiusStripIsNonOrientable) {
-    expect_refused(write_file("moebius.off", moebius_off(12)), {"non-orientable"});
-    expect_refused(write_file("moebius5.off", moebius_off(5)), {"non-orientable"});
+    expect_refused(write_file("moebius.off", moebius_off(12)), {"non-orientable"}, kStrict);
+    expect_refused(write_file("moebius5.off", moebius_off(5)), {"non-orientable"}, kStrict);
+    for (int n : {12, 5}) {
+        const TriangleMesh m = inkline::load_mesh(write_file("moebius_t.off", moebius_off(n)));
+        EXPECT_EQ(m.triangles.size(), 2u * n) << n;  // each quad in two triangles
+        EXPECT_EQ(m.repairs.nonorientable_parts, 1u) << n;
+        EXPECT_GT(m.repairs.orientation_seam_edges, 0u) << n;
+        const auto w = m.repairs.warnings("moebius_t.off");
+        ASSERT_EQ(w.size(), 1u) << n;
+        EXPECT_TRUE(contains(w[0], "cannot be oriented")) << w[0];
+        const inkline::MeshTopology t = inkline::build_topology(m);
+        EXPECT_EQ(t.seam_list.size(), m.repairs.orientation_seam_edges) << n;
+        EXPECT_EQ(t.border_list.size(), 2u * n) << n;  // one border loop, twice round
+    }
 }
 
 TEST(LoadMeshErrors, ClosedStripWithoutTwistIsFine) {

@@ -56,6 +56,7 @@ struct RasterLayer {
 
 struct DrawingStats {
     std::size_t triangles = 0;
+    std::size_t seam_edges = 0;  // orientation seam edges of non-orientable parts (model/orientation.hpp)
     std::size_t silhouette_edges = 0;
     std::size_t border_edges = 0;
     std::size_t crease_edges = 0;

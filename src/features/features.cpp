@@ -11,6 +11,7 @@
 
 #include "core/predicates.hpp"
 #include "features/facing_kernels.hpp"
+#include "model/orientation.hpp"
 
 namespace inkline {
 
@@ -31,7 +32,26 @@ using VertexScratch = Features::VertexScratch;
 
 bool is_silhouette(const MeshTopology& mesh, const Features& f, std::uint32_t e) {
     const auto [f0, f1] = mesh.edge_face[e];
-    return f1 != kNoFace && f.face_front[f0] != f.face_front[f1];
+    return f1 != kNoFace && silhouette_from_facing(mesh, e, f.face_front[f0], f.face_front[f1]);
+}
+
+// The exhaustive scan's kernels compare the two faces' facing bits only: on a non-orientable
+// mesh its silhouette list is corrected on the seam edges (their own sorted list), keeping the
+// list in edge order.
+void correct_seam_silhouettes(const MeshTopology& mesh, Features& out) {
+    auto& sil = out.silhouette_edges;
+    std::erase_if(sil, [&](std::uint32_t e) {
+        if (!mesh.is_seam(e)) return false;
+        out.edge_kind[e] = kNoKind;
+        return true;
+    });
+    const std::size_t kept = sil.size();
+    for (std::uint32_t e : mesh.seam_list)
+        if (is_silhouette(mesh, out, e)) {
+            out.edge_kind[e] = kSil;
+            sil.push_back(e);
+        }
+    std::inplace_merge(sil.begin(), sil.begin() + std::ptrdiff_t(kept), sil.end());
 }
 
 // Static kinds: borders always, creases unless they are silhouettes. Returns crease edges that are
@@ -69,19 +89,21 @@ bool border_fan_folds(const MeshTopology& mesh, const Camera& camera, std::uint3
         if (mesh.edge_face[b][1] != kNoFace) continue;  // a border edge of v, its one face
         const glm::dvec3& W = mesh.positions[mesh.edge_vertex[b][0] == v ? mesh.edge_vertex[b][1] : mesh.edge_vertex[b][0]];
         if (!(camera.depth(W) > near)) return true;
-        for (std::uint32_t k = k0; k < k1; ++k) {
-            const std::uint32_t g = mesh.vertex_edges[k];
-            // each face around v once: the one traversing g away from v
-            const std::uint32_t f = mesh.edge_vertex[g][0] == v ? mesh.edge_face[g][0] : mesh.edge_face[g][1];
-            if (f == kNoFace || f == mesh.edge_face[b][0]) continue;
+        bool folds = false;
+        for_each_face_around(mesh, v, [&](std::uint32_t f) {  // (the test is the same for either winding)
+            if (folds || f == mesh.edge_face[b][0]) return;
             const auto& c = mesh.faces[f];
             const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
             const glm::dvec3 &A = mesh.positions[c[(i + 1) % 3]], &B = mesh.positions[c[(i + 2) % 3]];
-            if (!(camera.depth(A) > near) || !(camera.depth(B) > near)) return true;
+            if (!(camera.depth(A) > near) || !(camera.depth(B) > near)) {
+                folds = true;
+                return;
+            }
             const int o = image_orientation(camera, V, A, B);
-            if (o == 0) continue;  // seen edge-on: its image covers no direction from v
-            if (image_orientation(camera, V, A, W) != -o && image_orientation(camera, V, W, B) != -o) return true;
-        }
+            if (o == 0) return;  // seen edge-on: its image covers no direction from v
+            folds = image_orientation(camera, V, A, W) != -o && image_orientation(camera, V, W, B) != -o;
+        });
+        if (folds) return true;
     }
     return false;
 }
@@ -172,12 +194,18 @@ FeatureNumbering number_feature_edges(const MeshTopology& mesh, Features& out) {
 // of each side there. (A break where none is needed only adds a curve end.)
 void mark_cusps(const MeshTopology& mesh, const Camera& camera, const FeatureNumbering& num, Features& out) {
     auto& verts = out.chain_vertices;
+    const bool seams = !mesh.seam_list.empty();
     for (std::uint32_t lv = 0; lv < num.silhouette_vertices; ++lv) {
         Features::ChainVertex& s = verts[lv];
         CuspCase c = CuspCase::None;
         if (s.silhouettes > 2) c = CuspCase::ManySilhouettes;
         else if (s.kinds & (1u << kBorder)) c = CuspCase::BorderEdge;
         else if (s.silhouettes == 2 && s.front == 1) c = CuspCase::FrontBackMeet;
+        // On an orientation seam the two edges' convexity is relative to opposite windings, so
+        // front and back cannot be told apart there: the vertex breaks the chain, and the
+        // visibility stage measures each side's occlusion (a break where none is needed only adds
+        // a curve end).
+        else if (seams && on_orientation_seam(mesh, s.id)) c = CuspCase::FrontBackMeet;
         if (c != CuspCase::None) {
             s.cusp = 1;
             out.cusp_vertices.push_back(s.id);
@@ -461,6 +489,7 @@ void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
             out.edge_kind[e] = kSil;
             out.silhouette_edges.push_back(e);
         }
+    if (!mesh.seam_list.empty()) correct_seam_silhouettes(mesh, out);
     classify_static(mesh, out, [](std::uint32_t) {});  // crease silhouettes were scanned already
     out.stats.fraction = 1.0;
     out.stats.edges_examined = ne;
@@ -779,6 +808,7 @@ std::size_t SilhouetteFinder::reclassify_turned_edges(Features& out) {
     fresh_.clear();
     dropped_.clear();
     std::size_t rechecked = 0;
+    const bool seams = !mesh.seam_list.empty();
     constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < nt; ++i) {
         if (i + 2 * kAhead < nt) {
@@ -795,7 +825,7 @@ std::size_t SilhouetteFinder::reclassify_turned_edges(Features& out) {
             const std::uint32_t e = fe.edge[k], y = fe.face[k];
             if (y == kNoFace || (bit(turned, y) && y < x)) continue;
             ++out.stats.edges_examined;
-            const bool sil = fx != bool(bit(front, y));
+            const bool sil = (fx != bool(bit(front, y))) != (seams && mesh.is_seam(e));
             const bool was = kind[e] == kSil;
             kind[e] = sil ? kSil : kNoKind;
             if (sil != was) (sil ? fresh_ : dropped_).push_back(e);

@@ -971,12 +971,14 @@ void cut_nonmanifold_edges(TriangleMesh& mesh, const CornerMates& mates) {
 }
 
 // Consistent orientation by breadth-first search over faces: two faces sharing an edge must
-// traverse it in opposite directions; a conflict means the surface is not orientable. Closed
+// traverse it in opposite directions; a conflict means the surface is not orientable. Strict: it
+// is refused. Tolerant (seams): the faces keep the windings the search gave them and the edges
+// of conflict are the orientation seams (model/orientation.hpp), counted. Closed orientable
 // components are then turned outward (positive signed volume), so that front-facing silhouette
 // edges are the convex ones, as the Markosian et al. parity rule assumes. Each face is flipped at
 // most once; faces_reoriented counts the faces whose final orientation differs from the input,
 // repairs.components_reoriented the components whose faces disagreed.
-void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where) {
+void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
     const std::size_t nf = mesh.triangles.size();
     auto directed = [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) {
         const auto& t = mesh.triangles[f];
@@ -988,12 +990,14 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
     std::vector<std::uint32_t> queue;
     std::vector<std::uint32_t> component(nf, 0);
     std::uint32_t ncomp = 0;
+    std::vector<char> nonorientable;  // per component
+    std::size_t conflicts = 0;        // corners whose edge is a seam (two per seam edge)
     for (std::uint32_t seed = 0; seed < nf; ++seed) {
         if (state[seed] != 0) continue;
         state[seed] = 1;
         component[seed] = ncomp;
         queue.assign(1, seed);
-        bool flips = false;
+        bool flips = false, seamed = false;
         for (std::size_t qi = 0; qi < queue.size(); ++qi) {
             const std::uint32_t f = queue[qi];
             const auto& t = mesh.triangles[f];
@@ -1011,15 +1015,22 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
                     component[g] = ncomp;
                     queue.push_back(g);
                 } else if (state[g] != need) {
-                    throw Error(where, "non-orientable surface (faces " + std::to_string(f) + " and " +
-                                           std::to_string(g) +
-                                           " cannot be oriented consistently, e.g. a Moebius strip)");
+                    if (!seams)
+                        throw Error(where, "non-orientable surface (faces " + std::to_string(f) + " and " +
+                                               std::to_string(g) +
+                                               " cannot be oriented consistently, e.g. a Moebius strip)");
+                    ++conflicts;
+                    seamed = true;
                 }
             }
         }
-        mesh.repairs.components_reoriented += flips;
+        // (A seamed part's flips are its orientation, not a disagreement repaired: not counted.)
+        mesh.repairs.components_reoriented += flips && !seamed;
+        nonorientable.push_back(seamed);
         ++ncomp;
     }
+    mesh.repairs.orientation_seam_edges += conflicts / 2;
+    for (char c : nonorientable) mesh.repairs.nonorientable_parts += c;
     std::vector<double> volume(ncomp, 0.0);
     std::vector<char> closed(ncomp, 1);
     for (std::size_t c = 0; c < mates.mate.size(); ++c)
@@ -1034,7 +1045,7 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
         volume[component[f]] += state[f] < 0 ? -v : v;
     }
     for (std::uint32_t f = 0; f < nf; ++f) {
-        const bool outward_flip = closed[component[f]] && volume[component[f]] < 0.0;
+        const bool outward_flip = closed[component[f]] && !nonorientable[component[f]] && volume[component[f]] < 0.0;
         if ((state[f] < 0) != outward_flip) {
             std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
             ++mesh.faces_reoriented;
@@ -1056,7 +1067,7 @@ void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
         mates = corner_mates(mesh.triangles, mesh.positions.size());
     }
     progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
-    orient(mesh, mates, where);
+    orient(mesh, mates, where, !strict);
 }
 
 // Triangulates a polygon (corner indices, welded) by ear clipping in the plane of its Newell normal,
@@ -1342,6 +1353,11 @@ std::vector<std::string> LoadReport::warnings(const std::string& where) const {
     if (components_reoriented > 0)
         out.push_back(where + ": re-oriented " + std::to_string(components_reoriented) +
                       " connected parts whose faces disagreed in orientation");
+    if (orientation_seam_edges > 0)
+        out.push_back(where + ": " + std::to_string(nonorientable_parts) +
+                      " connected part(s) cannot be oriented (a Moebius strip, a Klein bottle): their faces are "
+                      "drawn two-sided, with an orientation seam of " + std::to_string(orientation_seam_edges) +
+                      " edges where the winding flips (--strict refuses them)");
     if (cameras_dropped > 0)
         out.push_back(where + ": left out " + std::to_string(cameras_dropped) +
                       " of the file's cameras that cannot make a view (the first, " + first_camera_problem + ")");

@@ -25,17 +25,21 @@ struct LoadReport {
     std::size_t nonmanifold_edges_cut = 0;   // edges of more than two faces, cut so each sheet has a border there
     std::size_t vertices_split = 0;          // vertex copies those cuts made
     std::size_t components_reoriented = 0;   // connected parts whose faces disagreed in orientation
+    std::size_t nonorientable_parts = 0;     // connected parts that cannot be oriented (Moebius strip ...)
+    std::size_t orientation_seam_edges = 0;  // their edges where the faces' windings disagree (kEdgeSeam)
     std::size_t cameras_dropped = 0;         // a scene's cameras that cannot make a view (zero field of view ...)
     std::string first_camera_problem;        // why the first of them could not
     bool any() const {
-        return vertices_welded + faces_dropped + nonmanifold_edges_cut + components_reoriented + cameras_dropped > 0;
+        return vertices_welded + faces_dropped + nonmanifold_edges_cut + components_reoriented + cameras_dropped +
+                   orientation_seam_edges > 0;
     }
     std::vector<std::string> warnings(const std::string& where) const;  // "<where>: <repair>" lines
 };
 
 struct LoadOptions {
     // Load as before the repairs existed: nothing welded (but STL corners, as always), degenerate
-    // faces and non-manifold edges refused. Re-orientation happens in both modes.
+    // faces, non-manifold edges and non-orientable surfaces refused. Re-orientation happens in
+    // both modes; tolerant loading leaves orientation seams where it cannot (model/orientation.hpp).
     bool strict = false;
     // Called as the load advances (model/load_progress.hpp), from the loading thread; none when
     // empty. Model::load makes the last call (done) once the topology is built.
@@ -57,8 +61,9 @@ struct TriangleMesh {
 // Reads a mesh file, welds vertices at the same position (seams split by UVs or normals; not in
 // strict mode), then checks or repairs it (repair_mesh). Refuses (inkline::Error naming the file) in every mode:
 // unreadable/unknown-format/malformed files, NaN or infinite coordinates, no faces (a point
-// cloud), out-of-range indices, non-orientable surfaces. Strict mode also refuses faces with
-// repeated vertex indices and non-manifold edges; tolerant mode drops and cuts them.
+// cloud), out-of-range indices. Strict mode also refuses faces with repeated vertex indices,
+// non-manifold edges and non-orientable surfaces; tolerant mode drops and cuts them, and orients
+// a non-orientable part except across an orientation seam (model/orientation.hpp).
 TriangleMesh load_mesh(const std::string& path, const LoadOptions& options = {});
 
 // What load_mesh does after parsing, for triangles built elsewhere (the scene loader): welds
@@ -71,7 +76,8 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options = {})
 void repair_mesh(TriangleMesh& mesh, const std::string& where, const LoadOptions& options = {});
 
 // The strict validation for meshes built in memory (no welding); `where` names the source in
-// errors. Polygons are not accepted here (triangles only); orientation is made consistent.
+// errors. Polygons are not accepted here (triangles only); orientation is made consistent (a
+// non-orientable surface is refused).
 void validate_mesh(TriangleMesh& mesh, const std::string& where);
 
 // Corners grouped by undirected edge. Corner c = 3f + k stands for the edge from corner k to

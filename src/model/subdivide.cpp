@@ -11,6 +11,9 @@ namespace inkline {
 
 TriangleMesh subdivide_loop(TriangleMesh mesh, int levels, const SubdivideProgress& progress) {
     if (levels <= 0) return mesh;
+    // (OpenMesh's half-edges hold only orientable surfaces.)
+    if (mesh.repairs.orientation_seam_edges > 0)
+        throw Error("subdivide", "a non-orientable surface (a Moebius strip, a Klein bottle) cannot be subdivided");
     struct Traits : OpenMesh::DefaultTraits {
         using Point = OpenMesh::Vec3d;
         using Normal = OpenMesh::Vec3d;

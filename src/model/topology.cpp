@@ -1,5 +1,7 @@
 #include "model/topology.hpp"
 
+#include "model/orientation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -141,6 +143,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     t.closed = true;
     std::vector<glm::dvec3> normal(nf);  // each face's once, not once per edge
     for (std::uint32_t f = 0; f < nf; ++f) normal[f] = t.face_normal(f);
+    mark_orientation_seams(t);
     for (std::size_t e = 0; e < ne; ++e) {
         const auto [f0, f1] = t.edge_face[e];
         if (f1 == kNoFace) {
@@ -149,7 +152,9 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
             t.closed = false;
             continue;
         }
-        const double c = std::clamp(glm::dot(normal[f0], normal[f1]), -1.0, 1.0);
+        // (On a seam the continuous surface's normal there is the second face's negated.)
+        const double sign = t.is_seam(std::uint32_t(e)) ? -1.0 : 1.0;
+        const double c = std::clamp(sign * glm::dot(normal[f0], normal[f1]), -1.0, 1.0);
         t.edge_normal_angle[e] = float(std::acos(c));
         t.edge_flags[e] |= convexity(t, std::uint32_t(e));
     }

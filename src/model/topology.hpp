@@ -23,10 +23,13 @@ enum EdgeFlag : std::uint8_t {
     kEdgeConvex = 4,   // surface convex along the edge (exact orientation test): a silhouette
                        // here is front-facing in the Markosian et al. sense (footnote 4)
     kEdgeConcave = 8,  // strictly concave; neither flag: coplanar faces
+    kEdgeSeam = 16,    // orientation seam of a non-orientable surface: both faces traverse the edge
+                       // the same way (model/orientation.hpp); convexity is relative to face 0
 };
 
 struct MeshTopology {
-    // Vertices and faces (faces consistently oriented, closed parts outward).
+    // Vertices and faces (faces consistently oriented, closed parts outward; on a non-orientable
+    // part, consistently except across its seam edges: kEdgeSeam).
     std::vector<glm::dvec3> positions;
     std::vector<std::array<std::uint32_t, 3>> faces;
     // Per face, the edge of each corner k, (faces[k], faces[k+1]), and the face across it
@@ -63,6 +66,8 @@ struct MeshTopology {
     std::vector<std::uint8_t> edge_flags;  // EdgeFlag bits
     std::vector<std::uint32_t> border_list;  // border edges, in order
     std::vector<std::uint32_t> crease_list;  // crease edges (set_crease_angle), in order
+    std::vector<std::uint32_t> seam_list;    // orientation seam edges (kEdgeSeam), in order; empty
+                                             // for an orientable mesh (per-view code tests that first)
 
     // Vertex -> incident edges, compressed rows.
     std::vector<std::uint32_t> vertex_edge_begin;  // size V+1
@@ -83,6 +88,7 @@ struct MeshTopology {
     bool is_border(std::uint32_t e) const { return edge_flags[e] & kEdgeBorder; }
     bool is_crease(std::uint32_t e) const { return edge_flags[e] & kEdgeCrease; }
     bool is_convex(std::uint32_t e) const { return edge_flags[e] & kEdgeConvex; }
+    bool is_seam(std::uint32_t e) const { return edge_flags[e] & kEdgeSeam; }
 
     // Re-flags creases for another threshold (angle between face normals, degrees).
     void set_crease_angle(double degrees);

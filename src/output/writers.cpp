@@ -416,6 +416,7 @@ std::string json_of(const Drawing& d, const OutputOptions& o, std::size_t specks
                     {"output", s.seconds_output},
                     {"total", s.seconds_total}}}};
     if (s.recall >= 0.0) stats["recall_length"] = s.recall;
+    if (s.seam_edges > 0) stats["orientation_seam_edges"] = s.seam_edges;  // (a non-orientable surface's repair)
     stats["specks_dropped"] = specks;
     if (s.seconds_tone_shade > 0.0)
         stats["seconds"]["tone"] = {{"shade", s.seconds_tone_shade},

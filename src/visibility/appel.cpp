@@ -15,6 +15,7 @@
 
 #include "core/clock.hpp"
 #include "core/predicates.hpp"
+#include "model/orientation.hpp"
 #include "visibility/fast_orient.hpp"
 
 namespace inkline {
@@ -227,11 +228,25 @@ void ring_of(const MeshTopology& mesh, const Camera& camera, const FaceFacing& f
     const glm::dvec3** const ring_A = ring.A.data();
     const glm::dvec3** const ring_B = ring.B.data();
     double* const ring_data = ring.data.data();
-    for (std::uint32_t k = k0; k < k1; ++k) {
-        const std::uint32_t g = vertex_edges[k];
-        // each face around v once: the one traversing g away from v
-        const std::uint32_t f = edge_vertex[g][0] == v ? edge_face[g][0] : edge_face[g][1];
-        if (f == kNoFace) continue;
+    // On a non-orientable mesh, the faces around v from for_each_face_around (a seam edge may give
+    // two faces or none), as a list the loop below reads; else the loop finds them itself.
+    thread_local std::vector<std::uint32_t> seam_ring;
+    const bool seams = !mesh.seam_list.empty();
+    if (seams) {
+        seam_ring.clear();
+        for_each_face_around(mesh, v, [&](std::uint32_t f) { seam_ring.push_back(f); });
+    }
+    const std::uint32_t n_ring = seams ? std::uint32_t(seam_ring.size()) : k1 - k0;
+    for (std::uint32_t k = 0; k < n_ring; ++k) {
+        std::uint32_t f;
+        if (seams) {
+            f = seam_ring[k];
+        } else {
+            const std::uint32_t g = vertex_edges[k0 + k];
+            // each face around v once: the one traversing g away from v
+            f = edge_vertex[g][0] == v ? edge_face[g][0] : edge_face[g][1];
+            if (f == kNoFace) continue;
+        }
         const auto& c = faces[f];
         const int i = c[0] == v ? 0 : c[1] == v ? 1 : 2;
         const bool front = face_front[f];
@@ -507,7 +522,8 @@ struct PathWalk {
         const VertexImages& proj = this->proj;
         const glm::dvec3& P = this->P;
         const std::uint32_t own_edge = this->own_edge;
-        const int want = front ? -T.det() : T.det();
+        int want = front ? -T.det() : T.det();
+        const bool seams = !mesh.seam_list.empty();
         const auto& own_faces = mesh.edge_face[own_edge];
         static constexpr int kNext[5] = {1, 2, 0, 1, 2};  // kNext[i] = (i + 1) % 3 for i < 5
         for (std::size_t guard = 0, face_count = mesh.face_count(); guard < face_count; ++guard) {
@@ -554,6 +570,9 @@ struct PathWalk {
             const std::uint32_t next = via1 ? g1 : g2;
             if (next == kNoFace) return Walk::Visible;  // the layer ends before u
             face = next;                                // the other face of the exit edge
+            // Across an orientation seam the winding flips: so do the facing bit and the image
+            // orientation of the same layer.
+            if (seams && mesh.is_seam(exit)) front = !front, want = -want;
             if (bool(face_front[face]) != front) return Walk::Visible;  // or folds
             // The exit edge's corner in the next face (the three edges of a face differ).
             const auto& ne = mesh.face_edges[face].edge;
@@ -893,7 +912,8 @@ void AppelPropagation::apply_parity() {
     const bool pierced_any = options.pierced_faces &&
                              std::any_of(options.pierced_faces->begin(), options.pierced_faces->end(),
                                          [](std::uint8_t x) { return x != 0; });
-    parity = mesh.closed && !pierced_any;
+    // (A closed non-orientable surface bounds no solid: no parity; one in R^3 also pierces itself.)
+    parity = mesh.closed && !pierced_any && mesh.seam_list.empty();
     if (!parity) return;
     const auto& pieces = graph.curves.pieces;
     const auto& spans = graph.curves.spans;

@@ -134,54 +134,56 @@ struct LayerCount {
 };
 
 // Queues the reported faces, and decides the faces around the curve edge's vertices (those skip0
-// shares with skip1; all of skip0's, on a border).
+// shares with skip1; all of skip0's, on a border). Two faces that share no vertex (a point where
+// two surfaces cross: an intersection curve) have the segment's end inside both: the faces around
+// all their corners, since one next to either can pass between the eye and the end arbitrarily
+// close to it, where the ray, stopped short of the end, does not reach (mannequin-devil.off).
 void LayerCount::look_around_end_edge() {
     queue.assign(cand.begin(), cand.end());
     if (skip0 == kNoFace) return;
-    for (std::uint32_t w : mesh.faces[skip0]) {
-        if (skip1 != kNoFace && std::find(mesh.faces[skip1].begin(), mesh.faces[skip1].end(), w) == mesh.faces[skip1].end())
-            continue;
-        look_around(w);
-    }
+    auto shared = [&](std::uint32_t w) {
+        return std::find(mesh.faces[skip1].begin(), mesh.faces[skip1].end(), w) != mesh.faces[skip1].end();
+    };
+    const bool apart = skip1 != kNoFace && std::none_of(mesh.faces[skip0].begin(), mesh.faces[skip0].end(), shared);
+    for (std::uint32_t w : mesh.faces[skip0])
+        if (skip1 == kNoFace || apart || shared(w)) look_around(w);
+    if (apart)
+        for (std::uint32_t w : mesh.faces[skip1]) look_around(w);
 }
 
 // A reported face that is not crossed: single precision put the line of sight on the wrong side
 // of one of its edges or corners, and the exact segment may cross a face around one of its
-// vertices instead. A crossed face: a neighbour facing the same way cannot be crossed too (see
-// merge_layers), one folding back over their shared edge can, and so on across the fold.
+// vertices instead. A crossed face: the faces around its vertices, where the surface may fold back
+// over the line of sight (a silhouette between them) and be crossed again; single precision misses
+// such a face where the line grazes it (mannequin-devil.off: a fan folding about a vertex, the
+// line crossing two of its faces nearly edge-on and not the one between them), so the whole rings
+// are looked at, not only the faces across its edges.
 void LayerCount::follow_queue() {
     while (!queue.empty()) {
         const std::uint32_t face = queue.back();
         queue.pop_back();
         const std::size_t i = decide(face);
-        if (!seen[i].crossed) {
-            if (!std::binary_search(cand.begin(), cand.end(), face)) continue;
-            for (std::uint32_t w : mesh.faces[face]) look_around(w);
-            continue;
-        }
-        for (std::uint32_t g : mesh.face_edges[face].face) {  // the faces across its edges
-            if (g == kNoFace || g == skip0 || g == skip1) continue;
-            const int fg = facing_of(g);
-            if (fg == facing(i)) continue;
-            const std::size_t n = seen.size(), j = decide(g);
-            seen[j].facing = fg;
-            if (j == n && seen[j].crossed) queue.push_back(g);
-        }
+        if (!seen[i].crossed && !std::binary_search(cand.begin(), cand.end(), face)) continue;
+        for (std::uint32_t w : mesh.faces[face]) look_around(w);
     }
 }
 
 // Two crossed faces that share an edge and face the segment's start the same way are one layer:
 // seen from there they lie on opposite sides of the plane through the start and the shared edge,
 // so a line of sight meets both only on that edge. Faces folding over a shared silhouette edge
-// can both be crossed and stay apart. The layers: the crossed faces, so merged.
+// can both be crossed and stay apart. The layers: the crossed faces, so merged. (The same way
+// relative to the continuous surface: on an orientation seam, whose faces' windings differ,
+// opposite facings.)
 int LayerCount::merge_layers() {
     thread_local std::vector<std::size_t> crossed;
     crossed.clear();
     for (std::size_t i = 0; i < seen.size(); ++i)
         if (seen[i].crossed) crossed.push_back(i);
-    auto share_edge = [&](std::uint32_t a, std::uint32_t b) {
-        const auto& across = mesh.face_edges[a].face;
-        return std::find(across.begin(), across.end(), b) != across.end();
+    auto shared_edge = [&](std::uint32_t a, std::uint32_t b) {  // UINT32_MAX: none
+        const auto& fe = mesh.face_edges[a];
+        for (int k = 0; k < 3; ++k)
+            if (fe.face[k] == b) return fe.edge[k];
+        return UINT32_MAX;
     };
     int layers = int(crossed.size());
     thread_local std::vector<std::uint32_t> parent;
@@ -193,9 +195,10 @@ int LayerCount::merge_layers() {
     };
     for (std::uint32_t i = 0; i < crossed.size(); ++i)
         for (std::uint32_t j = i + 1; j < crossed.size(); ++j) {
-            if (!share_edge(seen[crossed[i]].face, seen[crossed[j]].face)) continue;
-            const int si = facing(crossed[i]);
-            if (si == int(CGAL::COPLANAR) || si != facing(crossed[j])) continue;
+            const std::uint32_t e = shared_edge(seen[crossed[i]].face, seen[crossed[j]].face);
+            if (e == UINT32_MAX) continue;
+            const int si = facing(crossed[i]), sj = facing(crossed[j]);
+            if (si == int(CGAL::COPLANAR) || si != (mesh.is_seam(e) ? -sj : sj)) continue;
             const std::uint32_t ri = root(i), rj = root(j);
             if (ri != rj) {
                 parent[ri] = rj;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "model/orientation.hpp"
 #include "visibility/appel.hpp"
 
 namespace inkline {
@@ -143,7 +144,10 @@ private:
             for (std::uint32_t g : mesh_.face_edges[fb].edge)
                 if (e == g) shared = e;
         if (shared == kNoVertex) return;  // (not neighbours: a cut run never joins here)
-        const bool front_a = face_front_[fa], front_b = face_front_[fb];
+        // (Facing relative to the shared edge's first face: convexity is, and on an orientation
+        // seam the second face's winding is the other one.)
+        const bool front_a = facing_relative_to_first(mesh_, shared, fa, face_front_[fa]);
+        const bool front_b = facing_relative_to_first(mesh_, shared, fb, face_front_[fb]);
         if (front_a == front_b) return;
         const int into_hidden = mesh_.is_convex(shared) ? 1 : -1;
         s_.crossings.push_back({seg, 0.0, shared, front_a ? into_hidden : -into_hidden});
