@@ -227,6 +227,7 @@ public:
     const FinderOptions& options() const { return opt_; }
     void reset();  // forget the previous view
     void set_fraction(double f) { opt_.fraction = f; }  // e.g. a viewer's slider, keeping coherence
+    void set_threads(int threads) { opt_.threads = threads < 1 ? 1 : threads; }  // (the same result)
 
 private:
     // block_edges: the scan may skip the edges of blocks of one state (FaceBlocks edge ranges,
