@@ -648,7 +648,7 @@ AppelPropagation::AppelPropagation(const MeshTopology& mesh_, const Camera& came
                                    const std::function<const RayCaster&()>& ray_index_, PieceGraph& graph_,
                                    const AppelOptions& options_)
     : mesh(mesh_), camera(camera_), face_front(face_front_), ray_index(ray_index_), graph(graph_), options(options_),
-      np(std::uint32_t(graph_.curves.pieces.size())), two_threads(options_.threads > 1) {}
+      np(std::uint32_t(graph_.curves.pieces.size())), threads(std::clamp(options_.threads, 1, 1024)) {}
 
 int AppelPropagation::ray_qi(std::uint32_t p) {
     if (!rays) rays = &ray_index();
@@ -747,11 +747,15 @@ void AppelPropagation::crossing_deltas() {
     occluding.clear();
     auto& lcs = graph.link_crossings;
     const std::size_t n = lcs.size();
-    // (On two threads from 2000 crossings: bench/results/visibility.md, eighteenth session.)
-    if (two_threads && n >= 2000) {
-        face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-        graph.helper().fork_join([&] { crossing_deltas_of(mesh, camera, face_front, lcs, n / 2, n); },
-                                 [&] { crossing_deltas_of(mesh, camera, face_front, lcs, 0, n / 2); });
+    // (Split from 2000 crossings, at least 1000 a part: bench/results/visibility.md, eighteenth
+    // session; each crossing's change is its own, so the parts are any ranges.)
+    if (threads > 1 && n >= 2000) {
+        const int parts = int(std::min<std::size_t>(std::size_t(threads), n / 1000));
+        face_front.set_shared(true);  // (a lazy view's facing is read by every thread)
+        graph.team().run(parts, [&](int i) {
+            crossing_deltas_of(mesh, camera, face_front, lcs, n * std::size_t(i) / std::size_t(parts),
+                               n * std::size_t(i + 1) / std::size_t(parts));
+        });
         face_front.set_shared(false);
     } else {
         crossing_deltas_of(mesh, camera, face_front, lcs, 0, n);
@@ -798,12 +802,21 @@ void local_occlusion_of_ends(const AppelPropagation& a, std::vector<int>& occlus
 
 void AppelPropagation::unite_at_vertices() {
     std::vector<int> end_occlusion(end_order.size());
-    if (two_threads && end_order.size() >= 2000) {
-        std::size_t mid = end_order.size() / 2;  // at a vertex's first end
-        while (mid < end_order.size() && mid > 0 && (end_order[mid] >> 32) == (end_order[mid - 1] >> 32)) ++mid;
-        face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-        graph.helper().fork_join([&] { local_occlusion_of_ends(*this, end_occlusion, mid, end_order.size()); },
-                                 [&] { local_occlusion_of_ends(*this, end_occlusion, 0, mid); });
+    const std::size_t ne = end_order.size();
+    if (threads > 1 && ne >= 2000) {
+        // Parts of about 1000 ends at least, each starting at a vertex's first end.
+        const int parts = int(std::min<std::size_t>(std::size_t(threads), ne / 1000));
+        std::vector<std::size_t> cut(std::size_t(parts) + 1, ne);
+        cut[0] = 0;
+        for (int i = 1; i < parts; ++i) {
+            std::size_t c = std::max(cut[std::size_t(i - 1)], ne * std::size_t(i) / std::size_t(parts));
+            while (c < ne && c > 0 && (end_order[c] >> 32) == (end_order[c - 1] >> 32)) ++c;
+            cut[std::size_t(i)] = c;
+        }
+        face_front.set_shared(true);  // (a lazy view's facing is read by every thread)
+        graph.team().run(parts, [&](int i) {
+            local_occlusion_of_ends(*this, end_occlusion, cut[std::size_t(i)], cut[std::size_t(i) + 1]);
+        });
         face_front.set_shared(false);
     } else {
         local_occlusion_of_ends(*this, end_occlusion, 0, end_order.size());
@@ -1056,15 +1069,18 @@ void AppelPropagation::walk() {
     };
     const auto t_walks = StageClock::now();
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
-    if (two_threads && walkers.size() >= 8) {
-        VertexImages& own = graph.walk_images;  // (the second thread's vertex images)
-        own.reset(mesh, camera);
+    if (threads > 1 && walkers.size() >= 8) {
+        // (at least 4 walks a thread; each walk's result is its own, whichever thread takes it)
+        const int parts = int(std::min<std::size_t>(std::size_t(threads), walkers.size() / 4));
+        auto& own = graph.walk_images;  // (the other threads' vertex images)
+        if (own.size() < std::size_t(parts - 1)) own.resize(std::size_t(parts - 1));
+        for (int i = 0; i + 1 < parts; ++i) own[std::size_t(i)].reset(mesh, camera);
         std::atomic<std::size_t> next{0};
-        auto take = [&](const VertexImages& proj) {
-            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_one(w, proj);
-        };
         face_front.set_shared(true);
-        graph.helper().fork_join([&] { take(own); }, [&] { take(graph.images); });
+        graph.team().run(parts, [&](int i) {
+            const VertexImages& proj = i == 0 ? graph.images : own[std::size_t(i - 1)];
+            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_one(w, proj);
+        });
         face_front.set_shared(false);
     } else {
         for (std::size_t w = 0; w < walkers.size(); ++w) walk_one(w, graph.images);
