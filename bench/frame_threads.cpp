@@ -4,7 +4,8 @@
 // slows every count alike). Per stage: the median ms per frame (wall clock) and its share of the
 // one-thread frame; per count: the frame's median, its CPU time (the process's CPU clock: all
 // threads' work), the ratio to one thread, and whether every drawing equals the one-thread one
-// (a hash of every piece: kind, curve, QI, points).
+// (a hash of every piece: kind, curve, QI, points). On a loaded machine the calling thread's CPU
+// time per frame is the steadier measure of the split (see its row).
 // Usage: frame_threads MESH[@N] [--frames=F] [--threads=1,2,...] [--surface] [--markdown=FILE]
 #include <algorithm>
 #include <cmath>
@@ -24,6 +25,12 @@ namespace {
 double process_cpu_seconds() {
     timespec t{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+double thread_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
@@ -69,11 +76,11 @@ struct Column {
     int threads = 1;
     std::unique_ptr<inkline::ViewSession> session;
     std::vector<double> stage[kStageCount];
-    std::vector<double> frame, cpu;
+    std::vector<double> frame, cpu, caller_cpu;
     std::vector<std::uint64_t> hashes;
 };
 
-void record(Column& c, const inkline::View& v, double wall, double cpu) {
+void record(Column& c, const inkline::View& v, double wall, double cpu, double caller_cpu) {
     const inkline::DrawingStats& s = v.drawing.stats;
     const inkline::FinderStats& f = v.features.stats;
     const double values[kStageCount] = {
@@ -90,6 +97,7 @@ void record(Column& c, const inkline::View& v, double wall, double cpu) {
     for (int k = 0; k < kStageCount; ++k) c.stage[k].push_back(values[k]);
     c.frame.push_back(wall);
     c.cpu.push_back(cpu);
+    c.caller_cpu.push_back(caller_cpu);
     c.hashes.push_back(drawing_hash(v.drawing));
 }
 
@@ -140,9 +148,9 @@ int main(int argc, char** argv) {
         auto cam = inkline::Camera::perspective(orbit_eye(mesh, degrees), mesh.bounds.center(), {0, 1, 0}, 30.0, 1024, 1024);
         cam.set_near(inkline::default_near(mesh));
         for (Column& c : columns) {
-            const double w0 = wall_seconds(), c0 = process_cpu_seconds();
+            const double w0 = wall_seconds(), c0 = process_cpu_seconds(), t0 = thread_cpu_seconds();
             const inkline::View& v = c.session->render(cam);
-            record(c, v, wall_seconds() - w0, process_cpu_seconds() - c0);
+            record(c, v, wall_seconds() - w0, process_cpu_seconds() - c0, thread_cpu_seconds() - t0);
         }
     }
     double load1 = 0.0;
@@ -194,6 +202,17 @@ int main(int argc, char** argv) {
     });
     row("CPU ms (all threads)", [&](const Column& c) {
         std::snprintf(buf, sizeof buf, "%.3f", 1e3 * median(c.cpu));
+        return std::string(buf);
+    });
+    // The calling thread's CPU time: the frame's serial work and its own parts (it waits for the
+    // workers asleep), so the frame's length on free cores less any imbalance between the parts;
+    // unlike wall time, hardly changed by other processes on the machine.
+    row("calling thread's CPU ms", [&](const Column& c) {
+        std::snprintf(buf, sizeof buf, "%.3f", 1e3 * median(c.caller_cpu));
+        return std::string(buf);
+    });
+    row("calling thread's CPU / 1-thread CPU", [&](const Column& c) {
+        std::snprintf(buf, sizeof buf, "%.3f", median(c.caller_cpu) / median(one.caller_cpu));
         return std::string(buf);
     });
     row("drawings equal to 1 thread", [&](const Column& c) {

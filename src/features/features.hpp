@@ -253,6 +253,9 @@ private:
     const FaceBlocks* blocks();  // built on first use (if opt_.blocks), else null
 
     const MeshTopology* mesh_;
+    // The exhaustive facing pass's and edge scan's threads beyond the caller's (opt_.threads),
+    // kept from view to view: a thread made per view costs more than a part of a small view.
+    WorkerTeam team_;
     FinderOptions opt_;
     FaceBlocks blocks_;
     BlockEdges block_edges_;  // built on the second exhaustive view (if opt_.edge_windows)

@@ -886,18 +886,44 @@ void AppelPropagation::apply_bounding_box_rule() {
             extreme_edges.set(mesh.vertex_edges[k]);
     for (const Occluding& c : occluding) occluder_edges.set(c.edge);
     const auto& spans = graph.curves.spans;
-    for (std::uint32_t p = 0; p < np; ++p) {
-        if (p + 4 < np) __builtin_prefetch(spans[p + 4].data());  // (each piece's spans: their own block)
-        for (const EdgeSpan& s : spans[p]) {
-            if (occluder_edges.test(s.edge)) {
-                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
-                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+    // The pass over pieces [p0, p1): their stretches on occluder edges, and the pieces to fix.
+    struct Found {
+        std::vector<EdgePiece> on_edge;
+        std::vector<std::uint32_t> edges, fixes;
+    };
+    auto pass = [&](std::uint32_t p0, std::uint32_t p1, Found& f) {
+        for (std::uint32_t p = p0; p < p1; ++p) {
+            if (p + 4 < p1) __builtin_prefetch(spans[p + 4].data());  // (each piece's spans: their own block)
+            for (const EdgeSpan& s : spans[p]) {
+                if (occluder_edges.test(s.edge)) {
+                    f.edges.push_back(s.edge);
+                    f.on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+                }
+                if (!extreme_edges.test(s.edge)) continue;
+                const auto& ev = mesh.edge_vertex[s.edge];
+                for (std::uint32_t v : inner_extremes)
+                    if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0))
+                        f.fixes.push_back(p);
             }
-            if (!extreme_edges.test(s.edge)) continue;
-            const auto& ev = mesh.edge_vertex[s.edge];
-            for (std::uint32_t v : inner_extremes)
-                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
         }
+    };
+    // (A large view's pieces split among the threads, 2000 a part at least; the parts' findings
+    // then taken in piece order, as one pass would make them.)
+    const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
+    std::vector<Found> found(static_cast<std::size_t>(parts));
+    if (parts > 1)
+        graph.team().run(parts, [&](int i) {
+            pass(std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)),
+                 std::uint32_t(std::uint64_t(np) * std::uint64_t(i + 1) / std::uint64_t(parts)), found[std::size_t(i)]);
+        });
+    else
+        pass(0, np, found[0]);
+    for (const Found& f : found) {
+        for (std::size_t k = 0; k < f.on_edge.size(); ++k) {
+            by_edge.push_back(std::uint64_t(f.edges[k]) << 32 | on_edge.size());
+            on_edge.push_back(f.on_edge[k]);
+        }
+        for (std::uint32_t p : f.fixes) fix(p, 0);
     }
 }
 

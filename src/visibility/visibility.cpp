@@ -706,13 +706,53 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 
 namespace {
 
+// Clipped occluders of one range of the occluding edges, appended to four arrays.
+struct OccluderRecords {
+    std::vector<Segment2> occluders;
+    std::vector<ClipSeg> clip;
+    std::vector<Box2f> boxes;
+    std::vector<std::uint8_t> unclipped;
+    void clear() { occluders.clear(), clip.clear(), boxes.clear(), unclipped.clear(); }
+};
+
+// Occluding edges [j0, j1) of edge_at (silhouettes, then borders) into the four arrays, each
+// clipped in place (reads `images`, and fills it where not made yet).
+template <class EdgeAt>
+void clip_occluder_range(const MeshTopology& mesh, const Camera& camera, double occluder_near, const VertexImages& images,
+                         EdgeAt&& edge_at, std::size_t j0, std::size_t j1, std::vector<Segment2>& occluders,
+                         std::vector<ClipSeg>& occ_clip, std::vector<Box2f>& obox, std::vector<std::uint8_t>& occ_unclipped) {
+    for (std::size_t j = j0; j < j1; ++j) {
+        const std::uint32_t e = edge_at(j);
+        // (The edges are scattered over a large mesh: their vertices 16 edges ahead, then those
+        // vertices' positions and images 8 ahead, prefetched; no effect on results.)
+        if (j + 16 < j1) __builtin_prefetch(&mesh.edge_vertex[edge_at(j + 16)]);
+        if (j + 8 < j1) {
+            const auto& ev = mesh.edge_vertex[edge_at(j + 8)];
+            __builtin_prefetch(&mesh.positions[ev[0]]);
+            __builtin_prefetch(&mesh.positions[ev[1]]);
+            images.prefetch(ev[0]);
+            images.prefetch(ev[1]);
+        }
+        const auto [v0, v1] = mesh.edge_vertex[e];
+        ClipSeg& s = occ_clip.emplace_back();
+        if (!clip_edge(camera, occluder_near, images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
+            occ_clip.pop_back();
+            continue;
+        }
+        occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
+        obox.push_back(outer_box(occluders.back()));
+        occ_unclipped.push_back(s.unclipped);
+    }
+}
+
 // Occluding edges in the image: silhouettes and borders, into g.occluders, with their clipped
 // records, boxes (the crossing search bins them) and whether each is unclipped, in the same pass
 // (each clipped in place). QI counts the layers between a point and the eye (DESIGN.md), so the
 // near plane clips the curves drawn, not the occluders: those are clipped only where they could
-// not be projected, at the default near plane (or the camera's, if nearer).
+// not be projected, at the default near plane (or the camera's, if nearer). A large view's edges
+// are split among up to `threads` threads (ranges of at least 4000 edges), appended in order.
 void clip_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                    Scratch& scratch) {
+                    Scratch& scratch, int threads) {
     const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
     std::vector<Segment2>& occluders = g.occluders;
     std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
@@ -721,34 +761,44 @@ void clip_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& fea
     occ_clip.clear();
     obox.clear();
     occ_unclipped.clear();
-    const std::size_t most = features.silhouette_edges.size() + features.border_edges.size();
+    const auto& sil = features.silhouette_edges;
+    const auto& border = features.border_edges;
+    const std::size_t ns = sil.size(), most = ns + border.size();
+    auto edge_at = [&](std::size_t j) { return j < ns ? sil[j] : border[j - ns]; };
     occluders.reserve(most);
     occ_clip.reserve(most);
     obox.reserve(most);
     occ_unclipped.reserve(most);
-    for (const auto* list : {&features.silhouette_edges, &features.border_edges})
-        for (std::size_t j = 0; j < list->size(); ++j) {
-            const std::uint32_t e = (*list)[j];
-            // (The edges are scattered over a large mesh: their vertices 16 edges ahead, then those
-            // vertices' positions and images 8 ahead, prefetched; no effect on results.)
-            if (j + 16 < list->size()) __builtin_prefetch(&mesh.edge_vertex[(*list)[j + 16]]);
-            if (j + 8 < list->size()) {
-                const auto& ev = mesh.edge_vertex[(*list)[j + 8]];
-                __builtin_prefetch(&mesh.positions[ev[0]]);
-                __builtin_prefetch(&mesh.positions[ev[1]]);
-                g.images.prefetch(ev[0]);
-                g.images.prefetch(ev[1]);
-            }
-            const auto [v0, v1] = mesh.edge_vertex[e];
-            ClipSeg& s = occ_clip.emplace_back();
-            if (!clip_edge(camera, occluder_near, g.images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
-                occ_clip.pop_back();
-                continue;
-            }
-            occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
-            obox.push_back(outer_box(occluders.back()));
-            occ_unclipped.push_back(s.unclipped);
-        }
+    const int parts = threads > 1 && most >= 8000 ? int(std::min<std::size_t>(std::size_t(threads), most / 4000)) : 1;
+    if (parts < 2) {
+        clip_occluder_range(mesh, camera, occluder_near, g.images, edge_at, 0, most, occluders, occ_clip, obox, occ_unclipped);
+        return;
+    }
+    // The images of the edges' vertices first, the vertices split by their 64-vertex words (each
+    // thread writes words of its own); the ranges then only read them.
+    const VertexImages& images = g.images;
+    WorkerTeam& team = g.team();
+    team.run(parts, [&](int i) {
+        for (std::size_t j = 0; j < most; ++j)
+            for (const std::uint32_t v : mesh.edge_vertex[edge_at(j)])
+                if (int((v >> 6) % std::uint32_t(parts)) == i) images.slack(v);
+    });
+    thread_local std::vector<OccluderRecords> records_of_this_thread;  // (named here: the workers' own would differ)
+    std::vector<OccluderRecords>& records = records_of_this_thread;
+    if (records.size() < std::size_t(parts)) records.resize(std::size_t(parts));
+    team.run(parts, [&](int i) {
+        OccluderRecords& r = records[std::size_t(i)];
+        r.clear();
+        clip_occluder_range(mesh, camera, occluder_near, images, edge_at, most * std::size_t(i) / std::size_t(parts),
+                            most * std::size_t(i + 1) / std::size_t(parts), r.occluders, r.clip, r.boxes, r.unclipped);
+    });
+    for (int i = 0; i < parts; ++i) {
+        const OccluderRecords& r = records[std::size_t(i)];
+        occluders.insert(occluders.end(), r.occluders.begin(), r.occluders.end());
+        occ_clip.insert(occ_clip.end(), r.clip.begin(), r.clip.end());
+        obox.insert(obox.end(), r.boxes.begin(), r.boxes.end());
+        occ_unclipped.insert(occ_unclipped.end(), r.unclipped.begin(), r.unclipped.end());
+    }
 }
 
 // The extreme points of the occluders' image (the bounding-box rule of the fast method).
@@ -859,7 +909,7 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // Scratch arrays kept from view to view (no allocation per view once they are large enough).
     thread_local Scratch scratch;
-    clip_occluders(g, mesh, features, camera, scratch);
+    clip_occluders(g, mesh, features, camera, scratch, threads);
     g.image_size = glm::dvec2(camera.width(), camera.height());
     find_extreme_vertices(g);
 
