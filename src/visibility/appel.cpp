@@ -936,16 +936,37 @@ void AppelPropagation::apply_parity() {
     if (!parity) return;
     const auto& pieces = graph.curves.pieces;
     const auto& spans = graph.curves.spans;
+    // Per silhouette piece, the parity of base it wants (-1: not a silhouette); a large view's
+    // pieces split among the threads (2000 a part at least), then read in piece order.
+    std::vector<std::int8_t>& piece_want = parity_of_piece;
+    piece_want.resize(np);
+    auto wants = [&](std::uint32_t p0, std::uint32_t p1) {
+        for (std::uint32_t p = p0; p < p1; ++p) {
+            // (each piece's spans are their own block, and its edge's flags are scattered: both
+            // prefetched, in two levels; no effect on results)
+            if (p + 8 < p1) __builtin_prefetch(spans[p + 8].data());
+            if (p + 4 < p1) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
+            if (pieces[p].kind != LineKind::Silhouette) {
+                piece_want[p] = -1;
+                continue;
+            }
+            const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
+            piece_want[p] = std::int8_t(((par - off[p]) % 2 + 2) % 2);
+        }
+    };
+    const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
+    if (parts > 1)
+        graph.team().run(parts, [&](int i) {
+            wants(std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)),
+                  std::uint32_t(std::uint64_t(np) * std::uint64_t(i + 1) / std::uint64_t(parts)));
+        });
+    else
+        wants(0, np);
     std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
     for (std::uint32_t p = 0; p < np; ++p) {
-        // (each piece's spans are their own block, and its edge's flags are scattered: both
-        // prefetched, in two levels; no effect on results)
-        if (p + 8 < np) __builtin_prefetch(spans[p + 8].data());
-        if (p + 4 < np) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
-        if (pieces[p].kind != LineKind::Silhouette) continue;
+        const std::int8_t w = piece_want[p];
+        if (w < 0) continue;
         const std::uint32_t c = comp[p];
-        const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
-        const std::int8_t w = std::int8_t(((par - off[p]) % 2 + 2) % 2);
         if (want[c] < 0) want[c] = w;
         else if (want[c] != w) state[c] = kInconsistent;
     }

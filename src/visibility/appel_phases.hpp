@@ -198,6 +198,7 @@ struct AppelPropagation {
     std::vector<std::uint8_t> bad;      // per node: a contradiction recorded there
     std::vector<std::uint8_t> pierced;  // per piece: on a self-intersecting face, or ends edge-on
     std::vector<int> link_delta;        // per link: its change of QI
+    std::vector<std::int8_t> parity_of_piece;  // apply_parity: per piece, the parity of base it wants
     std::vector<Occluding> occluding;   // in crossing order
     std::vector<std::uint32_t> comp;    // per node: its cluster
     std::vector<int> off;               // per node: value - cluster base
