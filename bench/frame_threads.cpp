@@ -215,6 +215,14 @@ int main(int argc, char** argv) {
         std::snprintf(buf, sizeof buf, "%.3f", median(c.caller_cpu) / median(one.caller_cpu));
         return std::string(buf);
     });
+    // Amdahl's law from that ratio r on n threads, r = s + (1 - s) / n: the frame's serial share s
+    // (an upper bound: imbalance between the parts counts as serial).
+    row("serial share (Amdahl, from that ratio)", [&](const Column& c) {
+        const double r = median(c.caller_cpu) / median(one.caller_cpu), n = double(c.threads);
+        if (c.threads < 2) return std::string("-");
+        std::snprintf(buf, sizeof buf, "%.0f %%", 100.0 * std::clamp((r * n - 1.0) / (n - 1.0), 0.0, 1.0));
+        return std::string(buf);
+    });
     row("drawings equal to 1 thread", [&](const Column& c) {
         std::size_t same = 0;
         for (std::size_t i = 0; i < c.hashes.size(); ++i) same += c.hashes[i] == one.hashes[i];

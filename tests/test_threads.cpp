@@ -3,11 +3,18 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <sys/wait.h>
 
 #include "core/worker_thread.hpp"
 #include "model/subdivide.hpp"
@@ -163,6 +170,35 @@ TEST(Threads, FramesOfALargeModelEqualOneThread) {
     expect_frames_equal_one_thread(model, "armadillo@2", 3, &most_crossings, &most_walks);
     EXPECT_EQ(most_crossings, 8852u);  // (8 parts of crossings: 1000 a part)
     EXPECT_EQ(most_walks, 66u);  // (8 threads of walks: 4 a thread)
+}
+
+// The flag, once defined for every command: 0, negative, too many, fractions and words are usage
+// errors (exit 2) with one line naming the flag; nothing is drawn.
+TEST(Threads, BadValuesOfTheFlagAreUsageErrors) {
+    const std::filesystem::path err = std::filesystem::temp_directory_path() / "inkline_test_threads_err.txt";
+    const std::string mesh = test::mesh_path("knot1");
+    const std::string range = "inkline: --threads: expected an integer from 1 to 256\n";
+    const struct {
+        std::string args, message;
+    } cases[] = {
+        {"render " + mesh + " --threads=0 -o /nonexistent/x.svg", range},
+        {"render " + mesh + " --threads=-2 -o /nonexistent/x.svg", range},
+        {"render " + mesh + " --threads=257 -o /nonexistent/x.svg", range},
+        {"render " + mesh + " --threads=1000000000 -o /nonexistent/x.svg", range},
+        {"render " + mesh + " --threads=2.5 -o /nonexistent/x.svg", range},
+        {"render " + mesh + " --threads=many -o /nonexistent/x.svg", "inkline: --threads: expected a number, got 'many'\n"},
+        {"view " + mesh + " --threads=0", range},
+        {"bench " + mesh + " --threads=-1", range},
+    };
+    for (const auto& c : cases) {
+        const int status = std::system((std::string(INKLINE_BINARY) + " " + c.args + " > /dev/null 2> " + err.string()).c_str());
+        ASSERT_TRUE(WIFEXITED(status)) << c.args;
+        EXPECT_EQ(WEXITSTATUS(status), 2) << c.args;
+        std::ostringstream text;
+        text << std::ifstream(err).rdbuf();
+        EXPECT_EQ(text.str(), c.message) << c.args;
+    }
+    std::filesystem::remove(err);
 }
 
 }  // namespace
