@@ -189,8 +189,12 @@ int main(int argc, char** argv) {
     }
     auto row = [&](const char* label, auto value) {
         md += std::string("| ") + label + " |";
-        for (const Column& c : columns) md += " " + value(c) + " |";
-        md += " |" + std::string(columns.size() > 1 ? " |" : "") + "\n";
+        for (const Column& c : columns) {
+            md += ' ';
+            md += value(c);
+            md += " |";
+        }
+        md += columns.size() > 1 ? " | |\n" : " |\n";
     };
     row("**frame (median ms)**", [&](const Column& c) {
         std::snprintf(buf, sizeof buf, "**%.3f**", 1e3 * median(c.frame));
