@@ -1,5 +1,6 @@
 #include "pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include <glm/geometric.hpp>
@@ -132,8 +133,16 @@ View render_view(const Model& model, Camera camera, const ViewOptions& options) 
     return std::move(session.render(camera));
 }
 
+namespace {
+FinderOptions finder_with_threads(const ViewOptions& options) {
+    FinderOptions fo = options.finder;
+    fo.threads = std::max({1, fo.threads, options.threads});
+    return fo;
+}
+}  // namespace
+
 ViewSession::ViewSession(const Model& model, const ViewOptions& options)
-    : model_(&model), options_(options), finder_(model.topology(), options.finder) {}
+    : model_(&model), options_(options), finder_(model.topology(), finder_with_threads(options)) {}
 
 const Features& ViewSession::find(Camera camera) {
     if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));

@@ -97,8 +97,9 @@ struct ViewOptions {
     bool exact_hidden = true;
     // The fast method walks the surface (section 4.4) before it makes a ray test.
     bool walk = true;
-    // Threads for the visibility stage's crossing search and pieces (large views only; the same
-    // pieces as with one).
+    // The frame's threads: the exhaustive finder's facing pass and edge scan (a session gives its
+    // finder the larger of this and finder.threads) and the visibility's split stages (large views
+    // only). The drawing is the same whatever the count.
     int threads = 1;
     // Lines across faces from the mesh's curvature (suggestive contours, smooth contours, ridges,
     // valleys); none by default: the curvature is then never computed.
@@ -137,8 +138,11 @@ public:
     View& visibility(Camera camera);
     double seconds_features() const { return features_seconds_; }
     SilhouetteFinder& finder() { return finder_; }
-    // The visibility's threads for the next views (ViewOptions::threads; the same drawing).
-    void set_threads(int threads) { options_.threads = threads < 1 ? 1 : threads; }
+    // The threads of the next views (ViewOptions::threads: finder and visibility; the same drawing).
+    void set_threads(int threads) {
+        options_.threads = threads < 1 ? 1 : threads;
+        finder_.set_threads(options_.threads);
+    }
     int threads() const { return options_.threads; }
     // The surface lines drawn from the next view on (their kinds and thresholds: a window's
     // toggles and sliders); the curvature is computed on first need, once per model.

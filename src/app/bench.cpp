@@ -30,7 +30,7 @@ namespace {
 
 struct BenchArgs {
     std::string model, path = "orbit", csv, markdown, plot;
-    int frames = 60, subdivide = 0, threads = 1;
+    int frames = 60, subdivide = 0, threads = hardware_threads();
     std::optional<int> width = 1024, height = 1024;
     bool first_full = false;  // coherence rows: the first view by the exhaustive scan
     double arc = 360.0;  // orbit: degrees covered by the frames
@@ -74,7 +74,7 @@ FlagTable bench_flags(BenchArgs& a) {
               }})
         .add(seed_flag(a.seed))
         .add(first_view_flag(a.first_full))
-        .add(threads_flag(a.threads, "threads of the exhaustive finder", "1"));
+        .add(threads_flag(a.threads, "the machine's hardware threads"));
     t.group("Visibility").add(visibility_flag(a.visibility));
     t.group("Output (the table always goes to stdout)")
         .add(text_flag("--csv", "FILE", a.csv, "the rows as CSV"))
@@ -207,6 +207,7 @@ int run_bench(int argc, char** argv) {
     ViewOptions base;
     base.visibility = a.visibility;
     base.exact_hidden = false;
+    base.threads = a.threads;  // (the finders' facing pass and scan and every setting's visibility)
 
     // The settings, known before the first view so that the progress line counts every view.
     std::vector<FinderOptions> settings;
@@ -215,6 +216,7 @@ int run_bench(int argc, char** argv) {
     for (bool coherence : {false, true})
         for (double f : a.fractions) {
             FinderOptions o;
+            o.threads = a.threads;
             o.kind = FinderKind::Randomized;
             o.fraction = f;
             o.coherence = coherence;
@@ -288,7 +290,7 @@ int run_bench(int argc, char** argv) {
         "silhouette_edges_per_second,recall_length,wrong_visible_length_px\n";
     std::string path_note = a.path;
     if (a.path == "orbit") path_note += " " + fmt("%g", a.arc / a.frames) + " deg/frame";
-    if (a.threads > 1) path_note += ", exhaustive on " + std::to_string(a.threads) + " threads";
+    path_note += ", " + std::to_string(a.threads) + (a.threads > 1 ? " threads" : " thread");
     if (a.first_full) path_note += ", coherence from an exhaustive first view";
     std::string md = "### " + name + " (" + std::to_string(nf) + " triangles, " + path_note + ", " +
                      std::to_string(a.frames) + " frames)\n\n"

@@ -71,7 +71,10 @@ struct RenderArgs {
     bool frames_given = false, orbit = false, verbose = false;
     double arc = 360.0;  // a turntable: frame N would be frame 0 again
     FrameRange range;
-    int jobs = int(std::max(1u, std::thread::hardware_concurrency()));
+    int jobs = hardware_threads();
+    // --threads: each drawing's threads (0 until resolved by split_cores).
+    int threads = 0;
+    bool jobs_given = false, threads_given = false;
     ToneKinds tone;     // tone-dark, tone-highlight (src/tone/)
     tone::ToneOptions tone_options;
     bool toon_base = false;           // --base=toon
@@ -113,10 +116,12 @@ FlagTable render_flags(RenderArgs& a) {
     t.group("Visibility")
         .add(visibility_flag(a.visibility))
         .add(switch_flag("--no-walk", a.walk, false, "appel: a ray test where a walk on the surface would do"));
+    t.group("Threads (docs/threads.md)")
+        .add(threads_flag(a.threads, "the machine's hardware threads divided among the drawings made at once",
+                          &a.threads_given));
     t.group("Lighting").add(light_flag(a.lights));
     t.group("Tone lines (--lines=...,tone-dark,tone-highlight) and base coat: docs/tone.md")
-        .add(tone_flags(a.tone_options, a.toon_base))
-        .add(threads_flag(a.tone_options.threads, "threads of the tone pass", "1"));
+        .add(tone_flags(a.tone_options, a.toon_base));
     t.group("Style").add(style_flag(a.style));
     t.group("Surfaces (.bpt, .json): silhouettes and borders of the tessellation, and Elber's line art")
         .add(freeform_flags(a.freeform));
@@ -125,7 +130,7 @@ FlagTable render_flags(RenderArgs& a) {
         .add(orbit_flag(a.orbit, "turn the camera about its up axis around the target, as the window's --orbit"))
         .add(arc_flag(a.arc, "with --orbit: degrees turned over the frames (frame k at k*DEG/N)"))
         .add(frame_range_flag(a.range))
-        .add(jobs_flag(a.jobs))
+        .add(jobs_flag(a.jobs, &a.jobs_given))
         .add(switch_flag("--verbose", a.verbose, true, "print each frame's report and exact camera flags"));
     return t;
 }
@@ -457,6 +462,17 @@ void print_summary(const RenderArgs& a, const RenderPlan& plan, double seconds, 
     }
 }
 
+// The machine's cores between drawings (--jobs) and each drawing's threads (--threads), when not
+// both given: jobs x threads about the hardware threads. A sequence's frames are independent, so
+// by default they go on every core one frame each (no frame waits for a split stage); one drawing
+// takes every core; a short sequence gives each of its frames the cores left over.
+void split_cores(RenderArgs& a, long drawings) {
+    const int cores = hardware_threads();
+    if (!a.jobs_given) a.jobs = a.threads_given ? std::max(1, cores / a.threads) : cores;
+    const int at_once = int(std::clamp<long>(drawings, 1, a.jobs));
+    if (!a.threads_given) a.threads = std::max(1, cores / at_once);
+}
+
 }  // namespace
 
 int run_render(int argc, char** argv) {
@@ -464,6 +480,8 @@ int run_render(int argc, char** argv) {
     RenderArgs a;
     if (!render_flags(a).parse(argc, argv, 2, a.models)) return 0;  // --help
     const RenderPlan plan = plan_render(a);
+    split_cores(a, plan.last - plan.first + 1);
+    a.tone_options.threads = a.threads;
     const Format format = [&] {  // refuse a bad format before any work (a usage error)
         try {
             return output_format(plan.outputs[0], a.format);
@@ -504,6 +522,7 @@ int run_render(int argc, char** argv) {
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
     if (style && style->draw_hidden) opt.exact_hidden = true;
     opt.finder = a.finder;
+    opt.threads = a.threads;
     setup.output.hidden = a.hidden;
     setup.output.keep_specks = a.keep_specks;
     if (plan.models) {

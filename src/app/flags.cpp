@@ -1,9 +1,11 @@
 #include "app/flags.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -601,9 +603,18 @@ Flag strict_flag(bool& strict) {
                        "instead of repairing it; vertices at one position are then not welded");
 }
 
-Flag threads_flag(int& threads, const std::string& what, const std::string& unset) {
-    return {"--threads", "N", what + ", 1 to 64 (default " + unset + ")",
-            [&threads](const std::string& v) { threads = parse_integer("--threads", v, 1, 64); }};
+int hardware_threads() {
+    return std::clamp(int(std::thread::hardware_concurrency()), 1, kMaxThreads);
+}
+
+Flag threads_flag(int& threads, const std::string& unset, bool* given) {
+    return {"--threads", "N",
+            "threads for each frame (silhouette search, visibility, tone lines), 1 to " + std::to_string(kMaxThreads) +
+                " (default " + unset + "; the drawing is the same whatever N)",
+            [&threads, given](const std::string& v) {
+                threads = parse_integer("--threads", v, 1, kMaxThreads);
+                if (given) *given = true;
+            }};
 }
 
 Flag frames_flag(int& frames, const std::string& what, bool* given) {
@@ -615,10 +626,13 @@ Flag frames_flag(int& frames, const std::string& what, bool* given) {
 
 Flag orbit_flag(bool& orbit, const std::string& help) { return switch_flag("--orbit", orbit, true, help); }
 
-Flag jobs_flag(int& jobs) {
-    return {"--jobs", "N", "frames rendered at once, 1 to 1024 (default: the machine's hardware threads; "
-                           "the frames are the same whatever N)",
-            [&jobs](const std::string& v) { jobs = parse_integer("--jobs", v, 1, 1024); }};
+Flag jobs_flag(int& jobs, bool* given) {
+    return {"--jobs", "N", "frames rendered at once, 1 to 1024 (default: the machine's hardware threads, divided by "
+                           "--threads when given; the frames are the same whatever N)",
+            [&jobs, given](const std::string& v) {
+                jobs = parse_integer("--jobs", v, 1, 1024);
+                if (given) *given = true;
+            }};
 }
 
 Flag frame_range_flag(FrameRange& range) {

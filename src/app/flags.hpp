@@ -145,11 +145,17 @@ Flag first_view_flag(bool& first_full);
 Flag visibility_flag(VisibilityMethod& method);
 Flag subdivide_flag(int& levels);
 Flag strict_flag(bool& strict);
-Flag threads_flag(int& threads, const std::string& what, const std::string& unset);
+// --threads=N, the threads of each frame (ViewOptions::threads: the finder's facing pass and scan,
+// the visibility; render's tone pass), 1 to kMaxThreads (more is a usage error, not a slow run);
+// `unset` says the command's default in the help; *given set when the flag was given.
+inline constexpr int kMaxThreads = 256;
+// The machine's hardware threads, 1 to kMaxThreads (the commands' default).
+int hardware_threads();
+Flag threads_flag(int& threads, const std::string& unset, bool* given = nullptr);
 Flag frames_flag(int& frames, const std::string& what, bool* given = nullptr);
 Flag arc_flag(double& degrees, const std::string& what);  // help shows its default
 Flag orbit_flag(bool& orbit, const std::string& help);
-Flag jobs_flag(int& jobs);
+Flag jobs_flag(int& jobs, bool* given = nullptr);
 struct FrameRange;  // app/batch.hpp
 Flag frame_range_flag(FrameRange& range);
 Flag style_flag(std::string& style);

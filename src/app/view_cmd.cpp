@@ -1,7 +1,6 @@
 // `inkline view MODEL ...`: parses the flags (camera, lines, finder and visibility defined once
 // for every command in app/flags.hpp) and opens the preview window (src/view/).
 #include <string>
-#include <thread>
 
 #include "app/cli.hpp"
 #include "app/flags.hpp"
@@ -26,11 +25,11 @@ int run_view(int argc, char** argv) {
     o.view.finder.first_full = true;
     // Frame coherence on by default: that first view, then the silhouette followed from view to
     // view (exact, so the window still draws what `render` writes, and cheaper than a scan while
-    // the camera moves a few degrees a frame). The visibility of a large view on two threads where
-    // there are two cores (the same drawing).
+    // the camera moves a few degrees a frame). Every hardware thread for the views (the same
+    // drawing; the scheduler divides them between two views in flight).
     o.view.finder.kind = FinderKind::Randomized;
     o.view.finder.coherence = true;
-    o.view.threads = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+    o.view.threads = hardware_threads();
     camera.height = 768;  // a window of 1024x768 unless --size says otherwise
     FlagTable flags("view", "view MODEL [FLAGS]",
                     "A window that draws MODEL's lines live while you turn the camera (drag: orbit, right drag: "
@@ -57,7 +56,7 @@ int run_view(int argc, char** argv) {
     flags.group("Visibility")
         .add(visibility_flag(o.view.visibility))
         .add(switch_flag("--no-walk", o.view.walk, false, "appel: a ray test where a walk on the surface would do"))
-        .add(threads_flag(o.view.threads, "threads for the views", "2 where there are two cores"))
+        .add(threads_flag(o.view.threads, "the machine's hardware threads"))
         .add({"--in-flight", "1|2",
               "views computed at once (default: two while the camera moves less than about a degree a view, "
               "else one on every thread)",

@@ -6,11 +6,14 @@
 #pragma once
 
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <future>
 #include <mutex>
 #include <thread>
+#include <memory>
 #include <utility>
+#include <vector>
 
 namespace inkline {
 
@@ -73,6 +76,48 @@ private:
     std::packaged_task<void()> task_;  // the job posted, not yet started
     bool stop_ = false;
     std::thread thread_;  // (last: started once the members above exist)
+};
+
+// A frame's threads for stages split in k parts: k - 1 long-lived WorkerThreads (made on first
+// need, kept) and the calling thread. Part i's result is the caller's to merge in part order, so
+// the outcome does not depend on which thread ran which part, nor on the thread count.
+class WorkerTeam {
+public:
+    // Runs part(i) for i in [0, parts): part 0 on the calling thread, part i on worker i - 1.
+    // Returns once every part is done; the first part's exception (in part order) is rethrown.
+    template <class Part>
+    void run(int parts, Part&& part) {
+        if (parts <= 1) {
+            if (parts == 1) part(0);
+            return;
+        }
+        while (int(workers_.size()) < parts - 1) workers_.push_back(std::make_unique<WorkerThread>());
+        std::vector<std::future<void>> done;
+        done.reserve(std::size_t(parts - 1));
+        for (int i = 1; i < parts; ++i) done.push_back(workers_[std::size_t(i - 1)]->post([&part, i] { part(i); }));
+        std::exception_ptr first;
+        try {
+            part(0);
+        } catch (...) {
+            first = std::current_exception();
+        }
+        for (auto& d : done) {
+            try {
+                d.get();
+            } catch (...) {
+                if (!first) first = std::current_exception();
+            }
+        }
+        if (first) std::rethrow_exception(first);
+    }
+    // The first worker (made on first need): a stage split in two runs its second half there.
+    WorkerThread& first_worker() {
+        if (workers_.empty()) workers_.push_back(std::make_unique<WorkerThread>());
+        return *workers_.front();
+    }
+
+private:
+    std::vector<std::unique_ptr<WorkerThread>> workers_;
 };
 
 }  // namespace inkline

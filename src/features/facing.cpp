@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -472,7 +471,8 @@ void FaceFacing::start_full(const MeshTopology& mesh, const Camera& camera) {
     planes_read_ = nf;
 }
 
-void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks) {
+void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int threads, const FaceBlocks* blocks,
+                            WorkerTeam* team) {
     start_full(mesh, camera);
     const std::size_t nf = mesh.face_count();
     if (blocks && !blocks->built_for(mesh)) blocks = nullptr;
@@ -482,14 +482,14 @@ void FaceFacing::begin_full(const MeshTopology& mesh, const Camera& camera, int 
         planes_read_ = decide(0, nf, blocks);
         return;
     }
-    std::vector<std::thread> pool;
     std::vector<std::size_t> part_read(parts, 0);
     const std::size_t step = (nf / parts + 63) & ~std::size_t(63);  // cache-line (and block) aligned parts
-    for (std::size_t i = 1; i < parts; ++i)
-        if (i * step < nf)
-            pool.emplace_back([&, i] { part_read[i] = decide(i * step, std::min(nf, (i + 1) * step), blocks); });
-    part_read[0] = decide(0, std::min(nf, step), blocks);
-    for (auto& t : pool) t.join();
+    const int used = int(std::min(parts, (nf + step - 1) / step));
+    WorkerTeam own;  // (threads for this call only, when no team is kept)
+    (team ? *team : own).run(used, [&](int i) {
+        const std::size_t k = std::size_t(i);
+        part_read[k] = decide(k * step, std::min(nf, (k + 1) * step), blocks);
+    });
     planes_read_ = 0;
     for (std::size_t r : part_read) planes_read_ += r;
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/camera.hpp"
+#include "core/worker_thread.hpp"
 #include "model/topology.hpp"
 
 namespace inkline {
@@ -228,7 +229,9 @@ public:
     // when they are first read); the filter pass split over `threads` threads.
     // With blocks (built for this mesh), a block the filter decides as a whole is set without
     // reading its planes (the same states); block_states() then gives each block's state.
-    void begin_full(const MeshTopology& mesh, const Camera& camera, int threads = 1, const FaceBlocks* blocks = nullptr);
+    // `team`: kept threads for the parts (else threads made for this call).
+    void begin_full(const MeshTopology& mesh, const Camera& camera, int threads = 1, const FaceBlocks* blocks = nullptr,
+                    WorkerTeam* team = nullptr);
     const std::vector<std::uint8_t>& block_states() const { return block_state_; }
     // begin_full(mesh, camera, 1, &blocks) with `blocks` built for the mesh in the same pass (a
     // chunk of blocks' ranges, then its states, while its planes are in the cache: the planes are

@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <thread>
 
 #include "core/predicates.hpp"
 #include "features/facing_kernels.hpp"
@@ -362,7 +361,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     if (opt_.kind == FinderKind::Exhaustive) {
         // One view alone (extract_features) does not build the blocks; a finder that lives
         // across views does, on its second.
-        out.face_front.begin_full(mesh, camera, opt_.threads, ++full_views_ > 1 ? blocks() : nullptr);
+        out.face_front.begin_full(mesh, camera, opt_.threads, ++full_views_ > 1 ? blocks() : nullptr, &team_);
         planes_read_ += out.face_front.planes_read();
         scan_exhaustive(out);
     } else if (opt_.coherence && opt_.first_full && previous_.empty()) {
@@ -372,7 +371,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
         if (opt_.blocks && opt_.threads <= 1 && !blocks_.built_for(mesh))
             out.face_front.begin_full_building(mesh, camera, blocks_);
         else
-            out.face_front.begin_full(mesh, camera, opt_.threads, blocks());
+            out.face_front.begin_full(mesh, camera, opt_.threads, blocks(), &team_);
         planes_read_ += out.face_front.planes_read();
         scan_exhaustive(out, false);
         out.stats.finder = FinderKind::Randomized;
@@ -472,11 +471,10 @@ void SilhouetteFinder::scan_exhaustive(Features& out, bool block_edges) {
         }
     };
     const std::uint32_t step = (units + parts - 1) / parts;
-    std::vector<std::thread> pool;
-    for (std::uint32_t i = 1; i < parts; ++i)
-        pool.emplace_back(collect, std::min(units, i * step), std::min(units, (i + 1) * step), i);
-    collect(0, std::min(units, step), 0);
-    for (auto& t : pool) t.join();
+    team_.run(int(parts), [&](int i) {
+        const std::uint32_t k = std::uint32_t(i);
+        collect(std::min(units, k * step), std::min(units, (k + 1) * step), k);
+    });
     for (std::uint32_t i = 0; i < parts; ++i)
         for (std::uint32_t e : lists[i]) {
             if (be) {  // unflagged: decided faces that differ

@@ -227,6 +227,7 @@ public:
     const FinderOptions& options() const { return opt_; }
     void reset();  // forget the previous view
     void set_fraction(double f) { opt_.fraction = f; }  // e.g. a viewer's slider, keeping coherence
+    void set_threads(int threads) { opt_.threads = threads < 1 ? 1 : threads; }  // (the same result)
 
 private:
     // block_edges: the scan may skip the edges of blocks of one state (FaceBlocks edge ranges,
@@ -252,6 +253,9 @@ private:
     const FaceBlocks* blocks();  // built on first use (if opt_.blocks), else null
 
     const MeshTopology* mesh_;
+    // The exhaustive facing pass's and edge scan's threads beyond the caller's (opt_.threads),
+    // kept from view to view: a thread made per view costs more than a part of a small view.
+    WorkerTeam team_;
     FinderOptions opt_;
     FaceBlocks blocks_;
     BlockEdges block_edges_;  // built on the second exhaustive view (if opt_.edge_windows)

@@ -667,7 +667,7 @@ AppelPropagation::AppelPropagation(const MeshTopology& mesh_, const Camera& came
                                    const std::function<const RayCaster&()>& ray_index_, PieceGraph& graph_,
                                    const AppelOptions& options_)
     : mesh(mesh_), camera(camera_), face_front(face_front_), ray_index(ray_index_), graph(graph_), options(options_),
-      np(std::uint32_t(graph_.curves.pieces.size())), two_threads(options_.threads > 1) {}
+      np(std::uint32_t(graph_.curves.pieces.size())), threads(std::clamp(options_.threads, 1, 1024)) {}
 
 int AppelPropagation::ray_qi(std::uint32_t p) {
     if (!rays) rays = &ray_index();
@@ -766,11 +766,15 @@ void AppelPropagation::crossing_deltas() {
     occluding.clear();
     auto& lcs = graph.link_crossings;
     const std::size_t n = lcs.size();
-    // (On two threads from 2000 crossings: bench/results/visibility.md, eighteenth session.)
-    if (two_threads && n >= 2000) {
-        face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-        graph.helper().fork_join([&] { crossing_deltas_of(mesh, camera, face_front, lcs, n / 2, n); },
-                                 [&] { crossing_deltas_of(mesh, camera, face_front, lcs, 0, n / 2); });
+    // (Split from 2000 crossings, at least 1000 a part: bench/results/visibility.md, eighteenth
+    // session; each crossing's change is its own, so the parts are any ranges.)
+    if (threads > 1 && n >= 2000) {
+        const int parts = int(std::min<std::size_t>(std::size_t(threads), n / 1000));
+        face_front.set_shared(true);  // (a lazy view's facing is read by every thread)
+        graph.team().run(parts, [&](int i) {
+            crossing_deltas_of(mesh, camera, face_front, lcs, n * std::size_t(i) / std::size_t(parts),
+                               n * std::size_t(i + 1) / std::size_t(parts));
+        });
         face_front.set_shared(false);
     } else {
         crossing_deltas_of(mesh, camera, face_front, lcs, 0, n);
@@ -817,12 +821,21 @@ void local_occlusion_of_ends(const AppelPropagation& a, std::vector<int>& occlus
 
 void AppelPropagation::unite_at_vertices() {
     std::vector<int> end_occlusion(end_order.size());
-    if (two_threads && end_order.size() >= 2000) {
-        std::size_t mid = end_order.size() / 2;  // at a vertex's first end
-        while (mid < end_order.size() && mid > 0 && (end_order[mid] >> 32) == (end_order[mid - 1] >> 32)) ++mid;
-        face_front.set_shared(true);  // (a lazy view's facing is read by both threads)
-        graph.helper().fork_join([&] { local_occlusion_of_ends(*this, end_occlusion, mid, end_order.size()); },
-                                 [&] { local_occlusion_of_ends(*this, end_occlusion, 0, mid); });
+    const std::size_t ne = end_order.size();
+    if (threads > 1 && ne >= 2000) {
+        // Parts of about 1000 ends at least, each starting at a vertex's first end.
+        const int parts = int(std::min<std::size_t>(std::size_t(threads), ne / 1000));
+        std::vector<std::size_t> cut(std::size_t(parts) + 1, ne);
+        cut[0] = 0;
+        for (int i = 1; i < parts; ++i) {
+            std::size_t c = std::max(cut[std::size_t(i - 1)], ne * std::size_t(i) / std::size_t(parts));
+            while (c < ne && c > 0 && (end_order[c] >> 32) == (end_order[c - 1] >> 32)) ++c;
+            cut[std::size_t(i)] = c;
+        }
+        face_front.set_shared(true);  // (a lazy view's facing is read by every thread)
+        graph.team().run(parts, [&](int i) {
+            local_occlusion_of_ends(*this, end_occlusion, cut[std::size_t(i)], cut[std::size_t(i) + 1]);
+        });
         face_front.set_shared(false);
     } else {
         local_occlusion_of_ends(*this, end_occlusion, 0, end_order.size());
@@ -892,18 +905,44 @@ void AppelPropagation::apply_bounding_box_rule() {
             extreme_edges.set(mesh.vertex_edges[k]);
     for (const Occluding& c : occluding) occluder_edges.set(c.edge);
     const auto& spans = graph.curves.spans;
-    for (std::uint32_t p = 0; p < np; ++p) {
-        if (p + 4 < np) __builtin_prefetch(spans[p + 4].data());  // (each piece's spans: their own block)
-        for (const EdgeSpan& s : spans[p]) {
-            if (occluder_edges.test(s.edge)) {
-                by_edge.push_back(std::uint64_t(s.edge) << 32 | on_edge.size());
-                on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+    // The pass over pieces [p0, p1): their stretches on occluder edges, and the pieces to fix.
+    struct Found {
+        std::vector<EdgePiece> on_edge;
+        std::vector<std::uint32_t> edges, fixes;
+    };
+    auto pass = [&](std::uint32_t p0, std::uint32_t p1, Found& f) {
+        for (std::uint32_t p = p0; p < p1; ++p) {
+            if (p + 4 < p1) __builtin_prefetch(spans[p + 4].data());  // (each piece's spans: their own block)
+            for (const EdgeSpan& s : spans[p]) {
+                if (occluder_edges.test(s.edge)) {
+                    f.edges.push_back(s.edge);
+                    f.on_edge.push_back({p, std::min(s.s0, s.s1), std::max(s.s0, s.s1)});
+                }
+                if (!extreme_edges.test(s.edge)) continue;
+                const auto& ev = mesh.edge_vertex[s.edge];
+                for (std::uint32_t v : inner_extremes)
+                    if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0))
+                        f.fixes.push_back(p);
             }
-            if (!extreme_edges.test(s.edge)) continue;
-            const auto& ev = mesh.edge_vertex[s.edge];
-            for (std::uint32_t v : inner_extremes)
-                if ((ev[0] == v && std::min(s.s0, s.s1) <= 0.0) || (ev[1] == v && std::max(s.s0, s.s1) >= 1.0)) fix(p, 0);
         }
+    };
+    // (A large view's pieces split among the threads, 2000 a part at least; the parts' findings
+    // then taken in piece order, as one pass would make them.)
+    const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
+    std::vector<Found> found(static_cast<std::size_t>(parts));
+    if (parts > 1)
+        graph.team().run(parts, [&](int i) {
+            pass(std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)),
+                 std::uint32_t(std::uint64_t(np) * std::uint64_t(i + 1) / std::uint64_t(parts)), found[std::size_t(i)]);
+        });
+    else
+        pass(0, np, found[0]);
+    for (const Found& f : found) {
+        for (std::size_t k = 0; k < f.on_edge.size(); ++k) {
+            by_edge.push_back(std::uint64_t(f.edges[k]) << 32 | on_edge.size());
+            on_edge.push_back(f.on_edge[k]);
+        }
+        for (std::uint32_t p : f.fixes) fix(p, 0);
     }
 }
 
@@ -917,16 +956,37 @@ void AppelPropagation::apply_parity() {
     if (!parity) return;
     const auto& pieces = graph.curves.pieces;
     const auto& spans = graph.curves.spans;
+    // Per silhouette piece, the parity of base it wants (-1: not a silhouette); a large view's
+    // pieces split among the threads (2000 a part at least), then read in piece order.
+    std::vector<std::int8_t>& piece_want = parity_of_piece;
+    piece_want.resize(np);
+    auto wants = [&](std::uint32_t p0, std::uint32_t p1) {
+        for (std::uint32_t p = p0; p < p1; ++p) {
+            // (each piece's spans are their own block, and its edge's flags are scattered: both
+            // prefetched, in two levels; no effect on results)
+            if (p + 8 < p1) __builtin_prefetch(spans[p + 8].data());
+            if (p + 4 < p1) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
+            if (pieces[p].kind != LineKind::Silhouette) {
+                piece_want[p] = -1;
+                continue;
+            }
+            const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
+            piece_want[p] = std::int8_t(((par - off[p]) % 2 + 2) % 2);
+        }
+    };
+    const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
+    if (parts > 1)
+        graph.team().run(parts, [&](int i) {
+            wants(std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)),
+                  std::uint32_t(std::uint64_t(np) * std::uint64_t(i + 1) / std::uint64_t(parts)));
+        });
+    else
+        wants(0, np);
     std::vector<std::int8_t> want(nc, -1);  // parity of base wanted, -1 unknown
     for (std::uint32_t p = 0; p < np; ++p) {
-        // (each piece's spans are their own block, and its edge's flags are scattered: both
-        // prefetched, in two levels; no effect on results)
-        if (p + 8 < np) __builtin_prefetch(spans[p + 8].data());
-        if (p + 4 < np) __builtin_prefetch(&mesh.edge_flags[spans[p + 4].front().edge]);
-        if (pieces[p].kind != LineKind::Silhouette) continue;
+        const std::int8_t w = piece_want[p];
+        if (w < 0) continue;
         const std::uint32_t c = comp[p];
-        const int par = (mesh.is_convex(spans[p].front().edge) ? 0 : 1);
-        const std::int8_t w = std::int8_t(((par - off[p]) % 2 + 2) % 2);
         if (want[c] < 0) want[c] = w;
         else if (want[c] != w) state[c] = kInconsistent;
     }
@@ -1076,15 +1136,18 @@ void AppelPropagation::walk() {
     };
     const auto t_walks = StageClock::now();
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
-    if (two_threads && walkers.size() >= 8) {
-        VertexImages& own = graph.walk_images;  // (the second thread's vertex images)
-        own.reset(mesh, camera);
+    if (threads > 1 && walkers.size() >= 8) {
+        // (at least 4 walks a thread; each walk's result is its own, whichever thread takes it)
+        const int parts = int(std::min<std::size_t>(std::size_t(threads), walkers.size() / 4));
+        auto& own = graph.walk_images;  // (the other threads' vertex images)
+        if (own.size() < std::size_t(parts - 1)) own.resize(std::size_t(parts - 1));
+        for (int i = 0; i + 1 < parts; ++i) own[std::size_t(i)].reset(mesh, camera);
         std::atomic<std::size_t> next{0};
-        auto take = [&](const VertexImages& proj) {
-            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_one(w, proj);
-        };
         face_front.set_shared(true);
-        graph.helper().fork_join([&] { take(own); }, [&] { take(graph.images); });
+        graph.team().run(parts, [&](int i) {
+            const VertexImages& proj = i == 0 ? graph.images : own[std::size_t(i - 1)];
+            for (std::size_t w; (w = next.fetch_add(1, std::memory_order_relaxed)) < walkers.size();) walk_one(w, proj);
+        });
         face_front.set_shared(false);
     } else {
         for (std::size_t w = 0; w < walkers.size(); ++w) walk_one(w, graph.images);

@@ -26,8 +26,8 @@ struct AppelOptions {
     const std::vector<std::uint8_t>* pierced_faces = nullptr;
     // Walk the surface (section 4.4) before falling back to a ray test.
     bool walk = true;
-    // With 2 or more: the local occlusion at curve ends and the walks of a large view on two
-    // threads (the same results).
+    // With 2 or more: the crossings' QI changes, the local occlusion at curve ends and the walks
+    // of a large view split among up to this many threads (the same results).
     int threads = 1;
 };
 
@@ -40,8 +40,8 @@ struct AppelStats {
     std::size_t walks = 0;
     std::size_t inconsistent = 0;       // clusters whose propagated offsets contradict (non-generic views)
     std::size_t pierced = 0;            // pieces on self-intersecting faces
-    // Wall time of the walks (with the occluders' grid they search, built for them; on two
-    // threads when there are several: both at once) and of the ray tests (the ray-test index's
+    // Wall time of the walks (with the occluders' grid they search, built for them; on several
+    // threads when there are several: all at once) and of the ray tests (the ray-test index's
     // construction, once per model, not included); the rest of assign_qi_appel's time is
     // propagation.
     double seconds_walks = 0.0;

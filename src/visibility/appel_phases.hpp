@@ -157,7 +157,7 @@ struct AppelPropagation {
     void survey_bounded();
     // Walking (section 4.4) for clusters that may be visible: a point of QI 0 proved visible
     // fixes the cluster; proved hidden raises its bound. The walks are independent: made first
-    // (on two threads from 8 walks on, each thread taking the next walk not yet taken: walks
+    // (on up to `threads` threads from 8 walks on, each thread taking the next walk not yet taken: walks
     // differ in cost by orders of magnitude, so halves of the list would leave one thread
     // waiting; bench/results/visibility.md, eighteenth session), then applied in cluster order.
     void walk();
@@ -188,7 +188,7 @@ struct AppelPropagation {
     AppelStats st;
     std::uint32_t np = 0, nn = 0;  // pieces; nodes
     std::size_t nc = 0;            // clusters
-    bool two_threads = false;
+    int threads = 1;  // AppelOptions::threads: the split phases' parts at most
     bool parity = false;  // apply_parity's rule holds (steps of 2 in every raise)
 
     std::vector<std::uint64_t> end_order;  // graph.ends sorted by vertex: vertex << 32 | end
@@ -198,6 +198,7 @@ struct AppelPropagation {
     std::vector<std::uint8_t> bad;      // per node: a contradiction recorded there
     std::vector<std::uint8_t> pierced;  // per piece: on a self-intersecting face, or ends edge-on
     std::vector<int> link_delta;        // per link: its change of QI
+    std::vector<std::int8_t> parity_of_piece;  // apply_parity: per piece, the parity of base it wants
     std::vector<Occluding> occluding;   // in crossing order
     std::vector<std::uint32_t> comp;    // per node: its cluster
     std::vector<int> off;               // per node: value - cluster base

@@ -706,13 +706,53 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 
 namespace {
 
+// Clipped occluders of one range of the occluding edges, appended to four arrays.
+struct OccluderRecords {
+    std::vector<Segment2> occluders;
+    std::vector<ClipSeg> clip;
+    std::vector<Box2f> boxes;
+    std::vector<std::uint8_t> unclipped;
+    void clear() { occluders.clear(), clip.clear(), boxes.clear(), unclipped.clear(); }
+};
+
+// Occluding edges [j0, j1) of edge_at (silhouettes, then borders) into the four arrays, each
+// clipped in place (reads `images`, and fills it where not made yet).
+template <class EdgeAt>
+void clip_occluder_range(const MeshTopology& mesh, const Camera& camera, double occluder_near, const VertexImages& images,
+                         EdgeAt&& edge_at, std::size_t j0, std::size_t j1, std::vector<Segment2>& occluders,
+                         std::vector<ClipSeg>& occ_clip, std::vector<Box2f>& obox, std::vector<std::uint8_t>& occ_unclipped) {
+    for (std::size_t j = j0; j < j1; ++j) {
+        const std::uint32_t e = edge_at(j);
+        // (The edges are scattered over a large mesh: their vertices 16 edges ahead, then those
+        // vertices' positions and images 8 ahead, prefetched; no effect on results.)
+        if (j + 16 < j1) __builtin_prefetch(&mesh.edge_vertex[edge_at(j + 16)]);
+        if (j + 8 < j1) {
+            const auto& ev = mesh.edge_vertex[edge_at(j + 8)];
+            __builtin_prefetch(&mesh.positions[ev[0]]);
+            __builtin_prefetch(&mesh.positions[ev[1]]);
+            images.prefetch(ev[0]);
+            images.prefetch(ev[1]);
+        }
+        const auto [v0, v1] = mesh.edge_vertex[e];
+        ClipSeg& s = occ_clip.emplace_back();
+        if (!clip_edge(camera, occluder_near, images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
+            occ_clip.pop_back();
+            continue;
+        }
+        occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
+        obox.push_back(outer_box(occluders.back()));
+        occ_unclipped.push_back(s.unclipped);
+    }
+}
+
 // Occluding edges in the image: silhouettes and borders, into g.occluders, with their clipped
 // records, boxes (the crossing search bins them) and whether each is unclipped, in the same pass
 // (each clipped in place). QI counts the layers between a point and the eye (DESIGN.md), so the
 // near plane clips the curves drawn, not the occluders: those are clipped only where they could
-// not be projected, at the default near plane (or the camera's, if nearer).
+// not be projected, at the default near plane (or the camera's, if nearer). A large view's edges
+// are split among up to `threads` threads (ranges of at least 4000 edges), appended in order.
 void clip_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                    Scratch& scratch) {
+                    Scratch& scratch, int threads) {
     const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
     std::vector<Segment2>& occluders = g.occluders;
     std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
@@ -721,34 +761,44 @@ void clip_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& fea
     occ_clip.clear();
     obox.clear();
     occ_unclipped.clear();
-    const std::size_t most = features.silhouette_edges.size() + features.border_edges.size();
+    const auto& sil = features.silhouette_edges;
+    const auto& border = features.border_edges;
+    const std::size_t ns = sil.size(), most = ns + border.size();
+    auto edge_at = [&](std::size_t j) { return j < ns ? sil[j] : border[j - ns]; };
     occluders.reserve(most);
     occ_clip.reserve(most);
     obox.reserve(most);
     occ_unclipped.reserve(most);
-    for (const auto* list : {&features.silhouette_edges, &features.border_edges})
-        for (std::size_t j = 0; j < list->size(); ++j) {
-            const std::uint32_t e = (*list)[j];
-            // (The edges are scattered over a large mesh: their vertices 16 edges ahead, then those
-            // vertices' positions and images 8 ahead, prefetched; no effect on results.)
-            if (j + 16 < list->size()) __builtin_prefetch(&mesh.edge_vertex[(*list)[j + 16]]);
-            if (j + 8 < list->size()) {
-                const auto& ev = mesh.edge_vertex[(*list)[j + 8]];
-                __builtin_prefetch(&mesh.positions[ev[0]]);
-                __builtin_prefetch(&mesh.positions[ev[1]]);
-                g.images.prefetch(ev[0]);
-                g.images.prefetch(ev[1]);
-            }
-            const auto [v0, v1] = mesh.edge_vertex[e];
-            ClipSeg& s = occ_clip.emplace_back();
-            if (!clip_edge(camera, occluder_near, g.images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
-                occ_clip.pop_back();
-                continue;
-            }
-            occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
-            obox.push_back(outer_box(occluders.back()));
-            occ_unclipped.push_back(s.unclipped);
-        }
+    const int parts = threads > 1 && most >= 8000 ? int(std::min<std::size_t>(std::size_t(threads), most / 4000)) : 1;
+    if (parts < 2) {
+        clip_occluder_range(mesh, camera, occluder_near, g.images, edge_at, 0, most, occluders, occ_clip, obox, occ_unclipped);
+        return;
+    }
+    // The images of the edges' vertices first, the vertices split by their 64-vertex words (each
+    // thread writes words of its own); the ranges then only read them.
+    const VertexImages& images = g.images;
+    WorkerTeam& team = g.team();
+    team.run(parts, [&](int i) {
+        for (std::size_t j = 0; j < most; ++j)
+            for (const std::uint32_t v : mesh.edge_vertex[edge_at(j)])
+                if (int((v >> 6) % std::uint32_t(parts)) == i) images.slack(v);
+    });
+    thread_local std::vector<OccluderRecords> records_of_this_thread;  // (named here: the workers' own would differ)
+    std::vector<OccluderRecords>& records = records_of_this_thread;
+    if (records.size() < std::size_t(parts)) records.resize(std::size_t(parts));
+    team.run(parts, [&](int i) {
+        OccluderRecords& r = records[std::size_t(i)];
+        r.clear();
+        clip_occluder_range(mesh, camera, occluder_near, images, edge_at, most * std::size_t(i) / std::size_t(parts),
+                            most * std::size_t(i + 1) / std::size_t(parts), r.occluders, r.clip, r.boxes, r.unclipped);
+    });
+    for (int i = 0; i < parts; ++i) {
+        const OccluderRecords& r = records[std::size_t(i)];
+        occluders.insert(occluders.end(), r.occluders.begin(), r.occluders.end());
+        occ_clip.insert(occ_clip.end(), r.clip.begin(), r.clip.end());
+        obox.insert(obox.end(), r.boxes.begin(), r.boxes.end());
+        occ_unclipped.insert(occ_unclipped.end(), r.unclipped.begin(), r.unclipped.end());
+    }
 }
 
 // The extreme points of the occluders' image (the bounding-box rule of the fast method).
@@ -766,57 +816,79 @@ void find_extreme_vertices(PieceGraph& g) {
         }
 }
 
-// build_range of the curves in two ranges of about equal edge counts, the second on the graph's
-// helper thread; its pieces and links appended after the first's (in `first`).
-void build_two_ranges(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                      const std::vector<EdgeCut>* cuts, const OccluderSet& occ, const std::vector<std::uint64_t>& in_curves,
-                      const BoxPairs& grid, std::size_t total_edges, bool mirror_pairs, Scratch& scratch, Part& first) {
+// build_range of the curves in `parts` ranges of about equal edge counts (two: the calling
+// thread's share fitted to the last views' times, SplitShare), range i on the graph's team thread
+// i; the other ranges' pieces and links appended after the first's (in `first`) in range order,
+// so the pieces do not depend on the split.
+void build_ranges(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                  const std::vector<EdgeCut>* cuts, const OccluderSet& occ, const std::vector<std::uint64_t>& in_curves,
+                  const BoxPairs& grid, std::size_t total_edges, bool mirror_pairs, int parts, Scratch& scratch,
+                  Part& first) {
     const std::uint32_t ncurves = std::uint32_t(features.curves.size());
-    // The split: the calling thread's share of the edges, fitted to the last views' times (the
-    // helper's side is slower per edge: SplitShare, visibility.hpp).
-    const double share = g.curves_split.share;
-    // (Each range holds a curve at least: the first takes one before the share is compared, the
-    // second keeps the last.)
-    std::uint32_t mid = 0;
-    std::size_t first_edges = 0;
-    do first_edges += features.curves[mid++].edges.size();
-    while (mid + 1 < ncurves && double(first_edges) < share * double(total_edges));
-    for (const auto& c : features.curves)  // (every image the ranges read, made before they run)
-        for (std::uint32_t v : c.vertices) g.images.slack(v);
-    // (the second range's arrays belong to this thread, kept from view to view; the worker is
-    // given them by reference: a thread_local named inside it would be the worker's own)
-    thread_local Scratch scratch_second;
-    Scratch& scratch2 = scratch_second;
-    Scratch::Parts& p2 = scratch2.parts;
-    p2.clear();
-    Part second{p2.pieces, p2.spans, p2.links, p2.link_crossings, p2.ends};  // (its slots kept by p2)
-    const auto [t_first, t_second] = fork_join_timed(
-        g,
-        [&] {
-            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, mid, ncurves, mirror_pairs,
-                        scratch2, second);
-        },
-        [&] { build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, mid, mirror_pairs, scratch, first); });
-    g.curves_split.fit(double(first_edges) / double(total_edges), t_first, t_second);
-    // Append the second range, its indices shifted; its pieces swapped into the graph's slots
-    // (each side keeps storage).
+    // The ranges' first curves. Each range holds a curve at least: a range takes one before its
+    // target is compared, and leaves one for each range after it. (The helper's side of two is
+    // slower per edge: SplitShare, visibility.hpp; more ranges get equal shares.)
+    std::vector<std::uint32_t> cut(std::size_t(parts) + 1, ncurves);
+    cut[0] = 0;
+    std::uint32_t c = 0;
+    std::size_t edges = 0;
+    for (int i = 1; i < parts; ++i) {
+        const double target = parts == 2 ? g.curves_split.share * double(total_edges)
+                                         : double(total_edges) * double(i) / double(parts);
+        do edges += features.curves[c++].edges.size();
+        while (c + std::uint32_t(parts - i) < ncurves && double(edges) < target);
+        cut[std::size_t(i)] = c;
+    }
+    const std::size_t first_edges = parts == 2 ? edges : 0;
+    for (const auto& curve : features.curves)  // (every image the ranges read, made before they run)
+        for (std::uint32_t v : curve.vertices) g.images.slack(v);
+    // (the other ranges' arrays belong to this thread, kept from view to view; the workers are
+    // given them by reference: a thread_local named inside one would be the worker's own)
+    thread_local std::vector<std::unique_ptr<Scratch>> scratch_of_this_thread;
+    std::vector<std::unique_ptr<Scratch>>& scratch_others = scratch_of_this_thread;
+    while (scratch_others.size() < std::size_t(parts - 1)) scratch_others.push_back(std::make_unique<Scratch>());
+    std::vector<Part> others;
+    others.reserve(std::size_t(parts - 1));
+    for (int i = 1; i < parts; ++i) {
+        Scratch::Parts& p = scratch_others[std::size_t(i - 1)]->parts;
+        p.clear();
+        others.push_back(Part{p.pieces, p.spans, p.links, p.link_crossings, p.ends});  // (its slots kept by p)
+    }
+    std::vector<double> seconds(std::size_t(parts), 0.0);
+    g.team().run(parts, [&](int i) {
+        const auto t0 = StageClock::now();
+        const std::uint32_t c0 = cut[std::size_t(i)], c1 = cut[std::size_t(i) + 1];
+        if (i == 0)
+            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, c0, c1, mirror_pairs, scratch, first);
+        else
+            build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, c0, c1, mirror_pairs,
+                        *scratch_others[std::size_t(i - 1)], others[std::size_t(i - 1)]);
+        seconds[std::size_t(i)] = seconds_since(t0);
+    });
+    if (parts == 2) g.curves_split.fit(double(first_edges) / double(total_edges), seconds[0], seconds[1]);
+    // Append the other ranges in order, their indices shifted; their pieces swapped into the
+    // graph's slots (each side keeps storage).
     VisibleCurves& out = g.curves;
-    const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
-    for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
-    for (auto& c : p2.link_crossings) {
-        g.link_crossings.push_back(c);
-        g.link_crossings.back().link += nl;
+    for (int i = 1; i < parts; ++i) {
+        Scratch::Parts& p2 = scratch_others[std::size_t(i - 1)]->parts;
+        const Part& second = others[std::size_t(i - 1)];
+        const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
+        for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
+        for (auto& lc : p2.link_crossings) {
+            g.link_crossings.push_back(lc);
+            g.link_crossings.back().link += nl;
+        }
+        for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
+        out.pieces.reserve(first.n + second.n + 1);
+        out.spans.reserve(first.n + second.n + 1);
+        for (std::uint32_t k = 0; k < second.n; ++k) {
+            first.open_slot();
+            std::swap(out.pieces[first.n], p2.pieces[k]);
+            std::swap(out.spans[first.n], p2.spans[k]);
+            ++first.n;
+        }
+        first.crossings += second.crossings;
     }
-    for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
-    out.pieces.reserve(first.n + second.n + 1);
-    out.spans.reserve(first.n + second.n + 1);
-    for (std::uint32_t i = 0; i < second.n; ++i) {
-        first.open_slot();
-        std::swap(out.pieces[first.n], p2.pieces[i]);
-        std::swap(out.spans[first.n], p2.spans[i]);
-        ++first.n;
-    }
-    first.crossings += second.crossings;
 }
 
 }  // namespace
@@ -837,7 +909,7 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // Scratch arrays kept from view to view (no allocation per view once they are large enough).
     thread_local Scratch scratch;
-    clip_occluders(g, mesh, features, camera, scratch);
+    clip_occluders(g, mesh, features, camera, scratch, threads);
     g.image_size = glm::dvec2(camera.width(), camera.height());
     find_extreme_vertices(g);
 
@@ -854,17 +926,20 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     occ_of_edge.build(g.occluders);
     const OccluderSet occ{g.occluders, scratch.occ_clip, scratch.obox, occ_of_edge, scratch.occ_unclipped};
 
-    // The curves, in one range or (large views, threads > 1) two of about equal edge counts, the
-    // second on its own thread; its pieces and links are appended after the first's.
+    // The curves, in one range or (large views, threads > 1) up to `threads` of about equal edge
+    // counts, each on its own thread; their pieces and links are appended in range order.
     const std::uint32_t ncurves = std::uint32_t(features.curves.size());
     std::size_t total_edges = 0;
     for (const auto& c : features.curves) total_edges += c.edges.size();
     out.spans.resize(out.pieces.size());  // (slots are pairs)
     Part first{out.pieces, out.spans, g.links, g.link_crossings, g.ends, &g.spare_pieces_, &g.spare_spans_};
-    if (threads < 2 || total_edges < parallel_edges || ncurves < 2)  // (small: a thread costs more)
+    // (small: a thread costs more; a range of at least parallel_edges / 2 edges)
+    const std::size_t by_edges = total_edges / std::max<std::size_t>(parallel_edges / 2, 1);
+    const int parts = total_edges < parallel_edges ? 1 : int(std::min<std::size_t>({std::size_t(std::max(threads, 1)), ncurves, by_edges}));
+    if (parts < 2)
         build_range(mesh, features, camera, cuts, g.images, occ, in_curves, grid, 0, ncurves, mirror_pairs, scratch, first);
     else
-        build_two_ranges(g, mesh, features, camera, cuts, occ, in_curves, grid, total_edges, mirror_pairs, scratch, first);
+        build_ranges(g, mesh, features, camera, cuts, occ, in_curves, grid, total_edges, mirror_pairs, parts, scratch, first);
     out.crossings = first.crossings;
     g.truncate(first.n);  // (the slots after the pieces: kept as spare storage)
 }

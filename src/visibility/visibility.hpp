@@ -147,9 +147,9 @@ struct PieceGraph {
     bool immersive = false;  // geometry at or behind the near plane
     std::array<std::uint32_t, 4> extreme_vertices{};  // min x, max x, min y, max y (UINT32_MAX: none)
     VertexImages images;  // the mesh vertices in the image (walks project the faces they cross)
-    // A second copy for walks on a second thread (images are made on first use: not shared);
-    // kept from view to view with its storage, as `images` is.
-    VertexImages walk_images;
+    // A copy for each further thread of the walks (images are made on first use: not shared);
+    // kept from view to view with their storage, as `images` is.
+    std::vector<VertexImages> walk_images;
 
     // Keeps pieces [0, k) (and their spans); the storage of the others is kept for the next build.
     void truncate(std::size_t k);
@@ -162,10 +162,10 @@ struct PieceGraph {
     // The thread that runs the second half of a stage split in two (build_pieces' curves, the
     // fast method's curve ends and walks), started on first use and kept with the graph from view
     // to view.
-    WorkerThread& helper() {
-        if (!helper_) helper_ = std::make_unique<WorkerThread>();
-        return *helper_;
-    }
+    WorkerThread& helper() { return team_.first_worker(); }
+    // The threads of stages split in more parts (build_pieces' curve ranges, the crossings' QI
+    // changes, the curve ends' local occlusion); helper() is its first worker.
+    WorkerTeam& team() { return team_; }
 
 private:
     friend void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
@@ -176,32 +176,13 @@ private:
     // Storage of pieces no longer in the graph (their point and span vectors keep their capacity).
     std::vector<Piece> spare_pieces_;
     std::vector<std::vector<EdgeSpan>> spare_spans_;
-    std::unique_ptr<WorkerThread> helper_;
+    WorkerTeam team_;
 };
-
-// graph.helper().fork_join(there, here) with each side's time, seconds: {here's, there's}.
-template <class There, class Here>
-std::pair<double, double> fork_join_timed(PieceGraph& graph, There&& there, Here&& here) {
-    using Clock = std::chrono::steady_clock;
-    double t_here = 0.0, t_there = 0.0;
-    graph.helper().fork_join(
-        [&] {
-            const auto t0 = Clock::now();
-            there();
-            t_there = std::chrono::duration<double>(Clock::now() - t0).count();
-        },
-        [&] {
-            const auto t0 = Clock::now();
-            here();
-            t_here = std::chrono::duration<double>(Clock::now() - t0).count();
-        });
-    return {t_here, t_there};
-}
 
 // Clips, projects and splits the curves at every crossing (no QI yet), and at `cuts` (where
 // curve edges meet other faces: model/self_intersections.hpp), if given. With threads > 1 a large
-// view's curves (at least `parallel_edges` curve edges) are split between two threads (the same
-// pieces, in the same order).
+// view's curves (at least `parallel_edges` curve edges) are split among up to `threads` threads,
+// at least parallel_edges / 2 edges each (the same pieces, in the same order).
 PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, const Camera& camera,
                         const std::vector<EdgeCut>* cuts = nullptr, int threads = 1,
                         std::size_t parallel_edges = 4000);
