@@ -24,13 +24,12 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     head_.assign(n, none);
     last_collapse_.assign(n, none);
     queued_.assign(n, 0);
-    shown_ = in.positions;
+    if (geomorphs_.enabled) shown_ = in.positions;
     prev_collapse_.assign(m, none);
     dead_.assign(m, {none, none});
     changed_in_frame_.assign(m, 0);
     corner_.assign(3 * faces, none);
     next_.assign(3 * faces, none);
-    prev_.assign(3 * faces, none);
     face_active_.assign(faces, 0);
     for (std::size_t f = 0; f < faces; ++f) {
         for (int j = 0; j < 3; ++j) corner_[3 * f + j] = in.triangles[f][j];
@@ -52,18 +51,14 @@ std::uint32_t AdaptiveFront::representative(std::uint32_t u) const {
 
 void AdaptiveFront::link(std::uint32_t c, std::uint32_t v) {
     corner_[c] = v;
-    prev_[c] = none;
     next_[c] = head_[v];
-    if (head_[v] != none) prev_[head_[v]] = c;
     head_[v] = c;
 }
 
 void AdaptiveFront::unlink(std::uint32_t c) {
-    if (prev_[c] != none)
-        next_[prev_[c]] = next_[c];
-    else
-        head_[corner_[c]] = next_[c];
-    if (next_[c] != none) prev_[next_[c]] = prev_[c];
+    std::uint32_t* at = &head_[corner_[c]];
+    while (*at != c) at = &next_[*at];
+    *at = next_[c];
 }
 
 void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
@@ -81,13 +76,16 @@ void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
 void AdaptiveFront::front_add(std::uint32_t v) {
     front_pos_[v] = std::uint32_t(front_.size());
     front_.push_back(v);
+    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), ring_area_[v]));
 }
 
 void AdaptiveFront::front_remove(std::uint32_t v) {
     const std::uint32_t at = front_pos_[v], last = front_.back();
     front_[at] = last;
+    front_data_[at] = front_data_.back();
     front_pos_[last] = at;
     front_.pop_back();
+    front_data_.pop_back();
     front_pos_[v] = none;
 }
 
@@ -104,7 +102,8 @@ void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
         sum += face_area(c / 3);
         ++count;
     }
-    ring_area_[v] = count ? sum / double(count) : 0.0;
+    ring_area_[v] = float(count ? sum / double(count) : 0.0);
+    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = ring_area_[v];
 }
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
@@ -387,7 +386,7 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
     touch_ring(k);
     ++stats_->splits;
     if (geomorphs_.enabled) {
-        shown_[r] = pm_.input().positions[k];
+        shown_[r] = shown_[k];
         ++locked_[r];
         ++locked_[k];
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
@@ -465,13 +464,18 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     stats_ = &s;
     ++frame_;
     if (geomorphs_.enabled) advance_morphs(frame_seconds);
-    for (std::uint32_t v : front_) {
+    const bool constant_target = !criterion.map;
+    for (std::size_t j = 0; j < front_.size(); ++j) {
+        const glm::dvec3 p(front_data_[j]);
+        const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
+        const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
+        if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
+        const std::uint32_t v = front_[j];  // out of the band: can it change? (the rest is cold memory)
         if (locked_[v]) continue;
-        ++s.evaluated;
-        const double a = image_area(v), t = target(v);
         if ((a > criterion.split * t && last_collapse_[v] != none) || (a < criterion.collapse * t && collapse_of_[v] != none))
             enqueue(v);
     }
+    s.evaluated = front_.size();
     drain(max_operations);
     s.morphs_running = morphs_.size();
     s.vertices = front_.size();
@@ -491,7 +495,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
     for (std::uint32_t v = 0; v < in.positions.size(); ++v)
         if (active_[v] && head_[v] != none) {
             index[v] = std::uint32_t(out.positions.size());
-            out.positions.push_back(shown_[v]);
+            out.positions.push_back(shown_.empty() ? in.positions[v] : shown_[v]);
             if (input_vertex) input_vertex->push_back(v);
         }
     out.triangles.reserve(active_face_count_);
@@ -511,8 +515,8 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(collapse_of_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
-           b(queued_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) + b(prev_) +
-           b(face_active_) + b(front_) + b(work_) + b(morphs_) + b(areas_);
+           b(queued_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
 }
 
 }  // namespace inkline

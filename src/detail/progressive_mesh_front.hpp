@@ -36,6 +36,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "detail/progressive_mesh.hpp"
 
@@ -79,6 +80,11 @@ public:
     std::size_t active_vertices() const { return front_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
     bool is_active(std::uint32_t v) const { return active_[v] != 0; }
+    // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
+    // cannot split), it is never removed (the top: it cannot collapse).
+    bool at_bottom(std::uint32_t v) const { return last_collapse_[v] == none; }
+    bool at_top(std::uint32_t v) const { return collapse_of_[v] == none; }
+    std::size_t morphs_running() const { return morphs_.size(); }
     // The criterion's A_img of an active vertex (its logical ring at its input position).
     double image_area_of(std::uint32_t v, const Camera& camera) const;
     // Bytes of the front's arrays (the hierarchy and the input apart).
@@ -99,22 +105,26 @@ private:
     std::vector<std::uint32_t> children_, collapsed_children_;  // collapses onto it: all, made
     std::vector<std::uint8_t> active_;
     std::vector<std::uint16_t> locked_;        // geomorphs holding it
-    std::vector<double> ring_area_;            // average world area of its ring (active vertices)
+    std::vector<float> ring_area_;             // average world area of its ring (active vertices)
     std::vector<std::uint32_t> front_pos_;     // its index in front_
     std::vector<std::uint32_t> head_;          // first corner of its corner list
     std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
     std::vector<std::uint8_t> queued_;
-    std::vector<glm::dvec3> shown_;            // shown position (geomorphs)
+    std::vector<glm::dvec3> shown_;            // shown position (only with geomorphs)
     // Per collapse.
     std::vector<std::uint32_t> prev_collapse_;       // the stack's link
     std::vector<std::array<std::uint32_t, 2>> dead_; // faces it removed
     std::vector<std::uint32_t> changed_in_frame_;    // the frame it was last made or undone in
     std::uint32_t frame_ = 0;
-    // Per face corner (3 f + j) and per face.
-    std::vector<std::uint32_t> corner_, next_, prev_;
+    // Per face corner (3 f + j) and per face. The lists are singly linked: a vertex's list is as
+    // short as its degree, so unlinking by a walk costs less than a back link's 4 bytes a corner.
+    std::vector<std::uint32_t> corner_, next_;
     std::vector<std::uint8_t> face_active_;
     std::size_t active_face_count_ = 0;
     std::vector<std::uint32_t> front_, work_;
+    // Per front entry, beside front_: the vertex's position and ring area, so that a frame's
+    // evaluation streams through memory instead of missing the cache twice a vertex.
+    std::vector<glm::vec4> front_data_;
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
     std::vector<std::uint32_t> ring_r_, ring_k_, changed_;
