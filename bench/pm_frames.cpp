@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
         const AdaptiveFront front(pm);
         front_bytes = front.bytes();
     }
-    std::printf("## %s, PX = %g (T = %g px^2)\n\n", name.c_str(), px, px * px);
+    std::printf("### %s, PX = %g (T = %g px^2)\n\n", name.c_str(), px, px * px);
     std::printf("%zu triangles, %zu vertices. pm: hierarchy of %zu collapses built in %.2f s CPU (%.1f s wall); "
                 "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), input copy %.1f MiB; "
                 "RSS %.0f -> %.0f MiB, peak %.0f MiB\n",
