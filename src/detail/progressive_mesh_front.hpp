@@ -9,18 +9,20 @@
 // Each frame evaluates every active vertex (its ring's world area is cached, so the test is one
 // depth and one multiply) and splits or collapses only where the criterion says so; the work
 // follows the vertices leaving [t_c T, t_s T], not the model's size. Everything lives in flat
-// arrays sized once from the input (per face corner: the current vertex and a doubly linked
-// list through the corners of each vertex; per collapse: the faces it removed and the stack of
-// collapses made onto a vertex, so a split undoes the latest in O(degree)). No allocation per
-// frame once the worklists have grown.
+// arrays sized once from the input (per face corner: the current vertex and a link in that
+// vertex's corner list; per collapse: the faces it removed and the stack of collapses made onto
+// a vertex, so a split undoes the latest in O(degree x the hierarchy's depth there)). No
+// allocation per frame once the worklists have grown.
 //
-// A collapse is made (same rules as ProgressiveMesh::adapt) when its removed vertex r is below
-// t_c T, its kept vertex k is active and a neighbour, the link condition holds, no face turns
-// over and no vertex of the changed rings ends above t_s T unless it was there and does not grow.
-// That last guard is what stops split/collapse cycles: a split is triggered only above t_s T, and
-// no collapse makes a vertex cross t_s T. A vertex k is split (the latest collapse made onto it
-// undone) when above t_s T, unless its removed faces' third corners are no longer k's neighbours
-// (Hoppe's vsplit legality, in the form this hierarchy needs).
+// A collapse is made (the rules of ProgressiveMesh::adapt, plus Hoppe's tree order: r goes only
+// with its whole subtree) when its removed vertex r is below t_c T, its kept vertex k is active
+// and a neighbour, the link condition holds, no face turns over and no vertex of the changed
+// rings ends above t_s T unless it was there and does not grow. That guard stops split/collapse
+// cycles: a split is triggered only above t_s T, and no collapse makes a vertex cross t_s T. A
+// vertex k is split (the latest collapse made onto it undone) when above t_s T, unless a removed
+// face's third corner is no longer k's neighbour (Hoppe's vsplit legality, in the form this
+// hierarchy needs), a changed ring would not be a disk, or a child would fall below t_c T. Each
+// collapse record changes at most once a frame, so a frame always ends.
 //
 // The front started from the input and converged at a view need not equal
 // ProgressiveMesh::adapt's mesh for that view, nor the front converged there from another view:
