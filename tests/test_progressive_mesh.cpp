@@ -220,3 +220,25 @@ void check_density(const std::string& name, double most) {
 
 TEST(ProgressiveMeshDensity, Armadillo) { check_density("armadillo", 0.55); }
 TEST(ProgressiveMeshDensity, Bunny) { check_density("bunny00", 0.7); }
+
+// bench --detail=PX: both methods along the path, one table row each (the named one alone with
+// --detail-method); the detail flags' misuse exits 2 as for render.
+TEST(ProgressiveMeshCli, BenchComparesBothMethods) {
+    const fs::path d = inkline_test::scratch("inkline_pm_bench_");
+    const std::string m = test::mesh_path("elephant");
+    const auto rows = [](const std::string& out, const std::string& method) {
+        return out.find("| " + method + " |") != std::string::npos;
+    };
+    const inkline_test::Result both = inkline_test::run_inkline("", "bench " + m + " --detail=4 --frames=3", d);
+    ASSERT_EQ(both.code, 0) << both.err;
+    EXPECT_TRUE(rows(both.out, "multiscale")) << both.out;
+    EXPECT_TRUE(rows(both.out, "pm")) << both.out;
+    const inkline_test::Result pm =
+        inkline_test::run_inkline("", "bench " + m + " --detail=4 --detail-method=pm --frames=3 --path=dolly", d);
+    ASSERT_EQ(pm.code, 0) << pm.err;
+    EXPECT_TRUE(rows(pm.out, "pm"));
+    EXPECT_FALSE(rows(pm.out, "multiscale"));
+    const inkline_test::Result bad = inkline_test::run_inkline("", "bench " + m + " --detail-method=pm", d);
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_EQ(bad.err.substr(0, bad.err.find('\n')).substr(0, 39), "inkline: --detail-method needs --detail") << bad.err;
+}

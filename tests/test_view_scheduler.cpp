@@ -208,3 +208,38 @@ TEST(FrameStats, PanelShowsAMovingAverageOfTheViewsTimes) {
     EXPECT_EQ(stats.panel_numbers(drawing, 0.5).recall, 0.5);
     EXPECT_EQ(stats.panel_numbers(drawing, 0.5).stats.triangles, 12u);
 }
+
+// view --detail: the scheduler draws the detail source's view (its lines are render_view's on the
+// mesh it adapted) with that mesh as the base coat; the slider's target applies from the next
+// view; at a still camera the pm geomorphs end and the source stops asking for views.
+TEST(ViewSchedulerDetail, DrawsTheAdaptedMeshAndFollowsTheSlider) {
+    const Model& model = fandisk();
+    const Camera cam = Camera::framing(model.topology().bounds, 320, 240);
+    DetailSource pm(model, "pm", 2.0);
+    ViewOptions options;
+    pm.reset(options);
+    ViewScheduler scheduler(model, 1);
+    scheduler.reset(options);
+    const auto view_at = [&](FinishedView& out) {
+        ViewRequest r = request_at(cam);
+        r.detail = &pm;
+        scheduler.start(r);
+        ASSERT_TRUE(scheduler.take_oldest(out));
+    };
+    FinishedView first;
+    view_at(first);
+    const std::size_t fine = pm.drawn_model().topology().faces.size();
+    ASSERT_TRUE(first.has_coat);
+    EXPECT_EQ(first.coat.triangles.size(), 3 * fine);
+    EXPECT_EQ(first.view->drawing.pieces.size(), render_view(pm.drawn_model(), cam).drawing.pieces.size());
+    EXPECT_LT(fine, model.topology().faces.size());  // 2 px already coarsens the framed fandisk at 320 x 240
+    pm.set_target(8.0);
+    FinishedView v;
+    int views = 0;
+    do {
+        view_at(v);
+    } while (pm.morphing() && ++views < 400);
+    EXPECT_LT(views, 400);  // the geomorphs ended
+    EXPECT_LT(pm.drawn_model().topology().faces.size(), fine / 2);
+    EXPECT_NE(pm.summary().find("pm: target 8 px"), std::string::npos) << pm.summary();
+}

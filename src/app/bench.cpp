@@ -15,6 +15,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "app/bench_detail.hpp"
 #include "app/cli.hpp"
 #include "app/flags.hpp"
 #include "app/progress.hpp"
@@ -39,6 +40,7 @@ struct BenchArgs {
     bool strict = false;  // --strict: refuse what tolerant loading repairs
     std::vector<double> fractions{0.0005, 0.002, 0.01, 0.05};
     VisibilityMethod visibility = VisibilityMethod::Appel;
+    DetailFlags detail;  // --detail: the detail-control methods instead of the finders (bench_detail.hpp)
 };
 
 // The bench's flags; `--fractions` and the camera path are its own, the rest shared (flags.hpp).
@@ -76,6 +78,8 @@ FlagTable bench_flags(BenchArgs& a) {
         .add(first_view_flag(a.first_full))
         .add(threads_flag(a.threads, "the machine's hardware threads"));
     t.group("Visibility").add(visibility_flag(a.visibility));
+    t.group("Detail control (with --detail: both methods along the path, or the one --detail-method names)")
+        .add(detail_flags(a.detail));
     t.group("Output (the table always goes to stdout)")
         .add(text_flag("--csv", "FILE", a.csv, "the rows as CSV"))
         .add(text_flag("--markdown", "FILE", a.markdown, "the table as Markdown"))
@@ -186,6 +190,30 @@ std::string fmt(const char* f, double v) {
     return buf;
 }
 
+// bench --detail: silhouettes and suggestive contours (creases off: the lines detail control is
+// about), exhaustive finder, along the path.
+int run_detail_bench_path(const Model& model, const std::string& name, const BenchArgs& a) {
+    ViewOptions base;
+    base.visibility = a.visibility;
+    base.exact_hidden = false;
+    base.surface.suggestive = true;
+    base.features.kinds[int(LineKind::Crease)] = false;
+    DetailBenchArgs d;
+    d.name = name;
+    d.path_note = a.path == "orbit" ? "orbit " + fmt("%g", a.arc / a.frames) + " deg/frame" : a.path;
+    d.markdown = a.markdown;
+    d.detail = &a.detail;
+    d.both = !a.detail.method_given;
+    d.frames = a.frames;
+    const double near = default_near(model.topology());
+    d.camera = [&](int i) {
+        Camera c = path_camera(a.path, i, a.frames, a.arc, model.topology().bounds, *a.width, *a.height);
+        c.set_near(near);
+        return c;
+    };
+    return run_detail_bench(model, base, d);
+}
+
 }  // namespace
 
 int run_bench(int argc, char** argv) {
@@ -197,6 +225,8 @@ int run_bench(int argc, char** argv) {
     std::string name = a.model.substr(a.model.find_last_of('/') + 1);
     name = name.substr(0, name.rfind(".") == std::string::npos || name.rfind(".") == 0 ? name.size() : name.rfind("."));
     if (a.subdivide > 0) name += "@" + std::to_string(a.subdivide);
+    a.detail.check("bench");
+    if (a.detail.target_px > 0.0) return run_detail_bench_path(model, name, a);
     std::vector<Camera> cams;
     for (int i = 0; i < a.frames; ++i) {
         cams.push_back(path_camera(a.path, i, a.frames, a.arc, mesh.bounds, *a.width, *a.height));

@@ -61,6 +61,9 @@ int run_view(int argc, char** argv) {
               "views computed at once (default: two while the camera moves less than about a degree a view, "
               "else one on every thread)",
               [&o](const std::string& v) { o.in_flight = parse_integer("--in-flight", v, 1, 2); }});
+    DetailFlags detail;
+    flags.group("Detail control (live: the panel's slider changes the target; docs/progressive_mesh.md)")
+        .add(detail_flags(detail));
     flags.group("Style").add(style_flag(o.style));
     flags.group("Window")
         .add(switch_flag("--no-panel", o.panel, false, "hide the settings panel"))
@@ -81,6 +84,11 @@ int run_view(int argc, char** argv) {
               }})
         .add(switch_flag("--fps", o.fps, true, "with --frames: print the frames per second and where the time goes"));
     if (!flags.parse(argc, argv, 2, model_path)) return 0;  // --help
+    detail.check("view");
+    if (detail.levels || detail.ratio) throw Usage("--levels and --detail-ratio: render and bench only for now", "view");
+    o.detail_px = detail.target_px;
+    o.detail_method = detail.method;
+    o.detail_depth = detail.depth_exponent.value_or(0.0);
     bool style_kinds = false;  // the style chose the line kinds
     if (!o.style.empty()) {  // a bad style file fails before the window opens
         const Style style = load_style(o.style);

@@ -62,6 +62,9 @@ public:
     double build_seconds() const { return build_seconds_; }
     // Bytes held by the hierarchy (the two arrays), the input's copy apart.
     std::size_t hierarchy_bytes() const { return (removed_.capacity() + kept_.capacity()) * sizeof(std::uint32_t); }
+    // Collapse i moves removed_vertex()[i] onto kept_vertex()[i] (input vertex indices, in order).
+    const std::vector<std::uint32_t>& removed_vertex() const { return removed_; }
+    const std::vector<std::uint32_t>& kept_vertex() const { return kept_; }
 
     // The mesh converged to the criterion at `camera` (no geomorphs: a single frame). Starting from
     // the input, the collapses are replayed in hierarchy order, each applied when its removed vertex

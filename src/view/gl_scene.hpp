@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,7 @@ public:
     // the model's triangles when `shading`, then `image` (the stylized drawing, camera-sized
     // Cairo RGB24 pixels) when not null, else the line quads.
     void draw(const Camera& camera, bool shading, const std::vector<LineVertex>& lines,
-              const std::vector<std::uint32_t>* image);
+              const std::vector<std::uint32_t>* image, const std::function<void()>& under_lines = {});
 
 private:
     void upload_mesh();

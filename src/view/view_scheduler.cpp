@@ -106,20 +106,24 @@ void ViewScheduler::start(const ViewRequest& request) {
 void ViewScheduler::compute(const Model& model, ViewSession& session, const ViewRequest& request, FinishedView& j) {
     const Camera& cam = request.camera;
     const double cpu0 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
-    session.find(cam);  // find, then visibility: the same as render(), timed apart
+    if (!request.detail) session.find(cam);  // find, then visibility: the same as render(), timed apart
     const double cpu1 = cpu_seconds(CLOCK_THREAD_CPUTIME_ID);
-    View& view = session.visibility(cam);
+    View& view = request.detail ? request.detail->render(cam) : session.visibility(cam);
+    j.has_coat = request.detail != nullptr;
+    if (request.detail)  // (the original model's box: the depth range stays put while the mesh adapts)
+        j.coat.build(request.detail->drawn_model().topology(), model.topology().bounds.center(),
+                     model.topology().bounds.half_diagonal());
     j.times = StageTimes{};
     j.times.cpu_features = cpu1 - cpu0;
     j.times.cpu_visibility = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu1;
     j.view = &view;
     j.camera = cam;
-    j.times.features = session.seconds_features();
+    j.times.features = request.detail ? 0.0 : session.seconds_features();
     j.times.search = view.features.stats.seconds_search;
     j.times.chain = view.features.stats.seconds_chain;
     j.times.visibility = view.drawing.stats.seconds_visibility;
     j.recall = -1.0;
-    if (request.recall) {
+    if (request.recall && !request.detail) {  // (with --detail the lines are another mesh's)
         const auto tr = StageClock::now();
         const Features ref = extract_features(model.topology(), cam, request.kinds);
         const double all = edges_length(model.topology(), ref.silhouette_edges);
@@ -129,7 +133,8 @@ void ViewScheduler::compute(const Model& model, ViewSession& session, const View
     const auto tl = StageClock::now();
     j.styled = request.style != nullptr;
     if (request.style) {  // what render --style writes, as pixels
-        styled_to_pixels(stylize_view(model, cam, view, *request.style, request.hidden), j.pixels);
+        const Model& drawn = request.detail ? request.detail->drawn_model() : model;
+        styled_to_pixels(stylize_view(drawn, cam, view, *request.style, request.hidden), j.pixels);
         j.lines.clear();
     } else {
         build_line_mesh(view.drawing, request.lines, j.lines);

@@ -18,8 +18,10 @@
 #include "core/worker_thread.hpp"
 #include "pipeline.hpp"
 #include "style/style.hpp"
+#include "view/detail_source.hpp"
 #include "view/frame_stats.hpp"
 #include "view/line_mesh.hpp"
+#include "view/toon_coat.hpp"
 
 namespace inkline {
 
@@ -32,6 +34,7 @@ struct ViewRequest {
     bool hidden = false;                  // the style draws hidden lines
     bool recall = false;                  // measure recall of silhouette length against exhaustive
     FeatureOptions kinds;                 // the line kinds of the recall's exhaustive reference
+    DetailSource* detail = nullptr;       // --detail: the view drawn by it (one lane), with its coat
 };
 
 // A view computed, as taken by the window.
@@ -47,6 +50,8 @@ struct FinishedView {
     std::vector<LineVertex> lines;       // its quads (empty when styled)
     bool styled = false;
     std::vector<std::uint32_t> pixels;   // styled: the drawing, camera.width() x camera.height()
+    CoatMesh coat;                       // --detail: the mesh the view was drawn from (its base coat)
+    bool has_coat = false;
 };
 
 class ViewScheduler {

@@ -117,7 +117,9 @@ public:
     Viewer(Model& model, const Camera& home, const ViewerOptions& o)
         : model_(model), opt_(o), rig_(home, model.topology().bounds), window_(home, o),
           imgui_(with_callbacks(window_.get())), scene_(model.topology()),
-          scheduler_(model, o.in_flight, [] { glfwPostEmptyEvent(); }) {
+          scheduler_(model, o.detail_px > 0.0 ? 1 : o.in_flight, [] { glfwPostEmptyEvent(); }) {
+        if (o.detail_px > 0.0)  // (a stateful session: its views one at a time, in order)
+            detail_ = std::make_unique<DetailSource>(model, o.detail_method, o.detail_px, o.detail_depth);
         crease_ = float(model.topology().crease_degrees);
         fraction_ = float(o.view.finder.fraction);
         hidden_ = o.hidden;
@@ -236,6 +238,7 @@ private:
         }
         if (surface_dirty_) {  // the same sessions: only the lines' extraction changes
             scheduler_.set_surface_lines(vopt_.surface);
+            if (detail_) detail_->reset(vopt_);
             surface_dirty_ = false;
             force_ = true;
         }
@@ -262,7 +265,8 @@ private:
     void schedule_view(const Camera& cam, bool fresh, bool finishing, StageTimes& st) {
         const bool busy = scheduler_.in_flight() > 0;
         const Camera& newest = busy ? scheduler_.newest_camera() : shown_.camera;
-        const bool again = opt_.frames == 0 && !force_ && shown_.view && same_camera(cam, newest);
+        const bool morphing = detail_ && detail_->morphing();  // geomorphs run on at a still camera
+        const bool again = opt_.frames == 0 && !force_ && !morphing && shown_.view && same_camera(cam, newest);
         unchanged_ = again && !fresh && !busy ? unchanged_ + 1 : 0;
         if (!again && !finishing && scheduler_.in_flight() < scheduler_.views_at_once()) {
             ViewRequest request;
@@ -273,6 +277,7 @@ private:
             request.hidden = hidden_;
             request.recall = recall_on_;
             request.kinds = vopt_.features;
+            request.detail = detail_.get();
             scheduler_.start(request);
             force_ = false;
         }
@@ -301,7 +306,9 @@ private:
         damaged_ = false;
         drawn_w_ = w, drawn_h_ = h;
         const Camera& drawn = shown_.camera;
-        scene_.draw(drawn, shading_, shown_.lines, shown_.styled ? &shown_.pixels : nullptr);
+        const auto coat = [&] { coat_.draw(drawn, shown_.coat, fresh); };
+        scene_.draw(drawn, shading_ && !shown_.has_coat, shown_.lines, shown_.styled ? &shown_.pixels : nullptr,
+                    shown_.has_coat ? std::function<void()>(coat) : std::function<void()>());
         const bool shot = finishing && !opt_.screenshot.empty();
         if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn.width(), drawn.height());
         if (panel_) ui_layer_.composite();
@@ -323,6 +330,7 @@ private:
         StageTimes st;
         take_all(st);  // never while the old sessions are in use
         scheduler_.reset(vopt_);
+        if (detail_) detail_->reset(vopt_);
         shown_.view = nullptr;  // it belonged to an old session
     }
 
@@ -380,6 +388,7 @@ private:
 
     void draw_panel();
     void panel_lines();
+    void panel_detail();
     void panel_surface_lines();
     void panel_finder();
     void panel_statistics();
@@ -396,6 +405,8 @@ private:
     Window window_;
     ImGuiContextScope imgui_;
     GlScene scene_;
+    std::unique_ptr<DetailSource> detail_;  // --detail
+    ToonCoat coat_;
     UiLayer ui_layer_;  // the panel, rasterized again only when it changes
     ViewScheduler scheduler_;
     FrameStats frame_stats_;
@@ -465,6 +476,7 @@ void Viewer::draw_panel() {
     ImGui::SetNextWindowBgAlpha(0.8f);  // the drawing shows through; H hides the panel
     ImGui::Begin("inkline (H hides)");
     if (ImGui::CollapsingHeader("Lines", ImGuiTreeNodeFlags_DefaultOpen)) panel_lines();
+    if (detail_ && ImGui::CollapsingHeader("Detail", ImGuiTreeNodeFlags_DefaultOpen)) panel_detail();
     if (ImGui::CollapsingHeader("Finder and visibility", ImGuiTreeNodeFlags_DefaultOpen)) panel_finder();
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) panel_statistics();
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) panel_camera_and_export();
@@ -499,6 +511,16 @@ void Viewer::panel_surface_lines() {
             surface_dirty_ = true;
         }
     }
+}
+
+// The detail's target size (applied from the next view) and what the last view made of it.
+void Viewer::panel_detail() {
+    float px = float(detail_->target());
+    if (ImGui::SliderFloat("target px", &px, 0.5f, 64.0f, "%.1f", ImGuiSliderFlags_Logarithmic)) {
+        detail_->set_target(px);
+        force_ = true;
+    }
+    ImGui::TextUnformatted(detail_->summary().c_str());
 }
 
 void Viewer::panel_lines() {

@@ -36,6 +36,12 @@ struct ViewerOptions {
     // between them: more views a second while each session's follow of its last view (two views
     // back) stays cheap, one frame more behind the camera (bench/results/view_fps.md).
     int in_flight = 0;
+    // --detail=PX: the lines of the model's features at about PX pixels, by the multiscale or pm
+    // method (view/detail_source.hpp), one view at a time, over a toon-shaded base coat; the
+    // panel's slider changes PX live.
+    double detail_px = 0.0;
+    std::string detail_method = "multiscale";
+    double detail_depth = 0.0;
 };
 
 // Opens the window on `home` (its size is the window's drawing area) and runs until closed, or

@@ -1,0 +1,162 @@
+// The progressive mesh's incremental front (src/detail/progressive_mesh_front.hpp) frame by frame:
+// hierarchy build time and memory beside the multi-scale method's pre-process on the same model,
+// then the adaptation's cost a frame (the thread's CPU time: one core) along a slow dolly and an
+// orbit, with and without geomorphs (the largest per-frame vertex move they make, in pixels).
+// Not a test: numbers go to bench/results/pm_frames.md (bench/run_detail.sh).
+//
+//   pm_frames [MESH[@N]] [PX] [--no-multiscale]   (defaults armadillo 3)
+//
+// Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
+// 1 % of the distance a frame (140 frames); the orbit turns 1 degree a frame about the vertical
+// axis at the framed distance (120 frames). Each path starts from a front converged at its first
+// view (the cost of that is printed apart).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bench_models.hpp"
+#include "detail/multiscale.hpp"
+#include "detail/progressive_mesh_front.hpp"
+
+using namespace inkline;
+
+namespace {
+
+double thread_seconds() {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+double status_mib(const std::string& field) {
+    std::ifstream in("/proc/self/status");
+    std::string key;
+    double kib = 0.0;
+    while (in >> key)
+        if (key == field + ":") {
+            in >> kib;
+            break;
+        }
+    return kib / 1024.0;
+}
+
+Camera path_camera(const MeshTopology& t, double times, double yaw_deg) {
+    const Camera framed = Camera::framing(t.bounds, 1024, 1024);
+    const glm::dvec3 c = t.bounds.center(), d = framed.eye() - c;
+    const double a = yaw_deg * M_PI / 180.0;
+    const glm::dvec3 turned{std::cos(a) * d.x + std::sin(a) * d.z, d.y, -std::sin(a) * d.x + std::cos(a) * d.z};
+    return Camera::perspective(c + times * turned, c, framed.up(), framed.fov_deg(), 1024, 1024);
+}
+
+struct PathResult {
+    std::vector<double> ms;
+    double most_ms = 0.0, largest_move_px = 0.0, converge_ms = 0.0;
+    std::size_t splits = 0, collapses = 0, frames = 0, tri_first = 0, tri_last = 0, most_ops = 0;
+};
+
+PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
+                    bool geomorphs) {
+    const int frames = dolly ? 140 : 120;
+    const auto camera_at = [&](int k) {
+        return dolly ? path_camera(t, std::pow(1.01, k), 0.0) : path_camera(t, 1.0, double(k));
+    };
+    AdaptiveFront front(pm, GeomorphOptions{.enabled = geomorphs});
+    PathResult r;
+    const double c0 = thread_seconds();
+    for (int k = 0; k < 50; ++k) {  // converge at the first view (operations made at once there)
+        const FrontStats s = front.update(camera_at(0), c, 10.0);
+        if (s.splits + s.collapses + s.morphs_running == 0) break;
+    }
+    r.converge_ms = (thread_seconds() - c0) * 1e3;
+    r.tri_first = front.active_faces();
+    for (int k = 1; k <= frames; ++k) {
+        const Camera cam = camera_at(k);
+        const double t0 = thread_seconds();
+        const FrontStats s = front.update(cam, c, 1.0 / 25.0);
+        const double ms = (thread_seconds() - t0) * 1e3;
+        r.ms.push_back(ms);
+        r.most_ms = std::max(r.most_ms, ms);
+        r.splits += s.splits;
+        r.collapses += s.collapses;
+        r.most_ops = std::max(r.most_ops, s.splits + s.collapses);
+        r.largest_move_px = std::max(r.largest_move_px, s.largest_move_px);
+    }
+    r.frames = std::size_t(frames);
+    r.tri_last = front.active_faces();
+    return r;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string name = "armadillo";
+    double px = 3.0;
+    bool multiscale = true;
+    int positional = 0;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--no-multiscale")
+            multiscale = false;
+        else if (positional++ == 0)
+            name = a;
+        else
+            px = std::atof(a.c_str());
+    }
+    const Model* model = bench_model_for(name, "pm_frames");
+    if (!model) return 1;
+    const MeshTopology& t = model->topology();
+    const double rss0 = status_mib("VmRSS");
+    double c0 = thread_seconds();
+    const auto w0 = std::chrono::steady_clock::now();
+    const ProgressiveMesh pm(triangle_mesh_of(t));
+    const double build_cpu = thread_seconds() - c0;
+    const double build_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    const double rss_pm = status_mib("VmRSS"), peak_pm = status_mib("VmHWM");
+    std::size_t front_bytes = 0;
+    {
+        const AdaptiveFront front(pm);
+        front_bytes = front.bytes();
+    }
+    std::printf("### %s, PX = %g (T = %g px^2)\n\n", name.c_str(), px, px * px);
+    std::printf("%zu triangles, %zu vertices. pm: hierarchy of %zu collapses built in %.2f s CPU (%.1f s wall); "
+                "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), input copy %.1f MiB; "
+                "RSS %.0f -> %.0f MiB, peak %.0f MiB\n",
+                t.faces.size(), t.positions.size(), pm.collapses(), build_cpu, build_wall,
+                pm.hierarchy_bytes() / 1048576.0, double(pm.hierarchy_bytes()) / t.positions.size(),
+                front_bytes / 1048576.0, double(front_bytes) / t.positions.size(),
+                (t.positions.size() * 24.0 + t.faces.size() * 12.0) / 1048576.0, rss0, rss_pm, peak_pm);
+    if (multiscale) {
+        c0 = thread_seconds();
+        const MultiscaleLevels levels = build_multiscale_levels(*model);
+        std::printf("multiscale: %d levels built in %.2f s CPU; stored %.1f MiB (%.1f B/vertex); RSS now %.0f MiB, "
+                    "peak %.0f MiB\n",
+                    levels.levels, thread_seconds() - c0, levels.bytes() / 1048576.0,
+                    double(levels.bytes()) / t.positions.size(), status_mib("VmRSS"), status_mib("VmHWM"));
+    }
+    DetailCriterion c;
+    c.target_area_px = px * px;
+    std::printf("\n| path | geomorphs | converge first view ms | triangles first -> last | splits + collapses a frame "
+                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame |\n"
+                "|---|---|---|---|---|---|---|---|\n");
+    for (const bool dolly : {true, false})
+        for (const bool geomorphs : {false, true}) {
+            const PathResult r = run_path(pm, t, c, dolly, geomorphs);
+            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f |\n",
+                        dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",
+                        r.converge_ms, r.tri_first, r.tri_last, double(r.splits + r.collapses) / r.frames, r.most_ops,
+                        median(r.ms), r.most_ms, r.largest_move_px);
+            std::fflush(stdout);
+        }
+    return 0;
+}

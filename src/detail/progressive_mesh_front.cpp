@@ -1,0 +1,522 @@
+#include "detail/progressive_mesh_front.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include <glm/geometric.hpp>
+
+namespace inkline {
+
+AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
+    const TriangleMesh& in = pm.input();
+    const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
+    collapse_of_.assign(n, none);
+    children_.assign(n, 0);
+    collapsed_children_.assign(n, 0);
+    for (std::size_t i = 0; i < m; ++i) {
+        collapse_of_[pm.removed_vertex()[i]] = std::uint32_t(i);
+        ++children_[pm.kept_vertex()[i]];
+    }
+    active_.assign(n, 1);
+    locked_.assign(n, 0);
+    ring_area_.assign(n, 0.0);
+    front_pos_.assign(n, none);
+    head_.assign(n, none);
+    last_collapse_.assign(n, none);
+    queued_.assign(n, 0);
+    if (geomorphs_.enabled) shown_ = in.positions;
+    prev_collapse_.assign(m, none);
+    dead_.assign(m, {none, none});
+    changed_in_frame_.assign(m, 0);
+    corner_.assign(3 * faces, none);
+    next_.assign(3 * faces, none);
+    face_active_.assign(faces, 0);
+    for (std::size_t f = 0; f < faces; ++f) {
+        for (int j = 0; j < 3; ++j) corner_[3 * f + j] = in.triangles[f][j];
+        set_face_active(std::uint32_t(f), true);
+    }
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (head_[v] != none) {
+            refresh_ring_area(v);
+            front_add(v);
+        }
+}
+
+std::uint32_t AdaptiveFront::parent(std::uint32_t v) const { return pm_.kept_vertex()[collapse_of_[v]]; }
+
+std::uint32_t AdaptiveFront::representative(std::uint32_t u) const {
+    while (!active_[u]) u = parent(u);
+    return u;
+}
+
+void AdaptiveFront::link(std::uint32_t c, std::uint32_t v) {
+    corner_[c] = v;
+    next_[c] = head_[v];
+    head_[v] = c;
+}
+
+void AdaptiveFront::unlink(std::uint32_t c) {
+    std::uint32_t* at = &head_[corner_[c]];
+    while (*at != c) at = &next_[*at];
+    *at = next_[c];
+}
+
+void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
+    if (bool(face_active_[f]) == on) return;
+    face_active_[f] = on;
+    for (std::uint32_t c = 3 * f; c < 3 * f + 3; ++c) {
+        if (on)
+            link(c, corner_[c]);
+        else
+            unlink(c);
+    }
+    active_face_count_ += on ? 1 : std::size_t(-1);
+}
+
+void AdaptiveFront::front_add(std::uint32_t v) {
+    front_pos_[v] = std::uint32_t(front_.size());
+    front_.push_back(v);
+    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), ring_area_[v]));
+}
+
+void AdaptiveFront::front_remove(std::uint32_t v) {
+    const std::uint32_t at = front_pos_[v], last = front_.back();
+    front_[at] = last;
+    front_data_[at] = front_data_.back();
+    front_pos_[last] = at;
+    front_.pop_back();
+    front_data_.pop_back();
+    front_pos_[v] = none;
+}
+
+double AdaptiveFront::face_area(std::uint32_t f) const {
+    const auto& p = pm_.input().positions;
+    const glm::dvec3 a = p[face_vertex(f, 0)], b = p[face_vertex(f, 1)], c = p[face_vertex(f, 2)];
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::uint32_t c = head_[v]; c != none; c = next_[c]) {
+        sum += face_area(c / 3);
+        ++count;
+    }
+    ring_area_[v] = float(count ? sum / double(count) : 0.0);
+    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = ring_area_[v];
+}
+
+void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(c / 3, j);
+            if (u != v && std::find(out.begin(), out.end(), u) == out.end()) out.push_back(u);
+        }
+}
+
+double AdaptiveFront::scale(std::uint32_t v) const {
+    const glm::dvec3& p = pm_.input().positions[v];
+    return inkline::image_area(*camera_, 1.0, camera_->depth(p));
+}
+
+double AdaptiveFront::target(std::uint32_t v) const { return criterion_->target_at(*camera_, pm_.input().positions[v]); }
+
+double AdaptiveFront::image_area_of(std::uint32_t v, const Camera& camera) const {
+    return inkline::image_area(camera, ring_area_[v], camera.depth(pm_.input().positions[v]));
+}
+
+void AdaptiveFront::enqueue(std::uint32_t v) {
+    if (queued_[v]) return;
+    queued_[v] = 1;
+    work_.push_back(v);
+}
+
+// The link condition (the common neighbours of r and k are exactly the third corners of the faces
+// on edge rk), no interior edge between two border vertices, and k keeps at least 3 neighbours.
+bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
+    std::uint32_t wings[2] = {none, none};
+    int shared = 0;
+    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
+        const std::uint32_t f = c / 3;
+        std::uint32_t third = none;
+        bool has_k = false;
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(f, j);
+            has_k |= u == k;
+            if (u != r && u != k) third = u;
+        }
+        if (!has_k) continue;
+        if (shared == 2) return false;
+        wings[shared++] = third;
+    }
+    if (shared == 0 || (shared == 2 && wings[0] == wings[1])) return false;
+    neighbours(r, ring_r_);
+    neighbours(k, ring_k_);
+    std::size_t common = 0;
+    for (std::uint32_t u : ring_r_)
+        if (u != k && std::find(ring_k_.begin(), ring_k_.end(), u) != ring_k_.end()) {
+            if (u != wings[0] && u != wings[1]) return false;
+            ++common;
+        }
+    if (common != std::size_t(shared)) return false;
+    if (ring_r_.size() + ring_k_.size() - 2 - common < 3) return false;
+    // A vertex is on the border when one of its ring's edges is in one face only: an interior edge
+    // rk (two faces) between two border vertices would pinch the surface.
+    const auto on_border = [&](std::uint32_t v, const std::vector<std::uint32_t>& ring) {
+        for (std::uint32_t u : ring) {
+            int faces = 0;
+            for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+                for (int j = 0; j < 3; ++j) faces += face_vertex(c / 3, j) == u;
+            if (faces == 1) return true;
+        }
+        return false;
+    };
+    return !(shared == 2 && on_border(r, ring_r_) && on_border(k, ring_k_));
+}
+
+// A face of r's ring that would turn over (or become degenerate) when r moves onto k.
+bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
+    const auto& p = pm_.input().positions;
+    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
+        const std::uint32_t f = c / 3;
+        glm::dvec3 before[3], after[3];
+        bool has_k = false;
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(f, j);
+            has_k |= u == k;
+            before[j] = p[u];
+            after[j] = p[u == r ? k : u];
+        }
+        if (has_k) continue;
+        const glm::dvec3 n0 = glm::cross(before[1] - before[0], before[2] - before[0]);
+        const glm::dvec3 n1 = glm::cross(after[1] - after[0], after[2] - after[0]);
+        if (!(glm::dot(n0, n1) > 0.0)) return true;
+    }
+    return false;
+}
+
+void AdaptiveFront::raw_collapse(std::uint32_t r) {
+    const std::uint32_t i = collapse_of_[r], k = parent(r);
+    std::array<std::uint32_t, 2> dead{none, none};
+    int n_dead = 0;
+    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
+        const std::uint32_t f = c / 3;
+        if (face_vertex(f, 0) == k || face_vertex(f, 1) == k || face_vertex(f, 2) == k) dead[n_dead++] = f;
+    }
+    for (std::uint32_t f : dead)
+        if (f != none) set_face_active(f, false);
+    while (head_[r] != none) {
+        const std::uint32_t c = head_[r];
+        unlink(c);
+        link(c, k);
+    }
+    active_[r] = 0;
+    front_remove(r);
+    dead_[i] = dead;
+    prev_collapse_[i] = last_collapse_[k];
+    last_collapse_[k] = i;
+    ++collapsed_children_[k];
+}
+
+// The latest collapse made onto k can be undone when each face it removed finds its third corner
+// among k's neighbours (the faces around it were refined or coarsened since, but not across it).
+bool AdaptiveFront::split_ok(std::uint32_t k) const {
+    const std::uint32_t i = last_collapse_[k];
+    if (i == none) return false;
+    const std::uint32_t r = pm_.removed_vertex()[i];
+    const auto& tri = pm_.input().triangles;
+    for (std::uint32_t f : dead_[i]) {
+        if (f == none) continue;
+        int at_r = 0, at_k = 0;
+        std::uint32_t third = none;
+        for (int j = 0; j < 3; ++j) {
+            std::uint32_t u = tri[f][j];
+            while (u != r && !active_[u]) u = parent(u);
+            if (u == r)
+                ++at_r;
+            else if (u == k)
+                ++at_k;
+            else
+                third = u;
+        }
+        if (at_r != 1 || at_k != 1 || third == none) return false;
+        bool adjacent = false;
+        for (std::uint32_t c = head_[k]; c != none && !adjacent; c = next_[c])
+            for (int j = 0; j < 3; ++j) adjacent |= face_vertex(c / 3, j) == third;
+        if (!adjacent) return false;
+    }
+    return true;
+}
+
+// v's ring faces (v, a, b), read as edges a -> b, chain into one cycle (inside) or one path (on
+// the border), each a and each b once: a manifold, consistently oriented neighbourhood.
+bool AdaptiveFront::ring_is_disk(std::uint32_t v) const {
+    std::uint32_t from[64], to[64];
+    std::size_t n = 0;
+    for (std::uint32_t c = head_[v]; c != none; c = next_[c]) {
+        if (n == 64) return false;
+        const std::uint32_t f = c / 3, j = c % 3;
+        from[n] = face_vertex(f, (j + 1) % 3);
+        to[n] = face_vertex(f, (j + 2) % 3);
+        ++n;
+    }
+    if (n == 0) return true;
+    std::size_t starts = 0;  // edges whose `from` is no edge's `to`: the path's start on a border
+    std::size_t start = 0;
+    for (std::size_t a = 0; a < n; ++a) {
+        int as_from = 0, as_to = 0;
+        for (std::size_t b = 0; b < n; ++b) {
+            as_from += from[b] == from[a];
+            as_to += to[b] == from[a];
+        }
+        if (as_from != 1 || as_to > 1) return false;
+        if (as_to == 0) {
+            ++starts;
+            start = a;
+        }
+    }
+    if (starts > 1) return false;
+    std::size_t walked = 1;  // follow the chain from its start: it must visit every edge
+    for (std::size_t e = start; walked <= n; ++walked) {
+        std::size_t next = n;
+        for (std::size_t b = 0; b < n; ++b)
+            if (from[b] == to[e]) next = b;
+        if (next == n || next == start) break;
+        e = next;
+    }
+    return walked == n;
+}
+
+std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
+    const std::uint32_t i = last_collapse_[k], r = pm_.removed_vertex()[i];
+    const auto& tri = pm_.input().triangles;
+    last_collapse_[k] = prev_collapse_[i];
+    prev_collapse_[i] = none;
+    --collapsed_children_[k];
+    active_[r] = 1;
+    front_add(r);
+    for (std::uint32_t c = head_[k], next = none; c != none; c = next) {
+        next = next_[c];
+        if (representative(tri[c / 3][c % 3]) == r) {
+            unlink(c);
+            link(c, r);
+        }
+    }
+    for (std::uint32_t f : dead_[i]) {
+        if (f == none) continue;
+        for (int j = 0; j < 3; ++j) corner_[3 * f + j] = representative(tri[f][j]);
+        set_face_active(f, true);
+    }
+    dead_[i] = {none, none};
+    return r;
+}
+
+void AdaptiveFront::touch_ring(std::uint32_t v) {
+    refresh_ring_area(v);
+    enqueue(v);
+    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(c / 3, j);
+            if (u != v && !queued_[u]) {
+                refresh_ring_area(u);
+                enqueue(u);
+            }
+        }
+}
+
+bool AdaptiveFront::try_collapse(std::uint32_t r) {
+    const std::uint32_t i = collapse_of_[r];
+    if (i == none || locked_[r] || changed_in_frame_[i] == frame_) return false;
+    const std::uint32_t k = parent(r);
+    // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
+    if (!active_[k] || locked_[k] || collapsed_children_[r] != children_[r]) return false;
+    const double t_r = target(r);
+    if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
+    if (!collapse_ok(r, k) || flips(r, k)) return false;
+    // The band guard: apply, measure the changed rings, undo when one crossed t_s T.
+    changed_ = ring_r_;  // r's neighbours (k among them), from collapse_ok
+    std::vector<double>& before = areas_;
+    before.resize(changed_.size());
+    for (std::size_t j = 0; j < changed_.size(); ++j) before[j] = image_area(changed_[j]);
+    raw_collapse(r);
+    bool ok = true;
+    for (std::size_t j = 0; j < changed_.size() && ok; ++j) {
+        const std::uint32_t u = changed_[j];
+        refresh_ring_area(u);
+        ok = image_area(u) <= std::max(criterion_->split * target(u), before[j]);
+    }
+    if (!ok || geomorphs_.enabled) {
+        raw_split(k);
+        refresh_ring_area(r);
+        for (std::uint32_t u : changed_) refresh_ring_area(u);
+        if (!ok) return false;
+        lock_ring(r, +1);
+        const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
+        morphs_.push_back({r, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        ++stats_->morphs_started;
+        return true;
+    }
+    changed_in_frame_[i] = frame_;
+    touch_ring(k);
+    ++stats_->collapses;
+    return true;
+}
+
+bool AdaptiveFront::try_split(std::uint32_t k) {
+    const std::uint32_t i = last_collapse_[k];
+    if (locked_[k] || i == none || changed_in_frame_[i] == frame_) return false;
+    const double t_k = target(k), a = image_area(k);
+    if (!(a > criterion_->split * t_k) || !split_ok(k)) return false;
+    const std::uint32_t r = raw_split(k);
+    refresh_ring_area(r);
+    refresh_ring_area(k);
+    // The split's guards: the changed rings are disks (the neighbourhood may have changed since
+    // the collapse), and neither child falls below t_c T (it would be collapsed straight back).
+    bool disks = ring_is_disk(r) && ring_is_disk(k);
+    neighbours(r, ring_r_);
+    for (std::size_t j = 0; j < ring_r_.size() && disks; ++j) disks = ring_is_disk(ring_r_[j]);
+    if (!disks || image_area(r) < criterion_->collapse * target(r) || image_area(k) < criterion_->collapse * t_k) {
+        raw_collapse(r);
+        refresh_ring_area(k);
+        return false;
+    }
+    changed_in_frame_[i] = frame_;
+    touch_ring(r);
+    touch_ring(k);
+    ++stats_->splits;
+    if (geomorphs_.enabled) {
+        shown_[r] = shown_[k];
+        ++locked_[r];
+        ++locked_[k];
+        const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
+                                        : geomorphs_.max_speedup;
+        morphs_.push_back({r, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        ++stats_->morphs_started;
+    }
+    return true;
+}
+
+// A collapse in flight locks r and its whole ring (k among it): no other operation may change the
+// ring, so the collapse stays legal until it is made.
+void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
+    locked_[r] = std::uint16_t(locked_[r] + delta);
+    neighbours(r, ring_r_);
+    for (std::uint32_t u : ring_r_) locked_[u] = std::uint16_t(locked_[u] + delta);
+}
+
+void AdaptiveFront::advance_morphs(double frame_seconds) {
+    const auto& p = pm_.input().positions;
+    for (std::size_t j = 0; j < morphs_.size();) {
+        Morph& m = morphs_[j];
+        const std::uint32_t r = m.vertex, k = parent(r);
+        if (m.collapse) {  // faster the further r has fallen below the band meanwhile
+            const double t_r = target(r), a = image_area(r);
+            if (t_r > 0.0 && a > 0.0)
+                m.speed = std::max(m.speed, std::clamp(criterion_->collapse * t_r / a, 1.0, geomorphs_.max_speedup) /
+                                                std::max(geomorphs_.seconds, 1e-9));
+        }
+        m.progress = std::min(1.0, m.progress + m.speed * frame_seconds);
+        const glm::dvec3 was = shown_[r];
+        shown_[r] = m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
+        if (camera_->depth(was) > 0.0 && camera_->depth(shown_[r]) > 0.0)
+            stats_->largest_move_px =
+                std::max(stats_->largest_move_px, glm::length(camera_->project(shown_[r]) - camera_->project(was)));
+        if (m.progress < 1.0) {
+            ++j;
+            continue;
+        }
+        if (m.collapse) {
+            lock_ring(r, -1);
+            raw_collapse(r);
+            touch_ring(k);
+            ++stats_->collapses;
+        } else {
+            --locked_[r];
+            --locked_[k];
+        }
+        shown_[r] = p[r];
+        m = morphs_.back();
+        morphs_.pop_back();
+    }
+}
+
+void AdaptiveFront::drain(std::size_t max_operations) {
+    // (each collapse record changes at most once a frame, so a frame ends; the cap is a backstop)
+    max_operations = std::min(max_operations, 2 * changed_in_frame_.size() + 16);
+    std::size_t operations = 0, at = 0;
+    for (; at < work_.size() && operations < max_operations; ++at) {
+        const std::uint32_t v = work_[at];
+        queued_[v] = 0;
+        if (!active_[v] || head_[v] == none) continue;
+        if (try_split(v) || try_collapse(v)) ++operations;
+    }
+    for (; at < work_.size(); ++at) queued_[work_[at]] = 0;  // the budget ran out: next frame
+    work_.clear();
+}
+
+FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
+                                 std::size_t max_operations) {
+    const auto t0 = std::chrono::steady_clock::now();
+    FrontStats s;
+    camera_ = &camera;
+    criterion_ = &criterion;
+    stats_ = &s;
+    ++frame_;
+    if (geomorphs_.enabled) advance_morphs(frame_seconds);
+    const bool constant_target = !criterion.map;
+    for (std::size_t j = 0; j < front_.size(); ++j) {
+        const glm::dvec3 p(front_data_[j]);
+        const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
+        const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
+        if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
+        const std::uint32_t v = front_[j];  // out of the band: can it change? (the rest is cold memory)
+        if (locked_[v]) continue;
+        if ((a > criterion.split * t && last_collapse_[v] != none) || (a < criterion.collapse * t && collapse_of_[v] != none))
+            enqueue(v);
+    }
+    s.evaluated = front_.size();
+    drain(max_operations);
+    s.morphs_running = morphs_.size();
+    s.vertices = front_.size();
+    s.triangles = active_face_count_;
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    camera_ = nullptr;
+    criterion_ = nullptr;
+    stats_ = nullptr;
+    return s;
+}
+
+TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const {
+    const TriangleMesh& in = pm_.input();
+    TriangleMesh out;
+    if (input_vertex) input_vertex->clear();
+    std::vector<std::uint32_t> index(in.positions.size(), none);
+    for (std::uint32_t v = 0; v < in.positions.size(); ++v)
+        if (active_[v] && head_[v] != none) {
+            index[v] = std::uint32_t(out.positions.size());
+            out.positions.push_back(shown_.empty() ? in.positions[v] : shown_[v]);
+            if (input_vertex) input_vertex->push_back(v);
+        }
+    out.triangles.reserve(active_face_count_);
+    for (std::uint32_t f = 0; f < in.triangles.size(); ++f) {
+        if (!face_active_[f]) continue;
+        std::array<std::uint32_t, 3> t{index[face_vertex(f, 0)], index[face_vertex(f, 1)], index[face_vertex(f, 2)]};
+        // (keep the input's first corner first when it survives: an untouched face is the input's)
+        const auto first = std::find(t.begin(), t.end(), index[in.triangles[f][0]]);
+        if (first != t.end()) std::rotate(t.begin(), first, t.end());
+        out.triangles.push_back(t);
+        if (!in.face_object.empty()) out.face_object.push_back(in.face_object[f]);
+    }
+    if (!in.face_object.empty()) out.object_names = in.object_names;
+    return out;
+}
+
+std::size_t AdaptiveFront::bytes() const {
+    const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    return b(collapse_of_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
+           b(queued_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
+}
+
+}  // namespace inkline

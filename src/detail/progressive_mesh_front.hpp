@@ -1,0 +1,169 @@
+// The progressive mesh's active front, kept between frames (Hoppe 97's selective refinement on the
+// half-edge hierarchy of progressive_mesh.hpp), with the real-time geomorphs of seed 000's
+// section 3.2.
+//
+// Takes: a ProgressiveMesh (its input and collapse sequence), then per frame a Camera, the
+// criterion and the frame's duration. Gives: the adapted mesh (its triangles, and per vertex the
+// shown position: a vertex in a geomorph sits between its own position and its parent's).
+//
+// Each frame evaluates every active vertex (its ring's world area is cached, so the test is one
+// depth and one multiply) and splits or collapses only where the criterion says so; the work
+// follows the vertices leaving [t_c T, t_s T], not the model's size. Everything lives in flat
+// arrays sized once from the input (per face corner: the current vertex and a link in that
+// vertex's corner list; per collapse: the faces it removed and the stack of collapses made onto
+// a vertex, so a split undoes the latest in O(degree x the hierarchy's depth there)). No
+// allocation per frame once the worklists have grown.
+//
+// A collapse is made (the rules of ProgressiveMesh::adapt, plus Hoppe's tree order: r goes only
+// with its whole subtree) when its removed vertex r is below t_c T, its kept vertex k is active
+// and a neighbour, the link condition holds, no face turns over and no vertex of the changed
+// rings ends above t_s T unless it was there and does not grow. That guard stops split/collapse
+// cycles: a split is triggered only above t_s T, and no collapse makes a vertex cross t_s T. A
+// vertex k is split (the latest collapse made onto it undone) when above t_s T, unless a removed
+// face's third corner is no longer k's neighbour (Hoppe's vsplit legality, in the form this
+// hierarchy needs), a changed ring would not be a disk, or a child would fall below t_c T. Each
+// collapse record changes at most once a frame, so a frame always ends.
+//
+// The front started from the input and converged at a view need not equal
+// ProgressiveMesh::adapt's mesh for that view, nor the front converged there from another view:
+// the criterion is a band, so every mesh with its vertices inside it is a fixed point, and which
+// one is reached depends on the order of the operations (and on the path taken to the view).
+// What both guarantee is the band (tests/test_progressive_mesh_front.cpp checks it and bounds the
+// difference in triangle count).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "detail/progressive_mesh.hpp"
+
+namespace inkline {
+
+// Real-time geomorphs (section 3.2). A collapse locks r, k and r's ring, moves r onto k over
+// `seconds`, then collapses; a split is made at once with r starting at k and moving out. The
+// speed is multiplied by the discrepancy between the vertex's image area and the band's edge it
+// crossed (at least 1, at most `max_speedup`), so fast camera moves do not leave the mesh far
+// behind.
+struct GeomorphOptions {
+    bool enabled = false;  // off: operations take effect at once (a single converged frame)
+    double seconds = 0.5;
+    double max_speedup = 8.0;
+};
+
+struct FrontStats {
+    std::size_t splits = 0, collapses = 0;  // logical operations made this frame
+    std::size_t morphs_started = 0, morphs_running = 0;
+    std::size_t evaluated = 0;               // vertices tested against the criterion
+    std::size_t vertices = 0, triangles = 0; // of the active front after the frame
+    double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
+    double seconds = 0.0;
+};
+
+class AdaptiveFront {
+public:
+    // The front starts as the input (every vertex active). `pm` must outlive the front.
+    explicit AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs = {});
+
+    // One frame: evaluates the active vertices at `camera` and splits/collapses until no vertex
+    // that can change is out of the band (at most `max_operations` logical operations); with
+    // geomorphs, running morphs advance by `frame_seconds` first and collapses only start.
+    FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds = 0.0,
+                      std::size_t max_operations = SIZE_MAX);
+
+    // The active front as a mesh: vertices in input order at their shown positions, faces in
+    // input order with the input's first corner first when it survives (as ProgressiveMesh::adapt).
+    TriangleMesh mesh(std::vector<std::uint32_t>* input_vertex = nullptr) const;
+
+    std::size_t active_vertices() const { return front_.size(); }
+    std::size_t active_faces() const { return active_face_count_; }
+    bool is_active(std::uint32_t v) const { return active_[v] != 0; }
+    // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
+    // cannot split), it is never removed (the top: it cannot collapse).
+    bool at_bottom(std::uint32_t v) const { return last_collapse_[v] == none; }
+    bool at_top(std::uint32_t v) const { return collapse_of_[v] == none; }
+    std::size_t morphs_running() const { return morphs_.size(); }
+    // The criterion's A_img of an active vertex (its logical ring at its input position).
+    double image_area_of(std::uint32_t v, const Camera& camera) const;
+    // Bytes of the front's arrays (the hierarchy and the input apart).
+    std::size_t bytes() const;
+
+private:
+    static constexpr std::uint32_t none = UINT32_MAX;
+    struct Morph {
+        std::uint32_t vertex;  // r: moving onto its parent (collapse) or out of it (split)
+        bool collapse;
+        double progress, speed;  // progress in [0, 1]; speed in transitions per second
+    };
+
+    const ProgressiveMesh& pm_;
+    GeomorphOptions geomorphs_;
+    // Per input vertex.
+    std::vector<std::uint32_t> collapse_of_;   // the collapse that removes it (none: a root)
+    std::vector<std::uint32_t> children_, collapsed_children_;  // collapses onto it: all, made
+    std::vector<std::uint8_t> active_;
+    std::vector<std::uint16_t> locked_;        // geomorphs holding it
+    std::vector<float> ring_area_;             // average world area of its ring (active vertices)
+    std::vector<std::uint32_t> front_pos_;     // its index in front_
+    std::vector<std::uint32_t> head_;          // first corner of its corner list
+    std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
+    std::vector<std::uint8_t> queued_;
+    std::vector<glm::dvec3> shown_;            // shown position (only with geomorphs)
+    // Per collapse.
+    std::vector<std::uint32_t> prev_collapse_;       // the stack's link
+    std::vector<std::array<std::uint32_t, 2>> dead_; // faces it removed
+    std::vector<std::uint32_t> changed_in_frame_;    // the frame it was last made or undone in
+    std::uint32_t frame_ = 0;
+    // Per face corner (3 f + j) and per face. The lists are singly linked: a vertex's list is as
+    // short as its degree, so unlinking by a walk costs less than a back link's 4 bytes a corner.
+    std::vector<std::uint32_t> corner_, next_;
+    std::vector<std::uint8_t> face_active_;
+    std::size_t active_face_count_ = 0;
+    std::vector<std::uint32_t> front_, work_;
+    // Per front entry, beside front_: the vertex's position and ring area, so that a frame's
+    // evaluation streams through memory instead of missing the cache twice a vertex.
+    std::vector<glm::vec4> front_data_;
+    std::vector<Morph> morphs_;
+    // Scratch (kept to avoid allocation per operation).
+    std::vector<std::uint32_t> ring_r_, ring_k_, changed_;
+    std::vector<double> areas_;
+    // This frame's view.
+    const Camera* camera_ = nullptr;
+    const DetailCriterion* criterion_ = nullptr;
+    FrontStats* stats_ = nullptr;
+
+    std::uint32_t face_vertex(std::uint32_t face, int j) const { return corner_[3 * face + j]; }
+    std::uint32_t parent(std::uint32_t v) const;
+    std::uint32_t representative(std::uint32_t input_vertex) const;
+    void link(std::uint32_t c, std::uint32_t v);
+    void unlink(std::uint32_t c);
+    void set_face_active(std::uint32_t f, bool on);
+    void front_add(std::uint32_t v);
+    void front_remove(std::uint32_t v);
+    double face_area(std::uint32_t f) const;
+    void refresh_ring_area(std::uint32_t v);
+    void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+    double scale(std::uint32_t v) const;
+    double target(std::uint32_t v) const;
+    double image_area(std::uint32_t v) const { return scale(v) * ring_area_[v]; }
+    void enqueue(std::uint32_t v);
+
+    bool collapse_ok(std::uint32_t r, std::uint32_t k);
+    bool flips(std::uint32_t r, std::uint32_t k) const;
+    void raw_collapse(std::uint32_t r);
+    bool split_ok(std::uint32_t k) const;
+    bool ring_is_disk(std::uint32_t v) const;
+    std::uint32_t raw_split(std::uint32_t k);  // returns the vertex split off
+    void touch_ring(std::uint32_t v);          // refresh areas of v and its neighbours, queue them
+    bool try_collapse(std::uint32_t r);
+    bool try_split(std::uint32_t k);
+    void lock_ring(std::uint32_t r, int delta);
+    void advance_morphs(double frame_seconds);
+    void drain(std::size_t max_operations);
+};
+
+}  // namespace inkline

@@ -1,0 +1,54 @@
+// Drawing views along a camera path with the progressive mesh (seed 000, sections 3.1-3.3): the
+// incremental front adapted each frame (with geomorphs when asked), the adapted mesh drawn by the
+// unchanged pipeline with exact visibility, its suggestive contours from k_r and D_w k_r smoothed
+// over time per input vertex. The pm counterpart of MultiscaleSession (multiscale.hpp), for the
+// bench and the window.
+//
+// Takes: a ProgressiveMesh, the pipeline's ViewOptions and a target size; per frame a Camera and
+// the frame's duration. Gives: the frame's View and the adapted Model it was drawn from.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "detail/progressive_mesh_front.hpp"
+#include "detail/temporal_smoothing.hpp"
+#include "pipeline.hpp"
+
+namespace inkline {
+
+struct PmViewOptions {
+    double target_px = 0.0;      // --detail=PX: T = PX^2 square pixels
+    double crease_degrees = 40.0;
+    GeomorphOptions geomorphs;   // a path's frames: on; one converged drawing: off
+    bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
+    double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
+};
+
+class PmSession {
+public:
+    PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options);
+    // One frame, `frame_seconds` after the last (geomorphs advance by it; the smoothing's weight
+    // takes 1 / frame_seconds as the frame rate). The view lives until the next call.
+    View& render(const Camera& camera, double frame_seconds);
+    // The front converged at `camera` (geomorphs finished at once), e.g. when a window opens.
+    void settle(const Camera& camera);
+    const Model& adapted() const { return *model_; }
+    const FrontStats& stats() const { return stats_; }
+    const AdaptiveFront& front() const { return front_; }
+    double seconds_adapt() const { return stats_.seconds; }
+    void set_target(double target_px) { pm_options_.target_px = target_px; }
+
+private:
+    ViewOptions options_;
+    PmViewOptions pm_options_;
+    AdaptiveFront front_;
+    FrontStats stats_;
+    std::unique_ptr<Model> model_;
+    std::unique_ptr<ViewSession> session_;
+    std::vector<std::uint32_t> input_vertex_;
+    ViewCurvature curvature_;
+    TemporalSmoother smoother_;
+};
+
+}  // namespace inkline

@@ -1,0 +1,62 @@
+// The window's detail control (`view --detail=PX`): one stateful session, the progressive mesh's
+// (geomorphs, smoothing: detail/progressive_mesh_session.hpp) or the multi-scale method's
+// (detail/multiscale.hpp), drawing the window's views in order on one lane. No OpenGL here.
+//
+// Takes: the model, the method and the target size (the panel's slider may change it while a view
+// is computed: it applies from the next view). Gives: each view, the model it was drawn from
+// (the base coat's triangles) and a one-line summary for the panel.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "pipeline.hpp"
+
+namespace inkline {
+
+class ProgressiveMesh;
+class PmSession;
+struct MultiscaleLevels;
+class MultiscaleSession;
+
+class DetailSource {
+public:
+    // Builds the method's pre-process (the hierarchy, or the smoothed levels) now.
+    DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent = 0.0);
+    ~DetailSource();
+    DetailSource(const DetailSource&) = delete;
+    DetailSource& operator=(const DetailSource&) = delete;
+
+    // New sessions for `options` (the panel changed the lines); no view may be in flight.
+    void reset(const ViewOptions& options);
+    // One view, on the lane's thread. pm: the front settles at the first view after a reset, then
+    // geomorphs advance by the wall time since the last view (clamped to [1/60, 1/4] s).
+    View& render(const Camera& camera);
+    const Model& drawn_model() const;  // what the last view was drawn from
+    void set_target(double target_px) { target_px_.store(target_px); }
+    double target() const { return target_px_.load(); }
+    const std::string& method() const { return method_; }
+    // Geomorphs still running after the last view: the window asks for views until they end.
+    bool morphing() const { return morphing_.load(); }
+    std::string summary() const;
+
+private:
+    const Model& model_;
+    std::string method_;
+    std::atomic<double> target_px_;
+    double depth_exponent_;
+    std::unique_ptr<ProgressiveMesh> pm_;
+    std::unique_ptr<PmSession> pm_session_;
+    std::unique_ptr<MultiscaleLevels> levels_;
+    std::unique_ptr<MultiscaleSession> ms_session_;
+    bool settled_ = false;
+    std::chrono::steady_clock::time_point last_view_{};
+    std::atomic<bool> morphing_{false};
+    mutable std::mutex summary_mutex_;
+    std::string summary_;
+};
+
+}  // namespace inkline

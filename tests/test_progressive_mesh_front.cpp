@@ -1,0 +1,269 @@
+// The progressive mesh's incremental front (src/detail/progressive_mesh_front.hpp): it converges
+// to the criterion of seed 000's section 3.1, stops changing at a fixed camera, stays a manifold
+// of the input's topology along a dolly and an orbit, and lands near the from-scratch mesh; the
+// geomorphs of section 3.2 move no vertex by a jump.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "detail/progressive_mesh_front.hpp"
+#include "detail/temporal_smoothing.hpp"
+#include "model/mesh_io.hpp"
+#include "test_data.hpp"
+
+using namespace inkline;
+
+namespace {
+
+Bounds3 bounds_of(const TriangleMesh& m) {
+    Bounds3 b{m.positions[0], m.positions[0]};
+    for (const auto& p : m.positions) {
+        b.lo = glm::min(b.lo, p);
+        b.hi = glm::max(b.hi, p);
+    }
+    return b;
+}
+
+long euler_characteristic(const TriangleMesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++edges[std::minmax(t[k], t[(k + 1) % 3])];
+    return long(m.positions.size()) - long(edges.size()) + long(m.triangles.size());
+}
+
+const ProgressiveMesh& armadillo_pm() {
+    static const ProgressiveMesh pm(load_mesh(test::mesh_path("armadillo")));
+    return pm;
+}
+
+DetailCriterion target_px(double px) {
+    DetailCriterion c;
+    c.target_area_px = px * px;
+    return c;
+}
+
+// The framed camera moved `times` the framed distance from the centre and turned `yaw_deg` about
+// the vertical axis through it.
+Camera dolly_orbit(const Bounds3& box, double times, double yaw_deg) {
+    const Camera framed = test::framed_camera(box);
+    const glm::dvec3 c = box.center(), d = framed.eye() - c;
+    const double a = yaw_deg * M_PI / 180.0;
+    const glm::dvec3 turned{std::cos(a) * d.x + std::sin(a) * d.z, d.y, -std::sin(a) * d.x + std::cos(a) * d.z};
+    return Camera::perspective(c + times * turned, c, framed.up(), framed.fov_deg(), 1024, 1024);
+}
+
+// Updates until a frame makes no operation; the number of frames it took.
+int converge(AdaptiveFront& front, const Camera& cam, const DetailCriterion& c, int most = 50) {
+    for (int frame = 1; frame <= most; ++frame) {
+        const FrontStats s = front.update(cam, c);
+        if (s.splits + s.collapses == 0) return frame;
+    }
+    return most + 1;
+}
+
+struct BandCount {
+    std::size_t vertices = 0, above = 0, below = 0;
+};
+BandCount band(const AdaptiveFront& front, const Camera& cam, const DetailCriterion& c) {
+    BandCount b;
+    std::vector<std::uint32_t> from;
+    front.mesh(&from);
+    for (std::uint32_t v : from) {
+        const double a = front.image_area_of(v, cam);
+        ++b.vertices;
+        b.above += a > c.split * c.target_area_px;
+        b.below += a < c.collapse * c.target_area_px;
+    }
+    return b;
+}
+
+}  // namespace
+
+TEST(AdaptiveFront, StartsAsTheInput) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    AdaptiveFront front(pm);
+    const TriangleMesh m = front.mesh();
+    EXPECT_EQ(m.positions, pm.input().positions);
+    EXPECT_EQ(m.triangles, pm.input().triangles);
+}
+
+TEST(AdaptiveFront, ConvergesIntoTheBandAndStops) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    const DetailCriterion c = target_px(4.0);
+    AdaptiveFront front(pm);
+    const int frames = converge(front, cam, c);
+    // Measured: the second frame makes nothing (operations are driven by a worklist within a frame;
+    // the second frame only finds what became legal after the worklist ran dry).
+    EXPECT_LE(frames, 3);
+    for (int k = 0; k < 5; ++k) {  // at a fixed camera nothing changes any more
+        const FrontStats s = front.update(cam, c);
+        EXPECT_EQ(s.splits + s.collapses, 0u) << k;
+    }
+}
+
+TEST(AdaptiveFront, DollyAndOrbitKeepAManifold) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    const DetailCriterion c = target_px(3.0);
+    AdaptiveFront front(pm);
+    const long chi = euler_characteristic(pm.input());
+    for (int k = 0; k <= 60; ++k) {
+        const double t = k / 60.0;
+        const Camera cam = k <= 30 ? dolly_orbit(box, std::pow(8.0, t * 2), 0.0) : dolly_orbit(box, 8.0 / std::pow(8.0, (t - 0.5) * 2), (t - 0.5) * 720);
+        const FrontStats s = front.update(cam, c);
+        TriangleMesh m = front.mesh();
+        ASSERT_EQ(euler_characteristic(m), chi) << k;
+        ASSERT_NO_THROW(validate_mesh(m, "front")) << k;
+        ASSERT_EQ(m.faces_reoriented, 0u) << k;
+        if (k % 10 == 0) std::printf("frame %d: %zu triangles, %zu splits, %zu collapses, %.2f ms\n", k, s.triangles, s.splits, s.collapses, s.seconds * 1e3);
+    }
+}
+
+// The band after convergence, vertex by vertex, with the reason for each one outside it.
+TEST(AdaptiveFront, OutsideTheBandOnlyAtTheLimitsOrGuarded) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    for (double px : {3.0, 6.0}) {
+        const DetailCriterion c = target_px(px);
+        AdaptiveFront front(pm);
+        converge(front, cam, c);
+        std::vector<std::uint32_t> from;
+        front.mesh(&from);
+        std::size_t above_bottom = 0, above_guarded = 0, below_top = 0, below_blocked = 0;
+        for (std::uint32_t v : from) {
+            const double a = front.image_area_of(v, cam);
+            if (a > c.split * c.target_area_px) ++(front.at_bottom(v) ? above_bottom : above_guarded);
+            if (a < c.collapse * c.target_area_px) ++(front.at_top(v) ? below_top : below_blocked);
+        }
+        std::printf("%g px: %zu vertices; above t_s T: %zu at the bottom, %zu guarded; below t_c T: %zu at the top, "
+                    "%zu blocked\n", px, from.size(), above_bottom, above_guarded, below_top, below_blocked);
+        // Above t_s T only at the hierarchy's bottom: every split that was asked for was made (at
+        // 3 px the framed armadillo's own triangles are mostly larger than the band: 13038 of
+        // 25579 vertices). Below t_c T: collapses blocked by Hoppe's tree order (a child's
+        // collapse illegal), the link condition, a turned face or the band guard on a neighbour:
+        // measured 417 of 25579 at 3 px, 874 of 10860 at 6 px; adapt() leaves 452 of 21379 at 4 px.
+        EXPECT_EQ(above_guarded, 0u) << px;
+        EXPECT_LT(below_blocked * 10, from.size()) << px;
+        EXPECT_GT(above_bottom + below_top + below_blocked, 0u) << px;  // (the count is not empty by accident)
+    }
+}
+
+// Along a slow dolly the front follows the view; at the end it is compared with a front converged
+// there from the input and with ProgressiveMesh::adapt (the from-scratch replay).
+TEST(AdaptiveFront, IncrementalLandsNearFromScratch) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    const DetailCriterion c = target_px(3.0);
+    AdaptiveFront moving(pm);
+    for (int k = 0; k <= 70; ++k) moving.update(dolly_orbit(box, std::pow(1.01, k), 0.0), c);
+    const Camera last = dolly_orbit(box, std::pow(1.01, 70), 0.0);
+    converge(moving, last, c);
+    AdaptiveFront fresh(pm);
+    converge(fresh, last, c);
+    const std::size_t replay = pm.adapt(last, c).triangles.size();
+    const BandCount bm = band(moving, last, c), bf = band(fresh, last, c);
+    std::printf("2x: incremental %zu triangles (%zu above, %zu below), fresh %zu (%zu above, %zu below), replay %zu\n",
+                moving.active_faces(), bm.above, bm.below, fresh.active_faces(), bf.above, bf.below, replay);
+    // Not the same mesh: the band admits many fixed points and the path picks one (the header
+    // says why). Measured: 22768 triangles incremental, 21192 fresh, 21240 replayed; 7 vertices
+    // above t_s T in each, 1118 / 853 below t_c T. Bound: within 10 % of both in size, and as
+    // many above the band (both only at the hierarchy's bottom).
+    EXPECT_NEAR(double(moving.active_faces()), double(fresh.active_faces()), 0.1 * double(fresh.active_faces()));
+    EXPECT_NEAR(double(moving.active_faces()), double(replay), 0.1 * double(replay));
+    EXPECT_EQ(bm.above, bf.above);
+    EXPECT_LT(bm.below * 10, bm.vertices);
+}
+
+// The window's slider at a fixed camera: the target grows from 2 to 6 px, collapses run as
+// geomorphs. Every frame: a vertex kept moves at most its share of the way to its parent (the
+// speed times the frame, at most max_speedup / seconds); a vertex leaves from within that share of its parent's place;
+// a vertex arrives at its parent's place (each by at most that share too). Then the morphs end and the mesh stops changing.
+TEST(AdaptiveFront, GeomorphsMoveNoVertexByAJump) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    const GeomorphOptions g{.enabled = true, .seconds = 0.5, .max_speedup = 8.0};
+    AdaptiveFront front(pm, g);
+    for (int k = 0; k < 20; ++k) front.update(cam, target_px(2.0), 10.0);  // converge, morphs done at once
+    ASSERT_EQ(front.morphs_running(), 0u);
+    const double dt = 1.0 / 25.0, share = g.max_speedup * dt / g.seconds;  // at most 0.64 of the way a frame
+    const auto& p = pm.input().positions;
+    const auto parent_of = [&](std::uint32_t v) {
+        for (std::size_t i = 0; i < pm.collapses(); ++i)  // (the test's slow lookup; a map would do too)
+            if (pm.removed_vertex()[i] == v) return pm.kept_vertex()[i];
+        return UINT32_MAX;
+    };
+    std::vector<std::uint32_t> before_ids, now_ids;
+    TriangleMesh before = front.mesh(&before_ids);
+    std::map<std::uint32_t, glm::dvec3> shown_before;
+    for (std::size_t j = 0; j < before_ids.size(); ++j) shown_before[before_ids[j]] = before.positions[j];
+    double largest = 0.0;
+    std::size_t arrived = 0, left = 0;
+    int frame = 0;
+    for (; frame < 200; ++frame) {
+        const DetailCriterion c = target_px(frame < 30 ? 2.0 + 4.0 * frame / 30.0 : 6.0);  // the slider moved
+        const FrontStats s = front.update(cam, c, dt);
+        largest = std::max(largest, s.largest_move_px);
+        const TriangleMesh now = front.mesh(&now_ids);
+        std::map<std::uint32_t, glm::dvec3> shown_now;
+        for (std::size_t j = 0; j < now_ids.size(); ++j) shown_now[now_ids[j]] = now.positions[j];
+        for (const auto& [v, q] : shown_now) {
+            const auto was = shown_before.find(v);
+            const std::uint32_t k = parent_of(v);
+            if (was == shown_before.end()) {  // arrived by a split: at its parent
+                ++arrived;
+                ASSERT_NE(k, UINT32_MAX);
+                EXPECT_LE(glm::length(cam.project(q) - cam.project(shown_before.at(k))),
+                          share * glm::length(cam.project(p[v]) - cam.project(p[k])) + 1e-9) << v;
+                continue;
+            }
+            const double step = glm::length(cam.project(q) - cam.project(was->second));
+            if (step > 0.0) {
+                ASSERT_NE(k, UINT32_MAX) << v;
+                EXPECT_LE(step, share * glm::length(cam.project(p[v]) - cam.project(p[k])) + 1e-9) << v;
+            }
+        }
+        for (const auto& [v, q] : shown_before)
+            if (!shown_now.count(v)) {  // left by a collapse: its last step onto its parent
+                ++left;
+                const std::uint32_t k = parent_of(v);
+                EXPECT_LE(glm::length(cam.project(q) - cam.project(p[k])),
+                          share * glm::length(cam.project(p[v]) - cam.project(p[k])) + 1e-9) << v;
+            }
+        shown_before = std::move(shown_now);
+        if (frame > 30 && s.morphs_running == 0 && s.splits + s.collapses + s.morphs_started == 0) break;
+    }
+    std::printf("slider 2 -> 6 px: %zu vertices left, %zu arrived, largest move %.2f px a frame, still after %d frames\n",
+                left, arrived, largest, frame);
+    EXPECT_GT(left, 1000u);  // (the slider did coarsen the mesh)
+    EXPECT_LT(frame, 200);   // the morphs ended and nothing started any more: no cycle
+}
+
+TEST(TemporalSmoothing, WeightOfTheSeedsExample) {
+    EXPECT_NEAR(smoothing_weight(0.8, 25.0, 0.9), 0.1087, 5e-5);  // n = 20: 1 - 0.1^(1/20)
+    EXPECT_EQ(smoothing_weight(0.8, 1.0, 0.9), 1.0);             // under a frame: no smoothing
+}
+
+TEST(TemporalSmoothing, ReachesAlphaOfTheWayAfterNFrames) {
+    TemporalSmoother s;
+    const double w = smoothing_weight(0.8, 25.0, 0.9);
+    const std::vector<std::uint32_t> ids{7};
+    ViewCurvature v{{0.0f}, {0.0f}, {0.0f}};
+    s.blend(v, ids, w);  // first sight: the value as it is
+    EXPECT_EQ(v.kr[0], 0.0f);
+    for (int frame = 1; frame <= 20; ++frame) {
+        v = ViewCurvature{{1.0f}, {2.0f}, {-4.0f}};  // the target, fixed
+        s.blend(v, ids, w);
+        if (frame == 19) {
+            EXPECT_LT(v.kr[0], 0.9f * 2.0f);
+        }
+    }
+    EXPECT_NEAR(v.ndotv[0], 0.9f, 1e-5f);
+    EXPECT_NEAR(v.kr[0], 0.9f * 2.0f, 1e-5f);
+    EXPECT_NEAR(v.dwkr[0], 0.9f * -4.0f, 1e-5f);
+    // A vertex unseen for a frame starts again from its value (its old state was another shape's).
+    s.blend(v, {8}, w);
+    v = ViewCurvature{{0.5f}, {0.5f}, {0.5f}};
+    s.blend(v, ids, w);
+    EXPECT_EQ(v.kr[0], 0.5f);
+}
