@@ -11,7 +11,9 @@
 #include <cctype>
 #include <cfloat>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +27,7 @@
 #include "view/camera_rig.hpp"
 #include "view/frame_stats.hpp"
 #include "view/gl_scene.hpp"
+#include "view/tone_pass.hpp"
 #include "view/ui_layer.hpp"
 #include "view/view_scheduler.hpp"
 
@@ -125,6 +128,9 @@ public:
         panel_ = o.panel;
         recall_on_ = o.recall;
         vopt_ = o.view;
+        tone_ = o.tone;
+        tone_layers_ = {o.tone_dark, o.tone_highlight, o.toon_base};
+        light_ = light_angles(home, o.tone.lights.empty() ? tone::default_light(home) : o.tone.lights[0]);
         style_names_ = {"lines (GL)", "clean", "technical", "sketchy", "charcoal", "ink-brush", "hatched"};
         if (!o.style.empty()) {
             const auto it = std::find(style_names_.begin(), style_names_.end(), o.style);
@@ -301,7 +307,9 @@ private:
         damaged_ = false;
         drawn_w_ = w, drawn_h_ = h;
         const Camera& drawn = shown_.camera;
-        scene_.draw(drawn, shading_, shown_.lines, shown_.styled ? &shown_.pixels : nullptr);
+        std::function<void()> underlay;
+        if (tone_on()) underlay = [&] { draw_tone(drawn); };
+        scene_.draw(drawn, shading_, shown_.lines, shown_.styled ? &shown_.pixels : nullptr, underlay);
         const bool shot = finishing && !opt_.screenshot.empty();
         if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn.width(), drawn.height());
         if (panel_) ui_layer_.composite();
@@ -378,8 +386,23 @@ private:
             rig_.pan(dx, dy, h);
     }
 
+    bool tone_on() const { return tone_layers_.dark || tone_layers_.highlight || tone_layers_.base; }
+    // The tone pass's options at `cam`: the panel's light turned into a world direction.
+    tone::ToneOptions tone_options(const Camera& cam) const {
+        tone::ToneOptions o = tone_;
+        o.lights = {light_direction(cam, light_)};
+        return o;
+    }
+    void draw_tone(const Camera& cam) {
+        if (!tone_pass_) tone_pass_ = std::make_unique<TonePass>(model_.topology());
+        tone_pass_->draw(cam, tone_options(cam), tone_layers_);
+    }
+    void add_tone_lines(const Camera& cam, Drawing& d) const;
+    std::string tone_flags(const Camera& cam) const;  // render's flags for the tone pass shown
+
     void draw_panel();
     void panel_lines();
+    void panel_tone();
     void panel_surface_lines();
     void panel_finder();
     void panel_statistics();
@@ -397,6 +420,7 @@ private:
     ImGuiContextScope imgui_;
     GlScene scene_;
     UiLayer ui_layer_;  // the panel, rasterized again only when it changes
+    std::unique_ptr<TonePass> tone_pass_;  // the tone pass's GL objects, made on first use
     ViewScheduler scheduler_;
     FrameStats frame_stats_;
     ViewOptions vopt_;
@@ -413,6 +437,9 @@ private:
     ImVec2 panel_size_{0.0f, 0.0f};
     bool panel_drawn_ = false, damaged_ = false;  // the panel shown in the last frame drawn; an expose
     int drawn_w_ = 0, drawn_h_ = 0;               // the framebuffer size of the last frame drawn
+    tone::ToneOptions tone_;  // the tone pass's parameters (its lights from light_)
+    ToneLayers tone_layers_;
+    LightAngles light_;
     char export_name_[256] = "inkline-view";
     std::string status_, command_;
     bool dirty_ = false, crease_dirty_ = false;  // options changed: new sessions next frame
@@ -434,7 +461,10 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
     if (s.ridge) add_kind(LineKind::Ridge);
     if (s.valley) add_kind(LineKind::Valley);
     if (vopt_.features.intersection) add_kind(LineKind::Intersection);
-    c += " --lines=" + kinds;  // (empty: no line kind, as render takes it)
+    if (tone_layers_.dark) add_kind(LineKind::ToneDark);
+    if (tone_layers_.highlight) add_kind(LineKind::ToneHighlight);
+    c += " --lines=" + kinds;
+    c += tone_flags(cam);  // (empty: no line kind, as render takes it)
     if (s.suggestive && s.suggestive_threshold != SurfaceLineOptions{}.suggestive_threshold) {
         std::snprintf(buf, sizeof buf, " --suggestive-threshold=%.17g", s.suggestive_threshold);
         c += buf;
@@ -465,6 +495,8 @@ void Viewer::draw_panel() {
     ImGui::SetNextWindowBgAlpha(0.8f);  // the drawing shows through; H hides the panel
     ImGui::Begin("inkline (H hides)");
     if (ImGui::CollapsingHeader("Lines", ImGuiTreeNodeFlags_DefaultOpen)) panel_lines();
+    if (ImGui::CollapsingHeader("Tone lines (abstracted shading)", tone_on() ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+        panel_tone();
     if (ImGui::CollapsingHeader("Finder and visibility", ImGuiTreeNodeFlags_DefaultOpen)) panel_finder();
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) panel_statistics();
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) panel_camera_and_export();
@@ -528,6 +560,86 @@ void Viewer::panel_lines() {
         dirty_ = true;  // a style may draw hidden lines: a new session
     }
     if (ImGui::SliderFloat("crease angle", &crease_, 0.0f, 180.0f, "%.1f deg")) crease_dirty_ = true;
+}
+
+// The tone pass's layers and parameters (tone::ToneOptions, as render's --tone-* flags take
+// them); a slider's value rounded to the digits it shows, so the printed render command is short.
+void Viewer::panel_tone() {
+    ImGui::Checkbox("tone-dark", &tone_layers_.dark);
+    ImGui::SameLine();
+    ImGui::Checkbox("tone-highlight", &tone_layers_.highlight);
+    ImGui::SameLine();
+    ImGui::Checkbox("toon base", &tone_layers_.base);
+    if (!tone_on()) return;
+    const auto slider = [](const char* label, double& value, float lo, float hi, const char* format, double step,
+                           ImGuiSliderFlags flags = 0) {
+        float v = float(value);
+        if (!ImGui::SliderFloat(label, &v, lo, hi, format, flags)) return;
+        value = std::max(double(lo), std::round(double(v) / step) * step);
+    };
+    const auto thresholds = [](const char* label, double& lower, double& upper) {
+        float v[2] = {float(lower), float(upper)};
+        if (!ImGui::SliderFloat2(label, v, 0.0f, 0.5f, "%.3f", ImGuiSliderFlags_Logarithmic)) return;
+        const double lo = std::round(double(v[0]) * 1e3) / 1e3, hi = std::round(double(v[1]) * 1e3) / 1e3;
+        // c_l <= c_u: the edited one pushes the other
+        if (lo != lower) lower = lo, upper = std::max(upper, lo);
+        else upper = hi, lower = std::min(lower, hi);
+    };
+    slider("w (line width)", tone_.width, 1.0f, 32.0f, "%.1f px", 0.1);
+    slider("beta", tone_.beta, 0.0f, 1.0f, "%.2f", 0.01);
+    thresholds("dark c_l, c_u", tone_.dark_lower, tone_.dark_upper);
+    thresholds("highlight c_l, c_u", tone_.highlight_lower, tone_.highlight_upper);
+    slider("light azimuth", light_.azimuth_deg, -180.0f, 180.0f, "%.0f deg", 1.0);
+    slider("light elevation", light_.elevation_deg, -90.0f, 90.0f, "%.0f deg", 1.0);
+    slider("specular exponent", tone_.specular_exponent, 1.0f, 1000.0f, "%.0f", 1.0, ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderInt("toon bands", &tone_.toon_bands, 2, 4);
+    ImGui::Checkbox("distance fall-off", &tone_.distance_falloff);
+    ImGui::SameLine();
+    ImGui::Checkbox("counterchange", &tone_.counterchange);
+}
+
+std::string Viewer::tone_flags(const Camera& cam) const {
+    if (!tone_on()) return "";
+    const tone::ToneOptions d;
+    std::string c = tone_layers_.base ? " --base=toon" : "";
+    char buf[160];
+    const auto number = [&](const char* flag, double v, double def) {
+        if (v == def) return;
+        std::snprintf(buf, sizeof buf, " %s=%g", flag, v);
+        c += buf;
+    };
+    const auto pair = [&](const char* flag, double lo, double hi, double dlo, double dhi) {
+        if (lo == dlo && hi == dhi) return;
+        std::snprintf(buf, sizeof buf, " %s=%g,%g", flag, lo, hi);
+        c += buf;
+    };
+    number("--tone-width", tone_.width, d.width);
+    number("--tone-beta", tone_.beta, d.beta);
+    pair("--tone-dark", tone_.dark_lower, tone_.dark_upper, d.dark_lower, d.dark_upper);
+    pair("--tone-highlight", tone_.highlight_lower, tone_.highlight_upper, d.highlight_lower, d.highlight_upper);
+    number("--specular", tone_.specular_exponent, d.specular_exponent);
+    number("--toon-bands", tone_.toon_bands, d.toon_bands);
+    const glm::dvec3 l = light_direction(cam, light_);
+    std::snprintf(buf, sizeof buf, " --light=%.17g,%.17g,%.17g", l.x, l.y, l.z);
+    return c + buf;
+}
+
+// render's tone pass on the CPU at `cam`: the traced lines (vectors) and the base coat join the
+// export, as `inkline render` adds them.
+void Viewer::add_tone_lines(const Camera& cam, Drawing& d) const {
+    tone::ToneResult result;
+    tone::ToneOptions o = tone_options(cam);
+    o.threads = std::max(1, vopt_.threads);
+    tone::render_tone(model_.topology(), tone::prepare_tone_mesh(model_.topology()), cam, o, tone_layers_.dark,
+                      tone_layers_.highlight, result);
+    std::uint32_t curves = 0;  // numbered after the drawing's curves
+    for (const Piece& p : d.pieces) curves = std::max(curves, p.curve + 1);
+    for (Piece& p : result.pieces) {
+        p.curve += curves;
+        d.pieces.push_back(std::move(p));
+    }
+    d.stats.pieces = d.pieces.size();
+    if (tone_layers_.base) d.base = tone::toon_base(result.tone_blurred, result.shaded.covered, o.toon_bands);
 }
 
 void Viewer::panel_finder() {
@@ -616,6 +728,10 @@ void Viewer::export_view(const std::string& path) {
         const Format format = output_format(path, "");
         if (style_ && format != Format::Json) {
             write_styled(stylize_view(model_, cam, view, *style_, hidden_), path, format);
+        } else if (tone_on()) {
+            Drawing d = view.drawing;
+            add_tone_lines(cam, d);
+            write_drawing(d, path, format, oo);
         } else {
             write_drawing(view.drawing, path, format, oo);
         }
