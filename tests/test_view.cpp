@@ -17,6 +17,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -496,7 +497,7 @@ ToneAgreement tone_agreement(const std::string& model, const std::string& flags,
     EXPECT_EQ(a.w, 640);
     EXPECT_EQ(b.w, 640);
     ToneAgreement t{a.count(), b.count(), covered(b, a, 1), covered(a, b, 1)};
-    std::printf("%s %s%s: screenshot %zu dark px, render %zu; render's within 1 px of the screenshot's %.4f, the "
+    std::printf("%s %s %s: screenshot %zu dark px, render %zu; render's within 1 px of the screenshot's %.4f, the "
                 "screenshot's within 1 px of render's %.4f\n", model.c_str(), flags.c_str(), render_only.c_str(),
                 t.shot_px, t.render_px, t.render_near_shot, t.shot_near_render);
     return t;
@@ -631,9 +632,12 @@ TEST(ViewWindow, PanelLayerLooksLikeImGuiDrawnDirectly) {
 TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
-    for (const auto& [size, height] : {std::pair{"1024x768", 768.0}, std::pair{"640x480", 480.0}}) {
+    // (the tone pass's section open with its sliders: the second set of flags)
+    for (const auto& [size, height, flags] : {std::tuple{"1024x768", 768.0, ""}, std::tuple{"640x480", 480.0, ""},
+                                              std::tuple{"1024x768", 768.0, " --lines=silhouette,tone-dark --base=toon"},
+                                              std::tuple{"640x480", 480.0, " --lines=silhouette,tone-dark --base=toon"}}) {
         const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=4 --orbit --arc=20 --recall --hidden --size=" +
-                                        size + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
+                                        size + flags + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
         const auto at = v.out.find("panel: ");
         ASSERT_NE(at, std::string::npos) << v.out;
@@ -641,7 +645,7 @@ TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
         ASSERT_EQ(std::sscanf(v.out.c_str() + at, "panel: %lf x %lf px, its widest line %lf px past its clipped edge", &w,
                               &h, &past), 3)
             << v.out;
-        std::printf("%s: panel %.0f x %.0f px, widest line %.0f px past its edge\n", size, w, h, past);
+        std::printf("%s%s: panel %.0f x %.0f px, widest line %.0f px past its edge\n", size, flags, w, h, past);
         EXPECT_EQ(past, 0.0) << "a line of the panel is cut off";
         EXPECT_GT(w, 100.0);
         EXPECT_GT(h, 100.0);

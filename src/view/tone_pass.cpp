@@ -4,7 +4,9 @@
 #include <GL/glcorearb.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -12,6 +14,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "core/clock.hpp"
 #include "core/error.hpp"
 #include "view/gl_program.hpp"
 
@@ -74,7 +77,8 @@ void main() {
 )";
 
 // Pass 2: one direction of the separable Gaussian (tone::gaussian_blur: the same float kernel,
-// the same order of sums, border clamped).
+// the same order of sums, border clamped). (Taps paired into linear fetches cost the same on a
+// software rasterizer and round differently from the CPU pass.)
 const char* kBlurFs = R"(#version 330 core
 uniform sampler2D source;
 uniform float kernel[193];
@@ -84,48 +88,41 @@ out vec4 result;
 void main() {
     ivec2 size = textureSize(source, 0);
     ivec2 p = ivec2(gl_FragCoord.xy);
-    vec4 acc = vec4(0.0);
+    vec2 acc = vec2(0.0);
     for (int k = -radius; k <= radius; ++k)
-        acc += kernel[k + radius] * texelFetch(source, clamp(p + k * dir, ivec2(0), size - 1), 0);
-    result = acc;
+        acc += kernel[k + radius] * texelFetch(source, clamp(p + k * dir, ivec2(0), size - 1), 0).rg;
+    result = vec4(acc, 0.0, 0.0);
 }
 )";
 
-// Pass 3: sections 3.1-3.3 at each pixel (tone/ridges.cpp's fit, search, spot and opacity), then
-// the composite: toon base coat (or white), highlight lines white, dark lines black. Coordinates
-// are GL's (y up): the fit is the CPU's mirrored, the same lines.
-const char* kRidgeFs = R"(#version 330 core
+// Pass 3: sections 3.1-3.3 at each pixel (tone/ridges.cpp's fit, search, spot and opacity) of the
+// tone image (dark and highlight lines) and of the specular channel (highlight lines, the larger
+// opacity kept: tone::merge_max). Coordinates are GL's (y up): the fit is the CPU's mirrored, the
+// same lines. A software rasterizer runs every branch of the shader for a block of pixels, but
+// skips the rest of it where the whole block is discarded: so one first fit of both channels from
+// one set of samples, a discard where no search is due (most of the image), and the searches in
+// a loop over the channels that are due. INTEGRAL (defined when w/2 is a whole number of pixels):
+// the first fit's samples are pixel centres.
+const char* kRidgeFs = R"(
 uniform sampler2D blurred;  // r: tone, g: specular, both blurred
-uniform sampler2D shaded;   // b: covered
 uniform float H[54];        // (X^T X)^-1 X^T, 6 rows of 9
 uniform float spacing;      // w / 2
 uniform float beta;
 uniform float bound;        // |curvature| bound per unit of the samples' range
 uniform int steps;
-uniform vec2 dark_c;        // c_l, c_u
+uniform vec2 dark_c;        // c_l, c_u; c_l above every curvature: those lines not wanted
 uniform vec2 light_c;
 uniform bool falloff;
 uniform bool counterchange;
-uniform bool show_dark;
-uniform bool show_light;
-uniform bool show_base;
-uniform int bands;
-out vec4 colour;
+out vec4 opacity;           // r: dark lines, g: highlight lines
 
 ivec2 size_px;
 
 vec2 texel(ivec2 p) { return texelFetch(blurred, clamp(p, ivec2(0), size_px - 1), 0).rg; }
 
-// Bilinear at a continuous point (pixel centres at +0.5), clamped to the border (Image::sample).
-vec2 sample2(vec2 p) {
-    vec2 f = clamp(p - 0.5, vec2(0.0), vec2(size_px - 1));
-    ivec2 i0 = min(ivec2(f), size_px - 1);
-    ivec2 i1 = min(i0 + 1, size_px - 1);
-    vec2 t = f - vec2(i0);
-    vec2 a = texel(i0), b = texel(ivec2(i1.x, i0.y)), c = texel(ivec2(i0.x, i1.y)), d = texel(i1);
-    vec2 top = a + t.x * (b - a), bottom = c + t.x * (d - c);
-    return top + t.y * (bottom - top);
-}
+// Bilinear at a continuous point (pixel centres at +0.5), clamped to the border (Image::sample):
+// the texture unit's linear filter (float weights on a float texture), one fetch.
+float sample1(vec2 p, vec2 pick) { return dot(texture(blurred, p / vec2(size_px)).rg, pick); }
 
 struct Line {
     float c;       // the curvature of larger magnitude (> 0: valley)
@@ -150,23 +147,23 @@ Line ridge_line(float a[6]) {
     return l;
 }
 
-Line fit_at(int ch, vec2 p) {
+Line fit_at(vec2 p, vec2 pick) {
     float a[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-            vec2 v = sample2(p + spacing * vec2(i - 1, j - 1));
-            float t = ch == 0 ? v.x : v.y;
+            float t = sample1(p + spacing * vec2(i - 1, j - 1), pick);
             for (int r = 0; r < 6; ++r) a[r] += H[9 * r + 3 * j + i] * t;
         }
     return ridge_line(a);
 }
 
-// The search toward the line from the first fit l, then the opacity (0: rejected).
-float search(int ch, bool dark, Line l, vec2 lim, float t_here) {
+// The search from the first fit l toward the line (rejected, 0, when the curvature drops below
+// c_l or changes sign, or when it travels over w/2), then the opacity.
+float search(Line l, vec2 pick, bool dark, vec2 lim, float t_here) {
     vec2 centre = gl_FragCoord.xy, pos = centre;
     float travel = 0.0;
     for (int step = 0; step <= steps; ++step) {
-        if (step > 0) l = fit_at(ch, pos);
+        if (step > 0) l = fit_at(pos, pick);
         float c = dark ? l.c : -l.c;
         if (!(c >= lim.x) || c <= 0.0) return 0.0;
         if (step == steps) break;
@@ -180,7 +177,7 @@ float search(int ch, bool dark, Line l, vec2 lim, float t_here) {
     if (l.other * l.c > 0.0) {  // a spot's centre: one dash through it, across the y axis
         vec2 c = pos + spacing * l.centre;
         if (length(c - centre) <= spacing) {
-            Line at_c = fit_at(ch, c);
+            Line at_c = fit_at(c, pick);
             if (at_c.other * at_c.c > 0.0 && abs(at_c.other) > 0.5 * abs(at_c.c)) {
                 on_line = c + spacing * at_c.centre;
                 n = vec2(0.0, 1.0);
@@ -199,43 +196,64 @@ float search(int ch, bool dark, Line l, vec2 lim, float t_here) {
 
 void main() {
     size_px = textureSize(blurred, 0);
-    ivec2 px = ivec2(gl_FragCoord.xy);
-    vec2 here = texelFetch(blurred, px, 0).rg;
-    vec3 base = vec3(1.0);
-    if (show_base && texelFetch(shaded, px, 0).b > 0.5) {
-        int k = clamp(int(here.x * float(bands)), 0, bands - 1);
-        base = vec3(round(110.0 + 125.0 * float(k) / float(bands - 1)) / 255.0);
-    }
-    // The first fit of both channels from one set of samples.
+    vec2 centre = gl_FragCoord.xy;
+    // The first fit of both channels (x: tone, y: specular), and the range of their samples.
     float a0[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0), a1[6] = a0;
     vec2 lo = vec2(1e30), hi = vec2(-1e30);
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-            vec2 v = sample2(gl_FragCoord.xy + spacing * vec2(i - 1, j - 1));
-            lo = min(lo, v);
-            hi = max(hi, v);
+#ifdef INTEGRAL
+            vec2 t = texel(ivec2(centre) + int(spacing) * ivec2(i - 1, j - 1));
+#else
+            vec2 t = texture(blurred, (centre + spacing * vec2(i - 1, j - 1)) / vec2(size_px)).rg;
+#endif
+            lo = min(lo, t);
+            hi = max(hi, t);
             for (int r = 0; r < 6; ++r) {
-                a0[r] += H[9 * r + 3 * j + i] * v.x;
-                a1[r] += H[9 * r + 3 * j + i] * v.y;
+                a0[r] += H[9 * r + 3 * j + i] * t.x;
+                a1[r] += H[9 * r + 3 * j + i] * t.y;
             }
         }
+    // Which searches are due: the stencil's range lets its curvature reach a wanted threshold,
+    // and the fit's curvature reaches the threshold of its kind (the specular channel: highlights).
+    Line l0 = ridge_line(a0), l1 = ridge_line(a1);
+    bool dark0 = l0.c > 0.0;
+    vec2 lim0 = dark0 ? dark_c : light_c;
+    bool due0 = !((hi.x - lo.x) * bound < min(dark_c.x, light_c.x) || hi.x == lo.x) && abs(l0.c) >= lim0.x;
+    bool due1 = !((hi.y - lo.y) * bound < light_c.x || hi.y == lo.y) && l1.c <= 0.0 && -l1.c >= light_c.x;
+    if (!due0 && !due1) discard;
+    vec2 here = texel(ivec2(centre));
     float dark_a = 0.0, light_a = 0.0;
-    // (a stencil whose range bounds its curvature below every wanted threshold: no fit needed)
-    float least = min(show_dark ? dark_c.x : 1e30, show_light ? light_c.x : 1e30);
-    if (!((hi.x - lo.x) * bound < least || hi.x == lo.x)) {
-        Line l = ridge_line(a0);
-        if (l.c > 0.0) {
-            if (show_dark) dark_a = search(0, true, l, dark_c, here.x);
-        } else if (show_light) {
-            light_a = search(0, false, l, light_c, here.x);
-        }
+    for (int k = due0 ? 0 : 1; k < (due1 ? 2 : 1); ++k) {
+        bool tone = k == 0;
+        bool dark = tone && dark0;
+        float alpha = search(tone ? l0 : l1, tone ? vec2(1.0, 0.0) : vec2(0.0, 1.0), dark, dark ? dark_c : light_c,
+                             tone ? here.x : here.y);
+        if (dark) dark_a = alpha;
+        else light_a = max(light_a, alpha);
     }
-    if (show_light && !((hi.y - lo.y) * bound < light_c.x || hi.y == lo.y)) {
-        Line l = ridge_line(a1);
-        if (l.c <= 0.0) light_a = max(light_a, search(1, false, l, light_c, here.y));
+    if (!(dark_a > 0.0 || light_a > 0.0)) discard;
+    opacity = vec4(dark_a, light_a, 0.0, 0.0);
+}
+)";
+
+// Pass 4: the composite: the toon base coat (or white), highlight lines white, dark lines black.
+const char* kCompositeFs = R"(#version 330 core
+uniform sampler2D blurred;  // r: tone
+uniform sampler2D shaded;   // b: covered
+uniform sampler2D lines;    // r: dark opacity, g: highlight opacity
+uniform bool show_base;
+uniform int bands;
+out vec4 colour;
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec3 base = vec3(1.0);
+    if (show_base && texelFetch(shaded, px, 0).b > 0.5) {
+        int k = clamp(int(texelFetch(blurred, px, 0).r * float(bands)), 0, bands - 1);
+        base = vec3(round(110.0 + 125.0 * float(k) / float(bands - 1)) / 255.0);
     }
-    vec3 c = mix(base, vec3(1.0), light_a);
-    colour = vec4(mix(c, vec3(0.0), dark_a), 1.0);
+    vec2 a = texelFetch(lines, px, 0).rg;
+    colour = vec4(mix(mix(base, vec3(1.0), a.y), vec3(0.0), a.x), 1.0);
 }
 )";
 
@@ -245,13 +263,14 @@ out vec4 colour;
 void main() { colour = vec4(texelFetch(image, ivec2(gl_FragCoord.xy), 0).rgb, 1.0); }
 )";
 
+// Linear filtering (the search's bilinear samples; texelFetch ignores it).
 unsigned make_texture(GLenum internal, GLenum format, GLenum type, int w, int h) {
     GLuint t = 0;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_2D, t);
     glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), w, h, 0, format, type, nullptr);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glBindTexture(GL_TEXTURE_2D, 0);
@@ -297,7 +316,9 @@ LightAngles light_angles(const Camera& cam, const glm::dvec3& direction) {
 TonePass::TonePass(const MeshTopology& mesh) : mesh_(mesh) {
     shade_prog_ = gl_program(kShadeVs, kShadeFs);
     blur_prog_ = gl_program(kFullVs, kBlurFs);
-    ridge_prog_ = gl_program(kFullVs, kRidgeFs);
+    ridge_prog_[0] = gl_program(kFullVs, (std::string("#version 330 core\n") + kRidgeFs).c_str());
+    ridge_prog_[1] = gl_program(kFullVs, (std::string("#version 330 core\n#define INTEGRAL 1\n") + kRidgeFs).c_str());
+    composite_prog_ = gl_program(kFullVs, kCompositeFs);
     copy_prog_ = gl_program(kFullVs, kCopyFs);
     glGenVertexArrays(1, &empty_vao_);
 }
@@ -305,58 +326,77 @@ TonePass::TonePass(const MeshTopology& mesh) : mesh_(mesh) {
 TonePass::~TonePass() {
     resize(0, 0);
     if (mesh_vao_) {
-        glDeleteBuffers(1, &mesh_vbo_);
+        glDeleteBuffers(2, mesh_bufs_);
         glDeleteVertexArrays(1, &mesh_vao_);
     }
     glDeleteVertexArrays(1, &empty_vao_);
-    for (unsigned p : {shade_prog_, blur_prog_, ridge_prog_, copy_prog_}) glDeleteProgram(p);
+    for (unsigned p : {shade_prog_, blur_prog_, ridge_prog_[0], ridge_prog_[1], composite_prog_, copy_prog_})
+        glDeleteProgram(p);
 }
 
-// Three vertices a face (each corner its own normal: tone::prepare_tone_mesh), relative to the
-// box centre (float precision).
+// A GL vertex per distinct (mesh vertex, corner normal): corners around a vertex share one unless
+// a crease separates them (tone::prepare_tone_mesh), so most vertices are shaded once, not once a
+// face. Positions relative to the box centre (float precision).
 void TonePass::upload_mesh() {
     const MeshTopology& m = mesh_;
     const tone::ToneMesh normals = tone::prepare_tone_mesh(m);
     const glm::dvec3 c = m.bounds.center();
     std::vector<float> data;
-    data.reserve(18 * m.faces.size());
+    std::vector<std::uint32_t> index;
+    index.reserve(3 * m.faces.size());
+    // For each mesh vertex, the GL vertices made for it so far (usually one): linked by `next`.
+    std::vector<std::uint32_t> first(m.positions.size(), UINT32_MAX), next;
+    std::vector<glm::vec3> normal_of;
     for (std::size_t f = 0; f < m.faces.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const glm::dvec3 p = m.positions[m.faces[f][std::size_t(k)]] - c;
-            const glm::vec3 n = normals.corner_normals[f][std::size_t(k)];
-            data.insert(data.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z});
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint32_t v = m.faces[f][k];
+            const glm::vec3 n = normals.corner_normals[f][k];
+            std::uint32_t g = first[v];
+            while (g != UINT32_MAX && normal_of[g] != n) g = next[g];
+            if (g == UINT32_MAX) {
+                g = std::uint32_t(normal_of.size());
+                normal_of.push_back(n);
+                next.push_back(first[v]);
+                first[v] = g;
+                const glm::dvec3 p = m.positions[v] - c;
+                data.insert(data.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z});
+            }
+            index.push_back(g);
         }
     if (!mesh_vao_) {
         glGenVertexArrays(1, &mesh_vao_);
-        glGenBuffers(1, &mesh_vbo_);
+        glGenBuffers(2, mesh_bufs_);
     }
     glBindVertexArray(mesh_vao_);
-    glBindBuffer(GL_ARRAY_BUFFER, mesh_vbo_);
+    glBindBuffer(GL_ARRAY_BUFFER, mesh_bufs_[0]);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_bufs_[1]);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(index.size() * sizeof(std::uint32_t)), index.data(), GL_STATIC_DRAW);
     glBindVertexArray(0);
-    vertex_count_ = 3 * m.faces.size();
+    index_count_ = index.size();
     uploaded_crease_ = m.crease_degrees;
 }
 
 void TonePass::resize(int w, int h) {
     if (w == w_ && h == h_) return;
     if (w_ > 0) {
-        const GLuint fbos[4] = {shade_fbo_, ping_fbo_, blurred_fbo_, result_fbo_};
-        glDeleteFramebuffers(4, fbos);
-        const GLuint texs[4] = {shaded_tex_, ping_tex_, blurred_tex_, result_tex_};
-        glDeleteTextures(4, texs);
+        const GLuint fbos[5] = {shade_fbo_, ping_fbo_, blurred_fbo_, lines_fbo_, result_fbo_};
+        glDeleteFramebuffers(5, fbos);
+        const GLuint texs[5] = {shaded_tex_, ping_tex_, blurred_tex_, lines_tex_, result_tex_};
+        glDeleteTextures(5, texs);
         glDeleteRenderbuffers(1, &depth_rb_);
     }
     w_ = w, h_ = h;
     last_key_.clear();
     if (w <= 0 || h <= 0) return;
     shaded_tex_ = make_texture(GL_RGBA32F, GL_RGBA, GL_FLOAT, w, h);
-    ping_tex_ = make_texture(GL_RGBA32F, GL_RGBA, GL_FLOAT, w, h);
-    blurred_tex_ = make_texture(GL_RGBA32F, GL_RGBA, GL_FLOAT, w, h);
+    ping_tex_ = make_texture(GL_RG32F, GL_RG, GL_FLOAT, w, h);
+    blurred_tex_ = make_texture(GL_RG32F, GL_RG, GL_FLOAT, w, h);
+    lines_tex_ = make_texture(GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, w, h);
     result_tex_ = make_texture(GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, w, h);
     glGenRenderbuffers(1, &depth_rb_);
     glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
@@ -365,6 +405,7 @@ void TonePass::resize(int w, int h) {
     shade_fbo_ = make_fbo(shaded_tex_, depth_rb_);
     ping_fbo_ = make_fbo(ping_tex_, 0);
     blurred_fbo_ = make_fbo(blurred_tex_, 0);
+    lines_fbo_ = make_fbo(lines_tex_, 0);
     result_fbo_ = make_fbo(result_tex_, 0);
 }
 
@@ -410,7 +451,7 @@ void TonePass::shade(const Camera& cam, const tone::ToneOptions& o) {
     glUniform1i(uniform(shade_prog_, "light_count"), std::max(count, 1));
     glUniform1f(uniform(shade_prog_, "exponent"), float(o.specular_exponent));
     glBindVertexArray(mesh_vao_);
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertex_count_));
+    glDrawElements(GL_TRIANGLES, GLsizei(index_count_), GL_UNSIGNED_INT, nullptr);
     glDisable(GL_DEPTH_TEST);
 }
 
@@ -443,30 +484,43 @@ void TonePass::ridges(const tone::ToneOptions& o, const ToneLayers& layers) {
     float h[54];
     for (int r = 0; r < 6; ++r)
         for (int i = 0; i < 9; ++i) h[9 * r + i] = float(tone::fit_matrix()[std::size_t(r)][std::size_t(i)]);
-    const unsigned p = ridge_prog_;
+    const double spacing = 0.5 * o.width;
+    const unsigned p = ridge_prog_[spacing == std::floor(spacing) ? 1 : 0];
+    constexpr float kNever = 1e30f;  // a lower threshold no curvature reaches: lines not wanted
+    glBindFramebuffer(GL_FRAMEBUFFER, lines_fbo_);
+    glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
     glUseProgram(p);
     glUniform1fv(uniform(p, "H"), 54, h);
-    glUniform1f(uniform(p, "spacing"), float(0.5 * o.width));
+    glUniform1f(uniform(p, "spacing"), float(spacing));
     glUniform1f(uniform(p, "beta"), float(o.beta));
     glUniform1f(uniform(p, "bound"), float(bound));
     glUniform1i(uniform(p, "steps"), o.steps);
-    glUniform2f(uniform(p, "dark_c"), float(o.dark_lower), float(o.dark_upper));
-    glUniform2f(uniform(p, "light_c"), float(o.highlight_lower), float(o.highlight_upper));
     glUniform1i(uniform(p, "falloff"), o.distance_falloff ? 1 : 0);
     glUniform1i(uniform(p, "counterchange"), o.counterchange ? 1 : 0);
-    glUniform1i(uniform(p, "show_dark"), layers.dark ? 1 : 0);
-    glUniform1i(uniform(p, "show_light"), layers.highlight ? 1 : 0);
-    glUniform1i(uniform(p, "show_base"), layers.base ? 1 : 0);
-    glUniform1i(uniform(p, "bands"), std::clamp(o.toon_bands, 2, 4));
     glUniform1i(uniform(p, "blurred"), 0);
-    glUniform1i(uniform(p, "shaded"), 1);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, shaded_tex_);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, blurred_tex_);
-    glBindFramebuffer(GL_FRAMEBUFFER, result_fbo_);
     glBindVertexArray(empty_vao_);
+    glUniform2f(uniform(p, "dark_c"), layers.dark ? float(o.dark_lower) : kNever, layers.dark ? float(o.dark_upper) : kNever);
+    glUniform2f(uniform(p, "light_c"), layers.highlight ? float(o.highlight_lower) : kNever,
+                layers.highlight ? float(o.highlight_upper) : kNever);
+    if (layers.dark || layers.highlight) glDrawArrays(GL_TRIANGLES, 0, 3);
+    // The composite into the result.
+    const unsigned c = composite_prog_;
+    glUseProgram(c);
+    glUniform1i(uniform(c, "show_base"), layers.base ? 1 : 0);
+    glUniform1i(uniform(c, "bands"), std::clamp(o.toon_bands, 2, 4));
+    glUniform1i(uniform(c, "blurred"), 0);
+    glUniform1i(uniform(c, "shaded"), 1);
+    glUniform1i(uniform(c, "lines"), 2);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, shaded_tex_);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, lines_tex_);
+    glBindFramebuffer(GL_FRAMEBUFFER, result_fbo_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, 0);
     glActiveTexture(GL_TEXTURE0);
@@ -475,9 +529,21 @@ void TonePass::ridges(const tone::ToneOptions& o, const ToneLayers& layers) {
 void TonePass::run(const Camera& cam, const tone::ToneOptions& o, const ToneLayers& layers) {
     glViewport(0, 0, w_, h_);
     glDisable(GL_BLEND);
+    auto t0 = std::chrono::steady_clock::now();
+    const auto lap = [&t0] {
+        glFinish();
+        const double s = seconds_since(t0);
+        t0 = std::chrono::steady_clock::now();
+        return s;
+    };
     shade(cam, o);
+    times_.shade = lap();
     blur(o.width);
+    times_.blur = lap();
     ridges(o, layers);
+    times_.ridges = lap();
+    sum_.shade += times_.shade, sum_.blur += times_.blur, sum_.ridges += times_.ridges;
+    ++runs_;
 }
 
 void TonePass::draw(const Camera& cam, const tone::ToneOptions& o, const ToneLayers& layers) {

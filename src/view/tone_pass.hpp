@@ -52,6 +52,15 @@ public:
     // from the last run's. Options must be valid (tone_options_error empty) with at least one light.
     void draw(const Camera& camera, const tone::ToneOptions& options, const ToneLayers& layers);
 
+    // The last run's time per pass (each finished before the next: glFinish), seconds.
+    struct Times {
+        double shade = 0.0, blur = 0.0, ridges = 0.0;
+        double total() const { return shade + blur + ridges; }
+    };
+    const Times& last_times() const { return times_; }
+    const Times& summed_times() const { return sum_; }  // over every run
+    std::size_t runs() const { return runs_; }          // times the passes ran
+
 private:
     void run(const Camera& camera, const tone::ToneOptions& options, const ToneLayers& layers);
     void upload_mesh();
@@ -62,13 +71,16 @@ private:
 
     const MeshTopology& mesh_;
     double uploaded_crease_ = -1.0;  // the crease angle the corner normals were made with
-    unsigned shade_prog_ = 0, blur_prog_ = 0, ridge_prog_ = 0, copy_prog_ = 0;
-    unsigned mesh_vao_ = 0, mesh_vbo_ = 0, empty_vao_ = 0;
-    std::size_t vertex_count_ = 0;
-    // shaded: tone, specular, covered (float); ping, blurred: the blur's two passes; result: RGBA8.
-    unsigned shaded_tex_ = 0, ping_tex_ = 0, blurred_tex_ = 0, result_tex_ = 0, depth_rb_ = 0;
-    unsigned shade_fbo_ = 0, ping_fbo_ = 0, blurred_fbo_ = 0, result_fbo_ = 0;
+    unsigned shade_prog_ = 0, blur_prog_ = 0, ridge_prog_[2] = {0, 0}, composite_prog_ = 0, copy_prog_ = 0;
+    unsigned mesh_vao_ = 0, mesh_bufs_[2] = {0, 0}, empty_vao_ = 0;  // vertices (position, normal), indices
+    std::size_t index_count_ = 0;
+    // shaded: tone, specular, covered (float); ping, blurred: the blur's two passes (tone,
+    // specular); lines: dark and highlight opacity; result: the composite (RGBA8).
+    unsigned shaded_tex_ = 0, ping_tex_ = 0, blurred_tex_ = 0, lines_tex_ = 0, result_tex_ = 0, depth_rb_ = 0;
+    unsigned shade_fbo_ = 0, ping_fbo_ = 0, blurred_fbo_ = 0, lines_fbo_ = 0, result_fbo_ = 0;
     int w_ = 0, h_ = 0;
+    Times times_, sum_;
+    std::size_t runs_ = 0;
     std::vector<double> last_key_;  // camera, options and layers of the texture's run
 };
 

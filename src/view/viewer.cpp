@@ -172,6 +172,12 @@ public:
         if (opt_.fps)
             frame_stats_.print_report({model_.topology().face_count(), scheduler_.threads(), shown_.lines.size(),
                                        opt_.frames == 0});
+        if (opt_.fps && tone_pass_ && tone_pass_->runs() > 0) {
+            const TonePass::Times& t = tone_pass_->summed_times();
+            const double n = double(tone_pass_->runs()) / 1e3;
+            std::printf("tone pass (GLSL, each pass finished): %zu runs, mean ms: shade %.2f, blur %.2f, ridges %.2f, "
+                        "total %.2f\n", tone_pass_->runs(), t.shade / n, t.blur / n, t.ridges / n, t.total() / n);
+        }
         // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
         const Camera& drawn = shown_.camera;
         const Camera final_camera = opt_.frames > 0 ? drawn : rig_.camera(drawn.width(), drawn.height());
@@ -585,6 +591,8 @@ void Viewer::panel_tone() {
         if (lo != lower) lower = lo, upper = std::max(upper, lo);
         else upper = hi, lower = std::min(lower, hi);
     };
+    // (narrower sliders: the labels are longer than the other sections')
+    ImGui::PushItemWidth(-(ImGui::CalcTextSize("highlight c_l, c_u").x + ImGui::GetStyle().ItemInnerSpacing.x));
     slider("w (line width)", tone_.width, 1.0f, 32.0f, "%.1f px", 0.1);
     slider("beta", tone_.beta, 0.0f, 1.0f, "%.2f", 0.01);
     thresholds("dark c_l, c_u", tone_.dark_lower, tone_.dark_upper);
@@ -593,6 +601,7 @@ void Viewer::panel_tone() {
     slider("light elevation", light_.elevation_deg, -90.0f, 90.0f, "%.0f deg", 1.0);
     slider("specular exponent", tone_.specular_exponent, 1.0f, 1000.0f, "%.0f", 1.0, ImGuiSliderFlags_Logarithmic);
     ImGui::SliderInt("toon bands", &tone_.toon_bands, 2, 4);
+    ImGui::PopItemWidth();
     ImGui::Checkbox("distance fall-off", &tone_.distance_falloff);
     ImGui::SameLine();
     ImGui::Checkbox("counterchange", &tone_.counterchange);
@@ -691,6 +700,11 @@ void Viewer::panel_statistics() {
     ImGui::Text("clusters decided: %zu box, %zu upper bound,", s.clusters_bbox, s.clusters_bounded);
     ImGui::Text("  %zu occluded, %zu inconsistent", s.clusters_occluded, s.clusters_inconsistent);
     if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", numbers.recall);
+    if (tone_on() && tone_pass_) {
+        const TonePass::Times& tt = tone_pass_->last_times();
+        ImGui::Text("tone pass %.1f ms (shade %.1f, blur %.1f,", 1e3 * tt.total(), 1e3 * tt.shade, 1e3 * tt.blur);
+        ImGui::Text("  ridges and composite %.1f)", 1e3 * tt.ridges);
+    }
 }
 
 void Viewer::panel_camera_and_export() {
