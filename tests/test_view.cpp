@@ -516,6 +516,12 @@ TEST(ViewWindow, TonePassDrawsTheLinesRenderTraces) {
         EXPECT_GE(all.render_near_shot, 0.9);
         EXPECT_GE(all.shot_near_render, 0.85);
     }
+    // Section 3.4's widths, the same in both.
+    for (const char* width_by : {"depth", "edge-length"}) {
+        const ToneAgreement w = tone_agreement("armadillo.off", std::string("--lines=tone-dark --tone-line-width=") + width_by, 128.0);
+        EXPECT_GE(w.render_near_shot, 0.9) << width_by;
+        EXPECT_GE(w.shot_near_render, 0.8) << width_by;  // (render's thinner strokes: fewer dark pixels)
+    }
     // The check tells lights apart: render's lines under a light turned away do not match.
     const ToneAgreement other = tone_agreement("bunny00.off", "--lines=tone-dark", 128.0, "--light=1,0,0");
     EXPECT_LT(std::min(other.render_near_shot, other.shot_near_render), 0.6);

@@ -23,27 +23,35 @@ namespace inkline {
 namespace {
 
 constexpr int kMaxLights = 8;
+// (the shaders spell these out)
+static_assert(tone::kMinWidthScale == 0.25 && int(tone::ToneWidthBy::Depth) == 1 && int(tone::ToneWidthBy::EdgeLength) == 2);
 constexpr int kMaxBlurRadius = 192;  // 3 sigma at the widest w (256 px, sigma w/4)
 
-// Pass 1: the tone image (r), the specular channel (g) and coverage (b), as tone::shade computes
-// them: smooth corner normals, two-sided, diffuse the mean over the lights of max(0, n.L),
+// Pass 1: the tone image (r), the specular channel (g), coverage (b) and the line width's scale
+// (a, section 3.4), as tone::shade computes them: smooth corner normals, two-sided, diffuse the mean over the lights of max(0, n.L),
 // specular the max over lights of max(0, n.h)^e where n.L > 0.
 const char* kShadeVs = R"(#version 330 core
 layout(location = 0) in vec3 pos;
 layout(location = 1) in vec3 normal;
+layout(location = 2) in float edge_scale;
 uniform mat4 view;
 uniform mat4 projection;
 out vec3 v_pos;
 out vec3 v_normal;
+out float v_edge_scale;
 void main() {
     v_pos = pos;
     v_normal = normal;
+    v_edge_scale = edge_scale;
     gl_Position = projection * view * vec4(pos, 1.0);
 }
 )";
 const char* kShadeFs = R"(#version 330 core
 in vec3 v_pos;
 in vec3 v_normal;
+in float v_edge_scale;
+uniform int width_by;        // 0 constant, 1 depth, 2 edge length (tone::ToneWidthBy)
+uniform float nearest;       // tone::nearest_model_depth
 uniform vec3 eye;
 uniform vec3 forward;
 uniform bool ortho;
@@ -64,7 +72,10 @@ void main() {
         float nh = dot(n, normalize(lights[i] + view));
         if (nh > 0.0) specular = max(specular, pow(nh, exponent));
     }
-    result = vec4(min(1.0, diffuse / float(light_count)), min(1.0, specular), 1.0, 1.0);
+    float depth = dot(v_pos - eye, forward);
+    float scale = width_by == 1 ? clamp(depth > 0.0 ? nearest / depth : 1.0, 0.25, 1.0)
+                : width_by == 2 ? v_edge_scale : 1.0;
+    result = vec4(min(1.0, diffuse / float(light_count)), min(1.0, specular), 1.0, scale);
 }
 )";
 
@@ -105,6 +116,7 @@ void main() {
 // the first fit's samples are pixel centres.
 const char* kRidgeFs = R"(
 uniform sampler2D blurred;  // r: tone, g: specular, both blurred
+uniform sampler2D shaded;   // a: the line width's scale (section 3.4)
 uniform float H[54];        // (X^T X)^-1 X^T, 6 rows of 9
 uniform float spacing;      // w / 2
 uniform float beta;
@@ -117,6 +129,7 @@ uniform bool counterchange;
 out vec4 opacity;           // r: dark lines, g: highlight lines
 
 ivec2 size_px;
+float sp;                   // this pixel's spacing: w / 2 times its width scale
 
 vec2 texel(ivec2 p) { return texelFetch(blurred, clamp(p, ivec2(0), size_px - 1), 0).rg; }
 
@@ -151,7 +164,7 @@ Line fit_at(vec2 p, vec2 pick) {
     float a[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-            float t = sample1(p + spacing * vec2(i - 1, j - 1), pick);
+            float t = sample1(p + sp * vec2(i - 1, j - 1), pick);
             for (int r = 0; r < 6; ++r) a[r] += H[9 * r + 3 * j + i] * t;
         }
     return ridge_line(a);
@@ -167,26 +180,26 @@ float search(Line l, vec2 pick, bool dark, vec2 lim, float t_here) {
         float c = dark ? l.c : -l.c;
         if (!(c >= lim.x) || c <= 0.0) return 0.0;
         if (step == steps) break;
-        float move = beta * l.offset * spacing;
+        float move = beta * l.offset * sp;
         travel += abs(move);
-        if (travel > spacing) return 0.0;
+        if (travel > sp) return 0.0;
         pos += move * l.n;
     }
-    vec2 on_line = pos + l.offset * spacing * l.n;
+    vec2 on_line = pos + l.offset * sp * l.n;
     vec2 n = l.n;
     if (l.other * l.c > 0.0) {  // a spot's centre: one dash through it, across the y axis
-        vec2 c = pos + spacing * l.centre;
-        if (length(c - centre) <= spacing) {
+        vec2 c = pos + sp * l.centre;
+        if (length(c - centre) <= sp) {
             Line at_c = fit_at(c, pick);
             if (at_c.other * at_c.c > 0.0 && abs(at_c.other) > 0.5 * abs(at_c.c)) {
-                on_line = c + spacing * at_c.centre;
+                on_line = c + sp * at_c.centre;
                 n = vec2(0.0, 1.0);
             }
         }
     }
     float distance = dot(centre - on_line, n);
     float alpha = lim.y > lim.x ? clamp((abs(l.c) - lim.x) / (lim.y - lim.x), 0.0, 1.0) : 1.0;
-    if (falloff) alpha *= max(0.0, 1.0 - abs(distance) / spacing);
+    if (falloff) alpha *= max(0.0, 1.0 - abs(distance) / sp);
     if (counterchange) {
         float t = clamp(t_here, 0.0, 1.0);
         alpha *= dark ? 1.0 - t : t;
@@ -197,6 +210,10 @@ float search(Line l, vec2 pick, bool dark, vec2 lim, float t_here) {
 void main() {
     size_px = textureSize(blurred, 0);
     vec2 centre = gl_FragCoord.xy;
+    float scale = texelFetch(shaded, ivec2(centre), 0).a;
+    sp = spacing * scale;
+    // (thresholds per (w/2)^2: per spacing^2 they scale by its square)
+    vec2 dark_s = dark_c * (scale * scale), light_s = light_c * (scale * scale);
     // The first fit of both channels (x: tone, y: specular), and the range of their samples.
     float a0[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0), a1[6] = a0;
     vec2 lo = vec2(1e30), hi = vec2(-1e30);
@@ -205,7 +222,7 @@ void main() {
 #ifdef INTEGRAL
             vec2 t = texel(ivec2(centre) + int(spacing) * ivec2(i - 1, j - 1));
 #else
-            vec2 t = texture(blurred, (centre + spacing * vec2(i - 1, j - 1)) / vec2(size_px)).rg;
+            vec2 t = texture(blurred, (centre + sp * vec2(i - 1, j - 1)) / vec2(size_px)).rg;
 #endif
             lo = min(lo, t);
             hi = max(hi, t);
@@ -218,16 +235,16 @@ void main() {
     // and the fit's curvature reaches the threshold of its kind (the specular channel: highlights).
     Line l0 = ridge_line(a0), l1 = ridge_line(a1);
     bool dark0 = l0.c > 0.0;
-    vec2 lim0 = dark0 ? dark_c : light_c;
-    bool due0 = !((hi.x - lo.x) * bound < min(dark_c.x, light_c.x) || hi.x == lo.x) && abs(l0.c) >= lim0.x;
-    bool due1 = !((hi.y - lo.y) * bound < light_c.x || hi.y == lo.y) && l1.c <= 0.0 && -l1.c >= light_c.x;
+    vec2 lim0 = dark0 ? dark_s : light_s;
+    bool due0 = !((hi.x - lo.x) * bound < min(dark_s.x, light_s.x) || hi.x == lo.x) && abs(l0.c) >= lim0.x;
+    bool due1 = !((hi.y - lo.y) * bound < light_s.x || hi.y == lo.y) && l1.c <= 0.0 && -l1.c >= light_s.x;
     if (!due0 && !due1) discard;
     vec2 here = texel(ivec2(centre));
     float dark_a = 0.0, light_a = 0.0;
     for (int k = due0 ? 0 : 1; k < (due1 ? 2 : 1); ++k) {
         bool tone = k == 0;
         bool dark = tone && dark0;
-        float alpha = search(tone ? l0 : l1, tone ? vec2(1.0, 0.0) : vec2(0.0, 1.0), dark, dark ? dark_c : light_c,
+        float alpha = search(tone ? l0 : l1, tone ? vec2(1.0, 0.0) : vec2(0.0, 1.0), dark, dark ? dark_s : light_s,
                              tone ? here.x : here.y);
         if (dark) dark_a = alpha;
         else light_a = max(light_a, alpha);
@@ -359,7 +376,7 @@ void TonePass::upload_mesh() {
                 next.push_back(first[v]);
                 first[v] = g;
                 const glm::dvec3 p = m.positions[v] - c;
-                data.insert(data.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z});
+                data.insert(data.end(), {float(p.x), float(p.y), float(p.z), n.x, n.y, n.z, normals.vertex_width_scale[v]});
             }
             index.push_back(g);
         }
@@ -371,9 +388,11 @@ void TonePass::upload_mesh() {
     glBindBuffer(GL_ARRAY_BUFFER, mesh_bufs_[0]);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<const void*>(6 * sizeof(float)));
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_bufs_[1]);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(index.size() * sizeof(std::uint32_t)), index.data(), GL_STATIC_DRAW);
     glBindVertexArray(0);
@@ -428,7 +447,7 @@ void TonePass::shade(const Camera& cam, const tone::ToneOptions& o) {
         proj = glm::perspective(glm::radians(cam.fov_deg()), aspect, near, far);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, shade_fbo_);
-    glClearColor(1.0f, 0.0f, 0.0f, 0.0f);  // background: tone 1 (white), no specular, not covered
+    glClearColor(1.0f, 0.0f, 0.0f, 1.0f);  // background: tone 1 (white), no specular, not covered, scale 1
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
@@ -450,6 +469,8 @@ void TonePass::shade(const Camera& cam, const tone::ToneOptions& o) {
     glUniform3fv(uniform(shade_prog_, "lights"), kMaxLights, lights);
     glUniform1i(uniform(shade_prog_, "light_count"), std::max(count, 1));
     glUniform1f(uniform(shade_prog_, "exponent"), float(o.specular_exponent));
+    glUniform1i(uniform(shade_prog_, "width_by"), int(o.width_by));
+    glUniform1f(uniform(shade_prog_, "nearest"), float(tone::nearest_model_depth(m, cam)));
     glBindVertexArray(mesh_vao_);
     glDrawElements(GL_TRIANGLES, GLsizei(index_count_), GL_UNSIGNED_INT, nullptr);
     glDisable(GL_DEPTH_TEST);
@@ -485,7 +506,8 @@ void TonePass::ridges(const tone::ToneOptions& o, const ToneLayers& layers) {
     for (int r = 0; r < 6; ++r)
         for (int i = 0; i < 9; ++i) h[9 * r + i] = float(tone::fit_matrix()[std::size_t(r)][std::size_t(i)]);
     const double spacing = 0.5 * o.width;
-    const unsigned p = ridge_prog_[spacing == std::floor(spacing) ? 1 : 0];
+    const bool integral = spacing == std::floor(spacing) && o.width_by == tone::ToneWidthBy::Constant;
+    const unsigned p = ridge_prog_[integral ? 1 : 0];
     constexpr float kNever = 1e30f;  // a lower threshold no curvature reaches: lines not wanted
     glBindFramebuffer(GL_FRAMEBUFFER, lines_fbo_);
     glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
@@ -499,6 +521,9 @@ void TonePass::ridges(const tone::ToneOptions& o, const ToneLayers& layers) {
     glUniform1i(uniform(p, "falloff"), o.distance_falloff ? 1 : 0);
     glUniform1i(uniform(p, "counterchange"), o.counterchange ? 1 : 0);
     glUniform1i(uniform(p, "blurred"), 0);
+    glUniform1i(uniform(p, "shaded"), 1);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, shaded_tex_);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, blurred_tex_);
     glBindVertexArray(empty_vao_);
@@ -552,7 +577,7 @@ void TonePass::draw(const Camera& cam, const tone::ToneOptions& o, const ToneLay
                                cam.up().x, cam.up().y, cam.up().z, cam.fov_deg(), cam.is_ortho() ? cam.ortho_height() : -1.0,
                                o.specular_exponent, o.width, o.beta, double(o.steps), o.dark_lower, o.dark_upper,
                                o.highlight_lower, o.highlight_upper, double(o.distance_falloff), double(o.counterchange),
-                               double(o.toon_bands), double(layers.dark), double(layers.highlight), double(layers.base),
+                               double(o.toon_bands), double(o.width_by), double(layers.dark), double(layers.highlight), double(layers.base),
                                mesh_.crease_degrees};
     for (const glm::dvec3& l : o.lights) key.insert(key.end(), {l.x, l.y, l.z});
     if (key != last_key_) {

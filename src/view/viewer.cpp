@@ -601,6 +601,8 @@ void Viewer::panel_tone() {
     slider("light elevation", light_.elevation_deg, -90.0f, 90.0f, "%.0f deg", 1.0);
     slider("specular exponent", tone_.specular_exponent, 1.0f, 1000.0f, "%.0f", 1.0, ImGuiSliderFlags_Logarithmic);
     ImGui::SliderInt("toon bands", &tone_.toon_bands, 2, 4);
+    int width_by = int(tone_.width_by);
+    if (ImGui::Combo("line width by", &width_by, "constant\0depth\0edge length\0")) tone_.width_by = tone::ToneWidthBy(width_by);
     ImGui::PopItemWidth();
     ImGui::Checkbox("distance fall-off", &tone_.distance_falloff);
     ImGui::SameLine();
@@ -628,6 +630,8 @@ std::string Viewer::tone_flags(const Camera& cam) const {
     pair("--tone-highlight", tone_.highlight_lower, tone_.highlight_upper, d.highlight_lower, d.highlight_upper);
     number("--specular", tone_.specular_exponent, d.specular_exponent);
     number("--toon-bands", tone_.toon_bands, d.toon_bands);
+    if (tone_.width_by != d.width_by)
+        c += tone_.width_by == tone::ToneWidthBy::Depth ? " --tone-line-width=depth" : " --tone-line-width=edge-length";
     const glm::dvec3 l = light_direction(cam, light_);
     std::snprintf(buf, sizeof buf, " --light=%.17g,%.17g,%.17g", l.x, l.y, l.z);
     return c + buf;
