@@ -370,7 +370,7 @@ Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* giv
                     if (!parse_drawn_kind(name, kind))
                         throw Error("--lines", "unknown line kind '" + name + "' (expected " + kLineKindNames + ")");
                     if (!tone && (kind == LineKind::ToneDark || kind == LineKind::ToneHighlight))
-                        throw Error("--lines", name + " lines are drawn by 'inkline render' only (not in the window yet)");
+                        throw Error("--lines", name + " lines are drawn by 'inkline render' and 'inkline view' only");
                     kinds.push_back(kind);
                 }
                 set_line_kinds(kinds, features, surface, tone);
