@@ -24,3 +24,16 @@ for beta in 0 1; do
   "$build/src/inkline" render "$data/meshes/armadillo.off" -o "$out/armadillo-beta$beta.png" --size=640x640 \
     --lines=tone-dark --tone-beta=$beta --quiet
 done
+# Section 3.4: the line width by depth and by edge length, a camera close to the armadillo's legs
+# (a wide w so that the difference shows).
+close="--eye=60,-10,140 --target=0,-10,0 --fov=40 --size=640x640 --tone-width=10 --lines=tone-dark,tone-highlight --base=toon"
+for mode in constant depth edge-length; do
+  "$build/src/inkline" render "$data/meshes/armadillo.off" -o "$out/armadillo-width-$mode.png" $close \
+    --tone-line-width=$mode --quiet
+done
+# The window's GLSL pass (per-pixel lines, as the seed draws them) at render's default camera, under
+# a virtual display when there is none.
+run=""
+[ -n "$DISPLAY" ] || run="xvfb-run -a -s '-screen 0 1280x1024x24'"
+eval $run "$build/src/inkline" view "$data/meshes/armadillo.off" --frames=2 --size=640x640 --no-panel \
+  --lines=silhouette,tone-dark,tone-highlight --base=toon --screenshot="$out/armadillo-window.png" > /dev/null

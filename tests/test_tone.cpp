@@ -233,6 +233,79 @@ TEST(ToneSphere, OnePixelImage) {
     EXPECT_EQ(r.shaded.covered[0], 1);
 }
 
+// Section 3.4, the arithmetic: a width scale s at w is the fit, search and fall-off at spacing
+// s w / 2 with the thresholds kept per (w/2)^2; so scale 0.5 everywhere at w = 8 is w = 4 with the
+// thresholds a quarter, opacity for opacity, and the field carries the scale.
+TEST(ToneWidth, AScaleIsASmallerWidthWithTheThresholdsKept) {
+    const glm::dvec2 normal(std::cos(0.3), std::sin(0.3)), centre(40.2, 30.6);
+    Image tone = image_of(80, 60, [&](double x, double y) {
+        const double d = glm::dot(glm::dvec2(x, y) - centre, normal);
+        return 1.0 - 0.6 * std::exp(-d * d / (2 * 1.2 * 1.2));
+    });
+    Image half_scale;
+    half_scale.resize(80, 60, 0.5f);
+    ToneOptions wide;
+    wide.width = 8.0;
+    ToneOptions narrow = wide;
+    narrow.width = 4.0;
+    RidgeField scaled, plain;
+    detect_ridges(tone, tone, Polarity::Dark, 0.02, 0.06, wide, scaled, &half_scale);
+    detect_ridges(tone, tone, Polarity::Dark, 0.02 / 4, 0.06 / 4, narrow, plain);
+    EXPECT_EQ(scaled.opacity, plain.opacity);
+    EXPECT_EQ(scaled.point, plain.point);
+    std::size_t drawn = 0;
+    for (std::size_t i = 0; i < scaled.opacity.size(); ++i)
+        if (scaled.opacity[i] > 0) {
+            ++drawn;
+            EXPECT_EQ(scaled.width_scale[i], 0.5f);
+        }
+    EXPECT_GT(drawn, 100u);
+    EXPECT_TRUE(plain.width_scale.empty());
+    // Traced: the width per point; without a scale, none.
+    for (const Piece& p : trace_lines(scaled, LineKind::ToneDark, wide)) EXPECT_EQ(p.width, std::vector<float>(p.points.size(), 0.5f));
+    for (const Piece& p : trace_lines(plain, LineKind::ToneDark, narrow)) EXPECT_TRUE(p.width.empty());
+}
+
+// Section 3.4 by depth: a square facing the camera at distance 5 (its bounding sphere's radius
+// sqrt(2)) has the scale (5 - sqrt(2)) / 5 everywhere. By edge length: a UV sphere's short edges
+// at its poles get the thinner lines.
+TEST(ToneWidth, ByDepthAndByEdgeLength) {
+    const MeshTopology mesh = build_topology(make_sheet(1.0, 0.0, 1));
+    const Camera cam = Camera::perspective({0, 5, 0}, {0, 0, 0}, {0, 0, -1}, 40.0, 64, 48);
+    EXPECT_NEAR(nearest_model_depth(mesh, cam), 5.0 - std::sqrt(2.0), 1e-12);
+    ToneOptions o;
+    o.width_by = ToneWidthBy::Depth;
+    ShadedImages shaded;
+    shade(mesh, prepare_tone_mesh(mesh), cam, o, shaded);
+    ASSERT_EQ(shaded.width_scale.width, 64);
+    EXPECT_NEAR(shaded.width_scale.at(32, 24), (5.0 - std::sqrt(2.0)) / 5.0, 1e-6);
+    EXPECT_EQ(shaded.width_scale.at(0, 0), 1.0f);  // background
+    o.width_by = ToneWidthBy::Constant;
+    shade(mesh, prepare_tone_mesh(mesh), cam, o, shaded);
+    EXPECT_TRUE(shaded.width_scale.pixels.empty());
+    // A small sphere (left) and one three times its size (right), as many edges each: the small
+    // one's edges are about half the mean, its lines thinner; the big one's at w.
+    const TriangleMesh fine = make_sphere({-2, 0, 0}, 1.0, 32, 16);
+    const MeshTopology pair = build_topology(merge_meshes(fine, make_sphere({4, 0, 0}, 3.0, 32, 16)));
+    const std::size_t fine_vertices = build_topology(fine).vertex_count();
+    const ToneMesh normals = prepare_tone_mesh(pair);
+    double fine_sum = 0.0, coarse_least = 1.0;
+    for (std::size_t v = 0; v < pair.vertex_count(); ++v) {
+        const double s = normals.vertex_width_scale[v];
+        EXPECT_GE(s, kMinWidthScale);
+        EXPECT_LE(s, 1.0);
+        if (v < fine_vertices) fine_sum += s;
+        else coarse_least = std::min(coarse_least, s);
+    }
+    EXPECT_EQ(coarse_least, 1.0);  // edges longer than the mean: clamped to w
+    EXPECT_LT(fine_sum / double(fine_vertices), 0.7);
+    o.width_by = ToneWidthBy::EdgeLength;
+    const Camera front = Camera::perspective({1, 0, 20}, {1, 0, 0}, {0, 1, 0}, 40.0, 160, 80);
+    shade(pair, normals, front, o, shaded);
+    EXPECT_LT(shaded.width_scale.at(63, 40), 0.7f);  // the small sphere's middle (x = 80 - 110 * 3 / 20)
+    EXPECT_EQ(shaded.width_scale.at(97, 40), 1.0f);  // the big one's
+}
+
 // Each bad option names its flag.
 TEST(ToneOptionsCheck, BadValuesNameTheFlag) {
     struct Case {
@@ -289,6 +362,7 @@ TEST(ToneCli, BadValuesAreOneLineUsageErrors) {
         {"--lines=tone-dark --specular=0", "--specular"},
         {"--base=flat", "--base: unknown base 'flat'"},
         {"--base=toon --toon-bands=5", "--toon-bands"},
+        {"--lines=tone-dark --tone-line-width=far", "--tone-line-width: unknown mode 'far'"},
         {"--lines=tone-dark --size=16384x16384", "--size: tone lines and the base coat need at most 8192 x 8192"},
     };
     for (const auto& c : cases) {
@@ -298,10 +372,10 @@ TEST(ToneCli, BadValuesAreOneLineUsageErrors) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.flags << ": " << r.err;
         EXPECT_FALSE(std::filesystem::exists(out)) << c.flags;
     }
-    // The window has no tone stage yet: said, not ignored.
-    const auto v = inkline_test::run_inkline("", "view " + mesh("bunny00") + " --lines=tone-dark", dir);
+    // The window takes the same flags (its GLSL pass, tests/test_view.cpp) and refuses the same values.
+    const auto v = inkline_test::run_inkline("", "view " + mesh("bunny00") + " --lines=tone-dark --tone-beta=2", dir);
     EXPECT_EQ(v.code, 2);
-    EXPECT_NE(v.err.find("drawn by 'inkline render' only"), std::string::npos) << v.err;
+    EXPECT_NE(v.err.find("--tone-beta: expected a share in [0, 1]"), std::string::npos) << v.err;
 }
 
 // A 1 x 1 image works (nothing traced); JSON holds tone lines with an opacity per point, mixed

@@ -17,6 +17,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -26,6 +27,7 @@
 #include "test_data.hpp"
 #include "view/camera_rig.hpp"
 #include "view/line_mesh.hpp"
+#include "view/tone_pass.hpp"
 
 namespace fs = std::filesystem;
 using namespace inkline;
@@ -458,6 +460,105 @@ TEST(ViewWindow, ShadingFillsTheModelUnderTheSameLines) {
     EXPECT_GE(covered(a_dark, b_dark, 2), 0.9);
 }
 
+// ---- The tone pass (tone_pass.hpp) ---------------------------------------------------------------
+
+TEST(ToneLight, AnglesRoundTripAndTurnWithTheCamera) {
+    const Camera cam = Camera::perspective({3, 4, 5}, {0, 0, 0}, {0, 1, 0}, 30.0, 640, 480);
+    // The CPU pass's default headlight is view + up - 0.7 right: 35 degrees left, 39.3 up.
+    const LightAngles home = light_angles(cam, tone::default_light(cam));
+    EXPECT_NEAR(home.azimuth_deg, -std::atan(0.7) * 180.0 / M_PI, 1e-9);
+    EXPECT_NEAR(home.elevation_deg, std::asin(1.0 / std::sqrt(2.49)) * 180.0 / M_PI, 1e-9);
+    expect_near(light_direction(cam, home), tone::default_light(cam), 1e-12);
+    expect_near(light_direction(cam, {0.0, 0.0}), -cam.forward(), 1e-12);  // from the eye
+    expect_near(light_direction(cam, {90.0, 0.0}), cam.right(), 1e-12);
+    expect_near(light_direction(cam, {0.0, 90.0}), cam.upward(), 1e-12);
+    // The same angles from another camera: the light turned with it.
+    const Camera other = Camera::perspective({-5, 4, 3}, {0, 0, 0}, {0, 1, 0}, 30.0, 640, 480);
+    expect_near(light_direction(other, home), tone::default_light(other), 1e-12);
+}
+
+// The window's GLSL tone pass against render's CPU pass at the window's last camera: the
+// screenshot's dark pixels (lum < `dark_below`) and render's, each within 1 px of the other's.
+struct ToneAgreement {
+    std::size_t shot_px = 0, render_px = 0;
+    double render_near_shot = 0.0, shot_near_render = 0.0;
+};
+ToneAgreement tone_agreement(const std::string& model, const std::string& flags, double dark_below,
+                             const std::string& render_only = "") {
+    const fs::path d = scratch();
+    const fs::path shot = d / "shot.png", drawn = d / "render.png";
+    const Result v = run(kXvfb, "view " + test::mesh_path(model) + " --frames=3 --orbit --arc=20 --size=640x480 --no-panel " +
+                                    flags + " --screenshot=" + shot.string(), d);
+    EXPECT_EQ(v.code, 0) << v.err;
+    const Result r = run("", "render " + test::mesh_path(model) + " " + flags + " " + camera_line(v.out) + " " + render_only +
+                                 " -o " + drawn.string() + " --quiet", d);
+    EXPECT_EQ(r.code, 0) << r.err;
+    const Mask a = dark_pixels(shot, -1.0, dark_below), b = dark_pixels(drawn, -1.0, dark_below);
+    EXPECT_EQ(a.w, 640);
+    EXPECT_EQ(b.w, 640);
+    ToneAgreement t{a.count(), b.count(), covered(b, a, 1), covered(a, b, 1)};
+    std::printf("%s %s %s: screenshot %zu dark px, render %zu; render's within 1 px of the screenshot's %.4f, the "
+                "screenshot's within 1 px of render's %.4f\n", model.c_str(), flags.c_str(), render_only.c_str(),
+                t.shot_px, t.render_px, t.render_near_shot, t.shot_near_render);
+    return t;
+}
+
+TEST(ViewWindow, TonePassDrawsTheLinesRenderTraces) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    for (const char* model : {"bunny00.off", "armadillo.off"}) {
+        // Dark lines alone (black over white), then over the toon base (its darkest band is grey
+        // 110: "dark" is below 80 there, a line of opacity over about a quarter).
+        const ToneAgreement lines = tone_agreement(model, "--lines=tone-dark", 128.0);
+        EXPECT_GT(lines.render_px, 500u);
+        EXPECT_GE(lines.render_near_shot, 0.9);
+        EXPECT_GE(lines.shot_near_render, 0.85);
+        const ToneAgreement all = tone_agreement(model, "--lines=tone-dark,tone-highlight --base=toon", 80.0);
+        EXPECT_GE(all.render_near_shot, 0.9);
+        EXPECT_GE(all.shot_near_render, 0.85);
+    }
+    // Section 3.4's widths, the same in both.
+    for (const char* width_by : {"depth", "edge-length"}) {
+        const ToneAgreement w = tone_agreement("armadillo.off", std::string("--lines=tone-dark --tone-line-width=") + width_by, 128.0);
+        EXPECT_GE(w.render_near_shot, 0.9) << width_by;
+        EXPECT_GE(w.shot_near_render, 0.8) << width_by;  // (render's thinner strokes: fewer dark pixels)
+    }
+    // The check tells lights apart: render's lines under a light turned away do not match.
+    const ToneAgreement other = tone_agreement("bunny00.off", "--lines=tone-dark", 128.0, "--light=1,0,0");
+    EXPECT_LT(std::min(other.render_near_shot, other.shot_near_render), 0.6);
+}
+
+TEST(ViewWindow, ToneFlagsAreCheckedAndTheExportHasTracedToneLines) {
+    const fs::path d = scratch();
+    for (const auto& [flags, words] : std::vector<std::pair<std::string, std::string>>{
+             {"--tone-width=0", "--tone-width"},
+             {"--tone-beta=1.5", "--tone-beta"},
+             {"--tone-dark=0.2,0.1", "--tone-dark"},
+             {"--light=0,0,0", "--light"},
+             {"--light=1,0,0 --light=0,1,0", "one light"}}) {
+        const Result r = run("", "view " + test::mesh_path("fandisk.off") + " --lines=tone-dark --frames=1 " + flags, d);
+        EXPECT_EQ(r.code, 2) << flags;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_NE(r.err.find(words), std::string::npos) << flags << ": " << r.err;
+    }
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    // The export runs render's CPU pass: traced tone lines with opacity per point, and the printed
+    // render command (with the panel's light) writes the same JSON.
+    const fs::path exported = d / "export.json", again = d / "again.json";
+    const Result v = run(kXvfb, "view " + test::mesh_path("bunny00.off") + " --frames=2 --size=320x240 --no-panel "
+                                    "--lines=tone-dark --tone-width=5 --export=" + exported.string(), d);
+    ASSERT_EQ(v.code, 0) << v.err;
+    const std::string command = printed_render_command(v.out, exported);
+    ASSERT_NE(command.find("--tone-width=5"), std::string::npos) << v.out;
+    ASSERT_NE(command.find("--light="), std::string::npos) << v.out;
+    ASSERT_EQ(run("", command + " -o " + again.string() + " --quiet", d).code, 0) << command;
+    std::ifstream a(exported), b(again);
+    const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+    std::size_t tone_lines = 0;
+    for (const auto& p : ja["polylines"]) tone_lines += p["kind"] == "tone-dark" && p.contains("opacity");
+    EXPECT_GT(tone_lines, 5u);
+    EXPECT_EQ(ja["polylines"], jb["polylines"]);
+}
+
 TEST(ViewWindow, ExportIsWhatThePrintedRenderCommandWrites) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
@@ -537,9 +638,12 @@ TEST(ViewWindow, PanelLayerLooksLikeImGuiDrawnDirectly) {
 TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
-    for (const auto& [size, height] : {std::pair{"1024x768", 768.0}, std::pair{"640x480", 480.0}}) {
+    // (the tone pass's section open with its sliders: the second set of flags)
+    for (const auto& [size, height, flags] : {std::tuple{"1024x768", 768.0, ""}, std::tuple{"640x480", 480.0, ""},
+                                              std::tuple{"1024x768", 768.0, " --lines=silhouette,tone-dark --base=toon"},
+                                              std::tuple{"640x480", 480.0, " --lines=silhouette,tone-dark --base=toon"}}) {
         const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=4 --orbit --arc=20 --recall --hidden --size=" +
-                                        size + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
+                                        size + flags + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
         const auto at = v.out.find("panel: ");
         ASSERT_NE(at, std::string::npos) << v.out;
@@ -547,7 +651,7 @@ TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
         ASSERT_EQ(std::sscanf(v.out.c_str() + at, "panel: %lf x %lf px, its widest line %lf px past its clipped edge", &w,
                               &h, &past), 3)
             << v.out;
-        std::printf("%s: panel %.0f x %.0f px, widest line %.0f px past its edge\n", size, w, h, past);
+        std::printf("%s%s: panel %.0f x %.0f px, widest line %.0f px past its edge\n", size, flags, w, h, past);
         EXPECT_EQ(past, 0.0) << "a line of the panel is cut off";
         EXPECT_GT(w, 100.0);
         EXPECT_GT(h, 100.0);

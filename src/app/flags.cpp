@@ -372,7 +372,7 @@ Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* giv
                     if (!parse_drawn_kind(name, kind))
                         throw Error("--lines", "unknown line kind '" + name + "' (expected " + kLineKindNames + ")");
                     if (!tone && (kind == LineKind::ToneDark || kind == LineKind::ToneHighlight))
-                        throw Error("--lines", name + " lines are drawn by 'inkline render' only (not in the window yet)");
+                        throw Error("--lines", name + " lines are drawn by 'inkline render' and 'inkline view' only");
                     kinds.push_back(kind);
                 }
                 set_line_kinds(kinds, features, surface, tone);
@@ -457,6 +457,14 @@ std::vector<Flag> tone_flags(tone::ToneOptions& o, bool& toon_base) {
          }},
         {"--toon-bands", "N", "tone bands of the toon base coat, 2 to 4 (default 3)",
          [&o](const std::string& v) { o.toon_bands = parse_integer("--toon-bands", v, 2, 4); }},
+        {"--tone-line-width", "constant|depth|edge-length",
+         "tone lines: w everywhere (default), or thinner on distant surfaces, or on finely tessellated ones (down to w/4)",
+         [&o](const std::string& v) {
+             if (v == "constant") o.width_by = tone::ToneWidthBy::Constant;
+             else if (v == "depth") o.width_by = tone::ToneWidthBy::Depth;
+             else if (v == "edge-length") o.width_by = tone::ToneWidthBy::EdgeLength;
+             else throw Error("--tone-line-width", "unknown mode '" + v + "' (expected constant, depth or edge-length)");
+         }},
     };
 }
 

@@ -114,14 +114,14 @@ Model load_model_file(const std::string& path, bool strict, double crease_degree
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);
 Flag seed_flag(std::uint64_t& seed);
 Flag crease_flag(double& degrees);
-// The tone stage's line kinds (src/tone/), drawn by `render` only.
+// The tone stage's line kinds (src/tone/), drawn by `render` (on the CPU) and `view` (in GLSL).
 struct ToneKinds {
     bool dark = false, highlight = false;
     bool any() const { return dark || highlight; }
 };
 // --lines: mesh edge kinds (silhouette, crease, border), surface line kinds (suggestive, ...) and,
-// where `tone` is given, tone-dark and tone-highlight (refused otherwise: the window has no tone
-// stage yet); *given set when the flag was given (a style's kinds apply only when it was not).
+// where `tone` is given, tone-dark and tone-highlight (refused otherwise: a command without the
+// tone stage); *given set when the flag was given (a style's kinds apply only when it was not).
 Flag lines_flag(FeatureOptions& features, SurfaceLineOptions& surface, bool* given = nullptr, ToneKinds* tone = nullptr);
 // Turns on exactly `kinds` (a style's "kinds", or --lines); tone kinds only where `tone` is given.
 void set_line_kinds(const std::vector<LineKind>& kinds, FeatureOptions& features, SurfaceLineOptions& surface,

@@ -19,6 +19,8 @@ int run_view(int argc, char** argv) {
     double crease = 40.0;
     bool strict = false;  // --strict: refuse what tolerant loading repairs
     bool frames_given = false, lines_given = false;
+    ToneKinds tone_kinds;
+    std::vector<glm::dvec3> lights;
     // A window follows one camera path: its randomized finder starts from an exhaustive view by
     // default (then follows it exactly), since a first view with holes keeps them, and each hole
     // leaves a cluster inconsistent, decided by a ray test per piece.
@@ -37,7 +39,7 @@ int run_view(int argc, char** argv) {
     flags.group("Camera (default framed: the whole model in view, fov 30, +Y up)")
         .add(camera_flags(camera));
     flags.group("Lines")
-        .add(lines_flag(o.view.features, o.view.surface, &lines_given))
+        .add(lines_flag(o.view.features, o.view.surface, &lines_given, &tone_kinds))
         .add(crease_flag(crease))
         .add(suggestive_threshold_flag(o.view.surface))
         .add(ridge_threshold_flag(o.view.surface))
@@ -45,6 +47,9 @@ int run_view(int argc, char** argv) {
         .add(subdivide_flag(o.subdivide))
         .add(strict_flag(strict))
         .add(switch_flag("--shading", o.shading, true, "flat grey triangles under the lines"));
+    flags.group("Tone lines (--lines=...,tone-dark,tone-highlight) and base coat, in GLSL: docs/tone.md")
+        .add(tone_flags(o.tone, o.toon_base))
+        .add(light_flag(lights));
     flags.group("Silhouette finder (default: randomized with frame coherence, from an exhaustive first view)")
         .add(finder_flag(o.view.finder.kind))
         .add(fraction_flag(o.view.finder.fraction))
@@ -92,11 +97,16 @@ int run_view(int argc, char** argv) {
     bool style_kinds = false;  // the style chose the line kinds
     if (!o.style.empty()) {  // a bad style file fails before the window opens
         const Style style = load_style(o.style);
-        if (!lines_given && !style.kinds.empty()) set_line_kinds(style.kinds, o.view.features, o.view.surface);
+        if (!lines_given && !style.kinds.empty()) set_line_kinds(style.kinds, o.view.features, o.view.surface, &tone_kinds);
         style_kinds = !style.kinds.empty();
     }
     if (!frames_given && (o.orbit || !o.screenshot.empty() || o.fps || !o.export_path.empty()))
         throw Usage("--orbit, --screenshot, --export and --fps drive the window for --frames=N frames", "view");
+    if (lights.size() > 1) throw BadValue("--light: the window takes one light (its panel turns it); render takes several");
+    o.tone.lights = lights;
+    o.tone_dark = tone_kinds.dark;
+    o.tone_highlight = tone_kinds.highlight;
+    if (const std::string e = tone::tone_options_error(o.tone); !e.empty()) throw BadValue(e);
     o.model_path = model_path;
     Model model = load_model_file(model_path, strict, crease, o.subdivide);
     default_intersection_lines(o.view.features, model, lines_given || style_kinds);

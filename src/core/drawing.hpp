@@ -44,6 +44,8 @@ struct Piece {
     std::vector<glm::dvec2> points;   // pixels, DESIGN.md convention
     std::uint32_t object = 0;         // index into Drawing::object_names (0 when it is empty)
     std::vector<float> opacity = {};  // per point, in [0, 1]; empty: opaque (every kind but tone's)
+    std::vector<float> width = {};    // per point, a factor of the line width; empty: 1 (tone lines
+                                      // with a width by depth or edge length)
 };
 
 // An image drawn under the lines (the tone stage's toon base coat): 0x00RRGGBB, row by row from

@@ -99,22 +99,32 @@ bool has_opacity(const Stroke& s, const Drawing& d) {
     return !s.pieces.empty() && !d.pieces[s.pieces[0]].opacity.empty();
 }
 
-// A piece with opacity per point as runs of segments of one opacity (the mean of a segment's
-// ends, in steps of 1/16: a run per change keeps files small). Empty for an opaque piece.
-std::vector<std::pair<std::vector<glm::dvec2>, double>> opacity_runs(const Piece& p) {
-    std::vector<std::pair<std::vector<glm::dvec2>, double>> runs;
+// A run of a tone line's segments of one opacity and one width factor.
+struct OpacityRun {
+    std::vector<glm::dvec2> points;
+    double alpha = 1.0, width = 1.0;
+};
+
+// A piece with opacity (and width factor, when it has one) per point as runs of segments of one
+// opacity and width (the mean of a segment's ends, in steps of 1/16: a run per change keeps files
+// small). Empty for an opaque piece.
+std::vector<OpacityRun> opacity_runs(const Piece& p) {
+    std::vector<OpacityRun> runs;
     if (p.opacity.size() != p.points.size()) return runs;
-    int level = -1;
+    const bool widths = p.width.size() == p.points.size();
+    const auto level = [](const std::vector<float>& v, std::size_t i) {
+        return int(std::lround(std::clamp(0.5 * (double(v[i - 1]) + double(v[i])), 0.0, 1.0) * 16.0));
+    };
+    int last_alpha = -1, last_width = -1;
     for (std::size_t i = 1; i < p.points.size(); ++i) {
-        const double a = 0.5 * (double(p.opacity[i - 1]) + double(p.opacity[i]));
-        const int l = int(std::lround(std::clamp(a, 0.0, 1.0) * 16.0));
-        if (l != level || runs.empty()) {
-            runs.push_back({{p.points[i - 1]}, l / 16.0});
-            level = l;
+        const int a = level(p.opacity, i), w = widths ? level(p.width, i) : 16;
+        if (a != last_alpha || w != last_width || runs.empty()) {
+            runs.push_back({{p.points[i - 1]}, a / 16.0, std::max(w, 1) / 16.0});
+            last_alpha = a, last_width = w;
         }
-        runs.back().first.push_back(p.points[i]);
+        runs.back().points.push_back(p.points[i]);
     }
-    std::erase_if(runs, [](const auto& r) { return r.second <= 0.0; });
+    std::erase_if(runs, [](const OpacityRun& r) { return r.alpha <= 0.0; });
     return runs;
 }
 
@@ -316,15 +326,18 @@ cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const std:
         cairo_stroke(c);
         for (const Stroke* s : g.strokes) {
             if (!has_opacity(*s, d)) continue;
+            const double layer_width = cairo_get_line_width(c);
             for (std::uint32_t i : s->pieces)
-                for (const auto& [run, alpha] : opacity_runs(d.pieces[i])) {
+                for (const auto& [run, alpha, run_width] : opacity_runs(d.pieces[i])) {
                     cairo_set_source_rgba(c, channel(16), channel(8), channel(0), alpha);
+                    cairo_set_line_width(c, layer_width * run_width);
                     for (const auto& clipped : clipped_runs(run, d.camera)) {
                         cairo_move_to(c, clipped[0].x, clipped[0].y);
                         for (std::size_t k = 1; k < clipped.size(); ++k) cairo_line_to(c, clipped[k].x, clipped[k].y);
                     }
                     cairo_stroke(c);
                 }
+            cairo_set_line_width(c, layer_width);
         }
     }
     return cairo_status(c);
@@ -439,6 +452,7 @@ std::string json_of(const Drawing& d, const OutputOptions& o, std::size_t specks
             line["object"] = p.object < d.object_names.size() ? d.object_names[p.object] : std::string();
         line["points"] = std::move(points);
         if (!p.opacity.empty()) line["opacity"] = p.opacity;
+        if (!p.width.empty()) line["width"] = p.width;
         polylines.push_back(std::move(line));
     }
     json root = {{"width", cam.width()}, {"height", cam.height()}, {"camera", std::move(camera)},
@@ -482,7 +496,8 @@ std::string coord(double v) {
 
 // One <path> per run of a stroke, with its kind, QI and object as attributes (class for
 // Inkscape's Find and CSS selectors, data-* for scripts).
-void append_svg_paths(std::string& out, const Stroke& s, const Drawing& d) {
+// `layer_width`: the group's stroke width (a tone line's run with a width factor sets its own).
+void append_svg_paths(std::string& out, const Stroke& s, const Drawing& d, double layer_width) {
     const std::string kind = to_string(s.kind), qi = std::to_string(s.qi);
     std::string attrs = "class=\"" + kind + (s.qi == 0 ? " visible" : " hidden") + " qi" + qi + "\" data-kind=\"" +
                         kind + "\" data-qi=\"" + qi + "\"";
@@ -500,10 +515,11 @@ void append_svg_paths(std::string& out, const Stroke& s, const Drawing& d) {
         for (const auto& run : clipped_runs(s.path.points(), d.camera)) path(run, "");
         return;
     }
-    for (std::uint32_t i : s.pieces)  // tone lines: a path per run of one opacity
-        for (const auto& [run, alpha] : opacity_runs(d.pieces[i]))
+    for (std::uint32_t i : s.pieces)  // tone lines: a path per run of one opacity (and width)
+        for (const auto& [run, alpha, run_width] : opacity_runs(d.pieces[i]))
             for (const auto& clipped : clipped_runs(run, d.camera))
-                path(clipped, alpha < 1.0 ? " stroke-opacity=\"" + num(alpha) + "\"" : "");
+                path(clipped, (alpha < 1.0 ? " stroke-opacity=\"" + num(alpha) + "\"" : std::string()) +
+                                  (run_width < 1.0 ? " stroke-width=\"" + num(layer_width * run_width, 4) + "\"" : std::string()));
 }
 
 std::string svg_of(const Drawing& d, const std::vector<Stroke>& strokes, const OutputOptions& o) {
@@ -535,7 +551,8 @@ std::string svg_of(const Drawing& d, const std::vector<Stroke>& strokes, const O
             if (by_object)
                 out += "<g id=\"" + id + "-object" + std::to_string(object) + "\" inkscape:label=\"" +
                        xml_escape(object < d.object_names.size() ? d.object_names[object] : "") + "\">\n";
-            for (; i < g.strokes.size() && g.strokes[i]->object == object; ++i) append_svg_paths(out, *g.strokes[i], d);
+            for (; i < g.strokes.size() && g.strokes[i]->object == object; ++i)
+                append_svg_paths(out, *g.strokes[i], d, width * g.style.width_scale * kind_width(g.kind));
             if (by_object) out += "</g>\n";
         }
         out += "</g>\n";

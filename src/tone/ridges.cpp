@@ -215,10 +215,12 @@ struct Target {
 };
 
 // One pixel, from its first fit `l` (at the centre): the search toward the line, then the
-// opacity (the field is left at 0 when rejected).
+// opacity (the field is left at 0 when rejected). `scale`: the line width's (section 3.4); the
+// thresholds are per (w/2)^2, so per spacing^2 they scale by its square.
 void ridge_pixel(const Image& img, const Image& tone, int px, int py, RidgeLine l, bool dark, const Target& target,
-                 const ToneOptions& o) {
-    const double spacing = 0.5 * o.width, half = 0.5 * o.width, lower = target.lower, upper = target.upper;
+                 const ToneOptions& o, double scale) {
+    const double spacing = 0.5 * o.width * scale, half = spacing;
+    const double lower = target.lower * scale * scale, upper = target.upper * scale * scale;
     const glm::dvec2 centre(px + 0.5, py + 0.5);
     glm::dvec2 pos = centre;
     double travel = 0.0;
@@ -260,14 +262,17 @@ void ridge_pixel(const Image& img, const Image& tone, int px, int py, RidgeLine 
     f.opacity[i] = float(alpha);
     f.point[i] = glm::vec2(centre - distance * l.normal);
     f.direction[i] = glm::vec2(-l.normal.y, l.normal.x);
+    if (!f.width_scale.empty()) f.width_scale[i] = float(scale);
 }
 
-void clear_field(RidgeField* f, int W, int H) {
+void clear_field(RidgeField* f, int W, int H, bool scaled) {
     if (!f) return;
     const std::size_t n = std::size_t(W) * std::size_t(H);
     f->width = W;
     f->height = H;
     f->opacity.assign(n, 0.0f);
+    if (scaled) f->width_scale.assign(n, 1.0f);
+    else f->width_scale.clear();
     f->point.assign(n, glm::vec2(0.0f));
     f->direction.assign(n, glm::vec2(0.0f));
 }
@@ -300,10 +305,12 @@ void row_curvature(const Image& img, int y, int step, int x0, int x1, float* out
 // curvature, so it starts at most one of the two searches. Pixels whose first curvature is
 // clearly below the thresholds are skipped without the full fit (a cheap pass over the image
 // where the spacing is a whole number of pixels, a bound from the samples' range elsewhere).
-void detect(const Image& channel, const Image& tone, const Target& dark, const Target& light, const ToneOptions& o) {
+void detect(const Image& channel, const Image& tone, const Target& dark, const Target& light, const ToneOptions& o,
+            const Image* scale) {
     const int W = channel.width, H = channel.height;
-    clear_field(dark.field, W, H);
-    clear_field(light.field, W, H);
+    if (scale && scale->pixels.size() != channel.pixels.size()) scale = nullptr;
+    clear_field(dark.field, W, H, scale);
+    clear_field(light.field, W, H, scale);
     const double spacing = 0.5 * o.width, bound = curvature_bound_per_range();
     const double dark_lower = dark.field ? dark.lower : 1e300, light_lower = light.field ? light.lower : 1e300;
     const double least = std::min(dark_lower, light_lower);
@@ -317,16 +324,17 @@ void detect(const Image& channel, const Image& tone, const Target& dark, const T
             const bool inner_row = integral && y >= step && y + step < H;
             if (inner_row) row_curvature(channel, y, step, step, W - step, quick.data());
             for (int x = 0; x < W; ++x) {
-                if (inner_row && x >= step && x + step < W) {
+                const double s = scale ? double(scale->at(x, y)) : 1.0;
+                if (inner_row && x >= step && x + step < W && s == 1.0) {
                     const double c = quick[std::size_t(x)];
                     if (c + kSlack < dark_lower && -c + kSlack < light_lower) continue;
                 }
-                const std::array<double, 9> t = stencil(channel, x + 0.5, y + 0.5, spacing);
+                const std::array<double, 9> t = stencil(channel, x + 0.5, y + 0.5, spacing * s);
                 const auto [lo, hi] = std::minmax_element(t.begin(), t.end());
-                if ((*hi - *lo) * bound < least || *hi == *lo) continue;
+                if ((*hi - *lo) * bound < least * s * s || *hi == *lo) continue;
                 const RidgeLine l = ridge_line(fit_quadratic(t));
                 const Target& target = l.curvature > 0 ? dark : light;
-                if (target.field) ridge_pixel(channel, tone, x, y, l, l.curvature > 0, target, o);
+                if (target.field) ridge_pixel(channel, tone, x, y, l, l.curvature > 0, target, o, s);
             }
         }
     });
@@ -335,15 +343,15 @@ void detect(const Image& channel, const Image& tone, const Target& dark, const T
 }  // namespace
 
 void detect_ridges(const Image& channel, const Image& tone, Polarity polarity, double lower, double upper,
-                   const ToneOptions& options, RidgeField& out) {
+                   const ToneOptions& options, RidgeField& out, const Image* scale) {
     const Target wanted{&out, lower, upper};
-    if (polarity == Polarity::Dark) detect(channel, tone, wanted, {}, options);
-    else detect(channel, tone, {}, wanted, options);
+    if (polarity == Polarity::Dark) detect(channel, tone, wanted, {}, options, scale);
+    else detect(channel, tone, {}, wanted, options, scale);
 }
 
 void detect_ridges_both(const Image& channel, const Image& tone, RidgeField* dark, RidgeField* light,
-                        const ToneOptions& o) {
-    detect(channel, tone, {dark, o.dark_lower, o.dark_upper}, {light, o.highlight_lower, o.highlight_upper}, o);
+                        const ToneOptions& o, const Image* scale) {
+    detect(channel, tone, {dark, o.dark_lower, o.dark_upper}, {light, o.highlight_lower, o.highlight_upper}, o, scale);
 }
 
 void merge_max(RidgeField& a, const RidgeField& b) {
@@ -352,6 +360,7 @@ void merge_max(RidgeField& a, const RidgeField& b) {
             a.opacity[i] = b.opacity[i];
             a.point[i] = b.point[i];
             a.direction[i] = b.direction[i];
+            if (!a.width_scale.empty() && !b.width_scale.empty()) a.width_scale[i] = b.width_scale[i];
         }
 }
 

@@ -62,6 +62,23 @@ ToneMesh prepare_tone_mesh(const MeshTopology& mesh) {
             out.corner_normals[f][k] = glm::vec3(l > 0 ? sum / l : normal[f]);
         }
     }
+    // Mean edge length per vertex (each face's edges counted from both of their ends), over the
+    // mesh's mean.
+    std::vector<double> length_sum(nv, 0.0);
+    std::vector<std::uint32_t> edge_count(nv, 0);
+    double total = 0.0;
+    for (const auto& fv : mesh.faces)
+        for (int k = 0; k < 3; ++k) {
+            const double l = glm::length(mesh.positions[fv[(k + 1) % 3]] - mesh.positions[fv[k]]);
+            length_sum[fv[k]] += l, length_sum[fv[(k + 1) % 3]] += l;
+            edge_count[fv[k]] += 1, edge_count[fv[(k + 1) % 3]] += 1;
+            total += l;
+        }
+    const double mean = nf > 0 ? total / (3.0 * double(nf)) : 0.0;
+    out.vertex_width_scale.assign(nv, 1.0f);
+    for (std::size_t v = 0; v < nv; ++v)
+        if (edge_count[v] > 0 && mean > 0.0)
+            out.vertex_width_scale[v] = float(std::clamp(length_sum[v] / edge_count[v] / mean, kMinWidthScale, 1.0));
     return out;
 }
 
@@ -76,6 +93,7 @@ namespace {
 struct CamVertex {
     glm::dvec3 p;
     glm::dvec3 n;
+    double width_scale = 1.0;  // section 3.4 by edge length
 };
 
 struct Raster {
@@ -83,6 +101,7 @@ struct Raster {
     int width, height;
     std::vector<float>& closeness;   // larger is nearer; -inf: empty
     std::vector<glm::vec3>& normal;  // interpolated world normal of the nearest surface
+    float* width_scale;              // null, or the interpolated edge-length scale of the nearest surface
 
     glm::dvec2 screen(const glm::dvec3& p) const {
         const double F = cam.focal();
@@ -120,6 +139,8 @@ struct Raster {
                 if (!(near > closeness[i])) continue;
                 closeness[i] = float(near);
                 normal[i] = glm::vec3((q0 * v[0].n + q1 * v[1].n + q2 * v[2].n) / sum);
+                if (width_scale)
+                    width_scale[i] = float((q0 * v[0].width_scale + q1 * v[1].width_scale + q2 * v[2].width_scale) / sum);
             }
         }
     }
@@ -137,7 +158,7 @@ struct Raster {
             if (in[k]) poly[n++] = a;
             if (in[k] != in[(k + 1) % 3]) {
                 const double t = (near_z - a.p.z) / (b.p.z - a.p.z);
-                poly[n++] = {a.p + t * (b.p - a.p), a.n + t * (b.n - a.n)};
+                poly[n++] = {a.p + t * (b.p - a.p), a.n + t * (b.n - a.n), a.width_scale + t * (b.width_scale - a.width_scale)};
             }
         }
         for (int k = 1; k + 1 < n; ++k) {
@@ -148,6 +169,25 @@ struct Raster {
 };
 
 }  // namespace
+
+double nearest_model_depth(const MeshTopology& mesh, const Camera& cam) {
+    const double front = glm::dot(mesh.bounds.center() - cam.eye(), cam.forward()) - mesh.bounds.half_diagonal();
+    return std::max(front, 1e-6 * std::max(mesh.bounds.half_diagonal(), 1e-300));
+}
+
+void depth_width_scale(const MeshTopology& mesh, const Camera& cam, const std::vector<float>& closeness, int threads,
+                       Image& scale) {
+    const double nearest = nearest_model_depth(mesh, cam);
+    const int W = scale.width;
+    for_row_bands(threads, scale.height, [&](int row0, int row1) {
+        for (std::size_t i = std::size_t(row0) * std::size_t(W); i < std::size_t(row1) * std::size_t(W); ++i) {
+            const double c = closeness[i];
+            if (c == -INFINITY) continue;
+            const double depth = cam.is_ortho() ? -c : 1.0 / c;  // (closeness: 1/z, or -z orthographic)
+            scale.pixels[i] = float(std::clamp(depth > 0 ? nearest / depth : 1.0, kMinWidthScale, 1.0));
+        }
+    });
+}
 
 void shade(const MeshTopology& mesh, const ToneMesh& normals, const Camera& cam, const ToneOptions& options,
            ShadedImages& out) {
@@ -164,16 +204,23 @@ void shade(const MeshTopology& mesh, const ToneMesh& normals, const Camera& cam,
         cv[i] = {glm::dot(d, r), glm::dot(d, u), glm::dot(d, f)};
     }
     const double near_z = cam.near_distance() > 0 ? cam.near_distance() : 1e-6 * mesh.bounds.half_diagonal();
-    Raster raster{cam, W, H, closeness, normal};
+    const bool by_edges = options.width_by == ToneWidthBy::EdgeLength && normals.vertex_width_scale.size() == cv.size();
+    if (options.width_by != ToneWidthBy::Constant) out.width_scale.resize(W, H, 1.0f);
+    else out.width_scale = {};
+    Raster raster{cam, W, H, closeness, normal, by_edges ? out.width_scale.pixels.data() : nullptr};
+    const auto edge_scale = [&](std::uint32_t v) { return by_edges ? double(normals.vertex_width_scale[v]) : 1.0; };
     for_row_bands(options.threads, H, [&](int row0, int row1) {
         for (std::size_t fi = 0; fi < mesh.face_count(); ++fi) {
             const auto& fv = mesh.faces[fi];
             const auto& cn = normals.corner_normals[fi];
-            const CamVertex v[3] = {{cv[fv[0]], glm::dvec3(cn[0])}, {cv[fv[1]], glm::dvec3(cn[1])},
-                                    {cv[fv[2]], glm::dvec3(cn[2])}};
+            const CamVertex v[3] = {{cv[fv[0]], glm::dvec3(cn[0]), edge_scale(fv[0])},
+                                    {cv[fv[1]], glm::dvec3(cn[1]), edge_scale(fv[1])},
+                                    {cv[fv[2]], glm::dvec3(cn[2]), edge_scale(fv[2])}};
             raster.clipped(v, near_z, row0, row1);
         }
     });
+
+    if (options.width_by == ToneWidthBy::Depth) depth_width_scale(mesh, cam, closeness, options.threads, out.width_scale);
 
     std::vector<glm::dvec3> lights = options.lights;
     if (lights.empty()) lights.push_back(default_light(cam));

@@ -50,8 +50,20 @@ struct Image {
 // normal is within the crease angle of this face's (smooth shading that keeps creases sharp).
 struct ToneMesh {
     std::vector<std::array<glm::vec3, 3>> corner_normals;
+    // Per vertex: the line width's scale by local edge length (section 3.4): the mean length of
+    // the vertex's edges over the mesh's mean edge length, clamped to [kMinWidthScale, 1].
+    std::vector<float> vertex_width_scale;
 };
 ToneMesh prepare_tone_mesh(const MeshTopology& mesh);
+
+// Section 3.4's optional line width: constant w, or w times a scale in [kMinWidthScale, 1] per
+// pixel: by depth, the model's nearest possible depth (the front of its bounding sphere) over the
+// pixel's depth (distant surfaces get thinner lines); by edge length, ToneMesh's vertex scale
+// interpolated over the surface (finely tessellated regions get thinner lines). The fit's spacing,
+// the search's reach and the fall-off scale with it; the thresholds keep their meaning at w (the
+// curvature is compared per (w/2)^2); traced points carry it as their width.
+enum class ToneWidthBy { Constant, Depth, EdgeLength };
+constexpr double kMinWidthScale = 0.25;
 
 struct ToneOptions {
     // World directions towards the lights (need not be unit); empty: default_light(camera).
@@ -69,6 +81,7 @@ struct ToneOptions {
     double min_opacity = 0.05;     // pixels below this are not traced
     double min_length = -1.0;      // traced polylines shorter (px) are dropped; < 0: w
     int toon_bands = 3;            // base coat: 2 to 4 tone bands
+    ToneWidthBy width_by = ToneWidthBy::Constant;
     int threads = 1;
 };
 
@@ -84,6 +97,7 @@ struct ShadedImages {
     Image tone;                         // mean over lights of max(0, n.L); background 1
     Image specular;                     // max over lights of max(0, n.h)^e where n.L > 0; background 0
     std::vector<std::uint8_t> covered;  // 1 where a surface is seen
+    Image width_scale;                  // section 3.4's scale per pixel (1 off the surface); empty: constant w
     // Working storage of the z-buffer, kept so that a pass over the same size allocates nothing
     // (fresh pages cost as much as the rasterization).
     std::vector<float> closeness;
@@ -98,6 +112,13 @@ void shade(const MeshTopology& mesh, const ToneMesh& normals, const Camera& came
 // border clamped. w <= 0 copies.
 // `scratch` (optional) keeps the intermediate image between calls.
 void gaussian_blur(const Image& in, double width, Image& out, int threads = 1, Image* scratch = nullptr);
+
+// Section 3.4 by depth: the model's nearest possible depth along the camera's forward axis (the
+// front of its bounding sphere; a small positive depth when the eye is inside it), and the scale
+// per covered pixel from the z-buffer's closeness (1/depth, or -depth orthographic).
+double nearest_model_depth(const MeshTopology& mesh, const Camera& camera);
+void depth_width_scale(const MeshTopology& mesh, const Camera& camera, const std::vector<float>& closeness,
+                       int threads, Image& scale);
 
 // ---- Stage 2: ridges and valleys -------------------------------------------------------
 
@@ -125,16 +146,18 @@ enum class Polarity { Dark, Light };  // valleys (dark lines) or ridges (highlig
 struct RidgeField {
     int width = 0, height = 0;
     std::vector<float> opacity;
+    std::vector<float> width_scale;  // the line width's scale per pixel (section 3.4); empty: 1
     std::vector<glm::vec2> point, direction;
 };
 // The search of section 3.2 and the opacity of 3.3 over a blurred channel; `tone` is the blurred
 // tone image counterchange reads. lower/upper: c_l, c_u.
+// `scale` (optional, section 3.4): the line width's scale per pixel.
 void detect_ridges(const Image& channel, const Image& tone, Polarity polarity, double lower, double upper,
-                   const ToneOptions& options, RidgeField& out);
+                   const ToneOptions& options, RidgeField& out, const Image* scale = nullptr);
 // Dark lines (c_l, c_u: options' dark_*) and highlight lines (highlight_*) of one channel in one
 // pass (a pixel's first fit starts at most one of the two searches); a null field is not wanted.
 void detect_ridges_both(const Image& channel, const Image& tone, RidgeField* dark, RidgeField* light,
-                        const ToneOptions& options);
+                        const ToneOptions& options, const Image* scale = nullptr);
 // Per pixel the larger opacity of a and b (with its point and direction): highlight lines from
 // the tone image and the specular channel.
 void merge_max(RidgeField& a, const RidgeField& b);

@@ -126,6 +126,7 @@ std::vector<Piece> trace_lines(const RidgeField& field, LineKind kind, const Ton
             const std::size_t j = backward[k];
             p.points.push_back(glm::dvec2(field.point[j]));
             p.opacity.push_back(field.opacity[j]);
+            if (!field.width_scale.empty()) p.width.push_back(field.width_scale[j]);
             strongest = std::max(strongest, field.opacity[j]);
             if (k > 0) length += glm::length(p.points[k] - p.points[k - 1]);
         }
@@ -150,11 +151,11 @@ void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera
     out.highlight = {};
     if (dark || highlight)
         detect_ridges_both(out.tone_blurred, out.tone_blurred, dark ? &out.dark : nullptr,
-                           highlight ? &out.highlight : nullptr, options);
+                           highlight ? &out.highlight : nullptr, options, &out.shaded.width_scale);
     if (highlight) {
         // The specular channel's own tone is its counterchange: a highlight is as strong as it is bright.
         detect_ridges(out.specular_blurred, out.specular_blurred, Polarity::Light, options.highlight_lower,
-                      options.highlight_upper, options, out.specular);
+                      options.highlight_upper, options, out.specular, &out.shaded.width_scale);
         merge_max(out.highlight, out.specular);
     }
     out.seconds.ridges = seconds_since(t0);

@@ -196,13 +196,13 @@ void GlScene::upload_mesh() {
 }
 
 void GlScene::draw(const Camera& cam, bool shading, const std::vector<LineVertex>& lines,
-                   const std::vector<std::uint32_t>* image, const std::function<void()>& under_lines) {
+                   const std::vector<std::uint32_t>* image, const std::function<void()>& underlay) {
     glViewport(0, 0, cam.width(), cam.height());
     glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (shading) draw_shading(cam);
-    if (under_lines) under_lines();  // another pass under the lines (the detail's base coat)
+    if (underlay) underlay();
+    else if (shading) draw_shading(cam);
     // The lines: their visibility is already decided; drawn over everything, the darker wins.
     glEnable(GL_BLEND);
     glBlendEquation(GL_MIN);

@@ -26,9 +26,10 @@ public:
     void image_changed() { image_new_ = true; }
     // Clears the back buffer and draws the view seen from `camera` (its size is the viewport):
     // the model's triangles when `shading`, then `image` (the stylized drawing, camera-sized
-    // Cairo RGB24 pixels) when not null, else the line quads.
+    // Cairo RGB24 pixels) when not null, else the line quads. `underlay`, when given, draws
+    // an opaque image in place of the shading (the tone pass: tone_pass.hpp).
     void draw(const Camera& camera, bool shading, const std::vector<LineVertex>& lines,
-              const std::vector<std::uint32_t>* image, const std::function<void()>& under_lines = {});
+              const std::vector<std::uint32_t>* image, const std::function<void()>& underlay = {});
 
 private:
     void upload_mesh();

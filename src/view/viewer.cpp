@@ -11,7 +11,9 @@
 #include <cctype>
 #include <cfloat>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +27,7 @@
 #include "view/camera_rig.hpp"
 #include "view/frame_stats.hpp"
 #include "view/gl_scene.hpp"
+#include "view/tone_pass.hpp"
 #include "view/ui_layer.hpp"
 #include "view/view_scheduler.hpp"
 
@@ -127,6 +130,9 @@ public:
         panel_ = o.panel;
         recall_on_ = o.recall;
         vopt_ = o.view;
+        tone_ = o.tone;
+        tone_layers_ = {o.tone_dark, o.tone_highlight, o.toon_base};
+        light_ = light_angles(home, o.tone.lights.empty() ? tone::default_light(home) : o.tone.lights[0]);
         style_names_ = {"lines (GL)", "clean", "technical", "sketchy", "charcoal", "ink-brush", "hatched"};
         if (!o.style.empty()) {
             const auto it = std::find(style_names_.begin(), style_names_.end(), o.style);
@@ -168,6 +174,12 @@ public:
         if (opt_.fps)
             frame_stats_.print_report({model_.topology().face_count(), scheduler_.threads(), shown_.lines.size(),
                                        opt_.frames == 0});
+        if (opt_.fps && tone_pass_ && tone_pass_->runs() > 0) {
+            const TonePass::Times& t = tone_pass_->summed_times();
+            const double n = double(tone_pass_->runs()) / 1e3;
+            std::printf("tone pass (GLSL, each pass finished): %zu runs, mean ms: shade %.2f, blur %.2f, ridges %.2f, "
+                        "total %.2f\n", tone_pass_->runs(), t.shade / n, t.blur / n, t.ridges / n, t.total() / n);
+        }
         // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
         const Camera& drawn = shown_.camera;
         const Camera final_camera = opt_.frames > 0 ? drawn : rig_.camera(drawn.width(), drawn.height());
@@ -306,9 +318,10 @@ private:
         damaged_ = false;
         drawn_w_ = w, drawn_h_ = h;
         const Camera& drawn = shown_.camera;
-        const auto coat = [&] { coat_.draw(drawn, shown_.coat, fresh); };
-        scene_.draw(drawn, shading_ && !shown_.has_coat, shown_.lines, shown_.styled ? &shown_.pixels : nullptr,
-                    shown_.has_coat ? std::function<void()>(coat) : std::function<void()>());
+        std::function<void()> underlay;  // in place of the shading: the tone pass, or the detail's coat
+        if (tone_on()) underlay = [&] { draw_tone(drawn); };
+        else if (shown_.has_coat) underlay = [&] { coat_.draw(drawn, shown_.coat, fresh); };
+        scene_.draw(drawn, shading_, shown_.lines, shown_.styled ? &shown_.pixels : nullptr, underlay);
         const bool shot = finishing && !opt_.screenshot.empty();
         if (shot && !opt_.screenshot_ui) save_screenshot(opt_.screenshot, drawn.width(), drawn.height());
         if (panel_) ui_layer_.composite();
@@ -386,9 +399,24 @@ private:
             rig_.pan(dx, dy, h);
     }
 
+    bool tone_on() const { return tone_layers_.dark || tone_layers_.highlight || tone_layers_.base; }
+    // The tone pass's options at `cam`: the panel's light turned into a world direction.
+    tone::ToneOptions tone_options(const Camera& cam) const {
+        tone::ToneOptions o = tone_;
+        o.lights = {light_direction(cam, light_)};
+        return o;
+    }
+    void draw_tone(const Camera& cam) {
+        if (!tone_pass_) tone_pass_ = std::make_unique<TonePass>(model_.topology());
+        tone_pass_->draw(cam, tone_options(cam), tone_layers_);
+    }
+    void add_tone_lines(const Camera& cam, Drawing& d) const;
+    std::string tone_flags(const Camera& cam) const;  // render's flags for the tone pass shown
+
     void draw_panel();
     void panel_lines();
     void panel_detail();
+    void panel_tone();
     void panel_surface_lines();
     void panel_finder();
     void panel_statistics();
@@ -408,6 +436,7 @@ private:
     std::unique_ptr<DetailSource> detail_;  // --detail
     ToonCoat coat_;
     UiLayer ui_layer_;  // the panel, rasterized again only when it changes
+    std::unique_ptr<TonePass> tone_pass_;  // the tone pass's GL objects, made on first use
     ViewScheduler scheduler_;
     FrameStats frame_stats_;
     ViewOptions vopt_;
@@ -424,6 +453,9 @@ private:
     ImVec2 panel_size_{0.0f, 0.0f};
     bool panel_drawn_ = false, damaged_ = false;  // the panel shown in the last frame drawn; an expose
     int drawn_w_ = 0, drawn_h_ = 0;               // the framebuffer size of the last frame drawn
+    tone::ToneOptions tone_;  // the tone pass's parameters (its lights from light_)
+    ToneLayers tone_layers_;
+    LightAngles light_;
     char export_name_[256] = "inkline-view";
     std::string status_, command_;
     bool dirty_ = false, crease_dirty_ = false;  // options changed: new sessions next frame
@@ -445,7 +477,10 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
     if (s.ridge) add_kind(LineKind::Ridge);
     if (s.valley) add_kind(LineKind::Valley);
     if (vopt_.features.intersection) add_kind(LineKind::Intersection);
-    c += " --lines=" + kinds;  // (empty: no line kind, as render takes it)
+    if (tone_layers_.dark) add_kind(LineKind::ToneDark);
+    if (tone_layers_.highlight) add_kind(LineKind::ToneHighlight);
+    c += " --lines=" + kinds;
+    c += tone_flags(cam);  // (empty: no line kind, as render takes it)
     if (s.suggestive && s.suggestive_threshold != SurfaceLineOptions{}.suggestive_threshold) {
         std::snprintf(buf, sizeof buf, " --suggestive-threshold=%.17g", s.suggestive_threshold);
         c += buf;
@@ -477,6 +512,8 @@ void Viewer::draw_panel() {
     ImGui::Begin("inkline (H hides)");
     if (ImGui::CollapsingHeader("Lines", ImGuiTreeNodeFlags_DefaultOpen)) panel_lines();
     if (detail_ && ImGui::CollapsingHeader("Detail", ImGuiTreeNodeFlags_DefaultOpen)) panel_detail();
+    if (ImGui::CollapsingHeader("Tone lines (abstracted shading)", tone_on() ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+        panel_tone();
     if (ImGui::CollapsingHeader("Finder and visibility", ImGuiTreeNodeFlags_DefaultOpen)) panel_finder();
     if (ImGui::CollapsingHeader("Statistics", ImGuiTreeNodeFlags_DefaultOpen)) panel_statistics();
     if (ImGui::CollapsingHeader("Camera and export", ImGuiTreeNodeFlags_DefaultOpen)) panel_camera_and_export();
@@ -552,6 +589,93 @@ void Viewer::panel_lines() {
     if (ImGui::SliderFloat("crease angle", &crease_, 0.0f, 180.0f, "%.1f deg")) crease_dirty_ = true;
 }
 
+// The tone pass's layers and parameters (tone::ToneOptions, as render's --tone-* flags take
+// them); a slider's value rounded to the digits it shows, so the printed render command is short.
+void Viewer::panel_tone() {
+    ImGui::Checkbox("tone-dark", &tone_layers_.dark);
+    ImGui::SameLine();
+    ImGui::Checkbox("tone-highlight", &tone_layers_.highlight);
+    ImGui::SameLine();
+    ImGui::Checkbox("toon base", &tone_layers_.base);
+    if (!tone_on()) return;
+    const auto slider = [](const char* label, double& value, float lo, float hi, const char* format, double step,
+                           ImGuiSliderFlags flags = 0) {
+        float v = float(value);
+        if (!ImGui::SliderFloat(label, &v, lo, hi, format, flags)) return;
+        value = std::max(double(lo), std::round(double(v) / step) * step);
+    };
+    const auto thresholds = [](const char* label, double& lower, double& upper) {
+        float v[2] = {float(lower), float(upper)};
+        if (!ImGui::SliderFloat2(label, v, 0.0f, 0.5f, "%.3f", ImGuiSliderFlags_Logarithmic)) return;
+        const double lo = std::round(double(v[0]) * 1e3) / 1e3, hi = std::round(double(v[1]) * 1e3) / 1e3;
+        // c_l <= c_u: the edited one pushes the other
+        if (lo != lower) lower = lo, upper = std::max(upper, lo);
+        else upper = hi, lower = std::min(lower, hi);
+    };
+    // (narrower sliders: the labels are longer than the other sections')
+    ImGui::PushItemWidth(-(ImGui::CalcTextSize("highlight c_l, c_u").x + ImGui::GetStyle().ItemInnerSpacing.x));
+    slider("w (line width)", tone_.width, 1.0f, 32.0f, "%.1f px", 0.1);
+    slider("beta", tone_.beta, 0.0f, 1.0f, "%.2f", 0.01);
+    thresholds("dark c_l, c_u", tone_.dark_lower, tone_.dark_upper);
+    thresholds("highlight c_l, c_u", tone_.highlight_lower, tone_.highlight_upper);
+    slider("light azimuth", light_.azimuth_deg, -180.0f, 180.0f, "%.0f deg", 1.0);
+    slider("light elevation", light_.elevation_deg, -90.0f, 90.0f, "%.0f deg", 1.0);
+    slider("specular exponent", tone_.specular_exponent, 1.0f, 1000.0f, "%.0f", 1.0, ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderInt("toon bands", &tone_.toon_bands, 2, 4);
+    int width_by = int(tone_.width_by);
+    if (ImGui::Combo("line width by", &width_by, "constant\0depth\0edge length\0")) tone_.width_by = tone::ToneWidthBy(width_by);
+    ImGui::PopItemWidth();
+    ImGui::Checkbox("distance fall-off", &tone_.distance_falloff);
+    ImGui::SameLine();
+    ImGui::Checkbox("counterchange", &tone_.counterchange);
+}
+
+std::string Viewer::tone_flags(const Camera& cam) const {
+    if (!tone_on()) return "";
+    const tone::ToneOptions d;
+    std::string c = tone_layers_.base ? " --base=toon" : "";
+    char buf[160];
+    const auto number = [&](const char* flag, double v, double def) {
+        if (v == def) return;
+        std::snprintf(buf, sizeof buf, " %s=%g", flag, v);
+        c += buf;
+    };
+    const auto pair = [&](const char* flag, double lo, double hi, double dlo, double dhi) {
+        if (lo == dlo && hi == dhi) return;
+        std::snprintf(buf, sizeof buf, " %s=%g,%g", flag, lo, hi);
+        c += buf;
+    };
+    number("--tone-width", tone_.width, d.width);
+    number("--tone-beta", tone_.beta, d.beta);
+    pair("--tone-dark", tone_.dark_lower, tone_.dark_upper, d.dark_lower, d.dark_upper);
+    pair("--tone-highlight", tone_.highlight_lower, tone_.highlight_upper, d.highlight_lower, d.highlight_upper);
+    number("--specular", tone_.specular_exponent, d.specular_exponent);
+    number("--toon-bands", tone_.toon_bands, d.toon_bands);
+    if (tone_.width_by != d.width_by)
+        c += tone_.width_by == tone::ToneWidthBy::Depth ? " --tone-line-width=depth" : " --tone-line-width=edge-length";
+    const glm::dvec3 l = light_direction(cam, light_);
+    std::snprintf(buf, sizeof buf, " --light=%.17g,%.17g,%.17g", l.x, l.y, l.z);
+    return c + buf;
+}
+
+// render's tone pass on the CPU at `cam`: the traced lines (vectors) and the base coat join the
+// export, as `inkline render` adds them.
+void Viewer::add_tone_lines(const Camera& cam, Drawing& d) const {
+    tone::ToneResult result;
+    tone::ToneOptions o = tone_options(cam);
+    o.threads = std::max(1, vopt_.threads);
+    tone::render_tone(model_.topology(), tone::prepare_tone_mesh(model_.topology()), cam, o, tone_layers_.dark,
+                      tone_layers_.highlight, result);
+    std::uint32_t curves = 0;  // numbered after the drawing's curves
+    for (const Piece& p : d.pieces) curves = std::max(curves, p.curve + 1);
+    for (Piece& p : result.pieces) {
+        p.curve += curves;
+        d.pieces.push_back(std::move(p));
+    }
+    d.stats.pieces = d.pieces.size();
+    if (tone_layers_.base) d.base = tone::toon_base(result.tone_blurred, result.shaded.covered, o.toon_bands);
+}
+
 void Viewer::panel_finder() {
     int finder = vopt_.finder.kind == FinderKind::Randomized ? 1 : 0;
     bool changed = ImGui::RadioButton("exhaustive", &finder, 0);
@@ -601,6 +725,11 @@ void Viewer::panel_statistics() {
     ImGui::Text("clusters decided: %zu box, %zu upper bound,", s.clusters_bbox, s.clusters_bounded);
     ImGui::Text("  %zu occluded, %zu inconsistent", s.clusters_occluded, s.clusters_inconsistent);
     if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", numbers.recall);
+    if (tone_on() && tone_pass_) {
+        const TonePass::Times& tt = tone_pass_->last_times();
+        ImGui::Text("tone pass %.1f ms (shade %.1f, blur %.1f,", 1e3 * tt.total(), 1e3 * tt.shade, 1e3 * tt.blur);
+        ImGui::Text("  ridges and composite %.1f)", 1e3 * tt.ridges);
+    }
 }
 
 void Viewer::panel_camera_and_export() {
@@ -638,6 +767,10 @@ void Viewer::export_view(const std::string& path) {
         const Format format = output_format(path, "");
         if (style_ && format != Format::Json) {
             write_styled(stylize_view(model_, cam, view, *style_, hidden_), path, format);
+        } else if (tone_on()) {
+            Drawing d = view.drawing;
+            add_tone_lines(cam, d);
+            write_drawing(d, path, format, oo);
         } else {
             write_drawing(view.drawing, path, format, oo);
         }

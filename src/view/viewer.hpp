@@ -10,6 +10,7 @@
 
 #include "core/camera.hpp"
 #include "pipeline.hpp"
+#include "tone/tone.hpp"
 
 namespace inkline {
 
@@ -42,6 +43,11 @@ struct ViewerOptions {
     double detail_px = 0.0;
     std::string detail_method = "multiscale";
     double detail_depth = 0.0;
+    // The tone pass in GLSL (tone_pass.hpp), on when any of its layers is asked: render's
+    // --lines=...,tone-dark,tone-highlight and --base=toon, with render's parameters. One light,
+    // turning with the camera (the panel's two angles; empty: render's default headlight).
+    bool tone_dark = false, tone_highlight = false, toon_base = false;
+    tone::ToneOptions tone;
 };
 
 // Opens the window on `home` (its size is the window's drawing area) and runs until closed, or
