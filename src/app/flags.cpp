@@ -488,12 +488,15 @@ Flag first_view_flag(bool& first_full) {
 }
 
 Flag visibility_flag(VisibilityMethod& method) {
-    return {"--visibility", "appel|rays",
-            "QI by Appel/Markosian propagation (default), or a ray test at every piece (the reference)",
+    return {"--visibility", "appel|rays|fast",
+            "QI by Appel/Markosian propagation (default, exact), a ray test at every piece (the reference), "
+            "or fast: a depth buffer settles what is clear and the exact method the rest (visible lines only, "
+            "docs/fast_visibility.md)",
             [&method](const std::string& v) {
                 if (v == "appel") method = VisibilityMethod::Appel;
                 else if (v == "rays") method = VisibilityMethod::Rays;
-                else throw Error("--visibility", "unknown method '" + v + "' (expected appel or rays)");
+                else if (v == "fast") method = VisibilityMethod::Fast;
+                else throw Error("--visibility", "unknown method '" + v + "' (expected appel, rays or fast)");
             }};
 }
 

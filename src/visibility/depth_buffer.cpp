@@ -1,0 +1,117 @@
+#include "visibility/depth_buffer.hpp"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+namespace inkline {
+
+void DepthBuffer::reset(const Camera& camera, int long_side_px) {
+    camera_ = camera;
+    ortho_ = camera.is_ortho();
+    const int W = camera.width(), H = camera.height();
+    const double s = double(std::max(W, H)) / double(std::max(long_side_px, 1));
+    const int w = std::max(1, int(std::lround(W / s))), h = std::max(1, int(std::lround(H / s)));
+    if (w != width_ || h != height_) {
+        width_ = w, height_ = h;
+        key_.assign(std::size_t(w) * h, kEmpty);
+        face_.assign(std::size_t(w) * h, kNoFace);
+        used_x0_ = width_, used_y0_ = height_, used_x1_ = used_y1_ = -1;
+    } else {
+        clear_used();
+    }
+    scale_ = {double(W) / w, double(H) / h};
+    drawn_ = 0;
+}
+
+void DepthBuffer::clear_used() {
+    // Only the rows and columns the last view wrote: a model framed in part of the image costs
+    // that part.
+    for (int j = used_y0_; j <= used_y1_; ++j) {
+        const std::size_t row = std::size_t(j) * width_;
+        std::fill(key_.begin() + row + used_x0_, key_.begin() + row + used_x1_ + 1, kEmpty);
+        std::fill(face_.begin() + row + used_x0_, face_.begin() + row + used_x1_ + 1, kNoFace);
+    }
+    used_x0_ = width_, used_y0_ = height_, used_x1_ = used_y1_ = -1;
+}
+
+bool DepthBuffer::draw(const MeshTopology& mesh, const std::vector<std::uint8_t>* draw) {
+    const std::size_t nv = mesh.vertex_count();
+    vx_.resize(nv), vy_.resize(nv), vk_.resize(nv), vnear_.resize(nv);
+    const glm::dvec3 E = camera_.eye(), fw = camera_.forward(), rt = camera_.right(), up = camera_.upward();
+    const double F = camera_.focal(), cx = 0.5 * camera_.width(), cy = 0.5 * camera_.height();
+    const double near = camera_.near_distance(), isx = 1.0 / scale_.x, isy = 1.0 / scale_.y;
+    for (std::size_t v = 0; v < nv; ++v) {
+        const glm::dvec3 d = mesh.positions[v] - E;
+        const double z = glm::dot(d, fw), x = glm::dot(d, rt), y = glm::dot(d, up);
+        vnear_[v] = !(z > near);
+        const double k = ortho_ ? 1.0 : F / z;
+        vx_[v] = float((cx + k * x) * isx);
+        vy_[v] = float((cy - k * y) * isy);
+        vk_[v] = float(ortho_ ? -z : 1.0 / z);
+    }
+    int ux0 = width_, uy0 = height_, ux1 = -1, uy1 = -1;
+    const std::size_t nf = mesh.face_count();
+    const float fw_max = float(width_ - 1), fh_max = float(height_ - 1);
+    for (std::size_t f = 0; f < nf; ++f) {
+        if (draw && !(*draw)[f]) continue;
+        const auto& t = mesh.faces[f];
+        if (vnear_[t[0]] | vnear_[t[1]] | vnear_[t[2]]) {
+            used_x0_ = std::min(used_x0_, ux0), used_y0_ = std::min(used_y0_, uy0);
+            used_x1_ = std::max(used_x1_, ux1), used_y1_ = std::max(used_y1_, uy1);
+            return false;
+        }
+        ++drawn_;
+        float ax = vx_[t[0]], ay = vy_[t[0]], ak = vk_[t[0]];
+        float bx = vx_[t[1]], by = vy_[t[1]], bk = vk_[t[1]];
+        float qx = vx_[t[2]], qy = vy_[t[2]], qk = vk_[t[2]];
+        // Pixel (i, j) has its centre at (i + 0.5, j + 0.5): the centres inside the box.
+        const float lox = std::max(std::ceil(std::min({ax, bx, qx}) - 0.5f), 0.0f);
+        const float hix = std::min(std::floor(std::max({ax, bx, qx}) - 0.5f), fw_max);
+        if (!(lox <= hix)) continue;
+        const float loy = std::max(std::ceil(std::min({ay, by, qy}) - 0.5f), 0.0f);
+        const float hiy = std::min(std::floor(std::max({ay, by, qy}) - 0.5f), fh_max);
+        if (!(loy <= hiy)) continue;
+        float area = (bx - ax) * (qy - ay) - (by - ay) * (qx - ax);
+        if (area == 0.0f || !std::isfinite(area)) continue;
+        if (area < 0.0f) {  // counter-clockwise in the image from here on
+            std::swap(bx, qx), std::swap(by, qy), std::swap(bk, qk);
+            area = -area;
+        }
+        const float inv = 1.0f / area;
+        // Edge functions w_a (opposite a: b->q), w_b (q->a), w_q (a->b) at the box's first centre;
+        // each steps by a constant along x and y.
+        const float px = lox + 0.5f, py = loy + 0.5f;
+        const float wa0 = (qx - bx) * (py - by) - (qy - by) * (px - bx);
+        const float wb0 = (ax - qx) * (py - qy) - (ay - qy) * (px - qx);
+        const float wq0 = (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+        const float da_x = -(qy - by), db_x = -(ay - qy), dq_x = -(by - ay);
+        const float da_y = qx - bx, db_y = ax - qx, dq_y = bx - ax;
+        const int i0 = int(lox), i1 = int(hix), j0 = int(loy), j1 = int(hiy);
+        bool wrote = false;
+        for (int j = j0; j <= j1; ++j) {
+            const float dj = float(j - j0);
+            float wa = wa0 + dj * da_y, wb = wb0 + dj * db_y, wq = wq0 + dj * dq_y;
+            float* key = &key_[std::size_t(j) * width_];
+            std::uint32_t* face = &face_[std::size_t(j) * width_];
+            for (int i = i0; i <= i1; ++i, wa += da_x, wb += db_x, wq += dq_x) {
+                if (wa < 0.0f || wb < 0.0f || wq < 0.0f) continue;
+                const float k = (wa * ak + wb * bk + wq * qk) * inv;
+                if (k > key[i]) {
+                    key[i] = k;
+                    face[i] = std::uint32_t(f);
+                    wrote = true;
+                }
+            }
+        }
+        if (wrote) {
+            ux0 = std::min(ux0, i0), ux1 = std::max(ux1, i1);
+            uy0 = std::min(uy0, j0), uy1 = std::max(uy1, j1);
+        }
+    }
+    used_x0_ = std::min(used_x0_, ux0), used_y0_ = std::min(used_y0_, uy0);
+    used_x1_ = std::max(used_x1_, ux1), used_y1_ = std::max(used_y1_, uy1);
+    return true;
+}
+
+}  // namespace inkline
