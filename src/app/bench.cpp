@@ -39,6 +39,7 @@ struct BenchArgs {
     bool strict = false;  // --strict: refuse what tolerant loading repairs
     std::vector<double> fractions{0.0005, 0.002, 0.01, 0.05};
     VisibilityMethod visibility = VisibilityMethod::Appel;
+    int fast_buffer = FastVisibilityOptions{}.buffer_px;
 };
 
 // The bench's flags; `--fractions` and the camera path are its own, the rest shared (flags.hpp).
@@ -75,7 +76,7 @@ FlagTable bench_flags(BenchArgs& a) {
         .add(seed_flag(a.seed))
         .add(first_view_flag(a.first_full))
         .add(threads_flag(a.threads, "threads of the exhaustive finder", "1"));
-    t.group("Visibility").add(visibility_flag(a.visibility));
+    t.group("Visibility").add(visibility_flag(a.visibility)).add(fast_buffer_flag(a.fast_buffer));
     t.group("Output (the table always goes to stdout)")
         .add(text_flag("--csv", "FILE", a.csv, "the rows as CSV"))
         .add(text_flag("--markdown", "FILE", a.markdown, "the table as Markdown"))
@@ -207,6 +208,7 @@ int run_bench(int argc, char** argv) {
     ViewOptions base;
     base.visibility = a.visibility;
     base.exact_hidden = false;
+    base.fast.buffer_px = a.fast_buffer;
 
     // The settings, known before the first view so that the progress line counts every view.
     std::vector<FinderOptions> settings;

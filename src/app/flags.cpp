@@ -500,6 +500,19 @@ Flag visibility_flag(VisibilityMethod& method) {
             }};
 }
 
+Flag fast_buffer_flag(int& px) {
+    return {"--fast-buffer", "PX",
+            "fast visibility: the depth buffer's long side, 64-8192 pixels (default 768; more: slower, closer "
+            "to the exact drawing)",
+            [&px](const std::string& v) { px = parse_integer("--fast-buffer", v, 64, 8192); }};
+}
+
+void check_fast_visibility(VisibilityMethod method, bool hidden, const std::string& what) {
+    if (method == VisibilityMethod::Fast && hidden)
+        throw BadValue("--visibility=fast draws visible lines only; " + what +
+                       " needs the exact QI of hidden lines (use --visibility=appel)");
+}
+
 std::vector<Flag> detail_flags(DetailFlags& d) {
     return {
         {"--detail", "PX",

@@ -56,6 +56,7 @@ int run_view(int argc, char** argv) {
         .add(switch_flag("--recall", o.recall, true, "recall of silhouette length against the exhaustive finder"));
     flags.group("Visibility")
         .add(visibility_flag(o.view.visibility))
+        .add(fast_buffer_flag(o.view.fast.buffer_px))
         .add(switch_flag("--no-walk", o.view.walk, false, "appel: a ray test where a walk on the surface would do"))
         .add(threads_flag(o.view.threads, "threads for the views", "2 where there are two cores"))
         .add({"--in-flight", "1|2",
@@ -82,6 +83,7 @@ int run_view(int argc, char** argv) {
               }})
         .add(switch_flag("--fps", o.fps, true, "with --frames: print the frames per second and where the time goes"));
     if (!flags.parse(argc, argv, 2, model_path)) return 0;  // --help
+    check_fast_visibility(o.view.visibility, o.hidden, "--hidden");
     bool style_kinds = false;  // the style chose the line kinds
     if (!o.style.empty()) {  // a bad style file fails before the window opens
         const Style style = load_style(o.style);

@@ -6,21 +6,23 @@
 
 namespace inkline {
 
-void DepthBuffer::reset(const Camera& camera, int long_side_px) {
+void DepthBuffer::reset(const Camera& camera, int long_side_px, glm::dvec2 lo, glm::dvec2 hi) {
     camera_ = camera;
     ortho_ = camera.is_ortho();
     const int W = camera.width(), H = camera.height();
     const double s = double(std::max(W, H)) / double(std::max(long_side_px, 1));
-    const int w = std::max(1, int(std::lround(W / s))), h = std::max(1, int(std::lround(H / s)));
-    if (w != width_ || h != height_) {
-        width_ = w, height_ = h;
-        key_.assign(std::size_t(w) * h, kEmpty);
-        face_.assign(std::size_t(w) * h, kNoFace);
-        used_x0_ = width_, used_y0_ = height_, used_x1_ = used_y1_ = -1;
+    const int w = std::max(1, int(std::ceil((hi.x - lo.x) / s))), h = std::max(1, int(std::ceil((hi.y - lo.y) / s)));
+    origin_ = lo;
+    if (w > stride_ || h > rows_) {
+        stride_ = std::max(w, stride_), rows_ = std::max(h, rows_);
+        key_.assign(std::size_t(stride_) * rows_, kEmpty);
+        face_.assign(std::size_t(stride_) * rows_, kNoFace);
+        used_x0_ = stride_, used_y0_ = rows_, used_x1_ = used_y1_ = -1;
     } else {
         clear_used();
     }
-    scale_ = {double(W) / w, double(H) / h};
+    width_ = w, height_ = h;
+    scale_ = {s, s};
     drawn_ = 0;
 }
 
@@ -28,11 +30,11 @@ void DepthBuffer::clear_used() {
     // Only the rows and columns the last view wrote: a model framed in part of the image costs
     // that part.
     for (int j = used_y0_; j <= used_y1_; ++j) {
-        const std::size_t row = std::size_t(j) * width_;
+        const std::size_t row = std::size_t(j) * stride_;
         std::fill(key_.begin() + row + used_x0_, key_.begin() + row + used_x1_ + 1, kEmpty);
         std::fill(face_.begin() + row + used_x0_, face_.begin() + row + used_x1_ + 1, kNoFace);
     }
-    used_x0_ = width_, used_y0_ = height_, used_x1_ = used_y1_ = -1;
+    used_x0_ = stride_, used_y0_ = rows_, used_x1_ = used_y1_ = -1;
 }
 
 bool DepthBuffer::draw(const MeshTopology& mesh, const std::vector<std::uint8_t>* draw) {
@@ -41,13 +43,14 @@ bool DepthBuffer::draw(const MeshTopology& mesh, const std::vector<std::uint8_t>
     const glm::dvec3 E = camera_.eye(), fw = camera_.forward(), rt = camera_.right(), up = camera_.upward();
     const double F = camera_.focal(), cx = 0.5 * camera_.width(), cy = 0.5 * camera_.height();
     const double near = camera_.near_distance(), isx = 1.0 / scale_.x, isy = 1.0 / scale_.y;
+    const double ox = origin_.x, oy = origin_.y;
     for (std::size_t v = 0; v < nv; ++v) {
         const glm::dvec3 d = mesh.positions[v] - E;
         const double z = glm::dot(d, fw), x = glm::dot(d, rt), y = glm::dot(d, up);
         vnear_[v] = !(z > near);
-        const double k = ortho_ ? 1.0 : F / z;
-        vx_[v] = float((cx + k * x) * isx);
-        vy_[v] = float((cy - k * y) * isy);
+        const double k = ortho_ ? F : F / z;
+        vx_[v] = float((cx + k * x - ox) * isx);
+        vy_[v] = float((cy - k * y - oy) * isy);
         vk_[v] = float(ortho_ ? -z : 1.0 / z);
     }
     int ux0 = width_, uy0 = height_, ux1 = -1, uy1 = -1;
@@ -92,16 +95,15 @@ bool DepthBuffer::draw(const MeshTopology& mesh, const std::vector<std::uint8_t>
         for (int j = j0; j <= j1; ++j) {
             const float dj = float(j - j0);
             float wa = wa0 + dj * da_y, wb = wb0 + dj * db_y, wq = wq0 + dj * dq_y;
-            float* key = &key_[std::size_t(j) * width_];
-            std::uint32_t* face = &face_[std::size_t(j) * width_];
+            float* key = &key_[std::size_t(j) * stride_];
+            std::uint32_t* face = &face_[std::size_t(j) * stride_];
+            // (branch-free: which pixels of a small face's box are inside is not predictable)
             for (int i = i0; i <= i1; ++i, wa += da_x, wb += db_x, wq += dq_x) {
-                if (wa < 0.0f || wb < 0.0f || wq < 0.0f) continue;
                 const float k = (wa * ak + wb * bk + wq * qk) * inv;
-                if (k > key[i]) {
-                    key[i] = k;
-                    face[i] = std::uint32_t(f);
-                    wrote = true;
-                }
+                const bool in = (wa >= 0.0f) & (wb >= 0.0f) & (wq >= 0.0f) & (k > key[i]);
+                key[i] = in ? k : key[i];
+                face[i] = in ? std::uint32_t(f) : face[i];
+                wrote |= in;
             }
         }
         if (wrote) {

@@ -24,6 +24,7 @@ struct EdgeView {
     double zA, zB;
     bool forward;              // edge_vertex[edge][0] == a
     bool silhouette;
+    bool back;                 // both faces back-facing (seen only through a hole, if at all)
     glm::dvec2 outward{0.0};   // silhouettes: unit image normal away from their own faces
     // Creases and borders: the planes of their front faces (unit normal, offset); count 0-2.
     glm::dvec3 n[2];
@@ -52,6 +53,8 @@ private:
     // within kWalkSteps faces.
     int walk_to(std::uint32_t g, glm::dvec2 q, double z, double eps) const;
     static constexpr int kWalkSteps = 12;
+    // An edge between back faces is near the surface that hides it (the fold): a smaller margin.
+    static constexpr double kBackMargin = 0.1;
     double plane_depth(const glm::dvec3& n, double d, glm::dvec2 p) const;
     const MeshTopology& mesh_;
     const Camera& camera_;
@@ -85,12 +88,18 @@ int Settler::in_front(const EdgeView& ev, int i, int j, double z, double margin,
     const double zc = buffer_.depth(i, j);
     if (zc >= z) return -1;  // behind at the centre (the face need not be read)
     const auto& t = mesh_.faces[g];
-    // The faces around the edge's ends are its own surface (their local occlusion is a cusp's).
-    if (t[0] == ev.a || t[1] == ev.a || t[2] == ev.a || t[0] == ev.b || t[1] == ev.b || t[2] == ev.b) return -1;
+    // The faces around the edge's ends are its own surface (their local occlusion is a cusp's),
+    // but for an edge between two back faces: a front face there is the fold that hides it.
+    const bool ring = t[0] == ev.a || t[1] == ev.a || t[2] == ev.a || t[0] == ev.b || t[1] == ev.b || t[2] == ev.b;
+    if (ring && !(ev.back && face_front_[g])) return -1;
+    if (ev.back) {
+        face = g;
+        return zc < z - kBackMargin * margin ? 1 : -1;
+    }
     double own = z;
     if (ev.planes > 0) {
         // A crease's own surface at the centre is near its faces' planes, not at the sample's depth.
-        const glm::dvec2 c{(i + 0.5) * buffer_.scale().x, (j + 0.5) * buffer_.scale().y};
+        const glm::dvec2 c = buffer_.to_image({i + 0.5, j + 0.5});
         for (int k = 0; k < ev.planes; ++k) {
             const double pz = plane_depth(ev.n[k], ev.d[k], c);
             if (pz == pz) own = std::min(own, std::max(pz, z - 16.0 * margin));
@@ -104,8 +113,7 @@ int Settler::walk_to(std::uint32_t g, glm::dvec2 q, double z, double eps) const 
     // Point location by walking the image of the occluder's surface: step across the edge that
     // has q on its far side; leaving the drawn (or same-facing) faces means crossing the
     // occluder's outline.
-    const glm::dvec2 s = buffer_.scale();
-    const glm::vec2 qb{float(q.x / s.x), float(q.y / s.y)};
+    const glm::vec2 qb(buffer_.to_buffer(q));
     const std::uint8_t facing = face_front_[g];
     for (int step = 0; step < kWalkSteps; ++step) {
         const auto& t = mesh_.faces[g];
@@ -132,8 +140,8 @@ int Settler::walk_to(std::uint32_t g, glm::dvec2 q, double z, double eps) const 
 
 std::uint8_t Settler::settle(const EdgeView& ev, glm::dvec2 q, double z, float& share) const {
     const double margin = margin_px_ * px_world_ * (camera_.is_ortho() ? 1.0 : z) + 1e-6 * std::abs(z);
-    const glm::dvec2 s = buffer_.scale();
-    const glm::dvec2 qb{q.x / s.x, q.y / s.y};
+    const glm::dvec2 qb = buffer_.to_buffer(q);
+    if (!(qb.x >= 0.0 && qb.y >= 0.0 && qb.x <= buffer_.width() && qb.y <= buffer_.height())) return kExact;
     int front = 0, looked = 0;
     std::uint32_t occluders[9];
     const auto look = [&](int i, int j) {
@@ -189,6 +197,13 @@ EdgeView edge_view(const MeshTopology& mesh, const Camera& camera, const Feature
     const bool front0 = features.face_front[ev.f0];
     const bool front1 = ev.f1 != kNoFace && features.face_front[ev.f1];
     ev.silhouette = ev.f1 != kNoFace && front0 != front1;
+    ev.back = !front0 && !front1;
+    if (ev.silhouette && !mesh.is_convex(ev.edge)) {
+        // A concave silhouette is hidden where the surface around it is closed (parity), by the
+        // fold beside it: looked at as an edge between back faces, all around.
+        ev.silhouette = false;
+        ev.back = true;
+    }
     const auto third = [&](std::uint32_t f) {
         const auto& t = mesh.faces[f];
         for (std::uint32_t v : t)
@@ -208,7 +223,7 @@ EdgeView edge_view(const MeshTopology& mesh, const Camera& camera, const Feature
                 break;
             }
         }
-    } else {
+    } else if (!ev.back) {
         for (std::uint32_t f : {ev.f0, ev.f1})
             if (f != kNoFace && features.face_front[f]) {
                 const glm::dvec3 n = mesh.face_normal(f);
@@ -288,7 +303,7 @@ void settle_samples(const Settler& settler, const Camera& camera, double cusp_px
         const double u = space_param(ev, x.t, camera.is_ortho());
         const double z = ev.zA + u * (ev.zB - ev.zA);
         x.state = settler.settle(ev, ev.ia + x.t * (ev.ib - ev.ia), z, x.share);
-        if (near_cusp && x.state != kHidden) {
+        if (near_cusp && x.state != kHidden && x.state != kExact) {
             if (x.state == kVisible) x.share = 0.0f;
             x.state = kNearCusp;
         }
@@ -424,6 +439,26 @@ void emit_pieces(const MeshTopology& mesh, const Camera& camera, const FeatureCu
     (void)mesh;
 }
 
+// The image window the buffer covers (`hi` 0: its low corner, 1: its high one): the model's
+// projected box, within the image widened by its size on each side (curves beyond that are
+// ray-tested; the exact drawing keeps lines outside the image too).
+glm::dvec2 buffer_window(const MeshTopology& mesh, const Camera& camera, int hi) {
+    const glm::dvec2 size{double(camera.width()), double(camera.height())};
+    glm::dvec2 lo = -size, up = 2.0 * size;
+    const Bounds3& b = mesh.bounds;
+    glm::dvec2 plo{1e300}, phi{-1e300};
+    bool all_in_front = true;
+    for (int k = 0; k < 8 && all_in_front; ++k) {
+        const glm::dvec3 p{k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z};
+        all_in_front = camera.depth(p) > camera.near_distance();
+        const glm::dvec2 q = camera.project(p);
+        plo = glm::min(plo, q), phi = glm::max(phi, q);
+    }
+    if (all_in_front) lo = glm::max(lo, glm::floor(plo) - 1.0), up = glm::min(up, glm::ceil(phi) + 1.0);
+    up = glm::max(up, lo + 1.0);
+    return hi ? up : lo;
+}
+
 bool eye_outside(const MeshTopology& mesh, const Camera& camera) {
     const Bounds3& b = mesh.bounds;
     if (camera.is_ortho()) {
@@ -456,7 +491,8 @@ FastVisibilityStats FastVisibility::run(const MeshTopology& mesh, const Features
         draw_.resize(nf);
         for (std::size_t f = 0; f < nf; ++f) draw_[f] = features.face_front[std::uint32_t(f)];
     }
-    buffer_.reset(camera, options.buffer_px > 0 ? options.buffer_px : std::max(camera.width(), camera.height()));
+    buffer_.reset(camera, options.buffer_px > 0 ? options.buffer_px : std::max(camera.width(), camera.height()),
+                  buffer_window(mesh, camera, 0), buffer_window(mesh, camera, 1));
     if (!buffer_.draw(mesh, solid ? &draw_ : nullptr)) {
         st.exact_needed = true;
         return st;

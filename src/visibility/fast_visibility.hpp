@@ -36,7 +36,7 @@ namespace inkline {
 
 struct FastVisibilityOptions {
     // Long side of the depth buffer in pixels (the image's aspect); 0: the image's own size.
-    int buffer_px = 512;
+    int buffer_px = 768;
     // Depth margin, in buffer pixels' world size at the sample: nearer than that is "in front".
     double margin_px = 2.0;
     // Samples within this image distance (pixels along the curve) of a cusp take the state of the

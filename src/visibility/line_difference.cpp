@@ -21,6 +21,15 @@ void SegmentProximity::build() {
         xa = std::min(xa, cell(std::min(a.x, b.x))), xb = std::max(xb, cell(std::max(a.x, b.x)));
         ya = std::min(ya, cell(std::min(a.y, b.y))), yb = std::max(yb, cell(std::max(a.y, b.y)));
     }
+    // (lines far beyond the image, e.g. near the eye, would make the grid huge: coarser cells)
+    while (double(xb - xa + 1) * double(yb - ya + 1) > 4e6) {
+        cell_ *= 2.0;
+        xa = ya = LONG_MAX, xb = yb = LONG_MIN;
+        for (const auto& [a, b] : segments_) {
+            xa = std::min(xa, cell(std::min(a.x, b.x))), xb = std::max(xb, cell(std::max(a.x, b.x)));
+            ya = std::min(ya, cell(std::min(a.y, b.y))), yb = std::max(yb, cell(std::max(a.y, b.y)));
+        }
+    }
     x0_ = xa, y0_ = ya, nx_ = xb - xa + 1, ny_ = yb - ya + 1;
     begin_.assign(std::size_t(nx_ * ny_) + 1, 0);
     // Two passes over the segments' boxes: count per cell, then fill (a segment's box of cells).
@@ -67,7 +76,9 @@ std::pair<double, double> length_near(const std::vector<std::vector<glm::dvec2>>
     for (const auto& p : from)
         for (std::size_t i = 1; i < p.size(); ++i) {
             const double len = glm::distance(p[i - 1], p[i]);
-            const int n = std::max(1, int(std::ceil(len / 0.25)));
+            // (a quarter pixel apart, up to 4096 points: lines near the eye can project far
+            // beyond the image)
+            const int n = std::clamp(int(std::min(std::ceil(len / 0.25), 4096.0)), 1, 4096);
             for (int k = 0; k < n; ++k) {
                 const glm::dvec2 q = p[i - 1] + (k + 0.5) / n * (p[i] - p[i - 1]);
                 total += len / n;

@@ -39,7 +39,7 @@ private:
 };
 
 // Length (pixels) of `from`'s polylines within `limit` of `to`'s, measured at points a quarter
-// pixel apart: {total, near}.
+// pixel apart (at most 4096 points a segment): {total, near}.
 std::pair<double, double> length_near(const std::vector<std::vector<glm::dvec2>>& from, const SegmentProximity& to,
                                       double limit);
 
