@@ -1,6 +1,7 @@
 #include "visibility/depth_buffer.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -95,10 +96,22 @@ bool DepthBuffer::draw(const MeshTopology& mesh, const std::vector<std::uint8_t>
         for (int j = j0; j <= j1; ++j) {
             const float dj = float(j - j0);
             float wa = wa0 + dj * da_y, wb = wb0 + dj * db_y, wq = wq0 + dj * dq_y;
+            // The row's span inside all three edges (a pixel of slack each side for rounding: the
+            // test below decides), so that long thin faces cost their pixels, not their box.
+            float lo = 0.0f, hi = float(i1 - i0);
+            for (const auto& [w, d] : {std::pair{wa, da_x}, std::pair{wb, db_x}, std::pair{wq, dq_x}}) {
+                if (d > 0.0f) lo = std::max(lo, -w / d - 1.0f);
+                else if (d < 0.0f) hi = std::min(hi, -w / d + 1.0f);
+                else if (w < 0.0f) hi = -1.0f;
+            }
+            if (!(lo <= hi)) continue;
+            const int skip = int(lo);
+            const int row_i0 = i0 + skip, row_i1 = i0 + int(hi);
+            wa += float(skip) * da_x, wb += float(skip) * db_x, wq += float(skip) * dq_x;
             float* key = &key_[std::size_t(j) * stride_];
             std::uint32_t* face = &face_[std::size_t(j) * stride_];
             // (branch-free: which pixels of a small face's box are inside is not predictable)
-            for (int i = i0; i <= i1; ++i, wa += da_x, wb += db_x, wq += dq_x) {
+            for (int i = row_i0; i <= row_i1; ++i, wa += da_x, wb += db_x, wq += dq_x) {
                 const float k = (wa * ak + wb * bk + wq * qk) * inv;
                 const bool in = (wa >= 0.0f) & (wb >= 0.0f) & (wq >= 0.0f) & (k > key[i]);
                 key[i] = in ? k : key[i];
