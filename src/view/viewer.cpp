@@ -551,8 +551,7 @@ void Viewer::panel_finder() {
     changed = ImGui::RadioButton("appel (QI propagation)", &vis, 0);
     ImGui::SameLine();
     changed |= ImGui::RadioButton("rays", &vis, 1);
-    ImGui::SameLine();
-    changed |= ImGui::RadioButton("fast (depth buffer)", &vis, 2);
+    changed |= ImGui::RadioButton("fast (depth buffer)", &vis, 2);  // (its own line: the panel's width)
     if (changed) {
         vopt_.visibility = vis == 1 ? VisibilityMethod::Rays : vis == 2 ? VisibilityMethod::Fast : VisibilityMethod::Appel;
         dirty_ = true;
