@@ -98,7 +98,8 @@ namespace {
 FeatureOptions chained_kinds(const ViewOptions& options) {
     // Propagation needs every occluding curve chained, drawn or not.
     FeatureOptions fo = options.features;
-    if (options.visibility == VisibilityMethod::Appel)
+    // (Fast too: near the eye it hands the view to propagation.)
+    if (options.visibility != VisibilityMethod::Rays)
         fo.kinds[int(LineKind::Silhouette)] = fo.kinds[int(LineKind::Border)] = true;
     return fo;
 }
@@ -169,7 +170,7 @@ void ViewSession::finish(const Camera& camera) {
     const Model& model = *model_;
     const ViewOptions& options = options_;
     View& v = view_;
-    const bool appel = options.visibility == VisibilityMethod::Appel;
+    bool appel = options.visibility == VisibilityMethod::Appel;
     double index_seconds = 0.0;  // building the ray-test index (once per model) is not the view's time
     auto rays = [&]() -> const RayCaster& {
         const auto tb = std::chrono::steady_clock::now();
@@ -179,11 +180,23 @@ void ViewSession::finish(const Camera& camera) {
     };
     // Once per model, like the ray-test index: not the view's time.
     const SelfIntersections& si = model.self_intersections();
-    const std::vector<std::uint8_t>* pierced = appel ? model.pierced_faces() : nullptr;
+    const bool fast = options.visibility == VisibilityMethod::Fast;
+    const std::vector<std::uint8_t>* pierced = appel || fast ? model.pierced_faces() : nullptr;
     const auto t1 = std::chrono::steady_clock::now();
     Drawing& d = v.drawing;
     VisibleCurves curves;
     AppelStats as;
+    FastVisibilityStats fs;
+    if (fast) {
+        FastVisibilityOptions fo = options.fast;
+        fo.pierced_faces = pierced;
+        fs = fast_.run(model.topology(), v.features, camera, rays, options.features, fo, d.pieces, v.spans);
+        appel = fs.exact_needed;  // geometry at the near plane: the exact method takes the view
+        d.stats.seconds_pieces = fs.seconds_buffer + fs.seconds_samples;
+        d.stats.seconds_propagation = d.stats.seconds_walks = 0.0;
+        d.stats.seconds_ray_tests = fs.seconds_ray_tests;
+        curves.ray_tests = fs.ray_tests;
+    }
     if (appel) {
         // Into the session's graph: its storage (and the previous drawing's) reused.
         PieceGraph& g = graph_;
@@ -212,7 +225,7 @@ void ViewSession::finish(const Camera& camera) {
         v.spans.swap(spans);
         curves.crossings = g.curves.crossings;
         curves.ray_tests = as.ray_tests;
-    } else {
+    } else if (!fast) {
         curves = compute_visibility(model.topology(), v.features, camera, rays(), &si.cuts);
         d.stats.seconds_pieces = curves.seconds_pieces;
         d.stats.seconds_propagation = d.stats.seconds_walks = 0.0;
@@ -248,7 +261,7 @@ void ViewSession::finish(const Camera& camera) {
     s.crossings = curves.crossings + s.crossings_surface + s.crossings_intersection;
     s.pieces = d.pieces.size();
     s.ray_tests = curves.ray_tests + s.surface_ray_tests + s.intersection_ray_tests;
-    s.visibility = appel ? "appel" : "rays";
+    s.visibility = appel ? "appel" : fast ? "fast" : "rays";
     s.clusters = as.clusters;
     s.walks = as.walks;
     s.clusters_bbox = as.clusters_bbox;
@@ -280,7 +293,7 @@ double ViewSession::add_surface_lines(const Camera& camera, const std::function<
     extract_surface_lines(mesh, field, quantities, camera, options_.surface, v.surface);
     const auto t1 = std::chrono::steady_clock::now();
     SurfaceVisibilityOptions so;
-    so.propagate = options_.visibility == VisibilityMethod::Appel;
+    so.propagate = options_.visibility != VisibilityMethod::Rays;
     so.pierced_faces = pierced;
     so.curve_offset = std::uint32_t(v.features.curves.size());
     const SurfaceVisibilityStats st =
@@ -302,7 +315,7 @@ double ViewSession::add_intersection_lines(const Camera& camera, const std::func
     const IntersectionCurves& curves = model_->intersection_curves();  // once per model
     const double build_seconds = seconds_since(t0);
     SurfaceVisibilityOptions so;
-    so.propagate = options_.visibility == VisibilityMethod::Appel;
+    so.propagate = options_.visibility != VisibilityMethod::Rays;
     so.curve_offset = std::uint32_t(v.features.curves.size() + v.surface.curves.size());
     const SurfaceVisibilityStats st = intersection_visibility(model_->topology(), v.features, camera, curves, rays, so,
                                                               surface_scratch_, v.drawing.pieces);

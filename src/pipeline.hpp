@@ -16,6 +16,7 @@
 #include "scene/scene.hpp"
 #include "visibility/ray_caster.hpp"
 #include "visibility/appel.hpp"
+#include "visibility/fast_visibility.hpp"
 #include "visibility/surface_visibility.hpp"
 #include "visibility/visibility.hpp"
 
@@ -86,7 +87,9 @@ private:
     std::vector<SceneCamera> cameras_;
 };
 
-enum class VisibilityMethod { Rays, Appel };
+// Rays: the reference; Appel: exact propagation (the default); Fast: a depth buffer settles what
+// it can and the exact method the rest, visible lines only (fast_visibility.hpp).
+enum class VisibilityMethod { Rays, Appel, Fast };
 
 struct ViewOptions {
     FeatureOptions features;
@@ -97,6 +100,9 @@ struct ViewOptions {
     bool exact_hidden = true;
     // The fast method walks the surface (section 4.4) before it makes a ray test.
     bool walk = true;
+    // VisibilityMethod::Fast: its buffer and margins (pierced_faces is set from the model). It
+    // draws visible lines only: hidden pieces get QI 1, a lower bound, whatever exact_hidden says.
+    FastVisibilityOptions fast;
     // The frame's threads: the exhaustive finder's facing pass and edge scan (a session gives its
     // finder the larger of this and finder.threads) and the visibility's split stages (large views
     // only). The drawing is the same whatever the count.
@@ -172,6 +178,7 @@ private:
     // building the model's curves (0 after the first view: they are not the view's time).
     double add_intersection_lines(const Camera& camera, const std::function<const RayCaster&()>& rays);
     PieceGraph graph_;  // the fast visibility's pieces, storage kept from view to view
+    FastVisibility fast_;  // VisibilityMethod::Fast's buffer, kept from view to view
     ViewCurvature view_curvature_;           // surface lines: per-vertex quantities of the view
     const CurvatureField* field_override_ = nullptr;  // use_surface_fields
     const ViewCurvature* view_override_ = nullptr;

@@ -323,7 +323,7 @@ TEST(Cli, SharedFlagsHaveOneDefinition) {
         {"--size=800", "inkline: --size: expected WxH, got '800'"},
         {"--size=0x10", "inkline: --size: expected integer sizes between 1 and 32768, got '0x10'"},
         {"--subdivide=7", "inkline: --subdivide: expected a number of levels from 0 to 6"},
-        {"--visibility=zbuffer", "inkline: --visibility: unknown method 'zbuffer' (expected appel or rays)"},
+        {"--visibility=zbuffer", "inkline: --visibility: unknown method 'zbuffer' (expected appel, rays or fast)"},
     };
     for (const std::string& cmd : commands())
         for (const auto& [flags, expect] : cases) {

@@ -41,6 +41,7 @@ struct BenchArgs {
     std::vector<double> fractions{0.0005, 0.002, 0.01, 0.05};
     VisibilityMethod visibility = VisibilityMethod::Appel;
     DetailFlags detail;  // --detail: the detail-control methods instead of the finders (bench_detail.hpp)
+    int fast_buffer = FastVisibilityOptions{}.buffer_px;
 };
 
 // The bench's flags; `--fractions` and the camera path are its own, the rest shared (flags.hpp).
@@ -77,7 +78,7 @@ FlagTable bench_flags(BenchArgs& a) {
         .add(seed_flag(a.seed))
         .add(first_view_flag(a.first_full))
         .add(threads_flag(a.threads, "the machine's hardware threads"));
-    t.group("Visibility").add(visibility_flag(a.visibility));
+    t.group("Visibility").add(visibility_flag(a.visibility)).add(fast_buffer_flag(a.fast_buffer));
     t.group("Detail control (with --detail: both methods along the path, or the one --detail-method names)")
         .add(detail_flags(a.detail));
     t.group("Output (the table always goes to stdout)")
@@ -238,6 +239,7 @@ int run_bench(int argc, char** argv) {
     base.visibility = a.visibility;
     base.exact_hidden = false;
     base.threads = a.threads;  // (the finders' facing pass and scan and every setting's visibility)
+    base.fast.buffer_px = a.fast_buffer;
 
     // The settings, known before the first view so that the progress line counts every view.
     std::vector<FinderOptions> settings;

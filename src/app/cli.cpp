@@ -64,6 +64,7 @@ struct RenderArgs {
     bool lines_given = false;  // --lines (else a style's kinds apply)
     FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
+    int fast_buffer = FastVisibilityOptions{}.buffer_px;
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
     std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
     // A sequence (docs/batch.md): several models, or --frames=N along --orbit.
@@ -115,6 +116,7 @@ FlagTable render_flags(RenderArgs& a) {
                          "also run the exhaustive finder and report the recall of silhouette length"));
     t.group("Visibility")
         .add(visibility_flag(a.visibility))
+        .add(fast_buffer_flag(a.fast_buffer))
         .add(switch_flag("--no-walk", a.walk, false, "appel: a ray test where a walk on the surface would do"));
     t.group("Threads (docs/threads.md)")
         .add(threads_flag(a.threads, "the machine's hardware threads divided among the drawings made at once",
@@ -521,6 +523,9 @@ int run_render(int argc, char** argv) {
     opt.walk = a.walk;
     opt.exact_hidden = a.hidden;  // hidden pieces are written only with --hidden
     if (style && style->draw_hidden) opt.exact_hidden = true;
+    check_fast_visibility(a.visibility, a.hidden, "--hidden");
+    check_fast_visibility(a.visibility, style && style->draw_hidden, "the style's hidden lines");
+    opt.fast.buffer_px = a.fast_buffer;
     opt.finder = a.finder;
     opt.threads = a.threads;
     setup.output.hidden = a.hidden;

@@ -498,13 +498,29 @@ Flag first_view_flag(bool& first_full) {
 }
 
 Flag visibility_flag(VisibilityMethod& method) {
-    return {"--visibility", "appel|rays",
-            "QI by Appel/Markosian propagation (default), or a ray test at every piece (the reference)",
+    return {"--visibility", "appel|rays|fast",
+            "QI by Appel/Markosian propagation (default, exact), a ray test at every piece (the reference), "
+            "or fast: a depth buffer settles what is clear and the exact method the rest (visible lines only; "
+            "experimental: within 0.5 % of the exact drawing but not yet faster than appel, docs/fast_visibility.md)",
             [&method](const std::string& v) {
                 if (v == "appel") method = VisibilityMethod::Appel;
                 else if (v == "rays") method = VisibilityMethod::Rays;
-                else throw Error("--visibility", "unknown method '" + v + "' (expected appel or rays)");
+                else if (v == "fast") method = VisibilityMethod::Fast;
+                else throw Error("--visibility", "unknown method '" + v + "' (expected appel, rays or fast)");
             }};
+}
+
+Flag fast_buffer_flag(int& px) {
+    return {"--fast-buffer", "PX",
+            "fast visibility: the depth buffer's long side, 64-8192 pixels (default 768; more: slower, closer "
+            "to the exact drawing)",
+            [&px](const std::string& v) { px = parse_integer("--fast-buffer", v, 64, 8192); }};
+}
+
+void check_fast_visibility(VisibilityMethod method, bool hidden, const std::string& what) {
+    if (method == VisibilityMethod::Fast && hidden)
+        throw BadValue("--visibility=fast draws visible lines only; " + what +
+                       " needs the exact QI of hidden lines (use --visibility=appel)");
 }
 
 std::vector<Flag> detail_flags(DetailFlags& d) {

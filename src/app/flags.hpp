@@ -143,6 +143,11 @@ Flag finder_flag(FinderKind& kind);
 Flag fraction_flag(double& share);
 Flag first_view_flag(bool& first_full);
 Flag visibility_flag(VisibilityMethod& method);
+// --fast-buffer=PX: the fast visibility's depth buffer, long side in pixels.
+Flag fast_buffer_flag(int& px);
+// The fast visibility draws visible lines only: a one-line usage error when `hidden` lines are
+// asked of it (`what`: the flag or setting that asked).
+void check_fast_visibility(VisibilityMethod method, bool hidden, const std::string& what);
 Flag subdivide_flag(int& levels);
 Flag strict_flag(bool& strict);
 // --threads=N, the threads of each frame (ViewOptions::threads: the finder's facing pass and scan,

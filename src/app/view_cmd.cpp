@@ -60,6 +60,7 @@ int run_view(int argc, char** argv) {
         .add(switch_flag("--recall", o.recall, true, "recall of silhouette length against the exhaustive finder"));
     flags.group("Visibility")
         .add(visibility_flag(o.view.visibility))
+        .add(fast_buffer_flag(o.view.fast.buffer_px))
         .add(switch_flag("--no-walk", o.view.walk, false, "appel: a ray test where a walk on the surface would do"))
         .add(threads_flag(o.view.threads, "the machine's hardware threads"))
         .add({"--in-flight", "1|2",
@@ -94,6 +95,7 @@ int run_view(int argc, char** argv) {
     o.detail_px = detail.target_px;
     o.detail_method = detail.method;
     o.detail_depth = detail.depth_exponent.value_or(0.0);
+    check_fast_visibility(o.view.visibility, o.hidden, "--hidden");
     bool style_kinds = false;  // the style chose the line kinds
     if (!o.style.empty()) {  // a bad style file fails before the window opens
         const Style style = load_style(o.style);

@@ -490,6 +490,7 @@ std::string Viewer::render_command(const Camera& cam, const std::string& output)
         c += buf;
     }
     if (vopt_.visibility == VisibilityMethod::Rays) c += " --visibility=rays";
+    if (vopt_.visibility == VisibilityMethod::Fast) c += " --visibility=fast";
     if (!vopt_.walk) c += " --no-walk";
     // (Followed exactly from an exhaustive first view, the randomized finder's silhouette is the
     // exhaustive one: render's default finder draws it.)
@@ -692,14 +693,16 @@ void Viewer::panel_finder() {
         if (vopt_.finder.coherence)
             dirty_ |= ImGui::Checkbox("exhaustive first view, then followed", &vopt_.finder.first_full);
     }
-    int vis = vopt_.visibility == VisibilityMethod::Rays ? 1 : 0;
+    int vis = int(vopt_.visibility == VisibilityMethod::Rays) + 2 * int(vopt_.visibility == VisibilityMethod::Fast);
     changed = ImGui::RadioButton("appel (QI propagation)", &vis, 0);
     ImGui::SameLine();
     changed |= ImGui::RadioButton("rays", &vis, 1);
+    changed |= ImGui::RadioButton("fast (depth buffer)", &vis, 2);  // (its own line: the panel's width)
     if (changed) {
-        vopt_.visibility = vis ? VisibilityMethod::Rays : VisibilityMethod::Appel;
+        vopt_.visibility = vis == 1 ? VisibilityMethod::Rays : vis == 2 ? VisibilityMethod::Fast : VisibilityMethod::Appel;
         dirty_ = true;
     }
+    if (vis == 2) ImGui::TextUnformatted("fast: hidden lines at QI 1 (a lower bound)");
     if (!vis) dirty_ |= ImGui::Checkbox("walk before ray tests", &vopt_.walk);
     if (ImGui::Checkbox("recall against exhaustive (this frame)", &recall_on_)) force_ = true;
 }
