@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/batch.hpp"
@@ -209,14 +211,27 @@ TEST(Jobs, EveryIndexOnceAndTheFirstErrorRethrown) {
         run_jobs(jobs, seen.size(), [&](std::size_t i) { ++seen[i]; });
         for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << jobs << " jobs, index " << i;
     }
+    // One job: nothing after the failing index is started.
     std::atomic<int> ran{0};
-    EXPECT_THROW(run_jobs(3, 1000,
+    EXPECT_THROW(run_jobs(1, 1000,
                           [&](std::size_t i) {
                               ++ran;
                               if (i == 5) throw Error("frame 5", "failed");
                           }),
                  Error);
-    EXPECT_LT(ran.load(), 1000);  // the others stopped taking work
+    EXPECT_EQ(ran.load(), 6);
+    // Three: the others stop taking work. Each job lasts a millisecond, so that the other two
+    // cannot run out the 1000 indices (a third of a second) while the error is being caught (the
+    // jobs of a render are frames: milliseconds at least); without the stop all 1000 run.
+    ran = 0;
+    EXPECT_THROW(run_jobs(3, 1000,
+                          [&](std::size_t i) {
+                              ++ran;
+                              if (i == 5) throw Error("frame 5", "failed");
+                              std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                          }),
+                 Error);
+    EXPECT_LT(ran.load(), 1000);
     run_jobs(4, 0, [](std::size_t) { FAIL(); });
 }
 
