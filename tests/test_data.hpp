@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <random>
 #include <string>
 
@@ -26,6 +27,24 @@ inline std::string mesh_path(const std::string& name) {
 
 // The command line's default camera for a model (DESIGN.md: the bounding box framed from
 // normalize(1, 0.6, 1.4), fov 30, up +Y) on a square image of `size` pixels.
+// The box around a mesh's vertices.
+inline Bounds3 bounds_of(const TriangleMesh& m) {
+    Bounds3 b{m.positions[0], m.positions[0]};
+    for (const auto& p : m.positions) {
+        b.lo = glm::min(b.lo, p);
+        b.hi = glm::max(b.hi, p);
+    }
+    return b;
+}
+
+// V - E + F of the faces' vertices and edges.
+inline long euler_characteristic(const TriangleMesh& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k) ++edges[std::minmax(t[k], t[(k + 1) % 3])];
+    return long(m.positions.size()) - long(edges.size()) + long(m.triangles.size());
+}
+
 inline Camera framed_camera(const Bounds3& box, int size = 1024) { return Camera::framing(box, size, size); }
 
 // Camera k of a test's series over a model: the framed default camera first (k == 0, `rng` left

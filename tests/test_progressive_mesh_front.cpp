@@ -15,21 +15,8 @@ using namespace inkline;
 
 namespace {
 
-Bounds3 bounds_of(const TriangleMesh& m) {
-    Bounds3 b{m.positions[0], m.positions[0]};
-    for (const auto& p : m.positions) {
-        b.lo = glm::min(b.lo, p);
-        b.hi = glm::max(b.hi, p);
-    }
-    return b;
-}
-
-long euler_characteristic(const TriangleMesh& m) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
-    for (const auto& t : m.triangles)
-        for (int k = 0; k < 3; ++k) ++edges[std::minmax(t[k], t[(k + 1) % 3])];
-    return long(m.positions.size()) - long(edges.size()) + long(m.triangles.size());
-}
+using test::bounds_of;
+using test::euler_characteristic;
 
 const ProgressiveMesh& armadillo_pm() {
     static const ProgressiveMesh pm(load_mesh(test::mesh_path("armadillo")));
