@@ -22,11 +22,11 @@ tmp=$(mktemp)
 
 ## Reading
 
-- Wall times are medians on a machine shared by several builds (see the load average above): they
-  are inflated and the two-thread rows cannot show a speed-up there. The one-thread CPU column is the
-  work itself: armadillo at 1024 x 1024 is about 100 ms for the whole pass, split shade 20, blur 10,
-  ridge search 64, tracing 6; every stage but tracing runs in row bands on N threads, so two idle
-  cores take a little over half of it (the target: <= 100 ms on two cores).
+- Wall times are medians; on a shared machine (see the load average above) they are inflated. The
+  one-thread CPU column is the work itself: armadillo at 1024 x 1024 is about 100 ms for the whole
+  pass, split shade 20, blur 10, ridge search 65, tracing 6; every stage but tracing runs in row
+  bands on N threads. Target: <= 100 ms on two cores: on an idle machine (load about 1.3) the
+  two-thread rows take about two thirds of the one-thread wall time.
 - The ridge search is the cost: about 115 k pixels of armadillo's 1 M pass the first-fit filter and
   take 3.6 further fits each (5 steps, early rejections), each fit 9 bilinear samples, 54
   multiply-adds and a 2 x 2 eigen-decomposition.
