@@ -483,12 +483,14 @@ struct ToneAgreement {
     std::size_t shot_px = 0, render_px = 0;
     double render_near_shot = 0.0, shot_near_render = 0.0;
 };
+// view_only: where the window's pass runs (GLSL by default here: the window tests run on a
+// software renderer, where --tone-pass=auto would pick the CPU).
 ToneAgreement tone_agreement(const std::string& model, const std::string& flags, double dark_below,
-                             const std::string& render_only = "") {
+                             const std::string& render_only = "", const std::string& view_only = "--tone-pass=glsl") {
     const fs::path d = scratch();
     const fs::path shot = d / "shot.png", drawn = d / "render.png";
     const Result v = run(kXvfb, "view " + test::mesh_path(model) + " --frames=3 --orbit --arc=20 --size=640x480 --no-panel " +
-                                    flags + " --screenshot=" + shot.string(), d);
+                                    flags + " " + view_only + " --screenshot=" + shot.string(), d);
     EXPECT_EQ(v.code, 0) << v.err;
     const Result r = run("", "render " + test::mesh_path(model) + " " + flags + " " + camera_line(v.out) + " " + render_only +
                                  " -o " + drawn.string() + " --quiet", d);
@@ -527,6 +529,23 @@ TEST(ViewWindow, TonePassDrawsTheLinesRenderTraces) {
     EXPECT_LT(std::min(other.render_near_shot, other.shot_near_render), 0.6);
 }
 
+// Without a GPU the window runs render's CPU pass and uploads its image: the same per-pixel
+// opacities as render traces, so at least as close to render's drawing as the GLSL pass.
+TEST(ViewWindow, TonePassOnTheCpuDrawsWhatRenderDraws) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
+    for (const char* model : {"bunny00.off", "armadillo.off"}) {
+        const ToneAgreement lines = tone_agreement(model, "--lines=tone-dark", 128.0, "", "--tone-pass=cpu");
+        EXPECT_GT(lines.render_px, 500u);
+        EXPECT_GE(lines.render_near_shot, 0.9);
+        EXPECT_GE(lines.shot_near_render, 0.85);
+        const ToneAgreement all = tone_agreement(model, "--lines=tone-dark,tone-highlight --base=toon", 80.0, "", "--tone-pass=cpu");
+        EXPECT_GE(all.render_near_shot, 0.9);
+        EXPECT_GE(all.shot_near_render, 0.85);
+    }
+    const ToneAgreement other = tone_agreement("bunny00.off", "--lines=tone-dark", 128.0, "--light=1,0,0", "--tone-pass=cpu");
+    EXPECT_LT(std::min(other.render_near_shot, other.shot_near_render), 0.6);
+}
+
 TEST(ViewWindow, ToneFlagsAreCheckedAndTheExportHasTracedToneLines) {
     const fs::path d = scratch();
     for (const auto& [flags, words] : std::vector<std::pair<std::string, std::string>>{
@@ -534,7 +553,8 @@ TEST(ViewWindow, ToneFlagsAreCheckedAndTheExportHasTracedToneLines) {
              {"--tone-beta=1.5", "--tone-beta"},
              {"--tone-dark=0.2,0.1", "--tone-dark"},
              {"--light=0,0,0", "--light"},
-             {"--light=1,0,0 --light=0,1,0", "one light"}}) {
+             {"--light=1,0,0 --light=0,1,0", "one light"},
+             {"--tone-pass=gpu", "--tone-pass"}}) {
         const Result r = run("", "view " + test::mesh_path("fandisk.off") + " --lines=tone-dark --frames=1 " + flags, d);
         EXPECT_EQ(r.code, 2) << flags;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

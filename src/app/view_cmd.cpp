@@ -49,7 +49,16 @@ int run_view(int argc, char** argv) {
         .add(switch_flag("--shading", o.shading, true, "flat grey triangles under the lines"));
     flags.group("Tone lines (--lines=...,tone-dark,tone-highlight) and base coat, in GLSL: docs/tone.md")
         .add(tone_flags(o.tone, o.toon_base))
-        .add(light_flag(lights));
+        .add(light_flag(lights))
+        .add({"--tone-pass", "auto|glsl|cpu",
+              "where the tone pass runs: GLSL, or render's CPU pass on every thread (auto, the default: the CPU "
+              "where OpenGL is a software renderer, which runs the C++ pass several times faster)",
+              [&o](const std::string& v) {
+                  if (v == "auto") o.tone_pass = TonePassMode::Auto;
+                  else if (v == "glsl") o.tone_pass = TonePassMode::Glsl;
+                  else if (v == "cpu") o.tone_pass = TonePassMode::Cpu;
+                  else throw Error("--tone-pass", "unknown place '" + v + "' (expected auto, glsl or cpu)");
+              }});
     flags.group("Silhouette finder (default: randomized with frame coherence, from an exhaustive first view)")
         .add(finder_flag(o.view.finder.kind))
         .add(fraction_flag(o.view.finder.fraction))

@@ -184,9 +184,9 @@ struct ToneResult {
     ToneTimes seconds;
 };
 
-// Shades, blurs, detects and traces the kinds asked for (dark, highlight).
+// Shades, blurs, detects and (trace: the default) traces the kinds asked for (dark, highlight).
 void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera& camera, const ToneOptions& options,
-                 bool dark, bool highlight, ToneResult& out);
+                 bool dark, bool highlight, ToneResult& out, bool trace = true);
 
 // Toon base coat: `bands` flat grey levels of `tone` where `covered` (white elsewhere), as
 // 0x00RRGGBB pixels for a RasterLayer. The blurred tone gives smooth band borders on noisy meshes.

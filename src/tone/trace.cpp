@@ -137,7 +137,7 @@ std::vector<Piece> trace_lines(const RidgeField& field, LineKind kind, const Ton
 }
 
 void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera& camera, const ToneOptions& options,
-                 bool dark, bool highlight, ToneResult& out) {
+                 bool dark, bool highlight, ToneResult& out, bool trace) {
     auto t0 = std::chrono::steady_clock::now();
     shade(mesh, normals, camera, options, out.shaded);
     out.seconds.shade = seconds_since(t0);
@@ -161,6 +161,7 @@ void render_tone(const MeshTopology& mesh, const ToneMesh& normals, const Camera
     out.seconds.ridges = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     out.pieces.clear();
+    if (!trace) dark = highlight = false;
     if (dark) out.pieces = trace_lines(out.dark, LineKind::ToneDark, options);
     if (highlight)
         for (Piece& p : trace_lines(out.highlight, LineKind::ToneHighlight, options)) out.pieces.push_back(std::move(p));

@@ -330,7 +330,20 @@ LightAngles light_angles(const Camera& cam, const glm::dvec3& direction) {
             glm::degrees(std::asin(std::clamp(glm::dot(d, cam.upward()), -1.0, 1.0)))};
 }
 
-TonePass::TonePass(const MeshTopology& mesh) : mesh_(mesh) {
+namespace {
+bool software_renderer() {
+    const char* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    if (!r) return false;
+    const std::string name(r);
+    for (const char* s : {"llvmpipe", "softpipe", "SwiftShader", "Software Rasterizer"})
+        if (name.find(s) != std::string::npos) return true;
+    return false;
+}
+}  // namespace
+
+TonePass::TonePass(const MeshTopology& mesh, TonePassMode mode, int threads)
+    : mesh_(mesh), cpu_(mode == TonePassMode::Cpu || (mode == TonePassMode::Auto && software_renderer())),
+      threads_(std::max(1, threads)) {
     shade_prog_ = gl_program(kShadeVs, kShadeFs);
     blur_prog_ = gl_program(kFullVs, kBlurFs);
     ridge_prog_[0] = gl_program(kFullVs, (std::string("#version 330 core\n") + kRidgeFs).c_str());
@@ -551,7 +564,48 @@ void TonePass::ridges(const tone::ToneOptions& o, const ToneLayers& layers) {
     glActiveTexture(GL_TEXTURE0);
 }
 
+// The same stages as render's (tone::render_tone, untraced) and the composite of kCompositeFs:
+// the toon base of the blurred tone (or white), highlight lines white, dark lines black.
+void TonePass::run_cpu(const Camera& cam, const tone::ToneOptions& o, const ToneLayers& layers) {
+    if (cpu_crease_ != mesh_.crease_degrees) {
+        cpu_normals_ = tone::prepare_tone_mesh(mesh_);
+        cpu_crease_ = mesh_.crease_degrees;
+    }
+    tone::ToneOptions options = o;
+    options.threads = threads_;
+    tone::ToneResult& r = cpu_result_;
+    tone::render_tone(mesh_, cpu_normals_, cam, options, layers.dark, layers.highlight, r, false);
+    const auto t0 = std::chrono::steady_clock::now();
+    const int bands = std::clamp(o.toon_bands, 2, 4);
+    const std::size_t n = std::size_t(w_) * std::size_t(h_);
+    cpu_pixels_.resize(n);
+    const auto opacity = [n](const tone::RidgeField& f, std::size_t i) {
+        return f.opacity.size() == n ? double(f.opacity[i]) : 0.0;
+    };
+    for (int y = 0; y < h_; ++y)
+        for (int x = 0; x < w_; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(w_) + std::size_t(x);  // image rows top first
+            double g = 1.0;
+            if (layers.base && r.shaded.covered[i]) {
+                const int k = std::clamp(int(r.tone_blurred.pixels[i] * float(bands)), 0, bands - 1);
+                g = std::round(110.0 + 125.0 * k / (bands - 1)) / 255.0;
+            }
+            g += (1.0 - g) * opacity(r.highlight, i);
+            g *= 1.0 - opacity(r.dark, i);
+            const std::uint32_t c = std::uint32_t(std::lround(std::clamp(g, 0.0, 1.0) * 255.0));
+            cpu_pixels_[std::size_t(h_ - 1 - y) * std::size_t(w_) + std::size_t(x)] = 0xff000000u | c << 16 | c << 8 | c;  // GL rows bottom first
+        }
+    glBindTexture(GL_TEXTURE_2D, result_tex_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w_, h_, GL_RGBA, GL_UNSIGNED_BYTE, cpu_pixels_.data());
+    glBindTexture(GL_TEXTURE_2D, 0);
+    times_ = {r.seconds.shade, r.seconds.blur, r.seconds.ridges + seconds_since(t0)};
+    sum_.shade += times_.shade, sum_.blur += times_.blur, sum_.ridges += times_.ridges;
+    ++runs_;
+}
+
 void TonePass::run(const Camera& cam, const tone::ToneOptions& o, const ToneLayers& layers) {
+    if (cpu_) return run_cpu(cam, o, layers);
     glViewport(0, 0, w_, h_);
     glDisable(GL_BLEND);
     auto t0 = std::chrono::steady_clock::now();

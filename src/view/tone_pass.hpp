@@ -40,9 +40,15 @@ struct LightAngles {
 glm::dvec3 light_direction(const Camera& camera, const LightAngles& angles);  // unit world direction
 LightAngles light_angles(const Camera& camera, const glm::dvec3& direction);  // the inverse (direction != 0)
 
+// Where the pass runs: in GLSL, or on the CPU (tone::render_tone's stages on `threads`, its image
+// uploaded). Auto: the CPU where GL is a software renderer (llvmpipe, softpipe, SwiftShader: a
+// machine without a GPU), which runs the C++ pass several times faster than the shaders.
+enum class TonePassMode { Auto, Glsl, Cpu };
+
 class TonePass {
 public:
-    explicit TonePass(const MeshTopology& mesh);
+    explicit TonePass(const MeshTopology& mesh, TonePassMode mode = TonePassMode::Auto, int threads = 1);
+    bool on_cpu() const { return cpu_; }
     ~TonePass();
     TonePass(const TonePass&) = delete;
     TonePass& operator=(const TonePass&) = delete;
@@ -68,6 +74,7 @@ private:
     void shade(const Camera& camera, const tone::ToneOptions& options);
     void blur(double width);
     void ridges(const tone::ToneOptions& options, const ToneLayers& layers);
+    void run_cpu(const Camera& camera, const tone::ToneOptions& options, const ToneLayers& layers);
 
     const MeshTopology& mesh_;
     double uploaded_crease_ = -1.0;  // the crease angle the corner normals were made with
@@ -82,6 +89,14 @@ private:
     Times times_, sum_;
     std::size_t runs_ = 0;
     std::vector<double> last_key_;  // camera, options and layers of the texture's run
+    // The CPU pass: its mesh normals (made for crease angle cpu_crease_), its working storage
+    // (kept, so that a run allocates nothing new) and the composite uploaded into result_tex_.
+    bool cpu_ = false;
+    int threads_ = 1;
+    double cpu_crease_ = -1.0;
+    tone::ToneMesh cpu_normals_;
+    tone::ToneResult cpu_result_;
+    std::vector<std::uint32_t> cpu_pixels_;
 };
 
 }  // namespace inkline

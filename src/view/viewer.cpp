@@ -177,8 +177,8 @@ public:
         if (opt_.fps && tone_pass_ && tone_pass_->runs() > 0) {
             const TonePass::Times& t = tone_pass_->summed_times();
             const double n = double(tone_pass_->runs()) / 1e3;
-            std::printf("tone pass (GLSL, each pass finished): %zu runs, mean ms: shade %.2f, blur %.2f, ridges %.2f, "
-                        "total %.2f\n", tone_pass_->runs(), t.shade / n, t.blur / n, t.ridges / n, t.total() / n);
+            std::printf("tone pass (%s, each pass finished): %zu runs, mean ms: shade %.2f, blur %.2f, ridges %.2f, "
+                        "total %.2f\n", tone_pass_->on_cpu() ? "CPU" : "GLSL", tone_pass_->runs(), t.shade / n, t.blur / n, t.ridges / n, t.total() / n);
         }
         // Interactive, the camera may have moved after the last view was drawn: the rig's is printed.
         const Camera& drawn = shown_.camera;
@@ -407,7 +407,7 @@ private:
         return o;
     }
     void draw_tone(const Camera& cam) {
-        if (!tone_pass_) tone_pass_ = std::make_unique<TonePass>(model_.topology());
+        if (!tone_pass_) tone_pass_ = std::make_unique<TonePass>(model_.topology(), opt_.tone_pass, vopt_.threads);
         tone_pass_->draw(cam, tone_options(cam), tone_layers_);
     }
     void add_tone_lines(const Camera& cam, Drawing& d) const;
@@ -730,7 +730,8 @@ void Viewer::panel_statistics() {
     if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", numbers.recall);
     if (tone_on() && tone_pass_) {
         const TonePass::Times& tt = tone_pass_->last_times();
-        ImGui::Text("tone pass %.1f ms (shade %.1f, blur %.1f,", 1e3 * tt.total(), 1e3 * tt.shade, 1e3 * tt.blur);
+        ImGui::Text("tone pass (%s) %.1f ms (shade %.1f, blur %.1f,", tone_pass_->on_cpu() ? "CPU" : "GLSL",
+                    1e3 * tt.total(), 1e3 * tt.shade, 1e3 * tt.blur);
         ImGui::Text("  ridges and composite %.1f)", 1e3 * tt.ridges);
     }
 }

@@ -11,6 +11,7 @@
 #include "core/camera.hpp"
 #include "pipeline.hpp"
 #include "tone/tone.hpp"
+#include "view/tone_pass.hpp"
 
 namespace inkline {
 
@@ -48,6 +49,7 @@ struct ViewerOptions {
     // turning with the camera (the panel's two angles; empty: render's default headlight).
     bool tone_dark = false, tone_highlight = false, toon_base = false;
     tone::ToneOptions tone;
+    TonePassMode tone_pass = TonePassMode::Auto;  // --tone-pass: GLSL, or the CPU pass on a software GL
 };
 
 // Opens the window on `home` (its size is the window's drawing area) and runs until closed, or
