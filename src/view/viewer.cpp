@@ -730,9 +730,9 @@ void Viewer::panel_statistics() {
     if (recall_on_) ImGui::Text("recall of silhouette length: %.4f", numbers.recall);
     if (tone_on() && tone_pass_) {
         const TonePass::Times& tt = tone_pass_->last_times();
-        ImGui::Text("tone pass (%s) %.1f ms (shade %.1f, blur %.1f,", tone_pass_->on_cpu() ? "CPU" : "GLSL",
-                    1e3 * tt.total(), 1e3 * tt.shade, 1e3 * tt.blur);
-        ImGui::Text("  ridges and composite %.1f)", 1e3 * tt.ridges);
+        ImGui::Text("tone pass on the %s: %.1f ms", tone_pass_->on_cpu() ? "CPU" : "GPU (GLSL)", 1e3 * tt.total());
+        ImGui::Text("  shade %.1f, blur %.1f,", 1e3 * tt.shade, 1e3 * tt.blur);
+        ImGui::Text("  ridges and composite %.1f", 1e3 * tt.ridges);
     }
 }
 
