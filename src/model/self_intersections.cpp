@@ -5,6 +5,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
+
 #include <glm/geometric.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -34,19 +38,27 @@ float up(double x) {
     return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
-// A face's plane for the float filter below: n = (b - a) x (c - a) as Shewchuk's orient3d
+// A face as the pair test reads it, in one place (the candidate pairs of a face are read many
+// times each, and the corners of its vertices would be three scattered reads): its vertices, its
+// corners, and its plane for the float filter below, n = (b - a) x (c - a) as Shewchuk's orient3d
 // computes it with a as the origin, and per component the permanent of that product (the sum of
 // the absolute values of its two terms).
-struct FacePlane {
+struct FaceData {
+    std::array<std::uint32_t, 3> v;
+    glm::dvec3 p[3];
     glm::dvec3 n, permanent;
 };
 
-FacePlane face_plane(const MeshTopology& mesh, std::uint32_t f) {
+FaceData face_data(const MeshTopology& mesh, std::uint32_t f) {
     const auto& t = mesh.faces[f];
-    const glm::dvec3 u = mesh.positions[t[1]] - mesh.positions[t[0]], v = mesh.positions[t[2]] - mesh.positions[t[0]];
-    return {{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x},
-            {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
-             std::abs(u.x * v.y) + std::abs(u.y * v.x)}};
+    FaceData d;
+    d.v = {t[0], t[1], t[2]};
+    for (int k = 0; k < 3; ++k) d.p[k] = mesh.positions[t[k]];
+    const glm::dvec3 u = d.p[1] - d.p[0], v = d.p[2] - d.p[0];
+    d.n = {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
+    d.permanent = {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
+                   std::abs(u.x * v.y) + std::abs(u.y * v.x)};
+    return d;
 }
 
 // The side of face f's plane that x lies on (+1 or -1, a fixed convention), or 0 when the float
@@ -54,27 +66,54 @@ FacePlane face_plane(const MeshTopology& mesh, std::uint32_t f) {
 // dot(n, x - a) has the shape of Shewchuk's orient3d (each term a difference times a 2x2 minor of
 // differences, three terms summed), so his bound o3derrboundA, (7 + 56 eps) eps times the
 // permanent, holds; away from underflow and overflow only.
-int side_if_certain(const FacePlane& plane, const glm::dvec3& a, const glm::dvec3& x) {
-    const glm::dvec3 w = x - a;
-    const double det = plane.n.x * w.x + plane.n.y * w.y + plane.n.z * w.z;
+[[gnu::always_inline]] inline int side_if_certain(const FaceData& face, const glm::dvec3& x) {
+    const glm::dvec3 w = x - face.p[0];
+    const double det = face.n.x * w.x + face.n.y * w.y + face.n.z * w.z;
     const double permanent =
-        plane.permanent.x * std::abs(w.x) + plane.permanent.y * std::abs(w.y) + plane.permanent.z * std::abs(w.z);
+        face.permanent.x * std::abs(w.x) + face.permanent.y * std::abs(w.y) + face.permanent.z * std::abs(w.z);
     if (!(permanent > 1e-250) || !(permanent < 1e250)) return 0;
     const double bound = 7.7715611723761027e-16 * permanent;
     return det > bound ? 1 : det < -bound ? -1 : 0;
 }
 
-// Certainly apart beyond their shared corners: the corners `far` (of one face) all strictly on one
-// side of the plane of face f, so that the faces can meet only where they share corners.
+// Certainly apart beyond their shared corners: the corners of `other` numbered in `far` all
+// strictly on one side of the plane of `face`, so that the faces can meet only where they share
+// corners.
 template <std::size_t N>
-bool certainly_one_side(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f,
-                        const std::array<std::uint32_t, N>& far) {
-    const glm::dvec3& a = mesh.positions[mesh.faces[f][0]];
-    const int first = side_if_certain(planes[f], a, mesh.positions[far[0]]);
+[[gnu::always_inline]] inline bool certainly_one_side(const FaceData& face, const FaceData& other, const std::array<int, N>& far) {
+    const int first = side_if_certain(face, other.p[far[0]]);
     if (first == 0) return false;
     for (std::size_t k = 1; k < N; ++k)
-        if (side_if_certain(planes[f], a, mesh.positions[far[k]]) != first) return false;
+        if (side_if_certain(face, other.p[far[k]]) != first) return false;
     return true;
+}
+
+// The exact test of faces_intersect below, for the pairs its float filter leaves open.
+bool faces_intersect_exactly(const FaceData& fa, const FaceData& fb, int shared, int ia, int ib) {
+    const auto& a = fa.v;
+    const auto& b = fb.v;
+    const auto P = [](const glm::dvec3& p) { return cgal(p); };
+    const K::Triangle_3 ta(P(fa.p[0]), P(fa.p[1]), P(fa.p[2])), tb(P(fb.p[0]), P(fb.p[1]), P(fb.p[2]));
+    if (shared == 0) return CGAL::do_intersect(ta, tb);
+    if (shared == 1) {
+        // Beyond the shared corner, two triangles meet iff the side opposite the shared corner of
+        // one meets the other.
+        const K::Segment_3 sa(P(fa.p[(ia + 1) % 3]), P(fa.p[(ia + 2) % 3])), sb(P(fb.p[(ib + 1) % 3]), P(fb.p[(ib + 2) % 3]));
+        return CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
+    }
+    if (shared == 2) {
+        // A shared edge (p, q): the faces overlap iff their far corners are coplanar with it and on
+        // the same side of it.
+        int ra = 0, rb = 0;
+        for (int i = 0; i < 3; ++i) {
+            if (a[i] != b[0] && a[i] != b[1] && a[i] != b[2]) ra = i;
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2]) rb = i;
+        }
+        const K::Point_3 Pp = P(fa.p[(ra + 1) % 3]), Pq = P(fa.p[(ra + 2) % 3]), Ra = P(fa.p[ra]), Rb = P(fb.p[rb]);
+        return CGAL::orientation(Pp, Pq, Ra, Rb) == CGAL::COPLANAR &&
+               CGAL::coplanar_orientation(Pp, Pq, Ra, Rb) == CGAL::POSITIVE;
+    }
+    return true;  // the same three vertices twice
 }
 
 // Do faces f and g meet anywhere but where the mesh joins them (a shared edge or vertex)?
@@ -82,9 +121,9 @@ bool certainly_one_side(const MeshTopology& mesh, const std::vector<FacePlane>& 
 // self_intersections (which needs a halfedge copy of the mesh, see the header); every test is an
 // exact predicate of the Epick kernel, after a float filter that settles most pairs the box
 // search finds (faces around a common vertex or edge, each on one side of the other's plane).
-bool faces_intersect(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f, std::uint32_t g) {
-    const auto& a = mesh.faces[f];
-    const auto& b = mesh.faces[g];
+bool faces_intersect(const FaceData& fa, const FaceData& fb) {
+    const auto& a = fa.v;
+    const auto& b = fb.v;
     int shared = 0, ia = -1, ib = -1;  // last shared corner, in a and in b
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
@@ -93,44 +132,18 @@ bool faces_intersect(const MeshTopology& mesh, const std::vector<FacePlane>& pla
                 ia = i;
                 ib = j;
             }
-    if (shared == 0 && (certainly_one_side(mesh, planes, f, b) || certainly_one_side(mesh, planes, g, a))) return false;
-    if (shared == 1) {
-        const std::array<std::uint32_t, 2> a_far{a[(ia + 1) % 3], a[(ia + 2) % 3]}, b_far{b[(ib + 1) % 3], b[(ib + 2) % 3]};
-        if (certainly_one_side(mesh, planes, f, b_far) || certainly_one_side(mesh, planes, g, a_far)) return false;
-    }
-    if (shared == 2) {
+    if (shared == 0) {
+        constexpr std::array<int, 3> all{0, 1, 2};
+        if (certainly_one_side(fa, fb, all) || certainly_one_side(fb, fa, all)) return false;
+    } else if (shared == 1) {
+        const std::array<int, 2> a_far{(ia + 1) % 3, (ia + 2) % 3}, b_far{(ib + 1) % 3, (ib + 2) % 3};
+        if (certainly_one_side(fa, fb, b_far) || certainly_one_side(fb, fa, a_far)) return false;
+    } else if (shared == 2) {
         // Not coplanar: the far corner of one is off the other's plane.
         for (int i = 0; i < 3; ++i)
-            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] &&
-                side_if_certain(planes[f], mesh.positions[a[0]], mesh.positions[b[i]]) != 0)
-                return false;
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] && side_if_certain(fa, fb.p[i]) != 0) return false;
     }
-    const auto P = [&](std::uint32_t v) { return cgal(mesh.positions[v]); };
-    const K::Triangle_3 ta(P(a[0]), P(a[1]), P(a[2])), tb(P(b[0]), P(b[1]), P(b[2]));
-    if (shared == 0) return CGAL::do_intersect(ta, tb);
-    if (shared == 1) {
-        // Beyond the shared corner, two triangles meet iff the side opposite the shared corner of
-        // one meets the other.
-        const K::Segment_3 sa(P(a[(ia + 1) % 3]), P(a[(ia + 2) % 3])), sb(P(b[(ib + 1) % 3]), P(b[(ib + 2) % 3]));
-        return CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
-    }
-    if (shared == 2) {
-        // A shared edge (p, q): the faces overlap iff their far corners are coplanar with it and on
-        // the same side of it.
-        std::uint32_t ra = 0, rb = 0, p = 0, q = 0;
-        for (int i = 0; i < 3; ++i) {
-            if (a[i] != b[0] && a[i] != b[1] && a[i] != b[2]) {
-                ra = a[i];
-                p = a[(i + 1) % 3];
-                q = a[(i + 2) % 3];
-            }
-            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2]) rb = b[i];
-        }
-        const K::Point_3 Pp = P(p), Pq = P(q), Ra = P(ra), Rb = P(rb);
-        return CGAL::orientation(Pp, Pq, Ra, Rb) == CGAL::COPLANAR &&
-               CGAL::coplanar_orientation(Pp, Pq, Ra, Rb) == CGAL::POSITIVE;
-    }
-    return true;  // the same three vertices twice
+    return faces_intersect_exactly(fa, fb, shared, ia, ib);
 }
 
 // The boxes of the faces that have an area; degenerate faces (collinear corners) are flagged in
@@ -167,6 +180,7 @@ class BoxPairs {
 public:
     explicit BoxPairs(const std::vector<Box>& boxes) {
         morton_order(boxes);
+        columns();
         if (!flat_.empty()) build(0, std::uint32_t(flat_.size()));
     }
     // Calls fn(f, g) with the faces of each pair.
@@ -183,11 +197,12 @@ private:
         std::uint32_t left = 0;    // children left and left + 1 ... (0: a leaf)
         std::uint32_t right = 0;
     };
+    // Without a branch per comparison: at the leaves about half the box pairs meet, so branches
+    // mispredict (most of the search's time).
     template <class A, class B>
     static bool meet(const A& x, const B& y) {
-        for (int d = 0; d < 3; ++d)
-            if (x.lo[d] > y.hi[d] || y.lo[d] > x.hi[d]) return false;
-        return true;
+        return !(x.lo[0] > y.hi[0]) & !(y.lo[0] > x.hi[0]) & !(x.lo[1] > y.hi[1]) & !(y.lo[1] > x.hi[1]) &
+               !(x.lo[2] > y.hi[2]) & !(y.lo[2] > x.hi[2]);
     }
     struct Flat {
         float lo[3], hi[3];
@@ -251,8 +266,7 @@ private:
     void self(std::uint32_t a, Fn& fn) const {
         const Node& n = nodes_[a];
         if (!n.left) {
-            for (std::uint32_t i = n.begin; i < n.end; ++i)
-                for (std::uint32_t j = i + 1; j < n.end; ++j) report(i, j, fn);
+            for (std::uint32_t i = n.begin; i < n.end; ++i) report(i, n.begin, n.end, i - n.begin + 1, fn);
             return;
         }
         self(n.left, fn);
@@ -264,8 +278,7 @@ private:
         const Node &x = nodes_[a], &y = nodes_[b];
         if (!meet(x, y)) return;
         if (!x.left && !y.left) {
-            for (std::uint32_t i = x.begin; i < x.end; ++i)
-                for (std::uint32_t j = y.begin; j < y.end; ++j) report(i, j, fn);
+            for (std::uint32_t i = x.begin; i < x.end; ++i) report(i, y.begin, y.end, 0, fn);
         } else if (!y.left || (x.left && x.end - x.begin >= y.end - y.begin)) {
             across(x.left, b, fn);
             across(x.right, b, fn);
@@ -274,11 +287,39 @@ private:
             across(a, y.right, fn);
         }
     }
+    // The boxes again, one array per bound, padded with kLeaf boxes that meet nothing: a leaf's
+    // boxes then load as one vector.
+    void columns() {
+        const std::size_t n = flat_.size();
+        for (int d = 0; d < 3; ++d) {
+            lo_[d].assign(n + kLeaf, std::numeric_limits<float>::infinity());
+            hi_[d].assign(n + kLeaf, -std::numeric_limits<float>::infinity());
+            for (std::size_t i = 0; i < n; ++i) lo_[d][i] = flat_[i].lo[d], hi_[d][i] = flat_[i].hi[d];
+        }
+    }
+    // Bit k set: box i meets box j + k (k < kLeaf), as meet() decides.
+    unsigned meet_leaf(std::uint32_t i, std::uint32_t j) const {
+#if defined(__SSE__)
+        __m128 ok = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        for (int d = 0; d < 3; ++d) {
+            ok = _mm_and_ps(ok, _mm_cmpngt_ps(_mm_set1_ps(lo_[d][i]), _mm_loadu_ps(&hi_[d][j])));
+            ok = _mm_and_ps(ok, _mm_cmpngt_ps(_mm_loadu_ps(&lo_[d][j]), _mm_set1_ps(hi_[d][i])));
+        }
+        return unsigned(_mm_movemask_ps(ok));
+#else
+        unsigned bits = 0;
+        for (std::uint32_t k = 0; k < kLeaf; ++k) bits |= unsigned(meet(flat_[i], flat_[j + k])) << k;
+        return bits;
+#endif
+    }
+    // fn(f, g) for box i against the boxes [begin + skip, end) of one leaf.
     template <class Fn>
-    void report(std::uint32_t i, std::uint32_t j, Fn& fn) const {
-        if (meet(flat_[i], flat_[j])) fn(flat_[i].face, flat_[j].face);
+    void report(std::uint32_t i, std::uint32_t begin, std::uint32_t end, std::uint32_t skip, Fn& fn) const {
+        unsigned bits = meet_leaf(i, begin) & ((1u << (end - begin)) - 1) & ~((1u << skip) - 1);
+        for (; bits; bits &= bits - 1) fn(flat_[i].face, flat_[begin + std::uint32_t(__builtin_ctz(bits))].face);
     }
     std::vector<Flat> flat_;
+    std::vector<float> lo_[3], hi_[3];
     std::vector<Node> nodes_;
 };
 
@@ -293,14 +334,14 @@ private:
 template <class Fn>
 void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
     std::vector<Box> boxes = face_boxes(mesh, out);
-    std::vector<FacePlane> planes(mesh.face_count());
-    for (const Box& box : boxes) planes[box.face] = face_plane(mesh, box.face);
+    std::vector<FaceData> faces(mesh.face_count());
+    for (const Box& box : boxes) faces[box.face] = face_data(mesh, box.face);
     std::vector<std::uint64_t> found;  // intersecting pairs, lower face << 32 | upper
     const auto pair_key = [](std::uint32_t f, std::uint32_t g) {
         return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g);
     };
     BoxPairs(boxes).each([&](std::uint32_t f, std::uint32_t g) {
-        if (faces_intersect(mesh, planes, f, g)) found.push_back(pair_key(f, g));
+        if (faces_intersect(faces[f], faces[g])) found.push_back(pair_key(f, g));
     });
     for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
     if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
