@@ -136,8 +136,9 @@ bool faces_intersect(const FaceData& fa, const FaceData& fb) {
         constexpr std::array<int, 3> all{0, 1, 2};
         if (certainly_one_side(fa, fb, all) || certainly_one_side(fb, fa, all)) return false;
     } else if (shared == 1) {
-        const std::array<int, 2> a_far{(ia + 1) % 3, (ia + 2) % 3}, b_far{(ib + 1) % 3, (ib + 2) % 3};
-        if (certainly_one_side(fa, fb, b_far) || certainly_one_side(fb, fa, a_far)) return false;
+        // The two corners after corner k, in order (a table: the modulo was a measurable share).
+        constexpr std::array<std::array<int, 2>, 3> kOthers{{{1, 2}, {2, 0}, {0, 1}}};
+        if (certainly_one_side(fa, fb, kOthers[ib]) || certainly_one_side(fb, fa, kOthers[ia])) return false;
     } else if (shared == 2) {
         // Not coplanar: the far corner of one is off the other's plane.
         for (int i = 0; i < 3; ++i)
@@ -146,18 +147,31 @@ bool faces_intersect(const FaceData& fa, const FaceData& fb) {
     return faces_intersect_exactly(fa, fb, shared, ia, ib);
 }
 
+// Certainly not collinear: a component of the face's normal certainly nonzero. Each component is
+// an orient2d of the corners projected to a coordinate plane, in the shape of Shewchuk's, so his
+// bound ccwerrboundA, (3 + 16 eps) eps times the permanent, holds (rounded up here); away from
+// underflow and overflow only.
+bool certainly_proper(const FaceData& face) {
+    for (int k = 0; k < 3; ++k) {
+        const double permanent = face.permanent[k];
+        if (permanent > 1e-250 && permanent < 1e250 && std::abs(face.n[k]) > 3.4e-16 * permanent) return true;
+    }
+    return false;
+}
+
 // The boxes of the faces that have an area; degenerate faces (collinear corners) are flagged in
 // `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
 // PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
 // pipeline).
-std::vector<Box> face_boxes(const MeshTopology& mesh, std::vector<std::uint8_t>& out) {
+std::vector<Box> face_boxes(const MeshTopology& mesh, const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
     const std::size_t nf = mesh.face_count();
     out.assign(nf, 0);
     std::vector<Box> boxes;
     boxes.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
-        if (CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
+        if (!certainly_proper(faces[f]) &&
+            CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
             out[f] = 1;
             continue;
         }
@@ -173,13 +187,13 @@ std::vector<Box> face_boxes(const MeshTopology& mesh, std::vector<std::uint8_t>&
 }
 
 // Every pair of boxes that meet (closed), each once, in no particular order: a bounding-volume
-// hierarchy over the boxes in Morton order of their centres (consecutive runs of kLeaf boxes,
-// halved recursively), searched against itself. Its nodes take a few hundred kilobytes and are
+// hierarchy over the boxes in the faces' order (consecutive runs of at most kLeaf boxes, halved
+// recursively), searched against itself. Its nodes take a few hundred kilobytes and are
 // read in order, where CGAL's segment tree spent most of a model's loading in long scans.
 class BoxPairs {
 public:
     explicit BoxPairs(const std::vector<Box>& boxes) {
-        morton_order(boxes);
+        flatten(boxes);
         columns();
         if (!flat_.empty()) build(0, std::uint32_t(flat_.size()));
     }
@@ -191,6 +205,7 @@ public:
 
 private:
     static constexpr std::uint32_t kLeaf = 4;
+    static_assert(kLeaf <= 4, "meet_leaf tests a leaf as one vector of four boxes");
     struct Node {
         float lo[3], hi[3];
         std::uint32_t begin, end;  // boxes [begin, end)
@@ -208,42 +223,15 @@ private:
         float lo[3], hi[3];
         std::uint32_t face;
     };
-    static std::uint64_t spread(std::uint64_t v) {  // 21 bits to every third of 63
-        v &= 0x1fffff;
-        v = (v | v << 32) & 0x1f00000000ffffull;
-        v = (v | v << 16) & 0x1f0000ff0000ffull;
-        v = (v | v << 8) & 0x100f00f00f00f00full;
-        v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-        v = (v | v << 2) & 0x1249249249249249ull;
-        return v;
-    }
-    void morton_order(const std::vector<Box>& boxes) {
-        const std::size_t n = boxes.size();
-        flat_.resize(n);
-        double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-        for (std::uint32_t i = 0; i < n; ++i) {
-            Flat& f = flat_[i];
-            for (int d = 0; d < 3; ++d) {
-                f.lo[d] = boxes[i].min_coord(d), f.hi[d] = boxes[i].max_coord(d);
-                lo[d] = std::min(lo[d], double(f.lo[d])), hi[d] = std::max(hi[d], double(f.hi[d]));
-            }
-            f.face = boxes[i].face;
+    // The boxes in the faces' order: a loaded model's faces follow a Hilbert curve
+    // (model/reorder.hpp), so halving the order halves space well enough; any other order gives
+    // the same pairs, only slower.
+    void flatten(const std::vector<Box>& boxes) {
+        flat_.resize(boxes.size());
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            for (int d = 0; d < 3; ++d) flat_[i].lo[d] = boxes[i].min_coord(d), flat_[i].hi[d] = boxes[i].max_coord(d);
+            flat_[i].face = boxes[i].face;
         }
-        std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
-        for (std::uint32_t i = 0; i < n; ++i) {
-            std::uint64_t code = 0;
-            for (int d = 0; d < 3; ++d) {
-                const double span = hi[d] - lo[d];
-                const double c = 0.5 * (double(flat_[i].lo[d]) + double(flat_[i].hi[d]));
-                const double q = span > 0.0 ? (c - lo[d]) / span * 2097151.0 : 0.0;
-                code |= spread(std::uint64_t(std::clamp(q, 0.0, 2097151.0))) << d;
-            }
-            keys[i] = {code, i};
-        }
-        std::sort(keys.begin(), keys.end());
-        std::vector<Flat> sorted(n);
-        for (std::size_t i = 0; i < n; ++i) sorted[i] = flat_[keys[i].second];
-        flat_.swap(sorted);
     }
     std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
         const auto at = std::uint32_t(nodes_.size());
@@ -333,9 +321,9 @@ private:
 // pair again).
 template <class Fn>
 void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
-    std::vector<Box> boxes = face_boxes(mesh, out);
     std::vector<FaceData> faces(mesh.face_count());
-    for (const Box& box : boxes) faces[box.face] = face_data(mesh, box.face);
+    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(mesh, f);
+    std::vector<Box> boxes = face_boxes(mesh, faces, out);
     std::vector<std::uint64_t> found;  // intersecting pairs, lower face << 32 | upper
     const auto pair_key = [](std::uint32_t f, std::uint32_t g) {
         return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g);
