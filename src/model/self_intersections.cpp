@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <system_error>
+#include <thread>
 
 #if defined(__SSE__)
 #include <immintrin.h>
@@ -197,10 +201,47 @@ public:
         columns();
         if (!flat_.empty()) build(0, std::uint32_t(flat_.size()));
     }
-    // Calls fn(f, g) with the faces of each pair.
+    // A share of the search: the pairs within node a (self), or between nodes a and b.
+    struct Task {
+        std::uint32_t a, b;
+        bool self;
+    };
+    // The whole search as at least `want` tasks where the tree allows (fewer for small trees),
+    // together meeting every pair once: the top of the recursion below, unrolled breadth first.
+    std::vector<Task> tasks(std::size_t want) const {
+        std::vector<Task> open, whole;  // open[head, end): tasks to split further; whole: leaves
+        if (nodes_.empty()) return whole;
+        open.push_back({0, 0, true});
+        std::size_t head = 0;
+        while (head < open.size() && open.size() - head + whole.size() < want) {
+            const Task t = open[head++];
+            const Node &x = nodes_[t.a], &y = nodes_[t.b];
+            if (t.self && x.left) {
+                open.push_back({x.left, x.left, true});
+                open.push_back({x.right, x.right, true});
+                open.push_back({x.left, x.right, false});
+            } else if (t.self) {
+                whole.push_back(t);
+            } else if (!meet(x, y)) {
+                continue;  // no pair
+            } else if (!x.left && !y.left) {
+                whole.push_back(t);
+            } else if (!y.left || (x.left && x.end - x.begin >= y.end - y.begin)) {  // as across()
+                open.push_back({x.left, t.b, false});
+                open.push_back({x.right, t.b, false});
+            } else {
+                open.push_back({t.a, y.left, false});
+                open.push_back({t.a, y.right, false});
+            }
+        }
+        whole.insert(whole.end(), open.begin() + std::ptrdiff_t(head), open.end());
+        return whole;
+    }
+    // Calls fn(f, g) with the faces of each pair of task t.
     template <class Fn>
-    void each(Fn&& fn) const {
-        if (!nodes_.empty()) self(0, fn);
+    void run(const Task& t, Fn&& fn) const {
+        if (t.self) self(t.a, fn);
+        else across(t.a, t.b, fn);
     }
 
 private:
@@ -311,6 +352,46 @@ private:
     std::vector<Node> nodes_;
 };
 
+std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g); }
+
+// The pairs of faces that intersect, as pair_key()s, sorted. The box search is split into tasks
+// that up to `threads` threads take in turn; the sort makes the result the same for any split.
+std::vector<std::uint64_t> search_pairs(const std::vector<Box>& boxes, const std::vector<FaceData>& faces, int threads) {
+    // Below this many boxes (a few milliseconds of search) a thread's start costs more than it saves.
+    constexpr std::size_t kBoxesPerThread = 4096;
+    const std::size_t workers = std::clamp<std::size_t>(boxes.size() / kBoxesPerThread, 1, std::size_t(std::max(threads, 1)));
+    const BoxPairs search(boxes);
+    // Many more tasks than threads, so that uneven tasks even out.
+    const std::vector<BoxPairs::Task> tasks = search.tasks(workers > 1 ? workers * 64 : 1);
+    std::vector<std::vector<std::uint64_t>> found(workers);
+    std::vector<std::exception_ptr> failed(workers);
+    std::atomic<std::size_t> next{0};
+    const auto work = [&](std::size_t k) {
+        try {
+            for (std::size_t t = next++; t < tasks.size(); t = next++)
+                search.run(tasks[t], [&](std::uint32_t f, std::uint32_t g) {
+                    if (faces_intersect(faces[f], faces[g])) found[k].push_back(pair_key(f, g));
+                });
+        } catch (...) {
+            failed[k] = std::current_exception();
+        }
+    };
+    std::vector<std::thread> helpers;
+    try {
+        for (std::size_t k = 1; k < workers; ++k) helpers.emplace_back(work, k);
+    } catch (const std::system_error&) {
+        // No more threads to be had: the ones started and this one take every task.
+    }
+    work(0);
+    for (std::thread& helper : helpers) helper.join();
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
+    std::vector<std::uint64_t> all = std::move(found[0]);
+    for (std::size_t k = 1; k < found.size(); ++k) all.insert(all.end(), found[k].begin(), found[k].end());
+    std::sort(all.begin(), all.end());
+    return all;
+}
+
 // Calls fn(f, g) for pairs of faces that intersect (every pair, or, with `once`, only pairs with
 // a face not reported yet: enough to flag the faces).
 //
@@ -320,20 +401,13 @@ private:
 // when there are some does the segment tree run, to list them in its order (without testing a
 // pair again).
 template <class Fn>
-void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
+void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, int threads, Fn&& fn) {
     std::vector<FaceData> faces(mesh.face_count());
     for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(mesh, f);
     std::vector<Box> boxes = face_boxes(mesh, faces, out);
-    std::vector<std::uint64_t> found;  // intersecting pairs, lower face << 32 | upper
-    const auto pair_key = [](std::uint32_t f, std::uint32_t g) {
-        return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g);
-    };
-    BoxPairs(boxes).each([&](std::uint32_t f, std::uint32_t g) {
-        if (faces_intersect(faces[f], faces[g])) found.push_back(pair_key(f, g));
-    });
+    const std::vector<std::uint64_t> found = search_pairs(boxes, faces, threads);
     for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
     if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
-    std::sort(found.begin(), found.end());
     // Closed boxes (the default): faces that only touch reach the exact test too. Cutoff: below
     // this many boxes CGAL's streamed segment tree compares boxes by a plain scan, which for sets
     // this small costs less than recursing further; the same pairs either way (bench/results/model.md).
@@ -372,15 +446,15 @@ void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, std::v
 
 }  // namespace
 
-std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
+std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
     std::vector<std::uint8_t> out;
-    intersecting_pairs(mesh, out, true, [](std::uint32_t, std::uint32_t) {});
+    intersecting_pairs(mesh, out, true, threads, [](std::uint32_t, std::uint32_t) {});
     return out;
 }
 
-SelfIntersections self_intersections(const MeshTopology& mesh) {
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads) {
     SelfIntersections si;
-    intersecting_pairs(mesh, si.faces, false, [&](std::uint32_t fa, std::uint32_t fb) {
+    intersecting_pairs(mesh, si.faces, false, threads, [&](std::uint32_t fa, std::uint32_t fb) {
         si.pairs.push_back({fa, fb});
         for (int k = 0; k < 2; ++k) {
             const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
