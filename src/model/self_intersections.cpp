@@ -163,15 +163,47 @@ bool certainly_proper(const FaceData& face) {
     return false;
 }
 
+// Face boxes, one array per bound (a leaf of the search below then loads as one vector), padded
+// with kPad boxes that meet nothing. In the faces' order: a loaded model's faces follow a Hilbert
+// curve (model/reorder.hpp), so halving the order halves space well enough for the search; any
+// other order gives the same pairs, only slower.
+struct BoxColumns {
+    static constexpr std::size_t kPad = 4;
+    std::vector<float> lo[3], hi[3];
+    std::vector<std::uint32_t> face;
+    std::size_t size() const { return face.size(); }
+    void add(const float box_lo[3], const float box_hi[3], std::uint32_t f) {
+        for (int d = 0; d < 3; ++d) lo[d].push_back(box_lo[d]), hi[d].push_back(box_hi[d]);
+        face.push_back(f);
+    }
+    void pad() {
+        for (int d = 0; d < 3; ++d) {
+            lo[d].resize(face.size() + kPad, std::numeric_limits<float>::infinity());
+            hi[d].resize(face.size() + kPad, -std::numeric_limits<float>::infinity());
+        }
+    }
+    // CGAL's boxes, in the same order.
+    std::vector<Box> cgal_boxes() const {
+        std::vector<Box> boxes;
+        boxes.reserve(size());
+        for (std::size_t i = 0; i < size(); ++i) {
+            float box_lo[3] = {lo[0][i], lo[1][i], lo[2][i]}, box_hi[3] = {hi[0][i], hi[1][i], hi[2][i]};
+            boxes.emplace_back(box_lo, box_hi, face[i]);
+        }
+        return boxes;
+    }
+};
+
 // The boxes of the faces that have an area; degenerate faces (collinear corners) are flagged in
 // `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
 // PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
 // pipeline).
-std::vector<Box> face_boxes(const MeshTopology& mesh, const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
+BoxColumns face_boxes(const MeshTopology& mesh, const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
     const std::size_t nf = mesh.face_count();
     out.assign(nf, 0);
-    std::vector<Box> boxes;
-    boxes.reserve(nf);
+    BoxColumns boxes;
+    for (int d = 0; d < 3; ++d) boxes.lo[d].reserve(nf + BoxColumns::kPad), boxes.hi[d].reserve(nf + BoxColumns::kPad);
+    boxes.face.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
         if (!certainly_proper(faces[f]) &&
@@ -185,8 +217,9 @@ std::vector<Box> face_boxes(const MeshTopology& mesh, const std::vector<FaceData
             lo[d] = down(std::min({x0, x1, x2}));
             hi[d] = up(std::max({x0, x1, x2}));
         }
-        boxes.emplace_back(lo, hi, f);
+        boxes.add(lo, hi, f);
     }
+    boxes.pad();
     return boxes;
 }
 
@@ -196,10 +229,9 @@ std::vector<Box> face_boxes(const MeshTopology& mesh, const std::vector<FaceData
 // read in order, where CGAL's segment tree spent most of a model's loading in long scans.
 class BoxPairs {
 public:
-    explicit BoxPairs(const std::vector<Box>& boxes) {
-        flatten(boxes);
-        columns();
-        if (!flat_.empty()) build(0, std::uint32_t(flat_.size()));
+    explicit BoxPairs(const BoxColumns& boxes) : face_(boxes.face.data()) {
+        for (int d = 0; d < 3; ++d) lo_[d] = boxes.lo[d].data(), hi_[d] = boxes.hi[d].data();
+        if (boxes.size() > 0) build(0, std::uint32_t(boxes.size()));
     }
     // A share of the search: the pairs within node a (self), or between nodes a and b.
     struct Task {
@@ -246,7 +278,7 @@ public:
 
 private:
     static constexpr std::uint32_t kLeaf = 4;
-    static_assert(kLeaf <= 4, "meet_leaf tests a leaf as one vector of four boxes");
+    static_assert(kLeaf <= 4 && kLeaf <= BoxColumns::kPad, "meet_leaf tests a leaf as one vector of four boxes");
     struct Node {
         float lo[3], hi[3];
         std::uint32_t begin, end;  // boxes [begin, end)
@@ -260,33 +292,24 @@ private:
         return !(x.lo[0] > y.hi[0]) & !(y.lo[0] > x.hi[0]) & !(x.lo[1] > y.hi[1]) & !(y.lo[1] > x.hi[1]) &
                !(x.lo[2] > y.hi[2]) & !(y.lo[2] > x.hi[2]);
     }
-    struct Flat {
-        float lo[3], hi[3];
-        std::uint32_t face;
-    };
-    // The boxes in the faces' order: a loaded model's faces follow a Hilbert curve
-    // (model/reorder.hpp), so halving the order halves space well enough; any other order gives
-    // the same pairs, only slower.
-    void flatten(const std::vector<Box>& boxes) {
-        flat_.resize(boxes.size());
-        for (std::size_t i = 0; i < boxes.size(); ++i) {
-            for (int d = 0; d < 3; ++d) flat_[i].lo[d] = boxes[i].min_coord(d), flat_[i].hi[d] = boxes[i].max_coord(d);
-            flat_[i].face = boxes[i].face;
-        }
-    }
+    // A node's box: its boxes' hull at a leaf, its children's above (each box read once).
     std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
         const auto at = std::uint32_t(nodes_.size());
         nodes_.push_back({});
         Node node{};
         node.begin = begin, node.end = end;
-        for (int d = 0; d < 3; ++d) node.lo[d] = flat_[begin].lo[d], node.hi[d] = flat_[begin].hi[d];
-        for (std::uint32_t i = begin + 1; i < end; ++i)
-            for (int d = 0; d < 3; ++d)
-                node.lo[d] = std::min(node.lo[d], flat_[i].lo[d]), node.hi[d] = std::max(node.hi[d], flat_[i].hi[d]);
         if (end - begin > kLeaf) {
             const std::uint32_t mid = begin + (end - begin) / 2;
             node.left = build(begin, mid);
             node.right = build(mid, end);
+            const Node &l = nodes_[node.left], &r = nodes_[node.right];
+            for (int d = 0; d < 3; ++d) node.lo[d] = std::min(l.lo[d], r.lo[d]), node.hi[d] = std::max(l.hi[d], r.hi[d]);
+        } else {
+            for (int d = 0; d < 3; ++d) {
+                float lo = lo_[d][begin], hi = hi_[d][begin];
+                for (std::uint32_t i = begin + 1; i < end; ++i) lo = std::min(lo, lo_[d][i]), hi = std::max(hi, hi_[d][i]);
+                node.lo[d] = lo, node.hi[d] = hi;
+            }
         }
         nodes_[at] = node;
         return at;
@@ -316,16 +339,6 @@ private:
             across(a, y.right, fn);
         }
     }
-    // The boxes again, one array per bound, padded with kLeaf boxes that meet nothing: a leaf's
-    // boxes then load as one vector.
-    void columns() {
-        const std::size_t n = flat_.size();
-        for (int d = 0; d < 3; ++d) {
-            lo_[d].assign(n + kLeaf, std::numeric_limits<float>::infinity());
-            hi_[d].assign(n + kLeaf, -std::numeric_limits<float>::infinity());
-            for (std::size_t i = 0; i < n; ++i) lo_[d][i] = flat_[i].lo[d], hi_[d][i] = flat_[i].hi[d];
-        }
-    }
     // Bit k set: box i meets box j + k (k < kLeaf), as meet() decides.
     unsigned meet_leaf(std::uint32_t i, std::uint32_t j) const {
 #if defined(__SSE__)
@@ -337,7 +350,12 @@ private:
         return unsigned(_mm_movemask_ps(ok));
 #else
         unsigned bits = 0;
-        for (std::uint32_t k = 0; k < kLeaf; ++k) bits |= unsigned(meet(flat_[i], flat_[j + k])) << k;
+        for (std::uint32_t k = 0; k < kLeaf; ++k) {
+            bool ok = true;
+            for (int d = 0; d < 3; ++d)
+                ok &= !(lo_[d][i] > hi_[d][j + k]) & !(lo_[d][j + k] > hi_[d][i]);
+            bits |= unsigned(ok) << k;
+        }
         return bits;
 #endif
     }
@@ -345,10 +363,12 @@ private:
     template <class Fn>
     void report(std::uint32_t i, std::uint32_t begin, std::uint32_t end, std::uint32_t skip, Fn& fn) const {
         unsigned bits = meet_leaf(i, begin) & ((1u << (end - begin)) - 1) & ~((1u << skip) - 1);
-        for (; bits; bits &= bits - 1) fn(flat_[i].face, flat_[begin + std::uint32_t(__builtin_ctz(bits))].face);
+        for (; bits; bits &= bits - 1) fn(face_[i], face_[begin + std::uint32_t(__builtin_ctz(bits))]);
     }
-    std::vector<Flat> flat_;
-    std::vector<float> lo_[3], hi_[3];
+    // The columns' arrays (read through plain pointers: the hot loops need not reload them).
+    const float* lo_[3];
+    const float* hi_[3];
+    const std::uint32_t* face_;
     std::vector<Node> nodes_;
 };
 
@@ -356,7 +376,7 @@ std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t
 
 // The pairs of faces that intersect, as pair_key()s, sorted. The box search is split into tasks
 // that up to `threads` threads take in turn; the sort makes the result the same for any split.
-std::vector<std::uint64_t> search_pairs(const std::vector<Box>& boxes, const std::vector<FaceData>& faces, int threads) {
+std::vector<std::uint64_t> search_pairs(const BoxColumns& boxes, const std::vector<FaceData>& faces, int threads) {
     // Below this many boxes (a few milliseconds of search) a thread's start costs more than it saves.
     constexpr std::size_t kBoxesPerThread = 4096;
     const std::size_t workers = std::clamp<std::size_t>(boxes.size() / kBoxesPerThread, 1, std::size_t(std::max(threads, 1)));
@@ -404,14 +424,15 @@ template <class Fn>
 void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, int threads, Fn&& fn) {
     std::vector<FaceData> faces(mesh.face_count());
     for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(mesh, f);
-    std::vector<Box> boxes = face_boxes(mesh, faces, out);
-    const std::vector<std::uint64_t> found = search_pairs(boxes, faces, threads);
+    const BoxColumns columns = face_boxes(mesh, faces, out);
+    const std::vector<std::uint64_t> found = search_pairs(columns, faces, threads);
     for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
     if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
     // Closed boxes (the default): faces that only touch reach the exact test too. Cutoff: below
     // this many boxes CGAL's streamed segment tree compares boxes by a plain scan, which for sets
     // this small costs less than recursing further; the same pairs either way (bench/results/model.md).
     constexpr std::ptrdiff_t kCutoff = 3000;
+    std::vector<Box> boxes = columns.cgal_boxes();
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
         const auto f = std::uint32_t(x.id()), g = std::uint32_t(y.id());
         if (std::binary_search(found.begin(), found.end(), pair_key(f, g))) fn(f, g);
