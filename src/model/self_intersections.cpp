@@ -92,8 +92,42 @@ template <std::size_t N>
     return true;
 }
 
+// Shewchuk's orient3d(a, b, c, d) in floating point: its sign when his bound o3derrboundA,
+// (7 + 56 eps) eps times the permanent, settles it, else 0 (then only an exact predicate can);
+// away from underflow and overflow only. (CGAL's static filter failed on about half of the
+// edge tests below, which then paid for interval arithmetic.)
+int orient3d_if_certain(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    const glm::dvec3 ad = a - d, bd = b - d, cd = c - d;
+    const double bc = bd.x * cd.y, cb = cd.x * bd.y, ca = cd.x * ad.y, ac = ad.x * cd.y, ab = ad.x * bd.y, ba = bd.x * ad.y;
+    const double det = ad.z * (bc - cb) + bd.z * (ca - ac) + cd.z * (ab - ba);
+    const double permanent = (std::abs(bc) + std::abs(cb)) * std::abs(ad.z) + (std::abs(ca) + std::abs(ac)) * std::abs(bd.z) +
+                             (std::abs(ab) + std::abs(ba)) * std::abs(cd.z);
+    if (!(permanent > 1e-250) || !(permanent < 1e250)) return 0;
+    const double bound = 7.7715611723761027e-16 * permanent;
+    return det > bound ? 1 : det < -bound ? -1 : 0;
+}
+
+// Does segment pq meet the closed triangle t, exactly: 1 yes, 0 no, -1 when p and q both lie in
+// its plane (left to CGAL). Across the plane, the point where the line pq crosses it lies in
+// the triangle iff the orientations of pq with the triangle's three edges do not disagree in sign.
+// (CGAL's do_intersect decides the same way, a few times slower here: the most frequent exact
+// test, faces around a shared vertex whose far sides pass by each other.)
+int segment_meets_triangle(const FaceData& t, const glm::dvec3& p, const glm::dvec3& q) {
+    int sp = side_if_certain(t, p), sq = side_if_certain(t, q);
+    const K::Point_3 a = cgal(t.p[0]), b = cgal(t.p[1]), c = cgal(t.p[2]), P = cgal(p), Q = cgal(q);
+    if (sp == 0 || sq == 0) sp = int(CGAL::orientation(a, b, c, P)), sq = int(CGAL::orientation(a, b, c, Q));
+    if (sp == 0 && sq == 0) return -1;
+    if (sp == sq) return 0;
+    int o1 = orient3d_if_certain(p, q, t.p[0], t.p[1]), o2 = orient3d_if_certain(p, q, t.p[1], t.p[2]),
+        o3 = orient3d_if_certain(p, q, t.p[2], t.p[0]);
+    if (o1 == 0 || o2 == 0 || o3 == 0)  // (all three exactly then: the filter's sign convention is its own)
+        o1 = int(CGAL::orientation(P, Q, a, b)), o2 = int(CGAL::orientation(P, Q, b, c)), o3 = int(CGAL::orientation(P, Q, c, a));
+    const bool positive = o1 > 0 || o2 > 0 || o3 > 0, negative = o1 < 0 || o2 < 0 || o3 < 0;
+    return positive && negative ? 0 : 1;
+}
+
 // The exact test of faces_intersect below, for the pairs its float filter leaves open.
-bool faces_intersect_exactly(const FaceData& fa, const FaceData& fb, int shared, int ia, int ib) {
+[[gnu::noinline]] bool faces_intersect_exactly(const FaceData& fa, const FaceData& fb, int shared, int ia, int ib) {
     const auto& a = fa.v;
     const auto& b = fb.v;
     const auto P = [](const glm::dvec3& p) { return cgal(p); };
@@ -102,6 +136,11 @@ bool faces_intersect_exactly(const FaceData& fa, const FaceData& fb, int shared,
     if (shared == 1) {
         // Beyond the shared corner, two triangles meet iff the side opposite the shared corner of
         // one meets the other.
+        const int a_side = segment_meets_triangle(fb, fa.p[(ia + 1) % 3], fa.p[(ia + 2) % 3]);
+        if (a_side == 1) return true;
+        const int b_side = segment_meets_triangle(fa, fb.p[(ib + 1) % 3], fb.p[(ib + 2) % 3]);
+        if (b_side == 1) return true;
+        if (a_side == 0 && b_side == 0) return false;
         const K::Segment_3 sa(P(fa.p[(ia + 1) % 3]), P(fa.p[(ia + 2) % 3])), sb(P(fb.p[(ib + 1) % 3]), P(fb.p[(ib + 2) % 3]));
         return CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
     }
