@@ -74,9 +74,10 @@ const std::vector<std::uint8_t>* Model::pierced_faces() const {
     return si.flagged > 0 ? &si.faces : nullptr;
 }
 
-const SelfIntersections& Model::self_intersections() const {
-    std::call_once(lazy_->pierced_once,
-                   [this] { lazy_->pierced = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_)); });
+const SelfIntersections& Model::self_intersections(int threads) const {
+    std::call_once(lazy_->pierced_once, [this, threads] {
+        lazy_->pierced = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_, threads));
+    });
     return *lazy_->pierced;
 }
 
@@ -179,7 +180,7 @@ void ViewSession::finish(const Camera& camera) {
         return r;
     };
     // Once per model, like the ray-test index: not the view's time.
-    const SelfIntersections& si = model.self_intersections();
+    const SelfIntersections& si = model.self_intersections(options.threads);
     const bool fast = options.visibility == VisibilityMethod::Fast;
     const std::vector<std::uint8_t>* pierced = appel || fast ? model.pierced_faces() : nullptr;
     const auto t1 = std::chrono::steady_clock::now();

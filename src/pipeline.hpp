@@ -47,8 +47,8 @@ public:
     // up no face of its pieces).
     const std::vector<std::uint8_t>* pierced_faces() const;
     // Those faces and where edges meet other faces (both visibility methods cut curves there);
-    // computed on first use, once.
-    const SelfIntersections& self_intersections() const;
+    // computed on first use, once, on up to `threads` threads (the first caller's count).
+    const SelfIntersections& self_intersections(int threads = 1) const;
     // Per-vertex curvature and its derivative (curvature/curvature.hpp), computed on first use, once:
     // only the curvature line kinds need it, so a render without them never pays for it.
     const CurvatureField& curvature() const;

@@ -153,6 +153,32 @@ TEST(SelfIntersections, CrumpledSpheres) {
     EXPECT_GT(total, 50u) << "the crumpled spheres should intersect themselves";
 }
 
+// The box search split over threads (src/model/self_intersections.cpp splits it from 8192 faces
+// on): the same faces as the reference, and the same faces, cuts and pairs, in the same order, as
+// one thread.
+TEST(SelfIntersections, ThreadsGiveTheSameResult) {
+    std::mt19937 rng(11);
+    TriangleMesh s = inkline::make_sphere({0, 0, 0}, 1, 160, 80);  // 25 600 faces, edges about 0.04 long
+    std::uniform_real_distribution<double> r(-0.02, 0.02);
+    for (auto& p : s.positions) p += glm::dvec3(r(rng), r(rng), r(rng));
+    const inkline::MeshTopology t = inkline::build_topology(s);
+    const inkline::SelfIntersections one = inkline::self_intersections(t, 1);
+    EXPECT_GT(one.flagged, 100u) << "the crumpled sphere should intersect itself";
+    EXPECT_EQ(one.faces, reference(t));
+    for (const int threads : {2, 3, 8}) {
+        const inkline::SelfIntersections many = inkline::self_intersections(t, threads);
+        EXPECT_EQ(many.faces, one.faces) << threads;
+        EXPECT_EQ(many.flagged, one.flagged) << threads;
+        EXPECT_EQ(many.pairs, one.pairs) << threads;
+        ASSERT_EQ(many.cuts.size(), one.cuts.size()) << threads;
+        for (std::size_t k = 0; k < one.cuts.size(); ++k) {
+            EXPECT_EQ(many.cuts[k].edge, one.cuts[k].edge) << threads << " cut " << k;
+            EXPECT_EQ(many.cuts[k].s, one.cuts[k].s) << threads << " cut " << k;
+        }
+        EXPECT_EQ(inkline::self_intersecting_faces(t, threads), one.faces) << threads;
+    }
+}
+
 TEST(SelfIntersections, RealMeshes) {
     for (const char* name : {"ChineseDragon-10kv.off", "bunny00.off", "fandisk.off", "knot1.off"}) {
         const TriangleMesh m = inkline::load_mesh(inkline::test::mesh_path(name));

@@ -565,7 +565,7 @@ int run_render(int argc, char** argv) {
     // The model's lazy parts, built before the jobs start (each frame needs the self-intersections,
     // nearly every one a ray test, all of them the curvature when its lines are drawn): the jobs
     // then only read the model. (Built on first use they would be safe too, behind call_once.)
-    model.self_intersections();
+    model.self_intersections(a.threads);
     model.rays();
     if (setup.view.wants_surface_lines()) model.curvature();
     if (view_options(a, setup, model).features.intersection) model.intersection_curves();

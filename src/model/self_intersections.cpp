@@ -2,8 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <system_error>
+#include <thread>
+
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 #include <glm/geometric.hpp>
 
@@ -34,19 +42,27 @@ float up(double x) {
     return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
-// A face's plane for the float filter below: n = (b - a) x (c - a) as Shewchuk's orient3d
+// A face as the pair test reads it, in one place (the candidate pairs of a face are read many
+// times each, and the corners of its vertices would be three scattered reads): its vertices, its
+// corners, and its plane for the float filter below, n = (b - a) x (c - a) as Shewchuk's orient3d
 // computes it with a as the origin, and per component the permanent of that product (the sum of
 // the absolute values of its two terms).
-struct FacePlane {
+struct FaceData {
+    std::array<std::uint32_t, 3> v;
+    glm::dvec3 p[3];
     glm::dvec3 n, permanent;
 };
 
-FacePlane face_plane(const MeshTopology& mesh, std::uint32_t f) {
+FaceData face_data(const MeshTopology& mesh, std::uint32_t f) {
     const auto& t = mesh.faces[f];
-    const glm::dvec3 u = mesh.positions[t[1]] - mesh.positions[t[0]], v = mesh.positions[t[2]] - mesh.positions[t[0]];
-    return {{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x},
-            {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
-             std::abs(u.x * v.y) + std::abs(u.y * v.x)}};
+    FaceData d;
+    d.v = {t[0], t[1], t[2]};
+    for (int k = 0; k < 3; ++k) d.p[k] = mesh.positions[t[k]];
+    const glm::dvec3 u = d.p[1] - d.p[0], v = d.p[2] - d.p[0];
+    d.n = {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
+    d.permanent = {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
+                   std::abs(u.x * v.y) + std::abs(u.y * v.x)};
+    return d;
 }
 
 // The side of face f's plane that x lies on (+1 or -1, a fixed convention), or 0 when the float
@@ -54,27 +70,92 @@ FacePlane face_plane(const MeshTopology& mesh, std::uint32_t f) {
 // dot(n, x - a) has the shape of Shewchuk's orient3d (each term a difference times a 2x2 minor of
 // differences, three terms summed), so his bound o3derrboundA, (7 + 56 eps) eps times the
 // permanent, holds; away from underflow and overflow only.
-int side_if_certain(const FacePlane& plane, const glm::dvec3& a, const glm::dvec3& x) {
-    const glm::dvec3 w = x - a;
-    const double det = plane.n.x * w.x + plane.n.y * w.y + plane.n.z * w.z;
+[[gnu::always_inline]] inline int side_if_certain(const FaceData& face, const glm::dvec3& x) {
+    const glm::dvec3 w = x - face.p[0];
+    const double det = face.n.x * w.x + face.n.y * w.y + face.n.z * w.z;
     const double permanent =
-        plane.permanent.x * std::abs(w.x) + plane.permanent.y * std::abs(w.y) + plane.permanent.z * std::abs(w.z);
+        face.permanent.x * std::abs(w.x) + face.permanent.y * std::abs(w.y) + face.permanent.z * std::abs(w.z);
     if (!(permanent > 1e-250) || !(permanent < 1e250)) return 0;
     const double bound = 7.7715611723761027e-16 * permanent;
     return det > bound ? 1 : det < -bound ? -1 : 0;
 }
 
-// Certainly apart beyond their shared corners: the corners `far` (of one face) all strictly on one
-// side of the plane of face f, so that the faces can meet only where they share corners.
+// Certainly apart beyond their shared corners: the corners of `other` numbered in `far` all
+// strictly on one side of the plane of `face`, so that the faces can meet only where they share
+// corners.
 template <std::size_t N>
-bool certainly_one_side(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f,
-                        const std::array<std::uint32_t, N>& far) {
-    const glm::dvec3& a = mesh.positions[mesh.faces[f][0]];
-    const int first = side_if_certain(planes[f], a, mesh.positions[far[0]]);
+[[gnu::always_inline]] inline bool certainly_one_side(const FaceData& face, const FaceData& other, const std::array<int, N>& far) {
+    const int first = side_if_certain(face, other.p[far[0]]);
     if (first == 0) return false;
     for (std::size_t k = 1; k < N; ++k)
-        if (side_if_certain(planes[f], a, mesh.positions[far[k]]) != first) return false;
+        if (side_if_certain(face, other.p[far[k]]) != first) return false;
     return true;
+}
+
+// Shewchuk's orient3d(a, b, c, d) in floating point: its sign when his bound o3derrboundA,
+// (7 + 56 eps) eps times the permanent, settles it, else 0 (then only an exact predicate can);
+// away from underflow and overflow only (the filter of side_if_certain, on four input points).
+int orient3d_if_certain(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    const glm::dvec3 ad = a - d, bd = b - d, cd = c - d;
+    const double bc = bd.x * cd.y, cb = cd.x * bd.y, ca = cd.x * ad.y, ac = ad.x * cd.y, ab = ad.x * bd.y, ba = bd.x * ad.y;
+    const double det = ad.z * (bc - cb) + bd.z * (ca - ac) + cd.z * (ab - ba);
+    const double permanent = (std::abs(bc) + std::abs(cb)) * std::abs(ad.z) + (std::abs(ca) + std::abs(ac)) * std::abs(bd.z) +
+                             (std::abs(ab) + std::abs(ba)) * std::abs(cd.z);
+    if (!(permanent > 1e-250) || !(permanent < 1e250)) return 0;
+    const double bound = 7.7715611723761027e-16 * permanent;
+    return det > bound ? 1 : det < -bound ? -1 : 0;
+}
+
+// Does segment pq meet the closed triangle t, exactly: 1 yes, 0 no, -1 when p and q both lie in
+// its plane (left to CGAL). Across the plane, the point where the line pq crosses it lies in
+// the triangle iff the orientations of pq with the triangle's three edges do not disagree in sign.
+// CGAL's do_intersect decides the same way; this one settles its predicates with the float
+// filters first (armadillo: 21 k pairs of faces around a shared vertex come here, all settled).
+int segment_meets_triangle(const FaceData& t, const glm::dvec3& p, const glm::dvec3& q) {
+    int sp = side_if_certain(t, p), sq = side_if_certain(t, q);
+    const K::Point_3 a = cgal(t.p[0]), b = cgal(t.p[1]), c = cgal(t.p[2]), P = cgal(p), Q = cgal(q);
+    if (sp == 0 || sq == 0) sp = int(CGAL::orientation(a, b, c, P)), sq = int(CGAL::orientation(a, b, c, Q));
+    if (sp == 0 && sq == 0) return -1;
+    if (sp == sq) return 0;
+    int o1 = orient3d_if_certain(p, q, t.p[0], t.p[1]), o2 = orient3d_if_certain(p, q, t.p[1], t.p[2]),
+        o3 = orient3d_if_certain(p, q, t.p[2], t.p[0]);
+    if (o1 == 0 || o2 == 0 || o3 == 0)  // (all three exactly then: the filter's sign convention is its own)
+        o1 = int(CGAL::orientation(P, Q, a, b)), o2 = int(CGAL::orientation(P, Q, b, c)), o3 = int(CGAL::orientation(P, Q, c, a));
+    const bool positive = o1 > 0 || o2 > 0 || o3 > 0, negative = o1 < 0 || o2 < 0 || o3 < 0;
+    return positive && negative ? 0 : 1;
+}
+
+// The exact test of faces_intersect below, for the pairs its float filter leaves open.
+[[gnu::noinline]] bool faces_intersect_exactly(const FaceData& fa, const FaceData& fb, int shared, int ia, int ib) {
+    const auto& a = fa.v;
+    const auto& b = fb.v;
+    const auto P = [](const glm::dvec3& p) { return cgal(p); };
+    const K::Triangle_3 ta(P(fa.p[0]), P(fa.p[1]), P(fa.p[2])), tb(P(fb.p[0]), P(fb.p[1]), P(fb.p[2]));
+    if (shared == 0) return CGAL::do_intersect(ta, tb);
+    if (shared == 1) {
+        // Beyond the shared corner, two triangles meet iff the side opposite the shared corner of
+        // one meets the other.
+        const int a_side = segment_meets_triangle(fb, fa.p[(ia + 1) % 3], fa.p[(ia + 2) % 3]);
+        if (a_side == 1) return true;
+        const int b_side = segment_meets_triangle(fa, fb.p[(ib + 1) % 3], fb.p[(ib + 2) % 3]);
+        if (b_side == 1) return true;
+        if (a_side == 0 && b_side == 0) return false;
+        const K::Segment_3 sa(P(fa.p[(ia + 1) % 3]), P(fa.p[(ia + 2) % 3])), sb(P(fb.p[(ib + 1) % 3]), P(fb.p[(ib + 2) % 3]));
+        return CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
+    }
+    if (shared == 2) {
+        // A shared edge (p, q): the faces overlap iff their far corners are coplanar with it and on
+        // the same side of it.
+        int ra = 0, rb = 0;
+        for (int i = 0; i < 3; ++i) {
+            if (a[i] != b[0] && a[i] != b[1] && a[i] != b[2]) ra = i;
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2]) rb = i;
+        }
+        const K::Point_3 Pp = P(fa.p[(ra + 1) % 3]), Pq = P(fa.p[(ra + 2) % 3]), Ra = P(fa.p[ra]), Rb = P(fb.p[rb]);
+        return CGAL::orientation(Pp, Pq, Ra, Rb) == CGAL::COPLANAR &&
+               CGAL::coplanar_orientation(Pp, Pq, Ra, Rb) == CGAL::POSITIVE;
+    }
+    return true;  // the same three vertices twice
 }
 
 // Do faces f and g meet anywhere but where the mesh joins them (a shared edge or vertex)?
@@ -82,9 +163,9 @@ bool certainly_one_side(const MeshTopology& mesh, const std::vector<FacePlane>& 
 // self_intersections (which needs a halfedge copy of the mesh, see the header); every test is an
 // exact predicate of the Epick kernel, after a float filter that settles most pairs the box
 // search finds (faces around a common vertex or edge, each on one side of the other's plane).
-bool faces_intersect(const MeshTopology& mesh, const std::vector<FacePlane>& planes, std::uint32_t f, std::uint32_t g) {
-    const auto& a = mesh.faces[f];
-    const auto& b = mesh.faces[g];
+bool faces_intersect(const FaceData& fa, const FaceData& fb) {
+    const auto& a = fa.v;
+    const auto& b = fb.v;
     int shared = 0, ia = -1, ib = -1;  // last shared corner, in a and in b
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
@@ -93,58 +174,78 @@ bool faces_intersect(const MeshTopology& mesh, const std::vector<FacePlane>& pla
                 ia = i;
                 ib = j;
             }
-    if (shared == 0 && (certainly_one_side(mesh, planes, f, b) || certainly_one_side(mesh, planes, g, a))) return false;
-    if (shared == 1) {
-        const std::array<std::uint32_t, 2> a_far{a[(ia + 1) % 3], a[(ia + 2) % 3]}, b_far{b[(ib + 1) % 3], b[(ib + 2) % 3]};
-        if (certainly_one_side(mesh, planes, f, b_far) || certainly_one_side(mesh, planes, g, a_far)) return false;
-    }
-    if (shared == 2) {
+    if (shared == 0) {
+        constexpr std::array<int, 3> all{0, 1, 2};
+        if (certainly_one_side(fa, fb, all) || certainly_one_side(fb, fa, all)) return false;
+    } else if (shared == 1) {
+        // The two corners after corner k, in order (a table: the modulo was a measurable share).
+        constexpr std::array<std::array<int, 2>, 3> kOthers{{{1, 2}, {2, 0}, {0, 1}}};
+        if (certainly_one_side(fa, fb, kOthers[ib]) || certainly_one_side(fb, fa, kOthers[ia])) return false;
+    } else if (shared == 2) {
         // Not coplanar: the far corner of one is off the other's plane.
         for (int i = 0; i < 3; ++i)
-            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] &&
-                side_if_certain(planes[f], mesh.positions[a[0]], mesh.positions[b[i]]) != 0)
-                return false;
+            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2] && side_if_certain(fa, fb.p[i]) != 0) return false;
     }
-    const auto P = [&](std::uint32_t v) { return cgal(mesh.positions[v]); };
-    const K::Triangle_3 ta(P(a[0]), P(a[1]), P(a[2])), tb(P(b[0]), P(b[1]), P(b[2]));
-    if (shared == 0) return CGAL::do_intersect(ta, tb);
-    if (shared == 1) {
-        // Beyond the shared corner, two triangles meet iff the side opposite the shared corner of
-        // one meets the other.
-        const K::Segment_3 sa(P(a[(ia + 1) % 3]), P(a[(ia + 2) % 3])), sb(P(b[(ib + 1) % 3]), P(b[(ib + 2) % 3]));
-        return CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
-    }
-    if (shared == 2) {
-        // A shared edge (p, q): the faces overlap iff their far corners are coplanar with it and on
-        // the same side of it.
-        std::uint32_t ra = 0, rb = 0, p = 0, q = 0;
-        for (int i = 0; i < 3; ++i) {
-            if (a[i] != b[0] && a[i] != b[1] && a[i] != b[2]) {
-                ra = a[i];
-                p = a[(i + 1) % 3];
-                q = a[(i + 2) % 3];
-            }
-            if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2]) rb = b[i];
-        }
-        const K::Point_3 Pp = P(p), Pq = P(q), Ra = P(ra), Rb = P(rb);
-        return CGAL::orientation(Pp, Pq, Ra, Rb) == CGAL::COPLANAR &&
-               CGAL::coplanar_orientation(Pp, Pq, Ra, Rb) == CGAL::POSITIVE;
-    }
-    return true;  // the same three vertices twice
+    return faces_intersect_exactly(fa, fb, shared, ia, ib);
 }
+
+// Certainly not collinear: a component of the face's normal certainly nonzero. Each component is
+// an orient2d of the corners projected to a coordinate plane, in the shape of Shewchuk's, so his
+// bound ccwerrboundA, (3 + 16 eps) eps times the permanent, holds (rounded up here); away from
+// underflow and overflow only.
+bool certainly_proper(const FaceData& face) {
+    for (int k = 0; k < 3; ++k) {
+        const double permanent = face.permanent[k];
+        if (permanent > 1e-250 && permanent < 1e250 && std::abs(face.n[k]) > 3.4e-16 * permanent) return true;
+    }
+    return false;
+}
+
+// Face boxes, one array per bound (a leaf of the search below then loads as one vector), padded
+// with kPad boxes that meet nothing. In the faces' order: a loaded model's faces follow a Hilbert
+// curve (model/reorder.hpp), so halving the order halves space well enough for the search; any
+// other order gives the same pairs, only slower.
+struct BoxColumns {
+    static constexpr std::size_t kPad = 4;
+    std::vector<float> lo[3], hi[3];
+    std::vector<std::uint32_t> face;
+    std::size_t size() const { return face.size(); }
+    void add(const float box_lo[3], const float box_hi[3], std::uint32_t f) {
+        for (int d = 0; d < 3; ++d) lo[d].push_back(box_lo[d]), hi[d].push_back(box_hi[d]);
+        face.push_back(f);
+    }
+    void pad() {
+        for (int d = 0; d < 3; ++d) {
+            lo[d].resize(face.size() + kPad, std::numeric_limits<float>::infinity());
+            hi[d].resize(face.size() + kPad, -std::numeric_limits<float>::infinity());
+        }
+    }
+    // CGAL's boxes, in the same order.
+    std::vector<Box> cgal_boxes() const {
+        std::vector<Box> boxes;
+        boxes.reserve(size());
+        for (std::size_t i = 0; i < size(); ++i) {
+            float box_lo[3] = {lo[0][i], lo[1][i], lo[2][i]}, box_hi[3] = {hi[0][i], hi[1][i], hi[2][i]};
+            boxes.emplace_back(box_lo, box_hi, face[i]);
+        }
+        return boxes;
+    }
+};
 
 // The boxes of the faces that have an area; degenerate faces (collinear corners) are flagged in
 // `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
 // PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
 // pipeline).
-std::vector<Box> face_boxes(const MeshTopology& mesh, std::vector<std::uint8_t>& out) {
+BoxColumns face_boxes(const MeshTopology& mesh, const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
     const std::size_t nf = mesh.face_count();
     out.assign(nf, 0);
-    std::vector<Box> boxes;
-    boxes.reserve(nf);
+    BoxColumns boxes;
+    for (int d = 0; d < 3; ++d) boxes.lo[d].reserve(nf + BoxColumns::kPad), boxes.hi[d].reserve(nf + BoxColumns::kPad);
+    boxes.face.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
-        if (CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
+        if (!certainly_proper(faces[f]) &&
+            CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
             out[f] = 1;
             continue;
         }
@@ -154,95 +255,99 @@ std::vector<Box> face_boxes(const MeshTopology& mesh, std::vector<std::uint8_t>&
             lo[d] = down(std::min({x0, x1, x2}));
             hi[d] = up(std::max({x0, x1, x2}));
         }
-        boxes.emplace_back(lo, hi, f);
+        boxes.add(lo, hi, f);
     }
+    boxes.pad();
     return boxes;
 }
 
 // Every pair of boxes that meet (closed), each once, in no particular order: a bounding-volume
-// hierarchy over the boxes in Morton order of their centres (consecutive runs of kLeaf boxes,
-// halved recursively), searched against itself. Its nodes take a few hundred kilobytes and are
+// hierarchy over the boxes in the faces' order (consecutive runs of at most kLeaf boxes, halved
+// recursively), searched against itself. Its nodes take a few hundred kilobytes and are
 // read in order, where CGAL's segment tree spent most of a model's loading in long scans.
 class BoxPairs {
 public:
-    explicit BoxPairs(const std::vector<Box>& boxes) {
-        morton_order(boxes);
-        if (!flat_.empty()) build(0, std::uint32_t(flat_.size()));
+    explicit BoxPairs(const BoxColumns& boxes) : face_(boxes.face.data()) {
+        for (int d = 0; d < 3; ++d) lo_[d] = boxes.lo[d].data(), hi_[d] = boxes.hi[d].data();
+        if (boxes.size() > 0) build(0, std::uint32_t(boxes.size()));
     }
-    // Calls fn(f, g) with the faces of each pair.
+    // A share of the search: the pairs within node a (self), or between nodes a and b.
+    struct Task {
+        std::uint32_t a, b;
+        bool self;
+    };
+    // The whole search as at least `want` tasks where the tree allows (fewer for small trees),
+    // together meeting every pair once: the top of the recursion below, unrolled breadth first.
+    std::vector<Task> tasks(std::size_t want) const {
+        std::vector<Task> open, whole;  // open[head, end): tasks to split further; whole: leaves
+        if (nodes_.empty()) return whole;
+        open.push_back({0, 0, true});
+        std::size_t head = 0;
+        while (head < open.size() && open.size() - head + whole.size() < want) {
+            const Task t = open[head++];
+            const Node &x = nodes_[t.a], &y = nodes_[t.b];
+            if (t.self && x.left) {
+                open.push_back({x.left, x.left, true});
+                open.push_back({x.right, x.right, true});
+                open.push_back({x.left, x.right, false});
+            } else if (t.self) {
+                whole.push_back(t);
+            } else if (!meet(x, y)) {
+                continue;  // no pair
+            } else if (!x.left && !y.left) {
+                whole.push_back(t);
+            } else if (!y.left || (x.left && x.end - x.begin >= y.end - y.begin)) {  // as across()
+                open.push_back({x.left, t.b, false});
+                open.push_back({x.right, t.b, false});
+            } else {
+                open.push_back({t.a, y.left, false});
+                open.push_back({t.a, y.right, false});
+            }
+        }
+        whole.insert(whole.end(), open.begin() + std::ptrdiff_t(head), open.end());
+        return whole;
+    }
+    // Calls fn(f, g) with the faces of each pair of task t.
     template <class Fn>
-    void each(Fn&& fn) const {
-        if (!nodes_.empty()) self(0, fn);
+    void run(const Task& t, Fn&& fn) const {
+        if (t.self) self(t.a, fn);
+        else across(t.a, t.b, fn);
     }
 
 private:
     static constexpr std::uint32_t kLeaf = 4;
+    static_assert(kLeaf <= 4 && kLeaf <= BoxColumns::kPad, "meet_leaf tests a leaf as one vector of four boxes");
     struct Node {
         float lo[3], hi[3];
         std::uint32_t begin, end;  // boxes [begin, end)
         std::uint32_t left = 0;    // children left and left + 1 ... (0: a leaf)
         std::uint32_t right = 0;
     };
+    // Without a branch per comparison: at the leaves about half the box pairs meet, so branches
+    // mispredict (most of the search's time).
     template <class A, class B>
     static bool meet(const A& x, const B& y) {
-        for (int d = 0; d < 3; ++d)
-            if (x.lo[d] > y.hi[d] || y.lo[d] > x.hi[d]) return false;
-        return true;
+        return !(x.lo[0] > y.hi[0]) & !(y.lo[0] > x.hi[0]) & !(x.lo[1] > y.hi[1]) & !(y.lo[1] > x.hi[1]) &
+               !(x.lo[2] > y.hi[2]) & !(y.lo[2] > x.hi[2]);
     }
-    struct Flat {
-        float lo[3], hi[3];
-        std::uint32_t face;
-    };
-    static std::uint64_t spread(std::uint64_t v) {  // 21 bits to every third of 63
-        v &= 0x1fffff;
-        v = (v | v << 32) & 0x1f00000000ffffull;
-        v = (v | v << 16) & 0x1f0000ff0000ffull;
-        v = (v | v << 8) & 0x100f00f00f00f00full;
-        v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-        v = (v | v << 2) & 0x1249249249249249ull;
-        return v;
-    }
-    void morton_order(const std::vector<Box>& boxes) {
-        const std::size_t n = boxes.size();
-        flat_.resize(n);
-        double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-        for (std::uint32_t i = 0; i < n; ++i) {
-            Flat& f = flat_[i];
-            for (int d = 0; d < 3; ++d) {
-                f.lo[d] = boxes[i].min_coord(d), f.hi[d] = boxes[i].max_coord(d);
-                lo[d] = std::min(lo[d], double(f.lo[d])), hi[d] = std::max(hi[d], double(f.hi[d]));
-            }
-            f.face = boxes[i].face;
-        }
-        std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
-        for (std::uint32_t i = 0; i < n; ++i) {
-            std::uint64_t code = 0;
-            for (int d = 0; d < 3; ++d) {
-                const double span = hi[d] - lo[d];
-                const double c = 0.5 * (double(flat_[i].lo[d]) + double(flat_[i].hi[d]));
-                const double q = span > 0.0 ? (c - lo[d]) / span * 2097151.0 : 0.0;
-                code |= spread(std::uint64_t(std::clamp(q, 0.0, 2097151.0))) << d;
-            }
-            keys[i] = {code, i};
-        }
-        std::sort(keys.begin(), keys.end());
-        std::vector<Flat> sorted(n);
-        for (std::size_t i = 0; i < n; ++i) sorted[i] = flat_[keys[i].second];
-        flat_.swap(sorted);
-    }
+    // A node's box: its boxes' hull at a leaf, its children's above (each box read once).
     std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
         const auto at = std::uint32_t(nodes_.size());
         nodes_.push_back({});
         Node node{};
         node.begin = begin, node.end = end;
-        for (int d = 0; d < 3; ++d) node.lo[d] = flat_[begin].lo[d], node.hi[d] = flat_[begin].hi[d];
-        for (std::uint32_t i = begin + 1; i < end; ++i)
-            for (int d = 0; d < 3; ++d)
-                node.lo[d] = std::min(node.lo[d], flat_[i].lo[d]), node.hi[d] = std::max(node.hi[d], flat_[i].hi[d]);
         if (end - begin > kLeaf) {
             const std::uint32_t mid = begin + (end - begin) / 2;
             node.left = build(begin, mid);
             node.right = build(mid, end);
+            const Node &l = nodes_[node.left], &r = nodes_[node.right];
+            for (int d = 0; d < 3; ++d) node.lo[d] = std::min(l.lo[d], r.lo[d]), node.hi[d] = std::max(l.hi[d], r.hi[d]);
+        } else {
+            for (int d = 0; d < 3; ++d) {
+                float lo = lo_[d][begin], hi = hi_[d][begin];
+                for (std::uint32_t i = begin + 1; i < end; ++i) lo = std::min(lo, lo_[d][i]), hi = std::max(hi, hi_[d][i]);
+                node.lo[d] = lo, node.hi[d] = hi;
+            }
         }
         nodes_[at] = node;
         return at;
@@ -251,8 +356,7 @@ private:
     void self(std::uint32_t a, Fn& fn) const {
         const Node& n = nodes_[a];
         if (!n.left) {
-            for (std::uint32_t i = n.begin; i < n.end; ++i)
-                for (std::uint32_t j = i + 1; j < n.end; ++j) report(i, j, fn);
+            for (std::uint32_t i = n.begin; i < n.end; ++i) report(i, n.begin, n.end, i - n.begin + 1, fn);
             return;
         }
         self(n.left, fn);
@@ -264,8 +368,7 @@ private:
         const Node &x = nodes_[a], &y = nodes_[b];
         if (!meet(x, y)) return;
         if (!x.left && !y.left) {
-            for (std::uint32_t i = x.begin; i < x.end; ++i)
-                for (std::uint32_t j = y.begin; j < y.end; ++j) report(i, j, fn);
+            for (std::uint32_t i = x.begin; i < x.end; ++i) report(i, y.begin, y.end, 0, fn);
         } else if (!y.left || (x.left && x.end - x.begin >= y.end - y.begin)) {
             across(x.left, b, fn);
             across(x.right, b, fn);
@@ -274,13 +377,78 @@ private:
             across(a, y.right, fn);
         }
     }
-    template <class Fn>
-    void report(std::uint32_t i, std::uint32_t j, Fn& fn) const {
-        if (meet(flat_[i], flat_[j])) fn(flat_[i].face, flat_[j].face);
+    // Bit k set: box i meets box j + k (k < kLeaf), as meet() decides.
+    unsigned meet_leaf(std::uint32_t i, std::uint32_t j) const {
+#if defined(__SSE__)
+        __m128 ok = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        for (int d = 0; d < 3; ++d) {
+            ok = _mm_and_ps(ok, _mm_cmpngt_ps(_mm_set1_ps(lo_[d][i]), _mm_loadu_ps(&hi_[d][j])));
+            ok = _mm_and_ps(ok, _mm_cmpngt_ps(_mm_loadu_ps(&lo_[d][j]), _mm_set1_ps(hi_[d][i])));
+        }
+        return unsigned(_mm_movemask_ps(ok));
+#else
+        unsigned bits = 0;
+        for (std::uint32_t k = 0; k < kLeaf; ++k) {
+            bool ok = true;
+            for (int d = 0; d < 3; ++d)
+                ok &= !(lo_[d][i] > hi_[d][j + k]) & !(lo_[d][j + k] > hi_[d][i]);
+            bits |= unsigned(ok) << k;
+        }
+        return bits;
+#endif
     }
-    std::vector<Flat> flat_;
+    // fn(f, g) for box i against the boxes [begin + skip, end) of one leaf.
+    template <class Fn>
+    void report(std::uint32_t i, std::uint32_t begin, std::uint32_t end, std::uint32_t skip, Fn& fn) const {
+        unsigned bits = meet_leaf(i, begin) & ((1u << (end - begin)) - 1) & ~((1u << skip) - 1);
+        for (; bits; bits &= bits - 1) fn(face_[i], face_[begin + std::uint32_t(__builtin_ctz(bits))]);
+    }
+    // The columns' arrays (read through plain pointers: the hot loops need not reload them).
+    const float* lo_[3];
+    const float* hi_[3];
+    const std::uint32_t* face_;
     std::vector<Node> nodes_;
 };
+
+std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g); }
+
+// The pairs of faces that intersect, as pair_key()s, sorted. The box search is split into tasks
+// that up to `threads` threads take in turn; the sort makes the result the same for any split.
+std::vector<std::uint64_t> search_pairs(const BoxColumns& boxes, const std::vector<FaceData>& faces, int threads) {
+    // Below this many boxes (a few milliseconds of search) a thread's start costs more than it saves.
+    constexpr std::size_t kBoxesPerThread = 4096;
+    const std::size_t workers = std::clamp<std::size_t>(boxes.size() / kBoxesPerThread, 1, std::size_t(std::max(threads, 1)));
+    const BoxPairs search(boxes);
+    // Many more tasks than threads, so that uneven tasks even out.
+    const std::vector<BoxPairs::Task> tasks = search.tasks(workers > 1 ? workers * 64 : 1);
+    std::vector<std::vector<std::uint64_t>> found(workers);
+    std::vector<std::exception_ptr> failed(workers);
+    std::atomic<std::size_t> next{0};
+    const auto work = [&](std::size_t k) {
+        try {
+            for (std::size_t t = next++; t < tasks.size(); t = next++)
+                search.run(tasks[t], [&](std::uint32_t f, std::uint32_t g) {
+                    if (faces_intersect(faces[f], faces[g])) found[k].push_back(pair_key(f, g));
+                });
+        } catch (...) {
+            failed[k] = std::current_exception();
+        }
+    };
+    std::vector<std::thread> helpers;
+    try {
+        for (std::size_t k = 1; k < workers; ++k) helpers.emplace_back(work, k);
+    } catch (const std::system_error&) {
+        // No more threads to be had: the ones started and this one take every task.
+    }
+    work(0);
+    for (std::thread& helper : helpers) helper.join();
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
+    std::vector<std::uint64_t> all = std::move(found[0]);
+    for (std::size_t k = 1; k < found.size(); ++k) all.insert(all.end(), found[k].begin(), found[k].end());
+    std::sort(all.begin(), all.end());
+    return all;
+}
 
 // Calls fn(f, g) for pairs of faces that intersect (every pair, or, with `once`, only pairs with
 // a face not reported yet: enough to flag the faces).
@@ -291,24 +459,18 @@ private:
 // when there are some does the segment tree run, to list them in its order (without testing a
 // pair again).
 template <class Fn>
-void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, Fn&& fn) {
-    std::vector<Box> boxes = face_boxes(mesh, out);
-    std::vector<FacePlane> planes(mesh.face_count());
-    for (const Box& box : boxes) planes[box.face] = face_plane(mesh, box.face);
-    std::vector<std::uint64_t> found;  // intersecting pairs, lower face << 32 | upper
-    const auto pair_key = [](std::uint32_t f, std::uint32_t g) {
-        return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g);
-    };
-    BoxPairs(boxes).each([&](std::uint32_t f, std::uint32_t g) {
-        if (faces_intersect(mesh, planes, f, g)) found.push_back(pair_key(f, g));
-    });
+void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, int threads, Fn&& fn) {
+    std::vector<FaceData> faces(mesh.face_count());
+    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(mesh, f);
+    const BoxColumns columns = face_boxes(mesh, faces, out);
+    const std::vector<std::uint64_t> found = search_pairs(columns, faces, threads);
     for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
     if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
-    std::sort(found.begin(), found.end());
     // Closed boxes (the default): faces that only touch reach the exact test too. Cutoff: below
     // this many boxes CGAL's streamed segment tree compares boxes by a plain scan, which for sets
     // this small costs less than recursing further; the same pairs either way (bench/results/model.md).
     constexpr std::ptrdiff_t kCutoff = 3000;
+    std::vector<Box> boxes = columns.cgal_boxes();
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
         const auto f = std::uint32_t(x.id()), g = std::uint32_t(y.id());
         if (std::binary_search(found.begin(), found.end(), pair_key(f, g))) fn(f, g);
@@ -343,15 +505,15 @@ void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, std::v
 
 }  // namespace
 
-std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh) {
+std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
     std::vector<std::uint8_t> out;
-    intersecting_pairs(mesh, out, true, [](std::uint32_t, std::uint32_t) {});
+    intersecting_pairs(mesh, out, true, threads, [](std::uint32_t, std::uint32_t) {});
     return out;
 }
 
-SelfIntersections self_intersections(const MeshTopology& mesh) {
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads) {
     SelfIntersections si;
-    intersecting_pairs(mesh, si.faces, false, [&](std::uint32_t fa, std::uint32_t fb) {
+    intersecting_pairs(mesh, si.faces, false, threads, [&](std::uint32_t fa, std::uint32_t fb) {
         si.pairs.push_back({fa, fb});
         for (int k = 0; k < 2; ++k) {
             const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;

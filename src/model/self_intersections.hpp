@@ -30,16 +30,17 @@ struct SelfIntersections {
     std::vector<std::array<std::uint32_t, 2>> pairs;
 };
 
-// Per face: 1 if it intersects another face (exact predicates). Candidate pairs come from CGAL's
-// box_self_intersection_d on float boxes rounded outward (32 bytes per face, twice: CGAL copies
-// them); the pair test is the case analysis of CGAL's Polygon_mesh_processing::self_intersections,
+// Per face: 1 if it intersects another face (exact predicates). Candidate pairs come from a box
+// hierarchy on float boxes rounded outward (CGAL's box_self_intersection_d lists the intersecting
+// pairs in its order when there are some); the pair test is the case analysis of CGAL's Polygon_mesh_processing::self_intersections,
 // written here because that function needs the mesh copied into a CGAL::Surface_mesh first (about
 // 80 bytes per face more, the peak of a 3 M-triangle model; docs/memory.md). test_model checks
-// that both give the same faces.
-std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh);
+// that both give the same faces. The box search runs on up to `threads` threads (the same result
+// for any count).
+std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads = 1);
 
 // The same faces, and where their edges meet the other faces of each intersecting pair (exact
 // predicates decide which edges meet which faces; the points are constructions, rounded).
-SelfIntersections self_intersections(const MeshTopology& mesh);
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads = 1);
 
 }  // namespace inkline
