@@ -3,7 +3,12 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
 
 #include "core/error.hpp"
 
@@ -52,6 +57,18 @@ unsigned gl_program(const char* vertex_source, const char* fragment_source) {
         throw Error("view", std::string("shader program does not link: ") + log);
     }
     return p;
+}
+
+GlCameraMatrices gl_camera_matrices(const Camera& cam, const glm::dvec3& centre, double radius, double aspect) {
+    const double R = std::max(radius, 1e-12);
+    const double dist = glm::dot(centre - cam.eye(), cam.forward());
+    const double near = cam.is_ortho() ? dist - 1.01 * R : std::max(dist - 1.01 * R, 1e-3 * R);
+    const double far = dist + 1.01 * R;
+    const glm::dmat4 view = glm::lookAt(cam.eye() - centre, cam.target() - centre, cam.upward());
+    const double hh = 0.5 * cam.ortho_height();
+    const glm::dmat4 proj = cam.is_ortho() ? glm::ortho(-hh * aspect, hh * aspect, -hh, hh, near, far)
+                                           : glm::perspective(glm::radians(cam.fov_deg()), aspect, near, far);
+    return {glm::mat4(view), glm::mat4(proj)};
 }
 
 }  // namespace inkline

@@ -215,22 +215,8 @@ void GlScene::draw(const Camera& cam, bool shading, const std::vector<LineVertex
 void GlScene::draw_shading(const Camera& cam) {
     if (!mesh_vao_) upload_mesh();
     const MeshTopology& m = mesh_;
-    const int w = cam.width(), h = cam.height();
-    const glm::dvec3 c = m.bounds.center();
-    const double R = std::max(m.bounds.half_diagonal(), 1e-12);
-    const double dist = glm::dot(c - cam.eye(), cam.forward());
-    const double near = cam.is_ortho() ? dist - 1.01 * R : std::max(dist - 1.01 * R, 1e-3 * R);
-    const double far = dist + 1.01 * R;
-    const glm::dmat4 view = glm::lookAt(cam.eye() - c, cam.target() - c, cam.upward());
-    const double aspect = double(w) / double(h);
-    glm::dmat4 proj;
-    if (cam.is_ortho()) {
-        const double hh = 0.5 * cam.ortho_height();
-        proj = glm::ortho(-hh * aspect, hh * aspect, -hh, hh, near, far);
-    } else {
-        proj = glm::perspective(glm::radians(cam.fov_deg()), aspect, near, far);
-    }
-    const glm::mat4 vf(view), pf(proj);
+    const auto [vf, pf] =
+        gl_camera_matrices(cam, m.bounds.center(), m.bounds.half_diagonal(), double(cam.width()) / double(cam.height()));
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     // Pushed back a little so lines on the surface are never under it (they are drawn on top anyway).

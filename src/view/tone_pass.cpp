@@ -446,19 +446,7 @@ void TonePass::shade(const Camera& cam, const tone::ToneOptions& o) {
     const MeshTopology& m = mesh_;
     const glm::dvec3 c = m.bounds.center();
     // Near and far around the bounding sphere (as the scene's shading).
-    const double R = std::max(m.bounds.half_diagonal(), 1e-12);
-    const double dist = glm::dot(c - cam.eye(), cam.forward());
-    const double near = cam.is_ortho() ? dist - 1.01 * R : std::max(dist - 1.01 * R, 1e-3 * R);
-    const double far = dist + 1.01 * R;
-    const glm::dmat4 view = glm::lookAt(cam.eye() - c, cam.target() - c, cam.upward());
-    const double aspect = double(w_) / double(h_);
-    glm::dmat4 proj;
-    if (cam.is_ortho()) {
-        const double hh = 0.5 * cam.ortho_height();
-        proj = glm::ortho(-hh * aspect, hh * aspect, -hh, hh, near, far);
-    } else {
-        proj = glm::perspective(glm::radians(cam.fov_deg()), aspect, near, far);
-    }
+    const auto [vf, pf] = gl_camera_matrices(cam, c, m.bounds.half_diagonal(), double(w_) / double(h_));
     glBindFramebuffer(GL_FRAMEBUFFER, shade_fbo_);
     glClearColor(1.0f, 0.0f, 0.0f, 1.0f);  // background: tone 1 (white), no specular, not covered, scale 1
     glClearDepth(1.0);
@@ -466,7 +454,6 @@ void TonePass::shade(const Camera& cam, const tone::ToneOptions& o) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glUseProgram(shade_prog_);
-    const glm::mat4 vf(view), pf(proj);
     glUniformMatrix4fv(uniform(shade_prog_, "view"), 1, GL_FALSE, glm::value_ptr(vf));
     glUniformMatrix4fv(uniform(shade_prog_, "projection"), 1, GL_FALSE, glm::value_ptr(pf));
     const glm::vec3 eye(cam.eye() - c), forward(cam.forward());

@@ -89,18 +89,7 @@ void ToonCoat::draw(const Camera& cam, const CoatMesh& mesh, bool fresh) {
         indices_ = mesh.triangles.size();
     }
     // The same projection as the flat shading (GlScene::draw_shading): depth range from the bounds.
-    const glm::dvec3 c = mesh.centre;
-    const double R = std::max(mesh.radius, 1e-12);
-    const double dist = glm::dot(c - cam.eye(), cam.forward());
-    const double near = cam.is_ortho() ? dist - 1.01 * R : std::max(dist - 1.01 * R, 1e-3 * R);
-    const double far = dist + 1.01 * R;
-    const glm::dmat4 view = glm::lookAt(cam.eye() - c, cam.target() - c, cam.upward());
-    const double aspect = double(cam.width()) / double(cam.height());
-    const glm::dmat4 proj = cam.is_ortho()
-                                ? glm::ortho(-0.5 * cam.ortho_height() * aspect, 0.5 * cam.ortho_height() * aspect,
-                                             -0.5 * cam.ortho_height(), 0.5 * cam.ortho_height(), near, far)
-                                : glm::perspective(glm::radians(cam.fov_deg()), aspect, near, far);
-    const glm::mat4 vf(view), pf(proj);
+    const auto [vf, pf] = gl_camera_matrices(cam, mesh.centre, mesh.radius, double(cam.width()) / double(cam.height()));
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glEnable(GL_POLYGON_OFFSET_FILL);
