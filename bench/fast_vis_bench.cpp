@@ -5,7 +5,9 @@
 // Views: the bench's orbit (bench_models.hpp: 20 degrees above the equator, every 360/N degrees),
 // 1024 x 1024. Each view's time is the median of its repeats; a mesh's is the mean over views.
 // Usage: fast_vis_bench [--meshes=a,b,...] [--buffers=256,512,...] [--views=N] [--repeats=K]
-//                       [--svg=PATH]   (--svg: the accuracy/time curve, the buffer's size as the knob)
+//                       [--svg=PATH] [--exact-repeats=K]
+// (--svg: the accuracy/time curve, the buffer's size as the knob; --exact-repeats: the exact frames'
+// repeats when they differ from --repeats, e.g. 1 to profile the fast frames alone)
 // Prints a markdown table, one row per (mesh, buffer).
 #include <algorithm>
 #include <chrono>
@@ -37,6 +39,8 @@ struct Row {
     int buffer = 0;
     double exact_ms = 0, fast_ms = 0, exact_wall = 0, fast_wall = 0, missing = 0, extra = 0, reference = 0;
     std::size_t ray_tests = 0, ambiguous = 0, samples = 0;
+    // The last repeat's stage times (the drawing's stats), mean over the views, ms.
+    double exact_features = 0, exact_visibility = 0, fast_features = 0, fast_visibility = 0;
     double share() const { return reference > 0 ? (missing + extra) / reference : 0.0; }
 };
 
@@ -69,6 +73,8 @@ Times time_view(ViewSession& session, const Camera& cam, int repeats) {
 
 FastVisibilityOptions g_fast;  // --margin, --cusp, --short-run, --exact-lone-cusps
 
+int g_exact_repeats = 0;  // --exact-repeats (0: as --repeats), e.g. 1 to profile the fast frames alone
+
 std::vector<Row> bench_mesh(const std::string& name, const std::vector<int>& buffers, int views, int repeats) {
     const Model* m = bench_model_for(name, "fast_vis_bench");
     if (!m) return {};
@@ -83,10 +89,13 @@ std::vector<Row> bench_mesh(const std::string& name, const std::vector<int>& buf
     ViewSession es(*m, exact);
     std::vector<Drawing> reference;
     Times exact_t;
+    double exact_features = 0, exact_visibility = 0;
     for (const Camera& c : cams) {
-        const Times t = time_view(es, c, repeats);
+        const Times t = time_view(es, c, g_exact_repeats > 0 ? g_exact_repeats : repeats);
         exact_t.cpu_ms += t.cpu_ms / views, exact_t.wall_ms += t.wall_ms / views;
         reference.push_back(es.render(c).drawing);
+        exact_features += 1e3 * reference.back().stats.seconds_features / views;
+        exact_visibility += 1e3 * reference.back().stats.seconds_visibility / views;
     }
     std::vector<Row> rows;
     for (int b : buffers) {
@@ -96,6 +105,7 @@ std::vector<Row> bench_mesh(const std::string& name, const std::vector<int>& buf
         fast.fast.buffer_px = b;
         ViewSession fs(*m, fast);
         Row r{name, b, exact_t.cpu_ms, 0.0, exact_t.wall_ms};
+        r.exact_features = exact_features, r.exact_visibility = exact_visibility;
         for (std::size_t k = 0; k < cams.size(); ++k) {
             const Times t = time_view(fs, cams[k], repeats);
             r.fast_ms += t.cpu_ms / views, r.fast_wall += t.wall_ms / views;
@@ -103,6 +113,8 @@ std::vector<Row> bench_mesh(const std::string& name, const std::vector<int>& buf
             const LineDifference d = visible_difference(reference[k], v.drawing);
             r.missing += d.missing_px, r.extra += d.extra_px, r.reference += d.reference_px;
             r.ray_tests += v.drawing.stats.ray_tests;
+            r.fast_features += 1e3 * v.drawing.stats.seconds_features / views;
+            r.fast_visibility += 1e3 * v.drawing.stats.seconds_visibility / views;
         }
         rows.push_back(r);
     }
@@ -182,6 +194,7 @@ int main(int argc, char** argv) {
         } else if (a.rfind("--views=", 0) == 0) views = std::max(1, std::stoi(value("--views=")));
         else if (a.rfind("--repeats=", 0) == 0) repeats = std::max(1, std::stoi(value("--repeats=")));
         else if (a.rfind("--svg=", 0) == 0) svg = value("--svg=");
+        else if (a.rfind("--exact-repeats=", 0) == 0) g_exact_repeats = std::max(1, std::stoi(value("--exact-repeats=")));
         else if (a.rfind("--margin=", 0) == 0) g_fast.margin_px = std::stod(value("--margin="));
         else if (a.rfind("--cusp=", 0) == 0) g_fast.cusp_px = std::stod(value("--cusp="));
         else if (a.rfind("--short-run=", 0) == 0) g_fast.short_run = std::stoul(value("--short-run="));
@@ -200,6 +213,9 @@ int main(int argc, char** argv) {
             std::printf("| %s | %d | %.3f | %.3f | %.2fx | %.1f | %.1f | %.3f %% | %.0f | %.3f / %.3f |\n", r.mesh.c_str(),
                         r.buffer, r.exact_ms, r.fast_ms, r.exact_ms / r.fast_ms, r.missing, r.extra, 100.0 * r.share(),
                         double(r.ray_tests) / views, r.exact_wall, r.fast_wall);
+            std::fprintf(stderr, "%s %d: features %.3f / %.3f ms, visibility %.3f / %.3f ms (exact / fast)\n",
+                         r.mesh.c_str(), r.buffer, r.exact_features, r.fast_features, r.exact_visibility,
+                         r.fast_visibility);
             std::fflush(stdout);
             all.push_back(r);
         }
