@@ -83,10 +83,12 @@ double Settler::plane_depth(const glm::dvec3& n, double d, glm::dvec2 p) const {
 
 int Settler::in_front(const EdgeView& ev, int i, int j, double z, double margin, std::uint32_t& face) const {
     if (i < 0 || j < 0 || i >= buffer_.width() || j >= buffer_.height()) return -1;
-    const std::uint32_t g = buffer_.face(i, j);
-    if (g == kNoFace || g == ev.f0 || g == ev.f1) return -1;
+    // The key array first: most centres looked at are empty or behind, and then the face array
+    // (another cache line) is not read.
     const double zc = buffer_.depth(i, j);
-    if (zc >= z) return -1;  // behind at the centre (the face need not be read)
+    if (zc >= z) return -1;  // empty, or behind at the centre
+    const std::uint32_t g = buffer_.face(i, j);
+    if (g == ev.f0 || g == ev.f1) return -1;
     const auto& t = mesh_.faces[g];
     // The faces around the edge's ends are its own surface (their local occlusion is a cusp's),
     // but for an edge between two back faces: a front face there is the fold that hides it.
