@@ -14,6 +14,7 @@
 #include "pipeline.hpp"
 #include "random_camera.hpp"
 #include "test_data.hpp"
+#include "visibility/depth_buffer.hpp"
 #include "visibility/line_difference.hpp"
 
 namespace {
@@ -130,6 +131,108 @@ INSTANTIATE_TEST_SUITE_P(Meshes, FastSixMeshes,
                                  if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                              return s;
                          });
+
+// The depth buffer's fill (depth_raster.hpp): the AVX2 kernel writes exactly what the scalar
+// kernel writes, key and face of every pixel, padding included, in scenes that reach the buffer's
+// border, with a face larger than the image, at tiny and huge coordinates, and orthographic.
+struct Filled {
+    std::vector<float> keys;
+    std::vector<std::uint32_t> faces;
+    int width = 0, height = 0, stride = 0;
+    std::size_t drawn = 0;
+};
+
+Filled fill(const MeshTopology& mesh, const Camera& camera, int buffer_px, RasterKernel kernel) {
+    DepthBuffer b;
+    b.set_kernel(kernel);
+    b.reset(camera, buffer_px, {0.0, 0.0}, {double(camera.width()), double(camera.height())});
+    EXPECT_TRUE(b.draw(mesh, nullptr));
+    return {b.keys(), b.faces(), b.width(), b.height(), b.stride(), b.faces_drawn()};
+}
+
+TriangleMesh scaled(TriangleMesh m, double s) {
+    for (auto& p : m.positions) p *= s;
+    return m;
+}
+
+// The pixels each face owns (kNoFace: none), of the buffer's width x height.
+std::vector<std::uint32_t> owners(const Filled& f) {
+    std::vector<std::uint32_t> out;
+    for (int j = 0; j < f.height; ++j)
+        for (int i = 0; i < f.width; ++i) out.push_back(f.faces[std::size_t(j) * f.stride + i]);
+    return out;
+}
+
+TEST(DepthRaster, VectorKernelWritesWhatTheScalarOneWrites) {
+    const RasterKernel avx2 = raster_kernel_avx2();
+    if (!avx2) GTEST_SKIP() << "no AVX2 kernel on this machine";
+    const TriangleMesh spheres = merged({make_sphere({0, 0, 0}, 1.0, 96, 48), make_sphere({0.9, 0.4, 1.2}, 0.5, 64, 32),
+                                         make_box({-3, -3, -1.5}, {3, 3, -1.2})});
+    struct Case {
+        const char* name;
+        double scale;
+        Camera camera;
+        int buffer_px;
+    };
+    const Case cases[] = {
+        {"framed", 1.0, Camera::perspective({0, 0, 6}, {0, 0, 0}, {0, 1, 0}, 40, 640, 480), 384},
+        // The box's faces are larger than the image and leave it on every side.
+        {"beyond the border", 1.0, Camera::perspective({0.3, 0.2, 2.6}, {0.3, 0.2, 0}, {0, 1, 0}, 50, 300, 200), 301},
+        {"tiny", 1e-6, Camera::perspective({0, 0, 6e-6}, {0, 0, 0}, {0, 1, 0}, 40, 640, 480), 384},
+        {"huge", 1e6, Camera::perspective({0, 0, 6e6}, {0, 0, 0}, {0, 1, 0}, 40, 640, 480), 384},
+        {"orthographic", 1.0, Camera::orthographic({2, 1, 6}, {0, 0, 0}, {0, 1, 0}, 3.0, 500, 500), 257},
+    };
+    for (const Case& c : cases) {
+        const MeshTopology mesh = Model(scaled(spheres, c.scale)).topology();
+        const Filled s = fill(mesh, c.camera, c.buffer_px, &raster_faces_scalar);
+        const Filled v = fill(mesh, c.camera, c.buffer_px, avx2);
+        EXPECT_EQ(s.stride % 8, 0) << c.name;
+        EXPECT_EQ(s.drawn, mesh.face_count()) << c.name;
+        EXPECT_EQ(v.drawn, s.drawn) << c.name;
+        EXPECT_TRUE(s.keys == v.keys) << c.name;
+        EXPECT_TRUE(s.faces == v.faces) << c.name;
+        std::size_t covered = 0;
+        for (std::uint32_t f : owners(s)) covered += f != kNoFace;
+        EXPECT_GT(covered, std::size_t(s.width * s.height) / 10) << c.name;
+        // Nothing written past the buffer's width (the vector kernel's padding lanes).
+        for (int j = 0; j < s.height; ++j)
+            for (int i = s.width; i < s.stride; ++i) EXPECT_EQ(v.faces[std::size_t(j) * v.stride + i], kNoFace) << c.name;
+    }
+    // Scaling the scene with its camera leaves its image alone: the same owner at every pixel.
+    const Filled unit = fill(Model(scaled(spheres, 1.0)).topology(), cases[0].camera, 384, avx2);
+    for (int k : {2, 3}) {
+        const Filled f = fill(Model(scaled(spheres, cases[k].scale)).topology(), cases[k].camera, 384, avx2);
+        const std::vector<std::uint32_t> a = owners(unit), b = owners(f);
+        std::size_t differ = 0;
+        for (std::size_t p = 0; p < a.size(); ++p) differ += a[p] != b[p];
+        EXPECT_LE(differ, a.size() / 1000) << cases[k].name;  // centres on an edge may round either way
+    }
+}
+
+// One face larger than the image covers every pixel, at its plane's depth.
+TEST(DepthRaster, FaceLargerThanTheImage) {
+    TriangleMesh m;
+    m.positions = {{-100, -100, 0}, {100, -100, 0}, {0, 150, 0}};
+    m.triangles = {{0, 1, 2}};
+    const MeshTopology mesh = Model(m).topology();
+    for (const Camera& cam : {Camera::perspective({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 40, 200, 100),
+                              Camera::orthographic({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 4.0, 200, 100)}) {
+        for (RasterKernel k : {raster_kernel_avx2(), &raster_faces_scalar}) {
+            if (!k) continue;
+            DepthBuffer b;
+            b.set_kernel(k);
+            b.reset(cam, 64, {0.0, 0.0}, {200.0, 100.0});
+            ASSERT_TRUE(b.draw(mesh, nullptr));
+            ASSERT_EQ(b.width(), 64);
+            ASSERT_EQ(b.height(), 32);
+            for (int j = 0; j < b.height(); ++j)
+                for (int i = 0; i < b.width(); ++i) {
+                    ASSERT_EQ(b.face(i, j), 0u) << i << "," << j;
+                    ASSERT_NEAR(b.depth(i, j), 5.0, 1e-5) << i << "," << j;
+                }
+        }
+    }
+}
 
 // The measure itself: a drawing against itself differs by nothing; against an empty one by all
 // of its visible length, as missing.

@@ -14,6 +14,7 @@
 
 #include "core/camera.hpp"
 #include "model/topology.hpp"
+#include "visibility/depth_raster.hpp"
 
 namespace inkline {
 
@@ -27,6 +28,13 @@ public:
     // buffer left partly drawn, when a face to draw reaches the camera's near plane (the caller
     // then takes the exact method: a buffer cannot stand for geometry around the eye).
     bool draw(const MeshTopology& mesh, const std::vector<std::uint8_t>* draw);
+    // The fill's kernel (depth_raster.hpp; default: the fastest the CPU runs). The tests set the
+    // scalar one to compare.
+    void set_kernel(RasterResult (*kernel)(const RasterJob&)) { kernel_ = kernel; }
+    // The buffer's raw keys (larger is nearer), row-major with stride(), for comparisons.
+    const std::vector<float>& keys() const { return key_; }
+    const std::vector<std::uint32_t>& faces() const { return face_; }
+    int stride() const { return stride_; }
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -65,6 +73,7 @@ private:
     std::vector<std::uint8_t> vnear_;  // per mesh vertex: at or before the near plane
     int used_x0_ = 0, used_y0_ = 0, used_x1_ = -1, used_y1_ = -1;  // pixels written since the clear
     std::size_t drawn_ = 0;
+    RasterKernel kernel_ = raster_kernel();
 };
 
 }  // namespace inkline

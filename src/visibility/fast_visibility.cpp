@@ -83,10 +83,12 @@ double Settler::plane_depth(const glm::dvec3& n, double d, glm::dvec2 p) const {
 
 int Settler::in_front(const EdgeView& ev, int i, int j, double z, double margin, std::uint32_t& face) const {
     if (i < 0 || j < 0 || i >= buffer_.width() || j >= buffer_.height()) return -1;
-    const std::uint32_t g = buffer_.face(i, j);
-    if (g == kNoFace || g == ev.f0 || g == ev.f1) return -1;
+    // The key array first: most centres looked at are empty or behind, and then the face array
+    // (another cache line) is not read.
     const double zc = buffer_.depth(i, j);
-    if (zc >= z) return -1;  // behind at the centre (the face need not be read)
+    if (zc >= z) return -1;  // empty, or behind at the centre
+    const std::uint32_t g = buffer_.face(i, j);
+    if (g == ev.f0 || g == ev.f1) return -1;
     const auto& t = mesh_.faces[g];
     // The faces around the edge's ends are its own surface (their local occlusion is a cusp's),
     // but for an edge between two back faces: a front face there is the fold that hides it.
@@ -184,16 +186,19 @@ std::uint8_t Settler::settle(const EdgeView& ev, glm::dvec2 q, double z, float& 
 }
 
 // Everything about curve edge k of curve c that its samples need.
+// `prev`: the curve's previous edge (null for the first), whose end's image and depth are this
+// edge's start's.
 EdgeView edge_view(const MeshTopology& mesh, const Camera& camera, const Features& features, const FeatureCurve& c,
-                   std::size_t k) {
+                   std::size_t k, const EdgeView* prev) {
     EdgeView ev;
     ev.edge = c.edges[k];
     ev.a = c.vertices[k], ev.b = c.vertices[k + 1];
     ev.forward = mesh.edge_vertex[ev.edge][0] == ev.a;
     ev.f0 = mesh.edge_face[ev.edge][0], ev.f1 = mesh.edge_face[ev.edge][1];
     ev.A = mesh.positions[ev.a], ev.B = mesh.positions[ev.b];
-    ev.ia = camera.project(ev.A), ev.ib = camera.project(ev.B);
-    ev.zA = camera.depth(ev.A), ev.zB = camera.depth(ev.B);
+    if (prev) ev.ia = prev->ib, ev.zA = prev->zB;
+    else ev.ia = camera.project(ev.A), ev.zA = camera.depth(ev.A);
+    ev.ib = camera.project(ev.B), ev.zB = camera.depth(ev.B);
     const bool front0 = features.face_front[ev.f0];
     const bool front1 = ev.f1 != kNoFace && features.face_front[ev.f1];
     ev.silhouette = ev.f1 != kNoFace && front0 != front1;
@@ -270,7 +275,7 @@ bool sample_curve(const MeshTopology& mesh, const Camera& camera, const Features
     s.edges.clear(), s.samples.clear(), s.cusps.clear();
     double arc = 0.0;
     for (std::size_t k = 0; k < c.edges.size(); ++k) {
-        const EdgeView ev = edge_view(mesh, camera, features, c, k);
+        const EdgeView ev = edge_view(mesh, camera, features, c, k, k > 0 ? &s.edges.back() : nullptr);
         if (!(ev.zA > camera.near_distance() && ev.zB > camera.near_distance())) return false;
         std::uint8_t preset = kOpen;
         const bool back0 = !features.face_front[ev.f0];
@@ -395,25 +400,32 @@ std::size_t resolve_near_cusps(const Camera& camera, const std::function<const R
 // Appends the curve's pieces: runs of equal state, cut halfway between two samples that differ
 // (at the vertex between them when they lie on consecutive edges).
 void emit_pieces(const MeshTopology& mesh, const Camera& camera, const FeatureCurve& c, std::uint32_t curve,
-                 const Scratch& s, std::vector<Piece>& pieces, std::vector<std::vector<EdgeSpan>>& spans) {
+                 const Scratch& s, std::vector<Piece>& pieces, std::vector<std::vector<EdgeSpan>>& spans,
+                 std::size_t& used) {
     if (s.samples.empty()) return;
     const bool ortho = camera.is_ortho();
     const auto edge_param = [&](const EdgeView& ev, double t) {
         const double u = space_param(ev, t, ortho);
         return ev.forward ? u : 1.0 - u;
     };
+    // Pieces [0, used) are this view's; those after them are the previous view's, whose storage
+    // is taken over (their vectors cleared, capacity kept) instead of allocated anew.
     const auto start = [&](const EdgeView& ev, double t, std::uint8_t state) {
-        pieces.emplace_back();
-        Piece& p = pieces.back();
+        if (used == pieces.size()) pieces.emplace_back(), spans.emplace_back();
+        Piece& p = pieces[used];
+        spans[used].clear();
+        ++used;
         p.kind = c.kind;
         p.qi = state == kHidden ? 1 : 0;
         p.curve = curve;
+        p.object = 0;
+        p.opacity.clear(), p.width.clear();
+        p.points.clear();
         p.points.push_back(ev.ia + t * (ev.ib - ev.ia));
-        spans.emplace_back();
     };
     const auto extend = [&](const EdgeView& ev, double t0, double t1) {
-        pieces.back().points.push_back(ev.ia + t1 * (ev.ib - ev.ia));
-        spans.back().push_back({ev.edge, edge_param(ev, t0), edge_param(ev, t1)});
+        pieces[used - 1].points.push_back(ev.ia + t1 * (ev.ib - ev.ia));
+        spans[used - 1].push_back({ev.edge, edge_param(ev, t0), edge_param(ev, t1)});
     };
     std::uint8_t state = s.samples[0].state;
     start(s.edges[0], 0.0, state);
@@ -428,9 +440,7 @@ void emit_pieces(const MeshTopology& mesh, const Camera& camera, const FeatureCu
             // cut is at the vertex between them)
             const double cut = (k > 0 && s.samples[k - 1].edge == e) ? 0.5 * (s.samples[k - 1].t + s.samples[k].t) : 0.0;
             if (cut > t) extend(ev, t, cut);
-            if (pieces.back().points.size() < 2) {  // nothing drawn yet: restart it here
-                pieces.pop_back(), spans.pop_back();
-            }
+            if (pieces[used - 1].points.size() < 2) --used;  // nothing drawn yet: restart it here
             start(ev, cut, state);
             t = cut;
         }
@@ -480,7 +490,8 @@ FastVisibilityStats FastVisibility::run(const MeshTopology& mesh, const Features
                                         const FastVisibilityOptions& options, std::vector<Piece>& pieces,
                                         std::vector<std::vector<EdgeSpan>>& spans) {
     FastVisibilityStats st;
-    pieces.clear(), spans.clear();
+    std::size_t used = 0;  // pieces of this view so far (emit_pieces reuses the storage of those after)
+    spans.resize(pieces.size());
     if (!scratch_) scratch_ = std::make_shared<Scratch>();
     const auto t0 = StageClock::now();
     // A closed solid seen from outside: the nearest face anywhere is a front face, and back
@@ -495,6 +506,7 @@ FastVisibilityStats FastVisibility::run(const MeshTopology& mesh, const Features
                   buffer_window(mesh, camera, 0), buffer_window(mesh, camera, 1));
     if (!buffer_.draw(mesh, solid ? &draw_ : nullptr)) {
         st.exact_needed = true;
+        pieces.clear(), spans.clear();
         return st;
     }
     st.faces_drawn = buffer_.faces_drawn();
@@ -521,9 +533,10 @@ FastVisibilityStats FastVisibility::run(const MeshTopology& mesh, const Features
         st.ray_tests += resolve_ambiguous(camera, rays, options.short_run, s);
         st.ray_tests += resolve_near_cusps(camera, rays, options.exact_lone_cusps, s);
         if (st.ray_tests > tests) st.seconds_ray_tests += seconds_since(tr);
-        emit_pieces(mesh, camera, curve, std::uint32_t(c), s, pieces, spans);
+        emit_pieces(mesh, camera, curve, std::uint32_t(c), s, pieces, spans, used);
     }
     for (std::uint32_t v : features.cusp_vertices) cusp_[v] = 0;
+    pieces.resize(used), spans.resize(used);
     if (st.exact_needed) pieces.clear(), spans.clear();
     st.seconds_samples = std::max(0.0, seconds_since(t1) - st.seconds_ray_tests);
     return st;
