@@ -838,6 +838,65 @@ void find_extreme_vertices(PieceGraph& g) {
         }
 }
 
+// Appends ranges 1.. (their output in `rest`, others[i - 1]) after range 0's (in `first`), in
+// range order, their indices shifted; their pieces swapped into the graph's slots (each side
+// keeps storage). The slots and the arrays' sizes are made first; then the copies, split among
+// the team in equal slices of each array (the outcome does not depend on the slices).
+void append_ranges(PieceGraph& g, std::vector<std::unique_ptr<Scratch>>& rest, const std::vector<Part>& others, int parts,
+                   Part& first) {
+    // Where each range's pieces, links, link crossings and ends start (range 0's first).
+    std::vector<std::size_t> piece_at(std::size_t(parts) + 1), link_at(piece_at), lc_at(piece_at), end_at(piece_at);
+    piece_at[1] = first.n, link_at[1] = g.links.size(), lc_at[1] = g.link_crossings.size(), end_at[1] = g.ends.size();
+    for (int i = 1; i < parts; ++i) {
+        const Scratch::Parts& p = rest[std::size_t(i - 1)]->parts;
+        const std::size_t k = std::size_t(i);
+        piece_at[k + 1] = piece_at[k] + others[k - 1].n;
+        link_at[k + 1] = link_at[k] + p.links.size();
+        lc_at[k + 1] = lc_at[k] + p.link_crossings.size();
+        end_at[k + 1] = end_at[k] + p.ends.size();
+        first.crossings += others[k - 1].crossings;
+    }
+    VisibleCurves& out = g.curves;
+    const std::size_t total = piece_at[std::size_t(parts)];
+    out.pieces.reserve(total + 1);
+    out.spans.reserve(total + 1);
+    while (first.n < total) {
+        first.open_slot();
+        ++first.n;
+    }
+    g.links.resize(link_at[std::size_t(parts)]);
+    g.link_crossings.resize(lc_at[std::size_t(parts)]);
+    g.ends.resize(end_at[std::size_t(parts)]);
+    // fn(i, k, j) for the items j of this slice of [at[1], at[parts]): item k of range i.
+    auto slice = [parts](const std::vector<std::size_t>& at, int t, int slices, auto&& fn) {
+        const std::size_t n = at[std::size_t(parts)] - at[1];
+        const std::size_t j0 = at[1] + n * std::size_t(t) / std::size_t(slices), j1 = at[1] + n * std::size_t(t + 1) / std::size_t(slices);
+        for (int i = 1; i < parts; ++i) {
+            const std::size_t lo = std::max(j0, at[std::size_t(i)]), hi = std::min(j1, at[std::size_t(i) + 1]);
+            for (std::size_t j = lo; j < hi; ++j) fn(std::size_t(i), j - at[std::size_t(i)], j);
+        }
+    };
+    g.team().run(parts, [&](int t) {
+        slice(piece_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            Scratch::Parts& p = rest[i - 1]->parts;
+            std::swap(out.pieces[j], p.pieces[k]);
+            std::swap(out.spans[j], p.spans[k]);
+        });
+        slice(link_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            const PieceGraph::Link& l = rest[i - 1]->parts.links[k];
+            g.links[j] = {l.before + std::uint32_t(piece_at[i]), l.after + std::uint32_t(piece_at[i])};
+        });
+        slice(lc_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            g.link_crossings[j] = rest[i - 1]->parts.link_crossings[k];
+            g.link_crossings[j].link += std::uint32_t(link_at[i]);
+        });
+        slice(end_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            const PieceGraph::End& e = rest[i - 1]->parts.ends[k];
+            g.ends[j] = {e.piece + std::uint32_t(piece_at[i]), e.vertex, e.edge};
+        });
+    });
+}
+
 // build_range of the curves in `parts` ranges of about equal edge counts (two: the calling
 // thread's share fitted to the last views' times, SplitShare), range i on the graph's team thread
 // i; the other ranges' pieces and links appended after the first's (in `first`) in range order,
@@ -888,29 +947,7 @@ void build_ranges(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         seconds[std::size_t(i)] = seconds_since(t0);
     });
     if (parts == 2) g.curves_split.fit(double(first_edges) / double(total_edges), seconds[0], seconds[1]);
-    // Append the other ranges in order, their indices shifted; their pieces swapped into the
-    // graph's slots (each side keeps storage).
-    VisibleCurves& out = g.curves;
-    for (int i = 1; i < parts; ++i) {
-        Scratch::Parts& p2 = scratch_others[std::size_t(i - 1)]->parts;
-        const Part& second = others[std::size_t(i - 1)];
-        const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
-        for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
-        for (auto& lc : p2.link_crossings) {
-            g.link_crossings.push_back(lc);
-            g.link_crossings.back().link += nl;
-        }
-        for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
-        out.pieces.reserve(first.n + second.n + 1);
-        out.spans.reserve(first.n + second.n + 1);
-        for (std::uint32_t k = 0; k < second.n; ++k) {
-            first.open_slot();
-            std::swap(out.pieces[first.n], p2.pieces[k]);
-            std::swap(out.spans[first.n], p2.spans[k]);
-            ++first.n;
-        }
-        first.crossings += second.crossings;
-    }
+    append_ranges(g, scratch_others, others, parts, first);
 }
 
 }  // namespace
