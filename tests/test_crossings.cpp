@@ -1120,3 +1120,33 @@ TEST(BoxPairs, SparseHitsInFullCells) {
     expect_pairs(a, b, "sparse hits");
     expect_pairs(b, a, "sparse hits, swapped");
 }
+
+// The binning split among threads (build_pieces' occluders on a large view) makes the same bins
+// as one thread: every query then gives the same pairs in the same order, for any part count.
+TEST(BoxPairs, SplitBinningEqualsOneThread) {
+    std::mt19937_64 rng(57);
+    std::vector<Segment2> segs, queries;
+    for (std::uint32_t i = 0; i < 9000; ++i) segs.push_back(random_segment(rng, i));
+    for (std::uint32_t i = 0; i < 2000; ++i) queries.push_back(random_segment(rng, 20000 + i));
+    for (std::uint32_t i = 0; i < 40; ++i)  // big boxes (tested against every box), spread out
+        segs[i * 211] = seg(-10.0 + i, 5.0, kW + 10.0 - i, kH - 5.0, 30000 + i);
+    std::vector<inkline::Box2f> b, a;
+    for (const auto& s : segs) b.push_back(inkline::outer_box(s));
+    for (const auto& s : queries) a.push_back(inkline::outer_box(s));
+    inkline::BoxPairs one;
+    one.prepare(b, kW, kH);
+    std::vector<std::uint64_t> want;
+    std::vector<std::uint32_t> hits;
+    one.pairs(a, want, hits);
+    ASSERT_GT(want.size(), 1000u);
+    inkline::WorkerTeam team;
+    for (int parts : {2, 3, 8}) {
+        inkline::BoxPairs split;
+        for (int round = 0; round < 2; ++round) {  // (storage kept from the first round)
+            split.prepare(b, kW, kH, &team, parts);
+            std::vector<std::uint64_t> got;
+            split.pairs(a, got, hits);
+            EXPECT_TRUE(got == want) << parts << " parts, round " << round;
+        }
+    }
+}

@@ -330,16 +330,12 @@ void BoxPairs::bin(const std::vector<Box2f>& boxes, Bins& bins) {
     std::vector<std::array<std::int16_t, 4>>& r = ranges_;
     r.resize(boxes.size());
     for (std::uint32_t i = 0; i < boxes.size(); ++i) {
-        const Box2f& b = boxes[i];
-        const int x0 = cx(b.x0), x1 = cx(b.x1), y0 = cy(b.y0), y1 = cy(b.y1);
-        if ((x1 - x0 + 1) * (y1 - y0 + 1) > kBigCells) {
+        if (!cell_range(boxes[i], r[i])) {
             bins.big.push_back(i);
-            r[i][0] = -1;
             continue;
         }
-        r[i] = {std::int16_t(x0), std::int16_t(x1), std::int16_t(y0), std::int16_t(y1)};
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) ++bins.begin[std::size_t(y) * nx_ + x + 1];
+        for (int y = r[i][2]; y <= r[i][3]; ++y)
+            for (int x = r[i][0]; x <= r[i][1]; ++x) ++bins.begin[std::size_t(y) * nx_ + x + 1];
     }
     for (std::size_t c = 0; c < cells; ++c) bins.begin[c + 1] += bins.begin[c];
     const std::size_t n = bins.begin[cells];
@@ -364,7 +360,85 @@ void BoxPairs::bin(const std::vector<Box2f>& boxes, Bins& bins) {
     bins.begin[0] = 0;
 }
 
-void BoxPairs::prepare(const std::vector<Box2f>& b, double width, double height) {
+bool BoxPairs::cell_range(const Box2f& b, std::array<std::int16_t, 4>& r) const {
+    const int x0 = cx(b.x0), x1 = cx(b.x1), y0 = cy(b.y0), y1 = cy(b.y1);
+    if ((x1 - x0 + 1) * (y1 - y0 + 1) > kBigCells) {
+        r[0] = -1;
+        return false;
+    }
+    r = {std::int16_t(x0), std::int16_t(x1), std::int16_t(y0), std::int16_t(y1)};
+    return true;
+}
+
+void BoxPairs::bin_split(const std::vector<Box2f>& boxes, Bins& bins, WorkerTeam& team, int parts) {
+    // A counting sort in parallel: each part counts its boxes per cell; each range of cells then
+    // turns the counts into every part's first slot in the cell (part 0's boxes first, so a
+    // cell's boxes stay in box order); each part then writes its boxes at its slots.
+    const std::size_t cells = std::size_t(nx_) * ny_, nb = boxes.size();
+    auto first_box = [&](int p) { return std::uint32_t(nb * std::size_t(p) / std::size_t(parts)); };
+    auto first_cell = [&](int p) { return cells * std::size_t(p) / std::size_t(parts); };
+    if (part_counts_.size() < std::size_t(parts)) part_counts_.resize(std::size_t(parts)), part_big_.resize(std::size_t(parts));
+    std::vector<std::array<std::int16_t, 4>>& r = ranges_;
+    r.resize(nb);
+    team.run(parts, [&](int p) {
+        std::vector<std::uint32_t>& count = part_counts_[std::size_t(p)];
+        count.assign(cells, 0);
+        part_big_[std::size_t(p)].clear();
+        for (std::uint32_t i = first_box(p); i < first_box(p + 1); ++i) {
+            if (!cell_range(boxes[i], r[i])) {
+                part_big_[std::size_t(p)].push_back(i);
+                continue;
+            }
+            for (int y = r[i][2]; y <= r[i][3]; ++y)
+                for (int x = r[i][0]; x <= r[i][1]; ++x) ++count[std::size_t(y) * nx_ + x];
+        }
+    });
+    std::vector<std::uint32_t> range_start(std::size_t(parts) + 1, 0);
+    team.run(parts, [&](int p) {
+        std::uint32_t total = 0;
+        for (std::size_t c = first_cell(p); c < first_cell(p + 1); ++c)
+            for (int q = 0; q < parts; ++q) total += part_counts_[std::size_t(q)][c];
+        range_start[std::size_t(p) + 1] = total;
+    });
+    for (int p = 0; p < parts; ++p) range_start[std::size_t(p) + 1] += range_start[std::size_t(p)];
+    bins.begin.resize(cells + 1);
+    team.run(parts, [&](int p) {
+        std::uint32_t at = range_start[std::size_t(p)];
+        for (std::size_t c = first_cell(p); c < first_cell(p + 1); ++c) {
+            bins.begin[c] = at;
+            for (int q = 0; q < parts; ++q) {
+                const std::uint32_t k = part_counts_[std::size_t(q)][c];
+                part_counts_[std::size_t(q)][c] = at;
+                at += k;
+            }
+        }
+    });
+    const std::size_t n = range_start[std::size_t(parts)];
+    bins.begin[cells] = std::uint32_t(n);
+    // (padded by 3, as bin)
+    bins.items.resize(n + 3);
+    bins.x0.resize(n + 3), bins.y0.resize(n + 3), bins.x1.resize(n + 3), bins.y1.resize(n + 3);
+    bins.v0.resize(n + 3), bins.v1.resize(n + 3), bins.cx0.resize(n + 3), bins.cy0.resize(n + 3);
+    team.run(parts, [&](int p) {
+        std::vector<std::uint32_t>& next = part_counts_[std::size_t(p)];
+        for (std::uint32_t i = first_box(p); i < first_box(p + 1); ++i) {
+            if (r[i][0] < 0) continue;
+            const Box2f& b = boxes[i];
+            for (int y = r[i][2]; y <= r[i][3]; ++y)
+                for (int x = r[i][0]; x <= r[i][1]; ++x) {
+                    const std::uint32_t at = next[std::size_t(y) * nx_ + x]++;
+                    bins.items[at] = i;
+                    bins.x0[at] = b.x0, bins.y0[at] = b.y0, bins.x1[at] = b.x1, bins.y1[at] = b.y1;
+                    bins.v0[at] = b.v0, bins.v1[at] = b.v1;
+                    bins.cx0[at] = r[i][0], bins.cy0[at] = r[i][2];
+                }
+        }
+    });
+    bins.big.clear();
+    for (int p = 0; p < parts; ++p) bins.big.insert(bins.big.end(), part_big_[std::size_t(p)].begin(), part_big_[std::size_t(p)].end());
+}
+
+void BoxPairs::prepare(const std::vector<Box2f>& b, double width, double height, WorkerTeam* team, int parts) {
     b_boxes_ = &b;
     // The grid: over the finite extent of the boxes within the widened image, cells about four
     // times the mean box side, at most ~4 cells per box and 1024 a side.
@@ -388,7 +462,8 @@ void BoxPairs::prepare(const std::vector<Box2f>& b, double width, double height)
     ny_ = std::clamp(int(std::ceil(ey / side)), 1, 1024);
     lo_x_ = lo[0], lo_y_ = lo[1];
     inv_x_ = double(nx_) / ex, inv_y_ = double(ny_) / ey;
-    bin(b, b_);
+    if (team && parts > 1) bin_split(b, b_, *team, parts);
+    else bin(b, b_);
     most_ = 0;
     for (std::size_t c = 0; c + 1 < b_.begin.size(); ++c) most_ = std::max(most_, b_.begin[c + 1] - b_.begin[c]);
 }

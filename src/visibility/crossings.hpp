@@ -13,6 +13,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/camera.hpp"
+#include "core/worker_thread.hpp"
 
 namespace inkline {
 
@@ -186,7 +187,9 @@ public:
     }
     // The same in two steps: bin `b` (kept by reference: it must outlive the queries), then find
     // the pairs of a set `a` (const: several threads may query at once, each with its own `hits`).
-    void prepare(const std::vector<Box2f>& b, double width, double height);
+    // With a team and parts > 1, the binning is split among `parts` threads (ranges of the boxes,
+    // then of the cells); the bins are the same as one thread's: each cell's boxes in box order.
+    void prepare(const std::vector<Box2f>& b, double width, double height, WorkerTeam* team = nullptr, int parts = 1);
     void pairs(const std::vector<Box2f>& a, std::vector<std::uint64_t>& out, std::vector<std::uint32_t>& hits) const;
 
 private:
@@ -197,6 +200,9 @@ private:
         std::vector<std::int32_t> cx0, cy0;  // and the first cell of their range
     };
     void bin(const std::vector<Box2f>& boxes, Bins& bins);
+    void bin_split(const std::vector<Box2f>& boxes, Bins& bins, WorkerTeam& team, int parts);
+    // A box's cells: x0, x1, y0, y1 (x0 < 0: a big box, in no cell); false for a big box.
+    bool cell_range(const Box2f& b, std::array<std::int16_t, 4>& r) const;
     const std::vector<Box2f>* b_boxes_ = nullptr;
     std::uint32_t most_ = 0;  // the most boxes in a cell
     // Cell of a coordinate: monotone, clamped to the grid (truncation is the floor for c >= 0).
@@ -213,6 +219,8 @@ private:
     Bins b_;
     std::vector<std::uint32_t> hits_;
     std::vector<std::array<std::int16_t, 4>> ranges_;
+    // bin_split's per part: the boxes in each cell (then each cell's next slot), the big boxes
+    std::vector<std::vector<std::uint32_t>> part_counts_, part_big_;
 };
 
 class SegmentGrid {

@@ -706,21 +706,21 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 
 namespace {
 
-// Clipped occluders of one range of the occluding edges, appended to four arrays.
-struct OccluderRecords {
-    std::vector<Segment2> occluders;
-    std::vector<ClipSeg> clip;
-    std::vector<Box2f> boxes;
-    std::vector<std::uint8_t> unclipped;
-    void clear() { occluders.clear(), clip.clear(), boxes.clear(), unclipped.clear(); }
+// Where clip_occluder_range writes: the four arrays' slots from one index on.
+struct OccluderSlots {
+    Segment2* occluders;
+    ClipSeg* clip;
+    Box2f* boxes;
+    std::uint8_t* unclipped;
 };
 
-// Occluding edges [j0, j1) of edge_at (silhouettes, then borders) into the four arrays, each
-// clipped in place (reads `images`, and fills it where not made yet).
+// Occluding edges [j0, j1) of edge_at (silhouettes, then borders), each clipped in place, into
+// the slots from `out` on; returns how many were written (an edge with nothing left in front of
+// the near plane writes none). Reads `images`, and fills it where not made yet.
 template <class EdgeAt>
-void clip_occluder_range(const MeshTopology& mesh, const Camera& camera, double occluder_near, const VertexImages& images,
-                         EdgeAt&& edge_at, std::size_t j0, std::size_t j1, std::vector<Segment2>& occluders,
-                         std::vector<ClipSeg>& occ_clip, std::vector<Box2f>& obox, std::vector<std::uint8_t>& occ_unclipped) {
+std::size_t clip_occluder_range(const MeshTopology& mesh, const Camera& camera, double occluder_near, const VertexImages& images,
+                                EdgeAt&& edge_at, std::size_t j0, std::size_t j1, const OccluderSlots& out) {
+    std::size_t n = 0;
     for (std::size_t j = j0; j < j1; ++j) {
         const std::uint32_t e = edge_at(j);
         // (The edges are scattered over a large mesh: their vertices 16 edges ahead, then those
@@ -734,15 +734,14 @@ void clip_occluder_range(const MeshTopology& mesh, const Camera& camera, double 
             images.prefetch(ev[1]);
         }
         const auto [v0, v1] = mesh.edge_vertex[e];
-        ClipSeg& s = occ_clip.emplace_back();
-        if (!clip_edge(camera, occluder_near, images, mesh.positions, v0, v1, 0.0, 1.0, s)) {
-            occ_clip.pop_back();
-            continue;
-        }
-        occluders.push_back({s.a, s.b, v0, v1, e, s.slack});
-        obox.push_back(outer_box(occluders.back()));
-        occ_unclipped.push_back(s.unclipped);
+        ClipSeg& s = out.clip[n];
+        if (!clip_edge(camera, occluder_near, images, mesh.positions, v0, v1, 0.0, 1.0, s)) continue;
+        out.occluders[n] = {s.a, s.b, v0, v1, e, s.slack};
+        out.boxes[n] = outer_box(out.occluders[n]);
+        out.unclipped[n] = s.unclipped;
+        ++n;
     }
+    return n;
 }
 
 // Occluding edges in the image: silhouettes and borders, into g.occluders, with their clipped
@@ -750,55 +749,78 @@ void clip_occluder_range(const MeshTopology& mesh, const Camera& camera, double 
 // (each clipped in place). QI counts the layers between a point and the eye (DESIGN.md), so the
 // near plane clips the curves drawn, not the occluders: those are clipped only where they could
 // not be projected, at the default near plane (or the camera's, if nearer). A large view's edges
-// are split among up to `threads` threads (ranges of at least 4000 edges), appended in order.
+// are split among up to `threads` threads (ranges of at least 4000 edges), each writing its own
+// slots of the four arrays.
 void clip_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
                     Scratch& scratch, int threads) {
     const double occluder_near = std::min(camera.near_distance(), default_near(mesh));
-    std::vector<Segment2>& occluders = g.occluders;
-    std::vector<ClipSeg>& occ_clip = scratch.occ_clip;
-    std::vector<Box2f>& obox = scratch.obox;
-    std::vector<std::uint8_t>& occ_unclipped = scratch.occ_unclipped;
-    occ_clip.clear();
-    obox.clear();
-    occ_unclipped.clear();
     const auto& sil = features.silhouette_edges;
     const auto& border = features.border_edges;
     const std::size_t ns = sil.size(), most = ns + border.size();
     auto edge_at = [&](std::size_t j) { return j < ns ? sil[j] : border[j - ns]; };
-    occluders.reserve(most);
-    occ_clip.reserve(most);
-    obox.reserve(most);
-    occ_unclipped.reserve(most);
+    // (A slot for every edge; the arrays keep their size from the last view, so only growth is
+    // filled before it is written.)
+    g.occluders.resize(most);
+    scratch.occ_clip.resize(most);
+    scratch.obox.resize(most);
+    scratch.occ_unclipped.resize(most);
+    auto slots_from = [&](std::size_t j) {
+        return OccluderSlots{g.occluders.data() + j, scratch.occ_clip.data() + j, scratch.obox.data() + j,
+                             scratch.occ_unclipped.data() + j};
+    };
+    auto set_size = [&](std::size_t n) {
+        g.occluders.resize(n), scratch.occ_clip.resize(n), scratch.obox.resize(n), scratch.occ_unclipped.resize(n);
+    };
     const int parts = threads > 1 && most >= 8000 ? int(std::min<std::size_t>(std::size_t(threads), most / 4000)) : 1;
     if (parts < 2) {
-        clip_occluder_range(mesh, camera, occluder_near, g.images, edge_at, 0, most, occluders, occ_clip, obox, occ_unclipped);
+        set_size(clip_occluder_range(mesh, camera, occluder_near, g.images, edge_at, 0, most, slots_from(0)));
         return;
     }
-    // The images of the edges' vertices first, the vertices split by their 64-vertex words (each
-    // thread writes words of its own); the ranges then only read them.
+    // The images of the edges' vertices first, in two passes so that no thread reads every edge:
+    // each part marks the vertices of its own edges in a bit set of its own; then each part
+    // projects the vertices marked by any part in its own range of 64-vertex words (a thread
+    // writes only words of its own). The ranges then only read the images.
     const VertexImages& images = g.images;
     WorkerTeam& team = g.team();
+    thread_local std::vector<std::vector<std::uint64_t>> marks_of_this_thread;  // (named here: the workers' own would differ)
+    std::vector<std::vector<std::uint64_t>>& marks = marks_of_this_thread;
+    if (marks.size() < std::size_t(parts)) marks.resize(std::size_t(parts));
+    const std::size_t words = mesh.vertex_count() / 64 + 1;
+    auto first_edge = [&](int i) { return most * std::size_t(i) / std::size_t(parts); };
     team.run(parts, [&](int i) {
-        for (std::size_t j = 0; j < most; ++j)
-            for (const std::uint32_t v : mesh.edge_vertex[edge_at(j)])
-                if (int((v >> 6) % std::uint32_t(parts)) == i) images.slack(v);
+        std::vector<std::uint64_t>& m = marks[std::size_t(i)];
+        m.assign(words, 0);
+        for (std::size_t j = first_edge(i), j1 = first_edge(i + 1); j < j1; ++j) {
+            if (j + 16 < j1) __builtin_prefetch(&mesh.edge_vertex[edge_at(j + 16)]);
+            for (const std::uint32_t v : mesh.edge_vertex[edge_at(j)]) m[v >> 6] |= std::uint64_t(1) << (v & 63);
+        }
     });
-    thread_local std::vector<OccluderRecords> records_of_this_thread;  // (named here: the workers' own would differ)
-    std::vector<OccluderRecords>& records = records_of_this_thread;
-    if (records.size() < std::size_t(parts)) records.resize(std::size_t(parts));
     team.run(parts, [&](int i) {
-        OccluderRecords& r = records[std::size_t(i)];
-        r.clear();
-        clip_occluder_range(mesh, camera, occluder_near, images, edge_at, most * std::size_t(i) / std::size_t(parts),
-                            most * std::size_t(i + 1) / std::size_t(parts), r.occluders, r.clip, r.boxes, r.unclipped);
+        for (std::size_t w = words * std::size_t(i) / std::size_t(parts); w < words * std::size_t(i + 1) / std::size_t(parts); ++w) {
+            std::uint64_t bits = 0;
+            for (int k = 0; k < parts; ++k) bits |= marks[std::size_t(k)][w];
+            for (; bits; bits &= bits - 1) images.slack(std::uint32_t(w * 64 + std::size_t(std::countr_zero(bits))));
+        }
     });
-    for (int i = 0; i < parts; ++i) {
-        const OccluderRecords& r = records[std::size_t(i)];
-        occluders.insert(occluders.end(), r.occluders.begin(), r.occluders.end());
-        occ_clip.insert(occ_clip.end(), r.clip.begin(), r.clip.end());
-        obox.insert(obox.end(), r.boxes.begin(), r.boxes.end());
-        occ_unclipped.insert(occ_unclipped.end(), r.unclipped.begin(), r.unclipped.end());
+    // Each range into its own edges' slots; the slots of edges with nothing left closed up after.
+    std::vector<std::size_t> written(std::size_t(parts), 0);
+    team.run(parts, [&](int i) {
+        written[std::size_t(i)] =
+            clip_occluder_range(mesh, camera, occluder_near, images, edge_at, first_edge(i), first_edge(i + 1), slots_from(first_edge(i)));
+    });
+    std::size_t n = written[0];
+    for (int i = 1; i < parts; ++i) {
+        const std::size_t from = first_edge(i), count = written[std::size_t(i)];
+        if (n != from) {
+            std::move(g.occluders.begin() + from, g.occluders.begin() + from + count, g.occluders.begin() + n);
+            std::move(scratch.occ_clip.begin() + from, scratch.occ_clip.begin() + from + count, scratch.occ_clip.begin() + n);
+            std::move(scratch.obox.begin() + from, scratch.obox.begin() + from + count, scratch.obox.begin() + n);
+            std::move(scratch.occ_unclipped.begin() + from, scratch.occ_unclipped.begin() + from + count,
+                      scratch.occ_unclipped.begin() + n);
+        }
+        n += count;
     }
+    set_size(n);
 }
 
 // The extreme points of the occluders' image (the bounding-box rule of the fast method).
@@ -814,6 +836,65 @@ void find_extreme_vertices(PieceGraph& g) {
             for (int k = 0; k < 4; ++k)
                 if (k % 2 == 0 ? val[k] < ext[k] : val[k] > ext[k]) ext[k] = val[k], g.extreme_vertices[k] = v;
         }
+}
+
+// Appends ranges 1.. (their output in `rest`, others[i - 1]) after range 0's (in `first`), in
+// range order, their indices shifted; their pieces swapped into the graph's slots (each side
+// keeps storage). The slots and the arrays' sizes are made first; then the copies, split among
+// the team in equal slices of each array (the outcome does not depend on the slices).
+void append_ranges(PieceGraph& g, std::vector<std::unique_ptr<Scratch>>& rest, const std::vector<Part>& others, int parts,
+                   Part& first) {
+    // Where each range's pieces, links, link crossings and ends start (range 0's first).
+    std::vector<std::size_t> piece_at(std::size_t(parts) + 1), link_at(piece_at), lc_at(piece_at), end_at(piece_at);
+    piece_at[1] = first.n, link_at[1] = g.links.size(), lc_at[1] = g.link_crossings.size(), end_at[1] = g.ends.size();
+    for (int i = 1; i < parts; ++i) {
+        const Scratch::Parts& p = rest[std::size_t(i - 1)]->parts;
+        const std::size_t k = std::size_t(i);
+        piece_at[k + 1] = piece_at[k] + others[k - 1].n;
+        link_at[k + 1] = link_at[k] + p.links.size();
+        lc_at[k + 1] = lc_at[k] + p.link_crossings.size();
+        end_at[k + 1] = end_at[k] + p.ends.size();
+        first.crossings += others[k - 1].crossings;
+    }
+    VisibleCurves& out = g.curves;
+    const std::size_t total = piece_at[std::size_t(parts)];
+    out.pieces.reserve(total + 1);
+    out.spans.reserve(total + 1);
+    while (first.n < total) {
+        first.open_slot();
+        ++first.n;
+    }
+    g.links.resize(link_at[std::size_t(parts)]);
+    g.link_crossings.resize(lc_at[std::size_t(parts)]);
+    g.ends.resize(end_at[std::size_t(parts)]);
+    // fn(i, k, j) for the items j of this slice of [at[1], at[parts]): item k of range i.
+    auto slice = [parts](const std::vector<std::size_t>& at, int t, int slices, auto&& fn) {
+        const std::size_t n = at[std::size_t(parts)] - at[1];
+        const std::size_t j0 = at[1] + n * std::size_t(t) / std::size_t(slices), j1 = at[1] + n * std::size_t(t + 1) / std::size_t(slices);
+        for (int i = 1; i < parts; ++i) {
+            const std::size_t lo = std::max(j0, at[std::size_t(i)]), hi = std::min(j1, at[std::size_t(i) + 1]);
+            for (std::size_t j = lo; j < hi; ++j) fn(std::size_t(i), j - at[std::size_t(i)], j);
+        }
+    };
+    g.team().run(parts, [&](int t) {
+        slice(piece_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            Scratch::Parts& p = rest[i - 1]->parts;
+            std::swap(out.pieces[j], p.pieces[k]);
+            std::swap(out.spans[j], p.spans[k]);
+        });
+        slice(link_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            const PieceGraph::Link& l = rest[i - 1]->parts.links[k];
+            g.links[j] = {l.before + std::uint32_t(piece_at[i]), l.after + std::uint32_t(piece_at[i])};
+        });
+        slice(lc_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            g.link_crossings[j] = rest[i - 1]->parts.link_crossings[k];
+            g.link_crossings[j].link += std::uint32_t(link_at[i]);
+        });
+        slice(end_at, t, parts, [&](std::size_t i, std::size_t k, std::size_t j) {
+            const PieceGraph::End& e = rest[i - 1]->parts.ends[k];
+            g.ends[j] = {e.piece + std::uint32_t(piece_at[i]), e.vertex, e.edge};
+        });
+    });
 }
 
 // build_range of the curves in `parts` ranges of about equal edge counts (two: the calling
@@ -866,29 +947,7 @@ void build_ranges(PieceGraph& g, const MeshTopology& mesh, const Features& featu
         seconds[std::size_t(i)] = seconds_since(t0);
     });
     if (parts == 2) g.curves_split.fit(double(first_edges) / double(total_edges), seconds[0], seconds[1]);
-    // Append the other ranges in order, their indices shifted; their pieces swapped into the
-    // graph's slots (each side keeps storage).
-    VisibleCurves& out = g.curves;
-    for (int i = 1; i < parts; ++i) {
-        Scratch::Parts& p2 = scratch_others[std::size_t(i - 1)]->parts;
-        const Part& second = others[std::size_t(i - 1)];
-        const std::uint32_t np = first.n, nl = std::uint32_t(g.links.size());
-        for (auto& l : p2.links) g.links.push_back({l.before + np, l.after + np});
-        for (auto& lc : p2.link_crossings) {
-            g.link_crossings.push_back(lc);
-            g.link_crossings.back().link += nl;
-        }
-        for (auto& e : p2.ends) g.ends.push_back({e.piece + np, e.vertex, e.edge});
-        out.pieces.reserve(first.n + second.n + 1);
-        out.spans.reserve(first.n + second.n + 1);
-        for (std::uint32_t k = 0; k < second.n; ++k) {
-            first.open_slot();
-            std::swap(out.pieces[first.n], p2.pieces[k]);
-            std::swap(out.spans[first.n], p2.spans[k]);
-            ++first.n;
-        }
-        first.crossings += second.crossings;
-    }
+    append_ranges(g, scratch_others, others, parts, first);
 }
 
 }  // namespace
@@ -902,7 +961,6 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     g.links.clear();
     g.link_crossings.clear();
     g.ends.clear();
-    g.occluders.clear();
     g.grid_built_ = false;
     g.immersive = geometry_behind_near(mesh, camera);
     g.images.reset(mesh, camera);
@@ -920,7 +978,10 @@ void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& featu
 
     // The occluders binned once for the crossing search of every range.
     BoxPairs& grid = scratch.grid;
-    grid.prepare(scratch.obox, camera.width(), camera.height());
+    // (split from 8000 boxes, 4000 a part at least, as the occluders' clipping)
+    const std::size_t nbox = scratch.obox.size();
+    const int bin_parts = threads > 1 && nbox >= 8000 ? int(std::min<std::size_t>(std::size_t(threads), nbox / 4000)) : 1;
+    grid.prepare(scratch.obox, camera.width(), camera.height(), &g.team(), bin_parts);
     // The occluder of each silhouette or border edge (curve segments copy its clipping).
     EdgeOccluders& occ_of_edge = scratch.occ_of_edge;
     occ_of_edge.build(g.occluders);
