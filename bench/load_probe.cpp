@@ -7,11 +7,12 @@
 //   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
 //                                    (Model::load, tolerant) and prints the fastest of the N in
 //                                    seconds: parse and repair alone, then the whole Model::load
-//   load_probe stages FILE [N]       the least of N of each stage of a render's loading, in CPU
+//   load_probe stages FILE [N [T]]   the least of N of each stage of a render's loading, in CPU
 //                                    seconds of the thread (steadier than wall time on a shared
 //                                    machine): parse and repair (load_mesh), Hilbert order, topology,
 //                                    and the lazy parts a render may build (self-intersections,
-//                                    ray-test index)
+//                                    ray-test index); with T threads (default 1) the stages that
+//                                    use them do, and the figures are wall seconds
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
@@ -152,24 +153,31 @@ double thread_cpu_seconds() {
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-int stages(const std::string& path, int repeat) {
+double wall_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+int stages(const std::string& path, int repeat, int threads) {
     double t[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
     std::size_t triangles = 0;
+    const auto clock = threads > 1 ? wall_seconds : thread_cpu_seconds;
     for (int r = 0; r < repeat; ++r) {
-        double t0 = thread_cpu_seconds();
+        double t0 = clock();
         const auto lap = [&](double& least) {
-            const double now = thread_cpu_seconds();
+            const double now = clock();
             least = std::min(least, now - t0);
             t0 = now;
         };
         inkline::TriangleMesh m = inkline::load_mesh(path);
         lap(t[0]);
         triangles = m.triangles.size();
-        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m));
+        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m), threads);
         lap(t[1]);
         const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
         lap(t[2]);
-        const inkline::SelfIntersections si = inkline::self_intersections(topo);
+        const inkline::SelfIntersections si = inkline::self_intersections(topo, threads);
         lap(t[3]);
         const inkline::RayCaster rays(topo);
         lap(t[4]);
@@ -185,13 +193,13 @@ int stages(const std::string& path, int repeat) {
 int main(int argc, char** argv) {
     try {
         if (argc == 4 && std::strcmp(argv[1], "write") == 0) return write(argv[2], argv[3]);
-        if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "stages") == 0)
-            return stages(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
+        if (argc >= 3 && argc <= 5 && std::strcmp(argv[1], "stages") == 0)
+            return stages(argv[2], argc >= 4 ? std::atoi(argv[3]) : 1, argc == 5 ? std::atoi(argv[4]) : 1);
         if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "load") == 0) return load(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
     } catch (const inkline::Error& e) {
         std::fprintf(stderr, "load_probe: %s\n", e.what());
         return 1;
     }
-    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N] | stages FILE [N]\n");
+    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N] | stages FILE [N [THREADS]]\n");
     return 2;
 }

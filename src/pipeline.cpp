@@ -29,7 +29,7 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     const LoadReport repairs = mesh.repairs;
     LoadProgressReporter progress(&options.progress, 0);
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    TriangleMesh ordered = hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide));
+    TriangleMesh ordered = hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide), options.threads);
     progress.at(kProgressOrdered);
     Model m(std::move(ordered), crease_degrees);
     m.repairs_ = repairs;
