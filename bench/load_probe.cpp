@@ -4,14 +4,17 @@
 //                                    subdivision, positions rounded to float in every file so they
 //                                    hold the same geometry (the .glb: float positions, uint32
 //                                    indices, one node; .ply and .stl binary little-endian)
-//   load_probe load FILE [N]         loads FILE N times (default 1) as `inkline render` does
-//                                    (Model::load, tolerant) and prints the fastest of the N in
-//                                    seconds: parse and repair alone, then the whole Model::load
-//   load_probe stages FILE [N]       the least of N of each stage of a render's loading, in CPU
+//   load_probe load FILE [N [T]]     loads FILE N times (default 1) as `inkline render` does
+//                                    (Model::load, tolerant, T threads, default 1) and prints the
+//                                    fastest of the N in wall seconds: parse and repair alone, the
+//                                    whole Model::load, and Model::load with the self-intersections
+//                                    (what a render waits for before its first view)
+//   load_probe stages FILE [N [T]]   the least of N of each stage of a render's loading, in CPU
 //                                    seconds of the thread (steadier than wall time on a shared
 //                                    machine): parse and repair (load_mesh), Hilbert order, topology,
 //                                    and the lazy parts a render may build (self-intersections,
-//                                    ray-test index)
+//                                    ray-test index); with T threads (default 1) the stages that
+//                                    use them do, and the figures are wall seconds
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
@@ -130,8 +133,8 @@ int write(const std::string& name, const std::string& dir) {
     return 0;
 }
 
-int load(const std::string& path, int repeat) {
-    double parse = 1e300, whole = 1e300;
+int load(const std::string& path, int repeat, int threads) {
+    double parse = 1e300, whole = 1e300, ready = 1e300;
     std::size_t triangles = 0;
     for (int r = 0; r < repeat; ++r) {
         auto t0 = inkline::StageClock::now();
@@ -139,10 +142,13 @@ int load(const std::string& path, int repeat) {
         parse = std::min(parse, inkline::seconds_since(t0));
         triangles = m.triangles.size();
         t0 = inkline::StageClock::now();
-        const inkline::Model model = inkline::Model::load(path, inkline::LoadOptions{});
+        const inkline::Model model = inkline::Model::load(path, inkline::LoadOptions{.threads = threads});
         whole = std::min(whole, inkline::seconds_since(t0));
+        model.self_intersections(threads);  // (with threads > 1 found by Model::load already)
+        ready = std::min(ready, inkline::seconds_since(t0));
     }
-    std::printf("%s: %zu triangles, parse+repair %.4f s, Model::load %.4f s\n", path.c_str(), triangles, parse, whole);
+    std::printf("%s: %zu triangles, parse+repair %.4f s, Model::load %.4f s, load and self-intersections %.4f s "
+                "(%d threads)\n", path.c_str(), triangles, parse, whole, ready, threads);
     return 0;
 }
 
@@ -152,24 +158,31 @@ double thread_cpu_seconds() {
     return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-int stages(const std::string& path, int repeat) {
+double wall_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+int stages(const std::string& path, int repeat, int threads) {
     double t[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
     std::size_t triangles = 0;
+    const auto clock = threads > 1 ? wall_seconds : thread_cpu_seconds;
     for (int r = 0; r < repeat; ++r) {
-        double t0 = thread_cpu_seconds();
+        double t0 = clock();
         const auto lap = [&](double& least) {
-            const double now = thread_cpu_seconds();
+            const double now = clock();
             least = std::min(least, now - t0);
             t0 = now;
         };
         inkline::TriangleMesh m = inkline::load_mesh(path);
         lap(t[0]);
         triangles = m.triangles.size();
-        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m));
+        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m), threads);
         lap(t[1]);
         const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
         lap(t[2]);
-        const inkline::SelfIntersections si = inkline::self_intersections(topo);
+        const inkline::SelfIntersections si = inkline::self_intersections(topo, threads);
         lap(t[3]);
         const inkline::RayCaster rays(topo);
         lap(t[4]);
@@ -185,13 +198,14 @@ int stages(const std::string& path, int repeat) {
 int main(int argc, char** argv) {
     try {
         if (argc == 4 && std::strcmp(argv[1], "write") == 0) return write(argv[2], argv[3]);
-        if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "stages") == 0)
-            return stages(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
-        if ((argc == 3 || argc == 4) && std::strcmp(argv[1], "load") == 0) return load(argv[2], argc == 4 ? std::atoi(argv[3]) : 1);
+        if (argc >= 3 && argc <= 5 && std::strcmp(argv[1], "stages") == 0)
+            return stages(argv[2], argc >= 4 ? std::atoi(argv[3]) : 1, argc == 5 ? std::atoi(argv[4]) : 1);
+        if (argc >= 3 && argc <= 5 && std::strcmp(argv[1], "load") == 0)
+            return load(argv[2], argc >= 4 ? std::atoi(argv[3]) : 1, argc == 5 ? std::atoi(argv[4]) : 1);
     } catch (const inkline::Error& e) {
         std::fprintf(stderr, "load_probe: %s\n", e.what());
         return 1;
     }
-    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N] | stages FILE [N]\n");
+    std::fprintf(stderr, "usage: load_probe write NAME[@N] DIR | load FILE [N [THREADS]] | stages FILE [N [THREADS]]\n");
     return 2;
 }

@@ -6,7 +6,9 @@
 # by bench/load_probe. Per file: the median of the load's seconds as `render` reports them, the
 # median whole-process wall time, the median of the per-pair ratios after/before, whether both
 # drew the same SVG, and this build's stages in process (load_probe stages: CPU seconds of the
-# thread, the least of 3). Writes bench/results/load_speed.md.
+# thread, the least of 3), and the wall time until a render's first view can start (load_probe
+# load: Model::load and the self-intersections, the least of 3) on one thread and on two (the
+# Hilbert sorts side by side, the search beside the topology). Writes bench/results/load_speed.md.
 # Usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,10 +42,11 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
     echo "Whole process: \`inkline render FILE -o OUT.svg\`, $PAIRS alternated pairs (before, after) after one warm-up"
     echo "each; medians of the runs and of the per-pair ratios after/before. 'load' is the load's wall time as"
     echo "render prints it (Model::load: parse, repairs, Hilbert order, topology). In process, this build only:"
-    echo "load_probe stages, CPU ms of the thread, the least of 3."
+    echo "load_probe stages, CPU ms of the thread, the least of 3; 'ready' is load_probe load's wall ms of"
+    echo "Model::load with the self-intersections, the least of 3, on 1 / 2 threads."
     echo
-    echo "| file | format | triangles | load ms before | load ms after | render ms before | render ms after | after/before | same SVG | parse+repair | Hilbert | topology | self-intersections |"
-    echo "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+    echo "| file | format | triangles | load ms before | load ms after | render ms before | render ms after | after/before | same SVG | parse+repair | Hilbert | topology | self-intersections | ready 1 / 2 threads |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"
     for f in "${files[@]}"; do
         name=$(basename "$f")
         ext="${name##*.}"
@@ -69,7 +72,8 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
         s=$("$PROBE" stages "$f" 3)
         tris=$(echo "$s" | sed -n 's/.*: \([0-9]*\) triangles.*/\1/p')
         ms() { echo "$s" | sed -n "s/.*$1 \([0-9.]*\) s.*/\1/p" | awk '{ printf "%.1f", $1 * 1000 }'; }
-        echo "| $name | $format | $tris | $bl | $al | $bw | $aw | $ratio | $same | $(ms 'parse+repair') | $(ms hilbert) | $(ms topology) | $(ms self-intersections) |"
+        ready() { "$PROBE" load "$f" 3 "$1" | sed -n 's/.*load and self-intersections \([0-9.]*\) s.*/\1/p' | awk '{ printf "%.1f", $1 * 1000 }'; }
+        echo "| $name | $format | $tris | $bl | $al | $bw | $aw | $ratio | $same | $(ms 'parse+repair') | $(ms hilbert) | $(ms topology) | $(ms self-intersections) | $(ready 1) / $(ready 2) |"
     done
 } >"$OUT.tmp"
 mv "$OUT.tmp" "$OUT"

@@ -7,12 +7,17 @@
 
 #include "core/clock.hpp"
 #include "core/error.hpp"
+#include "model/early_self_intersections.hpp"
 #include "model/self_intersections.hpp"
 #include "model/reorder.hpp"
 #include "model/subdivide.hpp"
 #include "scene/scene.hpp"
 
 namespace inkline {
+
+// Below this many faces the search takes a few milliseconds: a thread's start costs about what
+// running it beside the topology saves.
+constexpr std::size_t kEarlySearchFaces = 8192;
 
 Model Model::load(const std::string& path, const LoadOptions& options, double crease_degrees, int subdivide,
                   const SubdivideProgress& on_subdivide) {
@@ -29,9 +34,20 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     const LoadReport repairs = mesh.repairs;
     LoadProgressReporter progress(&options.progress, 0);
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    TriangleMesh ordered = hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide));
+    TriangleMesh ordered = hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide), options.threads);
     progress.at(kProgressOrdered);
+    // Every view needs the self-intersections: with threads to spare, their search runs beside
+    // the topology's construction (it needs only the faces and positions, which the topology
+    // keeps as they are), and this thread joins it once the topology is built.
+    std::unique_ptr<EarlySelfIntersections> search;
+    if (options.threads > 1 && ordered.triangles.size() >= kEarlySearchFaces)
+        search = std::make_unique<EarlySelfIntersections>(
+            SearchInput{ordered.positions.data(), ordered.triangles.data(), ordered.triangles.size()}, options.threads);
     Model m(std::move(ordered), crease_degrees);
+    if (search) {
+        std::call_once(m.lazy_->pierced_once, [] {});
+        m.lazy_->pierced = std::make_unique<SelfIntersections>(search->finish(m.topo_));
+    }
     m.repairs_ = repairs;
     m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);

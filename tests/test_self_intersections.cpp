@@ -19,6 +19,7 @@
 
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
+#include "model/early_self_intersections.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
 #include "test_data.hpp"
@@ -176,6 +177,17 @@ TEST(SelfIntersections, ThreadsGiveTheSameResult) {
             EXPECT_EQ(many.cuts[k].s, one.cuts[k].s) << threads << " cut " << k;
         }
         EXPECT_EQ(inkline::self_intersecting_faces(t, threads), one.faces) << threads;
+        // Started before the topology was built, from the mesh's arrays (as Model::load does).
+        inkline::EarlySelfIntersections early({s.positions.data(), s.triangles.data(), s.triangles.size()}, threads);
+        const inkline::SelfIntersections started = early.finish(t);
+        EXPECT_EQ(started.faces, one.faces) << threads;
+        EXPECT_EQ(started.flagged, one.flagged) << threads;
+        EXPECT_EQ(started.pairs, one.pairs) << threads;
+        ASSERT_EQ(started.cuts.size(), one.cuts.size()) << threads;
+        for (std::size_t k = 0; k < one.cuts.size(); ++k) {
+            EXPECT_EQ(started.cuts[k].edge, one.cuts[k].edge) << threads << " cut " << k;
+            EXPECT_EQ(started.cuts[k].s, one.cuts[k].s) << threads << " cut " << k;
+        }
     }
 }
 

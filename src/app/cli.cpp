@@ -539,7 +539,7 @@ int run_render(int argc, char** argv) {
     std::unique_ptr<FreeformRender> freeform;
     if (is_freeform_model(path)) freeform = std::make_unique<FreeformRender>(path, a.freeform);
     const Model model = freeform ? Model(freeform->mesh(), a.crease)
-                                 : load_model_file(path, a.strict, a.crease, a.subdivide);
+                                 : load_model_file(path, a.strict, a.crease, a.subdivide, true, a.threads);
     const Camera home = make_camera(a.camera, model);
     // --detail (multiscale): the smoothed levels, built (or read from --cache) once for every frame.
     std::optional<MultiscaleLevels> levels;

@@ -257,14 +257,15 @@ Camera make_camera(const CameraFlags& c, const Model& model) {
     return make_camera(from_file, model.topology());
 }
 
-Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide, bool progress) {
+Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide, bool progress,
+                      int threads) {
     std::unique_ptr<ProgressLine> line;  // from the subdivision's start (the file's reading apart)
     SubdivideProgress on_level = [&line](std::size_t done, std::size_t total) {
         if (!line) line = ProgressLine::on_stderr("subdivide", total, "triangles");
         line->set_done(done);
         if (done == total) line->finish();  // (the ordering and topology that follow are not counted)
     };
-    Model model = Model::load(path, LoadOptions{.strict = strict, .progress = progress ? load_progress_line(path) : LoadProgressCallback()}, crease_degrees, subdivide,
+    Model model = Model::load(path, LoadOptions{.strict = strict, .progress = progress ? load_progress_line(path) : LoadProgressCallback(), .threads = threads}, crease_degrees, subdivide,
                               progress ? on_level : SubdivideProgress());
     line.reset();
     for (const std::string& w : model.repairs().warnings(path)) std::fprintf(stderr, "inkline: warning: %s\n", w.c_str());

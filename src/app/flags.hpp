@@ -107,8 +107,9 @@ Camera make_camera(const CameraFlags& flags, const Model& model);
 // Loads a model file as the commands do: tolerant, or strict with --strict; prints one warning
 // line per kind of repair made ("inkline: warning: FILE: ...") on stderr, and with `progress` a
 // progress line of the subdivision (app/progress.hpp: on a terminal only).
+// `threads`: LoadOptions::threads.
 Model load_model_file(const std::string& path, bool strict, double crease_degrees, int subdivide,
-                      bool progress = true);
+                      bool progress = true, int threads = 1);
 
 // The shared flags, one definition each. (size_flag's help shows the size already set, if any.)
 Flag size_flag(std::optional<int>& width, std::optional<int>& height);

@@ -119,7 +119,7 @@ int run_view(int argc, char** argv) {
     o.tone_highlight = tone_kinds.highlight;
     if (const std::string e = tone::tone_options_error(o.tone); !e.empty()) throw BadValue(e);
     o.model_path = model_path;
-    Model model = load_model_file(model_path, strict, crease, o.subdivide);
+    Model model = load_model_file(model_path, strict, crease, o.subdivide, true, o.view.threads);
     default_intersection_lines(o.view.features, model, lines_given || style_kinds);
     const Camera home = make_camera(camera, model);
     return run_viewer(model, home, o);

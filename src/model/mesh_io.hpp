@@ -44,6 +44,9 @@ struct LoadOptions {
     // Called as the load advances (model/load_progress.hpp), from the loading thread; none when
     // empty. Model::load makes the last call (done) once the topology is built.
     LoadProgressCallback progress = {};
+    // Threads Model::load may use beside the calling one's (its Hilbert sorts, the
+    // self-intersection search it starts early): 1, the calling thread only.
+    int threads = 1;
 };
 
 struct TriangleMesh {

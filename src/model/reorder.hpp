@@ -2,13 +2,14 @@
 // neighbours on the surface are neighbours in memory. Per-view passes that follow the surface
 // (silhouette tracing, chaining, walks) then touch a few cache lines instead of the whole mesh.
 // Takes a TriangleMesh; gives the same mesh (same orientation, same corners order per face)
-// with renumbered vertices and faces.
+// with renumbered vertices and faces. With threads > 1 the vertices' and faces' sorts run on two
+// threads (the same orders).
 #pragma once
 
 #include "model/mesh_io.hpp"
 
 namespace inkline {
 
-TriangleMesh hilbert_ordered(const TriangleMesh& mesh);
+TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads = 1);
 
 }  // namespace inkline

@@ -1,11 +1,16 @@
 #include "model/self_intersections.hpp"
+#include "model/early_self_intersections.hpp"
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <condition_variable>
 #include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
 #include <system_error>
 #include <thread>
 
@@ -53,11 +58,11 @@ struct FaceData {
     glm::dvec3 n, permanent;
 };
 
-FaceData face_data(const MeshTopology& mesh, std::uint32_t f) {
-    const auto& t = mesh.faces[f];
+FaceData face_data(const SearchInput& in, std::uint32_t f) {
+    const auto& t = in.faces[f];
     FaceData d;
     d.v = {t[0], t[1], t[2]};
-    for (int k = 0; k < 3; ++k) d.p[k] = mesh.positions[t[k]];
+    for (int k = 0; k < 3; ++k) d.p[k] = in.positions[t[k]];
     const glm::dvec3 u = d.p[1] - d.p[0], v = d.p[2] - d.p[0];
     d.n = {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
     d.permanent = {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
@@ -236,22 +241,21 @@ struct BoxColumns {
 // `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
 // PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
 // pipeline).
-BoxColumns face_boxes(const MeshTopology& mesh, const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
-    const std::size_t nf = mesh.face_count();
+BoxColumns face_boxes(const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
+    const std::size_t nf = faces.size();
     out.assign(nf, 0);
     BoxColumns boxes;
     for (int d = 0; d < 3; ++d) boxes.lo[d].reserve(nf + BoxColumns::kPad), boxes.hi[d].reserve(nf + BoxColumns::kPad);
     boxes.face.reserve(nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
-        const auto& t = mesh.faces[f];
-        if (!certainly_proper(faces[f]) &&
-            CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]))) {
+        const FaceData& face = faces[f];
+        if (!certainly_proper(face) && CGAL::collinear(cgal(face.p[0]), cgal(face.p[1]), cgal(face.p[2]))) {
             out[f] = 1;
             continue;
         }
         float lo[3], hi[3];
         for (int d = 0; d < 3; ++d) {
-            const double x0 = mesh.positions[t[0]][d], x1 = mesh.positions[t[1]][d], x2 = mesh.positions[t[2]][d];
+            const double x0 = face.p[0][d], x1 = face.p[1][d], x2 = face.p[2][d];
             lo[d] = down(std::min({x0, x1, x2}));
             hi[d] = up(std::max({x0, x1, x2}));
         }
@@ -412,60 +416,81 @@ private:
 
 std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g); }
 
-// The pairs of faces that intersect, as pair_key()s, sorted. The box search is split into tasks
-// that up to `threads` threads take in turn; the sort makes the result the same for any split.
-std::vector<std::uint64_t> search_pairs(const BoxColumns& boxes, const std::vector<FaceData>& faces, int threads) {
+// The search for intersecting pairs, in two halves so that it can run beside other work:
+// prepare() reads the faces and builds the hierarchy, and split into tasks, work(k) takes tasks
+// until none are left (any number of threads at once, each with its own k), collect() gives the
+// pairs found, as pair_key()s, sorted: the same result for any split.
+class PairSearch {
+public:
     // Below this many boxes (a few milliseconds of search) a thread's start costs more than it saves.
-    constexpr std::size_t kBoxesPerThread = 4096;
-    const std::size_t workers = std::clamp<std::size_t>(boxes.size() / kBoxesPerThread, 1, std::size_t(std::max(threads, 1)));
-    const BoxPairs search(boxes);
-    // Many more tasks than threads, so that uneven tasks even out.
-    const std::vector<BoxPairs::Task> tasks = search.tasks(workers > 1 ? workers * 64 : 1);
-    std::vector<std::vector<std::uint64_t>> found(workers);
-    std::vector<std::exception_ptr> failed(workers);
-    std::atomic<std::size_t> next{0};
-    const auto work = [&](std::size_t k) {
+    static constexpr std::size_t kBoxesPerThread = 4096;
+    PairSearch(std::vector<FaceData> faces, std::size_t workers)
+        : faces_(std::move(faces)), found_(std::max<std::size_t>(workers, 1)), failed_(found_.size()) {
+        columns_ = face_boxes(faces_, flags_);
+        tree_.emplace(columns_);
+        // Many more tasks than threads, so that uneven tasks even out.
+        tasks_ = tree_->tasks(found_.size() > 1 ? found_.size() * 64 : 1);
+    }
+    PairSearch(const PairSearch&) = delete;  // (the hierarchy points into columns_)
+    std::size_t workers() const { return found_.size(); }
+    void work(std::size_t k) {
         try {
-            for (std::size_t t = next++; t < tasks.size(); t = next++)
-                search.run(tasks[t], [&](std::uint32_t f, std::uint32_t g) {
-                    if (faces_intersect(faces[f], faces[g])) found[k].push_back(pair_key(f, g));
+            for (std::size_t t = next_++; t < tasks_.size(); t = next_++)
+                tree_->run(tasks_[t], [&](std::uint32_t f, std::uint32_t g) {
+                    if (faces_intersect(faces_[f], faces_[g])) found_[k].push_back(pair_key(f, g));
                 });
         } catch (...) {
-            failed[k] = std::current_exception();
+            failed_[k] = std::current_exception();
         }
-    };
+    }
+    // After every work(k) has returned.
+    std::vector<std::uint64_t> collect() {
+        for (const std::exception_ptr& e : failed_)
+            if (e) std::rethrow_exception(e);
+        std::vector<std::uint64_t> all = std::move(found_[0]);
+        for (std::size_t k = 1; k < found_.size(); ++k) all.insert(all.end(), found_[k].begin(), found_[k].end());
+        std::sort(all.begin(), all.end());
+        return all;
+    }
+    // Per face: 1 for a degenerate face (collinear corners), set by prepare.
+    std::vector<std::uint8_t>& flags() { return flags_; }
+    const BoxColumns& columns() const { return columns_; }
+
+private:
+    std::vector<FaceData> faces_;
+    std::vector<std::uint8_t> flags_;
+    BoxColumns columns_;
+    std::optional<BoxPairs> tree_;
+    std::vector<BoxPairs::Task> tasks_;
+    std::vector<std::vector<std::uint64_t>> found_;
+    std::vector<std::exception_ptr> failed_;
+    std::atomic<std::size_t> next_{0};
+};
+
+std::size_t search_workers(std::size_t faces, int threads) {
+    return std::clamp<std::size_t>(faces / PairSearch::kBoxesPerThread, 1, std::size_t(std::max(threads, 1)));
+}
+
+// Runs work(k) for k = 1 .. workers - 1 on threads of their own, then work(0) on this one.
+void run_workers(PairSearch& search, std::size_t first_helper = 1) {
     std::vector<std::thread> helpers;
     try {
-        for (std::size_t k = 1; k < workers; ++k) helpers.emplace_back(work, k);
+        for (std::size_t k = first_helper; k < search.workers(); ++k) helpers.emplace_back([&search, k] { search.work(k); });
     } catch (const std::system_error&) {
         // No more threads to be had: the ones started and this one take every task.
     }
-    work(0);
+    search.work(0);
     for (std::thread& helper : helpers) helper.join();
-    for (const std::exception_ptr& e : failed)
-        if (e) std::rethrow_exception(e);
-    std::vector<std::uint64_t> all = std::move(found[0]);
-    for (std::size_t k = 1; k < found.size(); ++k) all.insert(all.end(), found[k].begin(), found[k].end());
-    std::sort(all.begin(), all.end());
-    return all;
 }
 
-// Calls fn(f, g) for pairs of faces that intersect (every pair, or, with `once`, only pairs with
-// a face not reported yet: enough to flag the faces).
-//
-// The pairs come in the order of CGAL's box_self_intersection_d, which the intersection lines'
-// chaining follows. A model that does not intersect itself (the usual case) never pays for that
-// search: the hierarchy above finds every intersecting pair first (in its own order), and only
-// when there are some does the segment tree run, to list them in its order (without testing a
-// pair again).
+// Calls fn(f, g) for the intersecting pairs `found` (pair_key()s, sorted) in the order of CGAL's
+// box_self_intersection_d, which the intersection lines' chaining follows. A model that does not
+// intersect itself (the usual case) never pays for that search: the hierarchy above finds every
+// intersecting pair first (in its own order), and only when there are some does the segment tree
+// run, to list them in its order (without testing a pair again).
 template <class Fn>
-void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out, bool once, int threads, Fn&& fn) {
-    std::vector<FaceData> faces(mesh.face_count());
-    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(mesh, f);
-    const BoxColumns columns = face_boxes(mesh, faces, out);
-    const std::vector<std::uint64_t> found = search_pairs(columns, faces, threads);
-    for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
-    if (found.empty() || once) return;  // (with `once` the caller only needs the flags)
+void list_pairs_in_cgal_order(const BoxColumns& columns, const std::vector<std::uint64_t>& found, Fn&& fn) {
+    if (found.empty()) return;
     // Closed boxes (the default): faces that only touch reach the exact test too. Cutoff: below
     // this many boxes CGAL's streamed segment tree compares boxes by a plain scan, which for sets
     // this small costs less than recursing further; the same pairs either way (bench/results/model.md).
@@ -475,6 +500,16 @@ void intersecting_pairs(const MeshTopology& mesh, std::vector<std::uint8_t>& out
         const auto f = std::uint32_t(x.id()), g = std::uint32_t(y.id());
         if (std::binary_search(found.begin(), found.end(), pair_key(f, g))) fn(f, g);
     }, kCutoff);
+}
+
+std::vector<FaceData> faces_of(const SearchInput& in) {
+    std::vector<FaceData> faces(in.face_count);
+    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(in, f);
+    return faces;
+}
+
+std::vector<FaceData> faces_of(const MeshTopology& mesh) {
+    return faces_of(SearchInput{mesh.positions.data(), mesh.faces.data(), mesh.face_count()});
 }
 
 // Where edge e meets triangle f (not one of e's faces): the parameter of the point, or of the
@@ -505,15 +540,13 @@ void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, std::v
 
 }  // namespace
 
-std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
-    std::vector<std::uint8_t> out;
-    intersecting_pairs(mesh, out, true, threads, [](std::uint32_t, std::uint32_t) {});
-    return out;
-}
-
-SelfIntersections self_intersections(const MeshTopology& mesh, int threads) {
+namespace {
+// The result on `mesh` (the faces the search read) from the search's flags and pairs.
+SelfIntersections assemble(const MeshTopology& mesh, PairSearch& search, const std::vector<std::uint64_t>& found) {
     SelfIntersections si;
-    intersecting_pairs(mesh, si.faces, false, threads, [&](std::uint32_t fa, std::uint32_t fb) {
+    si.faces = std::move(search.flags());
+    for (const std::uint64_t k : found) si.faces[k >> 32] = si.faces[std::uint32_t(k)] = 1;
+    list_pairs_in_cgal_order(search.columns(), found, [&](std::uint32_t fa, std::uint32_t fb) {
         si.pairs.push_back({fa, fb});
         for (int k = 0; k < 2; ++k) {
             const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
@@ -528,6 +561,78 @@ SelfIntersections self_intersections(const MeshTopology& mesh, int threads) {
                   si.cuts.end());
     si.flagged = std::size_t(std::count(si.faces.begin(), si.faces.end(), std::uint8_t(1)));
     return si;
+}
+}  // namespace
+
+std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
+    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads));
+    run_workers(search);
+    const std::vector<std::uint64_t> found = search.collect();
+    std::vector<std::uint8_t> out = std::move(search.flags());
+    for (const std::uint64_t k : found) out[k >> 32] = out[std::uint32_t(k)] = 1;
+    return out;
+}
+
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads) {
+    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads));
+    run_workers(search);
+    return assemble(mesh, search, search.collect());
+}
+
+struct EarlySelfIntersections::Impl {
+    std::vector<FaceData> faces;
+    std::size_t workers;
+    std::unique_ptr<PairSearch> search;
+    std::exception_ptr failed;
+    std::mutex mutex;
+    std::condition_variable prepared_cv;
+    bool prepared = false;
+    std::thread helper;
+};
+
+EarlySelfIntersections::EarlySelfIntersections(const SearchInput& input, int threads) : impl_(std::make_unique<Impl>()) {
+    Impl& im = *impl_;
+    im.faces = faces_of(input);  // (a copy: the input may change once this returns)
+    im.workers = std::max<std::size_t>(search_workers(input.face_count, threads), 2);
+    // The helper prepares the search, starts any further helpers, and takes tasks as worker 1;
+    // finish() takes them as worker 0 once its caller has done its own work.
+    im.helper = std::thread([&im] {
+        try {
+            im.search = std::make_unique<PairSearch>(std::move(im.faces), im.workers);
+        } catch (...) {
+            im.failed = std::current_exception();
+        }
+        {
+            const std::lock_guard<std::mutex> lock(im.mutex);
+            im.prepared = true;
+        }
+        im.prepared_cv.notify_all();
+        if (!im.search) return;
+        std::vector<std::thread> more;
+        try {
+            for (std::size_t k = 2; k < im.workers; ++k) more.emplace_back([&im, k] { im.search->work(k); });
+        } catch (const std::system_error&) {
+            // No more threads to be had: the ones started take every task.
+        }
+        im.search->work(1);
+        for (std::thread& t : more) t.join();
+    });
+}
+
+EarlySelfIntersections::~EarlySelfIntersections() {
+    if (impl_ && impl_->helper.joinable()) impl_->helper.join();
+}
+
+SelfIntersections EarlySelfIntersections::finish(const MeshTopology& mesh) {
+    Impl& im = *impl_;
+    {
+        std::unique_lock<std::mutex> lock(im.mutex);
+        im.prepared_cv.wait(lock, [&im] { return im.prepared; });
+    }
+    if (im.search) im.search->work(0);
+    im.helper.join();
+    if (im.failed) std::rethrow_exception(im.failed);
+    return assemble(mesh, *im.search, im.search->collect());
 }
 
 }  // namespace inkline
