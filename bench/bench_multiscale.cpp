@@ -6,7 +6,8 @@
 // drawing's lines. Times are the thread's CPU time on one core (a shared machine's wall time
 // mostly measures the others). Prints Markdown.
 // Usage: bench_multiscale [--frames=N] [--target=PX] [--ratio=R] [--relax=A] [--spread=S]
-//        [--second-order] [--sweeps=N] [--tangential=N] [--no-coherence] [--write-levels=DIR] [--plot=FILE.svg] [MODEL ...]
+//        [--second-order] [--sweeps=N] [--tangential=N]
+//        [--smoothing=T1] [--growth=G] [--order=1|2] [--thin=C] [--no-coherence] [--write-levels=DIR] [--plot=FILE.svg] [MODEL ...]
 // (default armadillo bunny00 elephant armadillo@1; MODEL@N: N rounds of Loop subdivision). Without
 // --target, T is the projection of the mean edge length at the model's centre in the framed view.
 // --write-levels writes each level as DIR/MODEL_Mk.off; --plot the density curves of the dolly.
@@ -313,6 +314,10 @@ int main(int argc, char** argv) {
         else if (a == "--second-order") options.fairing = MultiscaleFairing::SecondOrder;
         else if (a.rfind("--sweeps=", 0) == 0) options.sweeps = std::stoi(a.substr(9));
         else if (a.rfind("--tangential=", 0) == 0) options.tangential_sweeps = std::stoi(a.substr(13));
+        else if (a.rfind("--smoothing=", 0) == 0) options.smoothing = std::stod(a.substr(12));
+        else if (a.rfind("--growth=", 0) == 0) options.smoothing_growth = std::stod(a.substr(9));
+        else if (a.rfind("--order=", 0) == 0) options.smoothing_order = std::stoi(a.substr(8));
+        else if (a.rfind("--thin=", 0) == 0) options.thin_guard = std::stod(a.substr(7));
         else models.push_back(a);
     }
     if (models.empty()) models = {"armadillo", "bunny00", "elephant", "armadillo@1"};

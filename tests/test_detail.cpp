@@ -305,13 +305,14 @@ TEST(MultiscaleView, TargetPerObjectAndWithDepth) {
 // go, so its growth is at most half of the plain drawing's, while at the start the two agree
 // within 10 % of length. T: L's projection at the model's centre in the framed view (level 0
 // there at the start, level 3 at 8x).
-void check_density(const std::string& name, double most) {
+void check_density(const std::string& name, double most, const MultiscaleLevels* levels = nullptr) {
     const Built& b = built(name);
+    const MultiscaleLevels& L = levels ? *levels : b.levels;
     const MeshTopology& m = b.model->topology();
     const int size = 1024;
     const Camera framed = test::framed_camera(m.bounds, size);
-    const double target = b.levels.feature_size * framed.focal() / glm::length(framed.eye() - m.bounds.center());
-    MultiscaleSession s(*b.model, b.levels, suggestive_view(), {.target_px = target});
+    const double target = L.feature_size * framed.focal() / glm::length(framed.eye() - m.bounds.center());
+    MultiscaleSession s(*b.model, L, suggestive_view(), {.target_px = target});
     ViewSession plain(*b.model, suggestive_view());
     const test::DollyDensity g = test::dolly_density(
         m.bounds, framed, [&](const Camera& cam) { return test::visible_length_px(plain.render(cam).drawing); },
@@ -325,6 +326,25 @@ void check_density(const std::string& name, double most) {
 
 TEST(MultiscaleDensity, Armadillo) { check_density("armadillo", 0.5); }
 TEST(MultiscaleDensity, Elephant) { check_density("elephant", 0.5); }
+// The implicit post-pass that spares thin parts (MultiscaleOptions::smoothing, thin_guard: level k
+// solved from (W + t_k L^2) x = p, t_k = 4 * 16^(k - 1), each vertex's reach at most a tenth of
+// the shape's thickness there) on the second-order levels at the seed's r = 3/4 meets both of
+// issue 43's checks on armadillo: M3's mean |k1| 0.797 of M0's (the issue: well below; <= 0.8 here)
+// and the density growth 0.43 of plain (<= 0.5). (On bunny and elephant it does not: 0.61 and
+// 0.77 of plain, docs/detail.md; the default stays.)
+TEST(MultiscaleDensity, ThinGuardedLevelsMeetBothChecksOnArmadillo) {
+    const Built& b = built("armadillo");
+    const MultiscaleOptions o{.ratio = 0.75, .fairing = MultiscaleFairing::SecondOrder, .sweeps = 8,
+                              .tangential_sweeps = 32, .smoothing = 4.0, .smoothing_growth = 16.0,
+                              .smoothing_order = 2, .thin_guard = 0.1};
+    const MultiscaleLevels L = build_multiscale_levels(*b.model, o);
+    ASSERT_EQ(L.levels, 4);
+    EXPECT_EQ(level_positions(*b.model, L, 0), b.model->topology().positions);
+    EXPECT_LE(L.mean_abs_k1[3], 0.8 * L.mean_abs_k1[0]);
+    EXPECT_NEAR(L.mean_abs_k1[3], 0.1489, 0.0005);
+    check_density("armadillo", 0.5, &L);
+}
+
 // The bunny falls short of half: at 8x its drawing with detail is little more than the outline,
 // whose density grows 8x like any fixed drawing's; measured 4.31 against 7.35 (0.59).
 TEST(MultiscaleDensity, Bunny) { check_density("bunny00", 0.6); }
@@ -409,6 +429,16 @@ TEST(MultiscaleCache, WrittenOnceReadBackRebuiltWhenBad) {
     EXPECT_EQ(cached_multiscale_levels(model, path, "w", options, folder).outcome, CacheOutcome::Built);
     EXPECT_EQ(cached_multiscale_levels(model, path, "v", {.fairing = MultiscaleFairing::SecondOrder}, folder).outcome,
               CacheOutcome::Built);
+    // The implicit post-pass's parameters are in the key too (each its own file); the same ones again are read.
+    const MultiscaleOptions smoothed{.smoothing = 0.5};
+    EXPECT_EQ(cached_multiscale_levels(model, path, "v", smoothed, folder).outcome, CacheOutcome::Built);
+    EXPECT_EQ(cached_multiscale_levels(model, path, "v", {.smoothing = 0.5, .smoothing_order = 1}, folder).outcome,
+              CacheOutcome::Built);
+    EXPECT_EQ(cached_multiscale_levels(model, path, "v", {.smoothing = 0.5, .thin_guard = 0.1}, folder).outcome,
+              CacheOutcome::Built);
+    const CachedLevels smoothed_again = cached_multiscale_levels(model, path, "v", smoothed, folder);
+    EXPECT_EQ(smoothed_again.outcome, CacheOutcome::Loaded);
+    expect_same_levels(smoothed_again.levels, build_multiscale_levels(model, smoothed));
     const auto size = std::filesystem::file_size(first.path);
     const auto damage = [&](const std::string& what) {
         std::fstream f(first.path, std::ios::in | std::ios::out | std::ios::binary);
@@ -433,13 +463,14 @@ TEST(MultiscaleCache, WrittenOnceReadBackRebuiltWhenBad) {
         expect_same_levels(bad.levels, first.levels);
         EXPECT_EQ(cached_multiscale_levels(model, path, "v", options, folder).outcome, CacheOutcome::Loaded) << what;
     }
-    // Four files (two options, a variant, a fairing besides the first), no temporary ones.
+    // Seven files (two options, a variant, a fairing and three post-passes besides the first), no
+    // temporary ones.
     std::size_t files = 0;
     for (const auto& e : std::filesystem::directory_iterator(folder)) {
         ++files;
         EXPECT_EQ(e.path().extension(), ".levels") << e.path();
     }
-    EXPECT_EQ(files, 4u);
+    EXPECT_EQ(files, 7u);
 }
 
 // The command: --cache needs --detail; the second run reads the levels; a corrupt file gives one

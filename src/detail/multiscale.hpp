@@ -41,6 +41,15 @@ struct MultiscaleOptions {
     MultiscaleFairing fairing = MultiscaleFairing::Umbrella;
     int sweeps = 0;        // then relaxation sweeps over each smoothed level (`spread` each; 8 for second-order)
     int tangential_sweeps = 0;  // then sweeps moving vertices along the surface only (32 for second-order)
+    // Then a post-pass per level k >= 1 where smoothing > 0: (W + t_k L^order) x = p, L the
+    // uniform Laplacian, t_k = smoothing * smoothing_growth^(k - 1), W a diagonal weight that spares
+    // thin parts: with thin_guard > 0 a vertex where the shape is tau thick is smoothed with reach
+    // min(sigma_k, thin_guard tau), sigma_k = L t_k^(1 / (2 order)) the level's own reach (W = 1
+    // without). Off by default (docs/detail.md: meets both of the checks on armadillo only).
+    double smoothing = 0.0;
+    double smoothing_growth = 16.0;
+    int smoothing_order = 2;
+    double thin_guard = 0.0;
     // Called after each step of the pre-process (the model's curvature, the simplification, each
     // smoothed level): steps done and steps in all, for a progress line on long builds.
     std::function<void(int done, int total)> progress = {};

@@ -22,7 +22,7 @@ namespace {
 
 constexpr char kMagic[8] = {'I', 'N', 'K', 'M', 'S', 'L', '\r', '\n'};
 // Bump when the file layout or the levels' construction changes: older files are then stale.
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 constexpr std::uint64_t kFnvOffset = 1469598103934665603ull, kFnvPrime = 1099511628211ull;
 
 std::uint64_t fnv(const void* data, std::size_t n, std::uint64_t h = kFnvOffset) {
@@ -42,6 +42,8 @@ std::uint64_t levels_key(std::uint64_t content_hash, const MultiscaleOptions& o,
     h = fnv_value(std::int32_t(o.fairing), h);
     h = fnv_value(std::int32_t(o.sweeps), h);
     h = fnv_value(std::int32_t(o.tangential_sweeps), h);
+    for (double x : {o.smoothing, o.smoothing_growth, o.thin_guard}) h = fnv_value(x, h);
+    h = fnv_value(std::int32_t(o.smoothing_order), h);
     return fnv(variant.data(), variant.size(), h);
 }
 

@@ -12,6 +12,7 @@
 // (bench/results/multiscale.md).
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <queue>
 
@@ -21,6 +22,7 @@
 
 #include "core/clock.hpp"
 #include "detail/multiscale.hpp"
+#include "detail/multiscale_smoothing.hpp"
 #include "detail/octahedral.hpp"
 #include "model/self_intersections.hpp"
 
@@ -434,12 +436,28 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     if (out.levels > 1) scratch = mesh;
     out.levels_self_intersect = out.levels > 1 && input_self_intersects;
     std::vector<glm::dvec3> ring;
+    std::unique_ptr<LevelSmoother> smoother;
+    if (out.levels > 1 && options.smoothing > 0.0) smoother = std::make_unique<LevelSmoother>(mesh);
+    const std::vector<double> thickness =
+        smoother && options.thin_guard > 0.0 ? smoother->thickness(mesh.positions) : std::vector<double>();
+    std::vector<double> anchor;
     for (int k = 1; k < out.levels; ++k) {
         const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
         scratch.positions = base;
         synthesize(record, options.spread, with_detail, scratch.positions, ring);
         relax_level(record, options.spread, options.sweeps, scratch.positions);
         tangential_level(record, options.tangential_sweeps, scratch.positions);
+        if (smoother) {
+            const double t = options.smoothing * std::pow(options.smoothing_growth, k - 1);
+            anchor.clear();
+            if (options.thin_guard > 0.0) {  // reach min(sigma_k, thin_guard tau): t / w = t (thin_guard tau / sigma_k)^(2 order)
+                const double reach = out.feature_size * std::pow(t, 0.5 / options.smoothing_order);
+                anchor.resize(out.vertices);
+                for (std::size_t v = 0; v < out.vertices; ++v)
+                    anchor[v] = std::max(1.0, std::pow(reach / (options.thin_guard * thickness[v]), 2.0 * options.smoothing_order));
+            }
+            smoother->smooth(t, options.smoothing_order, anchor, scratch.positions);
+        }
         const CurvatureField field = estimate_curvature(scratch);
         store_level(out, k, scratch.positions, field);
         const auto [mean, median] = abs_k1(field);
