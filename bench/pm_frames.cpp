@@ -103,11 +103,14 @@ int main(int argc, char** argv) {
     std::string name = "armadillo";
     double px = 3.0;
     bool multiscale = true;
+    std::string only_path;  // "dolly" or "orbit": that path alone
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--no-multiscale")
             multiscale = false;
+        else if (a.rfind("--path=", 0) == 0)
+            only_path = a.substr(7);
         else if (positional++ == 0)
             name = a;
         else
@@ -151,6 +154,7 @@ int main(int argc, char** argv) {
                 "|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true}) {
+            if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
             const PathResult r = run_path(pm, t, c, dolly, geomorphs);
             std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f |\n",
                         dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",

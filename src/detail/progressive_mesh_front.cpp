@@ -24,6 +24,7 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     head_.assign(n, none);
     last_collapse_.assign(n, none);
     queued_.assign(n, 0);
+    retry_at_.assign(n, 0);
     if (geomorphs_.enabled) shown_ = in.positions;
     prev_collapse_.assign(m, none);
     dead_.assign(m, {none, none});
@@ -130,6 +131,30 @@ void AdaptiveFront::enqueue(std::uint32_t v) {
     if (queued_[v]) return;
     queued_[v] = 1;
     work_.push_back(v);
+}
+
+// A change of v's ring may lift what refused it: it is tried again from now on.
+void AdaptiveFront::enqueue_changed(std::uint32_t v) {
+    retry_at_[v] = 0;
+    if (!locked_[v]) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
+}
+
+// A lock around `v` ended: its refused neighbours (those that waited on it among them) are tried
+// again.
+void AdaptiveFront::wake_around(std::uint32_t v) {
+    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(c / 3, j);
+            if (retry_at_[u] > frame_) {
+                retry_at_[u] = 0;
+                if (!locked_[u]) enqueue(u);
+            }
+        }
+}
+
+bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
+    retry_at_[v] = frame_ + frames;
+    return false;
 }
 
 // The link condition (the common neighbours of r and k are exactly the third corners of the faces
@@ -314,13 +339,13 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
 
 void AdaptiveFront::touch_ring(std::uint32_t v) {
     refresh_ring_area(v);
-    enqueue(v);
+    enqueue_changed(v);
     for (std::uint32_t c = head_[v]; c != none; c = next_[c])
         for (int j = 0; j < 3; ++j) {
             const std::uint32_t u = face_vertex(c / 3, j);
             if (u != v && !queued_[u]) {
                 refresh_ring_area(u);
-                enqueue(u);
+                enqueue_changed(u);
             }
         }
 }
@@ -329,11 +354,15 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     const std::uint32_t i = collapse_of_[r];
     if (i == none || locked_[r] || changed_in_frame_[i] == frame_) return false;
     const std::uint32_t k = parent(r);
-    // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
-    if (!active_[k] || locked_[k] || collapsed_children_[r] != children_[r]) return false;
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
-    if (!collapse_ok(r, k) || flips(r, k)) return false;
+    // Refusals that only a change of r's ring (or the end of k's lock) can lift stamp r: the scan
+    // then skips it until touch_ring or wake_around clears the stamp (or, a backstop, a few frames
+    // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
+    if (locked_[k]) return refuse(r, lock_backstop_frames);
+    // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
+    if (!active_[k] || collapsed_children_[r] != children_[r]) return refuse(r, retry_frames);
+    if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
     // The band guard: apply, measure the changed rings, undo when one crossed t_s T.
     changed_ = ring_r_;  // r's neighbours (k among them), from collapse_ok
     std::vector<double>& before = areas_;
@@ -350,7 +379,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
         raw_split(k);
         refresh_ring_area(r);
         for (std::uint32_t u : changed_) refresh_ring_area(u);
-        if (!ok) return false;
+        if (!ok) return false;  // (the band moves with the camera: tried again next frame)
         lock_ring(r, +1);
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
         morphs_.push_back({r, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
@@ -428,12 +457,15 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
         }
         if (m.collapse) {
             lock_ring(r, -1);
+            for (std::uint32_t u : ring_r_) wake_around(u);  // (ring_r_: r's ring, from lock_ring)
             raw_collapse(r);
             touch_ring(k);
             ++stats_->collapses;
         } else {
             --locked_[r];
             --locked_[k];
+            wake_around(r);
+            wake_around(k);
         }
         shown_[r] = p[r];
         m = morphs_.back();
@@ -471,7 +503,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
         const std::uint32_t v = front_[j];  // out of the band: can it change? (the rest is cold memory)
-        if (locked_[v]) continue;
+        if (locked_[v] || retry_at_[v] > frame_) continue;
         if ((a > criterion.split * t && last_collapse_[v] != none) || (a < criterion.collapse * t && collapse_of_[v] != none))
             enqueue(v);
     }
@@ -515,7 +547,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(collapse_of_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
-           b(queued_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+           b(queued_) + b(retry_at_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
            b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
 }
 

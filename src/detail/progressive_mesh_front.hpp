@@ -82,6 +82,7 @@ public:
     std::size_t active_vertices() const { return front_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
     bool is_active(std::uint32_t v) const { return active_[v] != 0; }
+    bool is_locked(std::uint32_t v) const { return locked_[v] != 0; }  // held by a geomorph
     // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
     // cannot split), it is never removed (the top: it cannot collapse).
     bool at_bottom(std::uint32_t v) const { return last_collapse_[v] == none; }
@@ -112,6 +113,12 @@ private:
     std::vector<std::uint32_t> head_;          // first corner of its corner list
     std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
     std::vector<std::uint8_t> queued_;
+    // The frame from which the scan tests it again after a refusal that only a change nearby can
+    // lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a morph
+    // next to it clears the stamp; the stamp's length is only a backstop.
+    std::vector<std::uint32_t> retry_at_;
+    static constexpr std::uint32_t retry_frames = 8;           // refused by the collapse's rules
+    static constexpr std::uint32_t lock_backstop_frames = 64;  // waiting on a morph's lock
     std::vector<glm::dvec3> shown_;            // shown position (only with geomorphs)
     // Per collapse.
     std::vector<std::uint32_t> prev_collapse_;       // the stack's link
@@ -151,6 +158,9 @@ private:
     double target(std::uint32_t v) const;
     double image_area(std::uint32_t v) const { return scale(v) * ring_area_[v]; }
     void enqueue(std::uint32_t v);
+    void enqueue_changed(std::uint32_t v);
+    void wake_around(std::uint32_t v);
+    bool refuse(std::uint32_t v, std::uint32_t frames);  // stamps v; returns false
 
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
     bool flips(std::uint32_t r, std::uint32_t k) const;
