@@ -219,11 +219,13 @@ TEST(ProgressiveMeshCli, BenchComparesBothMethods) {
     ASSERT_EQ(both.code, 0) << both.err;
     EXPECT_TRUE(rows(both.out, "multiscale")) << both.out;
     EXPECT_TRUE(rows(both.out, "pm")) << both.out;
-    const inkline_test::Result pm =
-        inkline_test::run_inkline("", "bench " + m + " --detail=4 --detail-method=pm --frames=3 --path=dolly", d);
-    ASSERT_EQ(pm.code, 0) << pm.err;
-    EXPECT_TRUE(rows(pm.out, "pm"));
-    EXPECT_FALSE(rows(pm.out, "multiscale"));
+    for (const auto& [method, other] : {std::pair{"pm", "multiscale"}, std::pair{"multiscale", "pm"}}) {
+        const inkline_test::Result one = inkline_test::run_inkline(
+            "", "bench " + m + " --detail=4 --detail-method=" + method + " --frames=3 --path=dolly", d);
+        ASSERT_EQ(one.code, 0) << method << ": " << one.err;
+        EXPECT_TRUE(rows(one.out, method)) << one.out;
+        EXPECT_FALSE(rows(one.out, other)) << one.out;
+    }
     const inkline_test::Result bad = inkline_test::run_inkline("", "bench " + m + " --detail-method=pm", d);
     EXPECT_EQ(bad.code, 2);
     EXPECT_EQ(bad.err.substr(0, bad.err.find('\n')).substr(0, 39), "inkline: --detail-method needs --detail") << bad.err;
