@@ -11,11 +11,10 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     const TriangleMesh& in = pm.input();
     const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
     collapse_of_.assign(n, none);
-    children_.assign(n, 0);
-    collapsed_children_.assign(n, 0);
+    pending_children_.assign(n, 0);
     for (std::size_t i = 0; i < m; ++i) {
         collapse_of_[pm.removed_vertex()[i]] = std::uint32_t(i);
-        ++children_[pm.kept_vertex()[i]];
+        ++pending_children_[pm.kept_vertex()[i]];
     }
     active_.assign(n, 1);
     locked_.assign(n, 0);
@@ -25,7 +24,6 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     last_collapse_.assign(n, none);
     queued_.assign(n, 0);
     retry_at_.assign(n, 0);
-    if (geomorphs_.enabled) shown_ = in.positions;
     prev_collapse_.assign(m, none);
     dead_.assign(m, {none, none});
     changed_in_frame_.assign(m, 0);
@@ -241,7 +239,7 @@ void AdaptiveFront::raw_collapse(std::uint32_t r) {
     dead_[i] = dead;
     prev_collapse_[i] = last_collapse_[k];
     last_collapse_[k] = i;
-    ++collapsed_children_[k];
+    --pending_children_[k];
 }
 
 // The latest collapse made onto k can be undone when each face it removed finds its third corner
@@ -318,7 +316,7 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
     const auto& tri = pm_.input().triangles;
     last_collapse_[k] = prev_collapse_[i];
     prev_collapse_[i] = none;
-    --collapsed_children_[k];
+    ++pending_children_[k];
     active_[r] = 1;
     front_add(r);
     for (std::uint32_t c = head_[k], next = none; c != none; c = next) {
@@ -352,7 +350,7 @@ void AdaptiveFront::touch_ring(std::uint32_t v) {
 
 bool AdaptiveFront::try_collapse(std::uint32_t r) {
     const std::uint32_t i = collapse_of_[r];
-    if (i == none || locked_[r] || changed_in_frame_[i] == frame_) return false;
+    if (i == none || locked_[r] || changed_in_frame_[i] == frame16()) return false;
     const std::uint32_t k = parent(r);
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
@@ -361,7 +359,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
     if (locked_[k]) return refuse(r, lock_backstop_frames);
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
-    if (!active_[k] || collapsed_children_[r] != children_[r]) return refuse(r, retry_frames);
+    if (!active_[k] || pending_children_[r] != 0) return refuse(r, retry_frames);
     if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
     // The band guard: apply, measure the changed rings, undo when one crossed t_s T.
     changed_ = ring_r_;  // r's neighbours (k among them), from collapse_ok
@@ -386,7 +384,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
         ++stats_->morphs_started;
         return true;
     }
-    changed_in_frame_[i] = frame_;
+    changed_in_frame_[i] = frame16();
     touch_ring(k);
     ++stats_->collapses;
     return true;
@@ -394,7 +392,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
 
 bool AdaptiveFront::try_split(std::uint32_t k) {
     const std::uint32_t i = last_collapse_[k];
-    if (locked_[k] || i == none || changed_in_frame_[i] == frame_) return false;
+    if (locked_[k] || i == none || changed_in_frame_[i] == frame16()) return false;
     const double t_k = target(k), a = image_area(k);
     if (!(a > criterion_->split * t_k) || !split_ok(k)) return false;
     const std::uint32_t r = raw_split(k);
@@ -410,12 +408,11 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
         refresh_ring_area(k);
         return false;
     }
-    changed_in_frame_[i] = frame_;
+    changed_in_frame_[i] = frame16();
     touch_ring(r);
     touch_ring(k);
     ++stats_->splits;
     if (geomorphs_.enabled) {
-        shown_[r] = shown_[k];
         ++locked_[r];
         ++locked_[k];
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
@@ -434,6 +431,13 @@ void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
     for (std::uint32_t u : ring_r_) locked_[u] = std::uint16_t(locked_[u] + delta);
 }
 
+// A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
+// locked, so it is in no morph of its own).
+glm::dvec3 AdaptiveFront::shown(const Morph& m, const std::vector<glm::dvec3>& p) const {
+    const std::uint32_t r = m.vertex, k = parent(r);
+    return m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
+}
+
 void AdaptiveFront::advance_morphs(double frame_seconds) {
     const auto& p = pm_.input().positions;
     for (std::size_t j = 0; j < morphs_.size();) {
@@ -445,12 +449,12 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
                 m.speed = std::max(m.speed, std::clamp(criterion_->collapse * t_r / a, 1.0, geomorphs_.max_speedup) /
                                                 std::max(geomorphs_.seconds, 1e-9));
         }
+        const glm::dvec3 was = shown(m, p);
         m.progress = std::min(1.0, m.progress + m.speed * frame_seconds);
-        const glm::dvec3 was = shown_[r];
-        shown_[r] = m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
-        if (camera_->depth(was) > 0.0 && camera_->depth(shown_[r]) > 0.0)
+        const glm::dvec3 now = shown(m, p);
+        if (camera_->depth(was) > 0.0 && camera_->depth(now) > 0.0)
             stats_->largest_move_px =
-                std::max(stats_->largest_move_px, glm::length(camera_->project(shown_[r]) - camera_->project(was)));
+                std::max(stats_->largest_move_px, glm::length(camera_->project(now) - camera_->project(was)));
         if (m.progress < 1.0) {
             ++j;
             continue;
@@ -467,7 +471,6 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
             wake_around(r);
             wake_around(k);
         }
-        shown_[r] = p[r];
         m = morphs_.back();
         morphs_.pop_back();
     }
@@ -494,7 +497,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     camera_ = &camera;
     criterion_ = &criterion;
     stats_ = &s;
-    ++frame_;
+    if (std::uint16_t(++frame_) == 0) ++frame_;  // (frame16() 0 is every untouched record's)
     if (geomorphs_.enabled) advance_morphs(frame_seconds);
     const bool constant_target = !criterion.map;
     for (std::size_t j = 0; j < front_.size(); ++j) {
@@ -527,9 +530,10 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
     for (std::uint32_t v = 0; v < in.positions.size(); ++v)
         if (active_[v] && head_[v] != none) {
             index[v] = std::uint32_t(out.positions.size());
-            out.positions.push_back(shown_.empty() ? in.positions[v] : shown_[v]);
+            out.positions.push_back(in.positions[v]);
             if (input_vertex) input_vertex->push_back(v);
         }
+    for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m, in.positions);
     out.triangles.reserve(active_face_count_);
     for (std::uint32_t f = 0; f < in.triangles.size(); ++f) {
         if (!face_active_[f]) continue;
@@ -546,8 +550,8 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(collapse_of_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
-           b(queued_) + b(retry_at_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+    return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
+           b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
            b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
 }
 

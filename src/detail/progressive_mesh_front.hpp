@@ -105,7 +105,7 @@ private:
     GeomorphOptions geomorphs_;
     // Per input vertex.
     std::vector<std::uint32_t> collapse_of_;   // the collapse that removes it (none: a root)
-    std::vector<std::uint32_t> children_, collapsed_children_;  // collapses onto it: all, made
+    std::vector<std::uint32_t> pending_children_;  // collapses onto it not made yet
     std::vector<std::uint8_t> active_;
     std::vector<std::uint16_t> locked_;        // geomorphs holding it
     std::vector<float> ring_area_;             // average world area of its ring (active vertices)
@@ -119,11 +119,12 @@ private:
     std::vector<std::uint32_t> retry_at_;
     static constexpr std::uint32_t retry_frames = 8;           // refused by the collapse's rules
     static constexpr std::uint32_t lock_backstop_frames = 64;  // waiting on a morph's lock
-    std::vector<glm::dvec3> shown_;            // shown position (only with geomorphs)
     // Per collapse.
     std::vector<std::uint32_t> prev_collapse_;       // the stack's link
     std::vector<std::array<std::uint32_t, 2>> dead_; // faces it removed
-    std::vector<std::uint32_t> changed_in_frame_;    // the frame it was last made or undone in
+    // The frame it was last made or undone in, modulo 2^16 (a record last changed 2^16 frames ago
+    // waits one frame: harmless, and half the bytes).
+    std::vector<std::uint16_t> changed_in_frame_;
     std::uint32_t frame_ = 0;
     // Per face corner (3 f + j) and per face. The lists are singly linked: a vertex's list is as
     // short as its degree, so unlinking by a walk costs less than a back link's 4 bytes a corner.
@@ -145,6 +146,8 @@ private:
 
     std::uint32_t face_vertex(std::uint32_t face, int j) const { return corner_[3 * face + j]; }
     std::uint32_t parent(std::uint32_t v) const;
+    std::uint16_t frame16() const { return std::uint16_t(frame_); }
+    glm::dvec3 shown(const Morph& m, const std::vector<glm::dvec3>& p) const;
     std::uint32_t representative(std::uint32_t input_vertex) const;
     void link(std::uint32_t c, std::uint32_t v);
     void unlink(std::uint32_t c);
