@@ -18,7 +18,6 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     }
     active_.assign(n, 1);
     locked_.assign(n, 0);
-    ring_area_.assign(n, 0.0);
     front_pos_.assign(n, none);
     head_.assign(n, none);
     last_collapse_.assign(n, none);
@@ -36,8 +35,8 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     }
     for (std::uint32_t v = 0; v < n; ++v)
         if (head_[v] != none) {
-            refresh_ring_area(v);
             front_add(v);
+            refresh_ring_area(v);
         }
 }
 
@@ -75,7 +74,7 @@ void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
 void AdaptiveFront::front_add(std::uint32_t v) {
     front_pos_[v] = std::uint32_t(front_.size());
     front_.push_back(v);
-    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), ring_area_[v]));
+    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), 0.0f));  // (area: refresh_ring_area)
 }
 
 void AdaptiveFront::front_remove(std::uint32_t v) {
@@ -101,8 +100,7 @@ void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
         sum += face_area(c / 3);
         ++count;
     }
-    ring_area_[v] = float(count ? sum / double(count) : 0.0);
-    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = ring_area_[v];
+    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = float(count ? sum / double(count) : 0.0);
 }
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
@@ -122,7 +120,7 @@ double AdaptiveFront::scale(std::uint32_t v) const {
 double AdaptiveFront::target(std::uint32_t v) const { return criterion_->target_at(*camera_, pm_.input().positions[v]); }
 
 double AdaptiveFront::image_area_of(std::uint32_t v, const Camera& camera) const {
-    return inkline::image_area(camera, ring_area_[v], camera.depth(pm_.input().positions[v]));
+    return inkline::image_area(camera, ring_area(v), camera.depth(pm_.input().positions[v]));
 }
 
 void AdaptiveFront::enqueue(std::uint32_t v) {
@@ -550,7 +548,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
+    return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(front_pos_) + b(head_) + b(last_collapse_) +
            b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
            b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
 }

@@ -108,7 +108,6 @@ private:
     std::vector<std::uint32_t> pending_children_;  // collapses onto it not made yet
     std::vector<std::uint8_t> active_;
     std::vector<std::uint16_t> locked_;        // geomorphs holding it
-    std::vector<float> ring_area_;             // average world area of its ring (active vertices)
     std::vector<std::uint32_t> front_pos_;     // its index in front_
     std::vector<std::uint32_t> head_;          // first corner of its corner list
     std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
@@ -159,7 +158,10 @@ private:
     void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;
     double scale(std::uint32_t v) const;
     double target(std::uint32_t v) const;
-    double image_area(std::uint32_t v) const { return scale(v) * ring_area_[v]; }
+    // The average world area of an active vertex's ring, kept in front_data_ only (0 for a vertex
+    // in no face).
+    float ring_area(std::uint32_t v) const { return front_pos_[v] == none ? 0.0f : front_data_[front_pos_[v]].w; }
+    double image_area(std::uint32_t v) const { return scale(v) * ring_area(v); }
     void enqueue(std::uint32_t v);
     void enqueue_changed(std::uint32_t v);
     void wake_around(std::uint32_t v);
