@@ -196,6 +196,47 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     return !(shared == 2 && on_border(r, ring_r_) && on_border(k, ring_k_));
 }
 
+// The world area of face f once r is collapsed onto k (r's corner moved to k), as face_area would
+// give it then.
+double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const {
+    const auto& p = pm_.input().positions;
+    const auto at = [&](int j) -> const glm::dvec3& {
+        const std::uint32_t u = face_vertex(f, j);
+        return p[u == r ? k : u];
+    };
+    const glm::dvec3 a = at(0), b = at(1), c = at(2);
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+// What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
+// in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
+// one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
+float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k) {
+    const auto dead = [&](std::uint32_t f) {  // a face on edge rk: removed by the collapse
+        bool has_r = false, has_k = false;
+        for (int j = 0; j < 3; ++j) {
+            has_r |= face_vertex(f, j) == r;
+            has_k |= face_vertex(f, j) == k;
+        }
+        return has_r && has_k;
+    };
+    double sum = 0.0;
+    std::size_t count = 0;
+    if (u == k) {
+        areas_.clear();
+        for (std::uint32_t c = head_[r]; c != none; c = next_[c])
+            if (!dead(c / 3)) areas_.push_back(face_area_moved(c / 3, r, k));
+        for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
+        count = areas_.size();
+    }
+    for (std::uint32_t c = head_[u]; c != none; c = next_[c])
+        if (!dead(c / 3)) {
+            sum += face_area_moved(c / 3, r, k);
+            ++count;
+        }
+    return float(count ? sum / double(count) : 0.0);
+}
+
 // A face of r's ring that would turn over (or become degenerate) when r moves onto k.
 bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
     const auto& p = pm_.input().positions;
@@ -359,29 +400,21 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
     if (!active_[k] || pending_children_[r] != 0) return refuse(r, retry_frames);
     if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
-    // The band guard: apply, measure the changed rings, undo when one crossed t_s T.
-    changed_ = ring_r_;  // r's neighbours (k among them), from collapse_ok
-    std::vector<double>& before = areas_;
-    before.resize(changed_.size());
-    for (std::size_t j = 0; j < changed_.size(); ++j) before[j] = image_area(changed_[j]);
-    raw_collapse(r);
-    bool ok = true;
-    for (std::size_t j = 0; j < changed_.size() && ok; ++j) {
-        const std::uint32_t u = changed_[j];
-        refresh_ring_area(u);
-        ok = image_area(u) <= std::max(criterion_->split * target(u), before[j]);
-    }
-    if (!ok || geomorphs_.enabled) {
-        raw_split(k);
-        refresh_ring_area(r);
-        for (std::uint32_t u : changed_) refresh_ring_area(u);
-        if (!ok) return false;  // (the band moves with the camera: tried again next frame)
+    // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
+    // t_s T unless it was there and does not grow; measured without making the collapse.
+    for (const std::uint32_t u : ring_r_) {
+        const double after = scale(u) * ring_area_after_collapse(u, r, k);
+        if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;  // (the band
+    }                                                                  // moves with the camera: tried next frame)
+    if (geomorphs_.enabled) {
         lock_ring(r, +1);
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
         morphs_.push_back({r, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
         return true;
     }
+    raw_collapse(r);
+    for (const std::uint32_t u : ring_r_) refresh_ring_area(u);  // (touch_ring skips queued ones)
     changed_in_frame_[i] = frame16();
     touch_ring(k);
     ++stats_->collapses;

@@ -136,7 +136,7 @@ private:
     std::vector<glm::vec4> front_data_;
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
-    std::vector<std::uint32_t> ring_r_, ring_k_, changed_;
+    std::vector<std::uint32_t> ring_r_, ring_k_;
     std::vector<double> areas_;
     // This frame's view.
     const Camera* camera_ = nullptr;
@@ -169,6 +169,8 @@ private:
 
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
     bool flips(std::uint32_t r, std::uint32_t k) const;
+    double face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const;
+    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k);
     void raw_collapse(std::uint32_t r);
     bool split_ok(std::uint32_t k) const;
     bool ring_is_disk(std::uint32_t v) const;
