@@ -22,7 +22,9 @@
 // vertex k is split (the latest collapse made onto it undone) when above t_s T, unless a removed
 // face's third corner is no longer k's neighbour (Hoppe's vsplit legality, in the form this
 // hierarchy needs), a changed ring would not be a disk, or a child would fall below t_c T. Each
-// collapse record changes at most once a frame, so a frame always ends.
+// collapse record changes at most once a frame, so a frame always ends. A collapse refused by the
+// hierarchy's rules or by a geomorph's lock on its parent is stamped and not tried again until its
+// ring changes or a geomorph next to it ends, so blocked work costs nothing a frame.
 //
 // The front started from the input and converged at a view need not equal
 // ProgressiveMesh::adapt's mesh for that view, nor the front converged there from another view:
