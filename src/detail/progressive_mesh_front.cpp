@@ -401,11 +401,12 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     if (!active_[k] || pending_children_[r] != 0) return refuse(r, retry_frames);
     if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
-    // t_s T unless it was there and does not grow; measured without making the collapse.
+    // t_s T unless it was there and does not grow; measured without making the collapse. (Not
+    // stamped: the band moves with the camera, so it is tried again next frame.)
     for (const std::uint32_t u : ring_r_) {
         const double after = scale(u) * ring_area_after_collapse(u, r, k);
-        if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;  // (the band
-    }                                                                  // moves with the camera: tried next frame)
+        if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;
+    }
     if (geomorphs_.enabled) {
         lock_ring(r, +1);
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
@@ -414,7 +415,8 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
         return true;
     }
     raw_collapse(r);
-    for (const std::uint32_t u : ring_r_) refresh_ring_area(u);  // (touch_ring skips queued ones)
+    // (every changed ring's area now: touch_ring refreshes only the neighbours not yet queued)
+    for (const std::uint32_t u : ring_r_) refresh_ring_area(u);
     changed_in_frame_[i] = frame16();
     touch_ring(k);
     ++stats_->collapses;
