@@ -374,17 +374,16 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
     return r;
 }
 
+// Every vertex whose ring changed gets its area again, also one queued already (it is tried with
+// the new ring, and the next frame's scan reads it).
 void AdaptiveFront::touch_ring(std::uint32_t v) {
     refresh_ring_area(v);
     enqueue_changed(v);
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(c / 3, j);
-            if (u != v && !queued_[u]) {
-                refresh_ring_area(u);
-                enqueue_changed(u);
-            }
-        }
+    neighbours(v, touched_);
+    for (const std::uint32_t u : touched_) {
+        refresh_ring_area(u);
+        enqueue_changed(u);
+    }
 }
 
 bool AdaptiveFront::try_collapse(std::uint32_t r) {
@@ -415,8 +414,6 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
         return true;
     }
     raw_collapse(r);
-    // (every changed ring's area now: touch_ring refreshes only the neighbours not yet queued)
-    for (const std::uint32_t u : ring_r_) refresh_ring_area(u);
     changed_in_frame_[i] = frame16();
     touch_ring(k);
     ++stats_->collapses;
@@ -585,7 +582,7 @@ std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(front_pos_) + b(head_) + b(last_collapse_) +
            b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
-           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
+           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_) + b(touched_);
 }
 
 }  // namespace inkline

@@ -138,7 +138,7 @@ private:
     std::vector<glm::vec4> front_data_;
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
-    std::vector<std::uint32_t> ring_r_, ring_k_;
+    std::vector<std::uint32_t> ring_r_, ring_k_, touched_;
     std::vector<double> areas_;
     // This frame's view.
     const Camera* camera_ = nullptr;
