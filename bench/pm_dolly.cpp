@@ -5,40 +5,21 @@
 //
 //   pm_dolly [MESH[@N]] [PX] [FRAMES] [FROM] [TO]   (defaults armadillo 4 9 1 8: distances in
 //                                                     multiples of the framed distance)
-#include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <optional>
 #include <string>
 
 #include "bench_models.hpp"
+#include "core/clock.hpp"
+#include "pm_bench_util.hpp"
 #include "detail/progressive_mesh.hpp"
 
 using namespace inkline;
+using inkline::bench::cpu_seconds;
+using inkline::bench::status_mib;
 
 namespace {
-
-// Process CPU seconds: the machine is shared, so wall time overstates the work.
-double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// /proc/self/status field in MiB (VmRSS now, VmHWM the peak so far).
-double status_mib(const std::string& field) {
-    std::ifstream in("/proc/self/status");
-    std::string key;
-    double kib = 0.0;
-    while (in >> key)
-        if (key == field + ":") {
-            in >> kib;
-            break;
-        }
-    return kib / 1024.0;
-}
 
 // Visible ink (silhouettes, suggestive contours) in pixels over the image area of the model's
 // bounding sphere (issue 43's measure, so that the two methods' tables compare).
@@ -62,7 +43,7 @@ int main(int argc, char** argv) {
     const Model* model = bench_model_for(name, "pm_dolly");
     if (!model) return 1;
     const double rss_model = status_mib("VmRSS");
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = StageClock::now();
     const double cpu0 = cpu_seconds();
     const ProgressiveMesh pm(triangle_mesh_of(model->topology()));
     const double build = seconds_since(t0), build_cpu = cpu_seconds() - cpu0;

@@ -2,49 +2,32 @@
 // hierarchy build time and memory beside the multi-scale method's pre-process on the same model,
 // then the adaptation's cost a frame (the thread's CPU time: one core) along a slow dolly and an
 // orbit, with and without geomorphs (the largest per-frame vertex move they make, in pixels).
-// Not a test: numbers go to bench/results/pm_frames.md (bench/run_detail.sh).
+// Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
-//   pm_frames [MESH[@N]] [PX] [--no-multiscale]   (defaults armadillo 3)
+//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit]   (defaults armadillo 3, both paths)
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
 // 1 % of the distance a frame (140 frames); the orbit turns 1 degree a frame about the vertical
 // axis at the framed distance (120 frames). Each path starts from a front converged at its first
 // view (the cost of that is printed apart).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "bench_models.hpp"
+#include "core/clock.hpp"
 #include "detail/multiscale.hpp"
 #include "detail/progressive_mesh_front.hpp"
+#include "pm_bench_util.hpp"
 
 using namespace inkline;
+using inkline::bench::status_mib;
+using inkline::bench::thread_seconds;
 
 namespace {
-
-double thread_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-double status_mib(const std::string& field) {
-    std::ifstream in("/proc/self/status");
-    std::string key;
-    double kib = 0.0;
-    while (in >> key)
-        if (key == field + ":") {
-            in >> kib;
-            break;
-        }
-    return kib / 1024.0;
-}
 
 Camera path_camera(const MeshTopology& t, double times, double yaw_deg) {
     const Camera framed = Camera::framing(t.bounds, 1024, 1024);
@@ -103,11 +86,14 @@ int main(int argc, char** argv) {
     std::string name = "armadillo";
     double px = 3.0;
     bool multiscale = true;
+    std::string only_path;  // "dolly" or "orbit": that path alone
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--no-multiscale")
             multiscale = false;
+        else if (a.rfind("--path=", 0) == 0)
+            only_path = a.substr(7);
         else if (positional++ == 0)
             name = a;
         else
@@ -118,10 +104,10 @@ int main(int argc, char** argv) {
     const MeshTopology& t = model->topology();
     const double rss0 = status_mib("VmRSS");
     double c0 = thread_seconds();
-    const auto w0 = std::chrono::steady_clock::now();
+    const auto w0 = StageClock::now();
     const ProgressiveMesh pm(triangle_mesh_of(t));
     const double build_cpu = thread_seconds() - c0;
-    const double build_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    const double build_wall = seconds_since(w0);
     const double rss_pm = status_mib("VmRSS"), peak_pm = status_mib("VmHWM");
     std::size_t front_bytes = 0;
     {
@@ -151,6 +137,7 @@ int main(int argc, char** argv) {
                 "|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true}) {
+            if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
             const PathResult r = run_path(pm, t, c, dolly, geomorphs);
             std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f |\n",
                         dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",

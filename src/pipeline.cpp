@@ -78,6 +78,11 @@ void Model::move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersec
     }
 }
 
+void Model::adopt_self_intersections(SelfIntersections known) {
+    std::call_once(lazy_->pierced_once, [] {});
+    lazy_->pierced = std::make_unique<SelfIntersections>(std::move(known));
+}
+
 const RayCaster& Model::rays() const {
     std::call_once(lazy_->rays_once, [this] { lazy_->rays = std::make_unique<RayCaster>(topo_); });
     return *lazy_->rays;

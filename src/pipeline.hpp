@@ -65,6 +65,9 @@ public:
     // when given, else computed again if they were. The curvature is not recomputed. Not
     // thread-safe against views of this model in flight.
     void move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersections* known = nullptr);
+    // Takes `known` as the self-intersections instead of searching for them (a caller that knows
+    // them already, e.g. none); only before any view asked for them.
+    void adopt_self_intersections(SelfIntersections known);
     double load_seconds() const { return load_seconds_; }
     const LoadReport& repairs() const { return repairs_; }
     // The file's cameras (scenes only; empty for mesh files), in file order.

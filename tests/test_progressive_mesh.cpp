@@ -11,6 +11,7 @@
 #include "cli_util.hpp"
 
 #include "detail/progressive_mesh.hpp"
+#include "detail/progressive_mesh_session.hpp"
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
@@ -219,12 +220,56 @@ TEST(ProgressiveMeshCli, BenchComparesBothMethods) {
     ASSERT_EQ(both.code, 0) << both.err;
     EXPECT_TRUE(rows(both.out, "multiscale")) << both.out;
     EXPECT_TRUE(rows(both.out, "pm")) << both.out;
-    const inkline_test::Result pm =
-        inkline_test::run_inkline("", "bench " + m + " --detail=4 --detail-method=pm --frames=3 --path=dolly", d);
-    ASSERT_EQ(pm.code, 0) << pm.err;
-    EXPECT_TRUE(rows(pm.out, "pm"));
-    EXPECT_FALSE(rows(pm.out, "multiscale"));
+    for (const auto& [method, other] : {std::pair{"pm", "multiscale"}, std::pair{"multiscale", "pm"}}) {
+        const inkline_test::Result one = inkline_test::run_inkline(
+            "", "bench " + m + " --detail=4 --detail-method=" + method + " --frames=3 --path=dolly", d);
+        ASSERT_EQ(one.code, 0) << method << ": " << one.err;
+        EXPECT_TRUE(rows(one.out, method)) << one.out;
+        EXPECT_FALSE(rows(one.out, other)) << one.out;
+    }
     const inkline_test::Result bad = inkline_test::run_inkline("", "bench " + m + " --detail-method=pm", d);
     EXPECT_EQ(bad.code, 2);
     EXPECT_EQ(bad.err.substr(0, bad.err.find('\n')).substr(0, 39), "inkline: --detail-method needs --detail") << bad.err;
 }
+
+// A PmSession frame (the front's mesh, its self-intersection search skipped for an embedded
+// input) draws exactly what a from-scratch Model of the same adapted mesh draws: the same pieces,
+// kinds, QI and points, along a dolly with geomorphs running.
+TEST(PmSession, FrameDrawsWhatAFromScratchModelOfItsMeshDraws) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Model input(pm.input());
+    ViewOptions options;
+    options.features.kinds[int(LineKind::Crease)] = false;
+    options.surface.suggestive = true;
+    PmViewOptions o;
+    o.target_px = 3.0;
+    o.geomorphs.enabled = true;
+    o.smoothing = false;  // (the smoothed fields are the session's own: the mesh's lines are compared)
+    o.input_self_intersects = input.self_intersections().flagged > 0;
+    EXPECT_FALSE(o.input_self_intersects);
+    PmSession session(pm, options, o);
+    const Bounds3 box = bounds_of(pm.input());
+    const Camera framed = test::framed_camera(box);
+    session.settle(framed);
+    std::size_t pieces = 0, morphing_frames = 0;
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 eye = box.center() + std::pow(1.05, k + 1) * (framed.eye() - box.center());
+        const Camera cam = Camera::perspective(eye, box.center(), framed.up(), framed.fov_deg(), 1024, 1024);
+        const Drawing& d = session.render(cam, 1.0 / 25.0).drawing;
+        morphing_frames += session.stats().morphs_running > 0;
+        const Model scratch(session.front().mesh(), o.crease_degrees);
+        EXPECT_EQ(scratch.self_intersections().flagged, 0u) << k;  // (so skipping the search changed nothing)
+        const Drawing ref = render_view(scratch, cam, options).drawing;
+        ASSERT_EQ(d.pieces.size(), ref.pieces.size()) << k;
+        for (std::size_t i = 0; i < ref.pieces.size(); ++i) {
+            EXPECT_EQ(d.pieces[i].kind, ref.pieces[i].kind) << k << " " << i;
+            EXPECT_EQ(d.pieces[i].qi, ref.pieces[i].qi) << k << " " << i;
+            EXPECT_EQ(d.pieces[i].points, ref.pieces[i].points) << k << " " << i;
+        }
+        pieces += ref.pieces.size();
+    }
+    std::printf("%zu pieces in 4 frames\n", pieces);
+    EXPECT_GT(pieces, 30000u);  // (36322: the comparison covers many lines)
+    EXPECT_GT(morphing_frames, 0u);  // (shown positions between a vertex and its parent were drawn)
+}
+

@@ -133,6 +133,7 @@ MethodRow run_pm(const Model& model, const ViewOptions& base, const DetailBenchA
     o.target_px = a.detail->target_px;
     o.crease_degrees = model.topology().crease_degrees;
     o.geomorphs.enabled = true;
+    o.input_self_intersects = model.self_intersections().flagged > 0;
     PmSession session(pm, base, o);
     session.settle(a.camera(0));  // converged at the first view before the path, as a window opens
     std::vector<glm::dvec2> last;

@@ -11,20 +11,18 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     const TriangleMesh& in = pm.input();
     const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
     collapse_of_.assign(n, none);
-    children_.assign(n, 0);
-    collapsed_children_.assign(n, 0);
+    pending_children_.assign(n, 0);
     for (std::size_t i = 0; i < m; ++i) {
         collapse_of_[pm.removed_vertex()[i]] = std::uint32_t(i);
-        ++children_[pm.kept_vertex()[i]];
+        ++pending_children_[pm.kept_vertex()[i]];
     }
     active_.assign(n, 1);
     locked_.assign(n, 0);
-    ring_area_.assign(n, 0.0);
     front_pos_.assign(n, none);
     head_.assign(n, none);
     last_collapse_.assign(n, none);
     queued_.assign(n, 0);
-    if (geomorphs_.enabled) shown_ = in.positions;
+    retry_at_.assign(n, 0);
     prev_collapse_.assign(m, none);
     dead_.assign(m, {none, none});
     changed_in_frame_.assign(m, 0);
@@ -37,8 +35,8 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     }
     for (std::uint32_t v = 0; v < n; ++v)
         if (head_[v] != none) {
-            refresh_ring_area(v);
             front_add(v);
+            refresh_ring_area(v);
         }
 }
 
@@ -76,7 +74,7 @@ void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
 void AdaptiveFront::front_add(std::uint32_t v) {
     front_pos_[v] = std::uint32_t(front_.size());
     front_.push_back(v);
-    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), ring_area_[v]));
+    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), 0.0f));  // (area: refresh_ring_area)
 }
 
 void AdaptiveFront::front_remove(std::uint32_t v) {
@@ -102,8 +100,7 @@ void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
         sum += face_area(c / 3);
         ++count;
     }
-    ring_area_[v] = float(count ? sum / double(count) : 0.0);
-    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = ring_area_[v];
+    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = float(count ? sum / double(count) : 0.0);
 }
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
@@ -123,13 +120,37 @@ double AdaptiveFront::scale(std::uint32_t v) const {
 double AdaptiveFront::target(std::uint32_t v) const { return criterion_->target_at(*camera_, pm_.input().positions[v]); }
 
 double AdaptiveFront::image_area_of(std::uint32_t v, const Camera& camera) const {
-    return inkline::image_area(camera, ring_area_[v], camera.depth(pm_.input().positions[v]));
+    return inkline::image_area(camera, ring_area(v), camera.depth(pm_.input().positions[v]));
 }
 
 void AdaptiveFront::enqueue(std::uint32_t v) {
     if (queued_[v]) return;
     queued_[v] = 1;
     work_.push_back(v);
+}
+
+// A change of v's ring may lift what refused it: it is tried again from now on.
+void AdaptiveFront::enqueue_changed(std::uint32_t v) {
+    retry_at_[v] = 0;
+    if (!locked_[v]) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
+}
+
+// A lock around `v` ended: its refused neighbours (those that waited on it among them) are tried
+// again.
+void AdaptiveFront::wake_around(std::uint32_t v) {
+    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(c / 3, j);
+            if (retry_at_[u] > frame_) {
+                retry_at_[u] = 0;
+                if (!locked_[u]) enqueue(u);
+            }
+        }
+}
+
+bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
+    retry_at_[v] = frame_ + frames;
+    return false;
 }
 
 // The link condition (the common neighbours of r and k are exactly the third corners of the faces
@@ -175,6 +196,47 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     return !(shared == 2 && on_border(r, ring_r_) && on_border(k, ring_k_));
 }
 
+// The world area of face f once r is collapsed onto k (r's corner moved to k), as face_area would
+// give it then.
+double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const {
+    const auto& p = pm_.input().positions;
+    const auto at = [&](int j) -> const glm::dvec3& {
+        const std::uint32_t u = face_vertex(f, j);
+        return p[u == r ? k : u];
+    };
+    const glm::dvec3 a = at(0), b = at(1), c = at(2);
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+// What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
+// in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
+// one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
+float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k) {
+    const auto dead = [&](std::uint32_t f) {  // a face on edge rk: removed by the collapse
+        bool has_r = false, has_k = false;
+        for (int j = 0; j < 3; ++j) {
+            has_r |= face_vertex(f, j) == r;
+            has_k |= face_vertex(f, j) == k;
+        }
+        return has_r && has_k;
+    };
+    double sum = 0.0;
+    std::size_t count = 0;
+    if (u == k) {
+        areas_.clear();
+        for (std::uint32_t c = head_[r]; c != none; c = next_[c])
+            if (!dead(c / 3)) areas_.push_back(face_area_moved(c / 3, r, k));
+        for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
+        count = areas_.size();
+    }
+    for (std::uint32_t c = head_[u]; c != none; c = next_[c])
+        if (!dead(c / 3)) {
+            sum += face_area_moved(c / 3, r, k);
+            ++count;
+        }
+    return float(count ? sum / double(count) : 0.0);
+}
+
 // A face of r's ring that would turn over (or become degenerate) when r moves onto k.
 bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
     const auto& p = pm_.input().positions;
@@ -216,7 +278,7 @@ void AdaptiveFront::raw_collapse(std::uint32_t r) {
     dead_[i] = dead;
     prev_collapse_[i] = last_collapse_[k];
     last_collapse_[k] = i;
-    ++collapsed_children_[k];
+    --pending_children_[k];
 }
 
 // The latest collapse made onto k can be undone when each face it removed finds its third corner
@@ -293,7 +355,7 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
     const auto& tri = pm_.input().triangles;
     last_collapse_[k] = prev_collapse_[i];
     prev_collapse_[i] = none;
-    --collapsed_children_[k];
+    ++pending_children_[k];
     active_[r] = 1;
     front_add(r);
     for (std::uint32_t c = head_[k], next = none; c != none; c = next) {
@@ -312,52 +374,47 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
     return r;
 }
 
+// Every vertex whose ring changed gets its area again, also one queued already (it is tried with
+// the new ring, and the next frame's scan reads it).
 void AdaptiveFront::touch_ring(std::uint32_t v) {
     refresh_ring_area(v);
-    enqueue(v);
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(c / 3, j);
-            if (u != v && !queued_[u]) {
-                refresh_ring_area(u);
-                enqueue(u);
-            }
-        }
+    enqueue_changed(v);
+    neighbours(v, touched_);
+    for (const std::uint32_t u : touched_) {
+        refresh_ring_area(u);
+        enqueue_changed(u);
+    }
 }
 
 bool AdaptiveFront::try_collapse(std::uint32_t r) {
     const std::uint32_t i = collapse_of_[r];
-    if (i == none || locked_[r] || changed_in_frame_[i] == frame_) return false;
+    if (i == none || locked_[r] || changed_in_frame_[i] == frame16()) return false;
     const std::uint32_t k = parent(r);
-    // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
-    if (!active_[k] || locked_[k] || collapsed_children_[r] != children_[r]) return false;
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
-    if (!collapse_ok(r, k) || flips(r, k)) return false;
-    // The band guard: apply, measure the changed rings, undo when one crossed t_s T.
-    changed_ = ring_r_;  // r's neighbours (k among them), from collapse_ok
-    std::vector<double>& before = areas_;
-    before.resize(changed_.size());
-    for (std::size_t j = 0; j < changed_.size(); ++j) before[j] = image_area(changed_[j]);
-    raw_collapse(r);
-    bool ok = true;
-    for (std::size_t j = 0; j < changed_.size() && ok; ++j) {
-        const std::uint32_t u = changed_[j];
-        refresh_ring_area(u);
-        ok = image_area(u) <= std::max(criterion_->split * target(u), before[j]);
+    // Refusals that only a change of r's ring (or the end of k's lock) can lift stamp r: the scan
+    // then skips it until touch_ring or wake_around clears the stamp (or, a backstop, a few frames
+    // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
+    if (locked_[k]) return refuse(r, lock_backstop_frames);
+    // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
+    if (!active_[k] || pending_children_[r] != 0) return refuse(r, retry_frames);
+    if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
+    // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
+    // t_s T unless it was there and does not grow; measured without making the collapse. (Not
+    // stamped: the band moves with the camera, so it is tried again next frame.)
+    for (const std::uint32_t u : ring_r_) {
+        const double after = scale(u) * ring_area_after_collapse(u, r, k);
+        if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;
     }
-    if (!ok || geomorphs_.enabled) {
-        raw_split(k);
-        refresh_ring_area(r);
-        for (std::uint32_t u : changed_) refresh_ring_area(u);
-        if (!ok) return false;
+    if (geomorphs_.enabled) {
         lock_ring(r, +1);
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
         morphs_.push_back({r, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
         return true;
     }
-    changed_in_frame_[i] = frame_;
+    raw_collapse(r);
+    changed_in_frame_[i] = frame16();
     touch_ring(k);
     ++stats_->collapses;
     return true;
@@ -365,7 +422,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
 
 bool AdaptiveFront::try_split(std::uint32_t k) {
     const std::uint32_t i = last_collapse_[k];
-    if (locked_[k] || i == none || changed_in_frame_[i] == frame_) return false;
+    if (locked_[k] || i == none || changed_in_frame_[i] == frame16()) return false;
     const double t_k = target(k), a = image_area(k);
     if (!(a > criterion_->split * t_k) || !split_ok(k)) return false;
     const std::uint32_t r = raw_split(k);
@@ -381,12 +438,11 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
         refresh_ring_area(k);
         return false;
     }
-    changed_in_frame_[i] = frame_;
+    changed_in_frame_[i] = frame16();
     touch_ring(r);
     touch_ring(k);
     ++stats_->splits;
     if (geomorphs_.enabled) {
-        shown_[r] = shown_[k];
         ++locked_[r];
         ++locked_[k];
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
@@ -405,6 +461,13 @@ void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
     for (std::uint32_t u : ring_r_) locked_[u] = std::uint16_t(locked_[u] + delta);
 }
 
+// A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
+// locked, so it is in no morph of its own).
+glm::dvec3 AdaptiveFront::shown(const Morph& m, const std::vector<glm::dvec3>& p) const {
+    const std::uint32_t r = m.vertex, k = parent(r);
+    return m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
+}
+
 void AdaptiveFront::advance_morphs(double frame_seconds) {
     const auto& p = pm_.input().positions;
     for (std::size_t j = 0; j < morphs_.size();) {
@@ -416,26 +479,28 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
                 m.speed = std::max(m.speed, std::clamp(criterion_->collapse * t_r / a, 1.0, geomorphs_.max_speedup) /
                                                 std::max(geomorphs_.seconds, 1e-9));
         }
+        const glm::dvec3 was = shown(m, p);
         m.progress = std::min(1.0, m.progress + m.speed * frame_seconds);
-        const glm::dvec3 was = shown_[r];
-        shown_[r] = m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
-        if (camera_->depth(was) > 0.0 && camera_->depth(shown_[r]) > 0.0)
+        const glm::dvec3 now = shown(m, p);
+        if (camera_->depth(was) > 0.0 && camera_->depth(now) > 0.0)
             stats_->largest_move_px =
-                std::max(stats_->largest_move_px, glm::length(camera_->project(shown_[r]) - camera_->project(was)));
+                std::max(stats_->largest_move_px, glm::length(camera_->project(now) - camera_->project(was)));
         if (m.progress < 1.0) {
             ++j;
             continue;
         }
         if (m.collapse) {
             lock_ring(r, -1);
+            for (std::uint32_t u : ring_r_) wake_around(u);  // (ring_r_: r's ring, from lock_ring)
             raw_collapse(r);
             touch_ring(k);
             ++stats_->collapses;
         } else {
             --locked_[r];
             --locked_[k];
+            wake_around(r);
+            wake_around(k);
         }
-        shown_[r] = p[r];
         m = morphs_.back();
         morphs_.pop_back();
     }
@@ -462,7 +527,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     camera_ = &camera;
     criterion_ = &criterion;
     stats_ = &s;
-    ++frame_;
+    if (std::uint16_t(++frame_) == 0) ++frame_;  // (frame16() 0 is every untouched record's)
     if (geomorphs_.enabled) advance_morphs(frame_seconds);
     const bool constant_target = !criterion.map;
     for (std::size_t j = 0; j < front_.size(); ++j) {
@@ -471,7 +536,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
         const std::uint32_t v = front_[j];  // out of the band: can it change? (the rest is cold memory)
-        if (locked_[v]) continue;
+        if (locked_[v] || retry_at_[v] > frame_) continue;
         if ((a > criterion.split * t && last_collapse_[v] != none) || (a < criterion.collapse * t && collapse_of_[v] != none))
             enqueue(v);
     }
@@ -495,9 +560,10 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
     for (std::uint32_t v = 0; v < in.positions.size(); ++v)
         if (active_[v] && head_[v] != none) {
             index[v] = std::uint32_t(out.positions.size());
-            out.positions.push_back(shown_.empty() ? in.positions[v] : shown_[v]);
+            out.positions.push_back(in.positions[v]);
             if (input_vertex) input_vertex->push_back(v);
         }
+    for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m, in.positions);
     out.triangles.reserve(active_face_count_);
     for (std::uint32_t f = 0; f < in.triangles.size(); ++f) {
         if (!face_active_[f]) continue;
@@ -514,9 +580,9 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(collapse_of_) + b(active_) + b(locked_) + b(ring_area_) + b(front_pos_) + b(head_) + b(last_collapse_) +
-           b(queued_) + b(shown_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
-           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_);
+    return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(front_pos_) + b(head_) + b(last_collapse_) +
+           b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_) + b(touched_);
 }
 
 }  // namespace inkline

@@ -22,7 +22,9 @@
 // vertex k is split (the latest collapse made onto it undone) when above t_s T, unless a removed
 // face's third corner is no longer k's neighbour (Hoppe's vsplit legality, in the form this
 // hierarchy needs), a changed ring would not be a disk, or a child would fall below t_c T. Each
-// collapse record changes at most once a frame, so a frame always ends.
+// collapse record changes at most once a frame, so a frame always ends. A collapse refused by the
+// hierarchy's rules or by a geomorph's lock on its parent is stamped and not tried again until its
+// ring changes or a geomorph next to it ends, so blocked work costs nothing a frame.
 //
 // The front started from the input and converged at a view need not equal
 // ProgressiveMesh::adapt's mesh for that view, nor the front converged there from another view:
@@ -82,6 +84,7 @@ public:
     std::size_t active_vertices() const { return front_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
     bool is_active(std::uint32_t v) const { return active_[v] != 0; }
+    bool is_locked(std::uint32_t v) const { return locked_[v] != 0; }  // held by a geomorph
     // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
     // cannot split), it is never removed (the top: it cannot collapse).
     bool at_bottom(std::uint32_t v) const { return last_collapse_[v] == none; }
@@ -104,19 +107,25 @@ private:
     GeomorphOptions geomorphs_;
     // Per input vertex.
     std::vector<std::uint32_t> collapse_of_;   // the collapse that removes it (none: a root)
-    std::vector<std::uint32_t> children_, collapsed_children_;  // collapses onto it: all, made
+    std::vector<std::uint32_t> pending_children_;  // collapses onto it not made yet
     std::vector<std::uint8_t> active_;
     std::vector<std::uint16_t> locked_;        // geomorphs holding it
-    std::vector<float> ring_area_;             // average world area of its ring (active vertices)
     std::vector<std::uint32_t> front_pos_;     // its index in front_
     std::vector<std::uint32_t> head_;          // first corner of its corner list
     std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
     std::vector<std::uint8_t> queued_;
-    std::vector<glm::dvec3> shown_;            // shown position (only with geomorphs)
+    // The frame from which the scan tests it again after a refusal that only a change nearby can
+    // lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a morph
+    // next to it clears the stamp; the stamp's length is only a backstop.
+    std::vector<std::uint32_t> retry_at_;
+    static constexpr std::uint32_t retry_frames = 8;           // refused by the collapse's rules
+    static constexpr std::uint32_t lock_backstop_frames = 64;  // waiting on a morph's lock
     // Per collapse.
     std::vector<std::uint32_t> prev_collapse_;       // the stack's link
     std::vector<std::array<std::uint32_t, 2>> dead_; // faces it removed
-    std::vector<std::uint32_t> changed_in_frame_;    // the frame it was last made or undone in
+    // The frame it was last made or undone in, modulo 2^16 (a record last changed 2^16 frames ago
+    // waits one frame: harmless, and half the bytes).
+    std::vector<std::uint16_t> changed_in_frame_;
     std::uint32_t frame_ = 0;
     // Per face corner (3 f + j) and per face. The lists are singly linked: a vertex's list is as
     // short as its degree, so unlinking by a walk costs less than a back link's 4 bytes a corner.
@@ -129,7 +138,7 @@ private:
     std::vector<glm::vec4> front_data_;
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
-    std::vector<std::uint32_t> ring_r_, ring_k_, changed_;
+    std::vector<std::uint32_t> ring_r_, ring_k_, touched_;
     std::vector<double> areas_;
     // This frame's view.
     const Camera* camera_ = nullptr;
@@ -138,6 +147,8 @@ private:
 
     std::uint32_t face_vertex(std::uint32_t face, int j) const { return corner_[3 * face + j]; }
     std::uint32_t parent(std::uint32_t v) const;
+    std::uint16_t frame16() const { return std::uint16_t(frame_); }
+    glm::dvec3 shown(const Morph& m, const std::vector<glm::dvec3>& p) const;
     std::uint32_t representative(std::uint32_t input_vertex) const;
     void link(std::uint32_t c, std::uint32_t v);
     void unlink(std::uint32_t c);
@@ -149,11 +160,19 @@ private:
     void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;
     double scale(std::uint32_t v) const;
     double target(std::uint32_t v) const;
-    double image_area(std::uint32_t v) const { return scale(v) * ring_area_[v]; }
+    // The average world area of an active vertex's ring, kept in front_data_ only (0 for a vertex
+    // in no face).
+    float ring_area(std::uint32_t v) const { return front_pos_[v] == none ? 0.0f : front_data_[front_pos_[v]].w; }
+    double image_area(std::uint32_t v) const { return scale(v) * ring_area(v); }
     void enqueue(std::uint32_t v);
+    void enqueue_changed(std::uint32_t v);
+    void wake_around(std::uint32_t v);
+    bool refuse(std::uint32_t v, std::uint32_t frames);  // stamps v; returns false
 
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
     bool flips(std::uint32_t r, std::uint32_t k) const;
+    double face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const;
+    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k);
     void raw_collapse(std::uint32_t r);
     bool split_ok(std::uint32_t k) const;
     bool ring_is_disk(std::uint32_t v) const;

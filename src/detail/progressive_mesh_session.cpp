@@ -20,6 +20,8 @@ View& PmSession::render(const Camera& camera, double frame_seconds) {
     stats_ = front_.update(camera, criterion, frame_seconds);
     // (a new Model a frame: its topology, facing classes and ray index follow the new connectivity)
     model_ = std::make_unique<Model>(front_.mesh(&input_vertex_), pm_options_.crease_degrees);
+    if (!pm_options_.input_self_intersects)
+        model_->adopt_self_intersections({std::vector<std::uint8_t>(model_->topology().face_count(), 0), 0, {}, {}});
     session_ = std::make_unique<ViewSession>(*model_, options_);
     const SurfaceLineOptions& s = options_.surface;
     if (pm_options_.smoothing && (s.suggestive || s.smooth_contour)) {

@@ -23,6 +23,11 @@ struct PmViewOptions {
     GeomorphOptions geomorphs;   // a path's frames: on; one converged drawing: off
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
+    // Whether the input intersects itself (Model::self_intersections().flagged > 0). When it does
+    // not, a frame's adapted mesh is not searched (the search was most of a frame's time) and is
+    // taken to be embedded too, the compromise the multi-scale method makes for its blends: a
+    // coarsening with no face turned over rarely makes new intersections.
+    bool input_self_intersects = true;
 };
 
 class PmSession {

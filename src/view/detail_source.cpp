@@ -24,6 +24,7 @@ void DetailSource::reset(const ViewOptions& options) {
         o.target_px = target_px_.load();
         o.crease_degrees = model_.topology().crease_degrees;
         o.geomorphs.enabled = true;
+        o.input_self_intersects = model_.self_intersections().flagged > 0;
         pm_session_ = std::make_unique<PmSession>(*pm_, options, o);
         settled_ = false;
     } else {
