@@ -274,6 +274,10 @@ TEST(FastVisibilityCli, RefusalsAndStats) {
         {"render " + mesh + " -o " + out + " --visibility=fast --fast-buffer=big",
          "inkline: --fast-buffer: expected a number, got 'big'"},
         {"bench " + mesh + " --visibility=fast --fast-buffer=100000", "inkline: --fast-buffer: expected an integer from 64 to 8192"},
+        {"render " + mesh + " -o " + out + " --fast-buffer=512",
+         "inkline: --fast-buffer sizes the fast visibility's depth buffer: it needs --visibility=fast"},
+        {"bench " + mesh + " --visibility=appel --fast-buffer=512",
+         "inkline: --fast-buffer sizes the fast visibility's depth buffer: it needs --visibility=fast"},
         {"render " + mesh + " -o " + out + " --visibility=zbuffer",
          "inkline: --visibility: unknown method 'zbuffer' (expected appel, rays or fast)"},
     };

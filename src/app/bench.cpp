@@ -41,7 +41,7 @@ struct BenchArgs {
     std::vector<double> fractions{0.0005, 0.002, 0.01, 0.05};
     VisibilityMethod visibility = VisibilityMethod::Appel;
     DetailFlags detail;  // --detail: the detail-control methods instead of the finders (bench_detail.hpp)
-    int fast_buffer = FastVisibilityOptions{}.buffer_px;
+    int fast_buffer = 0;  // not given: fast_buffer_px gives the default
 };
 
 // The bench's flags; `--fractions` and the camera path are its own, the rest shared (flags.hpp).
@@ -239,7 +239,7 @@ int run_bench(int argc, char** argv) {
     base.visibility = a.visibility;
     base.exact_hidden = false;
     base.threads = a.threads;  // (the finders' facing pass and scan and every setting's visibility)
-    base.fast.buffer_px = a.fast_buffer;
+    base.fast.buffer_px = fast_buffer_px(a.fast_buffer, a.visibility);
 
     // The settings, known before the first view so that the progress line counts every view.
     std::vector<FinderOptions> settings;

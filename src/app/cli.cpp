@@ -64,7 +64,7 @@ struct RenderArgs {
     bool lines_given = false;  // --lines (else a style's kinds apply)
     FinderOptions finder;
     VisibilityMethod visibility = VisibilityMethod::Appel;
-    int fast_buffer = FastVisibilityOptions{}.buffer_px;
+    int fast_buffer = 0;  // not given: fast_buffer_px gives the default
     FreeformArgs freeform;  // line art of freeform surfaces (app/freeform_cli.hpp)
     std::string style;  // --style: NAME or FILE; empty: the default drawing (unchanged)
     // A sequence (docs/batch.md): several models, or --frames=N along --orbit.
@@ -525,7 +525,7 @@ int run_render(int argc, char** argv) {
     if (style && style->draw_hidden) opt.exact_hidden = true;
     check_fast_visibility(a.visibility, a.hidden, "--hidden");
     check_fast_visibility(a.visibility, style && style->draw_hidden, "the style's hidden lines");
-    opt.fast.buffer_px = a.fast_buffer;
+    opt.fast.buffer_px = fast_buffer_px(a.fast_buffer, a.visibility);
     opt.finder = a.finder;
     opt.threads = a.threads;
     setup.output.hidden = a.hidden;

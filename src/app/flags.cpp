@@ -524,6 +524,13 @@ void check_fast_visibility(VisibilityMethod method, bool hidden, const std::stri
                        " needs the exact QI of hidden lines (use --visibility=appel)");
 }
 
+int fast_buffer_px(int given_px, VisibilityMethod method) {
+    if (given_px == 0) return FastVisibilityOptions{}.buffer_px;
+    if (method != VisibilityMethod::Fast)
+        throw BadValue("--fast-buffer sizes the fast visibility's depth buffer: it needs --visibility=fast");
+    return given_px;
+}
+
 std::vector<Flag> detail_flags(DetailFlags& d) {
     return {
         {"--detail", "PX",

@@ -149,6 +149,10 @@ Flag fast_buffer_flag(int& px);
 // The fast visibility draws visible lines only: a one-line usage error when `hidden` lines are
 // asked of it (`what`: the flag or setting that asked).
 void check_fast_visibility(VisibilityMethod method, bool hidden, const std::string& what);
+// The fast path's buffer size for a command drawing with `method`: `given_px` is --fast-buffer's
+// value, 0 when not given (the default size). Given with another method it would be ignored
+// without a word, so that is a usage error (BadValue).
+int fast_buffer_px(int given_px, VisibilityMethod method);
 Flag subdivide_flag(int& levels);
 Flag strict_flag(bool& strict);
 // --threads=N, the threads of each frame (ViewOptions::threads: the finder's facing pass and scan,
