@@ -334,10 +334,7 @@ TEST(MultiscaleDensity, Elephant) { check_density("elephant", 0.5); }
 // 0.77 of plain, docs/detail.md; the default stays.)
 TEST(MultiscaleDensity, ThinGuardedLevelsMeetBothChecksOnArmadillo) {
     const Built& b = built("armadillo");
-    const MultiscaleOptions o{.ratio = 0.75, .fairing = MultiscaleFairing::SecondOrder, .sweeps = 8,
-                              .tangential_sweeps = 32, .smoothing = 4.0, .smoothing_growth = 16.0,
-                              .smoothing_order = 2, .thin_guard = 0.1};
-    const MultiscaleLevels L = build_multiscale_levels(*b.model, o);
+    const MultiscaleLevels L = build_multiscale_levels(*b.model, thin_guarded({}));  // --detail-smoothing=thin-guarded
     ASSERT_EQ(L.levels, 4);
     EXPECT_EQ(level_positions(*b.model, L, 0), b.model->topology().positions);
     EXPECT_LE(L.mean_abs_k1[3], 0.8 * L.mean_abs_k1[0]);
@@ -374,6 +371,8 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         {"--detail=4 --detail-object=Head=3", "has no object named 'Head'"},
         {"--detail=4 --cache=", "--cache: expected a folder"},
         {"--detail=4 --detail-method=pm --cache=c", "are for --detail-method=multiscale"},
+        {"--detail-smoothing=thin-guarded", "--detail-smoothing needs --detail=PX"},
+        {"--detail=4 --detail-smoothing=gauss", "--detail-smoothing: unknown smoothing 'gauss' (expected none or thin-guarded)"},
     };
     for (const auto& b : bad) {
         const auto r = run_inkline("", "render " + bunny + " " + b.args, dir);
@@ -383,6 +382,11 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
     const auto ok = run_inkline("", "render " + bunny + " --detail=5 --levels=3", dir);
     EXPECT_EQ(ok.code, 0) << ok.err;
     EXPECT_NE(ok.out.find("detail: multiscale, target 5 px, 3 levels"), std::string::npos) << ok.out;
+    const std::string elephant = test::mesh_path("elephant") + " -o " + (dir / "e.json").string();
+    const auto guarded = run_inkline("", "render " + elephant + " --detail=5 --detail-smoothing=thin-guarded", dir);
+    EXPECT_EQ(guarded.code, 0) << guarded.err;
+    EXPECT_NE(guarded.out.find("detail: multiscale, target 5 px, 4 levels, thin-guarded smoothing"), std::string::npos)
+        << guarded.out;
     // Two tetrahedra sharing a vertex: drawn, with one warning line naming the file.
     const auto off = dir / "bowtie.off";
     std::ofstream(off) << "OFF\n7 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n-1 0 0\n0 -1 0\n0 0 -1\n"

@@ -297,9 +297,9 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
                 style->name.c_str(), style_stats.strokes, style_stats.points, style_stats.hatches,
                 hatch_stats.ray_tests, style_stats.specks_dropped, t_style);
     if (const MultiscaleLevels* levels = setup.detail)
-        appendf(report, "detail: multiscale, target %g px, %d levels (%zu of %zu vertices collapsed), pre-process %.4f s (%s), "
+        appendf(report, "detail: multiscale, target %g px, %d levels%s (%zu of %zu vertices collapsed), pre-process %.4f s (%s), "
                 "%.1f bytes a vertex a level, blend %.4f s\n",
-                a.detail.target_px, levels->levels, levels->collapses, levels->vertices, levels->seconds,
+                a.detail.target_px, levels->levels, a.detail.thin_guarded_ ? ", thin-guarded smoothing" : "", levels->collapses, levels->vertices, levels->seconds,
                 setup.detail_source.c_str(),
                 levels->levels > 1 ? double(levels->bytes()) / double(levels->vertices * std::size_t(levels->levels - 1)) : 0.0,
                 detail->seconds_blend());
@@ -507,8 +507,9 @@ int run_render(int argc, char** argv) {
         throw BadValue("--detail: one model a run (its smoothed levels are built once for all its frames)");
     if (a.detail.target_px > 0.0 && a.detail.method == "pm" && plan.count > 1)
         throw BadValue("--detail-method=pm: one drawing at a time for now (not with --frames)");
-    if (a.detail.method == "pm" && (a.detail.fairing || !a.detail.cache_dir.empty() || !a.detail.object_target_px.empty()))
-        throw BadValue("--detail-fairing, --cache and --detail-object are for --detail-method=multiscale");
+    if (a.detail.method == "pm" && (a.detail.fairing || a.detail.smoothing_given || !a.detail.cache_dir.empty() ||
+                                    !a.detail.object_target_px.empty()))
+        throw BadValue("--detail-fairing, --detail-smoothing, --cache and --detail-object are for --detail-method=multiscale");
     for (const std::string& m : a.models) {
         if (is_freeform_model(m) && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models");
         if (!is_freeform_model(m) && a.freeform.any())

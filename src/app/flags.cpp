@@ -568,6 +568,16 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              else if (v == "second-order") d.fairing = MultiscaleFairing::SecondOrder;
              else throw Error("--detail-fairing", "unknown functional '" + v + "' (expected umbrella or second-order)");
          }},
+        {"--detail-smoothing", "none|thin-guarded",
+         "--detail: thin-guarded adds an implicit smoothing pass per level that spares thin parts (limbs, "
+         "ears): M3's bumps go and thin parts keep their shape, for a slower pre-process (armadillo about "
+         "1 s; implies --detail-fairing=second-order and --detail-ratio=0.75 unless given; docs/detail.md)",
+         [&d](const std::string& v) {
+             if (v == "none") d.thin_guarded_ = false;
+             else if (v == "thin-guarded") d.thin_guarded_ = true;
+             else throw Error("--detail-smoothing", "unknown smoothing '" + v + "' (expected none or thin-guarded)");
+             d.smoothing_given = true;
+         }},
         {"--cache", "DIR",
          "--detail: keep the smoothed levels in DIR, keyed by the model file's content and the options that "
          "change them; reused when they match, rebuilt (one warning) when a file there is corrupt or stale",
@@ -605,7 +615,7 @@ MultiscaleOptions DetailFlags::levels_options() const {
     // each level take most (bench/results/multiscale.md: armadillo's M3 at r = 3/4, mean |k1| 0.193
     // -> 0.151 against M0's 0.187).
     if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8, o.tangential_sweeps = 32;
-    return o;
+    return thin_guarded_ ? thin_guarded(o, ratio.has_value(), fairing.has_value()) : o;
 }
 
 void DetailFlags::check(const std::string& command) const {
@@ -615,6 +625,7 @@ void DetailFlags::check(const std::string& command) const {
     if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);
     if (method_given) throw Usage("--detail-method needs --detail=PX", command);
     if (fairing) throw Usage("--detail-fairing needs --detail=PX", command);
+    if (smoothing_given) throw Usage("--detail-smoothing needs --detail=PX", command);
     if (!cache_dir.empty()) throw Usage("--cache needs --detail=PX", command);
     if (!object_target_px.empty()) throw Usage("--detail-object needs --detail=PX", command);
 }

@@ -100,6 +100,13 @@ struct MultiscaleLevels {
 // can be collapsed (too small, borders everywhere), gets only M0 and a `note`.
 MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOptions& options = {});
 
+// `options` turned into the thin-guarded setting (`--detail-smoothing=thin-guarded`): the
+// second-order functional at r = 3/4 with its sweeps, then the implicit post-pass with the thin
+// guard. The one setting that meets both of issue 43's checks on armadillo (M3's mean |k1| 0.80 of
+// M0's, density growth 0.43 of the plain drawing's; bench/results/multiscale.md); `keep_ratio` and
+// `keep_fairing` leave a ratio or functional the user chose.
+MultiscaleOptions thin_guarded(MultiscaleOptions options, bool keep_ratio = false, bool keep_fairing = false);
+
 // The positions of level k (k = 0: the model's own; k >= 1: the stored floats, widened).
 std::vector<glm::dvec3> level_positions(const Model& model, const MultiscaleLevels& levels, int k);
 

@@ -485,4 +485,15 @@ std::vector<glm::dvec3> level_positions(const Model& model, const MultiscaleLeve
     return out;
 }
 
+MultiscaleOptions thin_guarded(MultiscaleOptions o, bool keep_ratio, bool keep_fairing) {
+    if (!keep_ratio) o.ratio = 0.75;
+    if (!keep_fairing) o.fairing = MultiscaleFairing::SecondOrder;
+    if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8, o.tangential_sweeps = 32;
+    o.smoothing = 4.0;
+    o.smoothing_growth = 16.0;
+    o.smoothing_order = 2;
+    o.thin_guard = 0.1;
+    return o;
+}
+
 }  // namespace inkline
