@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstring>
 #include <functional>
+#include <future>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -691,6 +692,15 @@ AppelStats AppelPropagation::run() {
     form_clusters();
     apply_bounding_box_rule();
     apply_parity();
+    // (The serial phases from here to the walks overlap the grid's build on a worker; joined
+    // before anything else runs there, and before leaving, whatever is thrown.)
+    struct JoinGrid {
+        std::future<void>& f;
+        ~JoinGrid() {
+            if (f.valid()) f.wait();
+        }
+    } join_grid{grid_ready};
+    start_occluder_grid();
     match_occluders();
     raise_by_constraints();
     open_upper_bounds();
@@ -997,6 +1007,15 @@ void AppelPropagation::apply_parity() {
         }
 }
 
+void AppelPropagation::start_occluder_grid() {
+    // (Only where walks are likely worth a second thread: a large view, split stages on. A view
+    // that then makes no walk has built it for nothing, on the worker's time only.)
+    if (threads > 1 && options.walk && graph.occluders.size() >= 4000) {
+        const PieceGraph& g = graph;
+        grid_ready = graph.team().first_worker().post([&g] { g.occluder_grid(); });
+    }
+}
+
 void AppelPropagation::match_occluders() {
     // (The spans on occluder edges, sorted by edge as 64-bit keys: edge, then the span's index;
     // the crossings by occluder edge: edge, then the index among `occluding`, increasing with the
@@ -1135,6 +1154,7 @@ void AppelPropagation::walk() {
         walked[w] = walk_to(mesh, camera, face_front, graph, proj, q.P, q.p, q.edge, box);
     };
     const auto t_walks = StageClock::now();
+    if (grid_ready.valid()) grid_ready.get();  // (start_occluder_grid's build done: its errors here)
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
     if (threads > 1 && walkers.size() >= 8) {
         // (at least 4 walks a thread; each walk's result is its own, whichever thread takes it)

@@ -11,6 +11,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <utility>
 #include <vector>
 
@@ -134,6 +135,9 @@ struct AppelPropagation {
     // the one starting first, then the lowest piece), and the constraints between clusters:
     // (occluder piece, link) pairs not inside one cluster.
     void match_occluders();
+    // A large view's occluder grid (what the walks query) built on the first worker while the
+    // serial phases from match_occluders to survey_bounded run here; walk() waits for it.
+    void start_occluder_grid();
     // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both
     // sides. Each side is raised in its own cluster: a side in another cluster than the other
     // side (across a link not united) must not raise this one (raising by the other side's
@@ -213,6 +217,7 @@ struct AppelPropagation {
     std::vector<std::uint8_t> has_piece;  // per cluster, bounded: survey_bounded's
     std::vector<int> min_piece;
     std::vector<std::uint32_t> zero;  // (UINT32_MAX: none at QI 0)
+    std::future<void> grid_ready;  // start_occluder_grid's build (valid until walk() waits)
 };
 
 }  // namespace inkline
