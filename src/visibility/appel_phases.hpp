@@ -114,6 +114,9 @@ struct AppelPropagation {
     // undefined; the pieces ending at v take the reference ray test (tests/test_extremes.cpp:
     // EyeOnAnEdgeLine, OrthographicAlongOneSide).
     void unite_at_vertices();
+    // Its two steps: the local occlusion of every end (in end_order), then the unions.
+    void local_occlusion_at_ends(std::vector<int>& end_occlusion) const;
+    void unite_ends(const std::vector<int>& end_occlusion);
     // Clusters: the forest's sets numbered in node order, each node's offset from its root; the
     // base of each is its lower bound (no QI below 0); contradictions and pierced pieces make
     // their cluster inconsistent.
@@ -122,6 +125,10 @@ struct AppelPropagation {
     // the spans collects those on occluder edges of crossings that change QI (on_edge, by_edge),
     // for the constraints between clusters.
     void apply_bounding_box_rule();
+    // The same with `beside` (work that reads and writes none of the rule's pass's data: the
+    // unions at vertices and form_clusters) run on the calling thread beside the pass, before
+    // the rule's fixes.
+    void bounding_box_rule_beside(const std::function<void()>& beside);
     // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd. It holds
     // where the surface bounds a solid: a point on a front face is entered from outside, so an
     // even number of layers lie in front of it. Where the surface passes through itself, a part
