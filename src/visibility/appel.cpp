@@ -1247,10 +1247,40 @@ void AppelPropagation::ray_test_rest() {
 }
 
 void AppelPropagation::settle() {
-    for (std::uint32_t p = 0; p < np; ++p)
-        if (state[comp[p]] != kInconsistent && value(p) < 0) state[comp[p]] = kInconsistent;
+    // (A large view's pieces split among the threads, 2000 a part at least, in one pass: each
+    // part sets the QI of its pieces in consistent clusters and lists the pieces left to a ray
+    // test and the clusters it finds negative. The ray tests are made here in piece order, as one
+    // pass makes them; a negative cluster (rare: a non-generic view) sends all its pieces to
+    // them, listed again from every piece.)
+    const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
+    struct Found {
+        std::vector<std::uint32_t> to_ray, negative;
+    };
+    std::vector<Found> found(static_cast<std::size_t>(parts));
     auto& pieces = graph.curves.pieces;
-    for (std::uint32_t p = 0; p < np; ++p) pieces[p].qi = state[comp[p]] == kInconsistent ? ray_qi(p) : value(p);
+    auto pass = [&](std::uint32_t p0, std::uint32_t p1, Found& f) {
+        for (std::uint32_t p = p0; p < p1; ++p) {
+            if (state[comp[p]] == kInconsistent) {
+                f.to_ray.push_back(p);
+                continue;
+            }
+            if (value(p) < 0) f.negative.push_back(comp[p]);
+            pieces[p].qi = value(p);
+        }
+    };
+    auto from = [&](int i) { return std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)); };
+    if (parts > 1) graph.team().run(parts, [&](int i) { pass(from(i), from(i + 1), found[std::size_t(i)]); });
+    else pass(0, np, found[0]);
+    bool any_negative = false;
+    for (const Found& f : found)
+        for (std::uint32_t c : f.negative) state[c] = kInconsistent, any_negative = true;
+    if (any_negative) {
+        for (std::uint32_t p = 0; p < np; ++p)
+            if (state[comp[p]] == kInconsistent) pieces[p].qi = ray_qi(p);
+    } else {
+        for (const Found& f : found)
+            for (std::uint32_t p : f.to_ray) pieces[p].qi = ray_qi(p);
+    }
     for (std::size_t c = 0; c < nc; ++c) st.inconsistent += state[c] == kInconsistent;
 }
 
