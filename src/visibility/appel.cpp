@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstring>
 #include <functional>
+#include <future>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -687,10 +688,24 @@ AppelStats AppelPropagation::run() {
     mark_pierced();
     crossing_deltas();
     unite_along_curves();
-    unite_at_vertices();
-    form_clusters();
-    apply_bounding_box_rule();
+    // (The unions at vertices and the clusters beside the bounding-box rule's pass over the
+    // spans, which needs neither: the same steps as one after the other.)
+    std::vector<int> end_occlusion;
+    local_occlusion_at_ends(end_occlusion);
+    bounding_box_rule_beside([&] {
+        unite_ends(end_occlusion);
+        form_clusters();
+    });
     apply_parity();
+    // (The serial phases from here to the walks overlap the grid's build on a worker; joined
+    // before anything else runs there, and before leaving, whatever is thrown.)
+    struct JoinGrid {
+        std::future<void>& f;
+        ~JoinGrid() {
+            if (f.valid()) f.wait();
+        }
+    } join_grid{grid_ready};
+    start_occluder_grid();
     match_occluders();
     raise_by_constraints();
     open_upper_bounds();
@@ -820,7 +835,13 @@ void local_occlusion_of_ends(const AppelPropagation& a, std::vector<int>& occlus
 }  // namespace
 
 void AppelPropagation::unite_at_vertices() {
-    std::vector<int> end_occlusion(end_order.size());
+    std::vector<int> end_occlusion;
+    local_occlusion_at_ends(end_occlusion);
+    unite_ends(end_occlusion);
+}
+
+void AppelPropagation::local_occlusion_at_ends(std::vector<int>& end_occlusion) const {
+    end_occlusion.resize(end_order.size());
     const std::size_t ne = end_order.size();
     if (threads > 1 && ne >= 2000) {
         // Parts of about 1000 ends at least, each starting at a vertex's first end.
@@ -840,6 +861,9 @@ void AppelPropagation::unite_at_vertices() {
     } else {
         local_occlusion_of_ends(*this, end_occlusion, 0, end_order.size());
     }
+}
+
+void AppelPropagation::unite_ends(const std::vector<int>& end_occlusion) {
     for (std::size_t i = 0, node = np; i < end_order.size(); ++node) {
         const std::uint32_t v = std::uint32_t(end_order[i] >> 32);
         for (; i < end_order.size() && std::uint32_t(end_order[i] >> 32) == v; ++i) {
@@ -888,13 +912,16 @@ void AppelPropagation::fix(std::uint32_t node, int qi) {
     base[c] = qi - off[node];
 }
 
-void AppelPropagation::apply_bounding_box_rule() {
+void AppelPropagation::apply_bounding_box_rule() { bounding_box_rule_beside([] {}); }
+
+void AppelPropagation::bounding_box_rule_beside(const std::function<void()>& beside) {
     // (Extreme vertices inside curves: the pieces with a span reaching them, found in one pass
-    // over the spans, with the edges around those vertices marked.)
-    std::vector<std::uint32_t> inner_extremes;
+    // over the spans, with the edges around those vertices marked. Those at curve ends are fixed
+    // after the pass: fix() reads the clusters, which `beside` may be forming.)
+    std::vector<std::uint32_t> inner_extremes, end_extremes;
     for (std::uint32_t v : graph.extreme_vertices) {
         if (v == UINT32_MAX) continue;
-        if (std::binary_search(verts.begin(), verts.end(), v)) fix(vertex_node(v), 0);
+        if (std::binary_search(verts.begin(), verts.end(), v)) end_extremes.push_back(v);
         else inner_extremes.push_back(v);
     }
     on_edge.clear();
@@ -927,16 +954,29 @@ void AppelPropagation::apply_bounding_box_rule() {
         }
     };
     // (A large view's pieces split among the threads, 2000 a part at least; the parts' findings
-    // then taken in piece order, as one pass would make them.)
+    // then taken in piece order, as one pass would make them. The calling thread runs `beside`
+    // first and takes half a part: kBesideShare, measured on armadillo@2, where beside (the
+    // unions at vertices and the clusters) costs about half of the pass's part on two threads.)
     const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
     std::vector<Found> found(static_cast<std::size_t>(parts));
-    if (parts > 1)
+    if (parts > 1) {
+        constexpr double kBesideShare = 0.5;  // of an equal part
+        const double first = kBesideShare / (double(parts) - 1.0 + kBesideShare);
+        auto cut = [&](int i) {
+            if (i == 0) return std::uint32_t(0);
+            if (i == parts) return np;
+            const double share = first + (1.0 - first) * double(i - 1) / double(parts - 1);
+            return std::min(np, std::uint32_t(double(np) * share));
+        };
         graph.team().run(parts, [&](int i) {
-            pass(std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)),
-                 std::uint32_t(std::uint64_t(np) * std::uint64_t(i + 1) / std::uint64_t(parts)), found[std::size_t(i)]);
+            if (i == 0) beside();
+            pass(cut(i), cut(i + 1), found[std::size_t(i)]);
         });
-    else
+    } else {
+        beside();
         pass(0, np, found[0]);
+    }
+    for (std::uint32_t v : end_extremes) fix(vertex_node(v), 0);
     for (const Found& f : found) {
         for (std::size_t k = 0; k < f.on_edge.size(); ++k) {
             by_edge.push_back(std::uint64_t(f.edges[k]) << 32 | on_edge.size());
@@ -995,6 +1035,15 @@ void AppelPropagation::apply_parity() {
             if (state[c] == kFixed) state[c] = kInconsistent;
             else if (state[c] == kBound) base[c] += 1;
         }
+}
+
+void AppelPropagation::start_occluder_grid() {
+    // (Only where walks are likely worth a second thread: a large view, split stages on. A view
+    // that then makes no walk has built it for nothing, on the worker's time only.)
+    if (threads > 1 && options.walk && graph.occluders.size() >= 4000) {
+        const PieceGraph& g = graph;
+        grid_ready = graph.team().first_worker().post([&g] { g.occluder_grid(); });
+    }
 }
 
 void AppelPropagation::match_occluders() {
@@ -1135,6 +1184,7 @@ void AppelPropagation::walk() {
         walked[w] = walk_to(mesh, camera, face_front, graph, proj, q.P, q.p, q.edge, box);
     };
     const auto t_walks = StageClock::now();
+    if (grid_ready.valid()) grid_ready.get();  // (start_occluder_grid's build done: its errors here)
     if (!walkers.empty()) graph.occluder_grid();  // (built here, before any thread reads it)
     if (threads > 1 && walkers.size() >= 8) {
         // (at least 4 walks a thread; each walk's result is its own, whichever thread takes it)
@@ -1197,10 +1247,40 @@ void AppelPropagation::ray_test_rest() {
 }
 
 void AppelPropagation::settle() {
-    for (std::uint32_t p = 0; p < np; ++p)
-        if (state[comp[p]] != kInconsistent && value(p) < 0) state[comp[p]] = kInconsistent;
+    // (A large view's pieces split among the threads, 2000 a part at least, in one pass: each
+    // part sets the QI of its pieces in consistent clusters and lists the pieces left to a ray
+    // test and the clusters it finds negative. The ray tests are made here in piece order, as one
+    // pass makes them; a negative cluster (rare: a non-generic view) sends all its pieces to
+    // them, listed again from every piece.)
+    const int parts = threads > 1 && np >= 4000 ? int(std::min<std::uint32_t>(std::uint32_t(threads), np / 2000)) : 1;
+    struct Found {
+        std::vector<std::uint32_t> to_ray, negative;
+    };
+    std::vector<Found> found(static_cast<std::size_t>(parts));
     auto& pieces = graph.curves.pieces;
-    for (std::uint32_t p = 0; p < np; ++p) pieces[p].qi = state[comp[p]] == kInconsistent ? ray_qi(p) : value(p);
+    auto pass = [&](std::uint32_t p0, std::uint32_t p1, Found& f) {
+        for (std::uint32_t p = p0; p < p1; ++p) {
+            if (state[comp[p]] == kInconsistent) {
+                f.to_ray.push_back(p);
+                continue;
+            }
+            if (value(p) < 0) f.negative.push_back(comp[p]);
+            pieces[p].qi = value(p);
+        }
+    };
+    auto from = [&](int i) { return std::uint32_t(std::uint64_t(np) * std::uint64_t(i) / std::uint64_t(parts)); };
+    if (parts > 1) graph.team().run(parts, [&](int i) { pass(from(i), from(i + 1), found[std::size_t(i)]); });
+    else pass(0, np, found[0]);
+    bool any_negative = false;
+    for (const Found& f : found)
+        for (std::uint32_t c : f.negative) state[c] = kInconsistent, any_negative = true;
+    if (any_negative) {
+        for (std::uint32_t p = 0; p < np; ++p)
+            if (state[comp[p]] == kInconsistent) pieces[p].qi = ray_qi(p);
+    } else {
+        for (const Found& f : found)
+            for (std::uint32_t p : f.to_ray) pieces[p].qi = ray_qi(p);
+    }
     for (std::size_t c = 0; c < nc; ++c) st.inconsistent += state[c] == kInconsistent;
 }
 

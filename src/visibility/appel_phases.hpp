@@ -11,6 +11,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <utility>
 #include <vector>
 
@@ -113,6 +114,9 @@ struct AppelPropagation {
     // undefined; the pieces ending at v take the reference ray test (tests/test_extremes.cpp:
     // EyeOnAnEdgeLine, OrthographicAlongOneSide).
     void unite_at_vertices();
+    // Its two steps: the local occlusion of every end (in end_order), then the unions.
+    void local_occlusion_at_ends(std::vector<int>& end_occlusion) const;
+    void unite_ends(const std::vector<int>& end_occlusion);
     // Clusters: the forest's sets numbered in node order, each node's offset from its root; the
     // base of each is its lower bound (no QI below 0); contradictions and pierced pieces make
     // their cluster inconsistent.
@@ -121,6 +125,10 @@ struct AppelPropagation {
     // the spans collects those on occluder edges of crossings that change QI (on_edge, by_edge),
     // for the constraints between clusters.
     void apply_bounding_box_rule();
+    // The same with `beside` (work that reads and writes none of the rule's pass's data: the
+    // unions at vertices and form_clusters) run on the calling thread beside the pass, before
+    // the rule's fixes.
+    void bounding_box_rule_beside(const std::function<void()>& beside);
     // Parity on closed surfaces: front-facing (convex) silhouettes even, back-facing odd. It holds
     // where the surface bounds a solid: a point on a front face is entered from outside, so an
     // even number of layers lie in front of it. Where the surface passes through itself, a part
@@ -134,6 +142,9 @@ struct AppelPropagation {
     // the one starting first, then the lowest piece), and the constraints between clusters:
     // (occluder piece, link) pairs not inside one cluster.
     void match_occluders();
+    // A large view's occluder grid (what the walks query) built on the first worker while the
+    // serial phases from match_occluders to survey_bounded run here; walk() waits for it.
+    void start_occluder_grid();
     // Constraints between clusters: behind an occluder of QI n, a curve has QI >= n on both
     // sides. Each side is raised in its own cluster: a side in another cluster than the other
     // side (across a link not united) must not raise this one (raising by the other side's
@@ -213,6 +224,7 @@ struct AppelPropagation {
     std::vector<std::uint8_t> has_piece;  // per cluster, bounded: survey_bounded's
     std::vector<int> min_piece;
     std::vector<std::uint32_t> zero;  // (UINT32_MAX: none at QI 0)
+    std::future<void> grid_ready;  // start_occluder_grid's build (valid until walk() waits)
 };
 
 }  // namespace inkline
