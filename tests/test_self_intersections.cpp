@@ -166,28 +166,22 @@ TEST(SelfIntersections, ThreadsGiveTheSameResult) {
     const inkline::SelfIntersections one = inkline::self_intersections(t, 1);
     EXPECT_GT(one.flagged, 100u) << "the crumpled sphere should intersect itself";
     EXPECT_EQ(one.faces, reference(t));
-    for (const int threads : {2, 3, 8}) {
-        const inkline::SelfIntersections many = inkline::self_intersections(t, threads);
-        EXPECT_EQ(many.faces, one.faces) << threads;
-        EXPECT_EQ(many.flagged, one.flagged) << threads;
-        EXPECT_EQ(many.pairs, one.pairs) << threads;
-        ASSERT_EQ(many.cuts.size(), one.cuts.size()) << threads;
+    const auto expect_same_as_one = [&one](const inkline::SelfIntersections& got, const std::string& how) {
+        EXPECT_EQ(got.faces, one.faces) << how;
+        EXPECT_EQ(got.flagged, one.flagged) << how;
+        EXPECT_EQ(got.pairs, one.pairs) << how;
+        ASSERT_EQ(got.cuts.size(), one.cuts.size()) << how;
         for (std::size_t k = 0; k < one.cuts.size(); ++k) {
-            EXPECT_EQ(many.cuts[k].edge, one.cuts[k].edge) << threads << " cut " << k;
-            EXPECT_EQ(many.cuts[k].s, one.cuts[k].s) << threads << " cut " << k;
+            EXPECT_EQ(got.cuts[k].edge, one.cuts[k].edge) << how << " cut " << k;
+            EXPECT_EQ(got.cuts[k].s, one.cuts[k].s) << how << " cut " << k;
         }
+    };
+    for (const int threads : {2, 3, 8}) {
+        expect_same_as_one(inkline::self_intersections(t, threads), std::to_string(threads) + " threads");
         EXPECT_EQ(inkline::self_intersecting_faces(t, threads), one.faces) << threads;
         // Started before the topology was built, from the mesh's arrays (as Model::load does).
         inkline::EarlySelfIntersections early({s.positions.data(), s.triangles.data(), s.triangles.size()}, threads);
-        const inkline::SelfIntersections started = early.finish(t);
-        EXPECT_EQ(started.faces, one.faces) << threads;
-        EXPECT_EQ(started.flagged, one.flagged) << threads;
-        EXPECT_EQ(started.pairs, one.pairs) << threads;
-        ASSERT_EQ(started.cuts.size(), one.cuts.size()) << threads;
-        for (std::size_t k = 0; k < one.cuts.size(); ++k) {
-            EXPECT_EQ(started.cuts[k].edge, one.cuts[k].edge) << threads << " cut " << k;
-            EXPECT_EQ(started.cuts[k].s, one.cuts[k].s) << threads << " cut " << k;
-        }
+        expect_same_as_one(early.finish(t), std::to_string(threads) + " threads, started early");
     }
 }
 
