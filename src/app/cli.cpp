@@ -299,7 +299,8 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     if (const MultiscaleLevels* levels = setup.detail)
         appendf(report, "detail: multiscale, target %g px, %d levels%s (%zu of %zu vertices collapsed), pre-process %.4f s (%s), "
                 "%.1f bytes a vertex a level, blend %.4f s\n",
-                a.detail.target_px, levels->levels, a.detail.thin_guarded_ ? ", thin-guarded smoothing" : "", levels->collapses, levels->vertices, levels->seconds,
+                a.detail.target_px, levels->levels, a.detail.smoothing_thin_guarded ? ", thin-guarded smoothing" : "",
+                levels->collapses, levels->vertices, levels->seconds,
                 setup.detail_source.c_str(),
                 levels->levels > 1 ? double(levels->bytes()) / double(levels->vertices * std::size_t(levels->levels - 1)) : 0.0,
                 detail->seconds_blend());

@@ -573,8 +573,8 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
          "ears): M3's bumps go and thin parts keep their shape, for a slower pre-process (armadillo about "
          "1 s; implies --detail-fairing=second-order and --detail-ratio=0.75 unless given; docs/detail.md)",
          [&d](const std::string& v) {
-             if (v == "none") d.thin_guarded_ = false;
-             else if (v == "thin-guarded") d.thin_guarded_ = true;
+             if (v == "none") d.smoothing_thin_guarded = false;
+             else if (v == "thin-guarded") d.smoothing_thin_guarded = true;
              else throw Error("--detail-smoothing", "unknown smoothing '" + v + "' (expected none or thin-guarded)");
              d.smoothing_given = true;
          }},
@@ -615,7 +615,7 @@ MultiscaleOptions DetailFlags::levels_options() const {
     // each level take most (bench/results/multiscale.md: armadillo's M3 at r = 3/4, mean |k1| 0.193
     // -> 0.151 against M0's 0.187).
     if (o.fairing == MultiscaleFairing::SecondOrder) o.sweeps = 8, o.tangential_sweeps = 32;
-    return thin_guarded_ ? thin_guarded(o, ratio.has_value(), fairing.has_value()) : o;
+    return smoothing_thin_guarded ? thin_guarded(o, ratio.has_value(), fairing.has_value()) : o;
 }
 
 void DetailFlags::check(const std::string& command) const {

@@ -180,7 +180,7 @@ struct DetailFlags {
     std::optional<double> depth_exponent;
     std::optional<double> ratio;
     std::optional<MultiscaleFairing> fairing;
-    bool thin_guarded_ = false;  // --detail-smoothing=thin-guarded
+    bool smoothing_thin_guarded = false;  // --detail-smoothing=thin-guarded
     bool smoothing_given = false;
     std::string cache_dir;  // --cache: where the smoothed levels are kept (empty: not kept)
     std::vector<std::pair<std::string, double>> object_target_px;  // --detail-object=NAME=PX
