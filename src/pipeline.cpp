@@ -171,6 +171,7 @@ const Features& ViewSession::find(Camera camera) { return find(camera, {}); }
 
 const Features& ViewSession::find(Camera camera, const std::function<void()>& searched) {
     if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));
+    graph_.drop_started_occluders();  // (a render that threw after starting them: they read the features)
     const auto t0 = std::chrono::steady_clock::now();
     finder_.find(camera, chained_kinds(options_), view_.features, searched);
     features_seconds_ = seconds_since(t0);

@@ -125,7 +125,7 @@ TEST(Threads, BuildPiecesOnManyThreadsEqualsOne) {
 
 // The occluders started ahead on the helper thread (start_occluders, as a session on two threads
 // does while it chains the curves) give one thread's graph; started for another view (other
-// features and camera), build_pieces makes them again: one thread's graph still.
+// features and camera), or dropped, build_pieces makes them again: one thread's graph still.
 TEST(Threads, OccludersStartedAheadGiveTheSameGraph) {
     for (const char* name : {"armadillo", "bunny00", "knot1"}) {
         const Model model = Model::load(test::mesh_path(name));
@@ -151,6 +151,10 @@ TEST(Threads, OccludersStartedAheadGiveTheSameGraph) {
             start_occluders(stale, mesh, f_other, other);
             build_pieces(stale, mesh, f, cam, cuts, 2, 0);
             expect_same_graph(stale, one, at + ", started for another view");
+            start_occluders(stale, mesh, f, cam);
+            stale.drop_started_occluders();  // (as a session does before its next view's features)
+            build_pieces(stale, mesh, f, cam, cuts, 2, 0);
+            expect_same_graph(stale, one, at + ", started, then dropped");
         }
     }
 }

@@ -168,6 +168,16 @@ struct PieceGraph {
     // changes, the curve ends' local occlusion); helper() is its first worker.
     WorkerTeam& team() { return team_; }
 
+    // Waits for start_occluders' job if one is in flight and drops it: its view went no further
+    // (an exception between start_occluders and build_pieces, already the caller's), and the
+    // features it reads are about to change.
+    void drop_started_occluders() {
+        if (!occluders_job_.valid()) return;
+        occluders_job_.wait();
+        occluders_job_ = {};
+        occluders_features_ = nullptr;
+    }
+
 private:
     friend void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
                              const Camera& camera, const std::vector<EdgeCut>* cuts, int threads,
