@@ -19,9 +19,8 @@
 #include <ctime>
 #include <sstream>
 #include <string>
-#include <vector>
-
 #include <unordered_set>
+#include <vector>
 
 #include "bench_models.hpp"
 #include "pipeline.hpp"
@@ -47,7 +46,8 @@ std::vector<std::string> split(const std::string& s) {
 }
 
 // Per curve of the view: a hash of its mesh edges and of the occluder edges it crosses, in order
-// (what a carried QI compares: a curve with the same signature has the same pieces and links).
+// (what a carried QI compares: a curve with the same signature is cut at the same crossings into
+// the same pieces and links; only their cut points move).
 std::vector<std::uint64_t> curve_signatures(const Features& f, const PieceGraph& g) {
     auto mix = [](std::uint64_t h, std::uint64_t x) {
         h ^= x + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
