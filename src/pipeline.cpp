@@ -167,10 +167,13 @@ FinderOptions finder_with_threads(const ViewOptions& options) {
 ViewSession::ViewSession(const Model& model, const ViewOptions& options)
     : model_(&model), options_(options), finder_(model.topology(), finder_with_threads(options)) {}
 
-const Features& ViewSession::find(Camera camera) {
+const Features& ViewSession::find(Camera camera) { return find(camera, {}); }
+
+const Features& ViewSession::find(Camera camera, const std::function<void()>& searched) {
     if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));
+    graph_.drop_started_occluders();  // (a render that threw after starting them: they read the features)
     const auto t0 = std::chrono::steady_clock::now();
-    finder_.find(camera, chained_kinds(options_), view_.features);
+    finder_.find(camera, chained_kinds(options_), view_.features, searched);
     features_seconds_ = seconds_since(t0);
     return view_.features;
 }
@@ -181,9 +184,22 @@ View& ViewSession::visibility(Camera camera) {
     return view_;
 }
 
+// From this many occluding edges the occluders' images and clipping (about 1.4 ms a frame on one
+// thread at 50 k edges) outlast the chaining they overlap, and would be split in two anyway
+// (build_pieces splits them from 8000).
+constexpr std::size_t kOverlapOccluders = 8000;
+
 View& ViewSession::render(Camera camera) {
     if (camera.near_distance() <= 0.0) camera.set_near(default_near(model_->topology()));
-    find(camera);
+    // On two threads, a large view's occluders are made on the graph's helper while this thread
+    // chains the curves, instead of chaining alone and then splitting the occluders in two (the
+    // chaining is serial). On more threads the split occluders are faster than one thread's.
+    const bool overlap = options_.visibility == VisibilityMethod::Appel && options_.threads == 2;
+    Features& f = view_.features;
+    find(camera, [&] {
+        if (overlap && f.silhouette_edges.size() + f.border_edges.size() >= kOverlapOccluders)
+            start_occluders(graph_, model_->topology(), f, camera);
+    });
     finish(camera);
     return view_;
 }

@@ -168,6 +168,8 @@ public:
     }
 
 private:
+    // find() with the finder's `searched` call (SilhouetteFinder::find).
+    const Features& find(Camera camera, const std::function<void()>& searched);
     void finish(const Camera& camera);
     const Model* model_;
     ViewOptions options_;

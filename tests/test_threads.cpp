@@ -70,6 +70,31 @@ TEST(WorkerTeam, RunsEveryPartOnceAndRethrowsTheFirstPartsError) {
     EXPECT_EQ(ran.load(), 6);
 }
 
+// The same graph: crossing count, occluders, pieces, links, link crossings, curve ends.
+void expect_same_graph(const PieceGraph& many, const PieceGraph& one, const std::string& at) {
+    EXPECT_EQ(many.curves.crossings, one.curves.crossings) << at;
+    EXPECT_EQ(many.occluders.size(), one.occluders.size()) << at;
+    EXPECT_EQ(many.extreme_vertices, one.extreme_vertices) << at;
+    EXPECT_EQ(many.immersive, one.immersive) << at;
+    expect_same_pieces(many.curves.pieces, many.curves.spans, one.curves.pieces, one.curves.spans, at);
+    ASSERT_EQ(many.links.size(), one.links.size()) << at;
+    for (std::size_t i = 0; i < one.links.size(); ++i)
+        ASSERT_TRUE(many.links[i].before == one.links[i].before && many.links[i].after == one.links[i].after)
+            << at << " link " << i;
+    ASSERT_EQ(many.link_crossings.size(), one.link_crossings.size()) << at;
+    for (std::size_t i = 0; i < one.link_crossings.size(); ++i) {
+        const auto &x = many.link_crossings[i], &y = one.link_crossings[i];
+        ASSERT_TRUE(x.link == y.link && x.occluder == y.occluder && x.occluder_edge == y.occluder_edge &&
+                    same_bits(x.t, y.t) && same_bits(x.occluder_s, y.occluder_s))
+            << at << " link crossing " << i;
+    }
+    ASSERT_EQ(many.ends.size(), one.ends.size()) << at;
+    for (std::size_t i = 0; i < one.ends.size(); ++i)
+        ASSERT_TRUE(many.ends[i].piece == one.ends[i].piece && many.ends[i].vertex == one.ends[i].vertex &&
+                    many.ends[i].edge == one.ends[i].edge)
+            << at << " end " << i;
+}
+
 // build_pieces with every view split (parallel_edges 0: ranges of any size) among 2, 3 and 8
 // threads gives one thread's graph: pieces, links, link crossings, curve ends, crossing count.
 TEST(Threads, BuildPiecesOnManyThreadsEqualsOne) {
@@ -90,29 +115,48 @@ TEST(Threads, BuildPiecesOnManyThreadsEqualsOne) {
                 PieceGraph many;
                 for (int again = 0; again < 2; ++again)  // (the second build into recycled storage)
                     build_pieces(many, mesh, f, cam, &model.self_intersections().cuts, threads, 0);
-                EXPECT_EQ(many.curves.crossings, one.curves.crossings) << at;
-                expect_same_pieces(many.curves.pieces, many.curves.spans, one.curves.pieces, one.curves.spans, at);
-                ASSERT_EQ(many.links.size(), one.links.size()) << at;
-                for (std::size_t i = 0; i < one.links.size(); ++i)
-                    ASSERT_TRUE(many.links[i].before == one.links[i].before && many.links[i].after == one.links[i].after)
-                        << at << " link " << i;
-                ASSERT_EQ(many.link_crossings.size(), one.link_crossings.size()) << at;
-                for (std::size_t i = 0; i < one.link_crossings.size(); ++i) {
-                    const auto &x = many.link_crossings[i], &y = one.link_crossings[i];
-                    ASSERT_TRUE(x.link == y.link && x.occluder == y.occluder && x.occluder_edge == y.occluder_edge &&
-                                same_bits(x.t, y.t) && same_bits(x.occluder_s, y.occluder_s))
-                        << at << " link crossing " << i;
-                }
-                ASSERT_EQ(many.ends.size(), one.ends.size()) << at;
-                for (std::size_t i = 0; i < one.ends.size(); ++i)
-                    ASSERT_TRUE(many.ends[i].piece == one.ends[i].piece && many.ends[i].vertex == one.ends[i].vertex &&
-                                many.ends[i].edge == one.ends[i].edge)
-                        << at << " end " << i;
+                expect_same_graph(many, one, at);
             }
             ++views;
         }
     }
     EXPECT_EQ(views, 16u);
+}
+
+// The occluders started ahead on the helper thread (start_occluders, as a session on two threads
+// does while it chains the curves) give one thread's graph; started for another view (other
+// features and camera), or dropped, build_pieces makes them again: one thread's graph still.
+TEST(Threads, OccludersStartedAheadGiveTheSameGraph) {
+    for (const char* name : {"armadillo", "bunny00", "knot1"}) {
+        const Model model = Model::load(test::mesh_path(name));
+        const MeshTopology& mesh = model.topology();
+        const auto* cuts = &model.self_intersections().cuts;
+        std::mt19937 rng(9u);
+        Camera other = test::framed_then_random(1, rng, mesh.bounds, 0.3, 1.2);
+        other.set_near(default_near(mesh));
+        const Features f_other = extract_features(mesh, other);
+        PieceGraph ahead, stale;
+        for (int k = 0; k < 3; ++k) {
+            Camera cam = test::framed_then_random(k, rng, mesh.bounds, 0.3, 1.2);
+            cam.set_near(default_near(mesh));
+            const Features f = extract_features(mesh, cam);
+            PieceGraph one;
+            build_pieces(one, mesh, f, cam, cuts, 1, 0);
+            const std::string at = std::string(name) + " view " + std::to_string(k);
+            for (int threads : {1, 2, 3}) {
+                start_occluders(ahead, mesh, f, cam);
+                build_pieces(ahead, mesh, f, cam, cuts, threads, 0);
+                expect_same_graph(ahead, one, at + ", started ahead, " + std::to_string(threads) + " threads");
+            }
+            start_occluders(stale, mesh, f_other, other);
+            build_pieces(stale, mesh, f, cam, cuts, 2, 0);
+            expect_same_graph(stale, one, at + ", started for another view");
+            start_occluders(stale, mesh, f, cam);
+            stale.drop_started_occluders();  // (as a session does before its next view's features)
+            build_pieces(stale, mesh, f, cam, cuts, 2, 0);
+            expect_same_graph(stale, one, at + ", started, then dropped");
+        }
+    }
 }
 
 // Whole frames (exhaustive finder, Appel visibility; visible lines with walks, and exact hidden

@@ -327,7 +327,8 @@ void SilhouetteFinder::stamp(Features& out) {
     out.silhouette_marks = stamp_;
 }
 
-void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options, Features& out) {
+void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options, Features& out,
+                            const std::function<void()>& searched) {
     const MeshTopology& mesh = *mesh_;
     const std::size_t ne = mesh.edge_count(), nv = mesh.vertex_count();
     // Recycle: reset what the previous view of `out` marked. A view that follows a complete
@@ -395,6 +396,7 @@ void SilhouetteFinder::find(const Camera& camera, const FeatureOptions& options,
     }
     const auto t1 = std::chrono::steady_clock::now();
     out.stats.planes_read = planes_read_;
+    if (searched) searched();
     cusps_and_curves(mesh, camera, options, out);
     out.stats.seconds_search = std::chrono::duration<double>(t1 - t0).count();
     out.stats.seconds_chain = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <span>
 #include <vector>
@@ -223,7 +224,11 @@ Features extract_features(const MeshTopology& mesh, const Camera& camera, const 
 class SilhouetteFinder {
 public:
     SilhouetteFinder(const MeshTopology& mesh, const FinderOptions& options = {});
-    void find(const Camera& camera, const FeatureOptions& options, Features& out);
+    // `searched`, if given, is called once the silhouette, border and crease edge lists of `out`
+    // are final, before the cusps and the chaining (which leave those lists as they are): work
+    // that needs only the lists can start there (ViewSession: the occluders, on another thread).
+    void find(const Camera& camera, const FeatureOptions& options, Features& out,
+              const std::function<void()>& searched = {});
     const FinderOptions& options() const { return opt_; }
     void reset();  // forget the previous view
     void set_fraction(double f) { opt_.fraction = f; }  // e.g. a viewer's slider, keeping coherence

@@ -950,26 +950,65 @@ void build_ranges(PieceGraph& g, const MeshTopology& mesh, const Features& featu
     append_ranges(g, scratch_others, others, parts, first);
 }
 
-}  // namespace
+// build_pieces' working arrays of the calling thread, kept from view to view (no allocation per
+// view once they are large enough); start_occluders hands them to the helper thread.
+Scratch& this_thread_scratch() {
+    thread_local Scratch scratch;
+    return scratch;
+}
 
-void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
-                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges, bool mirror_pairs) {
+// Every camera parameter the pieces depend on.
+bool same_camera(const Camera& a, const Camera& b) {
+    return a.eye() == b.eye() && a.target() == b.target() && a.up() == b.up() && a.fov_deg() == b.fov_deg() &&
+           a.is_ortho() == b.is_ortho() && a.ortho_height() == b.ortho_height() && a.width() == b.width() &&
+           a.height() == b.height() && a.near_distance() == b.near_distance();
+}
+
+// build_pieces' first part: the previous view's links and crossings cleared, the occluders in the
+// image, clipped, and their extreme points.
+void begin_view(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                Scratch& scratch, int threads) {
     VisibleCurves& out = g.curves;
-    // Everything of the previous view goes; the pieces' slots are refilled in place below.
+    // Everything of the previous view goes; the pieces' slots are refilled in place by build_pieces.
     out.crossings = 0;
     out.ray_tests = 0;
     g.links.clear();
     g.link_crossings.clear();
     g.ends.clear();
-    g.grid_built_ = false;
     g.immersive = geometry_behind_near(mesh, camera);
     g.images.reset(mesh, camera);
-
-    // Scratch arrays kept from view to view (no allocation per view once they are large enough).
-    thread_local Scratch scratch;
     clip_occluders(g, mesh, features, camera, scratch, threads);
     g.image_size = glm::dvec2(camera.width(), camera.height());
     find_extreme_vertices(g);
+}
+
+}  // namespace
+
+void start_occluders(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera) {
+    if (g.occluders_job_.valid()) g.occluders_job_.get();  // (a job whose build never came)
+    g.grid_built_ = false;
+    g.occluders_features_ = &features;
+    g.occluders_camera_ = camera;
+    Scratch& scratch = this_thread_scratch();
+    // (one part: the helper cannot hand parts to the team it belongs to)
+    g.occluders_job_ = g.helper().post([&g, &mesh, &features, camera, &scratch] {
+        begin_view(g, mesh, features, camera, scratch, 1);
+    });
+}
+
+void build_pieces(PieceGraph& g, const MeshTopology& mesh, const Features& features, const Camera& camera,
+                  const std::vector<EdgeCut>* cuts, int threads, std::size_t parallel_edges, bool mirror_pairs) {
+    VisibleCurves& out = g.curves;
+    Scratch& scratch = this_thread_scratch();
+    // The occluders started ahead for this view, else made here.
+    bool started = false;
+    if (g.occluders_job_.valid()) {
+        g.occluders_job_.get();
+        started = g.occluders_features_ == &features && same_camera(g.occluders_camera_, camera);
+    }
+    g.occluders_features_ = nullptr;
+    g.grid_built_ = false;
+    if (!started) begin_view(g, mesh, features, camera, scratch, threads);
 
     std::vector<std::uint64_t>& in_curves = scratch.in_curves;  // a bit per edge
     in_curves.assign(mesh.edge_count() / 64 + 1, 0);

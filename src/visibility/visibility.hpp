@@ -8,6 +8,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -167,10 +168,27 @@ struct PieceGraph {
     // changes, the curve ends' local occlusion); helper() is its first worker.
     WorkerTeam& team() { return team_; }
 
+    // Waits for start_occluders' job if one is in flight and drops it: its view went no further
+    // (an exception between start_occluders and build_pieces, already the caller's), and the
+    // features it reads are about to change.
+    void drop_started_occluders() {
+        if (!occluders_job_.valid()) return;
+        occluders_job_.wait();
+        occluders_job_ = {};
+        occluders_features_ = nullptr;
+    }
+
 private:
     friend void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
                              const Camera& camera, const std::vector<EdgeCut>* cuts, int threads,
                              std::size_t parallel_edges, bool mirror_pairs);
+    friend void start_occluders(PieceGraph& graph, const MeshTopology& mesh, const Features& features,
+                                const Camera& camera);
+    // start_occluders' job on helper(), and what it was started for (build_pieces takes its
+    // result only for the same features and camera).
+    std::future<void> occluders_job_;
+    const Features* occluders_features_ = nullptr;
+    Camera occluders_camera_;
     mutable SegmentGrid grid_;
     mutable bool grid_built_ = false;
     // Storage of pieces no longer in the graph (their point and span vectors keep their capacity).
@@ -198,6 +216,14 @@ PieceGraph build_pieces(const MeshTopology& mesh, const Features& features, cons
 void build_pieces(PieceGraph& graph, const MeshTopology& mesh, const Features& features, const Camera& camera,
                   const std::vector<EdgeCut>* cuts = nullptr, int threads = 1, std::size_t parallel_edges = 4000,
                   bool mirror_pairs = true);
+
+// Starts build_pieces' first part, the occluders (their vertex images, clipping and extreme points:
+// it reads only the silhouette and border edge lists of `features`), on the graph's helper thread
+// and returns at once: a caller that has found the silhouettes can chain the curves meanwhile
+// (ViewSession on two threads). The next build_pieces of `graph` waits for it and, for the same
+// `features` object and camera, goes on from there (the same pieces); otherwise it starts over.
+// Until then `graph` and the edge lists must not change.
+void start_occluders(PieceGraph& graph, const MeshTopology& mesh, const Features& features, const Camera& camera);
 
 // Where a piece is probed: the image midpoint of its longest stretch, on the mesh edge.
 struct PieceProbe {
