@@ -1,5 +1,9 @@
 #include "detail/progressive_mesh_session.hpp"
 
+#include <algorithm>
+
+#include "core/clock.hpp"
+
 namespace inkline {
 
 PmSession::PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options)
@@ -15,23 +19,50 @@ void PmSession::settle(const Camera& camera) {
 }
 
 View& PmSession::render(const Camera& camera, double frame_seconds) {
+    PmFrameSeconds& t = seconds_;
+    const auto t0 = StageClock::now();
+    auto lap = [last = t0]() mutable {
+        const auto now = StageClock::now();
+        const double s = std::chrono::duration<double>(now - last).count();
+        last = now;
+        return s;
+    };
     DetailCriterion criterion;
     criterion.target_area_px = pm_options_.target_px * pm_options_.target_px;
     stats_ = front_.update(camera, criterion, frame_seconds);
+    t.adapt = lap();
+    TriangleMesh mesh = front_.mesh(&input_vertex_, &input_face_);
+    t.mesh = lap();
     // (a new Model a frame: its topology, facing classes and ray index follow the new connectivity)
-    model_ = std::make_unique<Model>(front_.mesh(&input_vertex_), pm_options_.crease_degrees);
+    model_ = std::make_unique<Model>(std::move(mesh), pm_options_.crease_degrees);
     if (!pm_options_.input_self_intersects)
         model_->adopt_self_intersections({std::vector<std::uint8_t>(model_->topology().face_count(), 0), 0, {}, {}});
+    t.topology = lap();
     session_ = std::make_unique<ViewSession>(*model_, options_);
+    t.session = lap();
     const SurfaceLineOptions& s = options_.surface;
-    if (pm_options_.smoothing && (s.suggestive || s.smooth_contour)) {
-        compute_view_curvature(model_->curvature(), model_->topology(), camera, curvature_);
-        const double fps = frame_seconds > 0.0 ? 1.0 / frame_seconds : 0.0;
-        smoother_.blend(curvature_, input_vertex_,
-                        smoothing_weight(pm_options_.smoothing_seconds, fps, pm_options_.smoothing_alpha));
-        session_->use_surface_fields(&model_->curvature(), &curvature_);
+    t.curvature = t.smoothing = 0.0;
+    if (s.suggestive || s.smooth_contour || s.ridge || s.valley) {
+        // The adapted mesh's curvature, recomputed only near where the front changed (the same
+        // field as its Model's own, bit for bit), then the view's quantities, smoothed over time.
+        const CurvatureField& field = curvature_.update(model_->topology(), input_vertex_, input_face_);
+        t.curvature = lap();
+        compute_view_curvature(field, model_->topology(), camera, view_curvature_);
+        if (pm_options_.smoothing && (s.suggestive || s.smooth_contour)) {
+            const double fps = frame_seconds > 0.0 ? 1.0 / frame_seconds : 0.0;
+            smoother_.blend(view_curvature_, input_vertex_,
+                            smoothing_weight(pm_options_.smoothing_seconds, fps, pm_options_.smoothing_alpha));
+        }
+        session_->use_surface_fields(&field, &view_curvature_);
+        t.smoothing = lap();
     }
-    return session_->render(camera);
+    View& v = session_->render(camera);
+    const double view = lap();
+    t.features = v.drawing.stats.seconds_features;
+    t.visibility = v.drawing.stats.seconds_visibility;
+    t.index = std::max(0.0, view - t.features - t.visibility);
+    t.total = seconds_since(t0);
+    return v;
 }
 
 }  // namespace inkline
