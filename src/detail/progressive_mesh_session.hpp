@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "detail/adapted_topology.hpp"
 #include "detail/progressive_mesh_front.hpp"
 #include "curvature/incremental_curvature.hpp"
 #include "detail/temporal_smoothing.hpp"
@@ -31,14 +32,15 @@ struct PmViewOptions {
     bool input_self_intersects = true;
 };
 
-// Where a frame's time went (wall seconds, one thread): the front's adaptation, the adapted mesh
-// taken out of the front, its Model (topology), the pipeline's session, the curvature, the
-// per-view curvature with the temporal smoothing, the silhouette finder and surface-line
-// extraction, the visibility, and the rest of the view (the ray-test index when a ray test asked
-// for it).
+// Where a frame's time went, in the rendering thread's CPU seconds: the front's adaptation, the
+// adapted mesh taken out of the front, its topology and Model, the pipeline's session, the
+// curvature, the per-view curvature with the temporal smoothing, and the view (silhouettes,
+// surface lines, visibility, and the ray-test index when a ray test asks for it); of the view, the
+// drawing's own wall-clock split: features (finder and surface-line extraction) and visibility.
 struct PmFrameSeconds {
-    double adapt = 0.0, mesh = 0.0, topology = 0.0, session = 0.0, curvature = 0.0, smoothing = 0.0,
-           features = 0.0, visibility = 0.0, index = 0.0, total = 0.0;
+    double adapt = 0.0, mesh = 0.0, topology = 0.0, session = 0.0, curvature = 0.0, smoothing = 0.0, view = 0.0,
+           total = 0.0;
+    double features = 0.0, visibility = 0.0;  // wall
 };
 
 class PmSession {
@@ -63,6 +65,8 @@ private:
     AdaptiveFront front_;
     FrontStats stats_;
     PmFrameSeconds seconds_;
+    AdaptedTopology topology_;
+    MeshTopology spare_;  // the frame before last's topology: its storage is refilled
     std::unique_ptr<Model> model_;
     std::unique_ptr<ViewSession> session_;
     std::vector<std::uint32_t> input_vertex_, input_face_;  // the adapted mesh's, in the input
