@@ -703,13 +703,31 @@ const CurvatureField& IncrementalCurvature::update(const MeshTopology& mesh, con
     s.recomputed = 0;
     s.map_and_mark(mesh);
     s.spread_levels(mesh);
-    s.vert.resize(mesh.vertex_count());
-    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
-        if (s.last_slot[v] != kNone) s.vert.copy(v, s.last_vert, s.last_slot[v]);
-    s.faces_pass(mesh);
-    s.fit_curvature(mesh);
-    s.fit_dcurv(mesh);
-    s.write(mesh);
+    const std::size_t reached = std::size_t(std::count_if(s.level.begin(), s.level.end(), [](std::uint8_t l) { return l > 0; }));
+    if (10 * reached > 9 * mesh.vertex_count()) {
+        // Nearly everything changed: the whole estimate (faster than the restricted phases), its
+        // vertices' doubles kept for the next mesh.
+        Estimator est(mesh);
+        est.faces_pass();
+        est.vertex_frames();
+        est.fit_curvature();
+        est.diagonalize();
+        est.mark_valid();
+        est.fit_dcurv();
+        est.write(s.field);
+        s.field.feature_size = median_edge_length(mesh);
+        s.vert.normal.swap(est.normal), s.vert.dir.swap(est.dir_u), s.vert.k1.swap(est.k1), s.vert.k2.swap(est.k2);
+        s.vert.point_area.swap(est.point_area), s.vert.usable_faces.swap(est.usable_faces), s.vert.valid.swap(est.valid);
+        s.recomputed = mesh.vertex_count();
+    } else {
+        s.vert.resize(mesh.vertex_count());
+        for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+            if (s.last_slot[v] != kNone) s.vert.copy(v, s.last_vert, s.last_slot[v]);
+        s.faces_pass(mesh);
+        s.fit_curvature(mesh);
+        s.fit_dcurv(mesh);
+        s.write(mesh);
+    }
     s.remember(mesh);
     std::swap(s.field, s.last_field);
     std::swap(s.vert, s.last_vert);
