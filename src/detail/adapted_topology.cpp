@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "model/orientation.hpp"
+#include "model/topology_steps.hpp"
 
 namespace inkline {
 namespace {

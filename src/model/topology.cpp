@@ -1,4 +1,5 @@
 #include "model/topology.hpp"
+#include "model/topology_steps.hpp"
 
 #include "model/orientation.hpp"
 

@@ -101,10 +101,4 @@ struct MeshTopology {
 
 MeshTopology build_topology(TriangleMesh mesh, double crease_degrees = 40.0);
 
-// Two of build_topology's steps, for a builder that keeps what did not change (detail/'s adapted
-// meshes): the bounds, facing origin, radius and planes from the positions; and an interior
-// edge's kEdgeConvex, kEdgeConcave or neither (exact predicate).
-void compute_bounds_and_facing(MeshTopology& t);
-std::uint8_t edge_convexity(const MeshTopology& t, std::uint32_t e);
-
 }  // namespace inkline
