@@ -135,15 +135,10 @@ void AdaptedTopology::build(MeshTopology& t, TriangleMesh&& mesh, const std::vec
     remember();
 }
 
-// This mesh's ids become the last ones (the by-id maps keep stale entries: index_of checks them).
+// This mesh's ids become the last ones (the by-id map keeps stale entries: index_of checks them).
 void AdaptedTopology::remember() {
     last_vertex_id_.swap(vertex_id_);
     last_face_id_.swap(face_id_);
-    for (std::uint32_t v = 0; v < last_vertex_id_.size(); ++v) {
-        const std::uint32_t id = last_vertex_id_[v];
-        if (id >= last_vertex_of_id_.size()) last_vertex_of_id_.resize(std::size_t(id) + 1, kNone);
-        last_vertex_of_id_[id] = v;
-    }
     for (std::uint32_t f = 0; f < last_face_id_.size(); ++f) {
         const std::uint32_t id = last_face_id_[f];
         if (id >= last_face_of_id_.size()) last_face_of_id_.resize(std::size_t(id) + 1, kNone);

@@ -26,7 +26,7 @@ public:
 
 private:
     std::vector<std::uint32_t> vertex_id_, face_id_, last_vertex_id_, last_face_id_;  // per mesh
-    std::vector<std::uint32_t> last_vertex_of_id_, last_face_of_id_;                  // per input id
+    std::vector<std::uint32_t> last_face_of_id_;  // per input face id: its index in the last mesh
     std::vector<std::uint32_t> last_face_;  // per face: the same face in the last mesh, if unchanged
     std::vector<std::uint32_t> corner_edge_;
     std::vector<glm::dvec3> normal_;
