@@ -4,7 +4,14 @@
 // orbit, with and without geomorphs (the largest per-frame vertex move they make, in pixels).
 // Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
-//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit]   (defaults armadillo 3, both paths)
+//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--whole[=FRAMES]]
+//   (defaults armadillo 3, both paths)
+//
+// --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
+// curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
+// `inkline bench --detail`), FRAMES frames of each path (default 40), each stage's median share,
+// beside the multi-scale method's whole frame on the same cameras; with a third path, dolly-in,
+// `inkline bench --path=dolly`'s (1.5 to 0.6 times the framing distance over the frames).
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
 // 1 % of the distance a frame (140 frames); the orbit turns 1 degree a frame about the vertical
@@ -14,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +29,7 @@
 #include "core/clock.hpp"
 #include "detail/multiscale.hpp"
 #include "detail/progressive_mesh_front.hpp"
+#include "detail/progressive_mesh_session.hpp"
 #include "pm_bench_util.hpp"
 
 using namespace inkline;
@@ -35,6 +44,15 @@ Camera path_camera(const MeshTopology& t, double times, double yaw_deg) {
     const double a = yaw_deg * M_PI / 180.0;
     const glm::dvec3 turned{std::cos(a) * d.x + std::sin(a) * d.z, d.y, -std::sin(a) * d.x + std::cos(a) * d.z};
     return Camera::perspective(c + times * turned, c, framed.up(), framed.fov_deg(), 1024, 1024);
+}
+
+// `inkline bench --path=dolly`'s camera k of `frames`: from 1.5 to 0.6 times the framing distance
+// along the default view direction.
+Camera bench_dolly_camera(const MeshTopology& t, int k, int frames) {
+    const double fov = 30.0, D = t.bounds.half_diagonal() / std::sin(fov * M_PI / 360.0);
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, 0.6, 1.4));
+    const double s = 1.5 - 0.9 * double(k) / double(std::max(1, frames - 1));
+    return Camera::perspective(t.bounds.center() + s * D * dir, t.bounds.center(), {0, 1, 0}, fov, 1024, 1024);
 }
 
 struct PathResult {
@@ -80,6 +98,78 @@ double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+// bench --detail's lines: silhouettes and suggestive contours, creases off, Appel visibility.
+ViewOptions whole_frame_options() {
+    ViewOptions o;
+    o.exact_hidden = false;
+    o.surface.suggestive = true;
+    o.features.kinds[int(LineKind::Crease)] = false;
+    return o;
+}
+
+// The whole pm frame along a path: thread CPU ms a frame (median, most) and each stage's median
+// wall ms (PmFrameSeconds), then the multi-scale session's whole frame on the same cameras.
+void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLevels* levels, double px,
+               const std::string& path, int frames) {
+    const MeshTopology& t = model.topology();
+    const bool dolly = path == "dolly";
+    const auto camera_at = [&](int k) {
+        Camera c = dolly ? path_camera(t, std::pow(1.01, k), 0.0) : path == "orbit" ? path_camera(t, 1.0, double(k))
+                                                                 : bench_dolly_camera(t, k, frames);
+        c.set_near(default_near(t));
+        return c;
+    };
+    const char* path_name = dolly ? "dolly 1 %/frame" : path == "orbit" ? "orbit 1 deg/frame" : "dolly in, bench's";
+    PmViewOptions o;
+    o.target_px = px;
+    o.crease_degrees = t.crease_degrees;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = model.self_intersections().flagged > 0;
+    PmSession session(pm, whole_frame_options(), o);
+    session.settle(camera_at(0));
+    std::vector<double> cpu;
+    std::vector<std::vector<double>> stage(10);
+    std::size_t triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
+    for (int k = 1; k <= frames; ++k) {
+        const double c0 = thread_seconds();
+        const View& v = session.render(camera_at(k), 1.0 / 25.0);
+        cpu.push_back((thread_seconds() - c0) * 1e3);
+        const PmFrameSeconds& s = session.seconds();
+        // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
+        const double parts[10] = {s.adapt,      s.mesh,       s.topology, s.curvature,
+                                  s.smoothing,  s.session,    s.features, s.visibility,
+                                  std::max(0.0, s.view - s.features - s.visibility), s.total};
+        for (int i = 0; i < 10; ++i) stage[i].push_back(parts[i] * 1e3);
+        triangles += session.stats().triangles;
+        ray_tests += v.drawing.stats.ray_tests;
+        inconsistent += v.drawing.stats.clusters_inconsistent;
+        vertices += session.adapted().topology().vertex_count();
+        recomputed += session.curvature().recomputed_vertices();
+    }
+    std::printf("| %s | pm | %.0f | %.1f | %.1f |", path_name,
+                double(triangles) / frames, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
+    for (int i = 0; i < 10; ++i) std::printf(" %.1f |", median(stage[i]));
+    std::printf(" %.0f | %.0f | %.2f |\n", double(ray_tests) / frames, double(inconsistent) / frames, double(recomputed) / double(std::max<std::size_t>(1, vertices)));
+    std::fflush(stdout);
+    if (!levels) return;
+    MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
+    cpu.clear();
+    ray_tests = inconsistent = 0;
+    for (int k = 1; k <= frames; ++k) {
+        const double c0 = thread_seconds();
+        const View& v = ms.render(camera_at(k));
+        cpu.push_back((thread_seconds() - c0) * 1e3);
+        ray_tests += v.drawing.stats.ray_tests;
+        inconsistent += v.drawing.stats.clusters_inconsistent;
+    }
+    std::printf("| %s | multiscale | %zu | %.1f | %.1f |%s %.0f |", path_name,
+                t.faces.size(), median(cpu), *std::max_element(cpu.begin(), cpu.end()),
+                " - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
+    std::printf(" %.0f |", double(inconsistent) / frames);
+    std::printf(" - |\n");
+    std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -87,11 +177,16 @@ int main(int argc, char** argv) {
     double px = 3.0;
     bool multiscale = true;
     std::string only_path;  // "dolly" or "orbit": that path alone
+    int whole = 0;          // --whole[=FRAMES]: the whole frame, FRAMES frames a path
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--no-multiscale")
             multiscale = false;
+        else if (a == "--whole")
+            whole = 40;
+        else if (a.rfind("--whole=", 0) == 0)
+            whole = std::max(1, std::atoi(a.c_str() + 8));
         else if (a.rfind("--path=", 0) == 0)
             only_path = a.substr(7);
         else if (positional++ == 0)
@@ -122,13 +217,25 @@ int main(int argc, char** argv) {
                 pm.hierarchy_bytes() / 1048576.0, double(pm.hierarchy_bytes()) / t.positions.size(),
                 front_bytes / 1048576.0, double(front_bytes) / t.positions.size(),
                 (t.positions.size() * 24.0 + t.faces.size() * 12.0) / 1048576.0, rss0, rss_pm, peak_pm);
+    std::unique_ptr<MultiscaleLevels> kept_levels;
     if (multiscale) {
         c0 = thread_seconds();
-        const MultiscaleLevels levels = build_multiscale_levels(*model);
+        kept_levels = std::make_unique<MultiscaleLevels>(build_multiscale_levels(*model));
+        const MultiscaleLevels& levels = *kept_levels;
         std::printf("multiscale: %d levels built in %.2f s CPU; stored %.1f MiB (%.1f B/vertex); RSS now %.0f MiB, "
                     "peak %.0f MiB\n",
                     levels.levels, thread_seconds() - c0, levels.bytes() / 1048576.0,
                     double(levels.bytes()) / t.positions.size(), status_mib("VmRSS"), status_mib("VmHWM"));
+    }
+    if (whole > 0) {
+        std::printf("\nWhole frame (thread CPU ms; stages: median thread CPU ms, the view split by its wall-clock features and visibility):\n\n"
+                    "| path | method | triangles (mean) | frame ms median | frame ms most | adapt | mesh | topology | "
+                    "curvature | smoothing | session | finder + surface lines | visibility | ray index + rest | "
+                    "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        for (const std::string path : {"dolly", "orbit", "dolly-in"})
+            if (only_path.empty() || only_path == path) run_whole(*model, pm, kept_levels.get(), px, path, whole);
+        return 0;
     }
     DetailCriterion c;
     c.target_area_px = px * px;

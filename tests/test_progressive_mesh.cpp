@@ -4,13 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <map>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_util.hpp"
 
+#include "curvature/incremental_curvature.hpp"
+#include "detail/adapted_topology.hpp"
 #include "detail/progressive_mesh.hpp"
+#include "detail/progressive_mesh_front.hpp"
 #include "detail/progressive_mesh_session.hpp"
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
@@ -273,3 +277,77 @@ TEST(PmSession, FrameDrawsWhatAFromScratchModelOfItsMeshDraws) {
     EXPECT_GT(morphing_frames, 0u);  // (shown positions between a vertex and its parent were drawn)
 }
 
+
+// The topology and curvature carried from frame to frame (edges between unchanged faces keep their
+// angle and convexity; curvature recomputed within three rings of what the front changed or a
+// geomorph moved) are build_topology's and estimate_curvature's of each frame's adapted mesh, bit
+// for bit, along a dolly out and an orbit with geomorphs running (steps of 6 % and 3 degrees: every
+// frame changes the mesh), while part of the vertices and edges are carried over (60842 of 283099
+// vertices).
+TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    AdaptiveFront front(pm, GeomorphOptions{.enabled = true});
+    IncrementalCurvature incremental;
+    AdaptedTopology adapted;
+    MeshTopology topology[2];  // this frame's and the last one's
+    std::size_t carried_edges = 0;
+    const Bounds3 box = bounds_of(pm.input());
+    const Camera framed = test::framed_camera(box);
+    std::size_t carried = 0, vertices = 0, changed_frames = 0;
+    for (int k = 0; k < 12; ++k) {
+        const double times = std::pow(1.06, std::min(k, 6)), yaw = k > 6 ? 0.05 * (k - 6) : 0.0;
+        const glm::dvec3 d = framed.eye() - box.center();
+        const glm::dvec3 turned{std::cos(yaw) * d.x + std::sin(yaw) * d.z, d.y, -std::sin(yaw) * d.x + std::cos(yaw) * d.z};
+        const Camera cam = Camera::perspective(box.center() + times * turned, box.center(), framed.up(), framed.fov_deg(), 1024, 1024);
+        const FrontStats s = front.update(cam, target_px(3.0), 1.0 / 25.0);
+        changed_frames += s.splits + s.collapses + s.morphs_running > 0;
+        std::vector<std::uint32_t> input_vertex, input_face;
+        const MeshTopology mesh = build_topology(front.mesh(&input_vertex, &input_face));
+        MeshTopology& t = topology[k % 2];
+        adapted.build(t, front.mesh(), input_vertex, input_face, 40.0, k > 0 ? &topology[(k + 1) % 2] : nullptr);
+        EXPECT_EQ(t.positions, mesh.positions) << k;
+        EXPECT_EQ(t.faces, mesh.faces) << k;
+        EXPECT_EQ(t.edge_vertex, mesh.edge_vertex) << k;
+        EXPECT_EQ(t.edge_face, mesh.edge_face) << k;
+        EXPECT_EQ(t.edge_normal_angle, mesh.edge_normal_angle) << k;
+        EXPECT_EQ(t.edge_flags, mesh.edge_flags) << k;
+        EXPECT_EQ(t.border_list, mesh.border_list) << k;
+        EXPECT_EQ(t.crease_list, mesh.crease_list) << k;
+        EXPECT_EQ(t.seam_list, mesh.seam_list) << k;
+        EXPECT_EQ(t.vertex_edge_begin, mesh.vertex_edge_begin) << k;
+        EXPECT_EQ(t.vertex_edges, mesh.vertex_edges) << k;
+        EXPECT_EQ(t.closed, mesh.closed) << k;
+        EXPECT_EQ(t.bounds.lo, mesh.bounds.lo) << k;
+        EXPECT_EQ(t.bounds.hi, mesh.bounds.hi) << k;
+        EXPECT_EQ(t.facing_origin, mesh.facing_origin) << k;
+        EXPECT_EQ(t.facing_radius, mesh.facing_radius) << k;
+        ASSERT_EQ(t.facing.size(), mesh.facing.size()) << k;
+        EXPECT_EQ(0, std::memcmp(t.facing.data(), mesh.facing.data(), t.facing.size() * sizeof(t.facing[0]))) << k;
+        ASSERT_EQ(t.face_edges.size(), mesh.face_edges.size()) << k;
+        for (std::size_t f = 0; f < t.face_edges.size(); ++f) {
+            EXPECT_EQ(t.face_edges[f].edge, mesh.face_edges[f].edge) << k << " " << f;
+            EXPECT_EQ(t.face_edges[f].face, mesh.face_edges[f].face) << k << " " << f;
+        }
+        if (k > 0) carried_edges += adapted.carried_edges();
+        const CurvatureField& field = incremental.update(mesh, input_vertex, input_face);
+        const CurvatureField ref = estimate_curvature(mesh);
+        ASSERT_EQ(field.size(), ref.size()) << k;
+        EXPECT_EQ(field.normal, ref.normal) << k;
+        EXPECT_EQ(field.dir1, ref.dir1) << k;
+        EXPECT_EQ(field.k1, ref.k1) << k;
+        EXPECT_EQ(field.k2, ref.k2) << k;
+        EXPECT_EQ(field.dcurv, ref.dcurv) << k;
+        EXPECT_EQ(field.point_area, ref.point_area) << k;
+        EXPECT_EQ(field.valid, ref.valid) << k;
+        EXPECT_EQ(field.invalid_vertices, ref.invalid_vertices) << k;
+        EXPECT_EQ(field.feature_size, ref.feature_size) << k;
+        if (k > 0) {
+            carried += field.size() - incremental.recomputed_vertices();
+            vertices += field.size();
+        }
+    }
+    EXPECT_EQ(changed_frames, 12u);  // (every frame changed the mesh: the comparison covers changes)
+    std::printf("%zu of %zu vertices carried over, %zu edges\n", carried, vertices, carried_edges);
+    EXPECT_GT(carried, vertices / 5);
+    EXPECT_GT(carried_edges, vertices);  // (about 3 edges a vertex; most carried over)
+}

@@ -552,10 +552,11 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     return s;
 }
 
-TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const {
+TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::vector<std::uint32_t>* input_face) const {
     const TriangleMesh& in = pm_.input();
     TriangleMesh out;
     if (input_vertex) input_vertex->clear();
+    if (input_face) input_face->clear();
     std::vector<std::uint32_t> index(in.positions.size(), none);
     for (std::uint32_t v = 0; v < in.positions.size(); ++v)
         if (active_[v] && head_[v] != none) {
@@ -572,6 +573,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
         const auto first = std::find(t.begin(), t.end(), index[in.triangles[f][0]]);
         if (first != t.end()) std::rotate(t.begin(), first, t.end());
         out.triangles.push_back(t);
+        if (input_face) input_face->push_back(f);
         if (!in.face_object.empty()) out.face_object.push_back(in.face_object[f]);
     }
     if (!in.face_object.empty()) out.object_names = in.object_names;

@@ -79,7 +79,9 @@ public:
 
     // The active front as a mesh: vertices in input order at their shown positions, faces in
     // input order with the input's first corner first when it survives (as ProgressiveMesh::adapt).
-    TriangleMesh mesh(std::vector<std::uint32_t>* input_vertex = nullptr) const;
+    // `input_vertex`, `input_face`: each vertex's and face's index in the input, when asked.
+    TriangleMesh mesh(std::vector<std::uint32_t>* input_vertex = nullptr,
+                      std::vector<std::uint32_t>* input_face = nullptr) const;
 
     std::size_t active_vertices() const { return front_.size(); }
     std::size_t active_faces() const { return active_face_count_; }

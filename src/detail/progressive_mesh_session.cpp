@@ -1,6 +1,18 @@
 #include "detail/progressive_mesh_session.hpp"
 
+#include <algorithm>
+#include <ctime>
+
+
 namespace inkline {
+namespace {
+// The calling thread's CPU seconds: a frame's stages on a shared machine.
+double thread_cpu_seconds() {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+}  // namespace
 
 PmSession::PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options)
     : options_(options), pm_options_(pm_options), front_(pm, pm_options.geomorphs) {}
@@ -15,23 +27,55 @@ void PmSession::settle(const Camera& camera) {
 }
 
 View& PmSession::render(const Camera& camera, double frame_seconds) {
+    PmFrameSeconds& t = seconds_;
+    const double t0 = thread_cpu_seconds();
+    auto lap = [last = t0]() mutable {
+        const double now = thread_cpu_seconds();
+        const double s = now - last;
+        last = now;
+        return s;
+    };
     DetailCriterion criterion;
     criterion.target_area_px = pm_options_.target_px * pm_options_.target_px;
     stats_ = front_.update(camera, criterion, frame_seconds);
-    // (a new Model a frame: its topology, facing classes and ray index follow the new connectivity)
-    model_ = std::make_unique<Model>(front_.mesh(&input_vertex_), pm_options_.crease_degrees);
+    t.adapt = lap();
+    TriangleMesh mesh = front_.mesh(&input_vertex_, &input_face_);
+    t.mesh = lap();
+    // A new Model a frame (its ray index follows the new connectivity), its topology built with the
+    // last one's unchanged edges carried over, in the storage of the frame before last.
+    MeshTopology topology = std::move(spare_);
+    topology_.build(topology, std::move(mesh), input_vertex_, input_face_, pm_options_.crease_degrees,
+                    model_ ? &model_->topology() : nullptr);
+    session_.reset();
+    if (model_) spare_ = std::move(model_->topology());
+    model_ = std::make_unique<Model>(std::move(topology));
     if (!pm_options_.input_self_intersects)
         model_->adopt_self_intersections({std::vector<std::uint8_t>(model_->topology().face_count(), 0), 0, {}, {}});
+    t.topology = lap();
     session_ = std::make_unique<ViewSession>(*model_, options_);
+    t.session = lap();
     const SurfaceLineOptions& s = options_.surface;
-    if (pm_options_.smoothing && (s.suggestive || s.smooth_contour)) {
-        compute_view_curvature(model_->curvature(), model_->topology(), camera, curvature_);
-        const double fps = frame_seconds > 0.0 ? 1.0 / frame_seconds : 0.0;
-        smoother_.blend(curvature_, input_vertex_,
-                        smoothing_weight(pm_options_.smoothing_seconds, fps, pm_options_.smoothing_alpha));
-        session_->use_surface_fields(&model_->curvature(), &curvature_);
+    t.curvature = t.smoothing = 0.0;
+    if (s.suggestive || s.smooth_contour || s.ridge || s.valley) {
+        // The adapted mesh's curvature, recomputed only near where the front changed (the same
+        // field as its Model's own, bit for bit), then the view's quantities, smoothed over time.
+        const CurvatureField& field = curvature_.update(model_->topology(), input_vertex_, input_face_);
+        t.curvature = lap();
+        compute_view_curvature(field, model_->topology(), camera, view_curvature_);
+        if (pm_options_.smoothing && (s.suggestive || s.smooth_contour)) {
+            const double fps = frame_seconds > 0.0 ? 1.0 / frame_seconds : 0.0;
+            smoother_.blend(view_curvature_, input_vertex_,
+                            smoothing_weight(pm_options_.smoothing_seconds, fps, pm_options_.smoothing_alpha));
+        }
+        session_->use_surface_fields(&field, &view_curvature_);
+        t.smoothing = lap();
     }
-    return session_->render(camera);
+    View& v = session_->render(camera);
+    t.view = lap();
+    t.features = v.drawing.stats.seconds_features;
+    t.visibility = v.drawing.stats.seconds_visibility;
+    t.total = thread_cpu_seconds() - t0;
+    return v;
 }
 
 }  // namespace inkline

@@ -11,7 +11,9 @@
 #include <memory>
 #include <vector>
 
+#include "detail/adapted_topology.hpp"
 #include "detail/progressive_mesh_front.hpp"
+#include "curvature/incremental_curvature.hpp"
 #include "detail/temporal_smoothing.hpp"
 #include "pipeline.hpp"
 
@@ -30,6 +32,17 @@ struct PmViewOptions {
     bool input_self_intersects = true;
 };
 
+// Where a frame's time went, in the rendering thread's CPU seconds: the front's adaptation, the
+// adapted mesh taken out of the front, its topology and Model, the pipeline's session, the
+// curvature, the per-view curvature with the temporal smoothing, and the view (silhouettes,
+// surface lines, visibility, and the ray-test index when a ray test asks for it); of the view, the
+// drawing's own wall-clock split: features (finder and surface-line extraction) and visibility.
+struct PmFrameSeconds {
+    double adapt = 0.0, mesh = 0.0, topology = 0.0, session = 0.0, curvature = 0.0, smoothing = 0.0, view = 0.0,
+           total = 0.0;
+    double features = 0.0, visibility = 0.0;  // wall
+};
+
 class PmSession {
 public:
     PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options);
@@ -42,6 +55,8 @@ public:
     const FrontStats& stats() const { return stats_; }
     const AdaptiveFront& front() const { return front_; }
     double seconds_adapt() const { return stats_.seconds; }
+    const PmFrameSeconds& seconds() const { return seconds_; }
+    const IncrementalCurvature& curvature() const { return curvature_; }
     void set_target(double target_px) { pm_options_.target_px = target_px; }
 
 private:
@@ -49,10 +64,14 @@ private:
     PmViewOptions pm_options_;
     AdaptiveFront front_;
     FrontStats stats_;
+    PmFrameSeconds seconds_;
+    AdaptedTopology topology_;
+    MeshTopology spare_;  // the frame before last's topology: its storage is refilled
     std::unique_ptr<Model> model_;
     std::unique_ptr<ViewSession> session_;
-    std::vector<std::uint32_t> input_vertex_;
-    ViewCurvature curvature_;
+    std::vector<std::uint32_t> input_vertex_, input_face_;  // the adapted mesh's, in the input
+    IncrementalCurvature curvature_;
+    ViewCurvature view_curvature_;
     TemporalSmoother smoother_;
 };
 

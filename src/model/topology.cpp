@@ -1,4 +1,5 @@
 #include "model/topology.hpp"
+#include "model/topology_steps.hpp"
 
 #include "model/orientation.hpp"
 
@@ -14,6 +15,8 @@ namespace inkline {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+
+}  // namespace
 
 // Bounds, the facing origin and radius, and the float facing planes, from the positions.
 void compute_bounds_and_facing(MeshTopology& t) {
@@ -60,7 +63,7 @@ void compute_bounds_and_facing(MeshTopology& t) {
 
 // kEdgeConvex, kEdgeConcave or neither for interior edge e: the far corner of face 1 below the
 // oriented plane of face 0 (exact predicate).
-std::uint8_t convexity(const MeshTopology& t, std::uint32_t e) {
+std::uint8_t edge_convexity(const MeshTopology& t, std::uint32_t e) {
     const auto [f0, f1] = t.edge_face[e];
     std::uint32_t opp = 0;
     for (auto v : t.faces[f1])
@@ -70,7 +73,6 @@ std::uint8_t convexity(const MeshTopology& t, std::uint32_t e) {
                                      cgal(t.positions[opp]));
     return o == CGAL::NEGATIVE ? kEdgeConvex : o == CGAL::POSITIVE ? kEdgeConcave : 0;
 }
-}  // namespace
 
 void MeshTopology::set_crease_angle(double degrees) {
     crease_degrees = degrees;
@@ -96,7 +98,7 @@ void MeshTopology::refresh_geometry() {
     compute_bounds_and_facing(*this);
     for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
         if (edge_flags[e] & kEdgeBorder) continue;
-        edge_flags[e] = std::uint8_t((edge_flags[e] & ~(kEdgeConvex | kEdgeConcave)) | convexity(*this, e));
+        edge_flags[e] = std::uint8_t((edge_flags[e] & ~(kEdgeConvex | kEdgeConcave)) | edge_convexity(*this, e));
     }
 }
 
@@ -156,7 +158,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
         const double sign = t.is_seam(std::uint32_t(e)) ? -1.0 : 1.0;
         const double c = std::clamp(sign * glm::dot(normal[f0], normal[f1]), -1.0, 1.0);
         t.edge_normal_angle[e] = float(std::acos(c));
-        t.edge_flags[e] |= convexity(t, std::uint32_t(e));
+        t.edge_flags[e] |= edge_convexity(t, std::uint32_t(e));
     }
     t.set_crease_angle(crease_degrees);
 

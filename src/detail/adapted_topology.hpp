@@ -1,0 +1,41 @@
+// The progressive mesh's adapted meshes as MeshTopology, frame after frame: exactly what
+// build_topology makes of each (the same edges in the same order, flags, angles, planes), with the
+// arrays' storage kept from frame to frame and, for every interior edge whose two faces have the
+// same corners at the same positions as in the last frame, the angle between their normals and the
+// convexity (an exact orientation test) carried over instead of computed again.
+//
+// Takes each frame's mesh with its vertices' and faces' input indices (faces ascending) and the
+// last frame's topology (alive during the call); gives the new topology.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "model/topology.hpp"
+
+namespace inkline {
+
+class AdaptedTopology {
+public:
+    // Fills `out` (its storage reused) from `mesh` (its arrays taken); `last`: the last frame's
+    // topology, whose vertices and faces had the ids of the last call (null: none).
+    void build(MeshTopology& out, TriangleMesh&& mesh, const std::vector<std::uint32_t>& vertex_id,
+               const std::vector<std::uint32_t>& face_id, double crease_degrees, const MeshTopology* last);
+    // Interior edges of the last build whose angle and convexity were carried over.
+    std::size_t carried_edges() const { return carried_; }
+
+private:
+    std::vector<std::uint32_t> vertex_id_, face_id_, last_vertex_id_, last_face_id_;  // per mesh
+    std::vector<std::uint32_t> last_face_of_id_;  // per input face id: its index in the last mesh
+    std::vector<std::uint32_t> last_face_;  // per face: the same face in the last mesh, if unchanged
+    std::vector<std::uint32_t> corner_edge_;
+    std::vector<glm::dvec3> normal_;
+    std::size_t carried_ = 0;
+
+    void match_faces(const MeshTopology& t, const MeshTopology* last);
+    void make_edges(MeshTopology& t);
+    void angles_and_flags(MeshTopology& t, const MeshTopology* last);
+    void remember();
+};
+
+}  // namespace inkline

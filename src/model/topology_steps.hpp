@@ -1,0 +1,17 @@
+// Two of build_topology's steps (model/topology.hpp), for a builder that keeps what did not change
+// between meshes (detail/adapted_topology.hpp): takes a MeshTopology with positions and faces
+// (and, for edge_convexity, its edges); gives what build_topology would put there.
+#pragma once
+
+#include <cstdint>
+
+#include "model/topology.hpp"
+
+namespace inkline {
+
+// The bounds, facing origin, radius and float facing planes, from the positions.
+void compute_bounds_and_facing(MeshTopology& t);
+// An interior edge's kEdgeConvex, kEdgeConcave or neither (exact predicate).
+std::uint8_t edge_convexity(const MeshTopology& t, std::uint32_t e);
+
+}  // namespace inkline
