@@ -4,7 +4,8 @@
 // orbit, with and without geomorphs (the largest per-frame vertex move they make, in pixels).
 // Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
-//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit]   (defaults armadillo 3, both paths)
+//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit] [--geomorphs=on|off]
+//             (defaults armadillo 3, both paths, both with and without geomorphs)
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
 // 1 % of the distance a frame (140 frames); the orbit turns 1 degree a frame about the vertical
@@ -12,6 +13,7 @@
 // view (the cost of that is printed apart).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -41,7 +43,16 @@ struct PathResult {
     std::vector<double> ms;
     double most_ms = 0.0, largest_move_px = 0.0, converge_ms = 0.0;
     std::size_t splits = 0, collapses = 0, frames = 0, tri_first = 0, tri_last = 0, most_ops = 0;
+    std::uint64_t last_mesh_hash = 0;  // the last frame's triangles (FNV-1a): a change of the code that
+                                       // should not change the mesh shows here
 };
+
+std::uint64_t triangles_hash(const TriangleMesh& m) {
+    std::uint64_t h = 1469598103934665603ull;
+    const auto* bytes = reinterpret_cast<const unsigned char*>(m.triangles.data());
+    for (std::size_t j = 0; j < m.triangles.size() * sizeof(m.triangles[0]); ++j) h = (h ^ bytes[j]) * 1099511628211ull;
+    return h;
+}
 
 PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
                     bool geomorphs) {
@@ -72,6 +83,7 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
     }
     r.frames = std::size_t(frames);
     r.tri_last = front.active_faces();
+    r.last_mesh_hash = triangles_hash(front.mesh());
     return r;
 }
 
@@ -87,6 +99,7 @@ int main(int argc, char** argv) {
     double px = 3.0;
     bool multiscale = true;
     std::string only_path;  // "dolly" or "orbit": that path alone
+    std::string only_geomorphs;  // "on" or "off": those runs alone
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -94,6 +107,8 @@ int main(int argc, char** argv) {
             multiscale = false;
         else if (a.rfind("--path=", 0) == 0)
             only_path = a.substr(7);
+        else if (a.rfind("--geomorphs=", 0) == 0)
+            only_geomorphs = a.substr(12);
         else if (positional++ == 0)
             name = a;
         else
@@ -133,16 +148,17 @@ int main(int argc, char** argv) {
     DetailCriterion c;
     c.target_area_px = px * px;
     std::printf("\n| path | geomorphs | converge first view ms | triangles first -> last | splits + collapses a frame "
-                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame |\n"
-                "|---|---|---|---|---|---|---|---|\n");
+                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame | last mesh |\n"
+                "|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true}) {
             if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
+            if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
             const PathResult r = run_path(pm, t, c, dolly, geomorphs);
-            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f |\n",
+            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %016llx |\n",
                         dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",
                         r.converge_ms, r.tri_first, r.tri_last, double(r.splits + r.collapses) / r.frames, r.most_ops,
-                        median(r.ms), r.most_ms, r.largest_move_px);
+                        median(r.ms), r.most_ms, r.largest_move_px, static_cast<unsigned long long>(r.last_mesh_hash));
             std::fflush(stdout);
         }
     return 0;

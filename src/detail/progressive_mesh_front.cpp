@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -26,11 +27,11 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     prev_collapse_.assign(m, none);
     dead_.assign(m, {none, none});
     changed_in_frame_.assign(m, 0);
-    corner_.assign(3 * faces, none);
-    next_.assign(3 * faces, none);
+    faces_.assign(faces, Face{{none, none, none}, {none, none, none}, 0.0});
     face_active_.assign(faces, 0);
     for (std::size_t f = 0; f < faces; ++f) {
-        for (int j = 0; j < 3; ++j) corner_[3 * f + j] = in.triangles[f][j];
+        for (int j = 0; j < 3; ++j) faces_[f].vertex[j] = in.triangles[f][j];
+        refresh_face_area(std::uint32_t(f));
         set_face_active(std::uint32_t(f), true);
     }
     for (std::uint32_t v = 0; v < n; ++v)
@@ -48,23 +49,23 @@ std::uint32_t AdaptiveFront::representative(std::uint32_t u) const {
 }
 
 void AdaptiveFront::link(std::uint32_t c, std::uint32_t v) {
-    corner_[c] = v;
-    next_[c] = head_[v];
+    corner_vertex(c) = v;
+    next_corner(c) = head_[v];
     head_[v] = c;
 }
 
 void AdaptiveFront::unlink(std::uint32_t c) {
-    std::uint32_t* at = &head_[corner_[c]];
-    while (*at != c) at = &next_[*at];
-    *at = next_[c];
+    std::uint32_t* at = &head_[corner_vertex(c)];
+    while (*at != c) at = &next_corner(*at);
+    *at = next_corner(c);
 }
 
 void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
     if (bool(face_active_[f]) == on) return;
     face_active_[f] = on;
-    for (std::uint32_t c = 3 * f; c < 3 * f + 3; ++c) {
+    for (std::uint32_t c = 4 * f; c < 4 * f + 3; ++c) {
         if (on)
-            link(c, corner_[c]);
+            link(c, corner_vertex(c));
         else
             unlink(c);
     }
@@ -87,17 +88,17 @@ void AdaptiveFront::front_remove(std::uint32_t v) {
     front_pos_[v] = none;
 }
 
-double AdaptiveFront::face_area(std::uint32_t f) const {
+void AdaptiveFront::refresh_face_area(std::uint32_t f) {
     const auto& p = pm_.input().positions;
     const glm::dvec3 a = p[face_vertex(f, 0)], b = p[face_vertex(f, 1)], c = p[face_vertex(f, 2)];
-    return 0.5 * glm::length(glm::cross(b - a, c - a));
+    faces_[f].area = 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
 void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
     double sum = 0.0;
     std::size_t count = 0;
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c]) {
-        sum += face_area(c / 3);
+    for (std::uint32_t c = head_[v]; c != none; c = next_corner(c)) {
+        sum += faces_[face_of(c)].area;
         ++count;
     }
     if (front_pos_[v] != none) front_data_[front_pos_[v]].w = float(count ? sum / double(count) : 0.0);
@@ -105,9 +106,9 @@ void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+    for (std::uint32_t c = head_[v]; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(c / 3, j);
+            const std::uint32_t u = face_vertex(face_of(c), j);
             if (u != v && std::find(out.begin(), out.end(), u) == out.end()) out.push_back(u);
         }
 }
@@ -138,9 +139,9 @@ void AdaptiveFront::enqueue_changed(std::uint32_t v) {
 // A lock around `v` ended: its refused neighbours (those that waited on it among them) are tried
 // again.
 void AdaptiveFront::wake_around(std::uint32_t v) {
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+    for (std::uint32_t c = head_[v]; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(c / 3, j);
+            const std::uint32_t u = face_vertex(face_of(c), j);
             if (retry_at_[u] > frame_) {
                 retry_at_[u] = 0;
                 if (!locked_[u]) enqueue(u);
@@ -158,8 +159,8 @@ bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
 bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     std::uint32_t wings[2] = {none, none};
     int shared = 0;
-    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
-        const std::uint32_t f = c / 3;
+    for (std::uint32_t c = head_[r]; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
         std::uint32_t third = none;
         bool has_k = false;
         for (int j = 0; j < 3; ++j) {
@@ -187,8 +188,8 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     const auto on_border = [&](std::uint32_t v, const std::vector<std::uint32_t>& ring) {
         for (std::uint32_t u : ring) {
             int faces = 0;
-            for (std::uint32_t c = head_[v]; c != none; c = next_[c])
-                for (int j = 0; j < 3; ++j) faces += face_vertex(c / 3, j) == u;
+            for (std::uint32_t c = head_[v]; c != none; c = next_corner(c))
+                for (int j = 0; j < 3; ++j) faces += face_vertex(face_of(c), j) == u;
             if (faces == 1) return true;
         }
         return false;
@@ -212,26 +213,30 @@ double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uin
 // in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
 // one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
 float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k) {
-    const auto dead = [&](std::uint32_t f) {  // a face on edge rk: removed by the collapse
+    // A face's area after the collapse: none when it is on edge rk (removed), its stored area when
+    // r is not a corner (unchanged), else measured with r moved (the value refresh_face_area gives).
+    const auto area_after = [&](std::uint32_t f) -> std::optional<double> {
         bool has_r = false, has_k = false;
         for (int j = 0; j < 3; ++j) {
             has_r |= face_vertex(f, j) == r;
             has_k |= face_vertex(f, j) == k;
         }
-        return has_r && has_k;
+        if (!has_r) return faces_[f].area;
+        if (has_k) return std::nullopt;
+        return face_area_moved(f, r, k);
     };
     double sum = 0.0;
     std::size_t count = 0;
     if (u == k) {
         areas_.clear();
-        for (std::uint32_t c = head_[r]; c != none; c = next_[c])
-            if (!dead(c / 3)) areas_.push_back(face_area_moved(c / 3, r, k));
+        for (std::uint32_t c = head_[r]; c != none; c = next_corner(c))
+            if (const auto a = area_after(face_of(c))) areas_.push_back(*a);
         for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
         count = areas_.size();
     }
-    for (std::uint32_t c = head_[u]; c != none; c = next_[c])
-        if (!dead(c / 3)) {
-            sum += face_area_moved(c / 3, r, k);
+    for (std::uint32_t c = head_[u]; c != none; c = next_corner(c))
+        if (const auto a = area_after(face_of(c))) {
+            sum += *a;
             ++count;
         }
     return float(count ? sum / double(count) : 0.0);
@@ -240,8 +245,8 @@ float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, 
 // A face of r's ring that would turn over (or become degenerate) when r moves onto k.
 bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
     const auto& p = pm_.input().positions;
-    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
-        const std::uint32_t f = c / 3;
+    for (std::uint32_t c = head_[r]; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
         glm::dvec3 before[3], after[3];
         bool has_k = false;
         for (int j = 0; j < 3; ++j) {
@@ -262,8 +267,8 @@ void AdaptiveFront::raw_collapse(std::uint32_t r) {
     const std::uint32_t i = collapse_of_[r], k = parent(r);
     std::array<std::uint32_t, 2> dead{none, none};
     int n_dead = 0;
-    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
-        const std::uint32_t f = c / 3;
+    for (std::uint32_t c = head_[r]; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
         if (face_vertex(f, 0) == k || face_vertex(f, 1) == k || face_vertex(f, 2) == k) dead[n_dead++] = f;
     }
     for (std::uint32_t f : dead)
@@ -272,6 +277,7 @@ void AdaptiveFront::raw_collapse(std::uint32_t r) {
         const std::uint32_t c = head_[r];
         unlink(c);
         link(c, k);
+        refresh_face_area(face_of(c));
     }
     active_[r] = 0;
     front_remove(r);
@@ -304,8 +310,8 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
         }
         if (at_r != 1 || at_k != 1 || third == none) return false;
         bool adjacent = false;
-        for (std::uint32_t c = head_[k]; c != none && !adjacent; c = next_[c])
-            for (int j = 0; j < 3; ++j) adjacent |= face_vertex(c / 3, j) == third;
+        for (std::uint32_t c = head_[k]; c != none && !adjacent; c = next_corner(c))
+            for (int j = 0; j < 3; ++j) adjacent |= face_vertex(face_of(c), j) == third;
         if (!adjacent) return false;
     }
     return true;
@@ -316,9 +322,9 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
 bool AdaptiveFront::ring_is_disk(std::uint32_t v) const {
     std::uint32_t from[64], to[64];
     std::size_t n = 0;
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c]) {
+    for (std::uint32_t c = head_[v]; c != none; c = next_corner(c)) {
         if (n == 64) return false;
-        const std::uint32_t f = c / 3, j = c % 3;
+        const std::uint32_t f = face_of(c), j = slot_of(c);
         from[n] = face_vertex(f, (j + 1) % 3);
         to[n] = face_vertex(f, (j + 2) % 3);
         ++n;
@@ -359,15 +365,17 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
     active_[r] = 1;
     front_add(r);
     for (std::uint32_t c = head_[k], next = none; c != none; c = next) {
-        next = next_[c];
-        if (representative(tri[c / 3][c % 3]) == r) {
+        next = next_corner(c);
+        if (representative(tri[face_of(c)][slot_of(c)]) == r) {
             unlink(c);
             link(c, r);
+            refresh_face_area(face_of(c));
         }
     }
     for (std::uint32_t f : dead_[i]) {
         if (f == none) continue;
-        for (int j = 0; j < 3; ++j) corner_[3 * f + j] = representative(tri[f][j]);
+        for (int j = 0; j < 3; ++j) faces_[f].vertex[j] = representative(tri[f][j]);
+        refresh_face_area(f);
         set_face_active(f, true);
     }
     dead_[i] = {none, none};
@@ -581,7 +589,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(front_pos_) + b(head_) + b(last_collapse_) +
-           b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+           b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(faces_) +
            b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_) + b(touched_);
 }
 

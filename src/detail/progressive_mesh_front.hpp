@@ -127,9 +127,17 @@ private:
     // waits one frame: harmless, and half the bytes).
     std::vector<std::uint16_t> changed_in_frame_;
     std::uint32_t frame_ = 0;
-    // Per face corner (3 f + j) and per face. The lists are singly linked: a vertex's list is as
-    // short as its degree, so unlinking by a walk costs less than a back link's 4 bytes a corner.
-    std::vector<std::uint32_t> corner_, next_;
+    // Per face: its corners' current vertices, each corner's link in its vertex's corner list
+    // (corner j of face f is 4 f + j) and the face's world area, updated where a corner changes, so
+    // that a ring's area is a sum of stored values. One 32-byte record, so a ring walk reads one
+    // cache line a face. The lists are singly linked: a vertex's list is as short as its degree,
+    // so unlinking by a walk costs less than a back link's 4 bytes a corner.
+    struct alignas(32) Face {
+        std::uint32_t vertex[3];
+        std::uint32_t next[3];
+        double area;  // (double: the ring's sum is then the one the criterion always measured)
+    };
+    std::vector<Face> faces_;
     std::vector<std::uint8_t> face_active_;
     std::size_t active_face_count_ = 0;
     std::vector<std::uint32_t> front_, work_;
@@ -145,7 +153,12 @@ private:
     const DetailCriterion* criterion_ = nullptr;
     FrontStats* stats_ = nullptr;
 
-    std::uint32_t face_vertex(std::uint32_t face, int j) const { return corner_[3 * face + j]; }
+    static std::uint32_t face_of(std::uint32_t corner) { return corner >> 2; }
+    static std::uint32_t slot_of(std::uint32_t corner) { return corner & 3; }
+    std::uint32_t face_vertex(std::uint32_t face, int j) const { return faces_[face].vertex[j]; }
+    std::uint32_t& corner_vertex(std::uint32_t c) { return faces_[face_of(c)].vertex[slot_of(c)]; }
+    std::uint32_t& next_corner(std::uint32_t c) { return faces_[face_of(c)].next[slot_of(c)]; }
+    std::uint32_t next_corner(std::uint32_t c) const { return faces_[face_of(c)].next[slot_of(c)]; }
     std::uint32_t parent(std::uint32_t v) const;
     std::uint16_t frame16() const { return std::uint16_t(frame_); }
     glm::dvec3 shown(const Morph& m, const std::vector<glm::dvec3>& p) const;
@@ -155,7 +168,7 @@ private:
     void set_face_active(std::uint32_t f, bool on);
     void front_add(std::uint32_t v);
     void front_remove(std::uint32_t v);
-    double face_area(std::uint32_t f) const;
+    void refresh_face_area(std::uint32_t f);
     void refresh_ring_area(std::uint32_t v);
     void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;
     double scale(std::uint32_t v) const;
