@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
     const double rss0 = status_mib("VmRSS");
     double c0 = thread_seconds();
     const auto w0 = StageClock::now();
-    const ProgressiveMesh pm(triangle_mesh_of(t));
+    const ProgressiveMesh pm(t);
     const double build_cpu = thread_seconds() - c0;
     const double build_wall = seconds_since(w0);
     const double rss_pm = status_mib("VmRSS"), peak_pm = status_mib("VmHWM");
@@ -131,12 +131,11 @@ int main(int argc, char** argv) {
     }
     std::printf("### %s, PX = %g (T = %g px^2)\n\n", name.c_str(), px, px * px);
     std::printf("%zu triangles, %zu vertices. pm: hierarchy of %zu collapses built in %.2f s CPU (%.1f s wall); "
-                "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), input copy %.1f MiB; "
+                "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), the input read from the model; "
                 "RSS %.0f -> %.0f MiB, peak %.0f MiB\n",
                 t.faces.size(), t.positions.size(), pm.collapses(), build_cpu, build_wall,
                 pm.hierarchy_bytes() / 1048576.0, double(pm.hierarchy_bytes()) / t.positions.size(),
-                front_bytes / 1048576.0, double(front_bytes) / t.positions.size(),
-                (t.positions.size() * 24.0 + t.faces.size() * 12.0) / 1048576.0, rss0, rss_pm, peak_pm);
+                front_bytes / 1048576.0, double(front_bytes) / t.positions.size(), rss0, rss_pm, peak_pm);
     if (multiscale) {
         c0 = thread_seconds();
         const MultiscaleLevels levels = build_multiscale_levels(*model);

@@ -9,7 +9,7 @@
 namespace inkline {
 
 AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
-    const TriangleMesh& in = pm.input();
+    const PmInput in = pm.input();
     const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
     collapse_of_.assign(n, none);
     pending_children_.assign(n, 0);
@@ -561,7 +561,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
 }
 
 TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex) const {
-    const TriangleMesh& in = pm_.input();
+    const PmInput in = pm_.input();
     TriangleMesh out;
     if (input_vertex) input_vertex->clear();
     std::vector<std::uint32_t> index(in.positions.size(), none);
