@@ -154,8 +154,25 @@ bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
     return false;
 }
 
+// v's neighbours, sorted and each once; returns v's face count. (In a manifold a vertex is on the
+// border exactly when it has more neighbours than faces: an open fan.)
+std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    std::size_t faces = 0;
+    for (std::uint32_t c = head_[v]; c != none; c = next_corner(c), ++faces) {
+        const Face& f = faces_[face_of(c)];
+        const std::uint32_t j = slot_of(c);
+        out.push_back(f.vertex[(j + 1) % 3]);
+        out.push_back(f.vertex[(j + 2) % 3]);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return faces;
+}
+
 // The link condition (the common neighbours of r and k are exactly the third corners of the faces
 // on edge rk), no interior edge between two border vertices, and k keeps at least 3 neighbours.
+// The rings are small sorted arrays, so their common part is one merge.
 bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     std::uint32_t wings[2] = {none, none};
     int shared = 0;
@@ -173,28 +190,22 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
         wings[shared++] = third;
     }
     if (shared == 0 || (shared == 2 && wings[0] == wings[1])) return false;
-    neighbours(r, ring_r_);
-    neighbours(k, ring_k_);
+    const std::size_t faces_r = sorted_ring(r, ring_r_), faces_k = sorted_ring(k, ring_k_);
     std::size_t common = 0;
-    for (std::uint32_t u : ring_r_)
-        if (u != k && std::find(ring_k_.begin(), ring_k_.end(), u) != ring_k_.end()) {
-            if (u != wings[0] && u != wings[1]) return false;
-            ++common;
+    for (std::size_t a = 0, b = 0; a < ring_r_.size() && b < ring_k_.size();) {
+        if (ring_r_[a] < ring_k_[b]) {
+            ++a;
+        } else if (ring_k_[b] < ring_r_[a]) {
+            ++b;
+        } else {  // (neither ring holds its own vertex, so k and r never meet here)
+            if (ring_r_[a] != wings[0] && ring_r_[a] != wings[1]) return false;
+            ++common, ++a, ++b;
         }
+    }
     if (common != std::size_t(shared)) return false;
     if (ring_r_.size() + ring_k_.size() - 2 - common < 3) return false;
-    // A vertex is on the border when one of its ring's edges is in one face only: an interior edge
-    // rk (two faces) between two border vertices would pinch the surface.
-    const auto on_border = [&](std::uint32_t v, const std::vector<std::uint32_t>& ring) {
-        for (std::uint32_t u : ring) {
-            int faces = 0;
-            for (std::uint32_t c = head_[v]; c != none; c = next_corner(c))
-                for (int j = 0; j < 3; ++j) faces += face_vertex(face_of(c), j) == u;
-            if (faces == 1) return true;
-        }
-        return false;
-    };
-    return !(shared == 2 && on_border(r, ring_r_) && on_border(k, ring_k_));
+    // An interior edge rk (two faces) between two border vertices would pinch the surface.
+    return !(shared == 2 && ring_r_.size() > faces_r && ring_k_.size() > faces_k);
 }
 
 // The world area of face f once r is collapsed onto k (r's corner moved to k), as face_area would
@@ -417,7 +428,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     if (geomorphs_.enabled) {
         lock_ring(r, +1);
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
-        morphs_.push_back({r, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        morphs_.push_back({r, k, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
         return true;
     }
@@ -455,7 +466,7 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
         ++locked_[k];
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
                                         : geomorphs_.max_speedup;
-        morphs_.push_back({r, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        morphs_.push_back({r, k, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
     }
     return true;
@@ -472,7 +483,7 @@ void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
 // A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
 // locked, so it is in no morph of its own).
 glm::dvec3 AdaptiveFront::shown(const Morph& m, const std::vector<glm::dvec3>& p) const {
-    const std::uint32_t r = m.vertex, k = parent(r);
+    const std::uint32_t r = m.vertex, k = m.parent;
     return m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
 }
 
@@ -480,7 +491,7 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
     const auto& p = pm_.input().positions;
     for (std::size_t j = 0; j < morphs_.size();) {
         Morph& m = morphs_[j];
-        const std::uint32_t r = m.vertex, k = parent(r);
+        const std::uint32_t r = m.vertex, k = m.parent;
         if (m.collapse) {  // faster the further r has fallen below the band meanwhile
             const double t_r = target(r), a = image_area(r);
             if (t_r > 0.0 && a > 0.0)

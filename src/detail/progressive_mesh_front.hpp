@@ -99,6 +99,7 @@ private:
     static constexpr std::uint32_t none = UINT32_MAX;
     struct Morph {
         std::uint32_t vertex;  // r: moving onto its parent (collapse) or out of it (split)
+        std::uint32_t parent;  // k (read each frame: kept here, not looked up through the hierarchy)
         bool collapse;
         double progress, speed;  // progress in [0, 1]; speed in transitions per second
     };
@@ -170,7 +171,8 @@ private:
     void front_remove(std::uint32_t v);
     void refresh_face_area(std::uint32_t f);
     void refresh_ring_area(std::uint32_t v);
-    void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+    void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;  // in ring order
+    std::size_t sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const;
     double scale(std::uint32_t v) const;
     double target(std::uint32_t v) const;
     // The average world area of an active vertex's ring, kept in front_data_ only (0 for a vertex
