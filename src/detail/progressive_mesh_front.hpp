@@ -83,12 +83,12 @@ public:
 
     std::size_t active_vertices() const { return front_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
-    bool is_active(std::uint32_t v) const { return active_[v] != 0; }
-    bool is_locked(std::uint32_t v) const { return locked_[v] != 0; }  // held by a geomorph
+    bool is_active(std::uint32_t v) const { return vert_[v].active != 0; }
+    bool is_locked(std::uint32_t v) const { return vert_[v].locked != 0; }  // held by a geomorph
     // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
     // cannot split), it is never removed (the top: it cannot collapse).
-    bool at_bottom(std::uint32_t v) const { return last_collapse_[v] == none; }
-    bool at_top(std::uint32_t v) const { return collapse_of_[v] == none; }
+    bool at_bottom(std::uint32_t v) const { return vert_[v].last_collapse == none; }
+    bool at_top(std::uint32_t v) const { return vert_[v].collapse_of == none; }
     std::size_t morphs_running() const { return morphs_.size(); }
     // The criterion's A_img of an active vertex (its logical ring at its input position).
     double image_area_of(std::uint32_t v, const Camera& camera) const;
@@ -106,19 +106,22 @@ private:
 
     const ProgressiveMesh& pm_;
     GeomorphOptions geomorphs_;
-    // Per input vertex.
-    std::vector<std::uint32_t> collapse_of_;   // the collapse that removes it (none: a root)
-    std::vector<std::uint32_t> pending_children_;  // collapses onto it not made yet
-    std::vector<std::uint8_t> active_;
-    std::vector<std::uint16_t> locked_;        // geomorphs holding it
-    std::vector<std::uint32_t> front_pos_;     // its index in front_
-    std::vector<std::uint32_t> head_;          // first corner of its corner list
-    std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
-    std::vector<std::uint8_t> queued_;
-    // The frame from which the scan tests it again after a refusal that only a change nearby can
-    // lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a morph
-    // next to it clears the stamp; the stamp's length is only a backstop.
-    std::vector<std::uint32_t> retry_at_;
+    // Per input vertex, in one 32-byte record: an operation reads a vertex's fields together, so
+    // one cache line a vertex instead of one a field.
+    struct alignas(32) Vertex {
+        std::uint32_t head;              // first corner of its corner list
+        std::uint32_t front_pos;         // its index in front_
+        std::uint32_t collapse_of;       // the collapse that removes it (none: a root)
+        std::uint32_t last_collapse;     // latest collapse made onto it (a stack through prev_collapse_)
+        std::uint32_t pending_children;  // collapses onto it not made yet
+        // The frame from which the scan tests it again after a refusal that only a change nearby
+        // can lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a
+        // morph next to it clears the stamp; the stamp's length is only a backstop.
+        std::uint32_t retry_at;
+        std::uint16_t locked;            // geomorphs holding it
+        std::uint8_t active, queued;
+    };
+    std::vector<Vertex> vert_;
     static constexpr std::uint32_t retry_frames = 8;           // refused by the collapse's rules
     static constexpr std::uint32_t lock_backstop_frames = 64;  // waiting on a morph's lock
     // Per collapse.
@@ -177,7 +180,7 @@ private:
     double target(std::uint32_t v) const;
     // The average world area of an active vertex's ring, kept in front_data_ only (0 for a vertex
     // in no face).
-    float ring_area(std::uint32_t v) const { return front_pos_[v] == none ? 0.0f : front_data_[front_pos_[v]].w; }
+    float ring_area(std::uint32_t v) const { return vert_[v].front_pos == none ? 0.0f : front_data_[vert_[v].front_pos].w; }
     double image_area(std::uint32_t v) const { return scale(v) * ring_area(v); }
     void enqueue(std::uint32_t v);
     void enqueue_changed(std::uint32_t v);
