@@ -9,10 +9,11 @@
 // Each frame evaluates every active vertex (its ring's world area is cached, so the test is one
 // depth and one multiply) and splits or collapses only where the criterion says so; the work
 // follows the vertices leaving [t_c T, t_s T], not the model's size. Everything lives in flat
-// arrays sized once from the input (per face corner: the current vertex and a link in that
-// vertex's corner list; per collapse: the faces it removed and the stack of collapses made onto
-// a vertex, so a split undoes the latest in O(degree x the hierarchy's depth there)). No
-// allocation per frame once the worklists have grown.
+// arrays sized once from the input (per face: its corners' current vertices, their links in the
+// vertices' corner lists and its area, one 32-byte record; per vertex one 32-byte record; per
+// collapse: the faces it removed and the stack of collapses made onto a vertex, so a split undoes
+// the latest in O(degree x the hierarchy's depth there)). No allocation per frame once the
+// worklists have grown.
 //
 // A collapse is made (the rules of ProgressiveMesh::adapt, plus Hoppe's tree order: r goes only
 // with its whole subtree) when its removed vertex r is below t_c T, its kept vertex k is active
