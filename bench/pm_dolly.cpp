@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     const double rss_model = status_mib("VmRSS");
     const auto t0 = StageClock::now();
     const double cpu0 = cpu_seconds();
-    const ProgressiveMesh pm(triangle_mesh_of(model->topology()));
+    const ProgressiveMesh pm(model->topology());
     const double build = seconds_since(t0), build_cpu = cpu_seconds() - cpu0;
     std::printf("%s: %zu triangles, hierarchy of %zu collapses built in %.3f s (%.3f s CPU), %.2f MiB of arrays; "
                 "RSS %.1f -> %.1f MiB (peak %.1f MiB)\n",

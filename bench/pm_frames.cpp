@@ -4,8 +4,9 @@
 // orbit, with and without geomorphs (the largest per-frame vertex move they make, in pixels).
 // Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
-//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--whole[=FRAMES]]
-//   (defaults armadillo 3, both paths)
+//   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--geomorphs=on|off]
+//             [--whole[=FRAMES]]
+//   (defaults armadillo 3, both paths, both with and without geomorphs)
 //
 // --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
@@ -19,6 +20,7 @@
 // view (the cost of that is printed apart).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -59,7 +61,16 @@ struct PathResult {
     std::vector<double> ms;
     double most_ms = 0.0, largest_move_px = 0.0, converge_ms = 0.0;
     std::size_t splits = 0, collapses = 0, frames = 0, tri_first = 0, tri_last = 0, most_ops = 0;
+    std::uint64_t last_mesh_hash = 0;  // the last frame's triangles (FNV-1a): a change of the code that
+                                       // should not change the mesh shows here
 };
+
+std::uint64_t triangles_hash(const TriangleMesh& m) {
+    std::uint64_t h = 1469598103934665603ull;
+    const auto* bytes = reinterpret_cast<const unsigned char*>(m.triangles.data());
+    for (std::size_t j = 0; j < m.triangles.size() * sizeof(m.triangles[0]); ++j) h = (h ^ bytes[j]) * 1099511628211ull;
+    return h;
+}
 
 PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
                     bool geomorphs) {
@@ -90,6 +101,7 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
     }
     r.frames = std::size_t(frames);
     r.tri_last = front.active_faces();
+    r.last_mesh_hash = triangles_hash(front.mesh());
     return r;
 }
 
@@ -178,6 +190,7 @@ int main(int argc, char** argv) {
     bool multiscale = true;
     std::string only_path;  // "dolly" or "orbit": that path alone
     int whole = 0;          // --whole[=FRAMES]: the whole frame, FRAMES frames a path
+    std::string only_geomorphs;  // "on" or "off": those runs alone
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -189,6 +202,8 @@ int main(int argc, char** argv) {
             whole = std::max(1, std::atoi(a.c_str() + 8));
         else if (a.rfind("--path=", 0) == 0)
             only_path = a.substr(7);
+        else if (a.rfind("--geomorphs=", 0) == 0)
+            only_geomorphs = a.substr(12);
         else if (positional++ == 0)
             name = a;
         else
@@ -200,7 +215,7 @@ int main(int argc, char** argv) {
     const double rss0 = status_mib("VmRSS");
     double c0 = thread_seconds();
     const auto w0 = StageClock::now();
-    const ProgressiveMesh pm(triangle_mesh_of(t));
+    const ProgressiveMesh pm(t);
     const double build_cpu = thread_seconds() - c0;
     const double build_wall = seconds_since(w0);
     const double rss_pm = status_mib("VmRSS"), peak_pm = status_mib("VmHWM");
@@ -211,12 +226,11 @@ int main(int argc, char** argv) {
     }
     std::printf("### %s, PX = %g (T = %g px^2)\n\n", name.c_str(), px, px * px);
     std::printf("%zu triangles, %zu vertices. pm: hierarchy of %zu collapses built in %.2f s CPU (%.1f s wall); "
-                "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), input copy %.1f MiB; "
+                "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), the input read from the model; "
                 "RSS %.0f -> %.0f MiB, peak %.0f MiB\n",
                 t.faces.size(), t.positions.size(), pm.collapses(), build_cpu, build_wall,
                 pm.hierarchy_bytes() / 1048576.0, double(pm.hierarchy_bytes()) / t.positions.size(),
-                front_bytes / 1048576.0, double(front_bytes) / t.positions.size(),
-                (t.positions.size() * 24.0 + t.faces.size() * 12.0) / 1048576.0, rss0, rss_pm, peak_pm);
+                front_bytes / 1048576.0, double(front_bytes) / t.positions.size(), rss0, rss_pm, peak_pm);
     std::unique_ptr<MultiscaleLevels> kept_levels;
     if (multiscale) {
         c0 = thread_seconds();
@@ -240,16 +254,17 @@ int main(int argc, char** argv) {
     DetailCriterion c;
     c.target_area_px = px * px;
     std::printf("\n| path | geomorphs | converge first view ms | triangles first -> last | splits + collapses a frame "
-                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame |\n"
-                "|---|---|---|---|---|---|---|---|\n");
+                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame | last mesh |\n"
+                "|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true}) {
             if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
+            if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
             const PathResult r = run_path(pm, t, c, dolly, geomorphs);
-            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f |\n",
+            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %016llx |\n",
                         dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",
                         r.converge_ms, r.tri_first, r.tri_last, double(r.splits + r.collapses) / r.frames, r.most_ops,
-                        median(r.ms), r.most_ms, r.largest_move_px);
+                        median(r.ms), r.most_ms, r.largest_move_px, static_cast<unsigned long long>(r.last_mesh_hash));
             std::fflush(stdout);
         }
     return 0;

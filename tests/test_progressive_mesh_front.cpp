@@ -271,6 +271,45 @@ TEST(AdaptiveFront, CollapseBlockedByAMorphHappensWhenTheMorphEnds) {
     EXPECT_EQ(later, 0u);  // no refused collapse was left waiting for its backstop
 }
 
+// The adapted mesh along a path, pinned: speed work on the front's rules, areas and link test
+// must not change a single operation. A slow dolly out (1 % a frame, 1x -> 4x) with geomorphs,
+// then back in without; the hash covers every frame's operation counts and the final mesh (its
+// triangles and shown positions, bit for bit). Pinned from the front before stored face areas.
+TEST(AdaptiveFront, AdaptedMeshAlongADollyIsPinned) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    const DetailCriterion c = target_px(3.0);
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a, 64 bits
+    const auto mix = [&](const void* data, std::size_t bytes) {
+        for (std::size_t j = 0; j < bytes; ++j) hash = (hash ^ static_cast<const unsigned char*>(data)[j]) * 1099511628211ull;
+    };
+    const auto mix_mesh = [&](const TriangleMesh& m) {
+        mix(m.positions.data(), m.positions.size() * sizeof(m.positions[0]));
+        mix(m.triangles.data(), m.triangles.size() * sizeof(m.triangles[0]));
+    };
+    std::size_t operations = 0;
+    AdaptiveFront morphing(pm, GeomorphOptions{.enabled = true, .seconds = 0.5, .max_speedup = 8.0});
+    for (int k = 0; k <= 140; ++k) {
+        const FrontStats s = morphing.update(dolly_orbit(box, std::pow(1.01, k), 0.0), c, 1.0 / 25.0);
+        const std::size_t counts[4] = {s.splits, s.collapses, s.morphs_started, s.morphs_running};
+        mix(counts, sizeof counts);
+        operations += s.splits + s.collapses;
+        if (k % 35 == 0) mix_mesh(morphing.mesh());
+    }
+    AdaptiveFront plain(pm);
+    for (int k = 140; k >= 0; k -= 2) {
+        const FrontStats s = plain.update(dolly_orbit(box, std::pow(1.01, k), 10.0), c);
+        const std::size_t counts[2] = {s.splits, s.collapses};
+        mix(counts, sizeof counts);
+        operations += s.splits + s.collapses;
+    }
+    mix_mesh(plain.mesh());
+    std::printf("%zu operations, %zu + %zu triangles at the ends, hash %016llx\n", operations, morphing.active_faces(),
+                plain.active_faces(), static_cast<unsigned long long>(hash));
+    EXPECT_GT(operations, 10000u);  // (the path does adapt the mesh)
+    EXPECT_EQ(hash, 0x0ba2eadfdf26ebb5ull);
+}
+
 TEST(TemporalSmoothing, WeightOfTheSeedsExample) {
     EXPECT_NEAR(smoothing_weight(0.8, 25.0, 0.9), 0.1087, 5e-5);  // n = 20: 1 - 0.1^(1/20)
     EXPECT_EQ(smoothing_weight(0.8, 1.0, 0.9), 1.0);             // under a frame: no smoothing

@@ -127,7 +127,7 @@ MethodRow run_pm(const Model& model, const ViewOptions& base, const DetailBenchA
     MethodRow row;
     row.method = "pm";
     const double t0 = thread_seconds();
-    const ProgressiveMesh pm(triangle_mesh_of(model.topology()));
+    const ProgressiveMesh pm(model.topology());
     row.build_s = thread_seconds() - t0;
     PmViewOptions o;
     o.target_px = a.detail->target_px;

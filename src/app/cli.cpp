@@ -318,7 +318,7 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
 // --detail=PX by the view-dependent progressive mesh: the model converged to the criterion at
 // `cam` (a single frame: no geomorphs), and a report line on what was kept and what it cost.
 Model detail_model(const Model& model, const Camera& cam, const RenderArgs& a, std::string& report) {
-    const ProgressiveMesh pm(triangle_mesh_of(model.topology()));
+    const ProgressiveMesh pm(model.topology());
     DetailCriterion criterion;
     criterion.target_area_px = a.detail.target_area_px();
     AdaptStats s;

@@ -25,13 +25,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 // Vertex i and face f of `in` become OpenMesh's handles i and f; false when OpenMesh refuses a
 // face (a complex vertex: OpenMesh's half-edges hold manifold vertices only).
-bool to_openmesh(const TriangleMesh& in, OMesh& out) {
+bool to_openmesh(const ProgressiveMesh& in, OMesh& out) {
     out.request_vertex_status();
     out.request_edge_status();
     out.request_halfedge_status();
     out.request_face_status();
-    for (const glm::dvec3& p : in.positions) out.add_vertex(OMesh::Point(p.x, p.y, p.z));
-    for (const auto& t : in.triangles) {
+    for (const glm::dvec3& p : in.input().positions) out.add_vertex(OMesh::Point(p.x, p.y, p.z));
+    for (const auto& t : in.input().triangles) {
         const auto f = out.add_face(OMesh::VertexHandle(int(t[0])), OMesh::VertexHandle(int(t[1])),
                                     OMesh::VertexHandle(int(t[2])));
         if (!f.is_valid()) return false;
@@ -49,11 +49,12 @@ glm::dvec3 twice_area_normal(const glm::dvec3& a, const glm::dvec3& b, const glm
 // vertices never move, so each vertex's k/d^2 and target are computed once.
 class Adapter {
 public:
-    Adapter(const TriangleMesh& input, const Camera& camera, const DetailCriterion& criterion) : criterion_(criterion) {
-        scale_.resize(input.positions.size());
-        target_.resize(input.positions.size());
-        for (std::size_t v = 0; v < input.positions.size(); ++v) {
-            const glm::dvec3& p = input.positions[v];
+    Adapter(const std::vector<glm::dvec3>& positions, const Camera& camera, const DetailCriterion& criterion)
+        : criterion_(criterion) {
+        scale_.resize(positions.size());
+        target_.resize(positions.size());
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+            const glm::dvec3& p = positions[v];
             scale_[v] = image_area(camera, 1.0, camera.depth(p));
             target_[v] = criterion.target_at(camera, p);
         }
@@ -147,14 +148,14 @@ private:
 };
 
 // The live part of `mesh`: vertices renumbered in input order, faces in input order.
-TriangleMesh compact(const OMesh& mesh, const TriangleMesh& input, std::vector<std::uint32_t>* input_vertex) {
+TriangleMesh compact(const OMesh& mesh, const ProgressiveMesh& input, std::vector<std::uint32_t>* input_vertex) {
     TriangleMesh out;
     if (input_vertex) input_vertex->clear();
     std::vector<std::uint32_t> index(mesh.n_vertices(), UINT32_MAX);
     for (auto v : mesh.vertices())  // (skips deleted ones)
         if (!mesh.is_isolated(v)) {
             index[v.idx()] = std::uint32_t(out.positions.size());
-            out.positions.push_back(input.positions[v.idx()]);
+            out.positions.push_back(input.input().positions[v.idx()]);
             if (input_vertex) input_vertex->push_back(std::uint32_t(v.idx()));
         }
     for (auto f : mesh.faces()) {
@@ -163,13 +164,13 @@ TriangleMesh compact(const OMesh& mesh, const TriangleMesh& input, std::vector<s
         // (OpenMesh's face circulator may start at any corner: rotate to keep the input's first
         // corner first when it survives, so an untouched face is the input's face exactly)
         for (auto u : mesh.fv_range(f)) t[j++] = index[u.idx()];
-        const auto first = std::find(t.begin(), t.end(), index[input.triangles[f.idx()][0]]);
+        const auto first = std::find(t.begin(), t.end(), index[input.input().triangles[f.idx()][0]]);
         if (first != t.end()) std::rotate(t.begin(), first, t.end());
         out.triangles.push_back(t);
     }
-    if (!input.face_object.empty()) {
-        out.object_names = input.object_names;
-        for (auto f : mesh.faces()) out.face_object.push_back(input.face_object[f.idx()]);
+    if (!input.input().face_object.empty()) {
+        out.object_names = input.input().object_names;
+        for (auto f : mesh.faces()) out.face_object.push_back(input.input().face_object[f.idx()]);
     }
     return out;
 }
@@ -188,10 +189,33 @@ double DetailCriterion::target_at(const Camera& camera, const glm::dvec3& p) con
     return target_area_px * map(camera.project(p), camera.depth(p));
 }
 
-ProgressiveMesh::ProgressiveMesh(TriangleMesh mesh) : input_(std::move(mesh)) {
+ProgressiveMesh::ProgressiveMesh(const MeshTopology& topology)
+    : positions_(&topology.positions), triangles_(&topology.faces), face_object_(&topology.face_object),
+      object_names_(&topology.object_names) {
+    build();
+}
+
+ProgressiveMesh::ProgressiveMesh(TriangleMesh mesh) : owned_(std::make_unique<const TriangleMesh>(std::move(mesh))) {
+    positions_ = &owned_->positions;
+    triangles_ = &owned_->triangles;
+    face_object_ = &owned_->face_object;
+    object_names_ = &owned_->object_names;
+    build();
+}
+
+PmInput::operator TriangleMesh() const {
+    TriangleMesh m;
+    m.positions = positions;
+    m.triangles = triangles;
+    m.face_object = face_object;
+    m.object_names = object_names;
+    return m;
+}
+
+void ProgressiveMesh::build() {
     const auto t0 = std::chrono::steady_clock::now();
     OMesh m;
-    if (to_openmesh(input_, m)) {
+    if (to_openmesh(*this, m)) {
         m.request_face_normals();
         m.update_face_normals();
         using Decimater = OpenMesh::Decimater::DecimaterT<OMesh>;
@@ -222,21 +246,21 @@ TriangleMesh ProgressiveMesh::adapt(const Camera& camera, const DetailCriterion&
     AdaptStats s;
     TriangleMesh out;
     if (!(criterion.target_area_px > 0.0) || removed_.empty()) {
-        out = input_;
+        out = input();
         if (input_vertex) {
             input_vertex->resize(out.positions.size());
             for (std::size_t v = 0; v < out.positions.size(); ++v) (*input_vertex)[v] = std::uint32_t(v);
         }
     } else {
-        Adapter adapter(input_, camera, criterion);
-        to_openmesh(input_, adapter.mesh);  // (succeeded when the hierarchy was built)
+        Adapter adapter(input().positions, camera, criterion);
+        to_openmesh(*this, adapter.mesh);  // (succeeded when the hierarchy was built)
         while (s.passes < max_passes) {
             ++s.passes;
             const std::size_t applied = adapter.pass(removed_, kept_);
             s.collapses += applied;
             if (applied == 0) break;
         }
-        out = compact(adapter.mesh, input_, input_vertex);
+        out = compact(adapter.mesh, *this, input_vertex);
     }
     s.triangles = out.triangles.size();
     s.vertices = out.positions.size();

@@ -1,8 +1,8 @@
 // View-dependent progressive mesh (seed 000: Jeong, Ni, Lee, Markosian 2005, section 3.1, on a
 // Hoppe 96/97 vertex hierarchy): detail control by one adaptive mesh instead of smoothed copies.
 //
-// Takes: a validated TriangleMesh (model/mesh_io.hpp), once; then a Camera and a target image area
-// per view. Gives: the adapted TriangleMesh for that view, drawn by the pipeline as any model.
+// Takes: a model's topology (its arrays read in place, not copied) or a validated TriangleMesh
+// (model/mesh_io.hpp), once; then a Camera and a target image area per view. Gives: the adapted TriangleMesh for that view, drawn by the pipeline as any model.
 //
 // The hierarchy is the input's full sequence of half-edge collapses in quadric order (OpenMesh's
 // Decimater with its progressive-mesh module), kept as two flat arrays: a collapse moves no vertex,
@@ -12,9 +12,12 @@
 // by Debian) and needs its own balanced .pm file format.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -51,16 +54,30 @@ struct AdaptStats {
     double seconds = 0.0;
 };
 
+// The input's arrays as a hierarchy reads them: a model's, or the hierarchy's own mesh.
+struct PmInput {
+    const std::vector<glm::dvec3>& positions;
+    const std::vector<std::array<std::uint32_t, 3>>& triangles;
+    const std::vector<std::uint32_t>& face_object;     // (empty for a single object)
+    const std::vector<std::string>& object_names;
+    // A copy as a mesh of its own (tests and tools: the hierarchy itself never copies).
+    operator TriangleMesh() const;
+};
+
 class ProgressiveMesh {
 public:
-    // Records the collapse sequence of `mesh` (a copy is kept). A mesh OpenMesh cannot hold as a
-    // manifold (complex vertices) gets an empty hierarchy: it is then drawn at full detail.
+    // Records the collapse sequence of a model's mesh and reads the model's arrays from then on
+    // (no copy: `topology` must outlive the hierarchy and its fronts). A mesh OpenMesh cannot hold
+    // as a manifold (complex vertices) gets an empty hierarchy: it is then drawn at full detail.
+    explicit ProgressiveMesh(const MeshTopology& topology);
+    // The same over a mesh of its own (kept: tests and tools without a Model).
     explicit ProgressiveMesh(TriangleMesh mesh);
 
-    const TriangleMesh& input() const { return input_; }
+    // The input's arrays (the model's, or the mesh given above).
+    PmInput input() const { return {*positions_, *triangles_, *face_object_, *object_names_}; }
     std::size_t collapses() const { return removed_.size(); }
     double build_seconds() const { return build_seconds_; }
-    // Bytes held by the hierarchy (the two arrays), the input's copy apart.
+    // Bytes held by the hierarchy (the two arrays), an own copy of the input apart.
     std::size_t hierarchy_bytes() const { return (removed_.capacity() + kept_.capacity()) * sizeof(std::uint32_t); }
     // Collapse i moves removed_vertex()[i] onto kept_vertex()[i] (input vertex indices, in order).
     const std::vector<std::uint32_t>& removed_vertex() const { return removed_; }
@@ -78,12 +95,17 @@ public:
                        std::vector<std::uint32_t>* input_vertex = nullptr, std::size_t max_passes = 32) const;
 
 private:
-    TriangleMesh input_;
+    std::unique_ptr<const TriangleMesh> owned_;  // (on the heap: a moved hierarchy's pointers stay valid)
+    const std::vector<glm::dvec3>* positions_ = nullptr;
+    const std::vector<std::array<std::uint32_t, 3>>* triangles_ = nullptr;
+    const std::vector<std::uint32_t>* face_object_ = nullptr;
+    const std::vector<std::string>* object_names_ = nullptr;
     std::vector<std::uint32_t> removed_, kept_;  // collapse i moves removed_[i] onto kept_[i]
     double build_seconds_ = 0.0;
+    void build();
 };
 
-// A model's vertices and faces (and objects) as a TriangleMesh, to build a hierarchy from.
+// A model's vertices and faces (and objects) as a TriangleMesh (a copy).
 TriangleMesh triangle_mesh_of(const MeshTopology& topology);
 
 // Per vertex of `mesh`: the average image area of its 1-ring's triangles (0 for a vertex in no

@@ -2,69 +2,62 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
 namespace inkline {
 
 AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
-    const TriangleMesh& in = pm.input();
+    const PmInput in = pm.input();
     const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
-    collapse_of_.assign(n, none);
-    pending_children_.assign(n, 0);
+    vert_.assign(n, Vertex{none, none, none, none, 0, 0, 0, 1, 0});
     for (std::size_t i = 0; i < m; ++i) {
-        collapse_of_[pm.removed_vertex()[i]] = std::uint32_t(i);
-        ++pending_children_[pm.kept_vertex()[i]];
+        vert_[pm.removed_vertex()[i]].collapse_of = std::uint32_t(i);
+        ++vert_[pm.kept_vertex()[i]].pending_children;
     }
-    active_.assign(n, 1);
-    locked_.assign(n, 0);
-    front_pos_.assign(n, none);
-    head_.assign(n, none);
-    last_collapse_.assign(n, none);
-    queued_.assign(n, 0);
-    retry_at_.assign(n, 0);
     prev_collapse_.assign(m, none);
     dead_.assign(m, {none, none});
     changed_in_frame_.assign(m, 0);
-    corner_.assign(3 * faces, none);
-    next_.assign(3 * faces, none);
+    faces_.assign(faces, Face{{none, none, none}, {none, none, none}, 0.0});
     face_active_.assign(faces, 0);
     for (std::size_t f = 0; f < faces; ++f) {
-        for (int j = 0; j < 3; ++j) corner_[3 * f + j] = in.triangles[f][j];
+        for (int j = 0; j < 3; ++j) faces_[f].vertex[j] = in.triangles[f][j];
+        refresh_face_area(std::uint32_t(f));
         set_face_active(std::uint32_t(f), true);
     }
     for (std::uint32_t v = 0; v < n; ++v)
-        if (head_[v] != none) {
+        if (vert_[v].head != none) {
             front_add(v);
             refresh_ring_area(v);
         }
 }
 
-std::uint32_t AdaptiveFront::parent(std::uint32_t v) const { return pm_.kept_vertex()[collapse_of_[v]]; }
+std::uint32_t AdaptiveFront::parent(std::uint32_t v) const { return pm_.kept_vertex()[vert_[v].collapse_of]; }
 
 std::uint32_t AdaptiveFront::representative(std::uint32_t u) const {
-    while (!active_[u]) u = parent(u);
+    while (!vert_[u].active) u = parent(u);
     return u;
 }
 
 void AdaptiveFront::link(std::uint32_t c, std::uint32_t v) {
-    corner_[c] = v;
-    next_[c] = head_[v];
-    head_[v] = c;
+    corner_vertex(c) = v;
+    next_corner(c) = vert_[v].head;
+    vert_[v].head = c;
 }
 
 void AdaptiveFront::unlink(std::uint32_t c) {
-    std::uint32_t* at = &head_[corner_[c]];
-    while (*at != c) at = &next_[*at];
-    *at = next_[c];
+    std::uint32_t* at = &vert_[corner_vertex(c)].head;
+    while (*at != c) at = &next_corner(*at);
+    *at = next_corner(c);
 }
 
 void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
     if (bool(face_active_[f]) == on) return;
     face_active_[f] = on;
-    for (std::uint32_t c = 3 * f; c < 3 * f + 3; ++c) {
+    for (std::uint32_t c = 4 * f; c < 4 * f + 3; ++c) {
         if (on)
-            link(c, corner_[c]);
+            link(c, corner_vertex(c));
         else
             unlink(c);
     }
@@ -72,42 +65,42 @@ void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
 }
 
 void AdaptiveFront::front_add(std::uint32_t v) {
-    front_pos_[v] = std::uint32_t(front_.size());
+    vert_[v].front_pos = std::uint32_t(front_.size());
     front_.push_back(v);
     front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), 0.0f));  // (area: refresh_ring_area)
 }
 
 void AdaptiveFront::front_remove(std::uint32_t v) {
-    const std::uint32_t at = front_pos_[v], last = front_.back();
+    const std::uint32_t at = vert_[v].front_pos, last = front_.back();
     front_[at] = last;
     front_data_[at] = front_data_.back();
-    front_pos_[last] = at;
+    vert_[last].front_pos = at;
     front_.pop_back();
     front_data_.pop_back();
-    front_pos_[v] = none;
+    vert_[v].front_pos = none;
 }
 
-double AdaptiveFront::face_area(std::uint32_t f) const {
+void AdaptiveFront::refresh_face_area(std::uint32_t f) {
     const auto& p = pm_.input().positions;
     const glm::dvec3 a = p[face_vertex(f, 0)], b = p[face_vertex(f, 1)], c = p[face_vertex(f, 2)];
-    return 0.5 * glm::length(glm::cross(b - a, c - a));
+    faces_[f].area = 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
 void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
     double sum = 0.0;
     std::size_t count = 0;
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c]) {
-        sum += face_area(c / 3);
+    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c)) {
+        sum += faces_[face_of(c)].area;
         ++count;
     }
-    if (front_pos_[v] != none) front_data_[front_pos_[v]].w = float(count ? sum / double(count) : 0.0);
+    if (vert_[v].front_pos != none) front_data_[vert_[v].front_pos].w = float(count ? sum / double(count) : 0.0);
 }
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(c / 3, j);
+            const std::uint32_t u = face_vertex(face_of(c), j);
             if (u != v && std::find(out.begin(), out.end(), u) == out.end()) out.push_back(u);
         }
 }
@@ -124,42 +117,59 @@ double AdaptiveFront::image_area_of(std::uint32_t v, const Camera& camera) const
 }
 
 void AdaptiveFront::enqueue(std::uint32_t v) {
-    if (queued_[v]) return;
-    queued_[v] = 1;
+    if (vert_[v].queued) return;
+    vert_[v].queued = 1;
     work_.push_back(v);
 }
 
 // A change of v's ring may lift what refused it: it is tried again from now on.
 void AdaptiveFront::enqueue_changed(std::uint32_t v) {
-    retry_at_[v] = 0;
-    if (!locked_[v]) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
+    vert_[v].retry_at = 0;
+    if (!vert_[v].locked) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
 }
 
 // A lock around `v` ended: its refused neighbours (those that waited on it among them) are tried
 // again.
 void AdaptiveFront::wake_around(std::uint32_t v) {
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c])
+    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(c / 3, j);
-            if (retry_at_[u] > frame_) {
-                retry_at_[u] = 0;
-                if (!locked_[u]) enqueue(u);
+            const std::uint32_t u = face_vertex(face_of(c), j);
+            if (vert_[u].retry_at > frame_) {
+                vert_[u].retry_at = 0;
+                if (!vert_[u].locked) enqueue(u);
             }
         }
 }
 
 bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
-    retry_at_[v] = frame_ + frames;
+    vert_[v].retry_at = frame_ + frames;
     return false;
+}
+
+// v's neighbours, sorted and each once; returns v's face count. (In a manifold a vertex is on the
+// border exactly when it has more neighbours than faces: an open fan.)
+std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    std::size_t faces = 0;
+    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c), ++faces) {
+        const Face& f = faces_[face_of(c)];
+        const std::uint32_t j = slot_of(c);
+        out.push_back(f.vertex[(j + 1) % 3]);
+        out.push_back(f.vertex[(j + 2) % 3]);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return faces;
 }
 
 // The link condition (the common neighbours of r and k are exactly the third corners of the faces
 // on edge rk), no interior edge between two border vertices, and k keeps at least 3 neighbours.
+// The rings are small sorted arrays, so their common part is one merge.
 bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     std::uint32_t wings[2] = {none, none};
     int shared = 0;
-    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
-        const std::uint32_t f = c / 3;
+    for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
         std::uint32_t third = none;
         bool has_k = false;
         for (int j = 0; j < 3; ++j) {
@@ -172,28 +182,22 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
         wings[shared++] = third;
     }
     if (shared == 0 || (shared == 2 && wings[0] == wings[1])) return false;
-    neighbours(r, ring_r_);
-    neighbours(k, ring_k_);
+    const std::size_t faces_r = sorted_ring(r, ring_r_), faces_k = sorted_ring(k, ring_k_);
     std::size_t common = 0;
-    for (std::uint32_t u : ring_r_)
-        if (u != k && std::find(ring_k_.begin(), ring_k_.end(), u) != ring_k_.end()) {
-            if (u != wings[0] && u != wings[1]) return false;
-            ++common;
+    for (std::size_t a = 0, b = 0; a < ring_r_.size() && b < ring_k_.size();) {
+        if (ring_r_[a] < ring_k_[b]) {
+            ++a;
+        } else if (ring_k_[b] < ring_r_[a]) {
+            ++b;
+        } else {  // (neither ring holds its own vertex, so k and r never meet here)
+            if (ring_r_[a] != wings[0] && ring_r_[a] != wings[1]) return false;
+            ++common, ++a, ++b;
         }
+    }
     if (common != std::size_t(shared)) return false;
     if (ring_r_.size() + ring_k_.size() - 2 - common < 3) return false;
-    // A vertex is on the border when one of its ring's edges is in one face only: an interior edge
-    // rk (two faces) between two border vertices would pinch the surface.
-    const auto on_border = [&](std::uint32_t v, const std::vector<std::uint32_t>& ring) {
-        for (std::uint32_t u : ring) {
-            int faces = 0;
-            for (std::uint32_t c = head_[v]; c != none; c = next_[c])
-                for (int j = 0; j < 3; ++j) faces += face_vertex(c / 3, j) == u;
-            if (faces == 1) return true;
-        }
-        return false;
-    };
-    return !(shared == 2 && on_border(r, ring_r_) && on_border(k, ring_k_));
+    // An interior edge rk (two faces) between two border vertices would pinch the surface.
+    return !(shared == 2 && ring_r_.size() > faces_r && ring_k_.size() > faces_k);
 }
 
 // The world area of face f once r is collapsed onto k (r's corner moved to k), as face_area would
@@ -212,26 +216,30 @@ double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uin
 // in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
 // one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
 float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k) {
-    const auto dead = [&](std::uint32_t f) {  // a face on edge rk: removed by the collapse
+    // A face's area after the collapse: none when it is on edge rk (removed), its stored area when
+    // r is not a corner (unchanged), else measured with r moved (the value refresh_face_area gives).
+    const auto area_after = [&](std::uint32_t f) -> std::optional<double> {
         bool has_r = false, has_k = false;
         for (int j = 0; j < 3; ++j) {
             has_r |= face_vertex(f, j) == r;
             has_k |= face_vertex(f, j) == k;
         }
-        return has_r && has_k;
+        if (!has_r) return faces_[f].area;
+        if (has_k) return std::nullopt;
+        return face_area_moved(f, r, k);
     };
     double sum = 0.0;
     std::size_t count = 0;
     if (u == k) {
         areas_.clear();
-        for (std::uint32_t c = head_[r]; c != none; c = next_[c])
-            if (!dead(c / 3)) areas_.push_back(face_area_moved(c / 3, r, k));
+        for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c))
+            if (const auto a = area_after(face_of(c))) areas_.push_back(*a);
         for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
         count = areas_.size();
     }
-    for (std::uint32_t c = head_[u]; c != none; c = next_[c])
-        if (!dead(c / 3)) {
-            sum += face_area_moved(c / 3, r, k);
+    for (std::uint32_t c = vert_[u].head; c != none; c = next_corner(c))
+        if (const auto a = area_after(face_of(c))) {
+            sum += *a;
             ++count;
         }
     return float(count ? sum / double(count) : 0.0);
@@ -240,8 +248,8 @@ float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, 
 // A face of r's ring that would turn over (or become degenerate) when r moves onto k.
 bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
     const auto& p = pm_.input().positions;
-    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
-        const std::uint32_t f = c / 3;
+    for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
         glm::dvec3 before[3], after[3];
         bool has_k = false;
         for (int j = 0; j < 3; ++j) {
@@ -259,32 +267,33 @@ bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
 }
 
 void AdaptiveFront::raw_collapse(std::uint32_t r) {
-    const std::uint32_t i = collapse_of_[r], k = parent(r);
+    const std::uint32_t i = vert_[r].collapse_of, k = parent(r);
     std::array<std::uint32_t, 2> dead{none, none};
     int n_dead = 0;
-    for (std::uint32_t c = head_[r]; c != none; c = next_[c]) {
-        const std::uint32_t f = c / 3;
+    for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
         if (face_vertex(f, 0) == k || face_vertex(f, 1) == k || face_vertex(f, 2) == k) dead[n_dead++] = f;
     }
     for (std::uint32_t f : dead)
         if (f != none) set_face_active(f, false);
-    while (head_[r] != none) {
-        const std::uint32_t c = head_[r];
+    while (vert_[r].head != none) {
+        const std::uint32_t c = vert_[r].head;
         unlink(c);
         link(c, k);
+        refresh_face_area(face_of(c));
     }
-    active_[r] = 0;
+    vert_[r].active = 0;
     front_remove(r);
     dead_[i] = dead;
-    prev_collapse_[i] = last_collapse_[k];
-    last_collapse_[k] = i;
-    --pending_children_[k];
+    prev_collapse_[i] = vert_[k].last_collapse;
+    vert_[k].last_collapse = i;
+    --vert_[k].pending_children;
 }
 
 // The latest collapse made onto k can be undone when each face it removed finds its third corner
 // among k's neighbours (the faces around it were refined or coarsened since, but not across it).
 bool AdaptiveFront::split_ok(std::uint32_t k) const {
-    const std::uint32_t i = last_collapse_[k];
+    const std::uint32_t i = vert_[k].last_collapse;
     if (i == none) return false;
     const std::uint32_t r = pm_.removed_vertex()[i];
     const auto& tri = pm_.input().triangles;
@@ -294,7 +303,7 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
         std::uint32_t third = none;
         for (int j = 0; j < 3; ++j) {
             std::uint32_t u = tri[f][j];
-            while (u != r && !active_[u]) u = parent(u);
+            while (u != r && !vert_[u].active) u = parent(u);
             if (u == r)
                 ++at_r;
             else if (u == k)
@@ -304,8 +313,8 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
         }
         if (at_r != 1 || at_k != 1 || third == none) return false;
         bool adjacent = false;
-        for (std::uint32_t c = head_[k]; c != none && !adjacent; c = next_[c])
-            for (int j = 0; j < 3; ++j) adjacent |= face_vertex(c / 3, j) == third;
+        for (std::uint32_t c = vert_[k].head; c != none && !adjacent; c = next_corner(c))
+            for (int j = 0; j < 3; ++j) adjacent |= face_vertex(face_of(c), j) == third;
         if (!adjacent) return false;
     }
     return true;
@@ -316,9 +325,9 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
 bool AdaptiveFront::ring_is_disk(std::uint32_t v) const {
     std::uint32_t from[64], to[64];
     std::size_t n = 0;
-    for (std::uint32_t c = head_[v]; c != none; c = next_[c]) {
+    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c)) {
         if (n == 64) return false;
-        const std::uint32_t f = c / 3, j = c % 3;
+        const std::uint32_t f = face_of(c), j = slot_of(c);
         from[n] = face_vertex(f, (j + 1) % 3);
         to[n] = face_vertex(f, (j + 2) % 3);
         ++n;
@@ -351,23 +360,25 @@ bool AdaptiveFront::ring_is_disk(std::uint32_t v) const {
 }
 
 std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
-    const std::uint32_t i = last_collapse_[k], r = pm_.removed_vertex()[i];
+    const std::uint32_t i = vert_[k].last_collapse, r = pm_.removed_vertex()[i];
     const auto& tri = pm_.input().triangles;
-    last_collapse_[k] = prev_collapse_[i];
+    vert_[k].last_collapse = prev_collapse_[i];
     prev_collapse_[i] = none;
-    ++pending_children_[k];
-    active_[r] = 1;
+    ++vert_[k].pending_children;
+    vert_[r].active = 1;
     front_add(r);
-    for (std::uint32_t c = head_[k], next = none; c != none; c = next) {
-        next = next_[c];
-        if (representative(tri[c / 3][c % 3]) == r) {
+    for (std::uint32_t c = vert_[k].head, next = none; c != none; c = next) {
+        next = next_corner(c);
+        if (representative(tri[face_of(c)][slot_of(c)]) == r) {
             unlink(c);
             link(c, r);
+            refresh_face_area(face_of(c));
         }
     }
     for (std::uint32_t f : dead_[i]) {
         if (f == none) continue;
-        for (int j = 0; j < 3; ++j) corner_[3 * f + j] = representative(tri[f][j]);
+        for (int j = 0; j < 3; ++j) faces_[f].vertex[j] = representative(tri[f][j]);
+        refresh_face_area(f);
         set_face_active(f, true);
     }
     dead_[i] = {none, none};
@@ -387,17 +398,17 @@ void AdaptiveFront::touch_ring(std::uint32_t v) {
 }
 
 bool AdaptiveFront::try_collapse(std::uint32_t r) {
-    const std::uint32_t i = collapse_of_[r];
-    if (i == none || locked_[r] || changed_in_frame_[i] == frame16()) return false;
+    const std::uint32_t i = vert_[r].collapse_of;
+    if (i == none || vert_[r].locked || changed_in_frame_[i] == frame16()) return false;
     const std::uint32_t k = parent(r);
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
     // Refusals that only a change of r's ring (or the end of k's lock) can lift stamp r: the scan
     // then skips it until touch_ring or wake_around clears the stamp (or, a backstop, a few frames
     // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
-    if (locked_[k]) return refuse(r, lock_backstop_frames);
+    if (vert_[k].locked) return refuse(r, lock_backstop_frames);
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
-    if (!active_[k] || pending_children_[r] != 0) return refuse(r, retry_frames);
+    if (!vert_[k].active || vert_[r].pending_children != 0) return refuse(r, retry_frames);
     if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
     // t_s T unless it was there and does not grow; measured without making the collapse. (Not
@@ -409,7 +420,7 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     if (geomorphs_.enabled) {
         lock_ring(r, +1);
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
-        morphs_.push_back({r, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        morphs_.push_back({r, k, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
         return true;
     }
@@ -421,8 +432,8 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
 }
 
 bool AdaptiveFront::try_split(std::uint32_t k) {
-    const std::uint32_t i = last_collapse_[k];
-    if (locked_[k] || i == none || changed_in_frame_[i] == frame16()) return false;
+    const std::uint32_t i = vert_[k].last_collapse;
+    if (vert_[k].locked || i == none || changed_in_frame_[i] == frame16()) return false;
     const double t_k = target(k), a = image_area(k);
     if (!(a > criterion_->split * t_k) || !split_ok(k)) return false;
     const std::uint32_t r = raw_split(k);
@@ -443,11 +454,11 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
     touch_ring(k);
     ++stats_->splits;
     if (geomorphs_.enabled) {
-        ++locked_[r];
-        ++locked_[k];
+        ++vert_[r].locked;
+        ++vert_[k].locked;
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
                                         : geomorphs_.max_speedup;
-        morphs_.push_back({r, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        morphs_.push_back({r, k, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
     }
     return true;
@@ -456,15 +467,15 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
 // A collapse in flight locks r and its whole ring (k among it): no other operation may change the
 // ring, so the collapse stays legal until it is made.
 void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
-    locked_[r] = std::uint16_t(locked_[r] + delta);
+    vert_[r].locked = std::uint16_t(vert_[r].locked + delta);
     neighbours(r, ring_r_);
-    for (std::uint32_t u : ring_r_) locked_[u] = std::uint16_t(locked_[u] + delta);
+    for (std::uint32_t u : ring_r_) vert_[u].locked = std::uint16_t(vert_[u].locked + delta);
 }
 
 // A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
 // locked, so it is in no morph of its own).
 glm::dvec3 AdaptiveFront::shown(const Morph& m, const std::vector<glm::dvec3>& p) const {
-    const std::uint32_t r = m.vertex, k = parent(r);
+    const std::uint32_t r = m.vertex, k = m.parent;
     return m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
 }
 
@@ -472,7 +483,7 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
     const auto& p = pm_.input().positions;
     for (std::size_t j = 0; j < morphs_.size();) {
         Morph& m = morphs_[j];
-        const std::uint32_t r = m.vertex, k = parent(r);
+        const std::uint32_t r = m.vertex, k = m.parent;
         if (m.collapse) {  // faster the further r has fallen below the band meanwhile
             const double t_r = target(r), a = image_area(r);
             if (t_r > 0.0 && a > 0.0)
@@ -496,8 +507,8 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
             touch_ring(k);
             ++stats_->collapses;
         } else {
-            --locked_[r];
-            --locked_[k];
+            --vert_[r].locked;
+            --vert_[k].locked;
             wake_around(r);
             wake_around(k);
         }
@@ -512,11 +523,11 @@ void AdaptiveFront::drain(std::size_t max_operations) {
     std::size_t operations = 0, at = 0;
     for (; at < work_.size() && operations < max_operations; ++at) {
         const std::uint32_t v = work_[at];
-        queued_[v] = 0;
-        if (!active_[v] || head_[v] == none) continue;
+        vert_[v].queued = 0;
+        if (!vert_[v].active || vert_[v].head == none) continue;
         if (try_split(v) || try_collapse(v)) ++operations;
     }
-    for (; at < work_.size(); ++at) queued_[work_[at]] = 0;  // the budget ran out: next frame
+    for (; at < work_.size(); ++at) vert_[work_[at]].queued = 0;  // the budget ran out: next frame
     work_.clear();
 }
 
@@ -536,8 +547,8 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
         const std::uint32_t v = front_[j];  // out of the band: can it change? (the rest is cold memory)
-        if (locked_[v] || retry_at_[v] > frame_) continue;
-        if ((a > criterion.split * t && last_collapse_[v] != none) || (a < criterion.collapse * t && collapse_of_[v] != none))
+        if (vert_[v].locked || vert_[v].retry_at > frame_) continue;
+        if ((a > criterion.split * t && vert_[v].last_collapse != none) || (a < criterion.collapse * t && vert_[v].collapse_of != none))
             enqueue(v);
     }
     s.evaluated = front_.size();
@@ -553,13 +564,13 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
 }
 
 TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::vector<std::uint32_t>* input_face) const {
-    const TriangleMesh& in = pm_.input();
+    const PmInput in = pm_.input();
     TriangleMesh out;
     if (input_vertex) input_vertex->clear();
     if (input_face) input_face->clear();
     std::vector<std::uint32_t> index(in.positions.size(), none);
     for (std::uint32_t v = 0; v < in.positions.size(); ++v)
-        if (active_[v] && head_[v] != none) {
+        if (vert_[v].active && vert_[v].head != none) {
             index[v] = std::uint32_t(out.positions.size());
             out.positions.push_back(in.positions[v]);
             if (input_vertex) input_vertex->push_back(v);
@@ -582,8 +593,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(collapse_of_) + b(pending_children_) + b(active_) + b(locked_) + b(front_pos_) + b(head_) + b(last_collapse_) +
-           b(queued_) + b(retry_at_) + b(prev_collapse_) + b(dead_) + b(corner_) + b(next_) +
+    return b(vert_) + b(prev_collapse_) + b(dead_) + b(faces_) +
            b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_) + b(touched_);
 }
 

@@ -9,10 +9,11 @@
 // Each frame evaluates every active vertex (its ring's world area is cached, so the test is one
 // depth and one multiply) and splits or collapses only where the criterion says so; the work
 // follows the vertices leaving [t_c T, t_s T], not the model's size. Everything lives in flat
-// arrays sized once from the input (per face corner: the current vertex and a link in that
-// vertex's corner list; per collapse: the faces it removed and the stack of collapses made onto
-// a vertex, so a split undoes the latest in O(degree x the hierarchy's depth there)). No
-// allocation per frame once the worklists have grown.
+// arrays sized once from the input (per face: its corners' current vertices, their links in the
+// vertices' corner lists and its area, one 32-byte record; per vertex one 32-byte record; per
+// collapse: the faces it removed and the stack of collapses made onto a vertex, so a split undoes
+// the latest in O(degree x the hierarchy's depth there)). No allocation per frame once the
+// worklists have grown.
 //
 // A collapse is made (the rules of ProgressiveMesh::adapt, plus Hoppe's tree order: r goes only
 // with its whole subtree) when its removed vertex r is below t_c T, its kept vertex k is active
@@ -85,12 +86,12 @@ public:
 
     std::size_t active_vertices() const { return front_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
-    bool is_active(std::uint32_t v) const { return active_[v] != 0; }
-    bool is_locked(std::uint32_t v) const { return locked_[v] != 0; }  // held by a geomorph
+    bool is_active(std::uint32_t v) const { return vert_[v].active != 0; }
+    bool is_locked(std::uint32_t v) const { return vert_[v].locked != 0; }  // held by a geomorph
     // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
     // cannot split), it is never removed (the top: it cannot collapse).
-    bool at_bottom(std::uint32_t v) const { return last_collapse_[v] == none; }
-    bool at_top(std::uint32_t v) const { return collapse_of_[v] == none; }
+    bool at_bottom(std::uint32_t v) const { return vert_[v].last_collapse == none; }
+    bool at_top(std::uint32_t v) const { return vert_[v].collapse_of == none; }
     std::size_t morphs_running() const { return morphs_.size(); }
     // The criterion's A_img of an active vertex (its logical ring at its input position).
     double image_area_of(std::uint32_t v, const Camera& camera) const;
@@ -101,25 +102,29 @@ private:
     static constexpr std::uint32_t none = UINT32_MAX;
     struct Morph {
         std::uint32_t vertex;  // r: moving onto its parent (collapse) or out of it (split)
+        std::uint32_t parent;  // k (read each frame: kept here, not looked up through the hierarchy)
         bool collapse;
         double progress, speed;  // progress in [0, 1]; speed in transitions per second
     };
 
     const ProgressiveMesh& pm_;
     GeomorphOptions geomorphs_;
-    // Per input vertex.
-    std::vector<std::uint32_t> collapse_of_;   // the collapse that removes it (none: a root)
-    std::vector<std::uint32_t> pending_children_;  // collapses onto it not made yet
-    std::vector<std::uint8_t> active_;
-    std::vector<std::uint16_t> locked_;        // geomorphs holding it
-    std::vector<std::uint32_t> front_pos_;     // its index in front_
-    std::vector<std::uint32_t> head_;          // first corner of its corner list
-    std::vector<std::uint32_t> last_collapse_; // latest collapse made onto it (a stack through prev_)
-    std::vector<std::uint8_t> queued_;
-    // The frame from which the scan tests it again after a refusal that only a change nearby can
-    // lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a morph
-    // next to it clears the stamp; the stamp's length is only a backstop.
-    std::vector<std::uint32_t> retry_at_;
+    // Per input vertex, in one 32-byte record: an operation reads a vertex's fields together, so
+    // one cache line a vertex instead of one a field.
+    struct alignas(32) Vertex {
+        std::uint32_t head;              // first corner of its corner list
+        std::uint32_t front_pos;         // its index in front_
+        std::uint32_t collapse_of;       // the collapse that removes it (none: a root)
+        std::uint32_t last_collapse;     // latest collapse made onto it (a stack through prev_collapse_)
+        std::uint32_t pending_children;  // collapses onto it not made yet
+        // The frame from which the scan tests it again after a refusal that only a change nearby
+        // can lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a
+        // morph next to it clears the stamp; the stamp's length is only a backstop.
+        std::uint32_t retry_at;
+        std::uint16_t locked;            // geomorphs holding it
+        std::uint8_t active, queued;
+    };
+    std::vector<Vertex> vert_;
     static constexpr std::uint32_t retry_frames = 8;           // refused by the collapse's rules
     static constexpr std::uint32_t lock_backstop_frames = 64;  // waiting on a morph's lock
     // Per collapse.
@@ -129,9 +134,17 @@ private:
     // waits one frame: harmless, and half the bytes).
     std::vector<std::uint16_t> changed_in_frame_;
     std::uint32_t frame_ = 0;
-    // Per face corner (3 f + j) and per face. The lists are singly linked: a vertex's list is as
-    // short as its degree, so unlinking by a walk costs less than a back link's 4 bytes a corner.
-    std::vector<std::uint32_t> corner_, next_;
+    // Per face: its corners' current vertices, each corner's link in its vertex's corner list
+    // (corner j of face f is 4 f + j) and the face's world area, updated where a corner changes, so
+    // that a ring's area is a sum of stored values. One 32-byte record, so a ring walk reads one
+    // cache line a face. The lists are singly linked: a vertex's list is as short as its degree,
+    // so unlinking by a walk costs less than a back link's 4 bytes a corner.
+    struct alignas(32) Face {
+        std::uint32_t vertex[3];
+        std::uint32_t next[3];
+        double area;  // (double: the ring's sum is then the one the criterion always measured)
+    };
+    std::vector<Face> faces_;
     std::vector<std::uint8_t> face_active_;
     std::size_t active_face_count_ = 0;
     std::vector<std::uint32_t> front_, work_;
@@ -147,7 +160,12 @@ private:
     const DetailCriterion* criterion_ = nullptr;
     FrontStats* stats_ = nullptr;
 
-    std::uint32_t face_vertex(std::uint32_t face, int j) const { return corner_[3 * face + j]; }
+    static std::uint32_t face_of(std::uint32_t corner) { return corner >> 2; }
+    static std::uint32_t slot_of(std::uint32_t corner) { return corner & 3; }
+    std::uint32_t face_vertex(std::uint32_t face, int j) const { return faces_[face].vertex[j]; }
+    std::uint32_t& corner_vertex(std::uint32_t c) { return faces_[face_of(c)].vertex[slot_of(c)]; }
+    std::uint32_t& next_corner(std::uint32_t c) { return faces_[face_of(c)].next[slot_of(c)]; }
+    std::uint32_t next_corner(std::uint32_t c) const { return faces_[face_of(c)].next[slot_of(c)]; }
     std::uint32_t parent(std::uint32_t v) const;
     std::uint16_t frame16() const { return std::uint16_t(frame_); }
     glm::dvec3 shown(const Morph& m, const std::vector<glm::dvec3>& p) const;
@@ -157,14 +175,15 @@ private:
     void set_face_active(std::uint32_t f, bool on);
     void front_add(std::uint32_t v);
     void front_remove(std::uint32_t v);
-    double face_area(std::uint32_t f) const;
+    void refresh_face_area(std::uint32_t f);
     void refresh_ring_area(std::uint32_t v);
-    void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+    void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;  // in ring order
+    std::size_t sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const;
     double scale(std::uint32_t v) const;
     double target(std::uint32_t v) const;
     // The average world area of an active vertex's ring, kept in front_data_ only (0 for a vertex
     // in no face).
-    float ring_area(std::uint32_t v) const { return front_pos_[v] == none ? 0.0f : front_data_[front_pos_[v]].w; }
+    float ring_area(std::uint32_t v) const { return vert_[v].front_pos == none ? 0.0f : front_data_[vert_[v].front_pos].w; }
     double image_area(std::uint32_t v) const { return scale(v) * ring_area(v); }
     void enqueue(std::uint32_t v);
     void enqueue_changed(std::uint32_t v);

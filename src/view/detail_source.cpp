@@ -11,7 +11,7 @@ namespace inkline {
 DetailSource::DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent)
     : model_(model), method_(method), target_px_(target_px), depth_exponent_(depth_exponent) {
     if (method_ == "pm")
-        pm_ = std::make_unique<ProgressiveMesh>(triangle_mesh_of(model.topology()));
+        pm_ = std::make_unique<ProgressiveMesh>(model.topology());
     else
         levels_ = std::make_unique<MultiscaleLevels>(build_multiscale_levels(model));
 }
