@@ -292,6 +292,7 @@ private:
     struct Scratch {
         std::vector<std::uint64_t> table;  // open addressing: directed edges (u << 32 | v)
         std::vector<std::uint32_t> owner;  // per slot: the edge's face and corner (face << 2 | corner)
+        std::vector<std::size_t> used;     // the slots filled by this call
         std::vector<std::pair<std::uint64_t, std::uint32_t>> boundary;  // edge, owner
         std::vector<std::uint32_t> cycle;  // the boundary cycles' corners (owners) in order
         std::vector<std::uint32_t> starts;  // where each cycle begins in `cycle`, and its end
@@ -333,8 +334,13 @@ private:
         std::size_t size = 16;
         while (size < 6 * count) size *= 2;
         const std::size_t mask = size - 1;
-        s.table.assign(size, kEmpty);
-        s.owner.resize(size);
+        // (kept empty between calls: cleared slot by slot after use, not refilled each time)
+        if (s.table.size() < size) s.table.assign(size, kEmpty), s.owner.resize(size);
+        s.used.clear();
+        struct Clear {
+            Scratch& s;
+            ~Clear() { for (const std::size_t i : s.used) s.table[i] = kEmpty; }
+        } clear_after{s};
         const auto find = [&](std::uint64_t k) {
             std::size_t i = slot(k, mask);
             while (s.table[i] != kEmpty && s.table[i] != k) i = (i + 1) & mask;
@@ -347,13 +353,14 @@ private:
                 const std::size_t at = find(e);
                 if (s.table[at] == e) return false;
                 s.table[at] = e;
+                s.used.push_back(at);
                 s.owner[at] = (face_ids[i] << 2) | std::uint32_t(k);
             }
         }
         s.boundary.clear();
-        for (std::size_t i = 0; i < size; ++i) {
+        for (const std::size_t i : s.used) {
             const std::uint64_t e = s.table[i];
-            if (e != kEmpty && s.table[find(key(std::uint32_t(e), std::uint32_t(e >> 32)))] == kEmpty) s.boundary.push_back({e, s.owner[i]});
+            if (s.table[find(key(std::uint32_t(e), std::uint32_t(e >> 32)))] == kEmpty) s.boundary.push_back({e, s.owner[i]});
         }
         if (s.boundary.size() < 3) return false;
         std::sort(s.boundary.begin(), s.boundary.end());  // by the edge's first vertex
