@@ -273,3 +273,37 @@ TEST(SelfIntersections, PatchTestKeepsEveryPairOnFolds) {
     EXPECT_EQ(inkline::self_intersections(pierced).faces, reference(pierced));
     expect_same_as_every_pair(pierced, "a helix that passes through itself", 1);
 }
+
+// Two pieces in one node of the search (80 faces, so the node is tried whole): a flat 6 x 6 grid
+// and a small 2 x 2 grid tilted 30 degrees that passes through its middle. Every normal is within
+// 30 degrees of +z and neither boundary crosses the other in the projection (the grids' points
+// are moved a little so that the test does not refuse the node for three boundary points on a
+// line), but the small one's
+// lies inside the big one's: the patch test must refuse the node (the cycles nest), and the
+// search finds the crossing faces, as testing every pair does.
+TEST(SelfIntersections, PatchTestRefusesNestedPieces) {
+    TriangleMesh m;
+    const auto grid = [&m](int n, double size, const glm::dvec3& origin, const glm::dvec3& along, const glm::dvec3& across) {
+        const auto first = std::uint32_t(m.positions.size());
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                // (moved a little within the grid's plane, so that no three boundary points line up)
+                const double di = 0.05 * std::sin(7.0 * i + 3.0 * j), dj = 0.05 * std::cos(5.0 * i + 11.0 * j);
+                m.positions.push_back(origin + size * ((i + di) * along + (j + dj) * across) / double(n));
+            }
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const std::uint32_t a = first + std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
+                m.triangles.push_back({a, b, d});
+                m.triangles.push_back({a, d, c});
+            }
+    };
+    grid(6, 6.0, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    const double c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
+    grid(2, 1.0, {2.5, 2.5, -0.25}, {c30, 0, s30}, {0, 1, 0});  // from z = -0.25 to +0.25 over x 2.5..3.37
+    const inkline::MeshTopology t = inkline::build_topology(m);
+    const inkline::SelfIntersections got = inkline::self_intersections(t);
+    EXPECT_EQ(got.faces, reference(t));
+    EXPECT_GT(got.flagged, 0u);
+    expect_same_as_every_pair(t, "a tilted square through a flat grid", 1);
+}
