@@ -19,6 +19,7 @@
 
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
+#include "model/reorder.hpp"
 #include "model/early_self_intersections.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
@@ -194,3 +195,115 @@ TEST(SelfIntersections, RealMeshes) {
 }
 
 }  // namespace
+
+namespace {
+
+// The search with embedded patches skipped (the default) gives what testing every pair whose boxes
+// meet gives: the same faces, pairs (in the same order) and cuts.
+void expect_same_as_every_pair(const inkline::MeshTopology& t, const std::string& what, int threads) {
+    const inkline::SelfIntersections every = inkline::self_intersections(t, threads, inkline::PatchTest::kEveryBoxPair);
+    const inkline::SelfIntersections got = inkline::self_intersections(t, threads);
+    EXPECT_EQ(got.faces, every.faces) << what;
+    EXPECT_EQ(got.flagged, every.flagged) << what;
+    EXPECT_EQ(got.pairs, every.pairs) << what;
+    ASSERT_EQ(got.cuts.size(), every.cuts.size()) << what;
+    for (std::size_t k = 0; k < every.cuts.size(); ++k) {
+        EXPECT_EQ(got.cuts[k].edge, every.cuts[k].edge) << what << " cut " << k;
+        EXPECT_EQ(got.cuts[k].s, every.cuts[k].s) << what << " cut " << k;
+    }
+}
+
+}  // namespace
+
+// Real meshes, smooth and bumpy, three of them intersecting themselves (bones, cow and
+// mannequin-devil, whose intersection lines test_intersections pins), on one and two threads.
+TEST(SelfIntersections, PatchTestKeepsEveryPairOnRealMeshes) {
+    std::size_t intersecting_meshes = 0;
+    for (const char* name : {"armadillo.off", "bones.off", "cow.off", "mannequin-devil.off", "elephant.off",
+                             "ChineseDragon-10kv.off", "fandisk.off", "knot1.off"}) {
+        // (in the Hilbert order a loaded model has: the patches the test skips are runs of it)
+        const TriangleMesh m = inkline::hilbert_ordered(inkline::load_mesh(inkline::test::mesh_path(name)));
+        const inkline::MeshTopology t = inkline::build_topology(m);
+        for (const int threads : {1, 2}) expect_same_as_every_pair(t, std::string(name) + " on " + std::to_string(threads), threads);
+        intersecting_meshes += inkline::self_intersections(t).flagged > 0;
+    }
+    EXPECT_EQ(intersecting_meshes, 4u);
+}
+
+// Crumpled spheres (folds of every size: patches that pass the test next to ones that do not) and
+// a flat grid folded over itself (one patch whose normals all agree but whose boundary's
+// projection overlaps itself: the test must refuse it, and the search finds the crossing).
+TEST(SelfIntersections, PatchTestKeepsEveryPairOnFolds) {
+    std::mt19937 rng(5);
+    for (const double amount : {0.0, 0.002, 0.01, 0.03}) {
+        TriangleMesh s = inkline::make_sphere({0, 0, 0}, 1, 120, 60);
+        std::uniform_real_distribution<double> r(-amount, amount);
+        for (auto& p : s.positions) p += glm::dvec3(r(rng), r(rng), r(rng));
+        expect_same_as_every_pair(inkline::build_topology(inkline::hilbert_ordered(s)), "sphere moved by " + std::to_string(amount), 1);
+    }
+    // A strip of 2 x 200 squares along a helix of radius 1 that climbs 0.02 a turn and makes two
+    // turns: seen along the axis every face faces +z (tilted 0.02 at most), and the second turn lies
+    // 0.02 above the first, so their faces do not meet; then the climb is made 0 for the second
+    // turn's last half, so that it comes down through the first turn.
+    const auto helix = [](double drop) {
+        TriangleMesh h;
+        const int n = 200;
+        for (int i = 0; i <= n; ++i) {
+            const double a = 4 * M_PI * i / n;
+            double z = 0.02 * a / (2 * M_PI);
+            if (drop > 0 && i > 3 * n / 4) z -= drop * (i - 3 * n / 4) / double(n / 4);
+            for (int k = 0; k < 3; ++k) {
+                const double radius = 1 + 0.1 * k;
+                h.positions.push_back({radius * std::cos(a), radius * std::sin(a), z});
+            }
+        }
+        for (int i = 0; i < n; ++i)
+            for (int k = 0; k < 2; ++k) {
+                const std::uint32_t a = std::uint32_t(3 * i + k), b = a + 1, c = a + 3, d = a + 4;
+                h.triangles.push_back({a, b, d});
+                h.triangles.push_back({a, d, c});
+            }
+        return h;
+    };
+    const inkline::MeshTopology stacked = inkline::build_topology(helix(0));
+    EXPECT_EQ(inkline::self_intersections(stacked).flagged, 0u);
+    expect_same_as_every_pair(stacked, "two turns of a helix", 1);
+    const inkline::MeshTopology pierced = inkline::build_topology(helix(0.05));
+    EXPECT_GT(inkline::self_intersections(pierced).flagged, 0u);
+    EXPECT_EQ(inkline::self_intersections(pierced).faces, reference(pierced));
+    expect_same_as_every_pair(pierced, "a helix that passes through itself", 1);
+}
+
+// Two pieces in one node of the search (80 faces, so the node is tried whole): a flat 6 x 6 grid
+// and a small 2 x 2 grid tilted 30 degrees that passes through its middle. Every normal is within
+// 30 degrees of +z and neither boundary crosses the other in the projection (the grids' points
+// are moved a little so that the test does not refuse the node for three boundary points on a
+// line), but the small one's
+// lies inside the big one's: the patch test must refuse the node (the cycles nest), and the
+// search finds the crossing faces, as testing every pair does.
+TEST(SelfIntersections, PatchTestRefusesNestedPieces) {
+    TriangleMesh m;
+    const auto grid = [&m](int n, double size, const glm::dvec3& origin, const glm::dvec3& along, const glm::dvec3& across) {
+        const auto first = std::uint32_t(m.positions.size());
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                // (moved a little within the grid's plane, so that no three boundary points line up)
+                const double di = 0.05 * std::sin(7.0 * i + 3.0 * j), dj = 0.05 * std::cos(5.0 * i + 11.0 * j);
+                m.positions.push_back(origin + size * ((i + di) * along + (j + dj) * across) / double(n));
+            }
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const std::uint32_t a = first + std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
+                m.triangles.push_back({a, b, d});
+                m.triangles.push_back({a, d, c});
+            }
+    };
+    grid(6, 6.0, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    const double c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
+    grid(2, 1.0, {2.5, 2.5, -0.25}, {c30, 0, s30}, {0, 1, 0});  // from z = -0.25 to +0.25 over x 2.5..3.37
+    const inkline::MeshTopology t = inkline::build_topology(m);
+    const inkline::SelfIntersections got = inkline::self_intersections(t);
+    EXPECT_EQ(got.faces, reference(t));
+    EXPECT_GT(got.flagged, 0u);
+    expect_same_as_every_pair(t, "a tilted square through a flat grid", 1);
+}

@@ -1053,6 +1053,22 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
     }
 }
 
+// Keeps the corner pairing of `before` for the mesh's triangles, which are `before` with some faces
+// flipped (corners 1 and 2 swapped: the edges of corners 0 and 2 change places, corner 1 keeps
+// its own).
+void keep_corner_mates(TriangleMesh& mesh, const std::vector<std::array<std::uint32_t, 3>>& before, std::vector<std::uint32_t> mate) {
+    const std::size_t nf = mesh.triangles.size();
+    std::vector<std::uint8_t> flipped(nf);
+    for (std::size_t f = 0; f < nf; ++f) flipped[f] = mesh.triangles[f][1] != before[f][1];
+    const auto moved = [&](std::uint32_t c) {  // a corner's index after the flips
+        return c == kNoCorner || !flipped[c / 3] ? c : c - c % 3 + (2 - c % 3);
+    };
+    std::vector<std::uint32_t> after(3 * nf);
+    for (std::uint32_t c = 0; c < 3 * nf; ++c) after[moved(c)] = moved(mate[c]);
+    mesh.corner_mates = std::move(after);
+    mesh.corner_mates_of = triangles_key(mesh.triangles);
+}
+
 // Checks and repairs a mesh whose vertices are already welded (see repair_mesh).
 void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
                    const LoadProgressCallback* progress_callback = nullptr) {
@@ -1067,7 +1083,9 @@ void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
         mates = corner_mates(mesh.triangles, mesh.positions.size());
     }
     progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
+    const std::vector<std::array<std::uint32_t, 3>> before = mates.extra == 0 ? mesh.triangles : decltype(mesh.triangles){};
     orient(mesh, mates, where, !strict);
+    if (mates.extra == 0) keep_corner_mates(mesh, before, std::move(mates.mate));
 }
 
 // Triangulates a polygon (corner indices, welded) by ear clipping in the plane of its Newell normal,
@@ -1273,6 +1291,16 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
     TriangleMesh mesh = triangulate(std::move(soup), path, options);
     progress.stage(kProgressRepaired);
     return mesh;
+}
+
+std::uint64_t triangles_key(const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+    std::uint64_t h = 0x9E3779B97F4A7C15ull ^ triangles.size();
+    for (const auto& t : triangles) {
+        h = (h ^ ((std::uint64_t(t[0]) << 32) | t[1])) * 0xFF51AFD7ED558CCDull;
+        h = (h ^ t[2]) * 0xC4CEB9FE1A85EC53ull;
+        h ^= h >> 29;
+    }
+    return h;
 }
 
 CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triangles, std::size_t nv) {

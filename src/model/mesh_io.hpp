@@ -59,7 +59,16 @@ struct TriangleMesh {
     // single-object mesh; kept in step with `triangles` by every repair and reordering.
     std::vector<std::uint32_t> face_object;
     std::vector<std::string> object_names;
+    // The corner pairing of `triangles` (CornerMates::mate below) as the repairs found it, carried
+    // through the Hilbert order so that build_topology need not pair the corners again. Trusted only
+    // while `triangles` still hash to corner_mates_of (triangles_key): code that changes the
+    // triangles without updating it just makes the topology pair them again.
+    std::vector<std::uint32_t> corner_mates;
+    std::uint64_t corner_mates_of = 0;
 };
+
+// A hash of the triangles' corners (what corner_mates depends on).
+std::uint64_t triangles_key(const std::vector<std::array<std::uint32_t, 3>>& triangles);
 
 // Reads a mesh file, welds vertices at the same position (seams split by UVs or normals; not in
 // strict mode), then checks or repairs it (repair_mesh). Refuses (inkline::Error naming the file) in every mode:

@@ -89,6 +89,21 @@ TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads) {
         triangles[i] = {new_index[t[0]], new_index[t[1]], new_index[t[2]]};
         if (!face_object.empty()) face_object[i] = mesh.face_object[fitems[i].second];
     }
+    // The corners' pairing, renumbered with the faces (corner k of a face stays corner k).
+    if (mesh.corner_mates.size() == 3 * nf && mesh.corner_mates_of == triangles_key(mesh.triangles)) {
+        std::vector<std::uint32_t> new_face(nf);
+        for (std::uint32_t i = 0; i < nf; ++i) new_face[fitems[i].second] = i;
+        std::vector<std::uint32_t> mates(3 * nf);
+        for (std::uint32_t i = 0; i < nf; ++i)
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const std::uint32_t m = mesh.corner_mates[3 * fitems[i].second + k];
+                mates[3 * i + k] = m == kNoCorner ? m : 3 * new_face[m / 3] + m % 3;
+            }
+        mesh.corner_mates = std::move(mates);
+        mesh.corner_mates_of = triangles_key(triangles);
+    } else {
+        mesh.corner_mates.clear();
+    }
     mesh.positions = std::move(positions);
     mesh.triangles = std::move(triangles);
     mesh.face_object = std::move(face_object);

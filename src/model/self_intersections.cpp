@@ -265,15 +265,220 @@ BoxColumns face_boxes(const std::vector<FaceData>& faces, std::vector<std::uint8
     return boxes;
 }
 
+// Volino and Thalmann's test, made exact: a patch of faces that no pair of its faces can
+// intersect (beyond the corners and edges they share). The patch must be an oriented surface
+// (each edge in at most two faces, wound oppositely), every face's normal must make an angle
+// below 90 degrees with one direction d (certainly, by a float filter), and its boundary must be
+// one cycle whose projection along d is a simple polygon (certainly). Then the projection along d
+// keeps every face's orientation, so each point of the plane has as many preimages, counted with
+// their local degree, as the boundary's image winds around it: at most one, and the projection is
+// one-to-one on the patch. Any doubt (a filter that cannot decide, a pinched vertex, a boundary of
+// several cycles) answers no, and the patch's pairs are tested one by one as before: the test is
+// a sufficient condition, never an approximation.
+class EmbeddedPatches {
+public:
+    explicit EmbeddedPatches(const std::vector<FaceData>& faces) : faces_(faces) {}
+    // Is the patch of faces face_ids[0, count) certainly embedded, projected along d?
+    bool embedded(const std::uint32_t* face_ids, std::size_t count, const glm::dvec3& d) const {
+        for (std::size_t i = 0; i < count; ++i)
+            if (!certainly_front(faces_[face_ids[i]], d)) return false;
+        thread_local Scratch scratch;
+        if (!boundary_cycles(face_ids, count, scratch)) return false;
+        if (!simple_projection(d, scratch)) return false;
+        return true;
+    }
+
+private:
+    struct Scratch {
+        std::vector<std::uint64_t> table;  // open addressing: directed edges (u << 32 | v)
+        std::vector<std::uint32_t> owner;  // per slot: the edge's face and corner (face << 2 | corner)
+        std::vector<std::size_t> used;     // the slots filled by this call
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> boundary;  // edge, owner
+        std::vector<std::uint32_t> cycle;  // the boundary cycles' corners (owners) in order
+        std::vector<std::uint32_t> starts;  // where each cycle begins in `cycle`, and its end
+        std::vector<std::uint8_t> visited;
+        std::vector<glm::dvec3> points;
+        std::vector<std::uint32_t> next;  // per point: the next along its cycle
+        std::vector<std::array<double, 4>> xy;  // per point: its x and y ranges in the plane
+        std::vector<std::array<double, 4>> boxes;  // per cycle
+        std::vector<std::array<double, 2>> spans;  // per boundary segment: its x range
+        std::vector<std::uint32_t> by_start;
+    };
+    static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+    static std::uint64_t key(std::uint32_t u, std::uint32_t v) { return (std::uint64_t(u) << 32) | v; }
+    static std::size_t slot(std::uint64_t k, std::size_t mask) { return std::size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask; }
+    // dot(n, d) > 0 certainly: the filter of side_if_certain, with d in the place of x - a (exact
+    // here, so fewer roundings than the bound covers).
+    static bool certainly_front(const FaceData& f, const glm::dvec3& d) {
+        const double det = f.n.x * d.x + f.n.y * d.y + f.n.z * d.z;
+        const double permanent = f.permanent.x * std::abs(d.x) + f.permanent.y * std::abs(d.y) + f.permanent.z * std::abs(d.z);
+        return permanent > 1e-250 && permanent < 1e250 && det > 7.7715611723761027e-16 * permanent;
+    }
+    // The sign of det[q - p, r - p, d] (the orientation of p, q, r projected along d), or 0 when
+    // the same filter cannot tell.
+    static int projected_orientation(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r, const glm::dvec3& d) {
+        const glm::dvec3 u = q - p, v = r - p;
+        const glm::dvec3 n{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
+        const glm::dvec3 permanent{std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
+                                   std::abs(u.x * v.y) + std::abs(u.y * v.x)};
+        const double det = n.x * d.x + n.y * d.y + n.z * d.z;
+        const double bound = permanent.x * std::abs(d.x) + permanent.y * std::abs(d.y) + permanent.z * std::abs(d.z);
+        if (!(bound > 1e-250) || !(bound < 1e250)) return 0;
+        const double e = 7.7715611723761027e-16 * bound;
+        return det > e ? 1 : det < -e ? -1 : 0;
+    }
+    // The patch's boundary as cycles of corners (scratch.cycle, each cycle from scratch.starts[c]
+    // to starts[c + 1]), or false: an edge twice in one direction (two faces wound alike, or
+    // three on an edge), or a pinched boundary vertex (two boundary edges leave it).
+    bool boundary_cycles(const std::uint32_t* face_ids, std::size_t count, Scratch& s) const {
+        std::size_t size = 16;
+        while (size < 6 * count) size *= 2;
+        const std::size_t mask = size - 1;
+        // (kept empty between calls: cleared slot by slot after use, not refilled each time)
+        if (s.table.size() < size) s.table.assign(size, kEmpty), s.owner.resize(size);
+        s.used.clear();
+        struct Clear {
+            Scratch& s;
+            ~Clear() { for (const std::size_t i : s.used) s.table[i] = kEmpty; }
+        } clear_after{s};
+        const auto find = [&](std::uint64_t k) {
+            std::size_t i = slot(k, mask);
+            while (s.table[i] != kEmpty && s.table[i] != k) i = (i + 1) & mask;
+            return i;
+        };
+        for (std::size_t i = 0; i < count; ++i) {
+            const auto& v = faces_[face_ids[i]].v;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t e = key(v[k], v[(k + 1) % 3]);
+                const std::size_t at = find(e);
+                if (s.table[at] == e) return false;
+                s.table[at] = e;
+                s.used.push_back(at);
+                s.owner[at] = (face_ids[i] << 2) | std::uint32_t(k);
+            }
+        }
+        s.boundary.clear();
+        for (const std::size_t i : s.used) {
+            const std::uint64_t e = s.table[i];
+            if (s.table[find(key(std::uint32_t(e), std::uint32_t(e >> 32)))] == kEmpty) s.boundary.push_back({e, s.owner[i]});
+        }
+        if (s.boundary.size() < 3) return false;
+        std::sort(s.boundary.begin(), s.boundary.end());  // by the edge's first vertex
+        for (std::size_t i = 1; i < s.boundary.size(); ++i)
+            if ((s.boundary[i].first >> 32) == (s.boundary[i - 1].first >> 32)) return false;
+        // Each boundary vertex has one edge in and one out now, so the edges fall into cycles.
+        s.cycle.clear();
+        s.starts.assign(1, 0);
+        s.visited.assign(s.boundary.size(), 0);
+        for (std::size_t first = 0; first < s.boundary.size(); ++first) {
+            for (std::size_t at = first; !s.visited[at];) {
+                s.visited[at] = 1;
+                s.cycle.push_back(s.boundary[at].second);
+                const auto head = std::uint32_t(s.boundary[at].first);
+                const auto next = std::lower_bound(s.boundary.begin(), s.boundary.end(), std::pair{key(head, 0), std::uint32_t(0)});
+                if (next == s.boundary.end() || (next->first >> 32) != head) return false;
+                at = std::size_t(next - s.boundary.begin());
+            }
+            if (s.cycle.size() > s.starts.back()) s.starts.push_back(std::uint32_t(s.cycle.size()));
+        }
+        return true;
+    }
+    // The boundary cycles projected along d are simple polygons that neither meet nor nest,
+    // certainly: consecutive segments turn (not collinear), segments not consecutive are certainly
+    // apart, and the cycles' bounding boxes are apart (so none lies inside another). In the plane
+    // two coordinates that are exactly constant along d are used (with b the largest of d's
+    // components, x = p_a d_b - p_b d_a and y = p_c d_b - p_b d_c), each range widened by the
+    // bound of its rounding; only segments whose x ranges overlap are compared.
+    bool simple_projection(const glm::dvec3& d, Scratch& s) const {
+        const std::size_t n = s.cycle.size(), cycles = s.starts.size() - 1;
+        int b = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::abs(d[k]) > std::abs(d[b])) b = k;
+        const int a = (b + 1) % 3, c = (b + 2) % 3;
+        s.points.resize(n);
+        s.next.resize(n);
+        s.xy.resize(n);
+        for (std::size_t cy = 0; cy < cycles; ++cy) {
+            const std::uint32_t begin = s.starts[cy], end = s.starts[cy + 1];
+            for (std::uint32_t k = begin; k < end; ++k) s.next[k] = k + 1 < end ? k + 1 : begin;
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const glm::dvec3& p = s.points[k] = position(s.cycle[k]);
+            // Two products and a difference, each rounded: 3 eps of the terms' sizes covers them.
+            const double ex = 4.5e-16 * (std::abs(p[a] * d[b]) + std::abs(p[b] * d[a])) + 1e-300,
+                         ey = 4.5e-16 * (std::abs(p[c] * d[b]) + std::abs(p[b] * d[c])) + 1e-300;
+            const double x = p[a] * d[b] - p[b] * d[a], y = p[c] * d[b] - p[b] * d[c];
+            s.xy[k] = {x - ex, x + ex, y - ey, y + ey};
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            std::size_t previous = k;
+            while (s.next[previous] != k) previous = s.next[previous];
+            if (projected_orientation(s.points[previous], s.points[k], s.points[s.next[k]], d) == 0) return false;
+        }
+        if (cycles > 1 && !cycle_boxes_apart(s)) return false;
+        s.spans.resize(n);
+        s.by_start.resize(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto &p = s.xy[k], &q = s.xy[s.next[k]];
+            s.spans[k] = {std::min(p[0], q[0]), std::max(p[1], q[1])};
+            s.by_start[k] = std::uint32_t(k);
+        }
+        std::sort(s.by_start.begin(), s.by_start.end(), [&](std::uint32_t x, std::uint32_t y) { return s.spans[x][0] < s.spans[y][0]; });
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint32_t p = s.by_start[i];
+            for (std::size_t j = i + 1; j < n && s.spans[s.by_start[j]][0] <= s.spans[p][1]; ++j) {
+                const std::uint32_t q = s.by_start[j];
+                if (s.next[p] == q || s.next[q] == p) continue;  // consecutive: checked above
+                if (!certainly_apart(s.points[p], s.points[s.next[p]], s.points[q], s.points[s.next[q]], d)) return false;
+            }
+        }
+        return true;
+    }
+    // The cycles' boxes in (x, y) pairwise apart.
+    static bool cycle_boxes_apart(Scratch& s) {
+        const std::size_t cycles = s.starts.size() - 1;
+        s.boxes.assign(cycles, {1e308, -1e308, 1e308, -1e308});
+        for (std::size_t cy = 0; cy < cycles; ++cy)
+            for (std::uint32_t k = s.starts[cy]; k < s.starts[cy + 1]; ++k) {
+                auto& box = s.boxes[cy];
+                box[0] = std::min(box[0], s.xy[k][0]), box[1] = std::max(box[1], s.xy[k][1]);
+                box[2] = std::min(box[2], s.xy[k][2]), box[3] = std::max(box[3], s.xy[k][3]);
+            }
+        for (std::size_t i = 0; i < cycles; ++i)
+            for (std::size_t j = i + 1; j < cycles; ++j) {
+                const auto &p = s.boxes[i], &q = s.boxes[j];
+                if (!(p[1] < q[0] || q[1] < p[0] || p[3] < q[2] || q[3] < p[2])) return false;
+            }
+        return true;
+    }
+    // Segments ab and ce projected along d certainly do not meet: one lies strictly on one side of
+    // the other's line.
+    static bool certainly_apart(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& e, const glm::dvec3& d) {
+        const int c_side = projected_orientation(a, b, c, d);
+        if (c_side != 0 && c_side == projected_orientation(a, b, e, d)) return true;
+        const int a_side = projected_orientation(c, e, a, d);
+        return a_side != 0 && a_side == projected_orientation(c, e, b, d);
+    }
+    // A corner's position (face << 2 | corner).
+    const glm::dvec3& position(std::uint32_t owner) const { return faces_[owner >> 2].p[owner & 3]; }
+
+    const std::vector<FaceData>& faces_;
+};
+
 // Every pair of boxes that meet (closed), each once, in no particular order: a bounding-volume
 // hierarchy over the boxes in the faces' order (consecutive runs of at most kLeaf boxes, halved
 // recursively), searched against itself. Its nodes take a few hundred kilobytes and are
 // read in order, where CGAL's segment tree spent most of a model's loading in long scans.
 class BoxPairs {
 public:
-    explicit BoxPairs(const BoxColumns& boxes) : face_(boxes.face.data()) {
+    // With `patches`, a node whose faces make an embedded patch (EmbeddedPatches) reports none of
+    // the pairs within it; without, every pair whose boxes meet is reported.
+    BoxPairs(const BoxColumns& boxes, const std::vector<FaceData>& faces, const EmbeddedPatches* patches)
+        : face_(boxes.face.data()), faces_(faces), patches_(patches) {
         for (int d = 0; d < 3; ++d) lo_[d] = boxes.lo[d].data(), hi_[d] = boxes.hi[d].data();
-        if (boxes.size() > 0) build(0, std::uint32_t(boxes.size()));
+        if (boxes.size() == 0) return;
+        if (patches_) normal_sums_.reserve(2 * boxes.size() / kLeaf + 1);
+        build(0, std::uint32_t(boxes.size()));
     }
     // A share of the search: the pairs within node a (self), or between nodes a and b.
     struct Task {
@@ -327,6 +532,19 @@ private:
         std::uint32_t left = 0;    // children left and left + 1 ... (0: a leaf)
         std::uint32_t right = 0;
     };
+    // Below this many faces the patch test costs about what testing the node's pairs does.
+    static constexpr std::uint32_t kMinPatch = 48;
+    // A node's unit normals summed: their mean direction is where EmbeddedPatches looks from.
+    glm::dvec3 unit_normal(std::uint32_t box) const {
+        const glm::dvec3& n = faces_[face_[box]].n;
+        const double length = glm::length(n);
+        return length > 0 ? n / length : glm::dvec3(0.0);
+    }
+    bool embedded(std::uint32_t node) const {
+        const Node& n = nodes_[node];
+        if (n.end - n.begin < kMinPatch) return false;
+        return patches_->embedded(face_ + n.begin, n.end - n.begin, normal_sums_[node]);
+    }
     // Without a branch per comparison: at the leaves about half the box pairs meet, so branches
     // mispredict (most of the search's time).
     template <class A, class B>
@@ -338,6 +556,7 @@ private:
     std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
         const auto at = std::uint32_t(nodes_.size());
         nodes_.push_back({});
+        if (patches_) normal_sums_.emplace_back(0.0);
         Node node{};
         node.begin = begin, node.end = end;
         if (end - begin > kLeaf) {
@@ -346,7 +565,10 @@ private:
             node.right = build(mid, end);
             const Node &l = nodes_[node.left], &r = nodes_[node.right];
             for (int d = 0; d < 3; ++d) node.lo[d] = std::min(l.lo[d], r.lo[d]), node.hi[d] = std::max(l.hi[d], r.hi[d]);
+            if (patches_) normal_sums_[at] = normal_sums_[node.left] + normal_sums_[node.right];
         } else {
+            if (patches_)
+                for (std::uint32_t i = begin; i < end; ++i) normal_sums_[at] += unit_normal(i);
             for (int d = 0; d < 3; ++d) {
                 float lo = lo_[d][begin], hi = hi_[d][begin];
                 for (std::uint32_t i = begin + 1; i < end; ++i) lo = std::min(lo, lo_[d][i]), hi = std::max(hi, hi_[d][i]);
@@ -363,6 +585,7 @@ private:
             for (std::uint32_t i = n.begin; i < n.end; ++i) report(i, n.begin, n.end, i - n.begin + 1, fn);
             return;
         }
+        if (patches_ && embedded(a)) return;  // no pair within it can intersect
         self(n.left, fn);
         self(n.right, fn);
         across(n.left, n.right, fn);
@@ -411,7 +634,10 @@ private:
     const float* lo_[3];
     const float* hi_[3];
     const std::uint32_t* face_;
+    const std::vector<FaceData>& faces_;
+    const EmbeddedPatches* patches_;
     std::vector<Node> nodes_;
+    std::vector<glm::dvec3> normal_sums_;  // per node, when patches_: its faces' unit normals summed
 };
 
 std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g); }
@@ -424,10 +650,12 @@ class PairSearch {
 public:
     // Below this many boxes (a few milliseconds of search) a thread's start costs more than it saves.
     static constexpr std::size_t kBoxesPerThread = 4096;
-    PairSearch(std::vector<FaceData> faces, std::size_t workers)
-        : faces_(std::move(faces)), found_(std::max<std::size_t>(workers, 1)), failed_(found_.size()) {
+    PairSearch(std::vector<FaceData> faces, std::size_t workers, PatchTest patch_test)
+        : faces_(std::move(faces)), patches_(faces_), found_(std::max<std::size_t>(workers, 1)), failed_(found_.size()) {
         columns_ = face_boxes(faces_, flags_);
-        tree_.emplace(columns_);
+        // (EmbeddedPatches packs a face and a corner in 32 bits)
+        const bool patches = patch_test == PatchTest::kEmbeddedPatchesSkipped && faces_.size() < (std::size_t(1) << 30);
+        tree_.emplace(columns_, faces_, patches ? &patches_ : nullptr);
         // Many more tasks than threads, so that uneven tasks even out.
         tasks_ = tree_->tasks(found_.size() > 1 ? found_.size() * 64 : 1);
     }
@@ -458,6 +686,7 @@ public:
 
 private:
     std::vector<FaceData> faces_;
+    EmbeddedPatches patches_;
     std::vector<std::uint8_t> flags_;
     BoxColumns columns_;
     std::optional<BoxPairs> tree_;
@@ -565,7 +794,7 @@ SelfIntersections assemble(const MeshTopology& mesh, PairSearch& search, const s
 }  // namespace
 
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
-    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads));
+    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads), PatchTest::kEmbeddedPatchesSkipped);
     run_workers(search);
     const std::vector<std::uint64_t> found = search.collect();
     std::vector<std::uint8_t> out = std::move(search.flags());
@@ -573,8 +802,8 @@ std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int 
     return out;
 }
 
-SelfIntersections self_intersections(const MeshTopology& mesh, int threads) {
-    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads));
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads, PatchTest patch_test) {
+    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads), patch_test);
     run_workers(search);
     return assemble(mesh, search, search.collect());
 }
@@ -598,7 +827,7 @@ EarlySelfIntersections::EarlySelfIntersections(const SearchInput& input, int thr
     // finish() takes them as worker 0 once its caller has done its own work.
     im.helper = std::thread([&im] {
         try {
-            im.search = std::make_unique<PairSearch>(std::move(im.faces), im.workers);
+            im.search = std::make_unique<PairSearch>(std::move(im.faces), im.workers, PatchTest::kEmbeddedPatchesSkipped);
         } catch (...) {
             im.failed = std::current_exception();
         }

@@ -39,8 +39,16 @@ struct SelfIntersections {
 // for any count).
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads = 1);
 
+// Which pairs of faces the search tests. By default a patch of faces that certainly cannot
+// intersect itself (its normals within a cone under 90 degrees, its boundary's projection along
+// the cone's axis a simple polygon: Volino and Thalmann's test, decided with exact predicates) is
+// skipped whole; kEveryBoxPair tests every pair whose boxes meet (the same result, slower: the
+// tests' reference).
+enum class PatchTest { kEmbeddedPatchesSkipped, kEveryBoxPair };
+
 // The same faces, and where their edges meet the other faces of each intersecting pair (exact
 // predicates decide which edges meet which faces; the points are constructions, rounded).
-SelfIntersections self_intersections(const MeshTopology& mesh, int threads = 1);
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads = 1,
+                                     PatchTest patch_test = PatchTest::kEmbeddedPatchesSkipped);
 
 }  // namespace inkline

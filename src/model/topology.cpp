@@ -104,6 +104,9 @@ void MeshTopology::refresh_geometry() {
 
 MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     MeshTopology t;
+    std::vector<std::uint32_t> known_mates;  // the loader's pairing, while it still fits the triangles
+    if (mesh.corner_mates.size() == 3 * mesh.triangles.size() && mesh.corner_mates_of == triangles_key(mesh.triangles))
+        known_mates = std::move(mesh.corner_mates);
     t.positions = std::move(mesh.positions);
     t.faces = std::move(mesh.triangles);
     t.face_object = std::move(mesh.face_object);
@@ -119,8 +122,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     std::vector<std::uint32_t> corner_edge;  // corner c = 3f + k
     std::size_t ne = 0;
     {
-        CornerMates mates = corner_mates(t.faces, nv);
-        corner_edge = std::move(mates.mate);
+        corner_edge = known_mates.empty() ? corner_mates(t.faces, nv).mate : std::move(known_mates);
         for (std::uint32_t c = 0; c < nc; ++c) ne += corner_edge[c] == kNoCorner || corner_edge[c] > c;
     }
     t.face_edges.resize(nf);
