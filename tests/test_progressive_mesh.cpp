@@ -3,6 +3,7 @@
 // criterion of seed 000's section 3.1 once converged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "curvature/incremental_curvature.hpp"
 #include "detail/adapted_topology.hpp"
+#include "detail/moving_self_intersections.hpp"
 #include "detail/progressive_mesh.hpp"
 #include "detail/progressive_mesh_front.hpp"
 #include "detail/progressive_mesh_session.hpp"
@@ -328,6 +330,58 @@ TEST(PmSession, InwardDollyWithGeomorphsDrawsWhatAFromScratchModelDraws) {
     EXPECT_GT(pierced, 1000u);  // (the comparison covers self-intersecting frames)
 }
 
+
+// The search around moving vertices (detail/moving_self_intersections.hpp) against the full
+// search of each frame's adapted mesh along the bench's inward dolly with geomorphs: the same
+// flags and cuts, bit for bit, and the same pairs (in another order), while searching a small
+// part of the mesh.
+TEST(PmSession, SearchAroundMovingVerticesIsTheFullSearch) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const MeshTopology input = build_topology(pm.input());
+    AdaptiveFront front(pm, GeomorphOptions{.enabled = true});
+    const auto camera_at = [&](int k) {
+        const double fov = 30.0, D = input.bounds.half_diagonal() / std::sin(fov * M_PI / 360.0);
+        const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, 0.6, 1.4));
+        return Camera::perspective(input.bounds.center() + (1.5 - 0.9 * k / 39.0) * D * dir, input.bounds.center(),
+                                   {0, 1, 0}, fov, 1024, 1024);
+    };
+    for (int k = 0; k < 64; ++k) {  // converged at the first view, as PmSession::settle
+        const FrontStats s = front.update(camera_at(0), target_px(3.0), 1e6);
+        if (s.splits + s.collapses + s.morphs_started + s.morphs_running == 0) break;
+    }
+    std::size_t flagged = 0, cuts = 0, faces = 0, searched = 0;
+    for (int k = 1; k <= 12; ++k) {
+        front.update(camera_at(k), target_px(3.0), 1.0 / 25.0);
+        if (k % 3 != 0) continue;
+        std::vector<std::uint32_t> input_vertex;
+        const MeshTopology mesh = build_topology(front.mesh(&input_vertex));
+        std::vector<std::uint8_t> moved(mesh.vertex_count());
+        for (std::size_t v = 0; v < moved.size(); ++v) moved[v] = mesh.positions[v] != input.positions[input_vertex[v]];
+        MovingSearchStats stats;
+        const SelfIntersections local = self_intersections_of_moving(mesh, moved, &stats);
+        const SelfIntersections full = self_intersections(mesh);
+        EXPECT_EQ(local.faces, full.faces) << k;
+        EXPECT_EQ(local.flagged, full.flagged) << k;
+        ASSERT_EQ(local.cuts.size(), full.cuts.size()) << k;
+        for (std::size_t i = 0; i < full.cuts.size(); ++i) {
+            EXPECT_EQ(local.cuts[i].edge, full.cuts[i].edge) << k << " " << i;
+            EXPECT_EQ(local.cuts[i].s, full.cuts[i].s) << k << " " << i;
+        }
+        auto sorted = [](std::vector<std::array<std::uint32_t, 2>> p) {
+            for (auto& q : p) q = {std::min(q[0], q[1]), std::max(q[0], q[1])};
+            std::sort(p.begin(), p.end());
+            return p;
+        };
+        EXPECT_EQ(sorted(local.pairs), sorted(full.pairs)) << k;
+        flagged += full.flagged;
+        cuts += full.cuts.size();
+        faces += mesh.face_count();
+        searched += stats.searched_faces;
+    }
+    std::printf("%zu flagged faces, %zu cuts; %zu of %zu faces searched\n", flagged, cuts, searched, faces);
+    EXPECT_GT(flagged, 1000u);  // (the frames intersect themselves: the comparison covers pairs and cuts)
+    EXPECT_LT(searched, faces / 2);
+}
 
 // The topology and curvature carried from frame to frame (edges between unchanged faces keep their
 // angle and convexity; curvature recomputed within three rings of what the front changed or a
