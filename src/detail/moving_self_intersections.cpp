@@ -106,20 +106,24 @@ std::vector<std::uint8_t> candidates(const MeshTopology& mesh, const std::vector
     return out;
 }
 
-// The candidates and the faces across their edges, as a mesh of its own (faces in the mesh's
-// order, corners in theirs), with each of its faces' and vertices' numbers in the mesh.
+// The faces marked in `take`, as a mesh of its own (faces in the mesh's order, corners in theirs),
+// with each of its faces' and vertices' numbers in the mesh; with `across`, also the faces across
+// their edges, so that each marked face's edges keep the orientation and faces they have in the
+// mesh (the cuts depend on them).
 struct SubMesh {
-    TriangleMesh mesh;
+    MeshTopology topology;
     std::vector<std::uint32_t> face, vertex;
 };
 
-SubMesh sub_mesh(const MeshTopology& mesh, std::vector<std::uint8_t>& take) {
+SubMesh sub_mesh(const MeshTopology& mesh, std::vector<std::uint8_t>& take, bool across) {
     const std::size_t nf = mesh.face_count();
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (take[f] == 1 || take[f] == 2)
-            for (const std::uint32_t g : mesh.face_edges[f].face)
-                if (g != kNoFace && !take[g]) take[g] = 3;
+    if (across)
+        for (std::uint32_t f = 0; f < nf; ++f)
+            if (take[f] == 1)
+                for (const std::uint32_t g : mesh.face_edges[f].face)
+                    if (g != kNoFace && !take[g]) take[g] = 2;
     SubMesh s;
+    TriangleMesh m;
     std::vector<std::uint32_t> index(mesh.vertex_count(), UINT32_MAX);
     for (std::uint32_t f = 0; f < nf; ++f)
         if (take[f]) {
@@ -130,13 +134,14 @@ SubMesh sub_mesh(const MeshTopology& mesh, std::vector<std::uint8_t>& take) {
         if (index[v] == 0) {
             index[v] = std::uint32_t(s.vertex.size());
             s.vertex.push_back(v);
-            s.mesh.positions.push_back(mesh.positions[v]);
+            m.positions.push_back(mesh.positions[v]);
         }
-    s.mesh.triangles.reserve(s.face.size());
+    m.triangles.reserve(s.face.size());
     for (const std::uint32_t f : s.face) {
         const auto& t = mesh.faces[f];
-        s.mesh.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+        m.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
     }
+    s.topology = build_topology(std::move(m), mesh.crease_degrees);
     return s;
 }
 
@@ -151,10 +156,20 @@ SelfIntersections self_intersections_of_moving(const MeshTopology& mesh, const s
     out.faces.assign(mesh.face_count(), 0);
     std::vector<std::uint8_t> take = candidates(mesh, moved_vertex, st);
     if (st.moving_faces == 0) return out;
-    st.candidate_faces = std::size_t(std::count_if(take.begin(), take.end(), [](std::uint8_t c) { return c != 0; }));
-    SubMesh s = sub_mesh(mesh, take);
+    for (std::uint8_t& c : take) c = c != 0;
+    st.candidate_faces = std::size_t(std::count(take.begin(), take.end(), std::uint8_t(1)));
+    // Two passes: the candidates' flags first (no pair list, no cuts: the cheap part of the search),
+    // then the pairs and cuts among the flagged faces only (both faces of a pair are flagged).
+    {
+        const SubMesh s = sub_mesh(mesh, take, false);
+        const std::vector<std::uint8_t> flags = self_intersecting_faces(s.topology);
+        std::fill(take.begin(), take.end(), 0);
+        for (std::uint32_t f = 0; f < flags.size(); ++f) take[s.face[f]] = flags[f];
+    }
+    if (std::find(take.begin(), take.end(), std::uint8_t(1)) == take.end()) return out;
+    const SubMesh s = sub_mesh(mesh, take, true);
     st.searched_faces = s.face.size();
-    const MeshTopology sub = build_topology(std::move(s.mesh), mesh.crease_degrees);
+    const MeshTopology& sub = s.topology;
     const SelfIntersections found = self_intersections(sub);
     for (std::uint32_t f = 0; f < found.faces.size(); ++f)
         if (found.faces[f]) out.faces[s.face[f]] = 1;

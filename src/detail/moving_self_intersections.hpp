@@ -30,7 +30,7 @@ namespace inkline {
 struct MovingSearchStats {
     std::size_t moving_faces = 0;     // faces with a moved corner
     std::size_t candidate_faces = 0;  // faces whose box meets a moving face's box (moving ones included)
-    std::size_t searched_faces = 0;   // the candidates and the faces across their edges
+    std::size_t searched_faces = 0;   // the faces flagged among them and the faces across their edges
 };
 
 SelfIntersections self_intersections_of_moving(const MeshTopology& mesh, const std::vector<std::uint8_t>& moved_vertex,
