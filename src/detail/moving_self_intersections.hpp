@@ -13,10 +13,14 @@
 // full search).
 //
 // How: the moving faces' boxes in a uniform grid, every face's box streamed through it
-// (O(faces + candidate pairs)); the candidates, with the faces across their edges (so that each
-// candidate's edges keep the orientation and faces they have in the mesh, which the cuts depend
-// on), copied into a small mesh in the same order and searched by the model's own exact search
-// (model/self_intersections.hpp), its results mapped back.
+// (O(faces + candidate pairs)); the candidates copied into a small mesh (same order, same
+// corners) and searched by the model's own exact search (model/self_intersections.hpp) for their
+// flags only; then the flagged faces (both faces of a pair are flagged), with the faces across
+// their edges so that each keeps its edges' orientation and neighbours (the cuts depend on them),
+// searched again for the pairs and cuts; the results mapped back. Most of the cost is the exact
+// predicates and cut constructions on the moving faces (slivers early in a split's morph), so it
+// follows the number of moving faces, which a steady inward dolly makes a large share of the mesh
+// (docs/progressive_mesh.md, Benchmarks).
 #pragma once
 
 #include <cstddef>
