@@ -140,18 +140,20 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     PmSession session(pm, whole_frame_options(), o);
     session.settle(camera_at(0));
     std::vector<double> cpu;
-    std::vector<std::vector<double>> stage(10);
-    std::size_t triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
+    std::vector<std::vector<double>> stage(11);
+    std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
     for (int k = 1; k <= frames; ++k) {
         const double c0 = thread_seconds();
         const View& v = session.render(camera_at(k), 1.0 / 25.0);
         cpu.push_back((thread_seconds() - c0) * 1e3);
         const PmFrameSeconds& s = session.seconds();
         // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
-        const double parts[10] = {s.adapt,      s.mesh,       s.topology, s.curvature,
-                                  s.smoothing,  s.session,    s.features, s.visibility,
+        const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
+                                  s.curvature,  s.smoothing,  s.session,    s.features, s.visibility,
                                   std::max(0.0, s.view - s.features - s.visibility), s.total};
-        for (int i = 0; i < 10; ++i) stage[i].push_back(parts[i] * 1e3);
+        for (int i = 0; i < 11; ++i) stage[i].push_back(parts[i] * 1e3);
+        moving += session.moving_search().moving_faces;
+        pierced += session.adapted().self_intersections().flagged;
         triangles += session.stats().triangles;
         ray_tests += v.drawing.stats.ray_tests;
         inconsistent += v.drawing.stats.clusters_inconsistent;
@@ -160,8 +162,10 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     }
     std::printf("| %s | pm | %.0f | %.1f | %.1f |", path_name,
                 double(triangles) / frames, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
-    for (int i = 0; i < 10; ++i) std::printf(" %.1f |", median(stage[i]));
-    std::printf(" %.0f | %.0f | %.2f |\n", double(ray_tests) / frames, double(inconsistent) / frames, double(recomputed) / double(std::max<std::size_t>(1, vertices)));
+    for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(stage[i]));
+    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f |\n", double(ray_tests) / frames, double(inconsistent) / frames,
+                double(recomputed) / double(std::max<std::size_t>(1, vertices)), double(moving) / frames,
+                double(pierced) / frames);
     std::fflush(stdout);
     if (!levels) return;
     MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
@@ -176,9 +180,9 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     }
     std::printf("| %s | multiscale | %zu | %.1f | %.1f |%s %.0f |", path_name,
                 t.faces.size(), median(cpu), *std::max_element(cpu.begin(), cpu.end()),
-                " - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
+                " - | - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
     std::printf(" %.0f |", double(inconsistent) / frames);
-    std::printf(" - |\n");
+    std::printf(" - | - | - |\n");
     std::fflush(stdout);
 }
 
@@ -244,9 +248,11 @@ int main(int argc, char** argv) {
     if (whole > 0) {
         std::printf("\nWhole frame (thread CPU ms; stages: median thread CPU ms, the view split by its wall-clock features and visibility):\n\n"
                     "| path | method | triangles (mean) | frame ms median | frame ms most | adapt | mesh | topology | "
+                    "self-intersections | "
                     "curvature | smoothing | session | finder + surface lines | visibility | ray index + rest | "
-                    "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) |\n"
-                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                    "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) | "
+                    "faces moved by geomorphs a frame | self-intersecting faces a frame |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const std::string path : {"dolly", "orbit", "dolly-in"})
             if (only_path.empty() || only_path == path) run_whole(*model, pm, kept_levels.get(), px, path, whole);
         return 0;

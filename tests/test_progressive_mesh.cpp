@@ -3,6 +3,7 @@
 // criterion of seed 000's section 3.1 once converged.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "curvature/incremental_curvature.hpp"
 #include "detail/adapted_topology.hpp"
+#include "detail/moving_self_intersections.hpp"
 #include "detail/progressive_mesh.hpp"
 #include "detail/progressive_mesh_front.hpp"
 #include "detail/progressive_mesh_session.hpp"
@@ -20,6 +22,7 @@
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
 #include "test_data.hpp"
+#include "visibility/visibility.hpp"
 
 using namespace inkline;
 namespace fs = std::filesystem;
@@ -236,9 +239,27 @@ TEST(ProgressiveMeshCli, BenchComparesBothMethods) {
     EXPECT_EQ(bad.err.substr(0, bad.err.find('\n')).substr(0, 39), "inkline: --detail-method needs --detail") << bad.err;
 }
 
-// A PmSession frame (the front's mesh, its self-intersection search skipped for an embedded
-// input) draws exactly what a from-scratch Model of the same adapted mesh draws: the same pieces,
-// kinds, QI and points, along a dolly with geomorphs running.
+// Compares a session's frame with what a from-scratch Model of the same adapted mesh draws at
+// `cam` (the same pieces, kinds, QI and points); returns the pieces compared.
+std::size_t expect_frame_as_from_scratch(const Drawing& d, const PmSession& session, const Camera& cam,
+                                         const ViewOptions& options, double crease_degrees, int k) {
+    const Model scratch(session.front().mesh(), crease_degrees);
+    const Drawing ref = render_view(scratch, cam, options).drawing;
+    EXPECT_EQ(session.adapted().self_intersections().faces, scratch.self_intersections().faces) << k;
+    EXPECT_EQ(d.stats.ray_tests, ref.stats.ray_tests) << k;
+    EXPECT_EQ(d.pieces.size(), ref.pieces.size()) << k;
+    if (d.pieces.size() != ref.pieces.size()) return 0;
+    for (std::size_t i = 0; i < ref.pieces.size(); ++i) {
+        EXPECT_EQ(d.pieces[i].kind, ref.pieces[i].kind) << k << " " << i;
+        EXPECT_EQ(d.pieces[i].qi, ref.pieces[i].qi) << k << " " << i;
+        EXPECT_EQ(d.pieces[i].points, ref.pieces[i].points) << k << " " << i;
+    }
+    return ref.pieces.size();
+}
+
+// A PmSession frame (the front's mesh, searched for self-intersections only around the vertices
+// a geomorph moves, for an embedded input) draws exactly what a from-scratch Model of the same
+// adapted mesh draws: the same pieces, kinds, QI and points, along a dolly with geomorphs running.
 TEST(PmSession, FrameDrawsWhatAFromScratchModelOfItsMeshDraws) {
     const ProgressiveMesh& pm = armadillo_pm();
     const Model input(pm.input());
@@ -261,22 +282,108 @@ TEST(PmSession, FrameDrawsWhatAFromScratchModelOfItsMeshDraws) {
         const Camera cam = Camera::perspective(eye, box.center(), framed.up(), framed.fov_deg(), 1024, 1024);
         const Drawing& d = session.render(cam, 1.0 / 25.0).drawing;
         morphing_frames += session.stats().morphs_running > 0;
-        const Model scratch(session.front().mesh(), o.crease_degrees);
-        EXPECT_EQ(scratch.self_intersections().flagged, 0u) << k;  // (so skipping the search changed nothing)
-        const Drawing ref = render_view(scratch, cam, options).drawing;
-        ASSERT_EQ(d.pieces.size(), ref.pieces.size()) << k;
-        for (std::size_t i = 0; i < ref.pieces.size(); ++i) {
-            EXPECT_EQ(d.pieces[i].kind, ref.pieces[i].kind) << k << " " << i;
-            EXPECT_EQ(d.pieces[i].qi, ref.pieces[i].qi) << k << " " << i;
-            EXPECT_EQ(d.pieces[i].points, ref.pieces[i].points) << k << " " << i;
-        }
-        pieces += ref.pieces.size();
+        EXPECT_EQ(session.adapted().self_intersections().flagged, 0u) << k;  // (outward: splits are rare)
+        pieces += expect_frame_as_from_scratch(d, session, cam, options, o.crease_degrees, k);
     }
     std::printf("%zu pieces in 4 frames\n", pieces);
     EXPECT_GT(pieces, 30000u);  // (36322: the comparison covers many lines)
     EXPECT_GT(morphing_frames, 0u);  // (shown positions between a vertex and its parent were drawn)
 }
 
+// The same along the bench's inward dolly (1.5 to 0.6 times the framing distance over 40 frames,
+// as `inkline bench --path=dolly` and `pm_frames --whole --path=dolly-in`): splits' vertices slide
+// out of their parents and their faces cross their neighbours' (hundreds to thousands of faces a
+// frame), so the frame's pierced faces and cuts must be the ones a full search of its mesh finds.
+TEST(PmSession, InwardDollyWithGeomorphsDrawsWhatAFromScratchModelDraws) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    ViewOptions options;
+    options.exact_hidden = false;
+    options.features.kinds[int(LineKind::Crease)] = false;
+    options.surface.suggestive = true;
+    PmViewOptions o;
+    o.target_px = 3.0;
+    o.geomorphs.enabled = true;
+    o.smoothing = false;
+    o.input_self_intersects = false;  // (armadillo: none; the previous test checks it)
+    PmSession session(pm, options, o);
+    const Model input(pm.input());
+    const MeshTopology& t = input.topology();
+    const auto camera_at = [&](int k) {
+        const double fov = 30.0, D = t.bounds.half_diagonal() / std::sin(fov * M_PI / 360.0);
+        const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, 0.6, 1.4));
+        Camera c = Camera::perspective(t.bounds.center() + (1.5 - 0.9 * k / 39.0) * D * dir, t.bounds.center(), {0, 1, 0},
+                                       fov, 1024, 1024);
+        c.set_near(default_near(t));
+        return c;
+    };
+    session.settle(camera_at(0));
+    std::size_t pieces = 0, pierced = 0;
+    for (int k = 1; k <= 12; ++k) {
+        const Camera cam = camera_at(k);
+        const Drawing& d = session.render(cam, 1.0 / 25.0).drawing;
+        if (k % 3 != 0) continue;
+        pierced += session.adapted().self_intersections().flagged;
+        pieces += expect_frame_as_from_scratch(d, session, cam, options, o.crease_degrees, k);
+    }
+    std::printf("%zu pieces, %zu pierced faces in 4 frames\n", pieces, pierced);
+    EXPECT_GT(pieces, 10000u);
+    EXPECT_GT(pierced, 1000u);  // (the comparison covers self-intersecting frames)
+}
+
+
+// The search around moving vertices (detail/moving_self_intersections.hpp) against the full
+// search of each frame's adapted mesh along the bench's inward dolly with geomorphs: the same
+// flags and cuts, bit for bit, and the same pairs (in another order), while searching a small
+// part of the mesh.
+TEST(PmSession, SearchAroundMovingVerticesIsTheFullSearch) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const MeshTopology input = build_topology(pm.input());
+    AdaptiveFront front(pm, GeomorphOptions{.enabled = true});
+    const auto camera_at = [&](int k) {
+        const double fov = 30.0, D = input.bounds.half_diagonal() / std::sin(fov * M_PI / 360.0);
+        const glm::dvec3 dir = glm::normalize(glm::dvec3(1.0, 0.6, 1.4));
+        return Camera::perspective(input.bounds.center() + (1.5 - 0.9 * k / 39.0) * D * dir, input.bounds.center(),
+                                   {0, 1, 0}, fov, 1024, 1024);
+    };
+    for (int k = 0; k < 64; ++k) {  // converged at the first view, as PmSession::settle
+        const FrontStats s = front.update(camera_at(0), target_px(3.0), 1e6);
+        if (s.splits + s.collapses + s.morphs_started + s.morphs_running == 0) break;
+    }
+    std::size_t flagged = 0, cuts = 0, faces = 0, candidates = 0, searched = 0;
+    for (int k = 1; k <= 12; ++k) {
+        front.update(camera_at(k), target_px(3.0), 1.0 / 25.0);
+        if (k % 3 != 0) continue;
+        std::vector<std::uint32_t> input_vertex;
+        const MeshTopology mesh = build_topology(front.mesh(&input_vertex));
+        std::vector<std::uint8_t> moved(mesh.vertex_count());
+        for (std::size_t v = 0; v < moved.size(); ++v) moved[v] = mesh.positions[v] != input.positions[input_vertex[v]];
+        MovingSearchStats stats;
+        const SelfIntersections local = self_intersections_of_moving(mesh, moved, &stats);
+        const SelfIntersections full = self_intersections(mesh);
+        EXPECT_EQ(local.faces, full.faces) << k;
+        EXPECT_EQ(local.flagged, full.flagged) << k;
+        ASSERT_EQ(local.cuts.size(), full.cuts.size()) << k;
+        for (std::size_t i = 0; i < full.cuts.size(); ++i) {
+            EXPECT_EQ(local.cuts[i].edge, full.cuts[i].edge) << k << " " << i;
+            EXPECT_EQ(local.cuts[i].s, full.cuts[i].s) << k << " " << i;
+        }
+        auto sorted = [](std::vector<std::array<std::uint32_t, 2>> p) {
+            for (auto& q : p) q = {std::min(q[0], q[1]), std::max(q[0], q[1])};
+            std::sort(p.begin(), p.end());
+            return p;
+        };
+        EXPECT_EQ(sorted(local.pairs), sorted(full.pairs)) << k;
+        flagged += full.flagged;
+        cuts += full.cuts.size();
+        faces += mesh.face_count();
+        candidates += stats.candidate_faces;
+        searched += stats.searched_faces;
+    }
+    std::printf("%zu flagged faces, %zu cuts; of %zu faces %zu candidates, %zu searched for pairs\n", flagged, cuts,
+                faces, candidates, searched);
+    EXPECT_GT(flagged, 1000u);  // (the frames intersect themselves: the comparison covers pairs and cuts)
+    EXPECT_LT(candidates, faces / 2);  // (50722 of 153368)
+}
 
 // The topology and curvature carried from frame to frame (edges between unchanged faces keep their
 // angle and convexity; curvature recomputed within three rings of what the front changed or a

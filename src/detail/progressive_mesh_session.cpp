@@ -15,7 +15,7 @@ double thread_cpu_seconds() {
 }  // namespace
 
 PmSession::PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options)
-    : options_(options), pm_options_(pm_options), front_(pm, pm_options.geomorphs) {}
+    : pm_(pm), options_(options), pm_options_(pm_options), front_(pm, pm_options.geomorphs) {}
 
 void PmSession::settle(const Camera& camera) {
     DetailCriterion criterion;
@@ -24,6 +24,16 @@ void PmSession::settle(const Camera& camera) {
         const FrontStats s = front_.update(camera, criterion, 1e6);
         if (s.splits + s.collapses + s.morphs_started + s.morphs_running == 0) break;
     }
+}
+
+void PmSession::adopt_self_intersections() {
+    moving_search_ = {};
+    if (pm_options_.input_self_intersects || options_.features.intersection) return;  // (the model's own search)
+    const MeshTopology& t = model_->topology();
+    const std::vector<glm::dvec3>& own = pm_.input().positions;
+    moved_.resize(t.vertex_count());
+    for (std::size_t v = 0; v < moved_.size(); ++v) moved_[v] = t.positions[v] != own[input_vertex_[v]];
+    model_->adopt_self_intersections(self_intersections_of_moving(t, moved_, &moving_search_));
 }
 
 View& PmSession::render(const Camera& camera, double frame_seconds) {
@@ -49,9 +59,9 @@ View& PmSession::render(const Camera& camera, double frame_seconds) {
     session_.reset();
     if (model_) spare_ = std::move(model_->topology());
     model_ = std::make_unique<Model>(std::move(topology));
-    if (!pm_options_.input_self_intersects)
-        model_->adopt_self_intersections({std::vector<std::uint8_t>(model_->topology().face_count(), 0), 0, {}, {}});
     t.topology = lap();
+    adopt_self_intersections();
+    t.pierced = lap();
     session_ = std::make_unique<ViewSession>(*model_, options_);
     t.session = lap();
     const SurfaceLineOptions& s = options_.surface;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "detail/adapted_topology.hpp"
+#include "detail/moving_self_intersections.hpp"
 #include "detail/progressive_mesh_front.hpp"
 #include "curvature/incremental_curvature.hpp"
 #include "detail/temporal_smoothing.hpp"
@@ -26,9 +27,13 @@ struct PmViewOptions {
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
     // Whether the input intersects itself (Model::self_intersections().flagged > 0). When it does
-    // not, a frame's adapted mesh is not searched (the search was most of a frame's time) and is
-    // taken to be embedded too, the compromise the multi-scale method makes for its blends: a
-    // coarsening with no face turned over rarely makes new intersections.
+    // not, a frame's adapted mesh is not searched whole (the search was most of a frame's time):
+    // with every vertex at its own position it is taken to be embedded too, the compromise the
+    // multi-scale method makes for its blends (a coarsening with no face turned over rarely makes
+    // new intersections), and only the faces around the vertices a geomorph has moved off their
+    // own position are searched against the rest (detail/moving_self_intersections.hpp: a
+    // split's faces cross their neighbours while its vertex slides out). A view that draws
+    // intersection lines takes the full search (their chaining follows its order).
     bool input_self_intersects = true;
 };
 
@@ -38,7 +43,7 @@ struct PmViewOptions {
 // surface lines, visibility, and the ray-test index when a ray test asks for it); of the view, the
 // drawing's own wall-clock split: features (finder and surface-line extraction) and visibility.
 struct PmFrameSeconds {
-    double adapt = 0.0, mesh = 0.0, topology = 0.0, session = 0.0, curvature = 0.0, smoothing = 0.0, view = 0.0,
+    double adapt = 0.0, mesh = 0.0, topology = 0.0, pierced = 0.0, session = 0.0, curvature = 0.0, smoothing = 0.0, view = 0.0,
            total = 0.0;
     double features = 0.0, visibility = 0.0;  // wall
 };
@@ -57,9 +62,12 @@ public:
     double seconds_adapt() const { return stats_.seconds; }
     const PmFrameSeconds& seconds() const { return seconds_; }
     const IncrementalCurvature& curvature() const { return curvature_; }
+    // The last frame's search around moving vertices (zeros when it made none).
+    const MovingSearchStats& moving_search() const { return moving_search_; }
     void set_target(double target_px) { pm_options_.target_px = target_px; }
 
 private:
+    const ProgressiveMesh& pm_;
     ViewOptions options_;
     PmViewOptions pm_options_;
     AdaptiveFront front_;
@@ -70,9 +78,15 @@ private:
     std::unique_ptr<Model> model_;
     std::unique_ptr<ViewSession> session_;
     std::vector<std::uint32_t> input_vertex_, input_face_;  // the adapted mesh's, in the input
+    std::vector<std::uint8_t> moved_;  // per adapted vertex: shown off its own position
+    MovingSearchStats moving_search_;
     IncrementalCurvature curvature_;
     ViewCurvature view_curvature_;
     TemporalSmoother smoother_;
+
+    // The frame's self-intersections adopted by its Model when the input has none (see
+    // PmViewOptions::input_self_intersects).
+    void adopt_self_intersections();
 };
 
 }  // namespace inkline
