@@ -313,6 +313,16 @@ struct Estimator {
 
     explicit Estimator(const MeshTopology& m) : mesh(m), nv(m.vertex_count()), nf(m.face_count()) {}
 
+    // Every phase in order: the whole estimate.
+    void run_all() {
+        faces_pass();
+        vertex_frames();
+        fit_curvature();
+        diagonalize();
+        mark_valid();
+        fit_dcurv();
+    }
+
     // Vertex normals weighted as in Max (1999); the corner and point areas; the frames of the faces.
     void faces_pass() {
         normal.assign(nv, dvec3(0.0));
@@ -435,12 +445,7 @@ double median_edge_length(const MeshTopology& mesh) {
 
 CurvatureField estimate_curvature(const MeshTopology& mesh) {
     Estimator est(mesh);
-    est.faces_pass();
-    est.vertex_frames();
-    est.fit_curvature();
-    est.diagonalize();
-    est.mark_valid();
-    est.fit_dcurv();
+    est.run_all();
     CurvatureField field;
     est.write(field);
     field.feature_size = median_edge_length(mesh);
@@ -708,12 +713,7 @@ const CurvatureField& IncrementalCurvature::update(const MeshTopology& mesh, con
         // Nearly everything changed: the whole estimate (faster than the restricted phases), its
         // vertices' doubles kept for the next mesh.
         Estimator est(mesh);
-        est.faces_pass();
-        est.vertex_frames();
-        est.fit_curvature();
-        est.diagonalize();
-        est.mark_valid();
-        est.fit_dcurv();
+        est.run_all();
         est.write(s.field);
         s.field.feature_size = median_edge_length(mesh);
         s.vert.normal.swap(est.normal), s.vert.dir.swap(est.dir_u), s.vert.k1.swap(est.k1), s.vert.k2.swap(est.k2);

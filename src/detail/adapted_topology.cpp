@@ -114,24 +114,12 @@ void AdaptedTopology::build(MeshTopology& t, TriangleMesh&& mesh, const std::vec
     t.faces.swap(mesh.triangles);
     t.face_object.swap(mesh.face_object);
     t.object_names.swap(mesh.object_names);
-    const std::size_t nv = t.vertex_count();
     compute_bounds_and_facing(t);
     match_faces(t, last);
     make_edges(t);
     angles_and_flags(t, last);
     t.set_crease_angle(crease_degrees);
-    t.vertex_edge_begin.assign(nv + 1, 0);
-    for (const auto& ev : t.edge_vertex) {
-        ++t.vertex_edge_begin[ev[0] + 1];
-        ++t.vertex_edge_begin[ev[1] + 1];
-    }
-    for (std::size_t v = 0; v < nv; ++v) t.vertex_edge_begin[v + 1] += t.vertex_edge_begin[v];
-    t.vertex_edges.resize(t.vertex_edge_begin[nv]);
-    corner_edge_.assign(t.vertex_edge_begin.begin(), t.vertex_edge_begin.end() - 1);  // (as the fill cursors)
-    for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
-        t.vertex_edges[corner_edge_[t.edge_vertex[e][0]]++] = e;
-        t.vertex_edges[corner_edge_[t.edge_vertex[e][1]]++] = e;
-    }
+    fill_vertex_edges(t, corner_edge_);  // (corner_edge_ as the fill cursors)
     remember();
 }
 

@@ -164,6 +164,13 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     }
     t.set_crease_angle(crease_degrees);
 
+    std::vector<std::uint32_t> cursor;
+    fill_vertex_edges(t, cursor);
+    return t;
+}
+
+void fill_vertex_edges(MeshTopology& t, std::vector<std::uint32_t>& cursor) {
+    const std::size_t nv = t.vertex_count();
     t.vertex_edge_begin.assign(nv + 1, 0);
     for (const auto& ev : t.edge_vertex) {
         ++t.vertex_edge_begin[ev[0] + 1];
@@ -171,12 +178,11 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     }
     for (std::size_t v = 0; v < nv; ++v) t.vertex_edge_begin[v + 1] += t.vertex_edge_begin[v];
     t.vertex_edges.resize(t.vertex_edge_begin[nv]);
-    std::vector<std::uint32_t> fill(t.vertex_edge_begin.begin(), t.vertex_edge_begin.end() - 1);
-    for (std::uint32_t e = 0; e < ne; ++e) {
-        t.vertex_edges[fill[t.edge_vertex[e][0]]++] = e;
-        t.vertex_edges[fill[t.edge_vertex[e][1]]++] = e;
+    cursor.assign(t.vertex_edge_begin.begin(), t.vertex_edge_begin.end() - 1);
+    for (std::uint32_t e = 0; e < t.edge_count(); ++e) {
+        t.vertex_edges[cursor[t.edge_vertex[e][0]]++] = e;
+        t.vertex_edges[cursor[t.edge_vertex[e][1]]++] = e;
     }
-    return t;
 }
 
 }  // namespace inkline
