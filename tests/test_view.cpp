@@ -658,10 +658,11 @@ TEST(ViewWindow, PanelLayerLooksLikeImGuiDrawnDirectly) {
 TEST(ViewWindow, PanelLinesAreWholeAndThePanelFitsTheWindow) {
     if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs it)";
     const fs::path d = scratch();
-    // (the tone pass's section open with its sliders: the second set of flags)
+    // (the tone pass's section open with its sliders: the second set of flags; the pm detail's status)
     for (const auto& [size, height, flags] : {std::tuple{"1024x768", 768.0, ""}, std::tuple{"640x480", 480.0, ""},
                                               std::tuple{"1024x768", 768.0, " --lines=silhouette,tone-dark --base=toon"},
-                                              std::tuple{"640x480", 480.0, " --lines=silhouette,tone-dark --base=toon"}}) {
+                                              std::tuple{"640x480", 480.0, " --lines=silhouette,tone-dark --base=toon"},
+                                              std::tuple{"1024x768", 768.0, " --lines=silhouette,suggestive --detail=3 --detail-method=pm"}}) {
         const Result v = run(kXvfb, "view " + test::mesh_path("fandisk.off") + " --frames=4 --orbit --arc=20 --recall --hidden --size=" +
                                         size + flags + " --screenshot-ui --screenshot=" + (d / "ui.png").string(), d);
         ASSERT_EQ(v.code, 0) << v.err;
