@@ -4,10 +4,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "pipeline.hpp"
 
@@ -38,4 +41,20 @@ inline glm::dvec3 orbit_eye(const inkline::MeshTopology& t, double degrees) {
     const double R = t.bounds.half_diagonal(), D = R / std::sin(15.0 * M_PI / 180.0);
     const double az = degrees * M_PI / 180.0, el = 20.0 * M_PI / 180.0;
     return t.bounds.center() + D * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+}
+
+// The items of a comma-separated flag value ("--meshes=a,b"), empty ones skipped.
+inline std::vector<std::string> split_commas(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream in(s);
+    for (std::string x; std::getline(in, x, ',');)
+        if (!x.empty()) out.push_back(x);
+    return out;
+}
+
+// The process's CPU time (all its threads), ms.
+inline double process_cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
 }

@@ -26,14 +26,6 @@ namespace {
 
 using namespace inkline;
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream in(s);
-    for (std::string x; std::getline(in, x, ',');)
-        if (!x.empty()) out.push_back(x);
-    return out;
-}
-
 struct Row {
     std::string mesh;
     int buffer = 0;
@@ -43,12 +35,6 @@ struct Row {
     double exact_features = 0, exact_visibility = 0, fast_features = 0, fast_visibility = 0;
     double share() const { return reference > 0 ? (missing + extra) / reference : 0.0; }
 };
-
-double process_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
-}
 
 struct Times {
     double cpu_ms = 0, wall_ms = 0;
@@ -187,10 +173,10 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&](const char* flag) { return a.substr(std::string(flag).size()); };
-        if (a.rfind("--meshes=", 0) == 0) meshes = split(value("--meshes="));
+        if (a.rfind("--meshes=", 0) == 0) meshes = split_commas(value("--meshes="));
         else if (a.rfind("--buffers=", 0) == 0) {
             buffers.clear();
-            for (const std::string& b : split(value("--buffers="))) buffers.push_back(std::stoi(b));
+            for (const std::string& b : split_commas(value("--buffers="))) buffers.push_back(std::stoi(b));
         } else if (a.rfind("--views=", 0) == 0) views = std::max(1, std::stoi(value("--views=")));
         else if (a.rfind("--repeats=", 0) == 0) repeats = std::max(1, std::stoi(value("--repeats=")));
         else if (a.rfind("--svg=", 0) == 0) svg = value("--svg=");

@@ -31,20 +31,6 @@ using namespace inkline;
 
 bool g_signatures = true;  // --no-signatures: only the frames run (for perf: no other pieces built)
 
-double process_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
-}
-
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream in(s);
-    for (std::string x; std::getline(in, x, ',');)
-        if (!x.empty()) out.push_back(x);
-    return out;
-}
-
 // Per curve of the view: a hash of its mesh edges and of the occluder edges it crosses, in order
 // (what a carried QI compares: a curve with the same signature is cut at the same crossings into
 // the same pieces and links; only their cut points move).
@@ -157,7 +143,7 @@ int main(int argc, char** argv) {
     int frames = 30, threads = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a.rfind("--meshes=", 0) == 0) meshes = split(a.substr(9));
+        if (a.rfind("--meshes=", 0) == 0) meshes = split_commas(a.substr(9));
         else if (a.rfind("--step=", 0) == 0) step = std::stod(a.substr(7));
         else if (a.rfind("--frames=", 0) == 0) frames = std::max(1, std::stoi(a.substr(9)));
         else if (a == "--no-signatures") g_signatures = false;
