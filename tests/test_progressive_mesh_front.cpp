@@ -175,11 +175,9 @@ TEST(AdaptiveFront, GeomorphsMoveNoVertexByAJump) {
     ASSERT_EQ(front.morphs_running(), 0u);
     const double dt = 1.0 / 25.0, share = g.max_speedup * dt / g.seconds;  // at most 0.64 of the way a frame
     const auto& p = pm.input().positions;
-    const auto parent_of = [&](std::uint32_t v) {
-        for (std::size_t i = 0; i < pm.collapses(); ++i)  // (the test's slow lookup; a map would do too)
-            if (pm.removed_vertex()[i] == v) return pm.kept_vertex()[i];
-        return UINT32_MAX;
-    };
+    std::vector<std::uint32_t> parent(p.size(), UINT32_MAX);  // each removed vertex's kept one
+    for (std::size_t i = 0; i < pm.collapses(); ++i) parent[pm.removed_vertex()[i]] = pm.kept_vertex()[i];
+    const auto parent_of = [&](std::uint32_t v) { return parent[v]; };
     std::vector<std::uint32_t> before_ids, now_ids;
     TriangleMesh before = front.mesh(&before_ids);
     std::map<std::uint32_t, glm::dvec3> shown_before;
