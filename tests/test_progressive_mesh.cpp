@@ -177,12 +177,53 @@ TEST(ProgressiveMeshCli, RenderDrawsTheAdaptedMesh) {
              {"--detail=0", "inkline: --detail: expected a target size in pixels in (0, 10000]"},
              {"--detail=3 --detail-method=spiral", "inkline: --detail-method: unknown method 'spiral' (expected multiscale or pm)"},
              {"--detail-method=pm", "inkline: --detail-method needs --detail=PX"},
-             {"--detail=3 --detail-method=pm --orbit --frames=2 -o f_%02d.svg",
-              "inkline: --detail-method=pm: one drawing at a time for now"}}) {
+             {"--detail=3 --orbit --frames=2 --frame-rate=30 -o f_%02d.svg",
+              "inkline: --frame-rate: paces a --detail-method=pm sequence"},
+             {"--detail=3 --detail-method=pm --frame-rate=30", "inkline: --frame-rate: paces a --detail-method=pm sequence"},
+             {"--detail=3 --detail-method=pm --orbit --frames=2 --frame-rate=0.5 -o f_%02d.svg",
+              "inkline: --frame-rate: expected frames a second in [1, 1000]"}}) {
         const inkline_test::Result r = inkline_test::run_inkline("", "render " + m + " " + flags, d);
         EXPECT_EQ(r.code, 2) << flags;
         EXPECT_EQ(r.err.substr(0, r.err.find('\n')).substr(0, expect.size()), expect) << flags << ": " << r.err;
     }
+}
+
+// render --detail-method=pm --frames=N --orbit: one session draws the frames in order (geomorphs
+// at --frame-rate), so a frame is the same file whichever --frame-range or --jobs renders it, the
+// mesh changes along the path by geomorphs, and the pace follows the frame rate.
+TEST(ProgressiveMeshCli, RenderSequenceFramesDoNotDependOnTheRange) {
+    const fs::path d = inkline_test::scratch("inkline_pm_seq_");
+    const std::string m = test::mesh_path("armadillo");
+    const auto run = [&](const std::string& dir, const std::string& flags) {
+        const inkline_test::Result r = inkline_test::run_inkline(
+            "", "render " + m + " --detail=4 --detail-method=pm --lines=silhouette,suggestive --frames=8 --orbit "
+                "--arc=40 --quiet -o " + (d / dir).string() + "/ --format=json " + flags, d);
+        EXPECT_EQ(r.code, 0) << flags << ": " << r.err;
+    };
+    const auto frame = [&](const std::string& dir, int k) {  // (its timings left out)
+        nlohmann::json j = nlohmann::json::parse(inkline_test::slurp(d / dir / ("armadillo_000" + std::to_string(k) + ".json")));
+        j["stats"].erase("seconds");
+        return j;
+    };
+    run("all", "--jobs=1");
+    run("range", "--frame-range=5:7 --jobs=3");
+    run("fast", "--frame-rate=100");
+    for (int k = 0; k < 5; ++k) EXPECT_FALSE(fs::exists(d / "range" / ("armadillo_000" + std::to_string(k) + ".json"))) << k;
+    std::vector<std::size_t> triangles;
+    for (int k = 0; k < 8; ++k) {
+        const nlohmann::json all = frame("all", k);
+        if (k >= 5) {
+            EXPECT_TRUE(all == frame("range", k)) << k;  // (not EXPECT_EQ: megabytes printed)
+        }
+        triangles.push_back(all["stats"]["triangles"].get<std::size_t>());
+        EXPECT_LT(triangles.back(), 52000u) << k;  // the adapted mesh, coarser than the input
+        EXPECT_GT(all["polylines"].size(), 100u) << k;
+    }
+    // Frame 0: the front converged at the home camera; later frames follow the orbit's views.
+    EXPECT_TRUE(frame("all", 0) == frame("fast", 0));
+    EXPECT_NE(triangles.front(), triangles.back());
+    // At 100 frames a second the geomorphs have run a quarter as long by frame 7: another mesh.
+    EXPECT_FALSE(frame("all", 7) == frame("fast", 7));
 }
 
 // Issue 43's density check, on the same measure as the multi-scale method's test: along a dolly

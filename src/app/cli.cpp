@@ -23,6 +23,7 @@
 #include "detail/multiscale.hpp"
 #include "detail/multiscale_cache.hpp"
 #include "detail/progressive_mesh.hpp"
+#include "detail/progressive_mesh_session.hpp"
 #include "output/styled.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -71,6 +72,8 @@ struct RenderArgs {
     int frames = 1;
     bool frames_given = false, orbit = false, verbose = false;
     double arc = 360.0;  // a turntable: frame N would be frame 0 again
+    double frame_rate = 25.0;  // --frame-rate: a pm sequence's pace (the seed's 25 frames a second)
+    bool frame_rate_given = false;
     FrameRange range;
     int jobs = hardware_threads();
     // --threads: each drawing's threads (0 until resolved by split_cores).
@@ -133,6 +136,7 @@ FlagTable render_flags(RenderArgs& a) {
         .add(arc_flag(a.arc, "with --orbit: degrees turned over the frames (frame k at k*DEG/N)"))
         .add(frame_range_flag(a.range))
         .add(jobs_flag(a.jobs, &a.jobs_given))
+        .add(frame_rate_flag(a.frame_rate, &a.frame_rate_given))
         .add(switch_flag("--verbose", a.verbose, true, "print each frame's report and exact camera flags"));
     return t;
 }
@@ -233,7 +237,7 @@ ViewOptions view_options(const RenderArgs& a, const RenderSetup& setup, const Mo
 // times, the camera flags that reproduce it); `t0`: the start its total seconds count from.
 std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const Model& model, FreeformRender* freeform,
                            const Camera& cam, const std::string& out, Format format, StageClock::time_point t0,
-                           bool in_batch = false) {
+                           bool in_batch = false, View* drawn_view = nullptr) {
     const std::optional<Style>& style = setup.style;
     std::unique_ptr<MultiscaleSession> detail;  // --detail: the session drawing the blended shape
     if (setup.detail)
@@ -241,7 +245,10 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
             model, *setup.detail, view_options(a, setup, model),
             MultiscaleViewOptions{.target_px = a.detail.target_px, .depth_exponent = a.detail.depth_exponent.value_or(0.0),
                                   .object_target_px = a.detail.object_target_px});
-    View view = detail ? std::move(detail->render(cam)) : render_view(model, cam, view_options(a, setup, model));
+    // (drawn_view: a view its caller drew of `model`, e.g. a pm sequence's frame)
+    View view = drawn_view ? std::move(*drawn_view)
+                : detail   ? std::move(detail->render(cam))
+                           : render_view(model, cam, view_options(a, setup, model));
     // (with --detail the lines are those of the blended shape: the recall compares with its own)
     const MeshTopology& drawn = detail ? detail->blended().topology() : model.topology();
     if (a.recall) {
@@ -451,6 +458,41 @@ void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPla
     progress->finish();
 }
 
+// A --detail-method=pm sequence: one session draws the frames in order (its mesh and smoothed
+// curvature carry from frame to frame, with geomorphs at --frame-rate), so they are drawn one at
+// a time, each on all of --threads, whatever --jobs. A frame must not depend on the range the
+// run renders (--frame-range: the same file), so the frames before the range are drawn too,
+// unwritten. Frame 0 is the front converged at the home camera, as when a window opens.
+void render_pm_sequence(const RenderArgs& a, const RenderSetup& setup, const RenderPlan& plan, const Model& model,
+                        const Camera& home, Format format) {
+    const ProgressiveMesh pm(model.topology());
+    PmViewOptions o;
+    o.target_px = a.detail.target_px;
+    o.crease_degrees = model.topology().crease_degrees;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = model.self_intersections(a.threads).flagged > 0;
+    PmSession session(pm, view_options(a, setup, model), o);
+    session.settle(home);
+    const bool print_each = !a.quiet && a.verbose;
+    auto progress = ProgressLine::on_stderr("render", std::size_t(plan.last + 1), "frames", !a.quiet);
+    for (long k = 0; k <= plan.last; ++k) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Camera cam = orbit_frame(home, model.topology().bounds, k, plan.count, a.arc);
+        View& view = session.render(cam, 1.0 / a.frame_rate);
+        progress->advance();
+        if (k < plan.first) continue;
+        std::string report = render_drawing(a, setup, session.adapted(), nullptr, cam,
+                                            plan.outputs[std::size_t(k)], format, t0, true, &view);
+        const FrontStats& s = session.stats();
+        appendf(report, "detail: pm, target %g px: %zu of %zu triangles, %zu splits, %zu collapses, %zu geomorphs "
+                "running, adaptation %.4f s\n",
+                a.detail.target_px, s.triangles, model.topology().faces.size(), s.splits, s.collapses,
+                s.morphs_running, s.seconds);
+        if (print_each) progress->print_above([&] { std::fputs(report.c_str(), stdout); });
+    }
+    progress->finish();
+}
+
 // The run's last lines: what was written, and for an orbit the flags that render the whole
 // sequence again (add --frame-range=K for frame K alone, the same file).
 void print_summary(const RenderArgs& a, const RenderPlan& plan, double seconds, const std::string& home_flags) {
@@ -483,7 +525,10 @@ int run_render(int argc, char** argv) {
     RenderArgs a;
     if (!render_flags(a).parse(argc, argv, 2, a.models)) return 0;  // --help
     const RenderPlan plan = plan_render(a);
-    split_cores(a, plan.last - plan.first + 1);
+    // (a pm sequence draws its frames one after another: render_pm_sequence)
+    const bool pm_sequence = a.detail.target_px > 0.0 && a.detail.method == "pm" && !plan.models && plan.count > 1;
+    split_cores(a, pm_sequence ? 1 : plan.last - plan.first + 1);
+    if (pm_sequence) a.jobs = 1;
     a.tone_options.threads = a.threads;
     const Format format = [&] {  // refuse a bad format before any work (a usage error)
         try {
@@ -506,8 +551,8 @@ int run_render(int argc, char** argv) {
     a.detail.check("render");
     if (a.detail.target_px > 0.0 && plan.models)
         throw BadValue("--detail: one model a run (its smoothed levels are built once for all its frames)");
-    if (a.detail.target_px > 0.0 && a.detail.method == "pm" && plan.count > 1)
-        throw BadValue("--detail-method=pm: one drawing at a time for now (not with --frames)");
+    if (a.frame_rate_given && !pm_sequence)
+        throw BadValue("--frame-rate: paces a --detail-method=pm sequence (--frames=N --orbit); other frames do not depend on time");
     if (a.detail.method == "pm" && (a.detail.fairing || a.detail.smoothing_given || !a.detail.cache_dir.empty() ||
                                     !a.detail.object_target_px.empty()))
         throw BadValue("--detail-fairing, --detail-smoothing, --cache and --detail-object are for --detail-method=multiscale");
@@ -567,6 +612,11 @@ int run_render(int argc, char** argv) {
     // The model's lazy parts, built before the jobs start (each frame needs the self-intersections,
     // nearly every one a ray test, all of them the curvature when its lines are drawn): the jobs
     // then only read the model. (Built on first use they would be safe too, behind call_once.)
+    if (a.detail.target_px > 0.0 && a.detail.method == "pm") {
+        render_pm_sequence(a, setup, plan, model, home, format);
+        print_summary(a, plan, seconds_since(t0), camera_flags(home));
+        return 0;
+    }
     model.self_intersections(a.threads);
     model.rays();
     if (setup.view.wants_surface_lines()) model.curvature();

@@ -678,6 +678,18 @@ Flag jobs_flag(int& jobs, bool* given) {
             }};
 }
 
+Flag frame_rate_flag(double& fps, bool* given) {
+    return {"--frame-rate", "FPS",
+            "with --detail-method=pm: the sequence's frames a second, the pace of its geomorphs (0.5 s) and of "
+            "its temporal smoothing (0.8 s), 1 to 1000 (default " + fmt_number(fps) + ")",
+            [&fps, given](const std::string& v) {
+                const double f = parse_number("--frame-rate", v);
+                if (!(f >= 1.0 && f <= 1000.0)) throw Error("--frame-rate", "expected frames a second in [1, 1000]");
+                fps = f;
+                *given = true;
+            }};
+}
+
 Flag frame_range_flag(FrameRange& range) {
     return {"--frame-range", "A:B",
             "render frames A to B only (both included, numbered from 0 as in the whole run, each frame the "

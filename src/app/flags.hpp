@@ -166,6 +166,7 @@ Flag frames_flag(int& frames, const std::string& what, bool* given = nullptr);
 Flag arc_flag(double& degrees, const std::string& what);  // help shows its default
 Flag orbit_flag(bool& orbit, const std::string& help);
 Flag jobs_flag(int& jobs, bool* given = nullptr);
+Flag frame_rate_flag(double& fps, bool* given);
 struct FrameRange;  // app/batch.hpp
 Flag frame_range_flag(FrameRange& range);
 Flag style_flag(std::string& style);
