@@ -132,12 +132,7 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
         return c;
     };
     const char* path_name = dolly ? "dolly 1 %/frame" : path == "orbit" ? "orbit 1 deg/frame" : "dolly in, bench's";
-    PmViewOptions o;
-    o.target_px = px;
-    o.crease_degrees = t.crease_degrees;
-    o.geomorphs.enabled = true;
-    o.input_self_intersects = model.self_intersections().flagged > 0;
-    PmSession session(pm, whole_frame_options(), o);
+    PmSession session(pm, whole_frame_options(), PmViewOptions::for_path(model, px));
     session.settle(camera_at(0));
     std::vector<double> cpu;
     std::vector<std::vector<double>> stage(11);

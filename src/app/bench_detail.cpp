@@ -129,12 +129,7 @@ MethodRow run_pm(const Model& model, const ViewOptions& base, const DetailBenchA
     const double t0 = thread_seconds();
     const ProgressiveMesh pm(model.topology());
     row.build_s = thread_seconds() - t0;
-    PmViewOptions o;
-    o.target_px = a.detail->target_px;
-    o.crease_degrees = model.topology().crease_degrees;
-    o.geomorphs.enabled = true;
-    o.input_self_intersects = model.self_intersections().flagged > 0;
-    PmSession session(pm, base, o);
+    PmSession session(pm, base, PmViewOptions::for_path(model, a.detail->target_px));
     session.settle(a.camera(0));  // converged at the first view before the path, as a window opens
     std::vector<glm::dvec2> last;
     const double frame_s = 1.0 / 25.0;

@@ -466,12 +466,8 @@ void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPla
 void render_pm_sequence(const RenderArgs& a, const RenderSetup& setup, const RenderPlan& plan, const Model& model,
                         const Camera& home, Format format) {
     const ProgressiveMesh pm(model.topology());
-    PmViewOptions o;
-    o.target_px = a.detail.target_px;
-    o.crease_degrees = model.topology().crease_degrees;
-    o.geomorphs.enabled = true;
-    o.input_self_intersects = model.self_intersections(a.threads).flagged > 0;
-    PmSession session(pm, view_options(a, setup, model), o);
+    model.self_intersections(a.threads);  // (searched on the run's threads before for_path asks)
+    PmSession session(pm, view_options(a, setup, model), PmViewOptions::for_path(model, a.detail.target_px));
     session.settle(home);
     const bool print_each = !a.quiet && a.verbose;
     auto progress = ProgressLine::on_stderr("render", std::size_t(plan.last + 1), "frames", !a.quiet);

@@ -14,6 +14,15 @@ double thread_cpu_seconds() {
 }
 }  // namespace
 
+PmViewOptions PmViewOptions::for_path(const Model& model, double target_px) {
+    PmViewOptions o;
+    o.target_px = target_px;
+    o.crease_degrees = model.topology().crease_degrees;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = model.self_intersections().flagged > 0;
+    return o;
+}
+
 PmSession::PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options)
     : pm_(pm), options_(options), pm_options_(pm_options), front_(pm, pm_options.geomorphs) {}
 

@@ -35,6 +35,10 @@ struct PmViewOptions {
     // split's faces cross their neighbours while its vertex slides out). A view that draws
     // intersection lines takes the full search (their chaining follows its order).
     bool input_self_intersects = true;
+
+    // A camera path's options for `model` (the window, render sequences, the benches): geomorphs on,
+    // the model's crease angle, and whether it intersects itself (its search run if not yet).
+    static PmViewOptions for_path(const Model& model, double target_px);
 };
 
 // Where a frame's time went, in the rendering thread's CPU seconds: the front's adaptation, the

@@ -20,12 +20,7 @@ DetailSource::~DetailSource() = default;
 
 void DetailSource::reset(const ViewOptions& options) {
     if (pm_) {
-        PmViewOptions o;
-        o.target_px = target_px_.load();
-        o.crease_degrees = model_.topology().crease_degrees;
-        o.geomorphs.enabled = true;
-        o.input_self_intersects = model_.self_intersections().flagged > 0;
-        pm_session_ = std::make_unique<PmSession>(*pm_, options, o);
+        pm_session_ = std::make_unique<PmSession>(*pm_, options, PmViewOptions::for_path(model_, target_px_.load()));
         settled_ = false;
     } else {
         ms_session_ = std::make_unique<MultiscaleSession>(
