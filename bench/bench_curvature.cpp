@@ -12,17 +12,14 @@
 #include <ctime>
 #include <vector>
 
+#include "core/clock.hpp"
 #include "bench_models.hpp"
 #include "curvature/curvature.hpp"
 #include "pipeline.hpp"
 
 namespace {
 
-double thread_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
+double thread_cpu_ms() { return 1e3 * inkline::thread_cpu_seconds(); }
 
 double median(std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.hpp"
 #include "pipeline.hpp"
 
 // nullptr when the mesh is not there (scripts/setup.sh extracts them).
@@ -53,8 +54,4 @@ inline std::vector<std::string> split_commas(const std::string& s) {
 }
 
 // The process's CPU time (all its threads), ms.
-inline double process_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
-}
+inline double process_cpu_ms() { return 1e3 * inkline::process_cpu_seconds(); }

@@ -21,18 +21,13 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/clock.hpp"
 #include "bench_models.hpp"
 #include "detail/multiscale.hpp"
 
 namespace {
 
 using namespace inkline;
-
-double thread_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -199,14 +194,14 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
     if (!m) return;
     const MeshTopology& t = m->topology();
     // The model's own curvature and self-intersections (a plain render computes them too).
-    double t0 = thread_seconds();
+    double t0 = inkline::thread_cpu_seconds();
     m->curvature();
     m->self_intersections();
     m->rays();
-    const double model_s = thread_seconds() - t0;
-    t0 = thread_seconds();
+    const double model_s = inkline::thread_cpu_seconds() - t0;
+    t0 = inkline::thread_cpu_seconds();
     const MultiscaleLevels L = build_multiscale_levels(*m, options);
-    const double levels_s = thread_seconds() - t0;
+    const double levels_s = inkline::thread_cpu_seconds() - t0;
     const double per_vertex_level = L.levels > 1 ? double(L.bytes()) / double(L.vertices * std::size_t(L.levels - 1)) : 0.0;
     std::printf("\n## %s: %zu triangles, %zu vertices (r = %g)\n\n", name.c_str(), t.face_count(), t.vertex_count(), options.ratio);
     std::printf("pre-process: %.2f s CPU (+ %.2f s for the model's curvature, self-intersections and ray index), "
@@ -251,12 +246,12 @@ void bench(const std::string& name, int frames, double target_arg, const Multisc
     for (int i = 0; i < frames; ++i) {
         const double factor = std::pow(8.0, double(i) / double(frames - 1));
         const Camera cam = camera_at(factor);
-        double s = thread_seconds();
+        double s = inkline::thread_cpu_seconds();
         const double lp = visible_length(plain.render(cam).drawing);
-        plain_ms.push_back(1e3 * (thread_seconds() - s));
-        s = thread_seconds();
+        plain_ms.push_back(1e3 * (inkline::thread_cpu_seconds() - s));
+        s = inkline::thread_cpu_seconds();
         const double ld = visible_length(detail.render(cam).drawing);
-        detail_ms.push_back(1e3 * (thread_seconds() - s));
+        detail_ms.push_back(1e3 * (inkline::thread_cpu_seconds() - s));
         const double r = t.bounds.half_diagonal() * cam.focal() / (factor * glm::length(offset));
         const double area = M_PI * r * r;
         if (i == 0) d0p = lp / area, d0d = ld / area;

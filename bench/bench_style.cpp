@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "core/clock.hpp"
 #include "output/styled.hpp"
 #include "pipeline.hpp"
 #include "style/attributes.hpp"
@@ -33,12 +34,6 @@ struct Frame {
     inkline::View view;
     double vis_ms = 0.0;  // visibility stage, process CPU ms, least of 5 runs
 };
-
-double cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
 
 const Frame* frame(const std::string& name, bool hidden) {
     static std::map<std::string, std::unique_ptr<Frame>> cache;
@@ -59,12 +54,12 @@ const Frame* frame(const std::string& name, bool hidden) {
         const inkline::Features features = inkline::extract_features(mesh, f->camera);
         f->vis_ms = 1e300;
         for (int i = 0; i < 5; ++i) {
-            const double t0 = cpu_seconds();
+            const double t0 = inkline::process_cpu_seconds();
             inkline::PieceGraph g = inkline::build_pieces(mesh, features, f->camera);
             inkline::assign_qi_appel(mesh, f->camera, features.face_front,
                                      [&]() -> const inkline::RayCaster& { return f->model->rays(); }, g,
                                      {hidden, f->model->pierced_faces(), true});
-            f->vis_ms = std::min(f->vis_ms, 1e3 * (cpu_seconds() - t0));
+            f->vis_ms = std::min(f->vis_ms, 1e3 * (inkline::process_cpu_seconds() - t0));
             benchmark::DoNotOptimize(g);
         }
     }
@@ -91,9 +86,9 @@ void BM_Stylize(benchmark::State& state, const char* mesh, const char* style_nam
     std::size_t hatches = 0;
     double total = 0.0;
     for (auto _ : state) {
-        const double t0 = cpu_seconds();
+        const double t0 = inkline::process_cpu_seconds();
         auto sd = stylize(*f, style, &hatches);
-        total += cpu_seconds() - t0;
+        total += inkline::process_cpu_seconds() - t0;
         benchmark::DoNotOptimize(sd);
     }
     const double ms = 1e3 * total / double(std::max<std::int64_t>(1, state.iterations()));

@@ -9,6 +9,7 @@
 #include <ctime>
 #include <vector>
 
+#include "core/clock.hpp"
 #include "bench_models.hpp"
 #include "curvature/curvature.hpp"
 
@@ -16,12 +17,6 @@ namespace {
 
 inkline::Camera orbit(const inkline::MeshTopology& t, double degrees) {
     return inkline::Camera::perspective(orbit_eye(t, degrees), t.bounds.center(), {0, 1, 0}, 30.0, 1024, 1024);
-}
-
-double thread_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 double median(std::vector<double>& v) {
@@ -46,11 +41,11 @@ void per_view(benchmark::State& state, const char* name) {
     for (auto _ : state) {
         const inkline::Camera cam = orbit(t, frame);
         frame += 1.0;
-        const double t0 = thread_seconds();
+        const double t0 = inkline::thread_cpu_seconds();
         inkline::compute_view_curvature(field, t, cam, view);
-        const double t1 = thread_seconds();
+        const double t1 = inkline::thread_cpu_seconds();
         inkline::extract_surface_lines(t, field, view, cam, options, curves);
-        const double t2 = thread_seconds();
+        const double t2 = inkline::thread_cpu_seconds();
         quantities.push_back(t1 - t0);
         lines.push_back(t2 - t1);
         both.push_back(t2 - t0);

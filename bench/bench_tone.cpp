@@ -17,18 +17,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <unordered_map>
 
+#include "core/clock.hpp"
 #include "pipeline.hpp"
 #include "tone/tone.hpp"
 
 using namespace inkline;
 
 namespace {
-double thread_cpu_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
@@ -150,9 +145,9 @@ int main(int argc, char** argv) {
                 std::vector<double> shade, blur, ridges, trace, total;
                 std::vector<double> cpu[4];  // one thread: the stages' CPU time (load-independent)
                 for (int k = 0; k < kRuns && threads == 1; ++k) {
-                    double c = thread_cpu_seconds();
+                    double c = inkline::thread_cpu_seconds();
                     const auto lap = [&](int stage) {
-                        const double now = thread_cpu_seconds();
+                        const double now = inkline::thread_cpu_seconds();
                         cpu[stage].push_back(now - c);
                         c = now;
                     };

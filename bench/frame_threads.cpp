@@ -18,27 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.hpp"
 #include "bench_models.hpp"
 
 namespace {
 
-double process_cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double thread_cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-double wall_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
+double wall_seconds() { return inkline::cpu_seconds(CLOCK_MONOTONIC); }  // (any clock_gettime clock)
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -148,9 +133,9 @@ int main(int argc, char** argv) {
         auto cam = inkline::Camera::perspective(orbit_eye(mesh, degrees), mesh.bounds.center(), {0, 1, 0}, 30.0, 1024, 1024);
         cam.set_near(inkline::default_near(mesh));
         for (Column& c : columns) {
-            const double w0 = wall_seconds(), c0 = process_cpu_seconds(), t0 = thread_cpu_seconds();
+            const double w0 = wall_seconds(), c0 = inkline::process_cpu_seconds(), t0 = inkline::thread_cpu_seconds();
             const inkline::View& v = c.session->render(cam);
-            record(c, v, wall_seconds() - w0, process_cpu_seconds() - c0, thread_cpu_seconds() - t0);
+            record(c, v, wall_seconds() - w0, inkline::process_cpu_seconds() - c0, inkline::thread_cpu_seconds() - t0);
         }
     }
     double load1 = 0.0;

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "core/clock.hpp"
 #include "bench_models.hpp"
 
 struct ProfileView {
@@ -35,11 +36,7 @@ struct FrameTimes {
 // Runs untimed() then timed() `frames` times; the mean and least CPU time of timed().
 template <class Untimed, class Timed>
 FrameTimes time_frames(int frames, Untimed&& untimed, Timed&& timed) {
-    auto now = [] {
-        timespec t{};
-        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-        return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-    };
+    const auto now = inkline::thread_cpu_seconds;
     double seconds = 0.0, best = 1e30;
     for (int k = 0; k < frames; ++k) {
         untimed();

@@ -1,3 +1,4 @@
+#include "core/clock.hpp"
 #include "app/bench_detail.hpp"
 
 #include <algorithm>
@@ -16,12 +17,6 @@
 
 namespace inkline {
 namespace {
-
-double thread_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 std::string fmt(const char* f, double v) {
     char buf[64];
@@ -102,9 +97,9 @@ void record(MethodRow& row, const Drawing& d, const MeshTopology& mesh, const Ca
 MethodRow run_multiscale(const Model& model, const ViewOptions& base, const DetailBenchArgs& a) {
     MethodRow row;
     row.method = "multiscale";
-    const double t0 = thread_seconds();
+    const double t0 = thread_cpu_seconds();
     const MultiscaleLevels levels = build_multiscale_levels(model, a.detail->levels_options());
-    row.build_s = thread_seconds() - t0;
+    row.build_s = thread_cpu_seconds() - t0;
     row.stored_mib = levels.bytes() / 1048576.0;
     MultiscaleSession session(model, levels, base,
                               MultiscaleViewOptions{.target_px = a.detail->target_px,
@@ -112,9 +107,9 @@ MethodRow run_multiscale(const Model& model, const ViewOptions& base, const Deta
     std::vector<glm::dvec2> last;
     for (int i = 0; i < a.frames; ++i) {
         const Camera cam = a.camera(i);
-        const double f0 = thread_seconds();
+        const double f0 = thread_cpu_seconds();
         View& v = session.render(cam);
-        row.frame_ms.push_back((thread_seconds() - f0) * 1e3);
+        row.frame_ms.push_back((thread_cpu_seconds() - f0) * 1e3);
         row.adapt_ms.push_back(session.seconds_blend() * 1e3);
         row.triangles += double(model.topology().faces.size());
         record(row, v.drawing, model.topology(), cam, i, a.frames, last);
@@ -126,18 +121,18 @@ MethodRow run_multiscale(const Model& model, const ViewOptions& base, const Deta
 MethodRow run_pm(const Model& model, const ViewOptions& base, const DetailBenchArgs& a) {
     MethodRow row;
     row.method = "pm";
-    const double t0 = thread_seconds();
+    const double t0 = thread_cpu_seconds();
     const ProgressiveMesh pm(model.topology());
-    row.build_s = thread_seconds() - t0;
+    row.build_s = thread_cpu_seconds() - t0;
     PmSession session(pm, base, PmViewOptions::for_path(model, a.detail->target_px));
     session.settle(a.camera(0));  // converged at the first view before the path, as a window opens
     std::vector<glm::dvec2> last;
     const double frame_s = 1.0 / 25.0;
     for (int i = 0; i < a.frames; ++i) {
         const Camera cam = a.camera(i);
-        const double f0 = thread_seconds();
+        const double f0 = thread_cpu_seconds();
         View& v = session.render(cam, frame_s);
-        row.frame_ms.push_back((thread_seconds() - f0) * 1e3);
+        row.frame_ms.push_back((thread_cpu_seconds() - f0) * 1e3);
         const FrontStats& s = session.stats();
         row.adapt_ms.push_back(s.seconds * 1e3);
         row.triangles += double(s.triangles);

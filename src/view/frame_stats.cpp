@@ -6,12 +6,6 @@
 
 namespace inkline {
 
-double cpu_seconds(clockid_t clock) {
-    timespec t{};
-    clock_gettime(clock, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 void StageTimes::add(const StageTimes& o, double k) {
     cpu_features += k * o.cpu_features, cpu_visibility += k * o.cpu_visibility;
     features += k * o.features, search += k * o.search, chain += k * o.chain, visibility += k * o.visibility;

@@ -11,9 +11,6 @@
 
 namespace inkline {
 
-// CPU seconds of a clock (CLOCK_THREAD_CPUTIME_ID, CLOCK_PROCESS_CPUTIME_ID).
-double cpu_seconds(clockid_t clock);
-
 // Seconds spent in each stage of a view or a frame.
 struct StageTimes {
     double features = 0, search = 0, chain = 0, visibility = 0, recall = 0, lines = 0, draw = 0, frame = 0, wait = 0;
