@@ -137,17 +137,37 @@ bool parse_int(std::string_view tok, std::int64_t& out) {
 class NumberCursor {
 public:
     explicit NumberCursor(std::string_view line) : p_(line.data()), end_(line.data() + line.size()) {}
-    template <class T>
-    bool next(T& value) {
+    bool next(double& value) {
+        if (!skip_space()) return false;
+        return ended(std::from_chars(p_, end_, value));
+    }
+    // Decimal digits with an optional '-', as std::from_chars reads them; up to 18 digits here
+    // (no overflow possible), more through from_chars itself.
+    bool next(std::int64_t& value) {
+        if (!skip_space()) return false;
+        const char* q = p_;
+        const bool negative = *q == '-';
+        q += negative;
+        std::int64_t v = 0;
+        const char* const digits = q;
+        while (q < end_ && q - digits < 18 && unsigned(*q - '0') < 10) v = 10 * v + (*q++ - '0');
+        if (q == digits || (q < end_ && unsigned(*q - '0') < 10)) return ended(std::from_chars(p_, end_, value));
+        value = negative ? -v : v;
+        return ended({q, std::errc()});
+    }
+
+private:
+    bool skip_space() {
         while (p_ < end_ && is_space(*p_)) ++p_;
-        if (p_ == end_) return false;
-        const auto r = std::from_chars(p_, end_, value);
+        return p_ < end_;
+    }
+    // A number read whole: it ends the line or a token.
+    bool ended(std::from_chars_result r) {
         if (r.ec != std::errc() || (r.ptr != end_ && !is_space(*r.ptr))) return false;
         p_ = r.ptr;
         return true;
     }
 
-private:
     const char* p_;
     const char* end_;
 };
@@ -1408,8 +1428,12 @@ CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triang
         if (b1 - b0 > 16) {
             std::sort(b0, b1);
         } else {  // a vertex's few edges (six on average): insertion sort, without std::sort's set-up
-            for (auto i = b0 + 1; i < b1; ++i)
-                for (auto j = i; j > b0 && *(j - 1) > *j; --j) std::iter_swap(j - 1, j);
+            for (auto i = b0 + 1; i < b1; ++i) {
+                const std::uint64_t k = *i;  // held, the larger ones moved up (no overlapping swaps)
+                auto j = i;
+                for (; j > b0 && *(j - 1) > k; --j) *j = *(j - 1);
+                *j = k;
+            }
         }
         for (auto g0 = b0; g0 != b1;) {  // one group: the same upper vertex
             auto g1 = g0 + 1;
