@@ -22,7 +22,7 @@ const SceneReader& scene_reader() {
     static const SceneReader* const reader = [] {
         if (inkline_scene_reader_v1) return inkline_scene_reader_v1();
         const std::string path = module_path(kSceneReaderModule);
-        void* library = open_library(path, "scene formats other than OBJ, OFF, PLY and STL are read by Assimp through it");
+        void* library = open_library(path, "Assimp's reader of the scene formats; $INKLINE_MODULE_DIR names its folder");
         using Entry = const SceneReader* (*)();
         return reinterpret_cast<Entry>(library_symbol(library, path, kSceneReaderSymbol))();
     }();
