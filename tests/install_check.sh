@@ -62,7 +62,8 @@ run)
   [ "$(complete_words inkline render --format =)" = "svg pdf png json" ] || fail "completion of --format=: $(complete_words inkline render --format =)"
   [ "$(complete_words inkline render --style = tech)" = "technical" ] || fail "completion of --style=tech: $(complete_words inkline render --style = tech)"
   # The window's program beside it: `inkline view` runs it (here only its help: no display).
-  "$inkline" view --help 2>err.txt | grep -q '^usage: inkline view' || fail "installed inkline view --help: $(cat err.txt)"
+  "$inkline" view --help >help.txt 2>err.txt || fail "installed inkline view --help: $(cat err.txt)"
+  grep -q '^usage: inkline view' help.txt || fail "installed inkline view --help printed no usage: $(head -1 help.txt)"
   # The installed tree finds its styles and its scene module from where it is, so it can be moved.
   cp "$src/fuzz/corpus/glb/instances.glb" scene.glb
   mv "$root/prefix" "$root/moved"
