@@ -91,7 +91,7 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
     echo "#### Start-up"
     echo
     echo "\`inkline --version\` (nothing but start-up and exit), $((3 * PAIRS)) alternated pairs: medians of the wall and"
-    echo "CPU ms (the OS's accounting of each process) and of the per-pair CPU ratio after/before; the"
+    echo "CPU ms (perf stat's task-clock) and of the per-pair CPU ratio after/before; the"
     echo "dynamic loader's own figures (LD_DEBUG=statistics: its start-up cycles, the symbol relocations);"
     echo "the shared libraries an SVG render of armadillo loads (LD_DEBUG=files)."
     echo
