@@ -8,7 +8,9 @@
 # drew the same SVG, and this build's stages in process (load_probe stages: CPU seconds of the
 # thread, the least of 3), and the wall time until a render's first view can start (load_probe
 # load: Model::load and the self-intersections, the least of 3) on one thread and on two (the
-# Hilbert sorts side by side, the search beside the topology). Writes bench/results/load_speed.md.
+# Hilbert sorts side by side, the search beside the topology). Then start-up alone (`--version`):
+# times, the dynamic loader's cycles and relocations, the libraries an SVG render loads. Writes
+# bench/results/load_speed.md.
 # Usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,6 +35,16 @@ run_once() {
     t1=$(date +%s%N)
     load=$(sed -n 's/^seconds: load \([0-9.]*\).*/\1/p' "$tmp/stdout")
     awk -v w="$(( (t1 - t0) / 1000 ))" -v l="$load" 'BEGIN { printf "%.1f %.1f\n", w / 1000, l * 1000 }'
+}
+# "cpu_ms wall_ms" of `BIN --version`: perf stat's task-clock (the process's CPU time, to the
+# microsecond: /usr/bin/time counts in 10 ms) and the wall time of a run of its own (no perf).
+cpu_wall() {
+    local t0 t1
+    perf stat -x, -e task-clock -o "$tmp/time" "$1" --version >/dev/null
+    t0=$(date +%s%N)
+    "$1" --version >/dev/null
+    t1=$(date +%s%N)
+    awk -F, -v w="$(( (t1 - t0) / 1000 ))" '/task-clock/ { printf "%.2f %.2f\n", $1, w / 1000 }' "$tmp/time"
 }
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 {
@@ -75,6 +87,35 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
         ready() { "$PROBE" load "$f" 3 "$1" | sed -n 's/.*load and self-intersections \([0-9.]*\) s.*/\1/p' | awk '{ printf "%.1f", $1 * 1000 }'; }
         echo "| $name | $format | $tris | $bl | $al | $bw | $aw | $ratio | $same | $(ms 'parse+repair') | $(ms hilbert) | $(ms topology) | $(ms self-intersections) | $(ready 1) / $(ready 2) |"
     done
+    echo
+    echo "#### Start-up"
+    echo
+    echo "\`inkline --version\` (nothing but start-up and exit), $((3 * PAIRS)) alternated pairs: medians of the wall and"
+    echo "CPU ms (perf stat's task-clock) and of the per-pair CPU ratio after/before; the"
+    echo "dynamic loader's own figures (LD_DEBUG=statistics: its start-up cycles, the symbol relocations);"
+    echo "the shared libraries an SVG render of armadillo loads (LD_DEBUG=files)."
+    echo
+    echo "| | wall ms | CPU ms | loader cycles | relocations | libraries loaded by an SVG render |"
+    echo "|---|---:|---:|---:|---:|---:|"
+    : >"$tmp/version"
+    for _ in $(seq $((3 * PAIRS))); do
+        b=$(cpu_wall "$BEFORE"); a=$(cpu_wall "$AFTER")
+        echo "$b $a" >>"$tmp/version"
+    done
+    cpu_ratio=$(awk '{ printf "%.3f\n", $3 / $1 }' "$tmp/version" | median)
+    for which in before after; do
+        bin=$BEFORE; col=1
+        [ "$which" = after ] && bin=$AFTER && col=3
+        cpu=$(awk -v c=$col '{ print $c }' "$tmp/version" | median)
+        wall=$(awk -v c=$((col + 1)) '{ print $c }' "$tmp/version" | median)
+        stats=$(LD_DEBUG=statistics "$bin" --version 2>&1 >/dev/null)
+        cycles=$(echo "$stats" | sed -n 's/.*total startup time in dynamic loader: \([0-9]*\) cycles.*/\1/p' | head -1)
+        relocs=$(echo "$stats" | sed -n 's/.*final number of relocations: \([0-9]*\).*/\1/p' | head -1)
+        libs=$(LD_DEBUG=files "$bin" render "$DATA/meshes/armadillo.off" -o "$tmp/libs.svg" 2>&1 >/dev/null | grep -c 'file=.*\[0\];  \(needed\|dynamically loaded\)' || true)
+        echo "| $which | $wall | $cpu | $cycles | $relocs | $libs |"
+    done
+    echo
+    echo "CPU ratio after/before (median of the pairs): $cpu_ratio."
 } >"$OUT.tmp"
 mv "$OUT.tmp" "$OUT"
 cat "$OUT"

@@ -53,10 +53,13 @@ for t in "${targets[@]}"; do
           -lgmpxx -lmpfr -lgmp
       fi ;;
     glb|gltf)
-      scene_src=(fuzz/fuzz_scene.cpp fuzz/scene_checks.hpp src/scene/scene.cpp src/model/mesh_io.cpp src/core/camera.cpp)
-      if [ ! -x "$bin" ] || [ -n "$(find "${scene_src[@]}" src/scene/scene.hpp src/model/mesh_io.hpp -newer "$bin")" ]; then
+      # The Assimp reader linked in (the program's own reader is used before the module's).
+      scene_src=(fuzz/fuzz_scene.cpp fuzz/scene_checks.hpp src/scene/scene.cpp src/scene/assimp_reader.cpp
+                 src/core/shared_library.cpp src/model/mesh_io.cpp src/core/camera.cpp)
+      if [ ! -x "$bin" ] || [ -n "$(find "${scene_src[@]}" src/scene/scene.hpp src/scene/scene_reader.hpp src/model/mesh_io.hpp -newer "$bin")" ]; then
         clang++ "${flags[@]}" "${lib[@]}" -DFUZZ_EXT="\"$t\"" fuzz/fuzz_scene.cpp src/scene/scene.cpp \
-          src/model/mesh_io.cpp src/core/camera.cpp -o "$bin" -lassimp -lgmpxx -lmpfr -lgmp
+          src/scene/assimp_reader.cpp src/core/shared_library.cpp src/model/mesh_io.cpp src/core/camera.cpp \
+          -o "$bin" -lassimp -lgmpxx -lmpfr -lgmp
       fi ;;
     pipeline)
       build_library

@@ -21,9 +21,12 @@ install)
            lib/cmake/inkline/inklineConfigVersion.cmake lib/cmake/inkline/inklineTargets.cmake \
            share/inkline/styles/sketchy.json share/inkline/styles/README.md share/man/man1/inkline.1 \
            share/bash-completion/completions/inkline share/doc/inkline/docs/freeform.md \
-           share/doc/inkline/examples/teapot.bpt; do
+           share/doc/inkline/examples/teapot.bpt bin/inkline-window; do
     [ -e "$root/prefix/$f" ] || fail "not installed: $f"
   done
+  # The scene reader, opened at the first scene file (LIBDIR/inkline; LIBDIR is lib or lib/<triplet>).
+  compgen -G "$root/prefix/lib*/inkline/libinkline_assimp.so" >/dev/null ||
+    compgen -G "$root/prefix/lib/*/inkline/libinkline_assimp.so" >/dev/null || fail "not installed: libinkline_assimp.so"
   ;;
 example)
   src=$3 cxx=$4 generator=$5
@@ -58,10 +61,16 @@ run)
   }
   [ "$(complete_words inkline render --format =)" = "svg pdf png json" ] || fail "completion of --format=: $(complete_words inkline render --format =)"
   [ "$(complete_words inkline render --style = tech)" = "technical" ] || fail "completion of --style=tech: $(complete_words inkline render --style = tech)"
-  # The installed tree finds its styles from where it is, so it can be moved.
+  # The window's program beside it: `inkline view` runs it (here only its help: no display).
+  "$inkline" view --help >help.txt 2>err.txt || fail "installed inkline view --help: $(cat err.txt)"
+  grep -q '^usage: inkline view' help.txt || fail "installed inkline view --help printed no usage: $(head -1 help.txt)"
+  # The installed tree finds its styles and its scene module from where it is, so it can be moved.
+  cp "$src/fuzz/corpus/glb/instances.glb" scene.glb
   mv "$root/prefix" "$root/moved"
   "$root/moved/bin/inkline" render model.off -o moved.svg --size=200x150 --style=technical --quiet 2>err.txt ||
     { mv "$root/moved" "$root/prefix"; fail "moved prefix: inkline render --style=technical: $(cat err.txt)"; }
+  "$root/moved/bin/inkline" render scene.glb -o scene.svg --size=200x150 --camera=frame --quiet 2>err.txt ||
+    { mv "$root/moved" "$root/prefix"; fail "moved prefix: inkline render scene.glb: $(cat err.txt)"; }
   mv "$root/moved" "$root/prefix"
   # No path into the source or build tree in what was installed or built against it.
   files=$(find "$root/prefix" "$root/example/draw_model" -type f)

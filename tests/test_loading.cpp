@@ -288,6 +288,22 @@ TEST_P(LoadingPins, SameArraysAsBefore) {
         for (const auto& [name, value] : model_hashes(path)) std::printf("  %s %016llx\n", name.c_str(), static_cast<unsigned long long>(value));
 }
 
+// A face listed twice where no other face meets its edges (a two-sided triangle beside a closed
+// tetrahedron): every edge of the pair has exactly those two faces, the case the repairs' quick
+// check (no face with its three corner mates in one face) must send to the duplicate search. Both
+// windings of the copy are dropped as before.
+TEST(LoadingRepairs, TwoSidedLoneTriangleIsOneFace) {
+    for (const std::array<std::uint32_t, 3> copy : {std::array<std::uint32_t, 3>{4, 5, 6}, {4, 6, 5}, {5, 6, 4}}) {
+        TriangleMesh m;
+        m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {3, 0, 0}, {4, 0, 0}, {3, 1, 0}};
+        m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {4, 5, 6}, copy};
+        repair_mesh(m, "two-sided");
+        EXPECT_EQ(m.repairs.faces_dropped, 1u);
+        ASSERT_EQ(m.triangles.size(), 5u);
+        EXPECT_EQ(inkline::build_topology(m).border_list.size(), 3u);  // the lone triangle's edges
+    }
+}
+
 // Duplicate faces around a vertex of many faces (more than 32: its bucket is sorted, not
 // compared pairwise): a fan of 40 triangles around vertex 0 with one face listed again, once in
 // another rotation and once as it is, at the end. The two copies are dropped, the fan kept in order.

@@ -388,6 +388,45 @@ TEST(SceneCli, TolerantByDefaultStrictRefuses) {
     EXPECT_FALSE(fs::exists(d / "strict.svg"));
 }
 
+// Assimp, Cairo and the window's libraries are loaded only by what needs them (docs/loading.md,
+// "Start-up"): the dynamic loader's own list of the files it opens (LD_DEBUG=files) for an SVG
+// render names none of them, a PNG render names Cairo, a scene file Assimp's module; without the
+// module, a scene file is refused in one line naming it while OFF still renders.
+TEST(SceneCli, LibrariesAreLoadedOnlyWhenNeeded) {
+    const fs::path d = scratch();
+    write(d / "tet.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    Gltf g;
+    const std::string glb = g.save(d, "box", {g.add_node({{"name", "Box"}, {"mesh", g.add_mesh(inkline::make_box({-1, -1, -1}, {1, 1, 1}), "box")}})});
+    const auto loaded = [&](const std::string& args) {
+        const inkline_test::Result r = inkline_test::run_inkline("LD_DEBUG=files ", args, d);
+        EXPECT_EQ(r.code, 0) << args << ": " << r.err;
+        std::string files;  // the libraries named by "file=NAME [0];  ..." lines
+        for (std::size_t at = 0; (at = r.err.find("file=", at)) != std::string::npos; at += 5)
+            files += r.err.substr(at + 5, r.err.find_first_of(" \n", at) - at - 5) + " ";
+        return files;
+    };
+    const std::string svg = loaded("render " + (d / "tet.off").string() + " -o " + (d / "tet.svg").string());
+    EXPECT_NE(svg.find("libstdc++"), std::string::npos) << svg;  // the loader's lines were read
+    for (const char* lib : {"libcairo", "libassimp", "libinkline_assimp", "libglfw", "libGL", "libX11"})
+        EXPECT_EQ(svg.find(lib), std::string::npos) << lib << " loaded for an SVG render: " << svg;
+    const std::string png = loaded("render " + (d / "tet.off").string() + " --size=64x64 -o " + (d / "tet.png").string());
+    EXPECT_NE(png.find("libcairo.so.2"), std::string::npos) << png;
+    EXPECT_EQ(png.find("libassimp"), std::string::npos) << png;
+    const std::string scene = loaded("render " + glb + " -o " + (d / "box.svg").string());
+    EXPECT_NE(scene.find("libinkline_assimp.so"), std::string::npos) << scene;
+    EXPECT_EQ(scene.find("libcairo"), std::string::npos) << scene;
+
+    fs::create_directories(d / "no_modules");
+    const std::string env = "INKLINE_MODULE_DIR=" + (d / "no_modules").string() + " ";
+    const inkline_test::Result refused = inkline_test::run_inkline(env, "render " + glb + " -o " + (d / "x.svg").string(), d);
+    EXPECT_EQ(refused.code, 1);
+    EXPECT_EQ(count_lines(refused.err), 1u) << refused.err;
+    EXPECT_EQ(refused.err.rfind("inkline: " + (d / "no_modules" / "libinkline_assimp.so").string() + ": cannot be loaded", 0), 0u)
+        << refused.err;
+    EXPECT_FALSE(fs::exists(d / "x.svg"));
+    EXPECT_EQ(inkline_test::run_inkline(env, "render " + (d / "tet.off").string() + " -o " + (d / "y.svg").string(), d).code, 0);
+}
+
 TEST(SceneCli, FileCameraByDefaultByNameOrFramed) {
     const fs::path d = scratch();
     Gltf g;

@@ -31,7 +31,6 @@
 #include "style/styled_view.hpp"
 #include "style/stylize.hpp"
 #include "view/camera_rig.hpp"
-#include "view/viewer.hpp"
 
 namespace inkline {
 

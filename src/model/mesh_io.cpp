@@ -63,18 +63,25 @@ public:
         : text_(text), comments_(hash_comments), progress_(progress) {}
     // Next line with at least one token (comments removed); false at the end of the text.
     bool next(std::vector<std::string_view>& tokens) {
+        std::string_view line;
+        if (!next_line(line)) return false;
+        split(line, tokens);
+        return true;
+    }
+    // The same line as next() without splitting it: comments removed, at least one token.
+    bool next_line(std::string_view& line) {
         const char* const text = text_.data();
         while (pos_ < text_.size()) {
             const void* nl = std::memchr(text + pos_, '\n', text_.size() - pos_);
             const std::size_t end = nl ? std::size_t(static_cast<const char*>(nl) - text) : text_.size();
-            std::string_view line(text + pos_, end - pos_);
+            line = std::string_view(text + pos_, end - pos_);
             pos_ = end + 1;
             if ((++line_ & 0xffff) == 0 && progress_) progress_->bytes(pos_, 0.0, kProgressParsed);
             if (comments_)
                 if (const void* hash = std::memchr(line.data(), '#', line.size()))
                     line = line.substr(0, std::size_t(static_cast<const char*>(hash) - line.data()));
-            split(line, tokens);
-            if (!tokens.empty()) return true;
+            for (char c : line)
+                if (!is_space(c)) return true;
         }
         return false;
     }
@@ -121,12 +128,75 @@ bool parse_int(std::string_view tok, std::int64_t& out) {
     return r.ec == std::errc() && r.ptr == tok.data() + tok.size();
 }
 
+// Reads a line's whitespace-separated numbers in turn, as parse_double and parse_int read its
+// tokens, without making the tokens (most of a text file's time went to splitting its lines).
+// next() is false, deciding nothing, where the tokenized path must look: no number left, or a
+// token that std::from_chars does not read whole (a leading '+', hexadecimal, out of range, not a
+// number); the caller then reads the line through Lines::split, which gives the same numbers or
+// the error.
+class NumberCursor {
+public:
+    explicit NumberCursor(std::string_view line) : p_(line.data()), end_(line.data() + line.size()) {}
+    bool next(double& value) {
+        if (!skip_space()) return false;
+        return ended(std::from_chars(p_, end_, value));
+    }
+    // Decimal digits with an optional '-', as std::from_chars reads them; up to 18 digits here
+    // (no overflow possible), more through from_chars itself.
+    bool next(std::int64_t& value) {
+        if (!skip_space()) return false;
+        const char* q = p_;
+        const bool negative = *q == '-';
+        q += negative;
+        std::int64_t v = 0;
+        const char* const digits = q;
+        while (q < end_ && q - digits < 18 && unsigned(*q - '0') < 10) v = 10 * v + (*q++ - '0');
+        if (q == digits || (q < end_ && unsigned(*q - '0') < 10)) return ended(std::from_chars(p_, end_, value));
+        value = negative ? -v : v;
+        return ended({q, std::errc()});
+    }
+
+private:
+    bool skip_space() {
+        while (p_ < end_ && is_space(*p_)) ++p_;
+        return p_ < end_;
+    }
+    // A number read whole: it ends the line or a token.
+    bool ended(std::from_chars_result r) {
+        if (r.ec != std::errc() || (r.ptr != end_ && !is_space(*r.ptr))) return false;
+        p_ = r.ptr;
+        return true;
+    }
+
+    const char* p_;
+    const char* end_;
+};
+
 std::string in_quotes(std::string_view tok) { return "'" + std::string(tok.substr(0, 40)) + "'"; }
 
 std::string lower(std::string_view s) {
     std::string r(s);
     std::transform(r.begin(), r.end(), r.begin(), [](unsigned char c) { return std::tolower(c); });
     return r;
+}
+
+// An OFF face line "n i0 .. i(n-1) [colour]" read without splitting it (NumberCursor); false,
+// with nothing added, where read_off must look at its tokens.
+bool read_polygon(std::string_view line, Soup& soup) {
+    NumberCursor numbers(line);
+    std::int64_t n = 0;
+    if (!numbers.next(n) || n < 0) return false;
+    const std::size_t before = soup.corners.size();
+    for (std::int64_t j = 0; j < n; ++j) {
+        std::int64_t v = 0;
+        if (!numbers.next(v)) {
+            soup.corners.resize(before);
+            return false;
+        }
+        soup.corners.push_back(v);
+    }
+    soup.end_polygon();
+    return true;
 }
 
 // OFF (Geomview): [ST][C][N][4][n]OFF header, optional dimension, counts, one vertex per line
@@ -168,10 +238,23 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
         // The edge count, if present, is not used.
     }
     soup.positions.reserve(std::size_t(std::min<std::int64_t>(nv, std::int64_t(text.size() / 6 + 1))));
+    const std::size_t faces = std::size_t(std::min<std::int64_t>(nf, std::int64_t(text.size() / 8 + 1)));
+    soup.polygon_end.reserve(faces);
+    soup.corners.reserve(3 * faces);
+    std::string_view line;
     for (std::int64_t i = 0; i < nv; ++i) {
-        if (!lines.next(tok))
+        if (!lines.next_line(line))
             throw Error(path, "file ends after " + std::to_string(i) + " of " + std::to_string(nv) +
                                   " vertices (truncated)");
+        if (!homogeneous && dim == 3) {  // nearly every file: "x y z" and maybe more
+            NumberCursor numbers(line);
+            double x, y, z;
+            if (numbers.next(x) && numbers.next(y) && numbers.next(z)) {
+                soup.positions.emplace_back(x, y, z);
+                continue;
+            }
+        }
+        Lines::split(line, tok);
         if (std::int64_t(tok.size()) < dim)
             throw Error(path, lines.at() + "vertex " + std::to_string(i) + " has " + std::to_string(tok.size()) +
                                   " coordinates, expected " + std::to_string(dim));
@@ -188,9 +271,11 @@ void read_off(const std::string& text, const std::string& path, Soup& soup) {
         soup.positions.emplace_back(c[0], c[1], c[2]);
     }
     for (std::int64_t f = 0; f < nf; ++f) {
-        if (!lines.next(tok))
+        if (!lines.next_line(line))
             throw Error(path, "file ends after " + std::to_string(f) + " of " + std::to_string(nf) +
                                   " faces (truncated)");
+        if (read_polygon(line, soup)) continue;
+        Lines::split(line, tok);
         std::int64_t n = 0;
         if (!parse_int(tok[0], n) || n < 0)
             throw Error(path, lines.at() + "face " + std::to_string(f) + ": bad vertex count " + in_quotes(tok[0]));
@@ -835,7 +920,23 @@ std::size_t drop_duplicate_faces(const TriangleMesh& mesh, std::vector<char>& ke
 // edge has at least two other faces: removing those opens nothing (they are fins on edges that are
 // already closed). A zero-area face that holds the surface together (a sliver between two sheets)
 // is kept: the facing tests are exact and take zero-area faces as they are.
-void drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool strict) {
+// The repairs' quick check for duplicate faces, from the corner pairing the orientation needs
+// anyway: two faces on the same three vertices have all three of their corners paired with each
+// other when no edge has more than two faces (mates.extra == 0). So where no face has its three
+// mates in one face, there is none, and drop_duplicate_faces' sort is spared (most files).
+// Meaningful only where vertex indices are the position ids (one object: position_ids).
+bool may_have_duplicate_faces(const CornerMates& mates) {
+    if (mates.extra > 0) return true;
+    for (std::size_t c = 0; c < mates.mate.size(); c += 3) {
+        const std::uint32_t m0 = mates.mate[c], m1 = mates.mate[c + 1], m2 = mates.mate[c + 2];
+        if (m0 != kNoCorner && m1 != kNoCorner && m2 != kNoCorner && m0 / 3 == m1 / 3 && m1 / 3 == m2 / 3) return true;
+    }
+    return false;
+}
+
+// Returns true when it left the faces as they were and made `mates`, their corner pairing (tolerant
+// mode, one object, no face with a repeated corner); `mates` is not to be used otherwise.
+bool drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool strict, CornerMates& mates) {
     const std::size_t nf = mesh.triangles.size();
     std::vector<char> keep(nf, 1);
     std::size_t dropped = 0;
@@ -847,8 +948,13 @@ void drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool st
             ++dropped;
         }
     }
+    bool mates_made = false;
     if (!strict) {
-        dropped += drop_duplicate_faces(mesh, keep);
+        if (dropped == 0 && mesh.object_names.size() <= 1) {
+            mates = corner_mates(mesh.triangles, mesh.positions.size());
+            mates_made = true;
+        }
+        if (!mates_made || may_have_duplicate_faces(mates)) dropped += drop_duplicate_faces(mesh, keep);
         std::vector<std::uint32_t> flat;
         for (std::size_t f = 0; f < nf; ++f) {
             const auto& t = mesh.triangles[f];
@@ -871,11 +977,12 @@ void drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool st
             }
         }
     }
-    if (dropped == 0) return;
+    if (dropped == 0) return mates_made;
     mesh.repairs.faces_dropped += dropped;
     keep_faces(mesh, keep);
     if (mesh.triangles.empty())
         throw Error(where, "no faces left: all " + std::to_string(dropped) + " faces are degenerate (repeated corners)");
+    return false;
 }
 
 std::string nonmanifold_message(const CornerMates& mates) {
@@ -980,14 +1087,9 @@ void cut_nonmanifold_edges(TriangleMesh& mesh, const CornerMates& mates) {
 // repairs.components_reoriented the components whose faces disagreed.
 void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
     const std::size_t nf = mesh.triangles.size();
-    auto directed = [&](std::uint32_t f, std::uint32_t a, std::uint32_t b) {
-        const auto& t = mesh.triangles[f];
-        for (int k = 0; k < 3; ++k)
-            if (t[k] == a && t[(k + 1) % 3] == b) return true;
-        return false;
-    };
     std::vector<std::int8_t> state(nf, 0);  // 0 unvisited, 1 keep, -1 flip
     std::vector<std::uint32_t> queue;
+    queue.reserve(nf);
     std::vector<std::uint32_t> component(nf, 0);
     std::uint32_t ncomp = 0;
     std::vector<char> nonorientable;  // per component
@@ -1007,8 +1109,10 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
                 const std::uint32_t other = mates.mate[3 * f + k];
                 if (other == kNoCorner) continue;  // border edge
                 const std::uint32_t g = other / 3;
-                // g must traverse b->a after its own flip state.
-                const std::int8_t need = directed(g, a, b) ? -1 : 1;
+                // g must traverse b->a after its own flip state. Its mate corner's edge is {a, b}
+                // (corners are paired by their edges' vertices, and no face repeats a vertex here),
+                // so g traverses a->b exactly when that corner is at a.
+                const std::int8_t need = mesh.triangles[g][other % 3] == a ? -1 : 1;
                 if (state[g] == 0) {
                     state[g] = need;
                     flips = flips || need < 0;
@@ -1074,9 +1178,10 @@ void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
                    const LoadProgressCallback* progress_callback = nullptr) {
     LoadProgressReporter progress(progress_callback, 0);
     check_coordinates_and_indices(mesh, where);
-    drop_degenerate_faces(mesh, where, strict);
+    CornerMates mates;
+    const bool mates_made = drop_degenerate_faces(mesh, where, strict, mates);
     progress.at(kProgressParsed + 0.4 * (kProgressRepaired - kProgressParsed));
-    CornerMates mates = corner_mates(mesh.triangles, mesh.positions.size());
+    if (!mates_made) mates = corner_mates(mesh.triangles, mesh.positions.size());
     if (mates.extra > 0) {
         if (strict) throw Error(where, nonmanifold_message(mates));
         cut_nonmanifold_edges(mesh, mates);
@@ -1320,7 +1425,16 @@ CornerMates corner_mates(const std::vector<std::array<std::uint32_t, 3>>& triang
     std::uint32_t first_bad_corner = kNoCorner;
     for (std::size_t v = 0; v < nv; ++v) {
         const auto b0 = key.begin() + begin[v], b1 = key.begin() + begin[v + 1];
-        std::sort(b0, b1);
+        if (b1 - b0 > 16) {
+            std::sort(b0, b1);
+        } else {  // a vertex's few edges (six on average): insertion sort, without std::sort's set-up
+            for (auto i = b0 + 1; i < b1; ++i) {
+                const std::uint64_t k = *i;  // held, the larger ones moved up (no overlapping swaps)
+                auto j = i;
+                for (; j > b0 && *(j - 1) > k; --j) *j = *(j - 1);
+                *j = k;
+            }
+        }
         for (auto g0 = b0; g0 != b1;) {  // one group: the same upper vertex
             auto g1 = g0 + 1;
             while (g1 != b1 && (*g1 >> 32) == (*g0 >> 32)) ++g1;

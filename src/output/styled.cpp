@@ -7,11 +7,10 @@
 #include <map>
 #include <memory>
 
-#include <cairo-pdf.h>
-#include <cairo.h>
 #include <glm/geometric.hpp>
 
 #include "core/error.hpp"
+#include "output/cairo_api.hpp"
 
 namespace inkline {
 namespace {
@@ -26,9 +25,9 @@ cairo_status_t append(void* closure, const unsigned char* data, unsigned int len
 void set_colour(cairo_t* c, std::uint32_t rgb, double opacity) {
     const auto ch = [&](int shift) { return ((rgb >> shift) & 0xff) / 255.0; };
     if (opacity >= 1.0)
-        cairo_set_source_rgb(c, ch(16), ch(8), ch(0));
+        cairo_api().set_source_rgb(c, ch(16), ch(8), ch(0));
     else
-        cairo_set_source_rgba(c, ch(16), ch(8), ch(0), opacity);
+        cairo_api().set_source_rgba(c, ch(16), ch(8), ch(0), opacity);
 }
 
 // Brush images by file, tinted with the ink colour (ARGB, premultiplied): a brush stroke fills
@@ -40,16 +39,16 @@ public:
         const auto key = std::make_pair(path, rgb);
         auto it = cache_.find(key);
         if (it == cache_.end()) {
-            SurfacePtr src(cairo_image_surface_create_from_png(path.c_str()), cairo_surface_destroy);
-            if (cairo_surface_status(src.get()) != CAIRO_STATUS_SUCCESS)
+            SurfacePtr src(cairo_api().image_surface_create_from_png(path.c_str()), cairo_api().surface_destroy);
+            if (cairo_api().surface_status(src.get()) != CAIRO_STATUS_SUCCESS)
                 throw Error(path, std::string("cannot read brush image: ") +
-                                      cairo_status_to_string(cairo_surface_status(src.get())));
-            const int w = cairo_image_surface_get_width(src.get()), h = cairo_image_surface_get_height(src.get());
-            SurfacePtr tinted(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h), cairo_surface_destroy);
-            cairo_t* c = cairo_create(tinted.get());
+                                      cairo_api().status_to_string(cairo_api().surface_status(src.get())));
+            const int w = cairo_api().image_surface_get_width(src.get()), h = cairo_api().image_surface_get_height(src.get());
+            SurfacePtr tinted(cairo_api().image_surface_create(CAIRO_FORMAT_ARGB32, w, h), cairo_api().surface_destroy);
+            cairo_t* c = cairo_api().create(tinted.get());
             set_colour(c, rgb, 1.0);
-            cairo_mask_surface(c, src.get(), 0, 0);  // alpha of the brush, colour of the ink
-            cairo_destroy(c);
+            cairo_api().mask_surface(c, src.get(), 0, 0);  // alpha of the brush, colour of the ink
+            cairo_api().destroy(c);
             it = cache_.emplace(key, std::move(tinted)).first;
         }
         return it->second.get();
@@ -62,7 +61,7 @@ private:
 // One quad of a brush stroke, filled with the brush image affinely mapped so that its x runs
 // from u0 to u1 along the quad and its y across it.
 void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
-    const double iw = cairo_image_surface_get_width(brush), ih = cairo_image_surface_get_height(brush);
+    const double iw = cairo_api().image_surface_get_width(brush), ih = cairo_api().image_surface_get_height(brush);
     const glm::dvec2 c0 = 0.5 * (q.corner[0] + q.corner[1]), c1 = 0.5 * (q.corner[2] + q.corner[3]);
     const double len = glm::length(c1 - c0);
     const double w = 0.5 * (glm::length(q.corner[0] - q.corner[1]) + glm::length(q.corner[3] - q.corner[2]));
@@ -70,34 +69,34 @@ void draw_quad(cairo_t* c, cairo_surface_t* brush, const BrushQuad& q) {
     const glm::dvec2 d = (c1 - c0) / len, n(-d.y, d.x);
     // Grow the quad a little along the spine so neighbours overlap (no antialiasing seams); the image repeats there.
     const glm::dvec2 g = 0.3 * d;
-    cairo_move_to(c, q.corner[0].x - g.x, q.corner[0].y - g.y);
-    cairo_line_to(c, q.corner[1].x - g.x, q.corner[1].y - g.y);
-    cairo_line_to(c, q.corner[2].x + g.x, q.corner[2].y + g.y);
-    cairo_line_to(c, q.corner[3].x + g.x, q.corner[3].y + g.y);
-    cairo_close_path(c);
+    cairo_api().move_to(c, q.corner[0].x - g.x, q.corner[0].y - g.y);
+    cairo_api().line_to(c, q.corner[1].x - g.x, q.corner[1].y - g.y);
+    cairo_api().line_to(c, q.corner[2].x + g.x, q.corner[2].y + g.y);
+    cairo_api().line_to(c, q.corner[3].x + g.x, q.corner[3].y + g.y);
+    cairo_api().close_path(c);
     // User space -> image space: x = u0 iw + (d.(p - c0)) (u1 - u0) iw / len, y = ih/2 - n.(p - c0) ih / w
     // (the left side, corner 0, is at image row 0).
     const glm::dvec2 a = d * ((q.u1 - q.u0) * iw / len), b = -n * (ih / w);
     cairo_matrix_t m;
-    cairo_matrix_init(&m, a.x, b.x, a.y, b.y, q.u0 * iw - glm::dot(a, c0), 0.5 * ih - glm::dot(b, c0));
-    cairo_pattern_t* p = cairo_pattern_create_for_surface(brush);
-    cairo_pattern_set_matrix(p, &m);
-    cairo_pattern_set_extend(p, CAIRO_EXTEND_REPEAT);  // the brush tiles along x; PDF has no PAD
-    cairo_pattern_set_filter(p, CAIRO_FILTER_GOOD);
-    cairo_set_source(c, p);
-    cairo_fill(c);
-    cairo_pattern_destroy(p);
+    cairo_api().matrix_init(&m, a.x, b.x, a.y, b.y, q.u0 * iw - glm::dot(a, c0), 0.5 * ih - glm::dot(b, c0));
+    cairo_pattern_t* p = cairo_api().pattern_create_for_surface(brush);
+    cairo_api().pattern_set_matrix(p, &m);
+    cairo_api().pattern_set_extend(p, CAIRO_EXTEND_REPEAT);  // the brush tiles along x; PDF has no PAD
+    cairo_api().pattern_set_filter(p, CAIRO_FILTER_GOOD);
+    cairo_api().set_source(c, p);
+    cairo_api().fill(c);
+    cairo_api().pattern_destroy(p);
 }
 
 cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool background, bool one_path_per_stroke = false) {
-    cairo_t* c = cairo_create(surface);
+    cairo_t* c = cairo_api().create(surface);
     if (background) {
         set_colour(c, sd.background, 1.0);
-        cairo_paint(c);
+        cairo_api().paint(c);
     }
     if (!sd.base.empty()) paint_raster_layer(c, sd.base);
-    cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
-    cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+    cairo_api().set_line_cap(c, CAIRO_LINE_CAP_ROUND);
+    cairo_api().set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     Brushes brushes;
     try {
         for (const StyledLayer& layer : sd.layers) {
@@ -105,40 +104,40 @@ cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool back
                 set_colour(c, m.rgb, m.opacity);
                 switch (m.type) {
                     case Mark::Type::Stroke: {
-                        cairo_set_line_width(c, m.width);
+                        cairo_api().set_line_width(c, m.width);
                         const double dash[2] = {m.dash_on, m.dash_off};
-                        cairo_set_dash(c, dash, m.dash_on > 0 ? 2 : 0, 0);
+                        cairo_api().set_dash(c, dash, m.dash_on > 0 ? 2 : 0, 0);
                         for (const auto& path : m.paths) {
                             if (path.size() < 2) continue;
                             // As the default writers draw a stroke (output/writers.cpp): a closed one joined
                             // round where it starts; in PDF each its own path object, for editing.
                             const bool closed = path.size() > 2 && path.front() == path.back();
-                            cairo_move_to(c, path[0].x, path[0].y);
+                            cairo_api().move_to(c, path[0].x, path[0].y);
                             for (std::size_t i = 1; i + (closed ? 1 : 0) < path.size(); ++i)
-                                cairo_line_to(c, path[i].x, path[i].y);
-                            if (closed) cairo_close_path(c);
-                            if (one_path_per_stroke) cairo_stroke(c);
+                                cairo_api().line_to(c, path[i].x, path[i].y);
+                            if (closed) cairo_api().close_path(c);
+                            if (one_path_per_stroke) cairo_api().stroke(c);
                         }
-                        cairo_stroke(c);
+                        cairo_api().stroke(c);
                         break;
                     }
                     case Mark::Type::Fill:
-                        cairo_set_fill_rule(c, CAIRO_FILL_RULE_WINDING);
+                        cairo_api().set_fill_rule(c, CAIRO_FILL_RULE_WINDING);
                         for (const auto& path : m.paths) {
                             if (path.size() < 3) continue;
-                            cairo_move_to(c, path[0].x, path[0].y);
-                            for (std::size_t i = 1; i < path.size(); ++i) cairo_line_to(c, path[i].x, path[i].y);
-                            cairo_close_path(c);
+                            cairo_api().move_to(c, path[0].x, path[0].y);
+                            for (std::size_t i = 1; i < path.size(); ++i) cairo_api().line_to(c, path[i].x, path[i].y);
+                            cairo_api().close_path(c);
                         }
-                        cairo_fill(c);
+                        cairo_api().fill(c);
                         break;
                     case Mark::Type::Brush: {
                         cairo_surface_t* b = brushes.get(m.brush, m.rgb);
-                        if (m.opacity < 1.0) cairo_push_group(c);
+                        if (m.opacity < 1.0) cairo_api().push_group(c);
                         for (const BrushQuad& q : m.quads) draw_quad(c, b, q);
                         if (m.opacity < 1.0) {
-                            cairo_pop_group_to_source(c);
-                            cairo_paint_with_alpha(c, m.opacity);
+                            cairo_api().pop_group_to_source(c);
+                            cairo_api().paint_with_alpha(c, m.opacity);
                         }
                         break;
                     }
@@ -146,11 +145,11 @@ cairo_status_t draw(cairo_surface_t* surface, const StyledDrawing& sd, bool back
             }
         }
     } catch (...) {
-        cairo_destroy(c);
+        cairo_api().destroy(c);
         throw;
     }
-    const cairo_status_t st = cairo_status(c);
-    cairo_destroy(c);
+    const cairo_status_t st = cairo_api().status(c);
+    cairo_api().destroy(c);
     return st;
 }
 
@@ -229,11 +228,11 @@ public:
             }
             case Mark::Type::Brush: {
                 cairo_surface_t* b = brushes.get(m.brush, m.rgb);
-                const double iw = cairo_image_surface_get_width(b), ih = cairo_image_surface_get_height(b);
+                const double iw = cairo_api().image_surface_get_width(b), ih = cairo_api().image_surface_get_height(b);
                 auto [it, fresh] = brush_ids.emplace(std::make_pair(m.brush, m.rgb), "brush" + std::to_string(brush_ids.size()));
                 if (fresh) {
                     std::string png;
-                    cairo_surface_write_to_png_stream(b, append, &png);
+                    cairo_api().surface_write_to_png_stream(b, append, &png);
                     defs += "<image id=\"" + it->second + "\" width=\"" + num(iw) + "\" height=\"" + num(ih) +
                             "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
                 }
@@ -317,34 +316,34 @@ std::string styled_to_bytes(const StyledDrawing& sd, Format f) {
     if (f == Format::Svg) return styled_to_svg(sd);
     std::string bytes;
     const int w = sd.width, h = sd.height;
-    SurfacePtr surface(f == Format::Pdf ? cairo_pdf_surface_create_for_stream(append, &bytes, w, h)
-                                        : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h),
-                       cairo_surface_destroy);
+    SurfacePtr surface(f == Format::Pdf ? cairo_api().pdf_surface_create_for_stream(append, &bytes, w, h)
+                                        : cairo_api().image_surface_create(CAIRO_FORMAT_RGB24, w, h),
+                       cairo_api().surface_destroy);
     cairo_surface_t* s = surface.get();
-    cairo_status_t st = cairo_surface_status(s);
+    cairo_status_t st = cairo_api().surface_status(s);
     if (st == CAIRO_STATUS_SUCCESS) st = draw(s, sd, f != Format::Pdf || sd.background != 0xffffff, f == Format::Pdf);
     if (st == CAIRO_STATUS_SUCCESS && f == Format::Png) {
-        st = cairo_surface_write_to_png_stream(s, append, &bytes);
+        st = cairo_api().surface_write_to_png_stream(s, append, &bytes);
     } else if (st == CAIRO_STATUS_SUCCESS) {
-        cairo_surface_finish(s);
-        st = cairo_surface_status(s);
+        cairo_api().surface_finish(s);
+        st = cairo_api().surface_status(s);
     }
-    if (st != CAIRO_STATUS_SUCCESS) throw Error("cairo", cairo_status_to_string(st));
+    if (st != CAIRO_STATUS_SUCCESS) throw Error("cairo", cairo_api().status_to_string(st));
     return bytes;
 }
 
 void styled_to_pixels(const StyledDrawing& sd, std::vector<std::uint32_t>& pixels) {
     const int w = sd.width, h = sd.height;
     pixels.assign(std::size_t(w) * std::size_t(h), 0xffffffffu);
-    const int stride = cairo_format_stride_for_width(CAIRO_FORMAT_RGB24, w);
+    const int stride = cairo_api().format_stride_for_width(CAIRO_FORMAT_RGB24, w);
     if (stride != 4 * w) throw Error("cairo", "unexpected stride for a " + std::to_string(w) + " px wide image");
-    SurfacePtr surface(cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(pixels.data()),
+    SurfacePtr surface(cairo_api().image_surface_create_for_data(reinterpret_cast<unsigned char*>(pixels.data()),
                                                            CAIRO_FORMAT_RGB24, w, h, stride),
-                       cairo_surface_destroy);
-    cairo_status_t st = cairo_surface_status(surface.get());
+                       cairo_api().surface_destroy);
+    cairo_status_t st = cairo_api().surface_status(surface.get());
     if (st == CAIRO_STATUS_SUCCESS) st = draw(surface.get(), sd, true);
-    cairo_surface_flush(surface.get());
-    if (st != CAIRO_STATUS_SUCCESS) throw Error("cairo", cairo_status_to_string(st));
+    cairo_api().surface_flush(surface.get());
+    if (st != CAIRO_STATUS_SUCCESS) throw Error("cairo", cairo_api().status_to_string(st));
 }
 
 void write_styled(const StyledDrawing& sd, const std::string& path, Format f) {

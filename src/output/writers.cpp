@@ -16,9 +16,6 @@
 #include <utility>
 #include <vector>
 
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
-#include <cairo.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -26,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "output/cairo_api.hpp"
 #include "style/strokes.hpp"
 
 namespace inkline {
@@ -254,26 +252,26 @@ cairo_status_t append_bytes(void* closure, const unsigned char* data, unsigned i
 
 // The drawing's base layer (RGB24, same size) painted over the whole surface.
 void paint_raster_layer(cairo_t* c, const RasterLayer& base) {
-    SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
-    cairo_surface_flush(image.get());
-    unsigned char* data = cairo_image_surface_get_data(image.get());
-    const int stride = cairo_image_surface_get_stride(image.get());
+    SurfacePtr image(cairo_api().image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_api().surface_destroy);
+    cairo_api().surface_flush(image.get());
+    unsigned char* data = cairo_api().image_surface_get_data(image.get());
+    const int stride = cairo_api().image_surface_get_stride(image.get());
     if (!data) return;
     for (int y = 0; y < base.height; ++y)
         std::memcpy(data + std::size_t(y) * std::size_t(stride), &base.rgb[std::size_t(y) * std::size_t(base.width)],
                     std::size_t(base.width) * 4);
-    cairo_surface_mark_dirty(image.get());
-    cairo_set_source_surface(c, image.get(), 0, 0);
-    cairo_paint(c);
+    cairo_api().surface_mark_dirty(image.get());
+    cairo_api().set_source_surface(c, image.get(), 0, 0);
+    cairo_api().paint(c);
 }
 
 // The base layer as an SVG <image> (a PNG inline), Inkscape layer "base".
 std::string svg_raster_layer(const RasterLayer& base) {
-    SurfacePtr image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_surface_destroy);
-    ContextPtr cr(cairo_create(image.get()), cairo_destroy);
+    SurfacePtr image(cairo_api().image_surface_create(CAIRO_FORMAT_RGB24, base.width, base.height), cairo_api().surface_destroy);
+    ContextPtr cr(cairo_api().create(image.get()), cairo_api().destroy);
     paint_raster_layer(cr.get(), base);
     std::string png;
-    cairo_surface_write_to_png_stream(image.get(), append_bytes, &png);
+    cairo_api().surface_write_to_png_stream(image.get(), append_bytes, &png);
     static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string b64;
     for (std::size_t i = 0; i < png.size(); i += 3) {
@@ -296,51 +294,51 @@ namespace {
 // whole layer as one compound path; PNG strokes a layer at once (the same pixels, fewer calls).
 cairo_status_t draw_cairo(cairo_surface_t* surface, const Drawing& d, const std::vector<Stroke>& strokes,
                           const OutputOptions& o, bool background, bool one_path_per_stroke) {
-    ContextPtr cr(cairo_create(surface), cairo_destroy);
+    ContextPtr cr(cairo_api().create(surface), cairo_api().destroy);
     cairo_t* c = cr.get();
     if (background) {
-        cairo_set_source_rgb(c, 1, 1, 1);
-        cairo_paint(c);
+        cairo_api().set_source_rgb(c, 1, 1, 1);
+        cairo_api().paint(c);
     }
     if (!d.base.empty()) paint_raster_layer(c, d.base);
-    cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
-    cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+    cairo_api().set_line_cap(c, CAIRO_LINE_CAP_ROUND);
+    cairo_api().set_line_join(c, CAIRO_LINE_JOIN_ROUND);
     const double width = line_width(d, o);
     for (const Layer& g : layers(strokes)) {
         const std::uint32_t rgb = layer_rgb(g);
         const auto channel = [&](int shift) { return ((rgb >> shift) & 0xff) / 255.0; };
-        cairo_set_source_rgb(c, channel(16), channel(8), channel(0));
-        cairo_set_line_width(c, width * g.style.width_scale * kind_width(g.kind));
+        cairo_api().set_source_rgb(c, channel(16), channel(8), channel(0));
+        cairo_api().set_line_width(c, width * g.style.width_scale * kind_width(g.kind));
         const double dash[2] = {g.style.dash_on, g.style.dash_off};
-        cairo_set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
+        cairo_api().set_dash(c, dash, g.style.dash_on > 0 ? 2 : 0, 0);
         for (const Stroke* s : g.strokes) {
             if (has_opacity(*s, d)) continue;  // drawn run by run below
             for (const auto& run : clipped_runs(s->path.points(), d.camera)) {
                 const bool closed = run.size() > 2 && run.front() == run.back();
-                cairo_move_to(c, run[0].x, run[0].y);
-                for (std::size_t i = 1; i + (closed ? 1 : 0) < run.size(); ++i) cairo_line_to(c, run[i].x, run[i].y);
-                if (closed) cairo_close_path(c);
-                if (one_path_per_stroke) cairo_stroke(c);
+                cairo_api().move_to(c, run[0].x, run[0].y);
+                for (std::size_t i = 1; i + (closed ? 1 : 0) < run.size(); ++i) cairo_api().line_to(c, run[i].x, run[i].y);
+                if (closed) cairo_api().close_path(c);
+                if (one_path_per_stroke) cairo_api().stroke(c);
             }
         }
-        cairo_stroke(c);
+        cairo_api().stroke(c);
         for (const Stroke* s : g.strokes) {
             if (!has_opacity(*s, d)) continue;
-            const double layer_width = cairo_get_line_width(c);
+            const double layer_width = cairo_api().get_line_width(c);
             for (std::uint32_t i : s->pieces)
                 for (const auto& [run, alpha, run_width] : opacity_runs(d.pieces[i])) {
-                    cairo_set_source_rgba(c, channel(16), channel(8), channel(0), alpha);
-                    cairo_set_line_width(c, layer_width * run_width);
+                    cairo_api().set_source_rgba(c, channel(16), channel(8), channel(0), alpha);
+                    cairo_api().set_line_width(c, layer_width * run_width);
                     for (const auto& clipped : clipped_runs(run, d.camera)) {
-                        cairo_move_to(c, clipped[0].x, clipped[0].y);
-                        for (std::size_t k = 1; k < clipped.size(); ++k) cairo_line_to(c, clipped[k].x, clipped[k].y);
+                        cairo_api().move_to(c, clipped[0].x, clipped[0].y);
+                        for (std::size_t k = 1; k < clipped.size(); ++k) cairo_api().line_to(c, clipped[k].x, clipped[k].y);
                     }
-                    cairo_stroke(c);
+                    cairo_api().stroke(c);
                 }
-            cairo_set_line_width(c, layer_width);
+            cairo_api().set_line_width(c, layer_width);
         }
     }
-    return cairo_status(c);
+    return cairo_api().status(c);
 }
 
 cairo_status_t to_temp(void* closure, const unsigned char* data, unsigned int length) {
@@ -354,20 +352,20 @@ void write_cairo(const Drawing& d, const std::vector<Stroke>& strokes, Format f,
                  TempFile& file) {
     const int w = d.camera.width(), h = d.camera.height();
     SurfacePtr surface(f == Format::Pdf
-                           ? cairo_pdf_surface_create_for_stream(to_temp, &file, w, h)
-                           : cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h),
-                       cairo_surface_destroy);
+                           ? cairo_api().pdf_surface_create_for_stream(to_temp, &file, w, h)
+                           : cairo_api().image_surface_create(CAIRO_FORMAT_RGB24, w, h),
+                       cairo_api().surface_destroy);
     cairo_surface_t* s = surface.get();
-    cairo_status_t st = cairo_surface_status(s);
+    cairo_status_t st = cairo_api().surface_status(s);
     if (st == CAIRO_STATUS_SUCCESS) st = draw_cairo(s, d, strokes, o, f == Format::Png, f == Format::Pdf);
     if (st == CAIRO_STATUS_SUCCESS && f == Format::Png) {
-        st = cairo_surface_write_to_png_stream(s, to_temp, &file);
+        st = cairo_api().surface_write_to_png_stream(s, to_temp, &file);
     } else if (st == CAIRO_STATUS_SUCCESS) {
-        cairo_surface_finish(s);
-        st = cairo_surface_status(s);
+        cairo_api().surface_finish(s);
+        st = cairo_api().surface_status(s);
     }
     if (file.error() != 0) file.fail(file.error());
-    if (st != CAIRO_STATUS_SUCCESS) file.fail(std::string("cairo: ") + cairo_status_to_string(st));
+    if (st != CAIRO_STATUS_SUCCESS) file.fail(std::string("cairo: ") + cairo_api().status_to_string(st));
 }
 
 }  // namespace
@@ -666,72 +664,72 @@ std::string scatter_plot_svg(const std::vector<PlotPoint>& points, const std::st
     const std::vector<double>& yticks = axes.yticks;
 
     std::string svg;
-    cairo_surface_t* surface = cairo_svg_surface_create_for_stream(append_to_string, &svg, W, H);
-    cairo_t* cr = cairo_create(surface);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_surface_t* surface = cairo_api().svg_surface_create_for_stream(append_to_string, &svg, W, H);
+    cairo_t* cr = cairo_api().create(surface);
+    cairo_api().set_source_rgb(cr, 1, 1, 1);
+    cairo_api().paint(cr);
+    cairo_api().select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     auto text = [&](double x, double y, const std::string& s, double size, double align) {
-        cairo_set_font_size(cr, size);
+        cairo_api().set_font_size(cr, size);
         cairo_text_extents_t ext;
-        cairo_text_extents(cr, s.c_str(), &ext);
-        cairo_move_to(cr, x - align * ext.width, y);
-        cairo_show_text(cr, s.c_str());
+        cairo_api().text_extents(cr, s.c_str(), &ext);
+        cairo_api().move_to(cr, x - align * ext.width, y);
+        cairo_api().show_text(cr, s.c_str());
     };
     // Axes and ticks.
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 1.0);
-    cairo_move_to(cr, L, T);
-    cairo_line_to(cr, L, H - B);
-    cairo_line_to(cr, W - R, H - B);
-    cairo_stroke(cr);
+    cairo_api().set_source_rgb(cr, 0, 0, 0);
+    cairo_api().set_line_width(cr, 1.0);
+    cairo_api().move_to(cr, L, T);
+    cairo_api().line_to(cr, L, H - B);
+    cairo_api().line_to(cr, W - R, H - B);
+    cairo_api().stroke(cr);
     const double xs = tick_step(x1 - x0, 6);
     char buf[64];
     for (double x = std::ceil(x0 / xs) * xs; x <= x1 + 1e-12; x += xs) {
-        cairo_move_to(cr, X(x), H - B);
-        cairo_line_to(cr, X(x), H - B + 5);
-        cairo_stroke(cr);
+        cairo_api().move_to(cr, X(x), H - B);
+        cairo_api().line_to(cr, X(x), H - B + 5);
+        cairo_api().stroke(cr);
         std::snprintf(buf, sizeof buf, "%g", std::round(x / xs) * xs);
         text(X(x), H - B + 18, buf, 11, 0.5);
     }
     for (double y : yticks) {
-        cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
-        cairo_move_to(cr, L, Y(y));
-        cairo_line_to(cr, W - R, Y(y));
-        cairo_stroke(cr);
-        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_api().set_source_rgb(cr, 0.88, 0.88, 0.88);
+        cairo_api().move_to(cr, L, Y(y));
+        cairo_api().line_to(cr, W - R, Y(y));
+        cairo_api().stroke(cr);
+        cairo_api().set_source_rgb(cr, 0, 0, 0);
         std::snprintf(buf, sizeof buf, "%g", y);
         text(L - 8, Y(y) + 4, buf, 11, 1.0);
     }
     text((L + W - R) / 2, H - 15, x_label, 13, 0.5);
     text(W / 2, 28, title, 15, 0.5);
-    cairo_save(cr);
-    cairo_translate(cr, 22, (T + H - B) / 2);
-    cairo_rotate(cr, -M_PI / 2);
+    cairo_api().save(cr);
+    cairo_api().translate(cr, 22, (T + H - B) / 2);
+    cairo_api().rotate(cr, -M_PI / 2);
     text(0, 0, log_y ? y_label + " (log scale)" : y_label, 13, 0.5);
-    cairo_restore(cr);
+    cairo_api().restore(cr);
     // Points, labelled, coloured by series.
     static const double colours[][3] = {{0.1, 0.1, 0.1}, {0.85, 0.35, 0.1}, {0.1, 0.45, 0.8}, {0.2, 0.6, 0.2}};
     for (const auto& p : points) {
         const auto& c = colours[std::size_t(p.series) % 4];
-        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
-        cairo_arc(cr, X(p.x), Y(p.y), 4.0, 0, 2 * M_PI);
-        cairo_fill(cr);
+        cairo_api().set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_api().arc(cr, X(p.x), Y(p.y), 4.0, 0, 2 * M_PI);
+        cairo_api().fill(cr);
         text(X(p.x) + 6, Y(p.y) - 6, p.label, 10, 0.0);
     }
     for (std::size_t i = 0; i < series_names.size(); ++i) {
         const auto& c = colours[i % 4];
-        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
-        cairo_arc(cr, W - R + 20, T + 20 + 20 * double(i), 4.0, 0, 2 * M_PI);
-        cairo_fill(cr);
-        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_api().set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_api().arc(cr, W - R + 20, T + 20 + 20 * double(i), 4.0, 0, 2 * M_PI);
+        cairo_api().fill(cr);
+        cairo_api().set_source_rgb(cr, 0, 0, 0);
         text(W - R + 30, T + 24 + 20 * double(i), series_names[i], 11, 0.0);
     }
-    cairo_destroy(cr);
-    cairo_surface_finish(surface);
-    const cairo_status_t status = cairo_surface_status(surface);
-    cairo_surface_destroy(surface);
-    if (status != CAIRO_STATUS_SUCCESS) throw Error("plot", cairo_status_to_string(status));
+    cairo_api().destroy(cr);
+    cairo_api().surface_finish(surface);
+    const cairo_status_t status = cairo_api().surface_status(surface);
+    cairo_api().surface_destroy(surface);
+    if (status != CAIRO_STATUS_SUCCESS) throw Error("plot", cairo_api().status_to_string(status));
     return svg;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -93,6 +94,19 @@ Camera CameraRig::camera(int width, int height) const {
                       : Camera::perspective(eye_, target_, up_, fov_, width, height);
     if (home_.near_distance() > 0.0) c.set_near(home_.near_distance());  // a --near given by the user
     return c;
+}
+
+std::string camera_flags(const Camera& cam) {
+    const auto v3 = [](const glm::dvec3& v) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", v.x, v.y, v.z);
+        return std::string(buf);
+    };
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "--eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d", v3(cam.eye()).c_str(),
+                  v3(cam.target()).c_str(), v3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
+                  cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());
+    return buf;
 }
 
 }  // namespace inkline

@@ -3,6 +3,8 @@
 // the exact `inkline render` flags. No GL here.
 #pragma once
 
+#include <string>
+
 #include <glm/vec3.hpp>
 
 #include "core/camera.hpp"
@@ -44,5 +46,8 @@ private:
     double fov_ = 30.0, ortho_height_ = 1.0, distance_home_ = 1.0;
     bool ortho_ = false;
 };
+
+// The camera flags exactly as `inkline render` prints them (without the leading "camera: ").
+std::string camera_flags(const Camera& camera);
 
 }  // namespace inkline

@@ -33,19 +33,6 @@
 
 namespace inkline {
 
-std::string camera_flags(const Camera& cam) {
-    const auto v3 = [](const glm::dvec3& v) {
-        char buf[128];
-        std::snprintf(buf, sizeof buf, "%.17g,%.17g,%.17g", v.x, v.y, v.z);
-        return std::string(buf);
-    };
-    char buf[512];
-    std::snprintf(buf, sizeof buf, "--eye=%s --target=%s --up=%s --%s=%.17g --size=%dx%d", v3(cam.eye()).c_str(),
-                  v3(cam.target()).c_str(), v3(cam.up()).c_str(), cam.is_ortho() ? "ortho" : "fov",
-                  cam.is_ortho() ? cam.ortho_height() : cam.fov_deg(), cam.width(), cam.height());
-    return buf;
-}
-
 namespace {
 
 using Clock = StageClock;

@@ -57,7 +57,4 @@ struct ViewerOptions {
 // Throws inkline::Error when no window can be opened (no display, no OpenGL 3.3).
 int run_viewer(Model& model, const Camera& home, const ViewerOptions& options);
 
-// The camera flags exactly as `inkline render` prints them (without the leading "camera: ").
-std::string camera_flags(const Camera& camera);
-
 }  // namespace inkline
