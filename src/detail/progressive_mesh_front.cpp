@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 
@@ -117,19 +118,27 @@ void AdaptiveFront::compact_faces() {
     free_face_ = tag | index_mask;
 }
 
-// Storage follows the front: a face pool mostly free, or vertex and worklist storage far beyond
+// Storage follows the front: a face pool a fifth free, or vertex and worklist storage far beyond
 // the front's size (after a coarsening, e.g. the first frame from the input), is given back.
-// Amortized: a pool is compacted only after it lost half its records.
+// Amortized: a pool is compacted only after it lost a fifth of its records, and vertex storage
+// keeps a quarter's headroom, so a growing front reallocates geometrically.
 void AdaptiveFront::trim_storage() {
     const std::size_t slack = 1024;
-    if (faces_.size() > 2 * active_face_count_ + slack) compact_faces();
-    if (vert_.capacity() > 2 * vert_.size() + slack) {
-        vert_.shrink_to_fit();
-        front_data_.shrink_to_fit();
+    if (faces_.size() > active_face_count_ + active_face_count_ / 4 + slack) compact_faces();
+    const std::size_t n = vert_.size();
+    if (vert_.capacity() > n + n / 2 + slack) {
+        const auto refit = [](auto& v, std::size_t capacity) {
+            std::remove_reference_t<decltype(v)> kept;
+            kept.reserve(capacity);
+            kept.assign(v.begin(), v.end());
+            v.swap(kept);
+        };
+        refit(vert_, n + n / 4);
+        refit(front_data_, n + n / 4);
     }
-    if (work_.capacity() > 2 * vert_.size() + slack) {  // (empty between frames)
+    if (work_.capacity() > 2 * n + slack) {  // (empty between frames)
         work_.shrink_to_fit();
-        work_.reserve(vert_.size());
+        work_.reserve(n);
     }
 }
 
