@@ -281,5 +281,6 @@ int main(int argc, char** argv) {
                         double(r.bytes_first) / n, double(r.bytes_last) / n, double(r.bytes_most) / n);
             std::fflush(stdout);
         }
+    std::printf("\nRSS after the paths %.0f MiB, peak %.0f MiB\n", status_mib("VmRSS"), status_mib("VmHWM"));
     return 0;
 }

@@ -22,6 +22,8 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     changed_in_frame_.assign(m, 0);
     // The front starts as the input: every vertex in a face, in input order.
     vertex_slot_.assign(n, tag | index_mask);
+    vert_.reserve(n);
+    front_data_.reserve(n);
     for (const auto& t : in.triangles)
         for (const std::uint32_t v : t) vertex_slot_[v] = 0;
     for (std::uint32_t v = 0; v < n; ++v)
@@ -74,6 +76,11 @@ std::uint32_t AdaptiveFront::add_face(std::uint32_t f) {
         face_id_[s] = f;
     } else {
         s = std::uint32_t(faces_.size());
+        if (faces_.size() == faces_.capacity()) {  // (doubling, but never past the input's faces)
+            const std::size_t capacity = std::min(2 * faces_.size() + 64, face_slot_.size());
+            faces_.reserve(capacity);
+            face_id_.reserve(capacity);
+        }
         faces_.push_back(Face{{none, none, none}, {none, none, none}, 0.0});
         face_id_.push_back(f);
     }
@@ -125,26 +132,30 @@ void AdaptiveFront::compact_faces() {
 void AdaptiveFront::trim_storage() {
     const std::size_t slack = 1024;
     if (faces_.size() > active_face_count_ + active_face_count_ / 4 + slack) compact_faces();
+    const auto refit = [](auto& v, std::size_t capacity) {
+        std::remove_reference_t<decltype(v)> kept;
+        kept.reserve(capacity);
+        kept.assign(v.begin(), v.end());
+        v.swap(kept);
+    };
     const std::size_t n = vert_.size();
     if (vert_.capacity() > n + n / 2 + slack) {
-        const auto refit = [](auto& v, std::size_t capacity) {
-            std::remove_reference_t<decltype(v)> kept;
-            kept.reserve(capacity);
-            kept.assign(v.begin(), v.end());
-            v.swap(kept);
-        };
         refit(vert_, n + n / 4);
         refit(front_data_, n + n / 4);
     }
-    if (work_.capacity() > 2 * n + slack) {  // (empty between frames)
-        work_.shrink_to_fit();
-        work_.reserve(n);
-    }
+    if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
+    // (the first frame from the input with geomorphs starts a collapse at most vertices)
+    if (morphs_.capacity() > 2 * morphs_.size() + 4 * slack) refit(morphs_, 2 * morphs_.size() + slack);
 }
 
 void AdaptiveFront::front_add(std::uint32_t v, std::uint32_t collapse, std::uint32_t last_collapse,
                               std::uint32_t pending) {
     vertex_slot_[v] = std::uint32_t(vert_.size());
+    if (vert_.size() == vert_.capacity()) {  // (doubling, but never past the input's vertices)
+        const std::size_t capacity = std::min(2 * vert_.size() + 64, vertex_slot_.size());
+        vert_.reserve(capacity);
+        front_data_.reserve(capacity);
+    }
     vert_.push_back(Vertex{v, none, collapse, last_collapse, pending, 0, 0, 0});
     front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), 0.0f));  // (area: refresh_ring_area)
 }
