@@ -7,6 +7,10 @@
 
 #include <glm/geometric.hpp>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace inkline {
 
 AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
@@ -76,8 +80,8 @@ std::uint32_t AdaptiveFront::add_face(std::uint32_t f) {
         face_id_[s] = f;
     } else {
         s = std::uint32_t(faces_.size());
-        if (faces_.size() == faces_.capacity()) {  // (doubling, but never past the input's faces)
-            const std::size_t capacity = std::min(2 * faces_.size() + 64, face_slot_.size());
+        if (faces_.size() == faces_.capacity()) {  // (by a quarter, never past the input's faces)
+            const std::size_t capacity = std::min(faces_.size() + faces_.size() / 4 + 64, face_slot_.size());
             faces_.reserve(capacity);
             face_id_.reserve(capacity);
         }
@@ -127,10 +131,11 @@ void AdaptiveFront::compact_faces() {
 
 // Storage follows the front: a face pool a fifth free, or vertex and worklist storage far beyond
 // the front's size (after a coarsening, e.g. the first frame from the input), is given back.
-// Amortized: a pool is compacted only after it lost a fifth of its records, and vertex storage
-// keeps a quarter's headroom, so a growing front reallocates geometrically.
+// Amortized: a pool is compacted only after it lost a fifth of its records, and the pools grow
+// and are refitted by a quarter, so a growing or shrinking front reallocates geometrically.
 void AdaptiveFront::trim_storage() {
     const std::size_t slack = 1024;
+    [[maybe_unused]] const std::size_t held = bytes();
     if (faces_.size() > active_face_count_ + active_face_count_ / 4 + slack) compact_faces();
     const auto refit = [](auto& v, std::size_t capacity) {
         std::remove_reference_t<decltype(v)> kept;
@@ -146,13 +151,19 @@ void AdaptiveFront::trim_storage() {
     if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
     // (the first frame from the input with geomorphs starts a collapse at most vertices)
     if (morphs_.capacity() > 2 * morphs_.size() + 4 * slack) refit(morphs_, 2 * morphs_.size() + slack);
+#if defined(__GLIBC__)
+    // The records are over-aligned, so they come from malloc's heap (aligned_alloc) even when
+    // large, and glibc keeps freed heap pages mapped: a large release (the first frame from the
+    // input gives back most of 150 B a vertex) is handed back to the system.
+    if (held > bytes() + (std::size_t(16) << 20)) malloc_trim(0);
+#endif
 }
 
 void AdaptiveFront::front_add(std::uint32_t v, std::uint32_t collapse, std::uint32_t last_collapse,
                               std::uint32_t pending) {
     vertex_slot_[v] = std::uint32_t(vert_.size());
-    if (vert_.size() == vert_.capacity()) {  // (doubling, but never past the input's vertices)
-        const std::size_t capacity = std::min(2 * vert_.size() + 64, vertex_slot_.size());
+    if (vert_.size() == vert_.capacity()) {  // (by a quarter, never past the input's vertices)
+        const std::size_t capacity = std::min(vert_.size() + vert_.size() / 4 + 64, vertex_slot_.size());
         vert_.reserve(capacity);
         front_data_.reserve(capacity);
     }
