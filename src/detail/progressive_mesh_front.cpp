@@ -7,10 +7,6 @@
 
 #include <glm/geometric.hpp>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 namespace inkline {
 
 AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
@@ -135,7 +131,6 @@ void AdaptiveFront::compact_faces() {
 // and are refitted by a quarter, so a growing or shrinking front reallocates geometrically.
 void AdaptiveFront::trim_storage() {
     const std::size_t slack = 1024;
-    [[maybe_unused]] const std::size_t held = bytes();
     if (faces_.size() > active_face_count_ + active_face_count_ / 4 + slack) compact_faces();
     const auto refit = [](auto& v, std::size_t capacity) {
         std::remove_reference_t<decltype(v)> kept;
@@ -151,12 +146,6 @@ void AdaptiveFront::trim_storage() {
     if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
     // (the first frame from the input with geomorphs starts a collapse at most vertices)
     if (morphs_.capacity() > 2 * morphs_.size() + 4 * slack) refit(morphs_, 2 * morphs_.size() + slack);
-#if defined(__GLIBC__)
-    // The records are over-aligned, so they come from malloc's heap (aligned_alloc) even when
-    // large, and glibc keeps freed heap pages mapped: a large release (the first frame from the
-    // input gives back most of 150 B a vertex) is handed back to the system.
-    if (held > bytes() + (std::size_t(16) << 20)) malloc_trim(0);
-#endif
 }
 
 void AdaptiveFront::front_add(std::uint32_t v, std::uint32_t collapse, std::uint32_t last_collapse,
