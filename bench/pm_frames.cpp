@@ -61,6 +61,7 @@ struct PathResult {
     std::vector<double> ms;
     double most_ms = 0.0, largest_move_px = 0.0, converge_ms = 0.0;
     std::size_t splits = 0, collapses = 0, frames = 0, tri_first = 0, tri_last = 0, most_ops = 0;
+    std::size_t bytes_first = 0, bytes_last = 0, bytes_most = 0;  // the front's storage (AdaptiveFront::bytes)
     std::uint64_t last_mesh_hash = 0;  // the last frame's triangles (FNV-1a): a change of the code that
                                        // should not change the mesh shows here
 };
@@ -87,6 +88,7 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
     }
     r.converge_ms = (thread_seconds() - c0) * 1e3;
     r.tri_first = front.active_faces();
+    r.bytes_first = r.bytes_most = front.bytes();
     for (int k = 1; k <= frames; ++k) {
         const Camera cam = camera_at(k);
         const double t0 = thread_seconds();
@@ -98,7 +100,9 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
         r.collapses += s.collapses;
         r.most_ops = std::max(r.most_ops, s.splits + s.collapses);
         r.largest_move_px = std::max(r.largest_move_px, s.largest_move_px);
+        r.bytes_most = std::max(r.bytes_most, front.bytes());
     }
+    r.bytes_last = front.bytes();
     r.frames = std::size_t(frames);
     r.tri_last = front.active_faces();
     r.last_mesh_hash = triangles_hash(front.mesh());
@@ -218,14 +222,15 @@ int main(int argc, char** argv) {
     const double build_cpu = thread_seconds() - c0;
     const double build_wall = seconds_since(w0);
     const double rss_pm = status_mib("VmRSS"), peak_pm = status_mib("VmHWM");
-    std::size_t front_bytes = 0;
+    std::size_t front_bytes = 0;  // (a front as it starts: the whole input active)
     {
         const AdaptiveFront front(pm);
         front_bytes = front.bytes();
     }
     std::printf("### %s, PX = %g (T = %g px^2)\n\n", name.c_str(), px, px * px);
     std::printf("%zu triangles, %zu vertices. pm: hierarchy of %zu collapses built in %.2f s CPU (%.1f s wall); "
-                "hierarchy %.2f MiB (%.1f B/vertex), front %.1f MiB (%.1f B/vertex), the input read from the model; "
+                "hierarchy %.2f MiB (%.1f B/vertex), front with the whole input active %.1f MiB (%.1f B/vertex; at the "
+                "paths' views: the table), the input read from the model; "
                 "RSS %.0f -> %.0f MiB, peak %.0f MiB\n",
                 t.faces.size(), t.positions.size(), pm.collapses(), build_cpu, build_wall,
                 pm.hierarchy_bytes() / 1048576.0, double(pm.hierarchy_bytes()) / t.positions.size(),
@@ -255,18 +260,22 @@ int main(int argc, char** argv) {
     DetailCriterion c;
     c.target_area_px = px * px;
     std::printf("\n| path | geomorphs | converge first view ms | triangles first -> last | splits + collapses a frame "
-                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame | last mesh |\n"
-                "|---|---|---|---|---|---|---|---|---|\n");
+                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame | last mesh | "
+                "front B/vertex first -> last (most) |\n"
+                "|---|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true}) {
             if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
             if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
             const PathResult r = run_path(pm, t, c, dolly, geomorphs);
-            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %016llx |\n",
+            const double n = double(t.positions.size());
+            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %016llx | %.1f -> %.1f (%.1f) |\n",
                         dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",
                         r.converge_ms, r.tri_first, r.tri_last, double(r.splits + r.collapses) / r.frames, r.most_ops,
-                        median(r.ms), r.most_ms, r.largest_move_px, static_cast<unsigned long long>(r.last_mesh_hash));
+                        median(r.ms), r.most_ms, r.largest_move_px, static_cast<unsigned long long>(r.last_mesh_hash),
+                        double(r.bytes_first) / n, double(r.bytes_last) / n, double(r.bytes_most) / n);
             std::fflush(stdout);
         }
+    std::printf("\nRSS after the paths %.0f MiB, peak %.0f MiB\n", status_mib("VmRSS"), status_mib("VmHWM"));
     return 0;
 }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.hpp"
+#include "core/sorted_ids.hpp"
 
 #include "curvature/incremental_curvature.hpp"
 #include "detail/adapted_topology.hpp"
@@ -424,6 +425,19 @@ TEST(PmSession, SearchAroundMovingVerticesIsTheFullSearch) {
                 faces, candidates, searched);
     EXPECT_GT(flagged, 1000u);  // (the frames intersect themselves: the comparison covers pairs and cuts)
     EXPECT_LT(candidates, faces / 2);  // (50722 of 153368)
+}
+
+// One mesh matched to the last by a merge of their ids (no map sized by the input): the ids of
+// both lists must increase, as the front's meshes list them; each id found where it is, or not.
+TEST(PmSession, IdsMatchedByOneMerge) {
+    const std::vector<std::uint32_t> now{1, 3, 5, 7}, last{0, 3, 4, 7, 9};
+    std::vector<std::uint32_t> now_in_last, last_in_now;
+    match_increasing_ids(now, last, &now_in_last, &last_in_now);
+    EXPECT_EQ(now_in_last, (std::vector<std::uint32_t>{kNoMatch, 1, kNoMatch, 3}));
+    EXPECT_EQ(last_in_now, (std::vector<std::uint32_t>{kNoMatch, 1, kNoMatch, 3, kNoMatch}));
+    const std::vector<std::uint32_t> unordered{0, 2, 1, 3};
+    EXPECT_THROW(match_increasing_ids(unordered, last, &now_in_last, nullptr), std::invalid_argument);
+    EXPECT_THROW(match_increasing_ids(now, {4, 4}, nullptr, nullptr), std::invalid_argument);
 }
 
 // The topology and curvature carried from frame to frame (edges between unchanged faces keep their

@@ -9,6 +9,7 @@
 // faces marked instead of giving NaN or an unweighted guess, and doubles throughout (trimesh2: floats).
 #include "curvature/curvature.hpp"
 #include "curvature/incremental_curvature.hpp"
+#include "core/sorted_ids.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -460,17 +461,6 @@ CurvatureField estimate_curvature(const MeshTopology& mesh) {
 namespace {
 constexpr std::uint32_t kNone = UINT32_MAX;
 
-// by_id[id] = index, growing by_id to hold id.
-void set_index(std::vector<std::uint32_t>& by_id, std::uint32_t id, std::uint32_t index) {
-    if (id >= by_id.size()) by_id.resize(std::size_t(id) + 1, kNone);
-    by_id[id] = index;
-}
-// The index an id had (ids[index] == id), or kNone.
-std::uint32_t index_of(const std::vector<std::uint32_t>& by_id, const std::vector<std::uint32_t>& ids, std::uint32_t id) {
-    const std::uint32_t i = id < by_id.size() ? by_id[id] : kNone;
-    return i < ids.size() && ids[i] == id ? i : kNone;
-}
-
 // What a later mesh reads of a vertex: the estimator's doubles (dir: dir1, after diagonalization).
 struct VertexValues {
     std::vector<dvec3> normal, dir;
@@ -492,12 +482,13 @@ struct IncrementalCurvature::State {
     VertexValues vert, last_vert;
     CurvatureField field, last_field;
     std::vector<std::uint32_t> vertex_id, last_vertex_id, face_id, last_face_id;
-    std::vector<std::uint32_t> vertex_of_id, last_vertex_of_id, face_of_id, last_face_of_id;
     std::vector<dvec3> last_positions;
-    std::vector<std::array<std::uint32_t, 3>> last_corner_ids;  // per last face: its corners' ids
+    std::vector<std::array<std::uint32_t, 3>> last_faces;  // the last mesh's faces (its vertex indices)
     // Scratch for the current mesh. level per vertex: 3 its faces changed (normal, areas), 2 a
     // neighbour's normal did (curvature), 1 a neighbour's curvature did (derivative), 0 none.
-    std::vector<std::uint32_t> last_slot;  // per vertex: its index in the last mesh, or kNone
+    // Where each vertex and face is in the last mesh (kNone: not there), and the last mesh's in this
+    // one: both meshes list their ids increasing, so one merge matches them (no map by id).
+    std::vector<std::uint32_t> last_slot, now_of_last_vertex, last_face, now_of_last_face;
     std::vector<std::uint8_t> level, moved, face_level;  // face_level: the most of its corners'
     std::vector<FaceFrame> frame;
     std::vector<std::array<double, 3>> corner;
@@ -520,30 +511,29 @@ struct IncrementalCurvature::State {
 // corners or a corner that moved, and at the remaining corners of every face that went away.
 void IncrementalCurvature::State::map_and_mark(const MeshTopology& m) {
     const std::size_t nv = m.vertex_count(), nf = m.face_count();
-    for (std::uint32_t v = 0; v < nv; ++v) set_index(vertex_of_id, vertex_id[v], v);
-    for (std::uint32_t f = 0; f < nf; ++f) set_index(face_of_id, face_id[f], f);
-    last_slot.resize(nv);
+    match_increasing_ids(vertex_id, last_vertex_id, &last_slot, &now_of_last_vertex);
+    match_increasing_ids(face_id, last_face_id, &last_face, &now_of_last_face);
     moved.assign(nv, 0);
     for (std::uint32_t v = 0; v < nv; ++v) {
-        const std::uint32_t s = index_of(last_vertex_of_id, last_vertex_id, vertex_id[v]);
-        last_slot[v] = s;
+        const std::uint32_t s = last_slot[v];
         moved[v] = s == kNone || last_positions[s] != m.positions[v];
     }
     level.assign(nv, 0);
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& c = m.faces[f];
-        const std::uint32_t q = index_of(last_face_of_id, last_face_id, face_id[f]);
+        const std::uint32_t q = last_face[f];
         bool changed = q == kNone || moved[c[0]] || moved[c[1]] || moved[c[2]];
-        for (int j = 0; j < 3 && !changed; ++j) changed = last_corner_ids[q][j] != vertex_id[c[j]];
+        // (a corner is the same vertex when its index in the last mesh is the last face's corner)
+        for (int j = 0; j < 3 && !changed; ++j) changed = last_faces[q][j] != last_slot[c[j]];
         if (changed) level[c[0]] = level[c[1]] = level[c[2]] = 3;
     }
     for (std::uint32_t q = 0; q < last_face_id.size(); ++q) {
-        const std::uint32_t f = index_of(face_of_id, face_id, last_face_id[q]);
+        const std::uint32_t f = now_of_last_face[q];
         bool same = f != kNone;
-        for (int j = 0; j < 3 && same; ++j) same = last_corner_ids[q][j] == vertex_id[m.faces[f][j]];
+        for (int j = 0; j < 3 && same; ++j) same = last_faces[q][j] == last_slot[m.faces[f][j]];
         if (same) continue;
-        for (const std::uint32_t id : last_corner_ids[q]) {
-            const std::uint32_t v = index_of(vertex_of_id, vertex_id, id);
+        for (const std::uint32_t w : last_faces[q]) {
+            const std::uint32_t v = now_of_last_vertex[w];
             if (v != kNone) level[v] = 3;
         }
     }
@@ -689,9 +679,7 @@ void IncrementalCurvature::State::write(const MeshTopology& m) {
 
 void IncrementalCurvature::State::remember(const MeshTopology& m) {
     last_positions.assign(m.positions.begin(), m.positions.end());
-    last_corner_ids.resize(m.face_count());
-    for (std::size_t f = 0; f < m.face_count(); ++f)
-        for (int j = 0; j < 3; ++j) last_corner_ids[f][j] = vertex_id[m.faces[f][j]];
+    last_faces.assign(m.faces.begin(), m.faces.end());
 }
 
 IncrementalCurvature::IncrementalCurvature() : state_(std::make_unique<State>()) {}
@@ -733,8 +721,6 @@ const CurvatureField& IncrementalCurvature::update(const MeshTopology& mesh, con
     std::swap(s.vert, s.last_vert);
     std::swap(s.vertex_id, s.last_vertex_id);
     std::swap(s.face_id, s.last_face_id);
-    std::swap(s.vertex_of_id, s.last_vertex_of_id);
-    std::swap(s.face_of_id, s.last_face_of_id);
     return s.last_field;
 }
 

@@ -3,18 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/sorted_ids.hpp"
 #include "model/orientation.hpp"
 #include "model/topology_steps.hpp"
 
 namespace inkline {
 namespace {
 constexpr std::uint32_t kNone = UINT32_MAX;
-
-// The index an id had in `ids` (by_id[id], checked), or kNone.
-std::uint32_t index_of(const std::vector<std::uint32_t>& by_id, const std::vector<std::uint32_t>& ids, std::uint32_t id) {
-    const std::uint32_t i = id < by_id.size() ? by_id[id] : kNone;
-    return i < ids.size() && ids[i] == id ? i : kNone;
-}
 }  // namespace
 
 // Per face, the last mesh's face of the same id when its corners are the same vertices in the same
@@ -24,15 +19,16 @@ void AdaptedTopology::match_faces(const MeshTopology& t, const MeshTopology* las
     const std::size_t nf = t.face_count();
     last_face_.assign(nf, kNone);
     if (!last) return;
+    match_increasing_ids(face_id_, last_face_id_, &last_face_, nullptr);  // (both in input order: one merge)
     for (std::uint32_t f = 0; f < nf; ++f) {
-        const std::uint32_t q = index_of(last_face_of_id_, last_face_id_, face_id_[f]);
+        const std::uint32_t q = last_face_[f];
         if (q == kNone) continue;
         bool same = true;
         for (int j = 0; j < 3 && same; ++j) {
             const std::uint32_t v = t.faces[f][j], w = last->faces[q][j];
             same = vertex_id_[v] == last_vertex_id_[w] && t.positions[v] == last->positions[w];
         }
-        if (same) last_face_[f] = q;
+        if (!same) last_face_[f] = kNone;
     }
 }
 
@@ -123,15 +119,10 @@ void AdaptedTopology::build(MeshTopology& t, TriangleMesh&& mesh, const std::vec
     remember();
 }
 
-// This mesh's ids become the last ones (the by-id map keeps stale entries: index_of checks them).
+// This mesh's ids become the last ones.
 void AdaptedTopology::remember() {
     last_vertex_id_.swap(vertex_id_);
     last_face_id_.swap(face_id_);
-    for (std::uint32_t f = 0; f < last_face_id_.size(); ++f) {
-        const std::uint32_t id = last_face_id_[f];
-        if (id >= last_face_of_id_.size()) last_face_of_id_.resize(std::size_t(id) + 1, kNone);
-        last_face_of_id_[id] = f;
-    }
 }
 
 }  // namespace inkline

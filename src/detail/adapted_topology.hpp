@@ -4,8 +4,9 @@
 // same corners at the same positions as in the last frame, the angle between their normals and the
 // convexity (an exact orientation test) carried over instead of computed again.
 //
-// Takes each frame's mesh with its vertices' and faces' input indices (faces ascending) and the
-// last frame's topology (alive during the call); gives the new topology.
+// Takes each frame's mesh with its vertices' and faces' input indices (both increasing: the front's
+// meshes keep input order, so a face is matched to the last frame's by one merge, with no map sized
+// by the input) and the last frame's topology (alive during the call); gives the new topology.
 #pragma once
 
 #include <cstdint>
@@ -26,7 +27,6 @@ public:
 
 private:
     std::vector<std::uint32_t> vertex_id_, face_id_, last_vertex_id_, last_face_id_;  // per mesh
-    std::vector<std::uint32_t> last_face_of_id_;  // per input face id: its index in the last mesh
     std::vector<std::uint32_t> last_face_;  // per face: the same face in the last mesh, if unchanged
     std::vector<std::uint32_t> corner_edge_;
     std::vector<glm::dvec3> normal_;

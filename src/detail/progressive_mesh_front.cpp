@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 
@@ -11,73 +12,165 @@ namespace inkline {
 AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
     const PmInput in = pm.input();
     const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
-    vert_.assign(n, Vertex{none, none, none, none, 0, 0, 0, 1, 0});
+    // (the slot words give up one bit, so indices must stay below 2^31: 2 billion vertices)
+    std::vector<std::uint32_t> collapse(n, none), pending(n, 0);
     for (std::size_t i = 0; i < m; ++i) {
-        vert_[pm.removed_vertex()[i]].collapse_of = std::uint32_t(i);
-        ++vert_[pm.kept_vertex()[i]].pending_children;
+        collapse[pm.removed_vertex()[i]] = std::uint32_t(i);
+        ++pending[pm.kept_vertex()[i]];
     }
-    prev_collapse_.assign(m, none);
-    dead_.assign(m, {none, none});
+    made_.assign(m, Made{none, none, {none, none}});
     changed_in_frame_.assign(m, 0);
-    faces_.assign(faces, Face{{none, none, none}, {none, none, none}, 0.0});
-    face_active_.assign(faces, 0);
-    for (std::size_t f = 0; f < faces; ++f) {
-        for (int j = 0; j < 3; ++j) faces_[f].vertex[j] = in.triangles[f][j];
-        refresh_face_area(std::uint32_t(f));
-        set_face_active(std::uint32_t(f), true);
-    }
+    // The front starts as the input: every vertex in a face, in input order.
+    vertex_slot_.assign(n, tag | index_mask);
+    vert_.reserve(n);
+    front_data_.reserve(n);
+    for (const auto& t : in.triangles)
+        for (const std::uint32_t v : t) vertex_slot_[v] = 0;
     for (std::uint32_t v = 0; v < n; ++v)
-        if (vert_[v].head != none) {
-            front_add(v);
-            refresh_ring_area(v);
-        }
+        if (vertex_slot_[v] == 0) front_add(v, collapse[v], none, pending[v]);
+    face_slot_.assign(faces, none);
+    faces_.reserve(faces);
+    face_id_.reserve(faces);
+    for (std::size_t f = 0; f < faces; ++f) add_face(std::uint32_t(f));
+    for (const Vertex& v : vert_) refresh_ring_area(v.id);
 }
 
-std::uint32_t AdaptiveFront::parent(std::uint32_t v) const { return pm_.kept_vertex()[vert_[v].collapse_of]; }
+std::uint32_t AdaptiveFront::collapse_of(std::uint32_t v) const {
+    if (active(v)) return rec(v).collapse_of;
+    const std::uint32_t i = vertex_slot_[v] & index_mask;
+    return i == index_mask ? none : i;
+}
+
+bool AdaptiveFront::at_bottom(std::uint32_t v) const {
+    if (active(v)) return rec(v).last_collapse == none;
+    const std::uint32_t i = collapse_of(v);
+    return i == none || made_[i].removed_stack == none;
+}
+
+std::uint32_t AdaptiveFront::parent(std::uint32_t v) const { return pm_.kept_vertex()[collapse_of(v)]; }
 
 std::uint32_t AdaptiveFront::representative(std::uint32_t u) const {
-    while (!vert_[u].active) u = parent(u);
+    while (!active(u)) u = pm_.kept_vertex()[vertex_slot_[u] & index_mask];
     return u;
 }
 
 void AdaptiveFront::link(std::uint32_t c, std::uint32_t v) {
+    Vertex& x = rec(v);
     corner_vertex(c) = v;
-    next_corner(c) = vert_[v].head;
-    vert_[v].head = c;
+    next_corner(c) = x.head;
+    x.head = c;
 }
 
 void AdaptiveFront::unlink(std::uint32_t c) {
-    std::uint32_t* at = &vert_[corner_vertex(c)].head;
+    std::uint32_t* at = &rec(corner_vertex(c)).head;
     while (*at != c) at = &next_corner(*at);
     *at = next_corner(c);
 }
 
-void AdaptiveFront::set_face_active(std::uint32_t f, bool on) {
-    if (bool(face_active_[f]) == on) return;
-    face_active_[f] = on;
-    for (std::uint32_t c = 4 * f; c < 4 * f + 3; ++c) {
-        if (on)
-            link(c, corner_vertex(c));
-        else
-            unlink(c);
+// A slot for input face f (a free one when there is one), its corners the current representatives
+// of the input's, linked into their vertices' lists in corner order.
+std::uint32_t AdaptiveFront::add_face(std::uint32_t f) {
+    std::uint32_t s = free_face_ & index_mask;
+    if (s != index_mask) {
+        free_face_ = face_id_[s];
+        face_id_[s] = f;
+    } else {
+        s = std::uint32_t(faces_.size());
+        if (faces_.size() == faces_.capacity()) {  // (by a quarter, never past the input's faces)
+            const std::size_t capacity = std::min(faces_.size() + faces_.size() / 4 + 64, face_slot_.size());
+            faces_.reserve(capacity);
+            face_id_.reserve(capacity);
+        }
+        faces_.push_back(Face{{none, none, none}, {none, none, none}, 0.0});
+        face_id_.push_back(f);
     }
-    active_face_count_ += on ? 1 : std::size_t(-1);
+    face_slot_[f] = s;
+    const auto& tri = pm_.input().triangles[f];
+    for (int j = 0; j < 3; ++j) faces_[s].vertex[j] = representative(tri[j]);
+    refresh_face_area(s);
+    for (std::uint32_t c = 4 * s; c < 4 * s + 3; ++c) link(c, corner_vertex(c));
+    ++active_face_count_;
+    return s;
 }
 
-void AdaptiveFront::front_add(std::uint32_t v) {
-    vert_[v].front_pos = std::uint32_t(front_.size());
-    front_.push_back(v);
+void AdaptiveFront::remove_face(std::uint32_t s) {
+    for (std::uint32_t c = 4 * s; c < 4 * s + 3; ++c) unlink(c);
+    face_slot_[face_id_[s]] = none;
+    face_id_[s] = free_face_;
+    free_face_ = tag | s;
+    --active_face_count_;
+}
+
+// The live face records moved down over the free slots (in slot order) and the pool's storage
+// released; the corner links, the vertices' heads and the input faces' slots renumbered.
+void AdaptiveFront::compact_faces() {
+    std::vector<std::uint32_t> to(faces_.size(), none);
+    std::uint32_t live = 0;
+    for (std::uint32_t s = 0; s < faces_.size(); ++s)
+        if (!(face_id_[s] & tag)) {
+            to[s] = live;
+            faces_[live] = faces_[s];
+            face_id_[live] = face_id_[s];
+            face_slot_[face_id_[live]] = live;
+            ++live;
+        }
+    const auto moved = [&](std::uint32_t c) { return c == none ? none : 4 * to[face_of(c)] + slot_of(c); };
+    faces_.resize(live);
+    face_id_.resize(live);
+    faces_.shrink_to_fit();
+    face_id_.shrink_to_fit();
+    for (Face& f : faces_)
+        for (std::uint32_t& c : f.next) c = moved(c);
+    for (Vertex& v : vert_) v.head = moved(v.head);
+    free_face_ = tag | index_mask;
+}
+
+// Storage follows the front: a face pool a fifth free, or vertex and worklist storage far beyond
+// the front's size (after a coarsening, e.g. the first frame from the input), is given back.
+// Amortized: a pool is compacted only after it lost a fifth of its records, and the pools grow
+// and are refitted by a quarter, so a growing or shrinking front reallocates geometrically.
+void AdaptiveFront::trim_storage() {
+    const std::size_t slack = 1024;
+    if (faces_.size() > active_face_count_ + active_face_count_ / 4 + slack) compact_faces();
+    const auto refit = [](auto& v, std::size_t capacity) {
+        std::remove_reference_t<decltype(v)> kept;
+        kept.reserve(capacity);
+        kept.assign(v.begin(), v.end());
+        v.swap(kept);
+    };
+    const std::size_t n = vert_.size();
+    if (vert_.capacity() > n + n / 2 + slack) {
+        refit(vert_, n + n / 4);
+        refit(front_data_, n + n / 4);
+    }
+    if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
+    // (the first frame from the input with geomorphs starts a collapse at most vertices)
+    if (morphs_.capacity() > 2 * morphs_.size() + 4 * slack) refit(morphs_, 2 * morphs_.size() + slack);
+}
+
+void AdaptiveFront::front_add(std::uint32_t v, std::uint32_t collapse, std::uint32_t last_collapse,
+                              std::uint32_t pending) {
+    vertex_slot_[v] = std::uint32_t(vert_.size());
+    if (vert_.size() == vert_.capacity()) {  // (by a quarter, never past the input's vertices)
+        const std::size_t capacity = std::min(vert_.size() + vert_.size() / 4 + 64, vertex_slot_.size());
+        vert_.reserve(capacity);
+        front_data_.reserve(capacity);
+    }
+    vert_.push_back(Vertex{v, none, collapse, last_collapse, pending, 0, 0, 0});
     front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), 0.0f));  // (area: refresh_ring_area)
 }
 
-void AdaptiveFront::front_remove(std::uint32_t v) {
-    const std::uint32_t at = vert_[v].front_pos, last = front_.back();
-    front_[at] = last;
+// v leaves the front, removed by collapse i: its record goes (the last moves into its place), its
+// stack waits in made_[i].
+void AdaptiveFront::front_remove(std::uint32_t v, std::uint32_t i) {
+    const std::uint32_t at = vertex_slot_[v];
+    made_[i].removed_stack = vert_[at].last_collapse;
+    vert_[at] = vert_.back();
     front_data_[at] = front_data_.back();
-    vert_[last].front_pos = at;
-    front_.pop_back();
+    vertex_slot_[vert_[at].id] = at;
+    vert_.pop_back();
     front_data_.pop_back();
-    vert_[v].front_pos = none;
+    vertex_slot_[v] = tag | i;
 }
 
 void AdaptiveFront::refresh_face_area(std::uint32_t f) {
@@ -87,18 +180,19 @@ void AdaptiveFront::refresh_face_area(std::uint32_t f) {
 }
 
 void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
+    if (!active(v)) return;
     double sum = 0.0;
     std::size_t count = 0;
-    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c)) {
+    for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c)) {
         sum += faces_[face_of(c)].area;
         ++count;
     }
-    if (vert_[v].front_pos != none) front_data_[vert_[v].front_pos].w = float(count ? sum / double(count) : 0.0);
+    front_data_[vertex_slot_[v]].w = float(count ? sum / double(count) : 0.0);
 }
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
-    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c))
+    for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
             const std::uint32_t u = face_vertex(face_of(c), j);
             if (u != v && std::find(out.begin(), out.end(), u) == out.end()) out.push_back(u);
@@ -117,32 +211,39 @@ double AdaptiveFront::image_area_of(std::uint32_t v, const Camera& camera) const
 }
 
 void AdaptiveFront::enqueue(std::uint32_t v) {
-    if (vert_[v].queued) return;
-    vert_[v].queued = 1;
+    if (rec(v).queued) return;
+    rec(v).queued = 1;
     work_.push_back(v);
+}
+
+bool AdaptiveFront::dequeue(std::uint32_t v) {
+    if (!active(v)) return false;
+    Vertex& x = rec(v);
+    x.queued = 0;
+    return x.head != none;
 }
 
 // A change of v's ring may lift what refused it: it is tried again from now on.
 void AdaptiveFront::enqueue_changed(std::uint32_t v) {
-    vert_[v].retry_at = 0;
-    if (!vert_[v].locked) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
+    rec(v).retry_at = 0;
+    if (!rec(v).locked) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
 }
 
 // A lock around `v` ended: its refused neighbours (those that waited on it among them) are tried
 // again.
 void AdaptiveFront::wake_around(std::uint32_t v) {
-    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c))
+    for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
             const std::uint32_t u = face_vertex(face_of(c), j);
-            if (vert_[u].retry_at > frame_) {
-                vert_[u].retry_at = 0;
-                if (!vert_[u].locked) enqueue(u);
+            if (rec(u).retry_at > frame_) {
+                rec(u).retry_at = 0;
+                if (!rec(u).locked) enqueue(u);
             }
         }
 }
 
 bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
-    vert_[v].retry_at = frame_ + frames;
+    rec(v).retry_at = frame_ + frames;
     return false;
 }
 
@@ -151,7 +252,7 @@ bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
 std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
     std::size_t faces = 0;
-    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c), ++faces) {
+    for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c), ++faces) {
         const Face& f = faces_[face_of(c)];
         const std::uint32_t j = slot_of(c);
         out.push_back(f.vertex[(j + 1) % 3]);
@@ -168,7 +269,7 @@ std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_
 bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     std::uint32_t wings[2] = {none, none};
     int shared = 0;
-    for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c)) {
+    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
         const std::uint32_t f = face_of(c);
         std::uint32_t third = none;
         bool has_k = false;
@@ -232,12 +333,12 @@ float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, 
     std::size_t count = 0;
     if (u == k) {
         areas_.clear();
-        for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c))
+        for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c))
             if (const auto a = area_after(face_of(c))) areas_.push_back(*a);
         for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
         count = areas_.size();
     }
-    for (std::uint32_t c = vert_[u].head; c != none; c = next_corner(c))
+    for (std::uint32_t c = rec(u).head; c != none; c = next_corner(c))
         if (const auto a = area_after(face_of(c))) {
             sum += *a;
             ++count;
@@ -248,7 +349,7 @@ float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, 
 // A face of r's ring that would turn over (or become degenerate) when r moves onto k.
 bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
     const auto& p = pm_.input().positions;
-    for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c)) {
+    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
         const std::uint32_t f = face_of(c);
         glm::dvec3 before[3], after[3];
         bool has_k = false;
@@ -267,43 +368,46 @@ bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
 }
 
 void AdaptiveFront::raw_collapse(std::uint32_t r) {
-    const std::uint32_t i = vert_[r].collapse_of, k = parent(r);
-    std::array<std::uint32_t, 2> dead{none, none};
+    const std::uint32_t i = rec(r).collapse_of, k = parent(r);
+    std::array<std::uint32_t, 2> dead{none, none};  // (pool slots, then input faces)
     int n_dead = 0;
-    for (std::uint32_t c = vert_[r].head; c != none; c = next_corner(c)) {
+    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
         const std::uint32_t f = face_of(c);
         if (face_vertex(f, 0) == k || face_vertex(f, 1) == k || face_vertex(f, 2) == k) dead[n_dead++] = f;
     }
-    for (std::uint32_t f : dead)
-        if (f != none) set_face_active(f, false);
-    while (vert_[r].head != none) {
-        const std::uint32_t c = vert_[r].head;
+    for (std::uint32_t& f : dead)
+        if (f != none) {
+            const std::uint32_t slot = f;
+            f = face_id_[slot];
+            remove_face(slot);
+        }
+    while (rec(r).head != none) {
+        const std::uint32_t c = rec(r).head;
         unlink(c);
         link(c, k);
         refresh_face_area(face_of(c));
     }
-    vert_[r].active = 0;
-    front_remove(r);
-    dead_[i] = dead;
-    prev_collapse_[i] = vert_[k].last_collapse;
-    vert_[k].last_collapse = i;
-    --vert_[k].pending_children;
+    front_remove(r, i);
+    made_[i].dead = dead;
+    made_[i].prev = rec(k).last_collapse;
+    rec(k).last_collapse = i;
+    --rec(k).pending_children;
 }
 
 // The latest collapse made onto k can be undone when each face it removed finds its third corner
 // among k's neighbours (the faces around it were refined or coarsened since, but not across it).
 bool AdaptiveFront::split_ok(std::uint32_t k) const {
-    const std::uint32_t i = vert_[k].last_collapse;
+    const std::uint32_t i = rec(k).last_collapse;
     if (i == none) return false;
     const std::uint32_t r = pm_.removed_vertex()[i];
     const auto& tri = pm_.input().triangles;
-    for (std::uint32_t f : dead_[i]) {
+    for (std::uint32_t f : made_[i].dead) {
         if (f == none) continue;
         int at_r = 0, at_k = 0;
         std::uint32_t third = none;
         for (int j = 0; j < 3; ++j) {
             std::uint32_t u = tri[f][j];
-            while (u != r && !vert_[u].active) u = parent(u);
+            while (u != r && !active(u)) u = parent(u);
             if (u == r)
                 ++at_r;
             else if (u == k)
@@ -313,7 +417,7 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
         }
         if (at_r != 1 || at_k != 1 || third == none) return false;
         bool adjacent = false;
-        for (std::uint32_t c = vert_[k].head; c != none && !adjacent; c = next_corner(c))
+        for (std::uint32_t c = rec(k).head; c != none && !adjacent; c = next_corner(c))
             for (int j = 0; j < 3; ++j) adjacent |= face_vertex(face_of(c), j) == third;
         if (!adjacent) return false;
     }
@@ -325,7 +429,7 @@ bool AdaptiveFront::split_ok(std::uint32_t k) const {
 bool AdaptiveFront::ring_is_disk(std::uint32_t v) const {
     std::uint32_t from[64], to[64];
     std::size_t n = 0;
-    for (std::uint32_t c = vert_[v].head; c != none; c = next_corner(c)) {
+    for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c)) {
         if (n == 64) return false;
         const std::uint32_t f = face_of(c), j = slot_of(c);
         from[n] = face_vertex(f, (j + 1) % 3);
@@ -360,28 +464,24 @@ bool AdaptiveFront::ring_is_disk(std::uint32_t v) const {
 }
 
 std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
-    const std::uint32_t i = vert_[k].last_collapse, r = pm_.removed_vertex()[i];
+    const std::uint32_t i = rec(k).last_collapse, r = pm_.removed_vertex()[i];
     const auto& tri = pm_.input().triangles;
-    vert_[k].last_collapse = prev_collapse_[i];
-    prev_collapse_[i] = none;
-    ++vert_[k].pending_children;
-    vert_[r].active = 1;
-    front_add(r);
-    for (std::uint32_t c = vert_[k].head, next = none; c != none; c = next) {
+    rec(k).last_collapse = made_[i].prev;
+    made_[i].prev = none;
+    ++rec(k).pending_children;
+    front_add(r, i, made_[i].removed_stack, 0);  // (every collapse onto r was made: tree order)
+    made_[i].removed_stack = none;
+    for (std::uint32_t c = rec(k).head, next = none; c != none; c = next) {
         next = next_corner(c);
-        if (representative(tri[face_of(c)][slot_of(c)]) == r) {
+        if (representative(tri[face_id_[face_of(c)]][slot_of(c)]) == r) {
             unlink(c);
             link(c, r);
             refresh_face_area(face_of(c));
         }
     }
-    for (std::uint32_t f : dead_[i]) {
-        if (f == none) continue;
-        for (int j = 0; j < 3; ++j) faces_[f].vertex[j] = representative(tri[f][j]);
-        refresh_face_area(f);
-        set_face_active(f, true);
-    }
-    dead_[i] = {none, none};
+    for (std::uint32_t f : made_[i].dead)
+        if (f != none) add_face(f);
+    made_[i].dead = {none, none};
     return r;
 }
 
@@ -398,17 +498,17 @@ void AdaptiveFront::touch_ring(std::uint32_t v) {
 }
 
 bool AdaptiveFront::try_collapse(std::uint32_t r) {
-    const std::uint32_t i = vert_[r].collapse_of;
-    if (i == none || vert_[r].locked || changed_in_frame_[i] == frame16()) return false;
+    const std::uint32_t i = rec(r).collapse_of;
+    if (i == none || rec(r).locked || changed_in_frame_[i] == frame16()) return false;
     const std::uint32_t k = parent(r);
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
     // Refusals that only a change of r's ring (or the end of k's lock) can lift stamp r: the scan
     // then skips it until touch_ring or wake_around clears the stamp (or, a backstop, a few frames
     // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
-    if (vert_[k].locked) return refuse(r, lock_backstop_frames);
+    if (active(k) && rec(k).locked) return refuse(r, lock_backstop_frames);
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
-    if (!vert_[k].active || vert_[r].pending_children != 0) return refuse(r, retry_frames);
+    if (!active(k) || rec(r).pending_children != 0) return refuse(r, retry_frames);
     if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
     // t_s T unless it was there and does not grow; measured without making the collapse. (Not
@@ -432,8 +532,8 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
 }
 
 bool AdaptiveFront::try_split(std::uint32_t k) {
-    const std::uint32_t i = vert_[k].last_collapse;
-    if (vert_[k].locked || i == none || changed_in_frame_[i] == frame16()) return false;
+    const std::uint32_t i = rec(k).last_collapse;
+    if (rec(k).locked || i == none || changed_in_frame_[i] == frame16()) return false;
     const double t_k = target(k), a = image_area(k);
     if (!(a > criterion_->split * t_k) || !split_ok(k)) return false;
     const std::uint32_t r = raw_split(k);
@@ -454,8 +554,8 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
     touch_ring(k);
     ++stats_->splits;
     if (geomorphs_.enabled) {
-        ++vert_[r].locked;
-        ++vert_[k].locked;
+        ++rec(r).locked;
+        ++rec(k).locked;
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
                                         : geomorphs_.max_speedup;
         morphs_.push_back({r, k, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
@@ -467,9 +567,9 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
 // A collapse in flight locks r and its whole ring (k among it): no other operation may change the
 // ring, so the collapse stays legal until it is made.
 void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
-    vert_[r].locked = std::uint16_t(vert_[r].locked + delta);
+    rec(r).locked = std::uint16_t(rec(r).locked + delta);
     neighbours(r, ring_r_);
-    for (std::uint32_t u : ring_r_) vert_[u].locked = std::uint16_t(vert_[u].locked + delta);
+    for (std::uint32_t u : ring_r_) rec(u).locked = std::uint16_t(rec(u).locked + delta);
 }
 
 // A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
@@ -507,8 +607,8 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
             touch_ring(k);
             ++stats_->collapses;
         } else {
-            --vert_[r].locked;
-            --vert_[k].locked;
+            --rec(r).locked;
+            --rec(k).locked;
             wake_around(r);
             wake_around(k);
         }
@@ -523,11 +623,10 @@ void AdaptiveFront::drain(std::size_t max_operations) {
     std::size_t operations = 0, at = 0;
     for (; at < work_.size() && operations < max_operations; ++at) {
         const std::uint32_t v = work_[at];
-        vert_[v].queued = 0;
-        if (!vert_[v].active || vert_[v].head == none) continue;
+        if (!dequeue(v)) continue;
         if (try_split(v) || try_collapse(v)) ++operations;
     }
-    for (; at < work_.size(); ++at) vert_[work_[at]].queued = 0;  // the budget ran out: next frame
+    for (; at < work_.size(); ++at) dequeue(work_[at]);  // the budget ran out: next frame
     work_.clear();
 }
 
@@ -541,20 +640,21 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     if (std::uint16_t(++frame_) == 0) ++frame_;  // (frame16() 0 is every untouched record's)
     if (geomorphs_.enabled) advance_morphs(frame_seconds);
     const bool constant_target = !criterion.map;
-    for (std::size_t j = 0; j < front_.size(); ++j) {
+    for (std::size_t j = 0; j < vert_.size(); ++j) {
         const glm::dvec3 p(front_data_[j]);
         const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
-        const std::uint32_t v = front_[j];  // out of the band: can it change? (the rest is cold memory)
-        if (vert_[v].locked || vert_[v].retry_at > frame_) continue;
-        if ((a > criterion.split * t && vert_[v].last_collapse != none) || (a < criterion.collapse * t && vert_[v].collapse_of != none))
-            enqueue(v);
+        const Vertex& v = vert_[j];  // out of the band: can it change? (the rest is cold memory)
+        if (v.locked || v.retry_at > frame_) continue;
+        if ((a > criterion.split * t && v.last_collapse != none) || (a < criterion.collapse * t && v.collapse_of != none))
+            enqueue(v.id);
     }
-    s.evaluated = front_.size();
+    s.evaluated = vert_.size();
     drain(max_operations);
+    trim_storage();
     s.morphs_running = morphs_.size();
-    s.vertices = front_.size();
+    s.vertices = vert_.size();
     s.triangles = active_face_count_;
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     camera_ = nullptr;
@@ -570,7 +670,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
     if (input_face) input_face->clear();
     std::vector<std::uint32_t> index(in.positions.size(), none);
     for (std::uint32_t v = 0; v < in.positions.size(); ++v)
-        if (vert_[v].active && vert_[v].head != none) {
+        if (active(v) && rec(v).head != none) {
             index[v] = std::uint32_t(out.positions.size());
             out.positions.push_back(in.positions[v]);
             if (input_vertex) input_vertex->push_back(v);
@@ -578,8 +678,9 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
     for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m, in.positions);
     out.triangles.reserve(active_face_count_);
     for (std::uint32_t f = 0; f < in.triangles.size(); ++f) {
-        if (!face_active_[f]) continue;
-        std::array<std::uint32_t, 3> t{index[face_vertex(f, 0)], index[face_vertex(f, 1)], index[face_vertex(f, 2)]};
+        const std::uint32_t slot = face_slot_[f];
+        if (slot == none) continue;
+        std::array<std::uint32_t, 3> t{index[face_vertex(slot, 0)], index[face_vertex(slot, 1)], index[face_vertex(slot, 2)]};
         // (keep the input's first corner first when it survives: an untouched face is the input's)
         const auto first = std::find(t.begin(), t.end(), index[in.triangles[f][0]]);
         if (first != t.end()) std::rotate(t.begin(), first, t.end());
@@ -593,8 +694,8 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(vert_) + b(prev_collapse_) + b(dead_) + b(faces_) +
-           b(face_active_) + b(front_) + b(front_data_) + b(work_) + b(morphs_) + b(areas_) + b(touched_);
+    return b(vert_) + b(front_data_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) + b(face_id_) +
+           b(face_slot_) + b(work_) + b(morphs_) + b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_);
 }
 
 }  // namespace inkline

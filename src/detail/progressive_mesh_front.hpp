@@ -8,12 +8,14 @@
 //
 // Each frame evaluates every active vertex (its ring's world area is cached, so the test is one
 // depth and one multiply) and splits or collapses only where the criterion says so; the work
-// follows the vertices leaving [t_c T, t_s T], not the model's size. Everything lives in flat
-// arrays sized once from the input (per face: its corners' current vertices, their links in the
-// vertices' corner lists and its area, one 32-byte record; per vertex one 32-byte record; per
-// collapse: the faces it removed and the stack of collapses made onto a vertex, so a split undoes
-// the latest in O(degree x the hierarchy's depth there)). No allocation per frame once the
-// worklists have grown.
+// follows the vertices leaving [t_c T, t_s T], not the model's size. Records are kept for the
+// active front only (the paper's point: one adaptive mesh is kept): per input vertex and face a
+// 4-byte slot into pools of 32-byte vertex and face records that grow and shrink with the front
+// (per face: its corners' current vertices, their links in the vertices' corner lists and its
+// area; a restored face's corners come from the input's triangles). Per collapse: the faces it
+// removed and the stacks of collapses made onto its vertices, so a split undoes the latest in
+// O(degree x the hierarchy's depth there). No allocation per frame once the worklists and pools
+// have grown; a pool left mostly empty by a coarsening is compacted at the frame's end.
 //
 // A collapse is made (the rules of ProgressiveMesh::adapt, plus Hoppe's tree order: r goes only
 // with its whole subtree) when its removed vertex r is below t_c T, its kept vertex k is active
@@ -84,14 +86,15 @@ public:
     TriangleMesh mesh(std::vector<std::uint32_t>* input_vertex = nullptr,
                       std::vector<std::uint32_t>* input_face = nullptr) const;
 
-    std::size_t active_vertices() const { return front_.size(); }
+    std::size_t active_vertices() const { return vert_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
-    bool is_active(std::uint32_t v) const { return vert_[v].active != 0; }
-    bool is_locked(std::uint32_t v) const { return vert_[v].locked != 0; }  // held by a geomorph
-    // The hierarchy's limits at an active vertex: no collapse was made onto it (the bottom: it
-    // cannot split), it is never removed (the top: it cannot collapse).
-    bool at_bottom(std::uint32_t v) const { return vert_[v].last_collapse == none; }
-    bool at_top(std::uint32_t v) const { return vert_[v].collapse_of == none; }
+    // In the front (input vertex v; a vertex in no face never is).
+    bool is_active(std::uint32_t v) const { return active(v); }
+    bool is_locked(std::uint32_t v) const { return active(v) && rec(v).locked != 0; }  // held by a geomorph
+    // The hierarchy's limits at a vertex: no collapse was made onto it (the bottom: it cannot
+    // split), it is never removed (the top: it cannot collapse).
+    bool at_bottom(std::uint32_t v) const;
+    bool at_top(std::uint32_t v) const { return collapse_of(v) == none; }
     std::size_t morphs_running() const { return morphs_.size(); }
     // The criterion's A_img of an active vertex (its logical ring at its input position).
     double image_area_of(std::uint32_t v, const Camera& camera) const;
@@ -109,46 +112,63 @@ private:
 
     const ProgressiveMesh& pm_;
     GeomorphOptions geomorphs_;
-    // Per input vertex, in one 32-byte record: an operation reads a vertex's fields together, so
-    // one cache line a vertex instead of one a field.
+    // A slot word with this bit set holds no record's index (below); index_mask keeps the rest.
+    static constexpr std::uint32_t tag = 0x80000000u, index_mask = 0x7fffffffu;
+    // Per active vertex, in one 32-byte record: an operation reads a vertex's fields together, so
+    // one cache line a vertex instead of one a field. The records are the front, in its order (a
+    // vertex's record is its place in the front; a removal moves the last record into the gap).
     struct alignas(32) Vertex {
+        std::uint32_t id;                // its input index
         std::uint32_t head;              // first corner of its corner list
-        std::uint32_t front_pos;         // its index in front_
         std::uint32_t collapse_of;       // the collapse that removes it (none: a root)
-        std::uint32_t last_collapse;     // latest collapse made onto it (a stack through prev_collapse_)
+        std::uint32_t last_collapse;     // latest collapse made onto it (a stack through made_[i].prev)
         std::uint32_t pending_children;  // collapses onto it not made yet
         // The frame from which the scan tests it again after a refusal that only a change nearby
         // can lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a
         // morph next to it clears the stamp; the stamp's length is only a backstop.
         std::uint32_t retry_at;
         std::uint16_t locked;            // geomorphs holding it
-        std::uint8_t active, queued;
+        std::uint8_t queued;
     };
     std::vector<Vertex> vert_;
+    // Per input vertex: its record's index when active, else tag | the collapse that removed it
+    // (tag | index_mask: a vertex in no face, never in the front). An inactive vertex needs nothing
+    // more: all collapses onto it were made (tree order), it is unlocked and unqueued, and its
+    // stack waits in made_.
+    std::vector<std::uint32_t> vertex_slot_;
     static constexpr std::uint32_t retry_frames = 8;           // refused by the collapse's rules
     static constexpr std::uint32_t lock_backstop_frames = 64;  // waiting on a morph's lock
-    // Per collapse.
-    std::vector<std::uint32_t> prev_collapse_;       // the stack's link
-    std::vector<std::array<std::uint32_t, 2>> dead_; // faces it removed
+    // Per collapse, meaningful while it is made: the link of its kept vertex's stack, its removed
+    // vertex's own stack (given back by the split) and the faces it removed (input indices). One
+    // record: the collapse and its split read them together.
+    struct Made {
+        std::uint32_t prev;
+        std::uint32_t removed_stack;
+        std::array<std::uint32_t, 2> dead;
+    };
+    std::vector<Made> made_;
     // The frame it was last made or undone in, modulo 2^16 (a record last changed 2^16 frames ago
     // waits one frame: harmless, and half the bytes).
     std::vector<std::uint16_t> changed_in_frame_;
     std::uint32_t frame_ = 0;
-    // Per face: its corners' current vertices, each corner's link in its vertex's corner list
-    // (corner j of face f is 4 f + j) and the face's world area, updated where a corner changes, so
-    // that a ring's area is a sum of stored values. One 32-byte record, so a ring walk reads one
-    // cache line a face. The lists are singly linked: a vertex's list is as short as its degree,
-    // so unlinking by a walk costs less than a back link's 4 bytes a corner.
+    // Per active face (a pool slot s, its corner j is 4 s + j): its corners' current vertices
+    // (input indices), each corner's link in its vertex's corner list and the face's world area,
+    // updated where a corner changes, so that a ring's area is a sum of stored values. One 32-byte
+    // record, so a ring walk reads one cache line a face. The lists are singly linked: a vertex's
+    // list is as short as its degree, so unlinking by a walk costs less than a back link's 4 bytes
+    // a corner.
     struct alignas(32) Face {
         std::uint32_t vertex[3];
         std::uint32_t next[3];
         double area;  // (double: the ring's sum is then the one the criterion always measured)
     };
     std::vector<Face> faces_;
-    std::vector<std::uint8_t> face_active_;
+    std::vector<std::uint32_t> face_id_;    // per slot: its input face; a free slot: tag | the next free one
+    std::vector<std::uint32_t> face_slot_;  // per input face: its slot (none: not in the front)
+    std::uint32_t free_face_ = tag | index_mask;  // the free slots' list
     std::size_t active_face_count_ = 0;
-    std::vector<std::uint32_t> front_, work_;
-    // Per front entry, beside front_: the vertex's position and ring area, so that a frame's
+    std::vector<std::uint32_t> work_;  // input vertices
+    // Per front entry, beside vert_: the vertex's position and ring area, so that a frame's
     // evaluation streams through memory instead of missing the cache twice a vertex.
     std::vector<glm::vec4> front_data_;
     std::vector<Morph> morphs_;
@@ -160,9 +180,13 @@ private:
     const DetailCriterion* criterion_ = nullptr;
     FrontStats* stats_ = nullptr;
 
-    static std::uint32_t face_of(std::uint32_t corner) { return corner >> 2; }
-    static std::uint32_t slot_of(std::uint32_t corner) { return corner & 3; }
+    static std::uint32_t face_of(std::uint32_t corner) { return corner >> 2; }  // a pool slot
+    static std::uint32_t slot_of(std::uint32_t corner) { return corner & 3; }   // the corner's place in it
     std::uint32_t face_vertex(std::uint32_t face, int j) const { return faces_[face].vertex[j]; }
+    bool active(std::uint32_t v) const { return !(vertex_slot_[v] & tag); }
+    Vertex& rec(std::uint32_t v) { return vert_[vertex_slot_[v]]; }  // (active v; moves with the front)
+    const Vertex& rec(std::uint32_t v) const { return vert_[vertex_slot_[v]]; }
+    std::uint32_t collapse_of(std::uint32_t v) const;
     std::uint32_t& corner_vertex(std::uint32_t c) { return faces_[face_of(c)].vertex[slot_of(c)]; }
     std::uint32_t& next_corner(std::uint32_t c) { return faces_[face_of(c)].next[slot_of(c)]; }
     std::uint32_t next_corner(std::uint32_t c) const { return faces_[face_of(c)].next[slot_of(c)]; }
@@ -172,9 +196,12 @@ private:
     std::uint32_t representative(std::uint32_t input_vertex) const;
     void link(std::uint32_t c, std::uint32_t v);
     void unlink(std::uint32_t c);
-    void set_face_active(std::uint32_t f, bool on);
-    void front_add(std::uint32_t v);
-    void front_remove(std::uint32_t v);
+    std::uint32_t add_face(std::uint32_t input_face);  // a slot holding its input corners' representatives
+    void remove_face(std::uint32_t slot);
+    void compact_faces();
+    void trim_storage();
+    void front_add(std::uint32_t v, std::uint32_t collapse_of, std::uint32_t last_collapse, std::uint32_t pending);
+    void front_remove(std::uint32_t v, std::uint32_t removed_by);
     void refresh_face_area(std::uint32_t f);
     void refresh_ring_area(std::uint32_t v);
     void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;  // in ring order
@@ -183,9 +210,10 @@ private:
     double target(std::uint32_t v) const;
     // The average world area of an active vertex's ring, kept in front_data_ only (0 for a vertex
     // in no face).
-    float ring_area(std::uint32_t v) const { return vert_[v].front_pos == none ? 0.0f : front_data_[vert_[v].front_pos].w; }
+    float ring_area(std::uint32_t v) const { return active(v) ? front_data_[vertex_slot_[v]].w : 0.0f; }
     double image_area(std::uint32_t v) const { return scale(v) * ring_area(v); }
     void enqueue(std::uint32_t v);
+    bool dequeue(std::uint32_t v);  // clears v's mark; whether v (active, in a face) can change
     void enqueue_changed(std::uint32_t v);
     void wake_around(std::uint32_t v);
     bool refuse(std::uint32_t v, std::uint32_t frames);  // stamps v; returns false
