@@ -8,6 +8,7 @@
 // the frame's duration. Gives: the frame's View and the adapted Model it was drawn from.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,14 @@ struct PmViewOptions {
     double target_px = 0.0;      // --detail=PX: T = PX^2 square pixels
     double crease_degrees = 40.0;
     GeomorphOptions geomorphs;   // a path's frames: on; one converged drawing: off
+    // The front's budget a frame (AdaptiveFront::update's max_operations: splits, collapses and
+    // geomorphs ending), so a band of vertices crossing a threshold together is spread over the
+    // next frames, most visible first, instead of stalling one frame. SIZE_MAX: none. settle()
+    // takes no budget (it converges).
+    std::size_t max_operations = default_max_operations;
+    // (measured on armadillo@2's slow dolly with geomorphs: a frame of this many operations costs
+    // about 5 ms of one core; bench/results/detail_methods.md)
+    static constexpr std::size_t default_max_operations = 500;
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
     // Whether the input intersects itself (Model::self_intersections().flagged > 0). When it does
