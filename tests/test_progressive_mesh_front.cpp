@@ -7,6 +7,7 @@
 #include <map>
 
 #include "detail/progressive_mesh_front.hpp"
+#include "detail/progressive_mesh_session.hpp"
 #include "detail/temporal_smoothing.hpp"
 #include "model/mesh_io.hpp"
 #include "test_data.hpp"
@@ -438,6 +439,45 @@ TEST(AdaptiveFront, BudgetedDollyWithGeomorphsCatchesUpAndIsPinned) {
     }
     EXPECT_LT(b.below * 10, b.vertices);  // (measured 247 of about 2 700 below t_c T; 258 without the budget)
     EXPECT_EQ(hash, 0x4c8ff2329589e25cull);
+}
+
+// PmSession: settle (a window's first view) converges with no budget; a frame after it takes
+// the session's budget (PmViewOptions::max_operations, here 50).
+TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    ViewOptions options;
+    options.features.kinds[int(LineKind::Crease)] = false;
+    PmViewOptions o;
+    o.target_px = 3.0;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = false;  // (armadillo: none)
+    EXPECT_EQ(o.max_operations, PmViewOptions::default_max_operations);
+    o.max_operations = 50;
+    PmSession session(pm, options, o);
+    session.settle(dolly_orbit(box, 1.5, 0.0));
+    // Settled as an unbudgeted front converges: measured 995 of 18 407 vertices below t_c T (a
+    // settle within 50 operations a frame, 64 frames at most, would leave thousands of the ~7 000
+    // collapses undone) and 2 above t_s T off the hierarchy's bottom (splits refused by the
+    // split's guards, as without a budget).
+    const DetailCriterion c = target_px(3.0);
+    std::vector<std::uint32_t> from;
+    session.front().mesh(&from);
+    std::size_t above = 0, below = 0;
+    for (std::uint32_t v : from) {
+        const double a = session.front().image_area_of(v, dolly_orbit(box, 1.5, 0.0));
+        above += a > c.split * c.target_area_px && !session.front().at_bottom(v);
+        below += a < c.collapse * c.target_area_px && !session.front().at_top(v);
+    }
+    std::printf("settled: %zu vertices, %zu above, %zu below\n", from.size(), above, below);
+    EXPECT_LT(above * 1000, from.size());
+    EXPECT_LT(below * 10, from.size());
+    EXPECT_EQ(session.front().morphs_running(), 0u);
+    session.render(dolly_orbit(box, 2.0, 0.0), 1.0 / 25.0);  // far enough out for thousands of collapses
+    const FrontStats& s = session.stats();
+    std::printf("%zu started, %zu ended, %zu deferred\n", s.morphs_started, s.morphs_ended, s.deferred);
+    EXPECT_EQ(s.morphs_started, 50u);
+    EXPECT_GT(s.deferred, 1000u);
 }
 
 TEST(TemporalSmoothing, WeightOfTheSeedsExample) {

@@ -30,8 +30,9 @@ struct PmViewOptions {
     // next frames, most visible first, instead of stalling one frame. SIZE_MAX: none. settle()
     // takes no budget (it converges).
     std::size_t max_operations = default_max_operations;
-    // (measured on armadillo@2's slow dolly with geomorphs: a frame of this many operations costs
-    // about 5 ms of one core; bench/results/detail_methods.md)
+    // (armadillo@2's slow dolly with geomorphs: worst frame 6-8 ms of one core at load 6-7 on 2
+    // cores, against 8-14 without; 400 held 5-6 ms but lagged the view twice as far;
+    // bench/results/detail_methods.md)
     static constexpr std::size_t default_max_operations = 500;
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
