@@ -79,8 +79,8 @@ public:
     // One frame: evaluates the active vertices at `camera` and splits/collapses until no vertex
     // that can change is out of the band; with geomorphs, running morphs advance by
     // `frame_seconds` first and collapses only start. `max_operations` is the frame's budget
-    // (VDPM's regulation, so a band of vertices crossing a threshold together is spread over
-    // frames): geomorphs ending and operations made count against it, the vertices are taken
+    // (VDPM's regulation, so the work a frame is bounded when many vertices leave the band at
+    // once): geomorphs ending and operations made count against it, the vertices are taken
     // largest discrepancy from the band first, and the rest wait for the next frames' scans. With
     // no budget (SIZE_MAX) they are taken in scan order.
     FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds = 0.0,

@@ -26,9 +26,9 @@ struct PmViewOptions {
     double crease_degrees = 40.0;
     GeomorphOptions geomorphs;   // a path's frames: on; one converged drawing: off
     // The front's budget a frame (AdaptiveFront::update's max_operations: splits, collapses and
-    // geomorphs ending), so a band of vertices crossing a threshold together is spread over the
-    // next frames, most visible first, instead of stalling one frame. SIZE_MAX: none. settle()
-    // takes no budget (it converges).
+    // geomorphs ending), so that when many vertices leave the band at once the work is spread
+    // over the next frames, most visible first, instead of stalling one frame; the mesh then lags
+    // the view meanwhile. SIZE_MAX: none. settle() takes no budget (it converges).
     std::size_t max_operations = default_max_operations;
     // (armadillo@2's slow dolly with geomorphs: worst frame 6-8 ms of one core at load 6-7 on 2
     // cores, against 8-14 without; 400 held 5-6 ms but lagged the view twice as far;
