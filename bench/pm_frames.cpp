@@ -5,8 +5,12 @@
 // Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
 //   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--geomorphs=on|off]
-//             [--whole[=FRAMES]]
+//             [--whole[=FRAMES]] [--budget=N] [--per-frame]
 //   (defaults armadillo 3, both paths, both with and without geomorphs)
+//
+// --budget=N: the front's operation budget a frame (AdaptiveFront::update's max_operations; 0, the
+// default: none), with the frames that deferred work and, at the last view held still, the frames
+// until nothing is deferred; --per-frame: one line a frame on stderr (ms, operations, deferred).
 //
 // --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
@@ -62,6 +66,7 @@ struct PathResult {
     double most_ms = 0.0, largest_move_px = 0.0, converge_ms = 0.0;
     std::size_t splits = 0, collapses = 0, frames = 0, tri_first = 0, tri_last = 0, most_ops = 0;
     std::size_t bytes_first = 0, bytes_last = 0, bytes_most = 0;  // the front's storage (AdaptiveFront::bytes)
+    std::size_t deferring_frames = 0, longest_deferring = 0, catch_up_frames = 0, most_deferred = 0;
     std::uint64_t last_mesh_hash = 0;  // the last frame's triangles (FNV-1a): a change of the code that
                                        // should not change the mesh shows here
 };
@@ -74,7 +79,7 @@ std::uint64_t triangles_hash(const TriangleMesh& m) {
 }
 
 PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
-                    bool geomorphs) {
+                    bool geomorphs, std::size_t budget, bool per_frame) {
     const int frames = dolly ? 140 : 120;
     const auto camera_at = [&](int k) {
         return dolly ? path_camera(t, std::pow(1.01, k), 0.0) : path_camera(t, 1.0, double(k));
@@ -89,11 +94,20 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
     r.converge_ms = (thread_seconds() - c0) * 1e3;
     r.tri_first = front.active_faces();
     r.bytes_first = r.bytes_most = front.bytes();
+    std::size_t deferring_run = 0;
     for (int k = 1; k <= frames; ++k) {
         const Camera cam = camera_at(k);
         const double t0 = thread_seconds();
-        const FrontStats s = front.update(cam, c, 1.0 / 25.0);
+        const FrontStats s = front.update(cam, c, 1.0 / 25.0, budget);
         const double ms = (thread_seconds() - t0) * 1e3;
+        if (per_frame)
+            std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred\n",
+                         k, ms, s.splits, s.collapses, s.morphs_started, s.morphs_ended, s.morphs_running, s.tried,
+                         s.deferred);
+        deferring_run = s.deferred ? deferring_run + 1 : 0;
+        r.deferring_frames += s.deferred > 0;
+        r.longest_deferring = std::max(r.longest_deferring, deferring_run);
+        r.most_deferred = std::max(r.most_deferred, s.deferred);
         r.ms.push_back(ms);
         r.most_ms = std::max(r.most_ms, ms);
         r.splits += s.splits;
@@ -106,6 +120,9 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
     r.frames = std::size_t(frames);
     r.tri_last = front.active_faces();
     r.last_mesh_hash = triangles_hash(front.mesh());
+    // (the last view held still: the frames until the budget leaves nothing for later)
+    for (std::size_t deferred = r.most_deferred ? 1 : 0; deferred && r.catch_up_frames < 200; ++r.catch_up_frames)
+        deferred = front.update(camera_at(frames), c, 1.0 / 25.0, budget).deferred;
     return r;
 }
 
@@ -194,6 +211,8 @@ int main(int argc, char** argv) {
     std::string only_path;  // "dolly" or "orbit": that path alone
     int whole = 0;          // --whole[=FRAMES]: the whole frame, FRAMES frames a path
     std::string only_geomorphs;  // "on" or "off": those runs alone
+    std::vector<std::size_t> budgets{SIZE_MAX};  // --budget=N[,N...]: a run each (0: none)
+    bool per_frame = false;
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -207,6 +226,13 @@ int main(int argc, char** argv) {
             only_path = a.substr(7);
         else if (a.rfind("--geomorphs=", 0) == 0)
             only_geomorphs = a.substr(12);
+        else if (a.rfind("--budget=", 0) == 0) {
+            budgets.clear();
+            for (const std::string& n : split_commas(a.substr(9)))
+                budgets.push_back(std::atoll(n.c_str()) > 0 ? std::size_t(std::atoll(n.c_str())) : SIZE_MAX);
+        }
+        else if (a == "--per-frame")
+            per_frame = true;
         else if (positional++ == 0)
             name = a;
         else
@@ -259,23 +285,29 @@ int main(int argc, char** argv) {
     }
     DetailCriterion c;
     c.target_area_px = px * px;
-    std::printf("\n| path | geomorphs | converge first view ms | triangles first -> last | splits + collapses a frame "
-                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame | last mesh | "
+    std::printf("\n| path | geomorphs | budget a frame | converge first view ms | triangles first -> last | splits + collapses a frame "
+                "(mean, most) | ms a frame median | ms a frame most | largest geomorph move px a frame | "
+                "frames deferring (longest run) | catch-up frames at the last view | last mesh | "
                 "front B/vertex first -> last (most) |\n"
-                "|---|---|---|---|---|---|---|---|---|---|\n");
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
-        for (const bool geomorphs : {false, true}) {
-            if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
-            if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
-            const PathResult r = run_path(pm, t, c, dolly, geomorphs);
-            const double n = double(t.positions.size());
-            std::printf("| %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %016llx | %.1f -> %.1f (%.1f) |\n",
-                        dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",
-                        r.converge_ms, r.tri_first, r.tri_last, double(r.splits + r.collapses) / r.frames, r.most_ops,
-                        median(r.ms), r.most_ms, r.largest_move_px, static_cast<unsigned long long>(r.last_mesh_hash),
-                        double(r.bytes_first) / n, double(r.bytes_last) / n, double(r.bytes_most) / n);
-            std::fflush(stdout);
-        }
+        for (const bool geomorphs : {false, true})
+            for (const std::size_t budget : budgets) {
+                if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
+                if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
+                const PathResult r = run_path(pm, t, c, dolly, geomorphs, budget, per_frame);
+                const std::string budget_text = budget == SIZE_MAX ? "none" : std::to_string(budget);
+                const double n = double(t.positions.size());
+                std::printf("| %s | %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %zu (%zu) | %zu | %016llx | "
+                            "%.1f -> %.1f (%.1f) |\n",
+                            dolly ? "dolly 1x -> 4x, 1 %/frame" : "orbit 1 deg/frame", geomorphs ? "0.5 s" : "off",
+                            budget_text.c_str(), r.converge_ms, r.tri_first, r.tri_last,
+                            double(r.splits + r.collapses) / r.frames, r.most_ops, median(r.ms), r.most_ms,
+                            r.largest_move_px, r.deferring_frames, r.longest_deferring, r.catch_up_frames,
+                            static_cast<unsigned long long>(r.last_mesh_hash), double(r.bytes_first) / n,
+                            double(r.bytes_last) / n, double(r.bytes_most) / n);
+                std::fflush(stdout);
+            }
     std::printf("\nRSS after the paths %.0f MiB, peak %.0f MiB\n", status_mib("VmRSS"), status_mib("VmHWM"));
     return 0;
 }

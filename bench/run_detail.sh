@@ -3,7 +3,8 @@
 # `inkline bench --detail=3` along a dolly and an orbit on armadillo and bunny00 (build time,
 # stored memory, triangles, splits and collapses, ms a frame, line density, coherence), then the
 # progressive mesh's incremental front on the 1 M-triangle models (bench/pm_frames: hierarchy and
-# multi-scale build and memory, adaptation ms a frame on one core along a slow dolly and an orbit),
+# multi-scale build and memory, adaptation ms a frame on one core along a slow dolly and an orbit,
+# without a budget a frame and with PmViewOptions' default of 500),
 # then the whole pm frame by stage beside multi-scale's on the same cameras (pm_frames --whole).
 # Usage: bench/run_detail.sh [BUILD_DIR] [DATA_DIR]   (build the inkline and pm_frames targets first;
 # the 1 M-triangle runs take several minutes: the hierarchy build is OpenMesh's decimater)
@@ -32,7 +33,7 @@ tmp=$(mktemp)
   echo "## The incremental front on 1 M-triangle models (bench/pm_frames)"
   echo
   for m in armadillo armadillo@2 bunny00@2; do
-    "$build/bench/pm_frames" "$m" 3
+    "$build/bench/pm_frames" "$m" 3 --budget=0,500
     echo
   done
   echo "## The whole pm frame by stage (bench/pm_frames --whole)"

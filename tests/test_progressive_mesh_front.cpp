@@ -7,6 +7,7 @@
 #include <map>
 
 #include "detail/progressive_mesh_front.hpp"
+#include "detail/progressive_mesh_session.hpp"
 #include "detail/temporal_smoothing.hpp"
 #include "model/mesh_io.hpp"
 #include "test_data.hpp"
@@ -306,6 +307,175 @@ TEST(AdaptiveFront, AdaptedMeshAlongADollyIsPinned) {
                 plain.active_faces(), static_cast<unsigned long long>(hash));
     EXPECT_GT(operations, 10000u);  // (the path does adapt the mesh)
     EXPECT_EQ(hash, 0x0ba2eadfdf26ebb5ull);
+}
+
+// The operation budget (AdaptiveFront::update's max_operations, VDPM's regulation): a frame
+// makes at most that many operations, taking the vertices furthest out of the band first.
+// A fresh front at 4 px (every vertex at the hierarchy's bottom, none stamped): the scan's
+// candidates are the vertices below t_c T with a parent; one frame with a budget of 300 makes 300
+// collapses, each of a vertex ranked among those tried first, the rest deferred.
+TEST(AdaptiveFront, BudgetTakesTheLargestDiscrepancyFirst) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    const DetailCriterion c = target_px(4.0);
+    AdaptiveFront front(pm);
+    std::vector<std::uint32_t> ids;
+    front.mesh(&ids);
+    std::vector<std::pair<double, std::uint32_t>> candidates;  // (t_c T / A_img, vertex)
+    for (std::uint32_t v : ids) {
+        const double a = front.image_area_of(v, cam);
+        if (!front.at_top(v) && a < c.collapse * c.target_area_px) candidates.push_back({c.collapse * c.target_area_px / a, v});
+    }
+    std::sort(candidates.rbegin(), candidates.rend());
+    const std::size_t budget = 300;
+    const FrontStats s = front.update(cam, c, 0.0, budget);
+    std::vector<double> made;  // the discrepancies of the vertices collapsed
+    for (const auto& [d, v] : candidates)
+        if (!front.is_active(v)) made.push_back(d);
+    std::printf("%zu candidates, %zu tried, %zu collapsed, %zu deferred; discrepancy collapsed %.2f..%.2f, median %.2f\n",
+                candidates.size(), s.tried, s.collapses, s.deferred, made.empty() ? 0.0 : made.back(),
+                made.empty() ? 0.0 : made.front(), candidates[candidates.size() / 2].first);
+    EXPECT_EQ(s.collapses, budget);
+    EXPECT_EQ(made.size(), budget);
+    ASSERT_GT(candidates.size(), 4 * budget);  // (the budget binds: most are deferred)
+    // The scan ranks what this test ranks (its depths from float positions: a near tie may swap).
+    EXPECT_NEAR(double(s.tried + s.deferred), double(candidates.size()), 2.0);
+    ASSERT_GE(s.tried, budget);
+    const double last_tried = candidates[std::min(s.tried, candidates.size()) - 1].first;
+    EXPECT_GE(made.back(), last_tried * (1 - 1e-5));  // every collapse among the first tried
+    // (in scan order they would have been spread over all the candidates)
+    EXPECT_GT(made.back(), candidates[candidates.size() / 2].first);
+    const FrontStats again = front.update(cam, c, 0.0, budget);  // the deferred ones come next
+    EXPECT_EQ(again.collapses, budget);
+}
+
+// With a budget the front still converges into the band at a fixed camera (in more frames) and
+// then stops changing; every frame within the budget.
+TEST(AdaptiveFront, BudgetedFrontConvergesIntoTheBandAndStops) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Camera cam = test::framed_camera(bounds_of(pm.input()));
+    const DetailCriterion c = target_px(6.0);
+    const std::size_t budget = 500;
+    AdaptiveFront front(pm);
+    int frames = 1;
+    for (; frames <= 200; ++frames) {
+        const FrontStats s = front.update(cam, c, 0.0, budget);
+        ASSERT_LE(s.splits + s.collapses, budget) << frames;
+        if (s.splits + s.collapses == 0 && s.deferred == 0) break;
+    }
+    std::printf("converged in %d frames\n", frames);
+    // From 25579 vertices to about 10 900 at 6 px: some 14 700 collapses, so at least 30 frames
+    // at 500 (measured 30; without the budget 2-3).
+    EXPECT_GE(frames, 30);
+    EXPECT_LE(frames, 40);
+    for (int k = 0; k < 5; ++k) {
+        const FrontStats s = front.update(cam, c, 0.0, budget);
+        EXPECT_EQ(s.splits + s.collapses + s.deferred, 0u) << k;
+    }
+    std::vector<std::uint32_t> from;
+    front.mesh(&from);
+    std::size_t above_guarded = 0, below_blocked = 0;
+    for (std::uint32_t v : from) {
+        const double a = front.image_area_of(v, cam);
+        above_guarded += a > c.split * c.target_area_px && !front.at_bottom(v);
+        below_blocked += a < c.collapse * c.target_area_px && !front.at_top(v);
+    }
+    EXPECT_EQ(above_guarded, 0u);  // the criterion of OutsideTheBandOnlyAtTheLimitsOrGuarded
+    EXPECT_LT(below_blocked * 10, from.size());
+}
+
+// The slow dolly of AdaptedMeshAlongADollyIsPinned with geomorphs and a budget of 300 a frame
+// (the path asks for up to about 550: starts and ends): the budget holds every frame (geomorphs ending count against it),
+// work is deferred on the way, and at the last view held still the front catches up, then stops
+// inside the band. The budgeted meshes are pinned by their own hash (the unbudgeted path's hash
+// above is unchanged: the budget is another schedule of the same operations, not a new rule).
+TEST(AdaptiveFront, BudgetedDollyWithGeomorphsCatchesUpAndIsPinned) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    const DetailCriterion c = target_px(3.0);
+    const std::size_t budget = 300;
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a, 64 bits
+    const auto mix = [&](const void* data, std::size_t bytes) {
+        for (std::size_t j = 0; j < bytes; ++j) hash = (hash ^ static_cast<const unsigned char*>(data)[j]) * 1099511628211ull;
+    };
+    AdaptiveFront front(pm, GeomorphOptions{.enabled = true, .seconds = 0.5, .max_speedup = 8.0});
+    std::size_t deferring = 0;
+    for (int k = 0; k <= 140; ++k) {
+        const FrontStats s = front.update(dolly_orbit(box, std::pow(1.01, k), 0.0), c, 1.0 / 25.0, budget);
+        if (k > 0) {  // (frame 0 starts at the input: morphs only start there)
+            ASSERT_LE(s.morphs_started + std::min(s.morphs_ended, budget), budget) << k;
+        }
+        deferring += s.deferred > 0;
+        const std::size_t counts[5] = {s.splits, s.collapses, s.morphs_started, s.morphs_running, s.deferred};
+        mix(counts, sizeof counts);
+        if (k % 35 == 0) {
+            const TriangleMesh m = front.mesh();
+            mix(m.positions.data(), m.positions.size() * sizeof(m.positions[0]));
+            mix(m.triangles.data(), m.triangles.size() * sizeof(m.triangles[0]));
+        }
+    }
+    const Camera last = dolly_orbit(box, std::pow(1.01, 140), 0.0);
+    int frame = 1;
+    for (; frame < 300; ++frame) {
+        const FrontStats s = front.update(last, c, 1.0 / 25.0, budget);
+        if (s.deferred + s.morphs_running + s.splits + s.collapses + s.morphs_started == 0) break;
+    }
+    const BandCount b = band(front, last, c);
+    std::printf("%zu of 141 frames deferred work; still %d frames after the last view; %zu triangles, %zu above, "
+                "%zu below; hash %016llx\n", deferring, frame, front.active_faces(), b.above, b.below,
+                static_cast<unsigned long long>(hash));
+    EXPECT_GT(deferring, 10u);  // (the budget binds on this path: 116 frames)
+    // Caught up, morphs ended, nothing more: measured 78 frames (53 without the budget: chains of
+    // collapses, each waiting for its children's morphs, take that long either way).
+    EXPECT_LT(frame, 100);
+    std::vector<std::uint32_t> from;
+    front.mesh(&from);
+    for (std::uint32_t v : from) {
+        if (front.image_area_of(v, last) > c.split * c.target_area_px) {
+            EXPECT_TRUE(front.at_bottom(v)) << v;
+        }
+    }
+    EXPECT_LT(b.below * 10, b.vertices);  // (measured 247 of about 2 700 below t_c T; 258 without the budget)
+    EXPECT_EQ(hash, 0x4c8ff2329589e25cull);
+}
+
+// PmSession: settle (a window's first view) converges with no budget; a frame after it takes
+// the session's budget (PmViewOptions::max_operations, here 50).
+TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    ViewOptions options;
+    options.features.kinds[int(LineKind::Crease)] = false;
+    PmViewOptions o;
+    o.target_px = 3.0;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = false;  // (armadillo: none)
+    EXPECT_EQ(o.max_operations, PmViewOptions::default_max_operations);
+    o.max_operations = 50;
+    PmSession session(pm, options, o);
+    session.settle(dolly_orbit(box, 1.5, 0.0));
+    // Settled as an unbudgeted front converges: measured 995 of 18 407 vertices below t_c T (a
+    // settle within 50 operations a frame, 64 frames at most, would leave thousands of the ~7 000
+    // collapses undone) and 2 above t_s T off the hierarchy's bottom (splits refused by the
+    // split's guards, as without a budget).
+    const DetailCriterion c = target_px(3.0);
+    std::vector<std::uint32_t> from;
+    session.front().mesh(&from);
+    std::size_t above = 0, below = 0;
+    for (std::uint32_t v : from) {
+        const double a = session.front().image_area_of(v, dolly_orbit(box, 1.5, 0.0));
+        above += a > c.split * c.target_area_px && !session.front().at_bottom(v);
+        below += a < c.collapse * c.target_area_px && !session.front().at_top(v);
+    }
+    std::printf("settled: %zu vertices, %zu above, %zu below\n", from.size(), above, below);
+    EXPECT_LT(above * 1000, from.size());
+    EXPECT_LT(below * 10, from.size());
+    EXPECT_EQ(session.front().morphs_running(), 0u);
+    session.render(dolly_orbit(box, 2.0, 0.0), 1.0 / 25.0);  // far enough out for thousands of collapses
+    const FrontStats& s = session.stats();
+    std::printf("%zu started, %zu ended, %zu deferred\n", s.morphs_started, s.morphs_ended, s.deferred);
+    EXPECT_EQ(s.morphs_started, 50u);
+    EXPECT_GT(s.deferred, 1000u);
 }
 
 TEST(TemporalSmoothing, WeightOfTheSeedsExample) {

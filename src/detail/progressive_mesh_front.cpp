@@ -144,6 +144,7 @@ void AdaptiveFront::trim_storage() {
         refit(front_data_, n + n / 4);
     }
     if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
+    if (ranked_.capacity() > 2 * n + slack) refit(ranked_, n);  // (empty between frames too)
     // (the first frame from the input with geomorphs starts a collapse at most vertices)
     if (morphs_.capacity() > 2 * morphs_.size() + 4 * slack) refit(morphs_, 2 * morphs_.size() + slack);
 }
@@ -600,6 +601,7 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
             ++j;
             continue;
         }
+        ++stats_->morphs_ended;
         if (m.collapse) {
             lock_ring(r, -1);
             for (std::uint32_t u : ring_r_) wake_around(u);  // (ring_r_: r's ring, from lock_ring)
@@ -617,17 +619,33 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
     }
 }
 
-void AdaptiveFront::drain(std::size_t max_operations) {
+// A budgeted frame takes the most visible errors first: the scan's candidates by their
+// discrepancy, largest first (ties by vertex, so the order is the same on every run). Only the
+// head that the budget can reach is sorted (twice the budget: some are refused); a backlog of
+// deferred vertices then costs a linear selection a frame, not a sort.
+void AdaptiveFront::enqueue_ranked(std::size_t budget) {
+    const auto before = [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
+    const auto head = ranked_.begin() + std::ptrdiff_t(std::min(ranked_.size(), 2 * std::min(budget, ranked_.size())));
+    std::nth_element(ranked_.begin(), head, ranked_.end(), before);
+    std::sort(ranked_.begin(), head, before);
+    for (const auto& [discrepancy, v] : ranked_) enqueue(v);
+    ranked_.clear();
+}
+
+std::size_t AdaptiveFront::drain(std::size_t max_operations) {
     // (each collapse record changes at most once a frame, so a frame ends; the cap is a backstop)
     max_operations = std::min(max_operations, 2 * changed_in_frame_.size() + 16);
     std::size_t operations = 0, at = 0;
     for (; at < work_.size() && operations < max_operations; ++at) {
         const std::uint32_t v = work_[at];
         if (!dequeue(v)) continue;
+        ++stats_->tried;
         if (try_split(v) || try_collapse(v)) ++operations;
     }
+    const std::size_t taken = at;
     for (; at < work_.size(); ++at) dequeue(work_[at]);  // the budget ran out: next frame
     work_.clear();
+    return taken;
 }
 
 FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
@@ -640,6 +658,11 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     if (std::uint16_t(++frame_) == 0) ++frame_;  // (frame16() 0 is every untouched record's)
     if (geomorphs_.enabled) advance_morphs(frame_seconds);
     const bool constant_target = !criterion.map;
+    const bool budgeted = max_operations != SIZE_MAX;
+    if (budgeted) {  // (the vertices the morphs' ends queued: the scan finds those out of the band, to rank them)
+        for (const std::uint32_t v : work_) dequeue(v);
+        work_.clear();
+    }
     for (std::size_t j = 0; j < vert_.size(); ++j) {
         const glm::dvec3 p(front_data_[j]);
         const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
@@ -647,11 +670,19 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
         const Vertex& v = vert_[j];  // out of the band: can it change? (the rest is cold memory)
         if (v.locked || v.retry_at > frame_) continue;
-        if ((a > criterion.split * t && v.last_collapse != none) || (a < criterion.collapse * t && v.collapse_of != none))
+        const bool split = a > criterion.split * t && v.last_collapse != none;
+        if (!split && !(a < criterion.collapse * t && v.collapse_of != none)) continue;
+        if (budgeted)
+            ranked_.push_back({float(split ? a / (criterion.split * t) : criterion.collapse * t / a), v.id});
+        else
             enqueue(v.id);
     }
     s.evaluated = vert_.size();
-    drain(max_operations);
+    // (morphs that ended this frame made their collapses: they count against the budget)
+    const std::size_t budget = budgeted ? max_operations - std::min(max_operations, s.morphs_ended) : max_operations;
+    if (budgeted) enqueue_ranked(budget);
+    const std::size_t candidates = work_.size(), taken = drain(budget);
+    s.deferred = budgeted && taken < candidates ? candidates - taken : 0;
     trim_storage();
     s.morphs_running = morphs_.size();
     s.vertices = vert_.size();
@@ -695,7 +726,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(vert_) + b(front_data_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) + b(face_id_) +
-           b(face_slot_) + b(work_) + b(morphs_) + b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_);
+           b(face_slot_) + b(work_) + b(morphs_) + b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_) + b(ranked_);
 }
 
 }  // namespace inkline

@@ -40,6 +40,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -64,6 +65,9 @@ struct FrontStats {
     std::size_t splits = 0, collapses = 0;  // logical operations made this frame
     std::size_t morphs_started = 0, morphs_running = 0;
     std::size_t evaluated = 0;               // vertices tested against the criterion
+    std::size_t tried = 0;                   // vertices taken off the worklist and tried
+    std::size_t morphs_ended = 0;            // geomorphs finished this frame (a collapse's made then)
+    std::size_t deferred = 0;                // out of the band, left for the next frames by the budget
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
     double seconds = 0.0;
@@ -75,8 +79,12 @@ public:
     explicit AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs = {});
 
     // One frame: evaluates the active vertices at `camera` and splits/collapses until no vertex
-    // that can change is out of the band (at most `max_operations` logical operations); with
-    // geomorphs, running morphs advance by `frame_seconds` first and collapses only start.
+    // that can change is out of the band; with geomorphs, running morphs advance by
+    // `frame_seconds` first and collapses only start. `max_operations` is the frame's budget
+    // (VDPM's regulation, so the work a frame is bounded when many vertices leave the band at
+    // once): geomorphs ending and operations made count against it, the vertices are taken
+    // largest discrepancy from the band first, and the rest wait for the next frames' scans. With
+    // no budget (SIZE_MAX) they are taken in scan order.
     FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds = 0.0,
                       std::size_t max_operations = SIZE_MAX);
 
@@ -168,6 +176,9 @@ private:
     std::uint32_t free_face_ = tag | index_mask;  // the free slots' list
     std::size_t active_face_count_ = 0;
     std::vector<std::uint32_t> work_;  // input vertices
+    // A budgeted frame's candidates from the scan with their discrepancy from the band (the
+    // factor by which the vertex's image area lies outside it), ranked before the worklist.
+    std::vector<std::pair<float, std::uint32_t>> ranked_;
     // Per front entry, beside vert_: the vertex's position and ring area, so that a frame's
     // evaluation streams through memory instead of missing the cache twice a vertex.
     std::vector<glm::vec4> front_data_;
@@ -231,7 +242,8 @@ private:
     bool try_split(std::uint32_t k);
     void lock_ring(std::uint32_t r, int delta);
     void advance_morphs(double frame_seconds);
-    void drain(std::size_t max_operations);
+    std::size_t drain(std::size_t max_operations);  // returns the worklist entries it took
+    void enqueue_ranked(std::size_t budget);
 };
 
 }  // namespace inkline

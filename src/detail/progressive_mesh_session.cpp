@@ -56,7 +56,7 @@ View& PmSession::render(const Camera& camera, double frame_seconds) {
     };
     DetailCriterion criterion;
     criterion.target_area_px = pm_options_.target_px * pm_options_.target_px;
-    stats_ = front_.update(camera, criterion, frame_seconds);
+    stats_ = front_.update(camera, criterion, frame_seconds, pm_options_.max_operations);
     t.adapt = lap();
     TriangleMesh mesh = front_.mesh(&input_vertex_, &input_face_);
     t.mesh = lap();

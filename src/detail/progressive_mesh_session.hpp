@@ -8,6 +8,7 @@
 // the frame's duration. Gives: the frame's View and the adapted Model it was drawn from.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,15 @@ struct PmViewOptions {
     double target_px = 0.0;      // --detail=PX: T = PX^2 square pixels
     double crease_degrees = 40.0;
     GeomorphOptions geomorphs;   // a path's frames: on; one converged drawing: off
+    // The front's budget a frame (AdaptiveFront::update's max_operations: splits, collapses and
+    // geomorphs ending), so that when many vertices leave the band at once the work is spread
+    // over the next frames, most visible first, instead of stalling one frame; the mesh then lags
+    // the view meanwhile. SIZE_MAX: none. settle() takes no budget (it converges).
+    std::size_t max_operations = default_max_operations;
+    // (armadillo@2's slow dolly with geomorphs: worst frame 6-8 ms of one core at load 6-7 on 2
+    // cores, against 8-14 without; 400 held 5-6 ms but lagged the view twice as far;
+    // bench/results/detail_methods.md)
+    static constexpr std::size_t default_max_operations = 500;
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
     // Whether the input intersects itself (Model::self_intersections().flagged > 0). When it does

@@ -49,7 +49,7 @@ View& DetailSource::render(const Camera& camera) {
     last_view_ = now;
     View& v = pm_session_->render(camera, dt);
     const FrontStats& s = pm_session_->stats();
-    morphing_.store(s.morphs_running > 0 || s.splits + s.collapses > 0);
+    morphing_.store(s.morphs_running > 0 || s.splits + s.collapses > 0 || s.deferred > 0);  // (deferred: the budget's)
     // (two lines: one is wider than the panel)
     std::snprintf(line, sizeof line, "pm: target %.2g px, %zu triangles\n%zu splits, %zu collapses, %zu morphs, %.1f ms",
                   target_px_.load(), s.triangles, s.splits, s.collapses, s.morphs_running, s.seconds * 1e3);
