@@ -30,10 +30,12 @@ struct PmViewOptions {
     // over the next frames, most visible first, instead of stalling one frame; the mesh then lags
     // the view meanwhile. SIZE_MAX: none. settle() takes no budget (it converges).
     std::size_t max_operations = default_max_operations;
-    // (armadillo@2's slow dolly with geomorphs: worst frame 6-8 ms of one core at load 6-7 on 2
-    // cores, against 8-14 without; 400 held 5-6 ms but lagged the view twice as far;
-    // bench/results/detail_methods.md)
-    static constexpr std::size_t default_max_operations = 500;
+    // Off by default: on a quiet machine 500 a frame bounds armadillo@2's slow dolly with
+    // geomorphs at 3.3 ms a frame against 6.4 unbudgeted (bunny00@2 4.8 against 5.1), but the mesh
+    // lags the view (2-3.4x the triangles it needs at the path's end), and the rest of the frame,
+    // which scales with the triangles, costs more than the front saves
+    // (docs/progressive_mesh.md, "The budget a frame").
+    static constexpr std::size_t default_max_operations = SIZE_MAX;
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
     // Whether the input intersects itself (Model::self_intersections().flagged > 0). When it does
