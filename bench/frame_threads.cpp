@@ -23,7 +23,6 @@
 
 namespace {
 
-double wall_seconds() { return inkline::cpu_seconds(CLOCK_MONOTONIC); }  // (any clock_gettime clock)
 
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -133,9 +132,9 @@ int main(int argc, char** argv) {
         auto cam = inkline::Camera::perspective(orbit_eye(mesh, degrees), mesh.bounds.center(), {0, 1, 0}, 30.0, 1024, 1024);
         cam.set_near(inkline::default_near(mesh));
         for (Column& c : columns) {
-            const double w0 = wall_seconds(), c0 = inkline::process_cpu_seconds(), t0 = inkline::thread_cpu_seconds();
+            const double w0 = inkline::wall_seconds(), c0 = inkline::process_cpu_seconds(), t0 = inkline::thread_cpu_seconds();
             const inkline::View& v = c.session->render(cam);
-            record(c, v, wall_seconds() - w0, inkline::process_cpu_seconds() - c0, inkline::thread_cpu_seconds() - t0);
+            record(c, v, inkline::wall_seconds() - w0, inkline::process_cpu_seconds() - c0, inkline::thread_cpu_seconds() - t0);
         }
     }
     double load1 = 0.0;

@@ -152,22 +152,11 @@ int load(const std::string& path, int repeat, int threads) {
     return 0;
 }
 
-double thread_cpu_seconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-double wall_seconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 int stages(const std::string& path, int repeat, int threads) {
     double t[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
     std::size_t triangles = 0;
-    const auto clock = threads > 1 ? wall_seconds : thread_cpu_seconds;
+    const auto clock = threads > 1 ? inkline::wall_seconds : inkline::thread_cpu_seconds;
     for (int r = 0; r < repeat; ++r) {
         double t0 = clock();
         const auto lap = [&](double& least) {

@@ -16,7 +16,7 @@
 #include "detail/progressive_mesh.hpp"
 
 using namespace inkline;
-using inkline::bench::cpu_seconds;
+using inkline::process_cpu_seconds;
 using inkline::bench::status_mib;
 
 namespace {
@@ -44,9 +44,9 @@ int main(int argc, char** argv) {
     if (!model) return 1;
     const double rss_model = status_mib("VmRSS");
     const auto t0 = StageClock::now();
-    const double cpu0 = cpu_seconds();
+    const double cpu0 = process_cpu_seconds();
     const ProgressiveMesh pm(model->topology());
-    const double build = seconds_since(t0), build_cpu = cpu_seconds() - cpu0;
+    const double build = seconds_since(t0), build_cpu = process_cpu_seconds() - cpu0;
     std::printf("%s: %zu triangles, hierarchy of %zu collapses built in %.3f s (%.3f s CPU), %.2f MiB of arrays; "
                 "RSS %.1f -> %.1f MiB (peak %.1f MiB)\n",
                 name.c_str(), model->topology().faces.size(), pm.collapses(), build, build_cpu,
@@ -65,9 +65,9 @@ int main(int argc, char** argv) {
         const double times = from * std::pow(to / from, t);  // geometric: the same zoom factor a frame
         const Camera cam = Camera::perspective(c + times * (framed.eye() - c), c, framed.up(), framed.fov_deg(), 1024, 1024);
         AdaptStats s;
-        const double c0 = cpu_seconds();
+        const double c0 = process_cpu_seconds();
         TriangleMesh mesh = pm.adapt(cam, criterion, &s);
-        const double adapt_cpu = cpu_seconds() - c0;
+        const double adapt_cpu = process_cpu_seconds() - c0;
         const Model adapted(std::move(mesh), model->topology().crease_degrees);
         const View v_pm = render_view(adapted, cam, options), v_full = render_view(*model, cam, options);
         const double d_pm = line_density(v_pm, model->topology(), cam);

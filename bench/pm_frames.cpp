@@ -40,7 +40,7 @@
 
 using namespace inkline;
 using inkline::bench::status_mib;
-using inkline::bench::thread_seconds;
+using inkline::thread_cpu_seconds;
 
 namespace {
 
@@ -86,20 +86,20 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
     };
     AdaptiveFront front(pm, GeomorphOptions{.enabled = geomorphs});
     PathResult r;
-    const double c0 = thread_seconds();
+    const double c0 = thread_cpu_seconds();
     for (int k = 0; k < 50; ++k) {  // converge at the first view (operations made at once there)
         const FrontStats s = front.update(camera_at(0), c, 10.0);
         if (s.splits + s.collapses + s.morphs_running == 0) break;
     }
-    r.converge_ms = (thread_seconds() - c0) * 1e3;
+    r.converge_ms = (thread_cpu_seconds() - c0) * 1e3;
     r.tri_first = front.active_faces();
     r.bytes_first = r.bytes_most = front.bytes();
     std::size_t deferring_run = 0;
     for (int k = 1; k <= frames; ++k) {
         const Camera cam = camera_at(k);
-        const double t0 = thread_seconds();
+        const double t0 = thread_cpu_seconds();
         const FrontStats s = front.update(cam, c, 1.0 / 25.0, budget);
-        const double ms = (thread_seconds() - t0) * 1e3;
+        const double ms = (thread_cpu_seconds() - t0) * 1e3;
         if (per_frame)
             std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred\n",
                          k, ms, s.splits, s.collapses, s.morphs_started, s.morphs_ended, s.morphs_running, s.tried,
@@ -159,9 +159,9 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     std::vector<std::vector<double>> stage(11);
     std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
     for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_seconds();
+        const double c0 = thread_cpu_seconds();
         const View& v = session.render(camera_at(k), 1.0 / 25.0);
-        cpu.push_back((thread_seconds() - c0) * 1e3);
+        cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
         const PmFrameSeconds& s = session.seconds();
         // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
         const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
@@ -188,9 +188,9 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     cpu.clear();
     ray_tests = inconsistent = 0;
     for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_seconds();
+        const double c0 = thread_cpu_seconds();
         const View& v = ms.render(camera_at(k));
-        cpu.push_back((thread_seconds() - c0) * 1e3);
+        cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
         ray_tests += v.drawing.stats.ray_tests;
         inconsistent += v.drawing.stats.clusters_inconsistent;
     }
@@ -242,10 +242,10 @@ int main(int argc, char** argv) {
     if (!model) return 1;
     const MeshTopology& t = model->topology();
     const double rss0 = status_mib("VmRSS");
-    double c0 = thread_seconds();
+    double c0 = thread_cpu_seconds();
     const auto w0 = StageClock::now();
     const ProgressiveMesh pm(t);
-    const double build_cpu = thread_seconds() - c0;
+    const double build_cpu = thread_cpu_seconds() - c0;
     const double build_wall = seconds_since(w0);
     const double rss_pm = status_mib("VmRSS"), peak_pm = status_mib("VmHWM");
     std::size_t front_bytes = 0;  // (a front as it starts: the whole input active)
@@ -263,12 +263,12 @@ int main(int argc, char** argv) {
                 front_bytes / 1048576.0, double(front_bytes) / t.positions.size(), rss0, rss_pm, peak_pm);
     std::unique_ptr<MultiscaleLevels> kept_levels;
     if (multiscale) {
-        c0 = thread_seconds();
+        c0 = thread_cpu_seconds();
         kept_levels = std::make_unique<MultiscaleLevels>(build_multiscale_levels(*model));
         const MultiscaleLevels& levels = *kept_levels;
         std::printf("multiscale: %d levels built in %.2f s CPU; stored %.1f MiB (%.1f B/vertex); RSS now %.0f MiB, "
                     "peak %.0f MiB\n",
-                    levels.levels, thread_seconds() - c0, levels.bytes() / 1048576.0,
+                    levels.levels, thread_cpu_seconds() - c0, levels.bytes() / 1048576.0,
                     double(levels.bytes()) / t.positions.size(), status_mib("VmRSS"), status_mib("VmHWM"));
     }
     if (whole > 0) {

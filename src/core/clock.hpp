@@ -22,5 +22,7 @@ inline double cpu_seconds(clockid_t clock) {
 }
 inline double thread_cpu_seconds() { return cpu_seconds(CLOCK_THREAD_CPUTIME_ID); }
 inline double process_cpu_seconds() { return cpu_seconds(CLOCK_PROCESS_CPUTIME_ID); }
+// Wall seconds from an arbitrary start, as a plain function (where a clock is chosen at run time).
+inline double wall_seconds() { return std::chrono::duration<double>(StageClock::now().time_since_epoch()).count(); }
 
 }  // namespace inkline

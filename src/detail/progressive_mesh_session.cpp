@@ -1,18 +1,10 @@
 #include "detail/progressive_mesh_session.hpp"
 
 #include <algorithm>
-#include <ctime>
 
+#include "core/clock.hpp"
 
 namespace inkline {
-namespace {
-// The calling thread's CPU seconds: a frame's stages on a shared machine.
-double thread_cpu_seconds() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-}  // namespace
 
 PmViewOptions PmViewOptions::for_path(const Model& model, double target_px) {
     PmViewOptions o;
