@@ -604,14 +604,14 @@ int run_render(int argc, char** argv) {
         if (!a.quiet) std::fputs(report.c_str(), stdout);
         return 0;
     }
-    // The model's lazy parts, built before the jobs start (each frame needs the self-intersections,
-    // nearly every one a ray test, all of them the curvature when its lines are drawn): the jobs
-    // then only read the model. (Built on first use they would be safe too, behind call_once.)
-    if (a.detail.target_px > 0.0 && a.detail.method == "pm") {
+    if (pm_sequence) {
         render_pm_sequence(a, setup, plan, model, home, format);
         print_summary(a, plan, seconds_since(t0), camera_flags(home));
         return 0;
     }
+    // The model's lazy parts, built before the jobs start (each frame needs the self-intersections,
+    // nearly every one a ray test, all of them the curvature when its lines are drawn): the jobs
+    // then only read the model. (Built on first use they would be safe too, behind call_once.)
     model.self_intersections(a.threads);
     model.rays();
     if (setup.view.wants_surface_lines()) model.curvature();
