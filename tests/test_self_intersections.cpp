@@ -23,6 +23,7 @@
 #include "model/early_self_intersections.hpp"
 #include "model/self_intersections.hpp"
 #include "model/topology.hpp"
+#include "expect_self_intersections.hpp"
 #include "test_data.hpp"
 
 namespace {
@@ -167,22 +168,13 @@ TEST(SelfIntersections, ThreadsGiveTheSameResult) {
     const inkline::SelfIntersections one = inkline::self_intersections(t, 1);
     EXPECT_GT(one.flagged, 100u) << "the crumpled sphere should intersect itself";
     EXPECT_EQ(one.faces, reference(t));
-    const auto expect_same_as_one = [&one](const inkline::SelfIntersections& got, const std::string& how) {
-        EXPECT_EQ(got.faces, one.faces) << how;
-        EXPECT_EQ(got.flagged, one.flagged) << how;
-        EXPECT_EQ(got.pairs, one.pairs) << how;
-        ASSERT_EQ(got.cuts.size(), one.cuts.size()) << how;
-        for (std::size_t k = 0; k < one.cuts.size(); ++k) {
-            EXPECT_EQ(got.cuts[k].edge, one.cuts[k].edge) << how << " cut " << k;
-            EXPECT_EQ(got.cuts[k].s, one.cuts[k].s) << how << " cut " << k;
-        }
-    };
     for (const int threads : {2, 3, 8}) {
-        expect_same_as_one(inkline::self_intersections(t, threads), std::to_string(threads) + " threads");
+        inkline::test::expect_same_self_intersections(inkline::self_intersections(t, threads), one,
+                                                     std::to_string(threads) + " threads");
         EXPECT_EQ(inkline::self_intersecting_faces(t, threads), one.faces) << threads;
         // Started before the topology was built, from the mesh's arrays (as Model::load does).
         inkline::EarlySelfIntersections early({s.positions.data(), s.triangles.data(), s.triangles.size()}, threads);
-        expect_same_as_one(early.finish(t), std::to_string(threads) + " threads, started early");
+        inkline::test::expect_same_self_intersections(early.finish(t), one, std::to_string(threads) + " threads, started early");
     }
 }
 
@@ -203,14 +195,7 @@ namespace {
 void expect_same_as_every_pair(const inkline::MeshTopology& t, const std::string& what, int threads) {
     const inkline::SelfIntersections every = inkline::self_intersections(t, threads, inkline::PatchTest::kEveryBoxPair);
     const inkline::SelfIntersections got = inkline::self_intersections(t, threads);
-    EXPECT_EQ(got.faces, every.faces) << what;
-    EXPECT_EQ(got.flagged, every.flagged) << what;
-    EXPECT_EQ(got.pairs, every.pairs) << what;
-    ASSERT_EQ(got.cuts.size(), every.cuts.size()) << what;
-    for (std::size_t k = 0; k < every.cuts.size(); ++k) {
-        EXPECT_EQ(got.cuts[k].edge, every.cuts[k].edge) << what << " cut " << k;
-        EXPECT_EQ(got.cuts[k].s, every.cuts[k].s) << what << " cut " << k;
-    }
+    inkline::test::expect_same_self_intersections(got, every, what);
 }
 
 }  // namespace
