@@ -39,7 +39,7 @@ namespace {
 
 constexpr std::size_t kHuge = std::size_t(2) << 20;   // the x86-64 huge page
 constexpr std::size_t kLarge = std::size_t(4) << 20;  // blocks from this size on
-constexpr std::size_t kMid = std::size_t(64) << 10;   // blocks from this size to kLarge: the arena
+constexpr std::size_t kMid = std::size_t(16) << 10;   // blocks from this size to kLarge: the arena
 // Address space for the mid-size blocks (no memory until used): 4 GB, a thousand live blocks of
 // nearly 4 MB; past it, malloc.
 constexpr std::size_t kArenaReserve = std::size_t(4) << 30;
