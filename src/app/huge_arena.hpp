@@ -1,9 +1,9 @@
 // A heap for the programs' mid-size blocks (src/app/huge_pages.cpp uses one for every block from
-// 64 KB up to its 4 MB huge-page blocks), kept in transparent huge pages and reused from one stage
+// 16 kB up to its 4 MB huge-page blocks), kept in transparent huge pages and reused from one stage
 // to the next.
 //
 // Why: glibc maps each block above its mmap threshold on its own and unmaps it when freed, and
-// trims its heaps, so the next stage's arrays fault their 4 KB pages in again (about 7 100 faults,
+// trims its heaps, so the next stage's arrays fault their 4 KB pages in again (about 7 600 faults,
 // 13 ms, in an SVG render of the 52 k-triangle armadillo). Here freed blocks keep their pages, and
 // new pages come 2 MB at a time where the kernel gives huge pages ("always" or "madvise").
 //
