@@ -8,9 +8,11 @@
 # drew the same SVG, and this build's stages in process (load_probe stages: CPU seconds of the
 # thread, the least of 3), and the wall time until a render's first view can start (load_probe
 # load: Model::load and the self-intersections, the least of 3) on one thread and on two (the
-# Hilbert sorts side by side, the search beside the topology). Then start-up alone (`--version`):
-# times, the dynamic loader's cycles and relocations, the libraries an SVG render loads. Writes
-# bench/results/load_speed.md.
+# Hilbert sorts side by side, the search beside the topology). Per render also the CPU time and
+# the minor page faults (perf stat: task-clock, minor-faults) and the peak memory (/usr/bin/time,
+# one run each). Then start-up alone (`--version`): times, the dynamic loader's cycles and
+# relocations, the libraries an SVG render loads. Writes bench/results/load_speed.md, keeping what
+# follows its line `<!-- kept below -->` (the notes written by hand).
 # Usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,15 +29,19 @@ trap 'rm -rf "$tmp"' EXIT
 files=("$DATA/meshes/armadillo.off" "$DATA/meshes/fandisk.off" "$DATA/meshes/bunny00.off"
        "$tmp/armadillo@2.off" "$tmp/armadillo@2.ply" "$tmp/armadillo@2.stl")
 
-# "wall_ms load_ms" of one render.
+# "wall_ms load_ms cpu_ms minor_faults" of one render (perf stat's own start-up is in the wall time
+# of both builds alike).
 run_once() {
     local t0 t1 load
     t0=$(date +%s%N)
-    "$1" render "$2" -o "$3" >"$tmp/stdout" 2>/dev/null
+    perf stat -x, -e task-clock,minor-faults -o "$tmp/stat" "$1" render "$2" -o "$3" >"$tmp/stdout" 2>/dev/null
     t1=$(date +%s%N)
     load=$(sed -n 's/^seconds: load \([0-9.]*\).*/\1/p' "$tmp/stdout")
-    awk -v w="$(( (t1 - t0) / 1000 ))" -v l="$load" 'BEGIN { printf "%.1f %.1f\n", w / 1000, l * 1000 }'
+    awk -F, -v w="$(( (t1 - t0) / 1000 ))" -v l="$load" '/task-clock/ { c = $1 } /minor-faults/ { f = $1 }
+        END { printf "%.1f %.1f %.1f %d\n", w / 1000, l * 1000, c, f }' "$tmp/stat"
 }
+# Peak resident memory of one render, MiB.
+peak_mib() { /usr/bin/time -f %M -o "$tmp/rss" "$1" render "$2" -o "$tmp/peak.svg" >/dev/null 2>&1; awk '{ printf "%.1f", $1 / 1024 }' "$tmp/rss"; }
 # "cpu_ms wall_ms" of `BIN --version`: perf stat's task-clock (the process's CPU time, to the
 # microsecond: /usr/bin/time counts in 10 ms) and the wall time of a run of its own (no perf).
 cpu_wall() {
@@ -55,10 +61,11 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
     echo "each; medians of the runs and of the per-pair ratios after/before. 'load' is the load's wall time as"
     echo "render prints it (Model::load: parse, repairs, Hilbert order, topology). In process, this build only:"
     echo "load_probe stages, CPU ms of the thread, the least of 3; 'ready' is load_probe load's wall ms of"
-    echo "Model::load with the self-intersections, the least of 3, on 1 / 2 threads."
+    echo "Model::load with the self-intersections, the least of 3, on 1 / 2 threads. CPU: the render's"
+    echo "task-clock (all threads); faults: its minor page faults (medians); peak: its peak RSS (one run)."
     echo
-    echo "| file | format | triangles | load ms before | load ms after | render ms before | render ms after | after/before | same SVG | parse+repair | Hilbert | topology | self-intersections | ready 1 / 2 threads |"
-    echo "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"
+    echo "| file | format | triangles | load ms before | load ms after | render ms before | render ms after | after/before | CPU ms before | CPU ms after | CPU after/before | faults before | faults after | peak MiB before | peak MiB after | same SVG | parse+repair | Hilbert | topology | self-intersections | ready 1 / 2 threads |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"
     for f in "${files[@]}"; do
         name=$(basename "$f")
         ext="${name##*.}"
@@ -72,20 +79,20 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
         cmp -s "$tmp/before.svg" "$tmp/after.svg" || same=no
         : >"$tmp/pairs"
         for _ in $(seq "$PAIRS"); do
-            read -r bw bl < <(run_once "$BEFORE" "$f" "$tmp/before.svg")
-            read -r aw al < <(run_once "$AFTER" "$f" "$tmp/after.svg")
-            echo "$bw $bl $aw $al" >>"$tmp/pairs"
+            read -r bw bl bc bf < <(run_once "$BEFORE" "$f" "$tmp/before.svg")
+            read -r aw al ac af < <(run_once "$AFTER" "$f" "$tmp/after.svg")
+            echo "$bw $bl $aw $al $bc $bf $ac $af" >>"$tmp/pairs"
         done
-        bw=$(awk '{ print $1 }' "$tmp/pairs" | median)
-        bl=$(awk '{ print $2 }' "$tmp/pairs" | median)
-        aw=$(awk '{ print $3 }' "$tmp/pairs" | median)
-        al=$(awk '{ print $4 }' "$tmp/pairs" | median)
+        col_median() { awk -v c="$1" '{ print $c }' "$tmp/pairs" | median; }
+        bw=$(col_median 1) bl=$(col_median 2) aw=$(col_median 3) al=$(col_median 4)
+        bc=$(col_median 5) bf=$(col_median 6) ac=$(col_median 7) af=$(col_median 8)
         ratio=$(awk '{ printf "%.3f\n", $3 / $1 }' "$tmp/pairs" | median)
+        cpu_ratio=$(awk '{ printf "%.3f\n", $7 / $5 }' "$tmp/pairs" | median)
         s=$("$PROBE" stages "$f" 3)
         tris=$(echo "$s" | sed -n 's/.*: \([0-9]*\) triangles.*/\1/p')
         ms() { echo "$s" | sed -n "s/.*$1 \([0-9.]*\) s.*/\1/p" | awk '{ printf "%.1f", $1 * 1000 }'; }
         ready() { "$PROBE" load "$f" 3 "$1" | sed -n 's/.*load and self-intersections \([0-9.]*\) s.*/\1/p' | awk '{ printf "%.1f", $1 * 1000 }'; }
-        echo "| $name | $format | $tris | $bl | $al | $bw | $aw | $ratio | $same | $(ms 'parse+repair') | $(ms hilbert) | $(ms topology) | $(ms self-intersections) | $(ready 1) / $(ready 2) |"
+        echo "| $name | $format | $tris | $bl | $al | $bw | $aw | $ratio | $bc | $ac | $cpu_ratio | $bf | $af | $(peak_mib "$BEFORE" "$f") | $(peak_mib "$AFTER" "$f") | $same | $(ms 'parse+repair') | $(ms hilbert) | $(ms topology) | $(ms self-intersections) | $(ready 1) / $(ready 2) |"
     done
     echo
     echo "#### Start-up"
@@ -116,6 +123,8 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
     done
     echo
     echo "CPU ratio after/before (median of the pairs): $cpu_ratio."
+    echo
+    [ -f "$OUT" ] && sed -n '/^<!-- kept below -->/,$p' "$OUT"
 } >"$OUT.tmp"
 mv "$OUT.tmp" "$OUT"
 cat "$OUT"

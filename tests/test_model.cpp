@@ -616,6 +616,40 @@ TEST(LoadMesh, InwardClosedMeshIsTurnedOutward) {
     }
 }
 
+// Windings already consistent take orient's quick path (its parts found in corner order); one
+// bad face sends the mesh through the search. Both must give each part its own outward turn: here
+// three tetrahedra whose faces are interleaved in the file, the middle one wound inward, and the
+// third open (one face left out: no outward rule).
+TEST(LoadMesh, InterleavedPartsAreEachTurnedOutwardOnTheirOwn) {
+    for (bool one_bad_face : {false, true}) {
+        TriangleMesh m;
+        for (int part = 0; part < 3; ++part)
+            for (const auto& p : kTetV) m.positions.push_back(p + glm::dvec3(10.0 * part, 0, 0));
+        for (int k = 0; k < 4; ++k)
+            for (std::uint32_t part = 0; part < 3; ++part) {
+                if (part == 2 && k == 3) continue;
+                const auto& t = kTetF[std::size_t(k)];
+                std::array<std::uint32_t, 3> face = {std::uint32_t(t[0]) + 4 * part, std::uint32_t(t[1]) + 4 * part,
+                                                     std::uint32_t(t[2]) + 4 * part};
+                if (part == 1) std::swap(face[1], face[2]);            // the inward part
+                if (one_bad_face && part == 0 && k == 2) std::swap(face[1], face[2]);
+                m.triangles.push_back(face);
+            }
+        inkline::validate_mesh(m, "three tetrahedra");
+        // Inward: its 4 faces; the bad face: itself; the open part: kept as it is.
+        EXPECT_EQ(m.faces_reoriented, one_bad_face ? 5u : 4u);
+        EXPECT_EQ(m.repairs.components_reoriented, one_bad_face ? 1u : 0u);
+        expect_consistent(m);
+        for (std::uint32_t part = 0; part < 2; ++part) {
+            TriangleMesh closed;
+            closed.positions = m.positions;
+            for (const auto& t : m.triangles)
+                if (t[0] / 4 == part) closed.triangles.push_back(t);
+            EXPECT_DOUBLE_EQ(signed_volume(closed), 1.0 / 6.0) << "part " << part << (one_bad_face ? ", one bad face" : "");
+        }
+    }
+}
+
 TEST(LoadMesh, PrimitivesAreValidAndOutward) {
     const TriangleMesh box = inkline::make_box({-1, -2, -3}, {1, 2, 3});
     EXPECT_DOUBLE_EQ(signed_volume(box), 2.0 * 4.0 * 6.0);

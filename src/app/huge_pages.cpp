@@ -8,15 +8,21 @@
 // that the kernel backs them with 2 MB pages where transparent huge pages are enabled ("always" or
 // "madvise"; elsewhere madvise does nothing), and unmapped when freed (no heap growth, no reuse of
 // heap pages already mapped small). A header just before such a block says so: delete tells them
-// from malloc's blocks by their alignment and a size no malloc chunk can have. Everything smaller
-// comes from malloc. glibc does much the same for every block under
-// GLIBC_TUNABLES=glibc.malloc.hugetlb=1,glibc.malloc.mmap_threshold=4194304; this makes it the
-// programs' default without setting malloc's thresholds (fixing malloc's mmap threshold made it
-// fail under valgrind, past valgrind's brk limit). Measured on armadillo@2 (832 k triangles):
-// bench/results/visibility.md, docs/memory.md.
+// from malloc's blocks by their alignment and a size no malloc chunk can have.
+//
+// Mid-size blocks (kMid up to kLarge) come from one HugeArena (app/huge_arena.hpp): in huge pages
+// too, and kept when freed for the next block, where malloc would map each on its own and unmap it
+// when freed (or trim its heap), so that every stage of a load faulted its arrays' 4 KB pages in
+// again (7 600 faults in a render of armadillo, 690 with the arena; bench/results/load_speed.md).
+// A request the arena cannot meet goes to malloc. Everything smaller comes from malloc.
+// glibc does much the same for every block under GLIBC_TUNABLES=glibc.malloc.hugetlb=1 with
+// higher mmap and trim thresholds; this makes it the programs' default without setting malloc's
+// thresholds (fixing malloc's mmap threshold made it fail under valgrind, past valgrind's brk
+// limit). Measured on armadillo@2 (832 k triangles): bench/results/visibility.md, docs/memory.md.
 //
 // Not in the library: a library must not choose its host program's allocator. Not under
-// AddressSanitizer or ThreadSanitizer, which replace operator new themselves.
+// AddressSanitizer or ThreadSanitizer, which replace operator new themselves (the arena's own
+// tests run there, on arenas of their own).
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 
 #include <sys/mman.h>
@@ -27,10 +33,24 @@
 #include <cstdlib>
 #include <new>
 
+#include "app/huge_arena.hpp"
+
 namespace {
 
 constexpr std::size_t kHuge = std::size_t(2) << 20;   // the x86-64 huge page
 constexpr std::size_t kLarge = std::size_t(4) << 20;  // blocks from this size on
+constexpr std::size_t kMid = std::size_t(16) << 10;   // blocks from this size to kLarge: the arena
+// Address space for the mid-size blocks (no memory until used): 4 GB, a thousand live blocks of
+// nearly 4 MB; past it, malloc.
+constexpr std::size_t kArenaReserve = std::size_t(4) << 30;
+
+// The arena, never destroyed: other static objects' destructors free blocks after main returns.
+union MidBlocks {
+    inkline::HugeArena arena;
+    constexpr MidBlocks() : arena(kArenaReserve) {}
+    ~MidBlocks() {}
+};
+constinit MidBlocks mid_blocks;
 // Just before a mapped block: its rounded size, and a mark where a malloc block has its chunk's
 // size (less than 2^63, so never equal to the mark).
 struct Header {
@@ -57,9 +77,18 @@ void* map_large(std::size_t n) noexcept {
     return reinterpret_cast<void*>(p);
 }
 
-void* allocate(std::size_t n) noexcept { return n >= kLarge ? map_large(n) : std::malloc(n == 0 ? 1 : n); }
+void* allocate(std::size_t n) noexcept {
+    if (n >= kLarge) return map_large(n);
+    if (n >= kMid)
+        if (void* p = mid_blocks.arena.allocate(n)) return p;
+    return std::malloc(n == 0 ? 1 : n);
+}
 
 void release(void* p) noexcept {
+    if (mid_blocks.arena.owns(p)) {
+        mid_blocks.arena.release(p);
+        return;
+    }
     const auto a = reinterpret_cast<std::uintptr_t>(p);
     if (p && (a & (kHuge - 1)) == 0 && (reinterpret_cast<const Header*>(p) - 1)->mark == kMark) {
         const std::size_t page = page_size();

@@ -1077,23 +1077,47 @@ void cut_nonmanifold_edges(TriangleMesh& mesh, const CornerMates& mates) {
     }
 }
 
+// The parts of the surface (faces joined across paired edges), numbered in the order of their
+// first faces, when every pair of faces traverses its edge in opposite directions (windings
+// already consistent, as in most files); false otherwise, or when an edge has more than two faces.
+// It reads the corners in order, where the search of orient reads faces in the order it reaches
+// them (random reads of their corners and states: most of orient's time on a large file).
+bool parts_if_consistent(const TriangleMesh& mesh, const CornerMates& mates, std::vector<std::uint32_t>& part,
+                         std::uint32_t& nparts) {
+    if (mates.extra > 0) return false;
+    const auto& tris = mesh.triangles;
+    UnionFind parts(tris.size());
+    for (std::uint32_t c = 0; c < mates.mate.size(); ++c) {
+        const std::uint32_t m = mates.mate[c];
+        if (m == kNoCorner || m < c) continue;  // each pair once (paired both ways when extra is 0)
+        // c's face traverses a->b; its mate's corner is at a or b (orient's search, below).
+        if (tris[m / 3][m % 3] != tris[c / 3][(c % 3 + 1) % 3]) return false;
+        parts.unite(c / 3, m / 3);
+    }
+    part.resize(tris.size());
+    nparts = 0;
+    for (std::uint32_t f = 0; f < tris.size(); ++f) {
+        const std::uint32_t root = parts.find(f);  // the part's first face: root <= f
+        part[f] = root == f ? nparts++ : part[root];
+    }
+    return true;
+}
+
 // Consistent orientation by breadth-first search over faces: two faces sharing an edge must
 // traverse it in opposite directions; a conflict means the surface is not orientable. Strict: it
 // is refused. Tolerant (seams): the faces keep the windings the search gave them and the edges
-// of conflict are the orientation seams (model/orientation.hpp), counted. Closed orientable
-// components are then turned outward (positive signed volume), so that front-facing silhouette
-// edges are the convex ones, as the Markosian et al. parity rule assumes. Each face is flipped at
-// most once; faces_reoriented counts the faces whose final orientation differs from the input,
-// repairs.components_reoriented the components whose faces disagreed.
-void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
+// of conflict are the orientation seams (model/orientation.hpp), counted. state: 1 keep, -1 flip;
+// component and nonorientable: each face's part and each part's. Returns the number of parts.
+std::uint32_t search_orientation(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams,
+                                 std::vector<std::int8_t>& state, std::vector<std::uint32_t>& component,
+                                 std::vector<char>& nonorientable) {
     const std::size_t nf = mesh.triangles.size();
-    std::vector<std::int8_t> state(nf, 0);  // 0 unvisited, 1 keep, -1 flip
+    state.assign(nf, 0);  // 0 unvisited
+    component.assign(nf, 0);
     std::vector<std::uint32_t> queue;
     queue.reserve(nf);
-    std::vector<std::uint32_t> component(nf, 0);
     std::uint32_t ncomp = 0;
-    std::vector<char> nonorientable;  // per component
-    std::size_t conflicts = 0;        // corners whose edge is a seam (two per seam edge)
+    std::size_t conflicts = 0;  // corners whose edge is a seam (two per seam edge)
     for (std::uint32_t seed = 0; seed < nf; ++seed) {
         if (state[seed] != 0) continue;
         state[seed] = 1;
@@ -1135,6 +1159,27 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
     }
     mesh.repairs.orientation_seam_edges += conflicts / 2;
     for (char c : nonorientable) mesh.repairs.nonorientable_parts += c;
+    return ncomp;
+}
+
+// Orients the faces consistently (search_orientation, or nothing to do when parts_if_consistent
+// finds the windings consistent already: the same parts, every face kept). Closed orientable
+// components are then turned outward (positive signed volume), so that front-facing silhouette
+// edges are the convex ones, as the Markosian et al. parity rule assumes. Each face is flipped at
+// most once; faces_reoriented counts the faces whose final orientation differs from the input,
+// repairs.components_reoriented the components whose faces disagreed.
+void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
+    const std::size_t nf = mesh.triangles.size();
+    std::vector<std::int8_t> state;
+    std::vector<std::uint32_t> component;
+    std::vector<char> nonorientable;  // per component
+    std::uint32_t ncomp = 0;
+    if (parts_if_consistent(mesh, mates, component, ncomp)) {
+        state.assign(nf, 1);
+        nonorientable.assign(ncomp, 0);
+    } else {
+        ncomp = search_orientation(mesh, mates, where, seams, state, component, nonorientable);
+    }
     std::vector<double> volume(ncomp, 0.0);
     std::vector<char> closed(ncomp, 1);
     for (std::size_t c = 0; c < mates.mate.size(); ++c)
