@@ -22,7 +22,7 @@ namespace {
 
 constexpr char kMagic[8] = {'I', 'N', 'K', 'M', 'S', 'L', '\r', '\n'};
 // Bump when the file layout or the levels' construction changes: older files are then stale.
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
 constexpr std::uint64_t kFnvOffset = 1469598103934665603ull, kFnvPrime = 1099511628211ull;
 
 std::uint64_t fnv(const void* data, std::size_t n, std::uint64_t h = kFnvOffset) {

@@ -54,22 +54,56 @@ struct CollapseRecord {
     std::size_t count() const { return begin.size() - 1; }
 };
 
+// Each vertex's place in the lexicographic order of the input positions (x, then y, then z; equal
+// positions by index): the simplification and the sweeps decide by it wherever today's numbering
+// would decide, so that the levels do not depend on how the file numbers vertices and faces.
+std::vector<std::uint32_t> position_ranks(const std::vector<glm::dvec3>& positions) {
+    std::vector<std::uint32_t> order(positions.size());
+    for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v;
+    std::ranges::sort(order, [&positions](std::uint32_t a, std::uint32_t b) {
+        const glm::dvec3 &p = positions[a], &q = positions[b];
+        if (p.x != q.x) return p.x < q.x;
+        if (p.y != q.y) return p.y < q.y;
+        if (p.z != q.z) return p.z < q.z;
+        return a < b;
+    });
+    std::vector<std::uint32_t> rank(positions.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
+    return rank;
+}
+
+// x's outgoing halfedge to its neighbour of least rank: sums over a ring that start there (the
+// circulator from it) add in the same order whatever the numbering.
+OmMesh::HalfedgeHandle ring_start(const OmMesh& m, OmMesh::VertexHandle x, const std::vector<std::uint32_t>& rank) {
+    OmMesh::HalfedgeHandle start;
+    std::uint32_t least = ~0u;
+    for (auto h : m.voh_range(x))
+        if (const std::uint32_t r = rank[std::size_t(m.to_vertex_handle(h).idx())]; r < least) least = r, start = h;
+    return start;
+}
+
 // The predictor's stencil of x on mesh m, appended to `out` as one block: its neighbours and, for
 // the second-order functional, the vertices across its ring edges (the flaps). Where a flap is
 // missing (a border near) the umbrella stands in: the neighbours' centroid, along a border only
 // the two border neighbours (so that borders are smoothed along themselves).
-void predictors(const OmMesh& m, OmMesh::VertexHandle x, bool second_order, std::vector<std::uint32_t>& out) {
+void predictors(const OmMesh& m, OmMesh::VertexHandle x, bool second_order, const std::vector<std::uint32_t>& rank,
+                std::vector<std::uint32_t>& out) {
     const std::size_t at = out.size();
     out.push_back(std::uint32_t(x.idx()));
     out.push_back(0);
     out.push_back(0);
     const bool border = m.is_boundary(x);
-    for (auto h : m.voh_range(x))
+    const auto start = ring_start(m, x, rank);
+    if (!start.is_valid()) {  // an isolated vertex: no predictors
+        out[at + 1] = 0;
+        return;
+    }
+    for (auto h : m.voh_range(start))
         if (!border || m.is_boundary(m.edge_handle(h))) out.push_back(std::uint32_t(m.to_vertex_handle(h).idx()));
     const std::uint32_t ring = std::uint32_t(out.size() - at - 3);
     out[at + 1] = ring;
     if (!second_order || border || ring < 3) return;
-    for (auto h : m.voh_range(x)) {
+    for (auto h : m.voh_range(start)) {
         const auto across = m.opposite_halfedge_handle(m.next_halfedge_handle(h));  // the ring edge's other side
         if (m.is_boundary(across)) {  // no flap there: the umbrella
             out.resize(at + 3 + ring);
@@ -103,10 +137,11 @@ glm::dvec3 predict(const std::vector<std::uint32_t>& blocks, std::uint32_t b, co
 }
 
 // Records the stencil of the collapse of halfedge h (its from-vertex removed) before it happens.
-void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, bool second_order, CollapseRecord& r) {
+void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, bool second_order, const std::vector<std::uint32_t>& rank,
+                    CollapseRecord& r) {
     const auto v0 = m.from_vertex_handle(h);
-    predictors(m, v0, second_order, r.blocks);
-    for (auto w : m.vv_range(v0)) predictors(m, w, second_order, r.blocks);
+    predictors(m, v0, second_order, rank, r.blocks);
+    for (auto w : m.vv_range(v0)) predictors(m, w, second_order, rank, r.blocks);
     r.begin.push_back(std::uint32_t(r.blocks.size()));
 }
 
@@ -117,7 +152,8 @@ void record_stencil(const OmMesh& m, OmMesh::HalfedgeHandle h, bool second_order
 // ring vertex `spread` of the way to its own), so that adding the details back rebuilds the finer
 // mesh. `smooth` holds the current level's positions (the mesh's own points stay the input's: the
 // simplification's choices do not depend on the smoothing).
-void analyse_collapse(const OmMesh& m, CollapseRecord& r, const MultiscaleOptions& o, std::vector<glm::dvec3>& smooth, std::vector<std::uint32_t>& scratch_ids,
+void analyse_collapse(const OmMesh& m, CollapseRecord& r, const MultiscaleOptions& o, const std::vector<std::uint32_t>& rank,
+                      std::vector<glm::dvec3>& smooth, std::vector<std::uint32_t>& scratch_ids,
                       std::vector<glm::dvec3>& coarse, std::vector<glm::dvec3>& original) {
     const std::size_t j = r.count() - 1;
     const std::uint32_t first = r.begin[j], end = r.begin[j + 1];
@@ -135,7 +171,7 @@ void analyse_collapse(const OmMesh& m, CollapseRecord& r, const MultiscaleOption
         for (std::uint32_t b = ring_first; b < end; b = next(b)) {
             const std::uint32_t w = r.blocks[b];
             scratch_ids.clear();
-            predictors(m, OmMesh::VertexHandle(int(w)), second_order, scratch_ids);  // on the coarse mesh
+            predictors(m, OmMesh::VertexHandle(int(w)), second_order, rank, scratch_ids);  // on the coarse mesh
             coarse.push_back(smooth[w] + factor * (predict(scratch_ids, 0, at_smooth) - smooth[w]));
         }
         std::size_t k = 0;
@@ -179,33 +215,104 @@ bool collapse_allowed(OmMesh& m, OmMesh::HalfedgeHandle h) {  // (is_collapse_ok
         return false;
     if (m.is_boundary(v0) && (!m.is_boundary(v1) || (vl.is_valid() && vr.is_valid()))) return false;
     if (m.cw_rotated_halfedge_handle(m.cw_rotated_halfedge_handle(h)) == h) return false;
-    const OmMesh::Point q = m.point(v1);
-    for (auto f : m.vf_range(v0)) {
-        OmMesh::Point p[3], moved[3];
-        int k = 0;
-        bool touches_v1 = false;
-        for (auto w : m.fv_range(f)) {
-            touches_v1 |= w == v1;
-            p[k] = m.point(w);
-            moved[k++] = w == v0 ? q : m.point(w);
-        }
-        if (touches_v1) continue;  // removed by the collapse
-        const auto n0 = (p[1] - p[0]) % (p[2] - p[0]), n1 = (moved[1] - moved[0]) % (moved[2] - moved[0]);
-        const double l1 = n1.norm();
-        if (!(l1 > 0.0) || (n0 | n1) < 0.5 * n0.norm() * l1) return false;
+    // Each face's normal from v0's corner (the same sums whatever corner the face starts at).
+    const OmMesh::Point p0 = m.point(v0), q = m.point(v1);
+    for (auto g : m.voh_range(v0)) {
+        if (!m.face_handle(g).is_valid()) continue;
+        const auto b = m.to_vertex_handle(g), c = m.to_vertex_handle(m.next_halfedge_handle(g));
+        if (b == v1 || c == v1) continue;  // removed by the collapse
+        const OmMesh::Point pb = m.point(b), pc = m.point(c);
+        const auto n0 = (pb - p0) % (pc - p0), n1 = (pb - q) % (pc - q);
+        const double l0 = n0.norm(), l1 = n1.norm();
+        if (!(l1 > 0.0) || (n0 | n1) < 0.5 * l0 * l1) return false;
     }
     return true;
 }
 
+// A queued edge: shortest first, equal lengths by the ranks of its ends (`key`: the lesser rank in
+// the high half), so that the order of collapses follows the positions, not the numbering.
 struct Candidate {
     double length2;
+    std::uint64_t key;
     std::uint32_t edge, version;
-    bool operator>(const Candidate& o) const { return length2 != o.length2 ? length2 > o.length2 : edge > o.edge; }
+    bool operator>(const Candidate& o) const { return length2 != o.length2 ? length2 > o.length2 : key > o.key; }
 };
 
+// Garland and Heckbert's quadric error: per vertex the sum of its faces' planes' squared distances
+// (area-weighted), a collapse's cost the merged quadric at the kept end.
+struct Quadric {
+    double q[10] = {};  // xx xy xz xw yy yz yw zz zw ww
+    void add_plane(const glm::dvec3& n, double d, double w) {
+        const double a[4] = {n.x, n.y, n.z, d};
+        int k = 0;
+        for (int i = 0; i < 4; ++i)
+            for (int j = i; j < 4; ++j) q[k++] += w * a[i] * a[j];
+    }
+    void add(const Quadric& o) {
+        for (int k = 0; k < 10; ++k) q[k] += o.q[k];
+    }
+    double at(const glm::dvec3& p) const {
+        const double x = p.x, y = p.y, z = p.z;
+        return q[0] * x * x + 2 * q[1] * x * y + 2 * q[2] * x * z + 2 * q[3] * x + q[4] * y * y + 2 * q[5] * y * z +
+               2 * q[6] * y + q[7] * z * z + 2 * q[8] * z + q[9];
+    }
+};
+
+glm::dvec3 at(const OmMesh& m, OmMesh::VertexHandle v) {
+    const auto& p = m.point(v);
+    return {p[0], p[1], p[2]};
+}
+
+// Per vertex the quadric of its faces, each face's plane from its corner of least rank, summed
+// around the vertex from its neighbour of least rank (the same bits whatever the numbering).
+std::vector<Quadric> vertex_quadrics(const OmMesh& m, const std::vector<std::uint32_t>& rank) {
+    std::vector<Quadric> out(m.n_vertices());
+    for (auto v : m.vertices()) {
+        const auto start = ring_start(m, v, rank);
+        if (!start.is_valid()) continue;
+        for (auto h : m.voh_range(start)) {
+            if (!m.face_handle(h).is_valid()) continue;
+            OmMesh::VertexHandle c[3] = {v, m.to_vertex_handle(h), m.to_vertex_handle(m.next_halfedge_handle(h))};
+            const int first = int(std::min_element(c, c + 3, [&rank](auto a, auto b) {
+                                      return rank[std::size_t(a.idx())] < rank[std::size_t(b.idx())];
+                                  }) - c);
+            const glm::dvec3 p0 = at(m, c[first]), p1 = at(m, c[(first + 1) % 3]), p2 = at(m, c[(first + 2) % 3]);
+            const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+            const double twice_area = glm::length(n);
+            if (!(twice_area > 0.0)) continue;
+            const glm::dvec3 u = n / twice_area;
+            out[std::size_t(v.idx())].add_plane(u, -glm::dot(u, p0), 0.5 * twice_area);
+        }
+    }
+    return out;
+}
+
+// The collapse of edge e: which end goes. Of the allowed directions the one of least quadric error
+// (the kept end the one the merged quadric finds nearer to the faces both ends had: a corner or a
+// ridge is kept, a vertex on a flat stretch goes); errors equal within rounding by rank (the end of
+// lesser rank goes). Invalid when neither direction is allowed. (Measured against keeping the end
+// whose faces turn least, the flatter end by angle defect or umbrella, the end nearer the merged
+// ring's centroid, and the opposite of each: this one folds the fewest faces and keeps the most
+// margin on test_detail's bounds; docs/detail.md.)
+OmMesh::HalfedgeHandle choose_collapse(OmMesh& m, OmMesh::EdgeHandle e, const std::vector<std::uint32_t>& rank,
+                                       const std::vector<Quadric>& quadric) {
+    OmMesh::HalfedgeHandle h[2] = {m.halfedge_handle(e, 0), m.halfedge_handle(e, 1)};
+    if (rank[std::size_t(m.from_vertex_handle(h[1]).idx())] < rank[std::size_t(m.from_vertex_handle(h[0]).idx())])
+        std::swap(h[0], h[1]);
+    Quadric q = quadric[std::size_t(m.from_vertex_handle(h[0]).idx())];
+    q.add(quadric[std::size_t(m.to_vertex_handle(h[0]).idx())]);
+    const glm::dvec3 a = at(m, m.from_vertex_handle(h[0])), b = at(m, m.to_vertex_handle(h[0]));
+    // Errors are area times squared distance: rounding's share is about 1e-16 of the faces' area
+    // (the quadric's trace) times the edge's squared length.
+    const double tie = 1e-9 * (q.q[0] + q.q[4] + q.q[7]) * glm::dot(b - a, b - a);
+    if (q.at(a) < q.at(b) - tie) std::swap(h[0], h[1]);  // keeping a (removing b) costs less
+    if (collapse_allowed(m, h[0])) return h[0];
+    return collapse_allowed(m, h[1]) ? h[1] : OmMesh::HalfedgeHandle();
+}
+
 // Simplifies a copy of the mesh with OpenMesh's collapses, shortest edge first (so that the mesh
-// has about uniform edge lengths at every stage, as the seed's r assumes), until no edge may
-// collapse. A lazy heap of edges, re-queued when they touch a collapse: OpenMesh's DecimaterT
+// has about uniform edge lengths at every stage, as the seed's r assumes; equal lengths by the
+// ends' ranks), the removed end by choose_collapse, until no edge may collapse. A lazy heap of edges, re-queued when they touch a collapse: OpenMesh's DecimaterT
 // re-tests every outgoing halfedge of every ring vertex after each collapse, which made it most of
 // the pre-process (bench/results/multiscale.md). False when OpenMesh refuses a face.
 bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, CollapseRecord& record,
@@ -229,8 +336,14 @@ bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, Collap
         }
     }
     const std::size_t n = mesh.vertex_count();
-    if (options.sweeps > 0 || options.tangential_sweeps > 0)
-        for (auto v : m.vertices()) predictors(m, v, options.fairing == MultiscaleFairing::SecondOrder, record.fine_blocks);
+    const std::vector<std::uint32_t> rank = position_ranks(mesh.positions);
+    const bool second_order = options.fairing == MultiscaleFairing::SecondOrder;
+    if (options.sweeps > 0 || options.tangential_sweeps > 0) {  // the sweeps' order: by rank
+        std::vector<std::uint32_t> order(n);
+        for (std::uint32_t v = 0; v < n; ++v) order[rank[v]] = v;
+        for (std::uint32_t v : order) predictors(m, OmMesh::VertexHandle(int(v)), second_order, rank, record.fine_blocks);
+    }
+    std::vector<Quadric> quadric = vertex_quadrics(m, rank);
     record.begin.reserve(n + 1);
     record.detail_begin.reserve(n + 1);
     record.blocks.reserve(7 * 16 * n);
@@ -240,8 +353,10 @@ bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, Collap
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
     auto push = [&](OmMesh::EdgeHandle e) {
         const auto h = m.halfedge_handle(e, 0);
-        const double l2 = (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).sqrnorm();
-        queue.push({l2, std::uint32_t(e.idx()), ++version[std::size_t(e.idx())]});
+        const auto a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
+        const double l2 = (m.point(b) - m.point(a)).sqrnorm();
+        const auto [lo, hi] = std::minmax(rank[std::size_t(a.idx())], rank[std::size_t(b.idx())]);
+        queue.push({l2, std::uint64_t(lo) << 32 | hi, std::uint32_t(e.idx()), ++version[std::size_t(e.idx())]});
     };
     for (auto e : m.edges()) push(e);
     std::vector<OmMesh::VertexHandle> moved;
@@ -253,19 +368,19 @@ bool simplify(const MeshTopology& mesh, const MultiscaleOptions& options, Collap
         queue.pop();
         const OmMesh::EdgeHandle e(int(c.edge));
         if (c.version != version[c.edge] || m.status(e).deleted()) continue;
-        OmMesh::HalfedgeHandle h = m.halfedge_handle(e, 0);
-        if (!collapse_allowed(m, h)) h = m.halfedge_handle(e, 1);
-        if (!collapse_allowed(m, h)) {  // queued again when a collapse next to it may allow it
+        const OmMesh::HalfedgeHandle h = choose_collapse(m, e, rank, quadric);
+        if (!h.is_valid()) {  // queued again when a collapse next to it may allow it
             refused[c.edge] = 1;
             continue;
         }
         const auto v0 = m.from_vertex_handle(h), v1 = m.to_vertex_handle(h);
-        record_stencil(m, h, options.fairing == MultiscaleFairing::SecondOrder, record);
+        record_stencil(m, h, second_order, rank, record);
         moved.clear();  // v0's edges that become v1's: the only ones whose length changes
         for (auto w : m.vv_range(v0))
             if (w != v1 && !m.find_halfedge(v1, w).is_valid()) moved.push_back(w);
         m.collapse(h);
-        analyse_collapse(m, record, options, smooth, ids, coarse, original);
+        quadric[std::size_t(v1.idx())].add(quadric[std::size_t(v0.idx())]);
+        analyse_collapse(m, record, options, rank, smooth, ids, coarse, original);
         for (auto w : moved) {
             const auto k = m.edge_handle(m.find_halfedge(v1, w));
             refused[std::size_t(k.idx())] = 0;
@@ -445,8 +560,10 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
         const auto with_detail = std::size_t(std::floor(std::pow(out.ratio, k) * double(out.collapses)));
         scratch.positions = base;
         synthesize(record, options.spread, with_detail, scratch.positions, ring);
-        relax_level(record, options.spread, options.sweeps, scratch.positions);
-        tangential_level(record, options.tangential_sweeps, scratch.positions);
+        if (with_detail < out.collapses) {  // (a level with every detail is the input: nothing to smooth)
+            relax_level(record, options.spread, options.sweeps, scratch.positions);
+            tangential_level(record, options.tangential_sweeps, scratch.positions);
+        }
         if (smoother) {
             const double t = options.smoothing * std::pow(options.smoothing_growth, k - 1);
             anchor.clear();
