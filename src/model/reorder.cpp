@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <exception>
+#include <numeric>
+#include <random>
 #include <system_error>
 #include <thread>
 #include <utility>
@@ -107,6 +109,31 @@ TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads) {
     mesh.positions = std::move(positions);
     mesh.triangles = std::move(triangles);
     mesh.face_object = std::move(face_object);
+    return mesh;
+}
+
+TriangleMesh shuffled_numbering(TriangleMesh mesh, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    const std::size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
+    std::vector<std::uint32_t> vertex_at(nv), face_at(nf), new_index(nv);
+    std::iota(vertex_at.begin(), vertex_at.end(), 0u);
+    std::iota(face_at.begin(), face_at.end(), 0u);
+    std::shuffle(vertex_at.begin(), vertex_at.end(), rng);
+    std::shuffle(face_at.begin(), face_at.end(), rng);
+    std::vector<glm::dvec3> positions(nv);
+    for (std::uint32_t i = 0; i < nv; ++i) new_index[vertex_at[i]] = i, positions[i] = mesh.positions[vertex_at[i]];
+    std::vector<std::array<std::uint32_t, 3>> triangles(nf);
+    std::vector<std::uint32_t> face_object(mesh.face_object.empty() ? 0 : nf);
+    for (std::size_t i = 0; i < nf; ++i) {
+        const auto& t = mesh.triangles[face_at[i]];
+        const unsigned r = rng() % 3;
+        triangles[i] = {new_index[t[r]], new_index[t[(r + 1) % 3]], new_index[t[(r + 2) % 3]]};
+        if (!face_object.empty()) face_object[i] = mesh.face_object[face_at[i]];
+    }
+    mesh.positions = std::move(positions);
+    mesh.triangles = std::move(triangles);
+    mesh.face_object = std::move(face_object);
+    mesh.corner_mates.clear();
     return mesh;
 }
 

@@ -6,10 +6,16 @@
 // threads (the same orders).
 #pragma once
 
+#include <cstdint>
+
 #include "model/mesh_io.hpp"
 
 namespace inkline {
 
 TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads = 1);
+
+// The same mesh numbered at random (vertices, faces, and each face's corners rotated: the same
+// orientation), from `seed`. For checks that a drawing does not depend on the numbering.
+TriangleMesh shuffled_numbering(TriangleMesh mesh, std::uint32_t seed);
 
 }  // namespace inkline
