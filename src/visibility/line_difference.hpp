@@ -55,4 +55,13 @@ LineDifference visible_difference(const Drawing& reference, const Drawing& other
 LineDifference drawing_difference(const Drawing& reference, const Drawing& other, double tolerance_px,
                                   bool qi_levels = true);
 
+// The same, per class (to see where two drawings differ).
+struct ClassDifference {
+    LineKind kind;
+    int qi;  // with qi_levels false: 0 visible, 1 hidden
+    LineDifference difference;
+};
+std::vector<ClassDifference> drawing_difference_by_class(const Drawing& reference, const Drawing& other,
+                                                         double tolerance_px, bool qi_levels = true);
+
 }  // namespace inkline
