@@ -125,15 +125,19 @@ TEST(MultiscaleLevels, SmoothedLevelsLoseTheSmallBumps) {
     ASSERT_EQ(L.median_abs_k1.size(), 4u);
     for (int k = 1; k < 4; ++k) EXPECT_LT(L.median_abs_k1[std::size_t(k)], 0.9 * L.median_abs_k1[0]) << "level " << k;
     EXPECT_NEAR(L.median_abs_k1[1], 0.0944, 0.0005);
-    EXPECT_NEAR(L.median_abs_k1[3], 0.1122, 0.0005);
+    // (0.1122 in the Hilbert order before the keys: the levels' collapses and relaxation sweeps
+    // follow the vertex numbering, so a renumbering moves these figures a little)
+    EXPECT_NEAR(L.median_abs_k1[3], 0.1102, 0.0005);
 }
 
 // The second-order functional (GSS's, uniform weights; --detail-fairing=second-order, with its 8
 // relaxation and 32 tangential sweeps a level): M0 is the input, every level keeps the
 // connectivity, level k keeps the detail of exactly the first r^k n splits (level 2 at r equals
 // level 1 at r^2), and at the seed's r = 3/4 the smoothed levels lose the small bumps without the
-// umbrella's folds: mean |k1| of M3 0.151 against M0's 0.187 on armadillo (the umbrella's: 0.83),
-// 18.6 against 20.6 on bunny; folded faces 4, 6, 8 (the umbrella's at r = 1/2: 15, 23, 89).
+// umbrella's folds: mean |k1| of M3 0.152 against M0's 0.187 on armadillo (the umbrella's: 0.83),
+// 19.0 against 20.6 on bunny; folded faces 3, 3, 8 (the umbrella's at r = 1/2: 105 at M3).
+// (Measured figures of the Hilbert keys' vertex order; the levels' collapses and sweeps follow
+// the numbering, and in the order before it they were 0.151, 18.6, folds 4, 6, 8 and 89.)
 TEST(MultiscaleLevels, SecondOrderKeepsTheShape) {
     const Built& b = built("armadillo");
     MultiscaleOptions o{.ratio = 0.75, .fairing = MultiscaleFairing::SecondOrder, .sweeps = 8, .tangential_sweeps = 32};
@@ -153,27 +157,27 @@ TEST(MultiscaleLevels, SecondOrderKeepsTheShape) {
         for (std::uint32_t f = 0; f < m0.face_count(); ++f) n += glm::dot(mk.face_normal(f), m0.face_normal(f)) < 0.0;
         flipped.push_back(n);
     }
-    EXPECT_EQ(flipped, (std::vector<std::size_t>{4, 6, 8}));
-    EXPECT_NEAR(L.mean_abs_k1[3], 0.1512, 0.0005);
+    EXPECT_EQ(flipped, (std::vector<std::size_t>{3, 3, 8}));
+    EXPECT_NEAR(L.mean_abs_k1[3], 0.1518, 0.0005);
     EXPECT_LT(L.mean_abs_k1[3], 0.85 * L.mean_abs_k1[0]);
     EXPECT_NEAR(L.median_abs_k1[3], 0.0932, 0.0005);
     EXPECT_LT(L.median_abs_k1[3], 0.75 * L.median_abs_k1[0]);
     const MultiscaleLevels bunny = build_multiscale_levels(*built("bunny00").model, o);
-    EXPECT_NEAR(bunny.mean_abs_k1[3], 18.65, 0.05);
+    EXPECT_NEAR(bunny.mean_abs_k1[3], 18.97, 0.05);
     EXPECT_LT(bunny.mean_abs_k1[3], 0.92 * bunny.mean_abs_k1[0]);
     // The r^k n rule: level 2 at r = 0.75 is level 1 at r = 0.5625, to the bit.
     o.levels = 2;
     o.ratio = 0.5625;
     const MultiscaleLevels one = build_multiscale_levels(*b.model, o);
     EXPECT_EQ(level_positions(*b.model, one, 1), level_positions(*b.model, L, 2));
-    // The umbrella folds more at every level (measured 15, 23, 89 at r = 1/2).
+    // The umbrella folds more (measured 105 at M3, r = 1/2; 89 in the order before the keys).
     std::size_t umbrella_m3 = 0;
     const auto p3 = level_positions(*b.model, b.levels, 3);
     for (std::uint32_t f = 0; f < m0.face_count(); ++f) {
         const auto& v = m0.faces[f];
         umbrella_m3 += glm::dot(glm::cross(p3[v[1]] - p3[v[0]], p3[v[2]] - p3[v[0]]), m0.face_normal(f)) < 0.0;
     }
-    EXPECT_EQ(umbrella_m3, 89u);
+    EXPECT_EQ(umbrella_m3, 105u);
 }
 
 // A tetrahedron: nothing can be collapsed (each collapse would leave a non-manifold two faces).
