@@ -13,6 +13,12 @@
 // (in large views; the same lines are expected). --details: after a view's line, each piece whose
 // visibility differs. The last lines total each variant over all views (pieces, ray tests, walks,
 // pieces whose QI / visibility differ from the reference).
+// --geometry=ORDER prints instead, per case, what does not depend on how the mesh is numbered:
+// the drawing's visible length and hidden length per QI (px, rounded), and the length that
+// differs (missing + extra, within 1e-6 px, each kind and QI against its own) from the drawing of
+// the same mesh numbered in ORDER: `input` (the file's order, no Hilbert order), `shuffled` (at
+// random), `median` (the Hilbert order before the keys: CGAL's hilbert_sort, median policy).
+// With --details, a differing case's classes (kind, QI) that differ. Lines of two builds compare with diff; the last lines count the cases that differ.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -21,11 +27,15 @@
 #include <exception>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "model/reorder.hpp"
+#include "model/subdivide.hpp"
 #include "pipeline.hpp"
+#include "visibility/line_difference.hpp"
 
 namespace {
 
@@ -52,12 +62,85 @@ inkline::Camera random_camera(std::mt19937& rng, const inkline::Bounds3& box, bo
     return inkline::Camera::perspective(target + dist * dir, target, up, fov, 1024, 1024);
 }
 
+inkline::ViewOptions variant_options(int variant, int threads) {
+    inkline::ViewOptions o;
+    o.threads = threads;
+    o.visibility = variant == 4 ? inkline::VisibilityMethod::Rays : inkline::VisibilityMethod::Appel;
+    o.exact_hidden = variant == 0 || variant == 4;
+    o.walk = variant != 2;
+    if (variant == 3) o.features.kinds[int(inkline::LineKind::Crease)] = false;
+    return o;
+}
+
+// The mesh of `path` as Model::load makes it (strict), but numbered in `order`.
+inkline::Model model_in_order(const std::string& path, int levels, const std::string& order) {
+    inkline::LoadOptions strict;
+    strict.strict = true;
+    inkline::TriangleMesh mesh = inkline::subdivide_loop(inkline::load_mesh(path, strict), levels);
+    if (order == "shuffled") mesh = inkline::shuffled_numbering(std::move(mesh), 11u);
+    else if (order == "median") mesh = inkline::hilbert_ordered_median(std::move(mesh));
+    else if (order != "input") throw std::runtime_error("--geometry: unknown order " + order);
+    return inkline::Model(std::move(mesh), 40.0);
+}
+
+// Visible length, then hidden length per QI (QI 1 for every hidden piece without exact QI).
+std::string length_summary(const inkline::Drawing& d, bool qi_levels) {
+    std::vector<double> by_qi;
+    for (const auto& p : d.pieces) {
+        const std::size_t qi = qi_levels ? std::size_t(p.qi) : std::size_t(p.qi > 0);
+        if (by_qi.size() <= qi) by_qi.resize(qi + 1, 0.0);
+        for (std::size_t q = 1; q < p.points.size(); ++q) by_qi[qi] += glm::length(p.points[q] - p.points[q - 1]);
+    }
+    by_qi.resize(std::max<std::size_t>(by_qi.size(), 1), 0.0);
+    char b[64];
+    std::snprintf(b, sizeof b, "visible %.3f hidden", by_qi[0]);
+    std::string out = b;
+    for (std::size_t qi = 1; qi < by_qi.size(); ++qi) {
+        std::snprintf(b, sizeof b, " %.3f", by_qi[qi]);
+        out += b;
+    }
+    return out;
+}
+
+constexpr double kRoundingPx = 1e-6;
+
+struct GeometryTotals {
+    std::size_t cases = 0, differing = 0;
+    double differ_px = 0.0, max_px = 0.0;
+};
+
+void geometry_cases(const std::string& name, const inkline::Model& model, const inkline::Model& other, int threads,
+                    double distance, bool details, GeometryTotals (&total)[5]) {
+    std::mt19937 rng(7u);
+    for (int k = 0; k < 16; ++k) {
+        const inkline::Camera cam = k == 0 ? inkline::Camera::framing(model.topology().bounds, 1024, 1024)
+                                           : random_camera(rng, model.topology().bounds, k >= 13, distance);
+        for (int variant = 0; variant < 5; ++variant) {
+            const inkline::ViewOptions o = variant_options(variant, threads);
+            const inkline::View a = inkline::render_view(model, cam, o), b = inkline::render_view(other, cam, o);
+            const inkline::LineDifference d = inkline::drawing_difference(a.drawing, b.drawing, 1e-6, o.exact_hidden);
+            const double px = d.missing_px + d.extra_px;
+            GeometryTotals& t = total[variant];
+            // (a drawing compared with itself can leave 1e-13 px: its length less its length near)
+            ++t.cases, t.differing += px > kRoundingPx, t.differ_px += px, t.max_px = std::max(t.max_px, px);
+            std::printf("%s cam %2d var %d: %s differ %.3g px\n", name.c_str(), k, variant,
+                        length_summary(a.drawing, o.exact_hidden).c_str(), px);
+            if (details && px > kRoundingPx)
+                for (const auto& c : inkline::drawing_difference_by_class(a.drawing, b.drawing, 1e-6, o.exact_hidden))
+                    if (c.difference.missing_px + c.difference.extra_px > 0.0)
+                        std::printf("  kind %d qi %d: %.4f px, missing %.4f extra %.4f\n", int(c.kind), c.qi,
+                                    c.difference.reference_px, c.difference.missing_px, c.difference.extra_px);
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::vector<std::string> meshes;
     bool session = false, details = false;
     double distance = 1.0;
+    std::string geometry_order;  // empty: the hashes
     int threads = 1;
     const std::string dir = std::string(INKLINE_DATA_DIR) + "/meshes/";
     for (int i = 1; i < argc; ++i)
@@ -67,6 +150,8 @@ int main(int argc, char** argv) {
             details = true;
         } else if (std::strncmp(argv[i], "--distance=", 11) == 0) {
             distance = std::stod(argv[i] + 11);
+        } else if (std::strncmp(argv[i], "--geometry=", 11) == 0) {
+            geometry_order = argv[i] + 11;
         } else if (std::strncmp(argv[i], "--threads=", 10) == 0) {
             threads = std::stoi(argv[i] + 10);
         } else if (std::strcmp(argv[i], "--all") == 0) {
@@ -84,6 +169,7 @@ int main(int argc, char** argv) {
         std::size_t pieces = 0, rays = 0, walks = 0, differ = 0, differ_vis = 0;
     };
     Total total[5];
+    GeometryTotals geometry_total[5];
     std::size_t skipped = 0;
     for (const std::string& name : meshes) {
         const auto at = name.find('@');
@@ -99,16 +185,13 @@ int main(int argc, char** argv) {
             continue;
         }
         const inkline::Model& model = *loaded;
+        if (!geometry_order.empty()) {
+            geometry_cases(name, model, model_in_order(path, levels, geometry_order), threads, distance, details,
+                           geometry_total);
+            continue;
+        }
         std::mt19937 rng(7u);
-        auto options = [threads](int variant) {
-            inkline::ViewOptions o;
-            o.threads = threads;
-            o.visibility = variant == 4 ? inkline::VisibilityMethod::Rays : inkline::VisibilityMethod::Appel;
-            o.exact_hidden = variant == 0 || variant == 4;
-            o.walk = variant != 2;
-            if (variant == 3) o.features.kinds[int(inkline::LineKind::Crease)] = false;
-            return o;
-        };
+        auto options = [threads](int variant) { return variant_options(variant, threads); };
         std::vector<inkline::ViewSession> sessions;
         for (int variant = 0; variant < 5; ++variant) sessions.emplace_back(model, options(variant));
         for (int k = 0; k < 16; ++k) {
@@ -156,6 +239,15 @@ int main(int argc, char** argv) {
                             differ_vis, (unsigned long long)h);
             }
         }
+    }
+    if (!geometry_order.empty()) {
+        for (int variant = 0; variant < 5; ++variant) {
+            const GeometryTotals& t = geometry_total[variant];
+            std::printf("total var %d: %zu cases, %zu differ (more than 1e-6 px) from the %s order's drawing, by %.3g px (at most %.3g px a case) "
+                        "(%zu meshes skipped)\n", variant, t.cases, t.differing, geometry_order.c_str(), t.differ_px,
+                        t.max_px, skipped);
+        }
+        return 0;
     }
     for (int variant = 0; variant < 5; ++variant) {
         const Total& t = total[variant];

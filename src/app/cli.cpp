@@ -252,8 +252,15 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
     const MeshTopology& drawn = detail ? detail->blended().topology() : model.topology();
     if (a.recall) {
         const Features reference = extract_features(drawn, cam);
+        // The reference's edges that the view found, summed in the reference's order: a subset's
+        // sum, so never above the total (summed in the view's order it could round past it).
+        std::vector<bool> found(drawn.edge_count(), false);
+        for (const auto e : view.features.silhouette_edges) found[e] = true;
+        std::vector<std::uint32_t> found_edges;
+        for (const auto e : reference.silhouette_edges)
+            if (found[e]) found_edges.push_back(e);
         const double total = edges_length(drawn, reference.silhouette_edges);
-        view.drawing.stats.recall = total > 0.0 ? edges_length(drawn, view.features.silhouette_edges) / total : 1.0;
+        view.drawing.stats.recall = total > 0.0 ? edges_length(drawn, found_edges) / total : 1.0;
     }
     if (freeform) freeform->add_strokes(cam, view.drawing, a.quiet || in_batch);  // (it prints as it goes)
     tone::ToneResult tone_result;

@@ -1,9 +1,11 @@
 #include "model/self_intersections.hpp"
 #include "model/early_self_intersections.hpp"
+#include "model/reorder.hpp"
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <exception>
 #include <condition_variable>
@@ -18,6 +20,7 @@
 #include <immintrin.h>
 #endif
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -478,7 +481,8 @@ public:
         for (int d = 0; d < 3; ++d) lo_[d] = boxes.lo[d].data(), hi_[d] = boxes.hi[d].data();
         if (boxes.size() == 0) return;
         if (patches_) normal_sums_.reserve(2 * boxes.size() / kLeaf + 1);
-        build(0, std::uint32_t(boxes.size()));
+        keys_ = centroid_keys(faces, boxes.size());
+        build(0, std::uint32_t(boxes.size()), 0);
     }
     // A share of the search: the pairs within node a (self), or between nodes a and b.
     struct Task {
@@ -552,17 +556,53 @@ private:
         return !(x.lo[0] > y.hi[0]) & !(y.lo[0] > x.hi[0]) & !(x.lo[1] > y.hi[1]) & !(y.lo[1] > x.hi[1]) &
                !(x.lo[2] > y.hi[2]) & !(y.lo[2] > x.hi[2]);
     }
+    // The boxes' faces' Hilbert keys (model/reorder.hpp; in the box of the faces' corners, which is
+    // a loaded model's box but for unused vertices): for a loaded model, sorted.
+    std::vector<std::uint64_t> centroid_keys(const std::vector<FaceData>& faces, std::size_t box_count) const {
+        if (faces.empty()) return {};
+        glm::dvec3 lo = faces[0].p[0], hi = lo;
+        for (const FaceData& f : faces)
+            for (const glm::dvec3& p : f.p) lo = glm::min(lo, p), hi = glm::max(hi, p);
+        std::vector<glm::dvec3> centroids(box_count);
+        for (std::size_t i = 0; i < box_count; ++i) {
+            const FaceData& f = faces[face_[i]];
+            centroids[i] = (f.p[0] + f.p[1] + f.p[2]) / 3.0;
+        }
+        std::vector<std::uint64_t> keys(box_count);
+        HilbertGrid(lo, hi).keys(centroids.data(), box_count, keys.data());
+        return keys;
+    }
+    // Where a node splits: between two cells of the Hilbert curve (the boxes before the first
+    // whose key differs from the first box's at the highest bit where the last box's does), so
+    // that a node is a cell of the curve's grid, as compact as space allows; halving the run would
+    // cut a cell and give nodes of two far-apart parts, whose boxes meet more and whose faces
+    // make embedded patches less often. The middle when the keys do not tell (equal keys; a
+    // tree already deep enough for 63-bit keys: an order not sorted by them).
+    std::uint32_t split(std::uint32_t begin, std::uint32_t end, int depth) const {
+        const std::uint32_t middle = begin + (end - begin) / 2;
+        const std::uint64_t differ = keys_[begin] ^ keys_[end - 1];
+        if (differ == 0 || depth > 80) return middle;
+        const std::uint64_t bit = std::uint64_t(1) << (63 - std::countl_zero(differ));
+        const bool first_has = keys_[begin] & bit;
+        std::uint32_t lo = begin + 1, hi = end - 1;  // the first box on the last box's side, in [lo, hi]
+        while (lo < hi) {
+            const std::uint32_t m = lo + (hi - lo) / 2;
+            if (bool(keys_[m] & bit) != first_has) hi = m;
+            else lo = m + 1;
+        }
+        return lo;
+    }
     // A node's box: its boxes' hull at a leaf, its children's above (each box read once).
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end) {
+    std::uint32_t build(std::uint32_t begin, std::uint32_t end, int depth) {
         const auto at = std::uint32_t(nodes_.size());
         nodes_.push_back({});
         if (patches_) normal_sums_.emplace_back(0.0);
         Node node{};
         node.begin = begin, node.end = end;
         if (end - begin > kLeaf) {
-            const std::uint32_t mid = begin + (end - begin) / 2;
-            node.left = build(begin, mid);
-            node.right = build(mid, end);
+            const std::uint32_t mid = split(begin, end, depth);
+            node.left = build(begin, mid, depth + 1);
+            node.right = build(mid, end, depth + 1);
             const Node &l = nodes_[node.left], &r = nodes_[node.right];
             for (int d = 0; d < 3; ++d) node.lo[d] = std::min(l.lo[d], r.lo[d]), node.hi[d] = std::max(l.hi[d], r.hi[d]);
             if (patches_) normal_sums_[at] = normal_sums_[node.left] + normal_sums_[node.right];
@@ -638,6 +678,7 @@ private:
     const EmbeddedPatches* patches_;
     std::vector<Node> nodes_;
     std::vector<glm::dvec3> normal_sums_;  // per node, when patches_: its faces' unit normals summed
+    std::vector<std::uint64_t> keys_;      // per box, its face's Hilbert key
 };
 
 std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g); }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <map>
 
 #include <glm/geometric.hpp>
 
@@ -108,6 +109,48 @@ LineDifference visible_difference(const Drawing& reference, const Drawing& other
     const auto [ot, on] = length_near(oth, ref_index, tolerance_px);
     d.reference_px = rt, d.missing_px = rt - rn;
     d.other_px = ot, d.extra_px = ot - on;
+    return d;
+}
+
+namespace {
+// Pieces' polylines by class: (kind, QI or visible/hidden).
+using LineClasses = std::map<std::pair<int, int>, std::vector<std::vector<glm::dvec2>>>;
+LineClasses lines_by_class(const Drawing& d, bool qi_levels) {
+    LineClasses out;
+    for (const Piece& p : d.pieces) out[{int(p.kind), qi_levels ? p.qi : int(p.qi > 0)}].push_back(p.points);
+    return out;
+}
+}  // namespace
+
+std::vector<ClassDifference> drawing_difference_by_class(const Drawing& reference, const Drawing& other,
+                                                         double tolerance_px, bool qi_levels) {
+    LineClasses ref = lines_by_class(reference, qi_levels), oth = lines_by_class(other, qi_levels);
+    for (const auto& [key, lines] : ref) oth[key];  // (a class of one drawing only: all of it differs)
+    for (const auto& [key, lines] : oth) ref[key];
+    std::vector<ClassDifference> out;
+    for (const auto& [key, ref_lines] : ref) {
+        const auto& oth_lines = oth.at(key);
+        SegmentProximity ref_index, oth_index;
+        for (const auto& p : ref_lines) ref_index.add(p);
+        for (const auto& p : oth_lines) oth_index.add(p);
+        ref_index.build(), oth_index.build();
+        const auto [rt, rn] = length_near(ref_lines, oth_index, tolerance_px);
+        const auto [ot, on] = length_near(oth_lines, ref_index, tolerance_px);
+        ClassDifference c{LineKind(key.first), key.second, {}};
+        c.difference.reference_px = rt, c.difference.missing_px = rt - rn;
+        c.difference.other_px = ot, c.difference.extra_px = ot - on;
+        out.push_back(c);
+    }
+    return out;
+}
+
+LineDifference drawing_difference(const Drawing& reference, const Drawing& other, double tolerance_px,
+                                  bool qi_levels) {
+    LineDifference d;
+    for (const ClassDifference& c : drawing_difference_by_class(reference, other, tolerance_px, qi_levels)) {
+        d.reference_px += c.difference.reference_px, d.missing_px += c.difference.missing_px;
+        d.other_px += c.difference.other_px, d.extra_px += c.difference.extra_px;
+    }
     return d;
 }
 

@@ -46,4 +46,22 @@ std::pair<double, double> length_near(const std::vector<std::vector<glm::dvec2>>
 // The visible (QI 0) pieces of `reference` and `other` against each other, within `tolerance_px`.
 LineDifference visible_difference(const Drawing& reference, const Drawing& other, double tolerance_px = 1.0);
 
+// Every piece of both drawings, visible and hidden, each compared only with the other drawing's
+// pieces of its class: the same line kind and the same QI (with qi_levels false: both visible or
+// both hidden, for views whose hidden QI is only a lower bound). Lengths of all pieces. It does
+// not look at how lines are cut into pieces, their direction or their curves' numbers, so two
+// drawings of one mesh numbered differently (another vertex and face order) can be compared:
+// with a tolerance of rounding (e.g. 1e-6 px) it is zero when they draw the same lines.
+LineDifference drawing_difference(const Drawing& reference, const Drawing& other, double tolerance_px,
+                                  bool qi_levels = true);
+
+// The same, per class (to see where two drawings differ).
+struct ClassDifference {
+    LineKind kind;
+    int qi;  // with qi_levels false: 0 visible, 1 hidden
+    LineDifference difference;
+};
+std::vector<ClassDifference> drawing_difference_by_class(const Drawing& reference, const Drawing& other,
+                                                         double tolerance_px, bool qi_levels = true);
+
 }  // namespace inkline
