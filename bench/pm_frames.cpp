@@ -78,8 +78,29 @@ std::uint64_t triangles_hash(const TriangleMesh& m) {
     return h;
 }
 
+// --budget's words: N (a fixed budget; 0: none), lag (FrontBudget::following_lag) or
+// lag:BASE:FRAMES:MOST.
+FrontBudget parse_budget(const std::string& word) {
+    if (word == "lag") return FrontBudget::following_lag();
+    if (word.rfind("lag:", 0) == 0) {
+        FrontBudget b;
+        if (std::sscanf(word.c_str(), "lag:%zu:%zu:%zu", &b.base, &b.catch_up_frames, &b.most) == 3) return b;
+        std::fprintf(stderr, "pm_frames: --budget: %s is not lag:BASE:FRAMES:MOST\n", word.c_str());
+        std::exit(2);
+    }
+    const long long n = std::atoll(word.c_str());
+    return n > 0 ? FrontBudget::fixed(std::size_t(n)) : FrontBudget::none();
+}
+
+std::string budget_name(const FrontBudget& b) {
+    if (!b.budgeted()) return "none";
+    if (b.base == b.most) return std::to_string(b.base);
+    return std::to_string(b.base) + " + backlog / " + std::to_string(b.catch_up_frames) + ", at most " +
+           std::to_string(b.most);
+}
+
 PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
-                    bool geomorphs, std::size_t budget, bool per_frame) {
+                    bool geomorphs, const FrontBudget& budget, bool per_frame) {
     const int frames = dolly ? 140 : 120;
     const auto camera_at = [&](int k) {
         return dolly ? path_camera(t, std::pow(1.01, k), 0.0) : path_camera(t, 1.0, double(k));
@@ -101,9 +122,11 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
         const FrontStats s = front.update(cam, c, 1.0 / 25.0, budget);
         const double ms = (thread_cpu_seconds() - t0) * 1e3;
         if (per_frame)
-            std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred\n",
+            std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred "
+                         "%zu triangles %.0f MiB RSS %zu backlog %lld budget\n",
                          k, ms, s.splits, s.collapses, s.morphs_started, s.morphs_ended, s.morphs_running, s.tried,
-                         s.deferred);
+                         s.deferred, s.triangles, status_mib("VmRSS"), s.backlog,
+                         s.budget == SIZE_MAX ? -1ll : (long long)s.budget);
         deferring_run = s.deferred ? deferring_run + 1 : 0;
         r.deferring_frames += s.deferred > 0;
         r.longest_deferring = std::max(r.longest_deferring, deferring_run);
@@ -143,7 +166,7 @@ ViewOptions whole_frame_options() {
 // The whole pm frame along a path: thread CPU ms a frame (median, most) and each stage's median
 // wall ms (PmFrameSeconds), then the multi-scale session's whole frame on the same cameras.
 void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLevels* levels, double px,
-               const std::string& path, int frames) {
+               const std::string& path, int frames, const FrontBudget& budget) {
     const MeshTopology& t = model.topology();
     const bool dolly = path == "dolly";
     const auto camera_at = [&](int k) {
@@ -153,7 +176,9 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
         return c;
     };
     const char* path_name = dolly ? "dolly 1 %/frame" : path == "orbit" ? "orbit 1 deg/frame" : "dolly in, bench's";
-    PmSession session(pm, whole_frame_options(), PmViewOptions::for_path(model, px));
+    PmViewOptions options = PmViewOptions::for_path(model, px);
+    options.budget = budget;
+    PmSession session(pm, whole_frame_options(), options);
     session.settle(camera_at(0));
     std::vector<double> cpu;
     std::vector<std::vector<double>> stage(11);
@@ -176,12 +201,13 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
         vertices += session.adapted().topology().vertex_count();
         recomputed += session.curvature().recomputed_vertices();
     }
-    std::printf("| %s | pm | %.0f | %.1f | %.1f |", path_name,
+    std::printf("| %s | pm, budget %s | %.0f | %.1f | %.1f |", path_name, budget_name(budget).c_str(),
                 double(triangles) / frames, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
     for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(stage[i]));
-    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f |\n", double(ray_tests) / frames, double(inconsistent) / frames,
-                double(recomputed) / double(std::max<std::size_t>(1, vertices)), double(moving) / frames,
-                double(pierced) / frames);
+    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %zu |\n", double(ray_tests) / frames,
+                double(inconsistent) / frames, double(recomputed) / double(std::max<std::size_t>(1, vertices)),
+                double(moving) / frames, double(pierced) / frames,
+                *std::max_element(stage[0].begin(), stage[0].end()), session.stats().triangles);
     std::fflush(stdout);
     if (!levels) return;
     MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
@@ -198,7 +224,7 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
                 t.faces.size(), median(cpu), *std::max_element(cpu.begin(), cpu.end()),
                 " - | - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
     std::printf(" %.0f |", double(inconsistent) / frames);
-    std::printf(" - | - | - |\n");
+    std::printf(" - | - | - | - | - |\n");
     std::fflush(stdout);
 }
 
@@ -208,10 +234,10 @@ int main(int argc, char** argv) {
     std::string name = "armadillo";
     double px = 3.0;
     bool multiscale = true;
-    std::string only_path;  // "dolly" or "orbit": that path alone
+    std::string only_path;  // "dolly" or "orbit": that path alone (--whole: a list, e.g. dolly,orbit)
     int whole = 0;          // --whole[=FRAMES]: the whole frame, FRAMES frames a path
     std::string only_geomorphs;  // "on" or "off": those runs alone
-    std::vector<std::size_t> budgets{SIZE_MAX};  // --budget=N[,N...]: a run each (0: none)
+    std::vector<FrontBudget> budgets{FrontBudget::none()};  // --budget=N[,N...]: a run each (0: none)
     bool per_frame = false;
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
@@ -229,7 +255,7 @@ int main(int argc, char** argv) {
         else if (a.rfind("--budget=", 0) == 0) {
             budgets.clear();
             for (const std::string& n : split_commas(a.substr(9)))
-                budgets.push_back(std::atoll(n.c_str()) > 0 ? std::size_t(std::atoll(n.c_str())) : SIZE_MAX);
+                budgets.push_back(parse_budget(n));
         }
         else if (a == "--per-frame")
             per_frame = true;
@@ -277,10 +303,13 @@ int main(int argc, char** argv) {
                     "self-intersections | "
                     "curvature | smoothing | session | finder + surface lines | visibility | ray index + rest | "
                     "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) | "
-                    "faces moved by geomorphs a frame | self-intersecting faces a frame |\n"
-                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                    "faces moved by geomorphs a frame | self-intersecting faces a frame | adapt ms most | triangles at the end |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const std::string path : {"dolly", "orbit", "dolly-in"})
-            if (only_path.empty() || only_path == path) run_whole(*model, pm, kept_levels.get(), px, path, whole);
+            for (const FrontBudget& budget : budgets)
+                if (only_path.empty() || std::ranges::count(split_commas(only_path), path) > 0)
+                    run_whole(*model, pm, &budget == &budgets.back() ? kept_levels.get() : nullptr, px, path, whole,
+                              budget);
         return 0;
     }
     DetailCriterion c;
@@ -292,11 +321,11 @@ int main(int argc, char** argv) {
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true})
-            for (const std::size_t budget : budgets) {
+            for (const FrontBudget& budget : budgets) {
                 if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
                 if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
                 const PathResult r = run_path(pm, t, c, dolly, geomorphs, budget, per_frame);
-                const std::string budget_text = budget == SIZE_MAX ? "none" : std::to_string(budget);
+                const std::string budget_text = budget_name(budget);
                 const double n = double(t.positions.size());
                 std::printf("| %s | %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %zu (%zu) | %zu | %016llx | "
                             "%.1f -> %.1f (%.1f) |\n",
