@@ -163,10 +163,21 @@ ViewOptions whole_frame_options() {
     return o;
 }
 
+// One PmSession along a whole-frame path and what it measured.
+struct WholeRun {
+    FrontBudget budget;
+    std::unique_ptr<PmSession> session;
+    std::vector<double> cpu;
+    std::vector<std::vector<double>> stage = std::vector<std::vector<double>>(11);
+    std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
+};
+
 // The whole pm frame along a path: thread CPU ms a frame (median, most) and each stage's median
-// wall ms (PmFrameSeconds), then the multi-scale session's whole frame on the same cameras.
+// wall ms (PmFrameSeconds), a session per budget, their frames interleaved (frame k of each, then
+// frame k + 1) so that a shared machine's load changes weigh on each alike; then the multi-scale
+// session's whole frame on the same cameras.
 void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLevels* levels, double px,
-               const std::string& path, int frames, const FrontBudget& budget) {
+               const std::string& path, int frames, const std::vector<FrontBudget>& budgets, bool per_frame) {
     const MeshTopology& t = model.topology();
     const bool dolly = path == "dolly";
     const auto camera_at = [&](int k) {
@@ -176,39 +187,49 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
         return c;
     };
     const char* path_name = dolly ? "dolly 1 %/frame" : path == "orbit" ? "orbit 1 deg/frame" : "dolly in, bench's";
-    PmViewOptions options = PmViewOptions::for_path(model, px);
-    options.budget = budget;
-    PmSession session(pm, whole_frame_options(), options);
-    session.settle(camera_at(0));
-    std::vector<double> cpu;
-    std::vector<std::vector<double>> stage(11);
-    std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
-    for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_cpu_seconds();
-        const View& v = session.render(camera_at(k), 1.0 / 25.0);
-        cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
-        const PmFrameSeconds& s = session.seconds();
-        // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
-        const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
-                                  s.curvature,  s.smoothing,  s.session,    s.features, s.visibility,
-                                  std::max(0.0, s.view - s.features - s.visibility), s.total};
-        for (int i = 0; i < 11; ++i) stage[i].push_back(parts[i] * 1e3);
-        moving += session.moving_search().moving_faces;
-        pierced += session.adapted().self_intersections().flagged;
-        triangles += session.stats().triangles;
-        ray_tests += v.drawing.stats.ray_tests;
-        inconsistent += v.drawing.stats.clusters_inconsistent;
-        vertices += session.adapted().topology().vertex_count();
-        recomputed += session.curvature().recomputed_vertices();
+    std::vector<WholeRun> runs(budgets.size());
+    for (std::size_t b = 0; b < budgets.size(); ++b) {
+        PmViewOptions options = PmViewOptions::for_path(model, px);
+        options.budget = runs[b].budget = budgets[b];
+        runs[b].session = std::make_unique<PmSession>(pm, whole_frame_options(), options);
+        runs[b].session->settle(camera_at(0));
     }
-    std::printf("| %s | pm, budget %s | %.0f | %.1f | %.1f |", path_name, budget_name(budget).c_str(),
-                double(triangles) / frames, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
-    for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(stage[i]));
-    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %zu |\n", double(ray_tests) / frames,
-                double(inconsistent) / frames, double(recomputed) / double(std::max<std::size_t>(1, vertices)),
-                double(moving) / frames, double(pierced) / frames,
-                *std::max_element(stage[0].begin(), stage[0].end()), session.stats().triangles);
+    for (int k = 1; k <= frames; ++k)
+        for (WholeRun& r : runs) {
+            PmSession& session = *r.session;
+            const double c0 = thread_cpu_seconds();
+            const View& v = session.render(camera_at(k), 1.0 / 25.0);
+            r.cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
+            const PmFrameSeconds& s = session.seconds();
+            // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
+            const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
+                                      s.curvature,  s.smoothing,  s.session,    s.features, s.visibility,
+                                      std::max(0.0, s.view - s.features - s.visibility), s.total};
+            for (int i = 0; i < 11; ++i) r.stage[i].push_back(parts[i] * 1e3);
+            r.moving += session.moving_search().moving_faces;
+            r.pierced += session.adapted().self_intersections().flagged;
+            r.triangles += session.stats().triangles;
+            r.ray_tests += v.drawing.stats.ray_tests;
+            r.inconsistent += v.drawing.stats.clusters_inconsistent;
+            r.vertices += session.adapted().topology().vertex_count();
+            r.recomputed += session.curvature().recomputed_vertices();
+            if (per_frame)
+                std::fprintf(stderr, "whole %s frame %d budget %s: %.2f ms, adapt %.3f ms, %zu triangles, %zu moving faces\n",
+                             path.c_str(), k, budget_name(r.budget).c_str(), r.cpu.back(), parts[0] * 1e3,
+                             session.stats().triangles, session.moving_search().moving_faces);
+        }
+    for (const WholeRun& r : runs) {
+        std::printf("| %s | pm, budget %s | %.0f | %.1f | %.1f |", path_name, budget_name(r.budget).c_str(),
+                    double(r.triangles) / frames, median(r.cpu), *std::max_element(r.cpu.begin(), r.cpu.end()));
+        for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(r.stage[i]));
+        std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %zu |\n", double(r.ray_tests) / frames,
+                    double(r.inconsistent) / frames, double(r.recomputed) / double(std::max<std::size_t>(1, r.vertices)),
+                    double(r.moving) / frames, double(r.pierced) / frames,
+                    *std::max_element(r.stage[0].begin(), r.stage[0].end()), r.session->stats().triangles);
+    }
     std::fflush(stdout);
+    std::vector<double> cpu;
+    std::size_t ray_tests = 0, inconsistent = 0;
     if (!levels) return;
     MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
     cpu.clear();
@@ -306,10 +327,8 @@ int main(int argc, char** argv) {
                     "faces moved by geomorphs a frame | self-intersecting faces a frame | adapt ms most | triangles at the end |\n"
                     "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const std::string path : {"dolly", "orbit", "dolly-in"})
-            for (const FrontBudget& budget : budgets)
-                if (only_path.empty() || std::ranges::count(split_commas(only_path), path) > 0)
-                    run_whole(*model, pm, &budget == &budgets.back() ? kept_levels.get() : nullptr, px, path, whole,
-                              budget);
+            if (only_path.empty() || std::ranges::count(split_commas(only_path), path) > 0)
+                run_whole(*model, pm, kept_levels.get(), px, path, whole, budgets, per_frame);
         return 0;
     }
     DetailCriterion c;
