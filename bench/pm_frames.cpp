@@ -5,17 +5,21 @@
 // Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
 //   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--geomorphs=on|off]
-//             [--whole[=FRAMES]] [--budget=N] [--per-frame]
+//             [--whole[=FRAMES]] [--budget=N|lag|lag:BASE:FRAMES:MOST[,...]] [--per-frame]
 //   (defaults armadillo 3, both paths, both with and without geomorphs)
 //
-// --budget=N: the front's operation budget a frame (AdaptiveFront::update's max_operations; 0, the
-// default: none), with the frames that deferred work and, at the last view held still, the frames
-// until nothing is deferred; --per-frame: one line a frame on stderr (ms, operations, deferred).
+// --budget: a run for each of the front's budgets a frame: N a fixed one (AdaptiveFront::update's
+// max_operations; 0, the default: none), lag the sessions' lag-following one
+// (FrontBudget::following_lag), lag:BASE:FRAMES:MOST another such rule; with the frames that
+// deferred work and, at the last view held still, the frames until nothing is deferred;
+// --per-frame: one line a frame on stderr (ms, operations, deferred, backlog, budget, triangles,
+// RSS; with --whole: each session's frame ms, adaptation ms, triangles).
 //
 // --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
 // `inkline bench --detail`), FRAMES frames of each path (default 40), each stage's median share,
-// beside the multi-scale method's whole frame on the same cameras; with a third path, dolly-in,
+// a session per --budget, their frames interleaved, beside the multi-scale method's whole frame on
+// the same cameras; with a third path, dolly-in,
 // `inkline bench --path=dolly`'s (1.5 to 0.6 times the framing distance over the frames).
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,

@@ -576,6 +576,36 @@ TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
     EXPECT_GT(s.deferred, 1000u);
 }
 
+// A session's frames take the lag-following budget by default (PmViewOptions::default_budget):
+// the first frame after settle has no backlog, so its budget is the base; a jump that leaves
+// thousands of collapses raises the next frame's by a quarter of the backlog, up to the cap.
+TEST(AdaptiveFront, SessionTakesTheLagFollowingBudgetByDefault) {
+    const ProgressiveMesh& pm = armadillo_pm();
+    const Bounds3 box = bounds_of(pm.input());
+    ViewOptions options;
+    options.features.kinds[int(LineKind::Crease)] = false;
+    PmViewOptions o;
+    o.target_px = 3.0;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = false;  // (armadillo: none)
+    const FrontBudget rule = FrontBudget::following_lag();
+    EXPECT_EQ(o.frame_budget().base, rule.base);
+    EXPECT_EQ(o.frame_budget().most, rule.most);
+    PmSession session(pm, options, o);
+    session.settle(dolly_orbit(box, 1.5, 0.0));
+    session.render(dolly_orbit(box, 2.5, 0.0), 1.0 / 25.0);
+    const FrontStats first = session.stats();
+    session.render(dolly_orbit(box, 2.5, 0.0), 1.0 / 25.0);
+    const FrontStats second = session.stats();
+    std::printf("budgets %zu, %zu; started %zu, %zu; backlog %zu, %zu\n", first.budget, second.budget,
+                first.morphs_started, second.morphs_started, first.backlog, second.backlog);
+    EXPECT_EQ(first.budget, rule.base);
+    EXPECT_EQ(first.morphs_started, rule.base);
+    EXPECT_GT(first.backlog, 4 * (rule.most - rule.base));  // (enough to raise the next budget to the cap)
+    EXPECT_EQ(second.budget, rule.for_backlog(first.backlog));
+    EXPECT_EQ(second.budget, rule.most);
+}
+
 TEST(TemporalSmoothing, WeightOfTheSeedsExample) {
     EXPECT_NEAR(smoothing_weight(0.8, 25.0, 0.9), 0.1087, 5e-5);  // n = 20: 1 - 0.1^(1/20)
     EXPECT_EQ(smoothing_weight(0.8, 1.0, 0.9), 1.0);             // under a frame: no smoothing

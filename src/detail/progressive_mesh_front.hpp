@@ -80,7 +80,7 @@ struct FrontBudget {
     // Measured on the 1 M-triangle slow dolly with geomorphs (docs/progressive_mesh.md, "The budget
     // a frame"): `most` keeps the front's worst frame under 5 ms on a quiet machine, base and the
     // catch-up leave no lag at the path's end.
-    static FrontBudget following_lag() { return {500, 4, 900}; }
+    static FrontBudget following_lag() { return {500, 4, 800}; }
     bool budgeted() const { return base != SIZE_MAX; }
     // The frame's budget after a frame that left `backlog` ready vertices deferred.
     std::size_t for_backlog(std::size_t backlog) const {
