@@ -4,7 +4,6 @@
 // geomorphs of section 3.2 move no vertex by a jump.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <map>
 
 #include "detail/progressive_mesh_front.hpp"
@@ -515,26 +514,6 @@ TEST(AdaptiveFront, LagFollowingBudgetHoldsAndCatchesUp) {
     EXPECT_GT(end_fixed, 2 * end_free);  // (the fixed base lags: the test's contrast)
     EXPECT_LE(caught_up, 3);
     EXPECT_EQ(hash, 0x5d579dee81491f6aull);
-}
-
-// The record pools' allocator aligns by hand what the plain operator new gives: each block at the
-// type's alignment, its whole size writable, given back whole (the sanitizer builds check the
-// bytes and the frees).
-TEST(AdaptiveFront, PoolAllocatorAlignsByHand) {
-    struct alignas(32) Record {
-        unsigned char bytes[32];
-    };
-    PoolAllocator<Record> pool;
-    for (const std::size_t n : {1u, 3u, 1000u, 200000u}) {  // (200 000 records: 6.4 MB, a block of its own)
-        Record* r = pool.allocate(n);
-        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(r) % 32, 0u) << n;
-        std::memset(r, 0xab, n * sizeof(Record));
-        EXPECT_EQ(r[n - 1].bytes[31], 0xab) << n;
-        pool.deallocate(r, n);
-    }
-    std::vector<Record, PoolAllocator<Record>> v(5);
-    v.resize(70000);
-    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % 32, 0u);
 }
 
 // PmSession: settle (a window's first view) converges with no budget; a frame after it takes

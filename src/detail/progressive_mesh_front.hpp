@@ -41,7 +41,6 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <new>
 #include <utility>
 #include <vector>
 
@@ -102,30 +101,6 @@ struct FrontStats {
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
     double seconds = 0.0;
-};
-
-// The record pools' allocator: storage from the plain operator new, aligned by hand to the
-// records' alignment. (Over-aligned types otherwise take operator new's aligned form, which the
-// programs' allocator leaves to malloc's aligned_alloc: the first frame's records for the whole
-// input then stayed resident in malloc's heap after the front shrank. Through the plain form a
-// large pool is a mapping of its own, given back when the pool is refitted.)
-template <class T>
-struct PoolAllocator {
-    using value_type = T;
-    PoolAllocator() = default;
-    template <class U>
-    PoolAllocator(const PoolAllocator<U>&) {}
-    T* allocate(std::size_t n) {
-        static_assert(alignof(T) >= alignof(void*));
-        void* raw = ::operator new(n * sizeof(T) + alignof(T) + sizeof(void*));
-        const std::uintptr_t at =
-            (reinterpret_cast<std::uintptr_t>(raw) + sizeof(void*) + alignof(T) - 1) & ~std::uintptr_t(alignof(T) - 1);
-        reinterpret_cast<void**>(at)[-1] = raw;  // (the block's start, for deallocate)
-        return reinterpret_cast<T*>(at);
-    }
-    void deallocate(T* p, std::size_t) { ::operator delete(reinterpret_cast<void**>(p)[-1]); }
-    template <class U>
-    bool operator==(const PoolAllocator<U>&) const { return true; }
 };
 
 class AdaptiveFront {
@@ -199,7 +174,7 @@ private:
         std::uint16_t locked;            // geomorphs holding it
         std::uint8_t queued;
     };
-    std::vector<Vertex, PoolAllocator<Vertex>> vert_;
+    std::vector<Vertex> vert_;
     // Per input vertex: its record's index when active, else tag | the collapse that removed it
     // (tag | index_mask: a vertex in no face, never in the front). An inactive vertex needs nothing
     // more: all collapses onto it were made (tree order), it is unlocked and unqueued, and its
@@ -231,7 +206,7 @@ private:
         std::uint32_t next[3];
         double area;  // (double: the ring's sum is then the one the criterion always measured)
     };
-    std::vector<Face, PoolAllocator<Face>> faces_;
+    std::vector<Face> faces_;
     std::vector<std::uint32_t> face_id_;    // per slot: its input face; a free slot: tag | the next free one
     std::vector<std::uint32_t> face_slot_;  // per input face: its slot (none: not in the front)
     std::uint32_t free_face_ = tag | index_mask;  // the free slots' list
