@@ -39,7 +39,7 @@ tmp=$(mktemp)
   echo "## The whole pm frame by stage (bench/pm_frames --whole)"
   echo
   for m in armadillo bunny00; do
-    "$build/bench/pm_frames" "$m" 3 --whole=40 --budget=lag  # (the sessions' default budget)
+    "$build/bench/pm_frames" "$m" 3 --whole=40
     echo
   done
   cat <<'TEXT'

@@ -33,12 +33,11 @@ struct PmViewOptions {
     // A fixed cap on top of `budget` (SIZE_MAX: none), e.g. a program that wants a hard bound.
     std::size_t max_operations = default_max_operations;
     static constexpr std::size_t default_max_operations = SIZE_MAX;
-    // The lag-following budget (500 a frame plus a quarter of the backlog, at most 800): along the
-    // 1 M-triangle slow dolly with geomorphs it keeps the front's frames within 800 operations while
-    // the mesh follows the view (a fixed 500 left 2-3.4x the triangles needed at the path's end),
-    // and the whole frame costs what the unbudgeted one does (docs/progressive_mesh.md, "The budget
-    // a frame").
-    static FrontBudget default_budget() { return FrontBudget::following_lag(); }
+    // None: FrontBudget::following_lag() bounds the front's operations a frame (800) and follows
+    // the view, but its bookkeeping of the deferred candidates (10 000-24 000 a frame on the
+    // 1 M-triangle dolly) cost as much front time as it saved, and the whole frame is the
+    // unbudgeted one's (docs/progressive_mesh.md, "A budget that follows the lag").
+    static FrontBudget default_budget() { return FrontBudget::none(); }
     // The frame budget the session gives the front.
     FrontBudget frame_budget() const;
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
