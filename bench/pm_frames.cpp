@@ -5,17 +5,21 @@
 // Not a test: numbers go to bench/results/detail_methods.md (bench/run_detail.sh).
 //
 //   pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--geomorphs=on|off]
-//             [--whole[=FRAMES]] [--budget=N] [--per-frame]
+//             [--whole[=FRAMES]] [--budget=N|lag|lag:BASE:FRAMES:MOST[,...]] [--per-frame]
 //   (defaults armadillo 3, both paths, both with and without geomorphs)
 //
-// --budget=N: the front's operation budget a frame (AdaptiveFront::update's max_operations; 0, the
-// default: none), with the frames that deferred work and, at the last view held still, the frames
-// until nothing is deferred; --per-frame: one line a frame on stderr (ms, operations, deferred).
+// --budget: a run for each of the front's budgets a frame: N a fixed one (AdaptiveFront::update's
+// max_operations; 0, the default: none), lag the sessions' lag-following one
+// (FrontBudget::following_lag), lag:BASE:FRAMES:MOST another such rule; with the frames that
+// deferred work and, at the last view held still, the frames until nothing is deferred;
+// --per-frame: one line a frame on stderr (ms, operations, deferred, backlog, budget, triangles,
+// RSS; with --whole: each session's frame ms, adaptation ms, triangles).
 //
 // --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
 // `inkline bench --detail`), FRAMES frames of each path (default 40), each stage's median share,
-// beside the multi-scale method's whole frame on the same cameras; with a third path, dolly-in,
+// a session per --budget, their frames interleaved, beside the multi-scale method's whole frame on
+// the same cameras; with a third path, dolly-in,
 // `inkline bench --path=dolly`'s (1.5 to 0.6 times the framing distance over the frames).
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
@@ -78,8 +82,29 @@ std::uint64_t triangles_hash(const TriangleMesh& m) {
     return h;
 }
 
+// --budget's words: N (a fixed budget; 0: none), lag (FrontBudget::following_lag) or
+// lag:BASE:FRAMES:MOST.
+FrontBudget parse_budget(const std::string& word) {
+    if (word == "lag") return FrontBudget::following_lag();
+    if (word.rfind("lag:", 0) == 0) {
+        FrontBudget b;
+        if (std::sscanf(word.c_str(), "lag:%zu:%zu:%zu", &b.base, &b.catch_up_frames, &b.most) == 3) return b;
+        std::fprintf(stderr, "pm_frames: --budget: %s is not lag:BASE:FRAMES:MOST\n", word.c_str());
+        std::exit(2);
+    }
+    const long long n = std::atoll(word.c_str());
+    return n > 0 ? FrontBudget::fixed(std::size_t(n)) : FrontBudget::none();
+}
+
+std::string budget_name(const FrontBudget& b) {
+    if (!b.budgeted()) return "none";
+    if (b.base == b.most) return std::to_string(b.base);
+    return std::to_string(b.base) + " + backlog / " + std::to_string(b.catch_up_frames) + ", at most " +
+           std::to_string(b.most);
+}
+
 PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
-                    bool geomorphs, std::size_t budget, bool per_frame) {
+                    bool geomorphs, const FrontBudget& budget, bool per_frame) {
     const int frames = dolly ? 140 : 120;
     const auto camera_at = [&](int k) {
         return dolly ? path_camera(t, std::pow(1.01, k), 0.0) : path_camera(t, 1.0, double(k));
@@ -101,9 +126,11 @@ PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const Deta
         const FrontStats s = front.update(cam, c, 1.0 / 25.0, budget);
         const double ms = (thread_cpu_seconds() - t0) * 1e3;
         if (per_frame)
-            std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred\n",
+            std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred "
+                         "%zu triangles %.0f MiB RSS %zu backlog %lld budget\n",
                          k, ms, s.splits, s.collapses, s.morphs_started, s.morphs_ended, s.morphs_running, s.tried,
-                         s.deferred);
+                         s.deferred, s.triangles, status_mib("VmRSS"), s.backlog,
+                         s.budget == SIZE_MAX ? -1ll : (long long)s.budget);
         deferring_run = s.deferred ? deferring_run + 1 : 0;
         r.deferring_frames += s.deferred > 0;
         r.longest_deferring = std::max(r.longest_deferring, deferring_run);
@@ -140,10 +167,21 @@ ViewOptions whole_frame_options() {
     return o;
 }
 
+// One PmSession along a whole-frame path and what it measured.
+struct WholeRun {
+    FrontBudget budget;
+    std::unique_ptr<PmSession> session;
+    std::vector<double> cpu;
+    std::vector<std::vector<double>> stage = std::vector<std::vector<double>>(11);
+    std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
+};
+
 // The whole pm frame along a path: thread CPU ms a frame (median, most) and each stage's median
-// wall ms (PmFrameSeconds), then the multi-scale session's whole frame on the same cameras.
+// wall ms (PmFrameSeconds), a session per budget, their frames interleaved (frame k of each, then
+// frame k + 1) so that a shared machine's load changes weigh on each alike; then the multi-scale
+// session's whole frame on the same cameras.
 void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLevels* levels, double px,
-               const std::string& path, int frames) {
+               const std::string& path, int frames, const std::vector<FrontBudget>& budgets, bool per_frame) {
     const MeshTopology& t = model.topology();
     const bool dolly = path == "dolly";
     const auto camera_at = [&](int k) {
@@ -153,36 +191,49 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
         return c;
     };
     const char* path_name = dolly ? "dolly 1 %/frame" : path == "orbit" ? "orbit 1 deg/frame" : "dolly in, bench's";
-    PmSession session(pm, whole_frame_options(), PmViewOptions::for_path(model, px));
-    session.settle(camera_at(0));
-    std::vector<double> cpu;
-    std::vector<std::vector<double>> stage(11);
-    std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
-    for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_cpu_seconds();
-        const View& v = session.render(camera_at(k), 1.0 / 25.0);
-        cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
-        const PmFrameSeconds& s = session.seconds();
-        // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
-        const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
-                                  s.curvature,  s.smoothing,  s.session,    s.features, s.visibility,
-                                  std::max(0.0, s.view - s.features - s.visibility), s.total};
-        for (int i = 0; i < 11; ++i) stage[i].push_back(parts[i] * 1e3);
-        moving += session.moving_search().moving_faces;
-        pierced += session.adapted().self_intersections().flagged;
-        triangles += session.stats().triangles;
-        ray_tests += v.drawing.stats.ray_tests;
-        inconsistent += v.drawing.stats.clusters_inconsistent;
-        vertices += session.adapted().topology().vertex_count();
-        recomputed += session.curvature().recomputed_vertices();
+    std::vector<WholeRun> runs(budgets.size());
+    for (std::size_t b = 0; b < budgets.size(); ++b) {
+        PmViewOptions options = PmViewOptions::for_path(model, px);
+        options.budget = runs[b].budget = budgets[b];
+        runs[b].session = std::make_unique<PmSession>(pm, whole_frame_options(), options);
+        runs[b].session->settle(camera_at(0));
     }
-    std::printf("| %s | pm | %.0f | %.1f | %.1f |", path_name,
-                double(triangles) / frames, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
-    for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(stage[i]));
-    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f |\n", double(ray_tests) / frames, double(inconsistent) / frames,
-                double(recomputed) / double(std::max<std::size_t>(1, vertices)), double(moving) / frames,
-                double(pierced) / frames);
+    for (int k = 1; k <= frames; ++k)
+        for (WholeRun& r : runs) {
+            PmSession& session = *r.session;
+            const double c0 = thread_cpu_seconds();
+            const View& v = session.render(camera_at(k), 1.0 / 25.0);
+            r.cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
+            const PmFrameSeconds& s = session.seconds();
+            // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
+            const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
+                                      s.curvature,  s.smoothing,  s.session,    s.features, s.visibility,
+                                      std::max(0.0, s.view - s.features - s.visibility), s.total};
+            for (int i = 0; i < 11; ++i) r.stage[i].push_back(parts[i] * 1e3);
+            r.moving += session.moving_search().moving_faces;
+            r.pierced += session.adapted().self_intersections().flagged;
+            r.triangles += session.stats().triangles;
+            r.ray_tests += v.drawing.stats.ray_tests;
+            r.inconsistent += v.drawing.stats.clusters_inconsistent;
+            r.vertices += session.adapted().topology().vertex_count();
+            r.recomputed += session.curvature().recomputed_vertices();
+            if (per_frame)
+                std::fprintf(stderr, "whole %s frame %d budget %s: %.2f ms, adapt %.3f ms, %zu triangles, %zu moving faces\n",
+                             path.c_str(), k, budget_name(r.budget).c_str(), r.cpu.back(), parts[0] * 1e3,
+                             session.stats().triangles, session.moving_search().moving_faces);
+        }
+    for (const WholeRun& r : runs) {
+        std::printf("| %s | pm, budget %s | %.0f | %.1f | %.1f |", path_name, budget_name(r.budget).c_str(),
+                    double(r.triangles) / frames, median(r.cpu), *std::max_element(r.cpu.begin(), r.cpu.end()));
+        for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(r.stage[i]));
+        std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %zu |\n", double(r.ray_tests) / frames,
+                    double(r.inconsistent) / frames, double(r.recomputed) / double(std::max<std::size_t>(1, r.vertices)),
+                    double(r.moving) / frames, double(r.pierced) / frames,
+                    *std::max_element(r.stage[0].begin(), r.stage[0].end()), r.session->stats().triangles);
+    }
     std::fflush(stdout);
+    std::vector<double> cpu;
+    std::size_t ray_tests = 0, inconsistent = 0;
     if (!levels) return;
     MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
     cpu.clear();
@@ -198,7 +249,7 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
                 t.faces.size(), median(cpu), *std::max_element(cpu.begin(), cpu.end()),
                 " - | - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
     std::printf(" %.0f |", double(inconsistent) / frames);
-    std::printf(" - | - | - |\n");
+    std::printf(" - | - | - | - | - |\n");
     std::fflush(stdout);
 }
 
@@ -208,10 +259,10 @@ int main(int argc, char** argv) {
     std::string name = "armadillo";
     double px = 3.0;
     bool multiscale = true;
-    std::string only_path;  // "dolly" or "orbit": that path alone
+    std::string only_path;  // "dolly" or "orbit": that path alone (--whole: a list, e.g. dolly,orbit)
     int whole = 0;          // --whole[=FRAMES]: the whole frame, FRAMES frames a path
     std::string only_geomorphs;  // "on" or "off": those runs alone
-    std::vector<std::size_t> budgets{SIZE_MAX};  // --budget=N[,N...]: a run each (0: none)
+    std::vector<FrontBudget> budgets{FrontBudget::none()};  // --budget=N[,N...]: a run each (0: none)
     bool per_frame = false;
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
@@ -229,7 +280,7 @@ int main(int argc, char** argv) {
         else if (a.rfind("--budget=", 0) == 0) {
             budgets.clear();
             for (const std::string& n : split_commas(a.substr(9)))
-                budgets.push_back(std::atoll(n.c_str()) > 0 ? std::size_t(std::atoll(n.c_str())) : SIZE_MAX);
+                budgets.push_back(parse_budget(n));
         }
         else if (a == "--per-frame")
             per_frame = true;
@@ -277,10 +328,11 @@ int main(int argc, char** argv) {
                     "self-intersections | "
                     "curvature | smoothing | session | finder + surface lines | visibility | ray index + rest | "
                     "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) | "
-                    "faces moved by geomorphs a frame | self-intersecting faces a frame |\n"
-                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                    "faces moved by geomorphs a frame | self-intersecting faces a frame | adapt ms most | triangles at the end |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const std::string path : {"dolly", "orbit", "dolly-in"})
-            if (only_path.empty() || only_path == path) run_whole(*model, pm, kept_levels.get(), px, path, whole);
+            if (only_path.empty() || std::ranges::count(split_commas(only_path), path) > 0)
+                run_whole(*model, pm, kept_levels.get(), px, path, whole, budgets, per_frame);
         return 0;
     }
     DetailCriterion c;
@@ -292,11 +344,11 @@ int main(int argc, char** argv) {
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
         for (const bool geomorphs : {false, true})
-            for (const std::size_t budget : budgets) {
+            for (const FrontBudget& budget : budgets) {
                 if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
                 if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
                 const PathResult r = run_path(pm, t, c, dolly, geomorphs, budget, per_frame);
-                const std::string budget_text = budget == SIZE_MAX ? "none" : std::to_string(budget);
+                const std::string budget_text = budget_name(budget);
                 const double n = double(t.positions.size());
                 std::printf("| %s | %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %zu (%zu) | %zu | %016llx | "
                             "%.1f -> %.1f (%.1f) |\n",

@@ -33,7 +33,7 @@ tmp=$(mktemp)
   echo "## The incremental front on 1 M-triangle models (bench/pm_frames)"
   echo
   for m in armadillo armadillo@2 bunny00@2; do
-    "$build/bench/pm_frames" "$m" 3 --budget=0,500
+    "$build/bench/pm_frames" "$m" 3 --budget=0,500,lag
     echo
   done
   echo "## The whole pm frame by stage (bench/pm_frames --whole)"

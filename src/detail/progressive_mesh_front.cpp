@@ -632,6 +632,24 @@ void AdaptiveFront::enqueue_ranked(std::size_t budget) {
     ranked_.clear();
 }
 
+std::pair<double, double> AdaptiveFront::area_and_target(std::size_t j) const {
+    const glm::dvec3 p(front_data_[j]);
+    const double a = inkline::image_area(*camera_, front_data_[j].w, camera_->depth(p));
+    const double t = criterion_->map ? criterion_->target_at(*camera_, p) : criterion_->target_area_px;
+    return {a, t};
+}
+
+// Out of the band (as the scan tests it), free to change now and allowed by the tree order: a
+// split, or a collapse whose children are all made. (A collapse waiting on its children is no
+// lag: the scan finds it every frame, but it goes only after them.)
+bool AdaptiveFront::ready_to_change(std::uint32_t v) const {
+    const Vertex& x = rec(v);
+    if (x.locked || x.retry_at > frame_) return false;
+    const auto [a, t] = area_and_target(vertex_slot_[v]);
+    if (a > criterion_->split * t) return x.last_collapse != none;
+    return a < criterion_->collapse * t && x.collapse_of != none && x.pending_children == 0;
+}
+
 std::size_t AdaptiveFront::drain(std::size_t max_operations) {
     // (each collapse record changes at most once a frame, so a frame ends; the cap is a backstop)
     max_operations = std::min(max_operations, 2 * changed_in_frame_.size() + 16);
@@ -643,7 +661,8 @@ std::size_t AdaptiveFront::drain(std::size_t max_operations) {
         if (try_split(v) || try_collapse(v)) ++operations;
     }
     const std::size_t taken = at;
-    for (; at < work_.size(); ++at) dequeue(work_[at]);  // the budget ran out: next frame
+    for (; at < work_.size(); ++at)  // the budget ran out: next frame
+        if (dequeue(work_[at]) && ready_to_change(work_[at])) ++stats_->backlog;
     work_.clear();
     return taken;
 }
@@ -667,6 +686,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         const glm::dvec3 p(front_data_[j]);
         const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
+        // (ready_to_change repeats this test through area_and_target: keep the two the same)
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
         const Vertex& v = vert_[j];  // out of the band: can it change? (the rest is cold memory)
         if (v.locked || v.retry_at > frame_) continue;
@@ -683,6 +703,8 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     if (budgeted) enqueue_ranked(budget);
     const std::size_t candidates = work_.size(), taken = drain(budget);
     s.deferred = budgeted && taken < candidates ? candidates - taken : 0;
+    s.budget = max_operations;
+    backlog_ = s.backlog;
     trim_storage();
     s.morphs_running = morphs_.size();
     s.vertices = vert_.size();

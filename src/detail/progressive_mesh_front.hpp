@@ -37,6 +37,7 @@
 // difference in triangle count).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -61,6 +62,32 @@ struct GeomorphOptions {
     double max_speedup = 8.0;
 };
 
+// A frame's operation budget that follows the lag (VDPM's regulation): `base` operations a frame,
+// raised by the backlog the last frame left (the vertices out of the band that could have changed
+// and were deferred) over `catch_up_frames` frames, never above `most`. So a sustained demand above
+// `base` is taken as it comes up to `most` (the bound on a frame's work), and what a frame defers
+// is made up within a few frames once the demand falls, instead of lagging the view for the rest
+// of the path as a fixed budget below the path's mean demand does. Operations counted as
+// AdaptiveFront::update's max_operations: splits, collapses, geomorph starts and ends (an end makes
+// its collapse: measured as costly as a start).
+struct FrontBudget {
+    std::size_t base = SIZE_MAX;      // SIZE_MAX: no budget
+    std::size_t catch_up_frames = 1;  // (at least 1)
+    std::size_t most = SIZE_MAX;
+    static FrontBudget none() { return {}; }
+    static FrontBudget fixed(std::size_t operations) { return {operations, 1, operations}; }
+    // Chosen on the 1 M-triangle slow dolly with geomorphs (docs/progressive_mesh.md, "A budget
+    // that follows the lag"): 800 operations are about 4.4 ms there by the measured cost of one
+    // (starts and ends alike), and the lag is made up well before the path's end.
+    static FrontBudget following_lag() { return {500, 4, 800}; }
+    bool budgeted() const { return base != SIZE_MAX; }
+    // The frame's budget after a frame that left `backlog` ready vertices deferred.
+    std::size_t for_backlog(std::size_t backlog) const {
+        if (!budgeted()) return SIZE_MAX;
+        return std::min(most, base + backlog / std::max<std::size_t>(1, catch_up_frames));
+    }
+};
+
 struct FrontStats {
     std::size_t splits = 0, collapses = 0;  // logical operations made this frame
     std::size_t morphs_started = 0, morphs_running = 0;
@@ -68,6 +95,9 @@ struct FrontStats {
     std::size_t tried = 0;                   // vertices taken off the worklist and tried
     std::size_t morphs_ended = 0;            // geomorphs finished this frame (a collapse's made then)
     std::size_t deferred = 0;                // out of the band, left for the next frames by the budget
+    // Of the deferred, those ready to change (a split, or a collapse whose children are all made:
+    // Hoppe's tree order), the lag a FrontBudget follows; and this frame's budget (SIZE_MAX: none).
+    std::size_t backlog = 0, budget = SIZE_MAX;
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
     double seconds = 0.0;
@@ -87,6 +117,12 @@ public:
     // no budget (SIZE_MAX) they are taken in scan order.
     FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds = 0.0,
                       std::size_t max_operations = SIZE_MAX);
+    // The same with the frame's budget from `budget` and the last frame's backlog.
+    FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
+                      const FrontBudget& budget) {
+        return update(camera, criterion, frame_seconds, budget.for_backlog(backlog_));
+    }
+    std::size_t backlog() const { return backlog_; }  // the last frame's (FrontStats::backlog)
 
     // The active front as a mesh: vertices in input order at their shown positions, faces in
     // input order with the input's first corner first when it survives (as ProgressiveMesh::adapt).
@@ -176,6 +212,7 @@ private:
     std::uint32_t free_face_ = tag | index_mask;  // the free slots' list
     std::size_t active_face_count_ = 0;
     std::vector<std::uint32_t> work_;  // input vertices
+    std::size_t backlog_ = 0;          // the last frame's FrontStats::backlog
     // A budgeted frame's candidates from the scan with their discrepancy from the band (the
     // factor by which the vertex's image area lies outside it), ranked before the worklist.
     std::vector<std::pair<float, std::uint32_t>> ranked_;
@@ -243,6 +280,9 @@ private:
     void lock_ring(std::uint32_t r, int delta);
     void advance_morphs(double frame_seconds);
     std::size_t drain(std::size_t max_operations);  // returns the worklist entries it took
+    // The scan's test of front entry j: its image area, and T there.
+    std::pair<double, double> area_and_target(std::size_t j) const;
+    bool ready_to_change(std::uint32_t v) const;  // a deferred vertex counted in the backlog
     void enqueue_ranked(std::size_t budget);
 };
 
