@@ -467,8 +467,8 @@ void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPla
 // A --detail-method=pm sequence: one session draws the frames in order (its mesh and smoothed
 // curvature carry from frame to frame, with geomorphs at --frame-rate), so they are drawn one at
 // a time, each on all of --threads, whatever --jobs. A frame must not depend on the range the
-// run renders (--frame-range: the same file), so the frames before the range are drawn too,
-// unwritten. Frame 0 is the front converged at the home camera, as when a window opens.
+// run renders (--frame-range: the same file), so the frames before the range are made too
+// (their meshes and smoothed curvature), not drawn. Frame 0 is the front converged at the home camera, as when a window opens.
 void render_pm_sequence(const RenderArgs& a, const RenderSetup& setup, const RenderPlan& plan, const Model& model,
                         const Camera& home, Format format) {
     const ProgressiveMesh pm(model.topology());
@@ -480,9 +480,13 @@ void render_pm_sequence(const RenderArgs& a, const RenderSetup& setup, const Ren
     for (long k = 0; k <= plan.last; ++k) {
         const auto t0 = std::chrono::steady_clock::now();
         const Camera cam = orbit_frame(home, model.topology().bounds, k, plan.count, a.arc);
+        if (k < plan.first) {
+            session.advance(cam, 1.0 / a.frame_rate);
+            progress->advance();
+            continue;
+        }
         View& view = session.render(cam, 1.0 / a.frame_rate);
         progress->advance();
-        if (k < plan.first) continue;
         std::string report = render_drawing(a, setup, session.adapted(), nullptr, cam,
                                             plan.outputs[std::size_t(k)], format, t0, true, &view);
         const FrontStats& s = session.stats();

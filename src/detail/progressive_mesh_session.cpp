@@ -46,7 +46,7 @@ void PmSession::adopt_self_intersections() {
     model_->adopt_self_intersections(self_intersections_of_moving(t, moved_, &moving_search_));
 }
 
-View& PmSession::render(const Camera& camera, double frame_seconds) {
+double PmSession::update_frame(const Camera& camera, double frame_seconds, bool drawn) {
     PmFrameSeconds& t = seconds_;
     const double t0 = thread_cpu_seconds();
     auto lap = [last = t0]() mutable {
@@ -70,10 +70,15 @@ View& PmSession::render(const Camera& camera, double frame_seconds) {
     if (model_) spare_ = std::move(model_->topology());
     model_ = std::make_unique<Model>(std::move(topology));
     t.topology = lap();
-    adopt_self_intersections();
-    t.pierced = lap();
-    session_ = std::make_unique<ViewSession>(*model_, options_);
-    t.session = lap();
+    // Only the view needs the frame's self-intersections and session; the next frames need the
+    // front, the topology, the curvature and the smoothing, which every frame carries.
+    t.pierced = t.session = 0.0;
+    if (drawn) {
+        adopt_self_intersections();
+        t.pierced = lap();
+        session_ = std::make_unique<ViewSession>(*model_, options_);
+        t.session = lap();
+    }
     const SurfaceLineOptions& s = options_.surface;
     t.curvature = t.smoothing = 0.0;
     if (s.suggestive || s.smooth_contour || s.ridge || s.valley) {
@@ -87,11 +92,24 @@ View& PmSession::render(const Camera& camera, double frame_seconds) {
             smoother_.blend(view_curvature_, input_vertex_,
                             smoothing_weight(pm_options_.smoothing_seconds, fps, pm_options_.smoothing_alpha));
         }
-        session_->use_surface_fields(&field, &view_curvature_);
+        if (drawn) session_->use_surface_fields(&field, &view_curvature_);
         t.smoothing = lap();
     }
+    return t0;
+}
+
+void PmSession::advance(const Camera& camera, double frame_seconds) {
+    const double t0 = update_frame(camera, frame_seconds, false);
+    seconds_.view = seconds_.features = seconds_.visibility = 0.0;
+    seconds_.total = thread_cpu_seconds() - t0;
+}
+
+View& PmSession::render(const Camera& camera, double frame_seconds) {
+    const double t0 = update_frame(camera, frame_seconds, true);
+    PmFrameSeconds& t = seconds_;
+    const double before_view = thread_cpu_seconds();
     View& v = session_->render(camera);
-    t.view = lap();
+    t.view = thread_cpu_seconds() - before_view;
     t.features = v.drawing.stats.seconds_features;
     t.visibility = v.drawing.stats.seconds_visibility;
     t.total = thread_cpu_seconds() - t0;

@@ -74,6 +74,9 @@ public:
     // One frame, `frame_seconds` after the last (geomorphs advance by it; the smoothing's weight
     // takes 1 / frame_seconds as the frame rate). The view lives until the next call.
     View& render(const Camera& camera, double frame_seconds);
+    // The same frame without its drawing (no view, no self-intersections): what a sequence's frames
+    // before the range it writes need, since the frames after depend on them.
+    void advance(const Camera& camera, double frame_seconds);
     // The front converged at `camera` (geomorphs finished at once), e.g. when a window opens.
     void settle(const Camera& camera);
     const Model& adapted() const { return *model_; }
@@ -107,6 +110,8 @@ private:
     // The frame's self-intersections adopted by its Model when the input has none (see
     // PmViewOptions::input_self_intersects).
     void adopt_self_intersections();
+    // A frame up to its drawing (the session made only when `drawn`); returns its start time.
+    double update_frame(const Camera& camera, double frame_seconds, bool drawn);
 };
 
 }  // namespace inkline
