@@ -15,7 +15,8 @@
 // --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
 // `inkline bench --detail`), FRAMES frames of each path (default 40), each stage's median share,
-// beside the multi-scale method's whole frame on the same cameras; with a third path, dolly-in,
+// beside the multi-scale method's whole frame on the same cameras, each frame also in wall ms and in
+// the CPU ms of all the process's threads (Embree builds on its own); with a third path, dolly-in,
 // `inkline bench --path=dolly`'s (1.5 to 0.6 times the framing distance over the frames).
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
@@ -155,13 +156,20 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     const char* path_name = dolly ? "dolly 1 %/frame" : path == "orbit" ? "orbit 1 deg/frame" : "dolly in, bench's";
     PmSession session(pm, whole_frame_options(), PmViewOptions::for_path(model, px));
     session.settle(camera_at(0));
-    std::vector<double> cpu;
+    std::vector<double> cpu, wall, all_cpu, index_ms;
     std::vector<std::vector<double>> stage(11);
     std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
+    std::size_t blocks = 0, rebuilt = 0, refitted = 0;
     for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_cpu_seconds();
+        const double c0 = thread_cpu_seconds(), w0 = wall_seconds(), p0 = process_cpu_seconds();
         const View& v = session.render(camera_at(k), 1.0 / 25.0);
         cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
+        wall.push_back((wall_seconds() - w0) * 1e3);
+        all_cpu.push_back((process_cpu_seconds() - p0) * 1e3);
+        index_ms.push_back(session.seconds().ray_index * 1e3);
+        blocks += session.ray_index().blocks;
+        rebuilt += session.ray_index().rebuilt;
+        refitted += session.ray_index().refitted;
         const PmFrameSeconds& s = session.seconds();
         // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
         const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
@@ -179,18 +187,23 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     std::printf("| %s | pm | %.0f | %.1f | %.1f |", path_name,
                 double(triangles) / frames, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
     for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(stage[i]));
-    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f |\n", double(ray_tests) / frames, double(inconsistent) / frames,
-                double(recomputed) / double(std::max<std::size_t>(1, vertices)), double(moving) / frames,
-                double(pierced) / frames);
+    std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %.1f | %.2f | %.0f / %.0f / %.0f |\n", double(ray_tests) / frames,
+                double(inconsistent) / frames, double(recomputed) / double(std::max<std::size_t>(1, vertices)),
+                double(moving) / frames, double(pierced) / frames, median(wall), median(all_cpu), median(index_ms),
+                double(rebuilt) / frames, double(refitted) / frames, double(blocks) / frames);
     std::fflush(stdout);
     if (!levels) return;
     MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
     cpu.clear();
+    wall.clear();
+    all_cpu.clear();
     ray_tests = inconsistent = 0;
     for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_cpu_seconds();
+        const double c0 = thread_cpu_seconds(), w0 = wall_seconds(), p0 = process_cpu_seconds();
         const View& v = ms.render(camera_at(k));
         cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
+        wall.push_back((wall_seconds() - w0) * 1e3);
+        all_cpu.push_back((process_cpu_seconds() - p0) * 1e3);
         ray_tests += v.drawing.stats.ray_tests;
         inconsistent += v.drawing.stats.clusters_inconsistent;
     }
@@ -198,7 +211,7 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
                 t.faces.size(), median(cpu), *std::max_element(cpu.begin(), cpu.end()),
                 " - | - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
     std::printf(" %.0f |", double(inconsistent) / frames);
-    std::printf(" - | - | - |\n");
+    std::printf(" - | - | - | %.1f | %.1f | - | - |\n", median(wall), median(all_cpu));
     std::fflush(stdout);
 }
 
@@ -277,8 +290,9 @@ int main(int argc, char** argv) {
                     "self-intersections | "
                     "curvature | smoothing | session | finder + surface lines | visibility | ray index + rest | "
                     "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) | "
-                    "faces moved by geomorphs a frame | self-intersecting faces a frame |\n"
-                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                    "faces moved by geomorphs a frame | self-intersecting faces a frame | frame wall ms median | "
+                    "frame all-threads CPU ms median | ray index kept across frames: update ms | blocks rebuilt / refitted / of a frame |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const std::string path : {"dolly", "orbit", "dolly-in"})
             if (only_path.empty() || only_path == path) run_whole(*model, pm, kept_levels.get(), px, path, whole);
         return 0;

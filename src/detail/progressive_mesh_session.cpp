@@ -37,6 +37,19 @@ void PmSession::adopt_self_intersections() {
     model_->adopt_self_intersections(self_intersections_of_moving(t, moved_, &moving_search_));
 }
 
+void PmSession::lend_ray_index() {
+    ray_index_stats_ = {};
+    seconds_.ray_index = 0.0;
+    if (!pm_options_.ray_index_across_frames) return;
+    if (!rays_) rays_ = std::make_unique<RayCaster>(RayCaster::SubsetOptions{});
+    model_->index_rays_with([this](const MeshTopology& t) -> const RayCaster& {
+        const double t0 = thread_cpu_seconds();
+        ray_index_stats_ = rays_->reindex(t, input_vertex_, input_face_);
+        seconds_.ray_index = thread_cpu_seconds() - t0;
+        return *rays_;
+    });
+}
+
 View& PmSession::render(const Camera& camera, double frame_seconds) {
     PmFrameSeconds& t = seconds_;
     const double t0 = thread_cpu_seconds();
@@ -62,6 +75,7 @@ View& PmSession::render(const Camera& camera, double frame_seconds) {
     model_ = std::make_unique<Model>(std::move(topology));
     t.topology = lap();
     adopt_self_intersections();
+    lend_ray_index();
     t.pierced = lap();
     session_ = std::make_unique<ViewSession>(*model_, options_);
     t.session = lap();
