@@ -30,7 +30,9 @@ public:
     // An index of subsets of one input's faces (see above), empty until `reindex`;
     // `block_faces` input faces a block.
     struct SubsetOptions {
-        std::size_t block_faces = 1024;
+        // (Small enough that a frame's changes leave most blocks alone, large enough that the top
+        // level over the blocks stays cheap: measured in docs/progressive_mesh.md.)
+        std::size_t block_faces = 256;
         // Blocks whose faces only moved are refitted (Embree's refit build quality: the block's
         // tree kept, its boxes grown to the new triangles); otherwise rebuilt at low quality.
         bool refit = true;
