@@ -445,14 +445,14 @@ TEST(PmSession, IdsMatchedByOneMerge) {
 // geomorph moved) are build_topology's and estimate_curvature's of each frame's adapted mesh, bit
 // for bit, along a dolly out and an orbit with geomorphs running (steps of 6 % and 3 degrees: every
 // frame changes the mesh), while part of the vertices and edges are carried over (60842 of 283099
-// vertices).
+// vertices), and most corners' mates.
 TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
     const ProgressiveMesh& pm = armadillo_pm();
     AdaptiveFront front(pm, GeomorphOptions{.enabled = true});
     IncrementalCurvature incremental;
     AdaptedTopology adapted;
     MeshTopology topology[2];  // this frame's and the last one's
-    std::size_t carried_edges = 0;
+    std::size_t carried_edges = 0, carried_mates = 0;
     const Bounds3 box = bounds_of(pm.input());
     const Camera framed = test::framed_camera(box);
     std::size_t carried = 0, vertices = 0, changed_frames = 0;
@@ -491,6 +491,7 @@ TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
             EXPECT_EQ(t.face_edges[f].face, mesh.face_edges[f].face) << k << " " << f;
         }
         if (k > 0) carried_edges += adapted.carried_edges();
+        if (k > 0) carried_mates += adapted.carried_mates();
         const CurvatureField& field = incremental.update(mesh, input_vertex, input_face);
         const CurvatureField ref = estimate_curvature(mesh);
         ASSERT_EQ(field.size(), ref.size()) << k;
@@ -509,9 +510,11 @@ TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
         }
     }
     EXPECT_EQ(changed_frames, 12u);  // (every frame changed the mesh: the comparison covers changes)
-    std::printf("%zu of %zu vertices carried over, %zu edges\n", carried, vertices, carried_edges);
+    std::printf("%zu of %zu vertices carried over, %zu edges, %zu corners' mates\n", carried, vertices, carried_edges,
+                carried_mates);
     EXPECT_GT(carried, vertices / 5);
     EXPECT_GT(carried_edges, vertices);  // (about 3 edges a vertex; most carried over)
+    EXPECT_GT(carried_mates, 3 * vertices);  // (about 6 corners a vertex; most between unchanged faces)
 }
 
 namespace {
