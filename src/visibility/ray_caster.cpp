@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -86,6 +87,12 @@ struct RayCaster::Impl {
     RTCGeometry geometry = nullptr;  // a mesh's own index: its one geometry (owned by the scene)
     bool refittable = false;         // the geometry's build quality is Embree's refit
     std::vector<std::uint32_t> geometry_first{0};  // per geometry ID: the mesh's face of its primitive 0
+    // Per face: 0 not yet known, 1 has an area, 2 zero area (never crossed); found on a face's
+    // first test, so a mesh's index costs nothing per face (a frame with thousands of ray tests
+    // would test each face many times over).
+    mutable std::unique_ptr<std::atomic<std::uint8_t>[]> degenerate;
+    std::size_t degenerate_capacity = 0;
+    void forget_degenerate();
     // A subset index's blocks and options.
     std::vector<SubsetBlock> blocks;
     SubsetOptions subset;
@@ -111,6 +118,7 @@ struct LayerCount {
         int facing;  // orientation of the segment's start against the face; 2 until computed
     };
     const MeshTopology& mesh;
+    std::atomic<std::uint8_t>* degenerate;  // (Impl::degenerate)
     std::uint32_t skip0, skip1;
     K::Segment_3 seg;
     K::Point_3 start;
@@ -124,7 +132,12 @@ struct LayerCount {
         for (std::size_t i = 0; i < seen.size(); ++i)
             if (seen[i].face == face) return i;
         const K::Point_3 a = corner(face, 0), b = corner(face, 1), c = corner(face, 2);
-        const bool x = !CGAL::collinear(a, b, c) && CGAL::do_intersect(seg, K::Triangle_3(a, b, c));
+        std::uint8_t zero_area = degenerate[face].load(std::memory_order_relaxed);
+        if (zero_area == 0) {  // (threads that race here store the same value)
+            zero_area = CGAL::collinear(a, b, c) ? 2 : 1;
+            degenerate[face].store(zero_area, std::memory_order_relaxed);
+        }
+        const bool x = zero_area == 1 && CGAL::do_intersect(seg, K::Triangle_3(a, b, c));
         seen.push_back({face, x, 2});
         return seen.size() - 1;
     }
@@ -244,6 +257,16 @@ RayCaster::RayCaster(const MeshTopology& mesh)
     rtcReleaseGeometry(geom);
     m.geometry = geom;
     rtcCommitScene(m.scene);
+    m.forget_degenerate();
+}
+
+void RayCaster::Impl::forget_degenerate() {
+    const std::size_t n = mesh->face_count();
+    if (n > degenerate_capacity) {
+        degenerate = std::make_unique<std::atomic<std::uint8_t>[]>(n);
+        degenerate_capacity = n;
+    }
+    for (std::size_t f = 0; f < n; ++f) degenerate[f].store(0, std::memory_order_relaxed);
 }
 
 void RayCaster::Impl::load_vertices(float* v) {
@@ -272,6 +295,7 @@ void RayCaster::refit() {
     // The origin stays (the buffer is relative to it); the sphere that rays start on must still
     // hold the whole model.
     m.radius = glm::length(m.mesh->bounds.center() - m.origin) + m.mesh->bounds.half_diagonal();
+    m.forget_degenerate();
 }
 
 RayCaster::RayCaster(const SubsetOptions& options) : impl_(std::make_unique<Impl>(nullptr, glm::dvec3(0.0), 0.0)) {
@@ -332,6 +356,7 @@ RayCaster::ReindexStats RayCaster::reindex(const MeshTopology& mesh, const std::
     // faces. (When the mesh's box moves, every block moves with it and is refitted.)
     m.origin = mesh.bounds.center();
     m.radius = mesh.bounds.half_diagonal();
+    m.forget_degenerate();
     const std::size_t bf = m.subset.block_faces, nf = mesh.face_count();
     const std::size_t nblocks = nf ? face_id[nf - 1] / bf + 1 : 0;
     if (m.blocks.size() < nblocks) m.blocks.resize(nblocks);
@@ -416,7 +441,7 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
 
-    LayerCount count{*m.mesh, skip0, skip1,
+    LayerCount count{*m.mesh, m.degenerate.get(), skip0, skip1,
                      K::Segment_3(cgal(from), cgal(to)), cgal(from), cand, seen, queue};
     count.look_around_end_edge();
     count.follow_queue();
