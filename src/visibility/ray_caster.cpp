@@ -93,6 +93,11 @@ struct RayCaster::Impl {
     mutable std::unique_ptr<std::atomic<std::uint8_t>[]> degenerate;
     std::size_t degenerate_capacity = 0;
     void forget_degenerate();
+    // The faces around each vertex: read from the topology's edges when every face's corner is on
+    // its edges' lists (each edge of at most two faces); else (an edge of three faces or more,
+    // whose edge_face holds two) from this table, made for the mesh.
+    std::vector<std::uint32_t> vertex_face_begin, vertex_faces;
+    void list_vertex_faces();
     // A subset index's blocks and options.
     std::vector<SubsetBlock> blocks;
     SubsetOptions subset;
@@ -118,6 +123,8 @@ struct LayerCount {
         int facing;  // orientation of the segment's start against the face; 2 until computed
     };
     const MeshTopology& mesh;
+    const std::vector<std::uint32_t>& vertex_face_begin;  // (Impl's; empty: the edges)
+    const std::vector<std::uint32_t>& vertex_faces;
     std::atomic<std::uint8_t>* degenerate;  // (Impl::degenerate)
     std::uint32_t skip0, skip1;
     K::Segment_3 seg;
@@ -149,12 +156,17 @@ struct LayerCount {
     // Decides the faces around vertex w (but skip0, skip1), the faces of its edges (each face
     // met twice: decided once); those newly found crossed are queued.
     void look_around(std::uint32_t w) {
+        auto look = [&](std::uint32_t g) {
+            if (g == kNoFace || g == skip0 || g == skip1) return;
+            const std::size_t n = seen.size(), j = decide(g);
+            if (j == n && seen[j].crossed) queue.push_back(g);
+        };
+        if (!vertex_face_begin.empty()) {
+            for (std::uint32_t k = vertex_face_begin[w]; k < vertex_face_begin[w + 1]; ++k) look(vertex_faces[k]);
+            return;
+        }
         for (std::uint32_t k = mesh.vertex_edge_begin[w]; k < mesh.vertex_edge_begin[w + 1]; ++k)
-            for (const std::uint32_t g : mesh.edge_face[mesh.vertex_edges[k]]) {
-                if (g == kNoFace || g == skip0 || g == skip1) continue;
-                const std::size_t n = seen.size(), j = decide(g);
-                if (j == n && seen[j].crossed) queue.push_back(g);
-            }
+            for (const std::uint32_t g : mesh.edge_face[mesh.vertex_edges[k]]) look(g);
     }
     void look_around_end_edge();
     void follow_queue();
@@ -258,6 +270,23 @@ RayCaster::RayCaster(const MeshTopology& mesh)
     m.geometry = geom;
     rtcCommitScene(m.scene);
     m.forget_degenerate();
+    m.list_vertex_faces();
+}
+
+void RayCaster::Impl::list_vertex_faces() {
+    vertex_face_begin.clear();
+    vertex_faces.clear();
+    std::size_t listed = 0;  // corners on their edges' lists
+    for (const auto& ef : mesh->edge_face) listed += (ef[0] != kNoFace) + (ef[1] != kNoFace);
+    if (listed == 3 * mesh->face_count()) return;
+    vertex_face_begin.assign(mesh->vertex_count() + 1, 0);
+    for (const auto& f : mesh->faces)
+        for (const std::uint32_t w : f) ++vertex_face_begin[w + 1];
+    for (std::size_t w = 0; w < mesh->vertex_count(); ++w) vertex_face_begin[w + 1] += vertex_face_begin[w];
+    vertex_faces.resize(vertex_face_begin.back());
+    std::vector<std::uint32_t> fill(vertex_face_begin.begin(), vertex_face_begin.end() - 1);
+    for (std::uint32_t f = 0; f < mesh->face_count(); ++f)
+        for (const std::uint32_t w : mesh->faces[f]) vertex_faces[fill[w]++] = f;
 }
 
 void RayCaster::Impl::forget_degenerate() {
@@ -357,6 +386,7 @@ RayCaster::ReindexStats RayCaster::reindex(const MeshTopology& mesh, const std::
     m.origin = mesh.bounds.center();
     m.radius = mesh.bounds.half_diagonal();
     m.forget_degenerate();
+    m.list_vertex_faces();
     const std::size_t bf = m.subset.block_faces, nf = mesh.face_count();
     const std::size_t nblocks = nf ? face_id[nf - 1] / bf + 1 : 0;
     if (m.blocks.size() < nblocks) m.blocks.resize(nblocks);
@@ -441,7 +471,7 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
 
-    LayerCount count{*m.mesh, m.degenerate.get(), skip0, skip1,
+    LayerCount count{*m.mesh, m.vertex_face_begin, m.vertex_faces, m.degenerate.get(), skip0, skip1,
                      K::Segment_3(cgal(from), cgal(to)), cgal(from), cand, seen, queue};
     count.look_around_end_edge();
     count.follow_queue();

@@ -4,7 +4,8 @@
 // each is decided by CGAL's exact segment/triangle predicate in double coordinates, together
 // with the faces next to it that single precision may have confused with it and the faces around
 // the segment's end edge (see count_layers in ray_caster.cpp). The faces around a vertex and the
-// faces across an edge are read from the mesh's topology: the index keeps no per-face table.
+// faces across an edge are read from the mesh's topology: the index keeps no per-face table
+// (but for a mesh with an edge of three faces or more, whose edges do not list every face).
 //
 // Two kinds of index: a mesh's own (one Embree tree, built once), and an index kept across meshes
 // that are each a subset of one input's faces (the progressive mesh's adapted meshes, a new mesh
