@@ -19,7 +19,8 @@
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
 // `inkline bench --detail`), FRAMES frames of each path (default 40), each stage's median share,
 // a session per --budget, their frames interleaved, beside the multi-scale method's whole frame on
-// the same cameras; with a third path, dolly-in,
+// the same cameras, each frame also in wall ms and in the CPU ms of all the process's threads
+// (Embree builds on its own); with a third path, dolly-in,
 // `inkline bench --path=dolly`'s (1.5 to 0.6 times the framing distance over the frames).
 //
 // Paths (1024 x 1024, 30 degrees): the dolly moves the eye from 1x to 4x the framed distance,
@@ -171,9 +172,10 @@ ViewOptions whole_frame_options() {
 struct WholeRun {
     FrontBudget budget;
     std::unique_ptr<PmSession> session;
-    std::vector<double> cpu;
+    std::vector<double> cpu, wall, all_cpu, index_ms;
     std::vector<std::vector<double>> stage = std::vector<std::vector<double>>(11);
     std::size_t moving = 0, pierced = 0, triangles = 0, ray_tests = 0, vertices = 0, recomputed = 0, inconsistent = 0;
+    std::size_t blocks = 0, rebuilt = 0, refitted = 0;  // the ray index kept across frames
 };
 
 // The whole pm frame along a path: thread CPU ms a frame (median, most) and each stage's median
@@ -201,9 +203,15 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
     for (int k = 1; k <= frames; ++k)
         for (WholeRun& r : runs) {
             PmSession& session = *r.session;
-            const double c0 = thread_cpu_seconds();
+            const double c0 = thread_cpu_seconds(), w0 = wall_seconds(), p0 = process_cpu_seconds();
             const View& v = session.render(camera_at(k), 1.0 / 25.0);
             r.cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
+            r.wall.push_back((wall_seconds() - w0) * 1e3);
+            r.all_cpu.push_back((process_cpu_seconds() - p0) * 1e3);
+            r.index_ms.push_back(session.seconds().ray_index * 1e3);
+            r.blocks += session.ray_index().blocks;
+            r.rebuilt += session.ray_index().rebuilt;
+            r.refitted += session.ray_index().refitted;
             const PmFrameSeconds& s = session.seconds();
             // (the view's index and rest: its CPU time less the drawing's wall features and visibility)
             const double parts[11] = {s.adapt,      s.mesh,       s.topology,   s.pierced,
@@ -226,22 +234,24 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
         std::printf("| %s | pm, budget %s | %.0f | %.1f | %.1f |", path_name, budget_name(r.budget).c_str(),
                     double(r.triangles) / frames, median(r.cpu), *std::max_element(r.cpu.begin(), r.cpu.end()));
         for (int i = 0; i < 11; ++i) std::printf(" %.1f |", median(r.stage[i]));
-        std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %zu |\n", double(r.ray_tests) / frames,
-                    double(r.inconsistent) / frames, double(r.recomputed) / double(std::max<std::size_t>(1, r.vertices)),
-                    double(r.moving) / frames, double(r.pierced) / frames,
-                    *std::max_element(r.stage[0].begin(), r.stage[0].end()), r.session->stats().triangles);
+        std::printf(" %.0f | %.0f | %.2f | %.0f | %.0f | %.1f | %zu | %.1f | %.1f | %.2f | %.0f / %.0f / %.0f |\n",
+                    double(r.ray_tests) / frames, double(r.inconsistent) / frames,
+                    double(r.recomputed) / double(std::max<std::size_t>(1, r.vertices)), double(r.moving) / frames,
+                    double(r.pierced) / frames, *std::max_element(r.stage[0].begin(), r.stage[0].end()),
+                    r.session->stats().triangles, median(r.wall), median(r.all_cpu), median(r.index_ms),
+                    double(r.rebuilt) / frames, double(r.refitted) / frames, double(r.blocks) / frames);
     }
     std::fflush(stdout);
-    std::vector<double> cpu;
-    std::size_t ray_tests = 0, inconsistent = 0;
     if (!levels) return;
     MultiscaleSession ms(model, *levels, whole_frame_options(), MultiscaleViewOptions{.target_px = px});
-    cpu.clear();
-    ray_tests = inconsistent = 0;
+    std::vector<double> cpu, wall, all_cpu;
+    std::size_t ray_tests = 0, inconsistent = 0;
     for (int k = 1; k <= frames; ++k) {
-        const double c0 = thread_cpu_seconds();
+        const double c0 = thread_cpu_seconds(), w0 = wall_seconds(), p0 = process_cpu_seconds();
         const View& v = ms.render(camera_at(k));
         cpu.push_back((thread_cpu_seconds() - c0) * 1e3);
+        wall.push_back((wall_seconds() - w0) * 1e3);
+        all_cpu.push_back((process_cpu_seconds() - p0) * 1e3);
         ray_tests += v.drawing.stats.ray_tests;
         inconsistent += v.drawing.stats.clusters_inconsistent;
     }
@@ -249,7 +259,7 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
                 t.faces.size(), median(cpu), *std::max_element(cpu.begin(), cpu.end()),
                 " - | - | - | - | - | - | - | - | - | - | - |", double(ray_tests) / frames);
     std::printf(" %.0f |", double(inconsistent) / frames);
-    std::printf(" - | - | - | - | - |\n");
+    std::printf(" - | - | - | - | - | %.1f | %.1f | - | - |\n", median(wall), median(all_cpu));
     std::fflush(stdout);
 }
 
@@ -328,8 +338,10 @@ int main(int argc, char** argv) {
                     "self-intersections | "
                     "curvature | smoothing | session | finder + surface lines | visibility | ray index + rest | "
                     "stages total | ray tests a frame | inconsistent clusters a frame | curvature recomputed (share of vertices) | "
-                    "faces moved by geomorphs a frame | self-intersecting faces a frame | adapt ms most | triangles at the end |\n"
-                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                    "faces moved by geomorphs a frame | self-intersecting faces a frame | adapt ms most | triangles at the end | "
+                    "frame wall ms median | frame all-threads CPU ms median | ray index kept across frames: update ms | "
+                    "blocks rebuilt / refitted / of a frame |\n"
+                    "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (const std::string path : {"dolly", "orbit", "dolly-in"})
             if (only_path.empty() || std::ranges::count(split_commas(only_path), path) > 0)
                 run_whole(*model, pm, kept_levels.get(), px, path, whole, budgets, per_frame);

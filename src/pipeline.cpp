@@ -84,8 +84,19 @@ void Model::adopt_self_intersections(SelfIntersections known) {
 }
 
 const RayCaster& Model::rays() const {
-    std::call_once(lazy_->rays_once, [this] { lazy_->rays = std::make_unique<RayCaster>(topo_); });
-    return *lazy_->rays;
+    std::call_once(lazy_->rays_once, [this] {
+        if (lazy_->rays_from) {
+            lazy_->rays_used = &lazy_->rays_from(topo_);
+        } else {
+            lazy_->rays = std::make_unique<RayCaster>(topo_);
+            lazy_->rays_used = lazy_->rays.get();
+        }
+    });
+    return *lazy_->rays_used;
+}
+
+void Model::index_rays_with(std::function<const RayCaster&(const MeshTopology&)> index) {
+    lazy_->rays_from = std::move(index);
 }
 
 const std::vector<std::uint8_t>& Model::self_intersecting_faces() const { return self_intersections().faces; }

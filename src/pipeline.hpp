@@ -1,6 +1,7 @@
 // The library's front door: a model loaded once, drawn from any number of cameras.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -41,6 +42,11 @@ public:
     // The ray-test index, built on first use only (views that need no ray test never pay for it);
     // once, also when several threads ask at the same time (so are the self-intersections).
     const RayCaster& rays() const;
+    // A ray-test index kept by the caller across models (the progressive mesh's subset index,
+    // RayCaster::reindex), asked for on the first ray test instead of building one: `index` brings
+    // it to this model's topology and returns it; the caller keeps it alive while the model is
+    // drawn. Only before any view asked for rays; move_vertices does not refit such an index.
+    void index_rays_with(std::function<const RayCaster&(const MeshTopology&)> index);
     // Per face: intersects another face; computed on first use (the fast visibility needs it).
     const std::vector<std::uint8_t>& self_intersecting_faces() const;
     // Those flags, or null when no face is flagged (AppelOptions::pierced_faces: a view then looks
@@ -80,6 +86,8 @@ private:
     struct Lazy {
         std::once_flag rays_once, pierced_once, curvature_once, intersections_once;
         std::unique_ptr<RayCaster> rays;
+        std::function<const RayCaster&(const MeshTopology&)> rays_from;  // (index_rays_with)
+        const RayCaster* rays_used = nullptr;
         std::unique_ptr<SelfIntersections> pierced;
         std::unique_ptr<CurvatureField> curvature;
         std::unique_ptr<IntersectionCurves> intersections;

@@ -435,14 +435,14 @@ TEST(PmSession, IdsMatchedByOneMerge) {
 // geomorph moved) are build_topology's and estimate_curvature's of each frame's adapted mesh, bit
 // for bit, along a dolly out and an orbit with geomorphs running (steps of 6 % and 3 degrees: every
 // frame changes the mesh), while part of the vertices and edges are carried over (60842 of 283099
-// vertices).
+// vertices), and most corners' mates.
 TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
     const ProgressiveMesh& pm = armadillo_pm();
     AdaptiveFront front(pm, GeomorphOptions{.enabled = true});
     IncrementalCurvature incremental;
     AdaptedTopology adapted;
     MeshTopology topology[2];  // this frame's and the last one's
-    std::size_t carried_edges = 0;
+    std::size_t carried_edges = 0, carried_mates = 0;
     const Bounds3 box = bounds_of(pm.input());
     const Camera framed = test::framed_camera(box);
     std::size_t carried = 0, vertices = 0, changed_frames = 0;
@@ -481,6 +481,7 @@ TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
             EXPECT_EQ(t.face_edges[f].face, mesh.face_edges[f].face) << k << " " << f;
         }
         if (k > 0) carried_edges += adapted.carried_edges();
+        if (k > 0) carried_mates += adapted.carried_mates();
         const CurvatureField& field = incremental.update(mesh, input_vertex, input_face);
         const CurvatureField ref = estimate_curvature(mesh);
         ASSERT_EQ(field.size(), ref.size()) << k;
@@ -499,7 +500,130 @@ TEST(PmSession, CarriedTopologyAndCurvatureAreTheFromScratchOnes) {
         }
     }
     EXPECT_EQ(changed_frames, 12u);  // (every frame changed the mesh: the comparison covers changes)
-    std::printf("%zu of %zu vertices carried over, %zu edges\n", carried, vertices, carried_edges);
+    std::printf("%zu of %zu vertices carried over, %zu edges, %zu corners' mates\n", carried, vertices, carried_edges,
+                carried_mates);
     EXPECT_GT(carried, vertices / 5);
     EXPECT_GT(carried_edges, vertices);  // (about 3 edges a vertex; most carried over)
+    EXPECT_GT(carried_mates, 3 * vertices);  // (about 6 corners a vertex; most between unchanged faces)
+}
+
+namespace {
+
+// A camera along a dolly out (5 % a frame) or an orbit (3 degrees a frame) about a framed box.
+Camera dolly_or_orbit(const Bounds3& box, bool orbit, int k) {
+    const Camera framed = test::framed_camera(box);
+    const double times = orbit ? 1.0 : std::pow(1.05, k), yaw = orbit ? 3.0 * k * M_PI / 180.0 : 0.0;
+    const glm::dvec3 d = framed.eye() - box.center();
+    const glm::dvec3 turned{std::cos(yaw) * d.x + std::sin(yaw) * d.z, d.y, -std::sin(yaw) * d.x + std::cos(yaw) * d.z};
+    Camera c = Camera::perspective(box.center() + times * turned, box.center(), framed.up(), framed.fov_deg(), 1024, 1024);
+    return c;
+}
+
+// Layers counted on many segments: from the eye to the middle of every 5th edge, its faces
+// skipped (a piece's ray test), to the centre of every 11th face, it skipped (a surface line's),
+// and through the model past every 11th face's centre (many layers each).
+std::vector<int> ray_counts(const RayCaster& rays, const MeshTopology& t, const Camera& cam) {
+    std::vector<int> counts;
+    for (std::uint32_t e = 0; e < t.edge_count(); e += 5) {
+        const glm::dvec3 mid = 0.5 * (t.positions[t.edge_vertex[e][0]] + t.positions[t.edge_vertex[e][1]]);
+        counts.push_back(rays.count_layers(cam.eye(), mid, t.edge_face[e][0], t.edge_face[e][1]));
+    }
+    for (std::uint32_t f = 0; f < t.face_count(); f += 11) {
+        const auto& c = t.faces[f];
+        const glm::dvec3 centre = (t.positions[c[0]] + t.positions[c[1]] + t.positions[c[2]]) / 3.0;
+        counts.push_back(rays.count_layers(cam.eye(), centre, f, kNoFace));
+        counts.push_back(rays.count_layers(cam.eye(), cam.eye() + 2.0 * (centre - cam.eye()), kNoFace, kNoFace));
+    }
+    return counts;
+}
+
+}  // namespace
+
+// The ray-test index kept across frames (RayCaster::reindex: blocks of input faces, only those a
+// frame changed rebuilt or refitted) counts the same layers as a new index of each frame's mesh,
+// on every segment of ray_counts, along a dolly out and an orbit with geomorphs running, on
+// armadillo and bunny00; the frames kept, refitted and rebuilt blocks (all three paths covered).
+TEST(PmSession, RayIndexKeptAcrossFramesCountsAsANewIndex) {
+    for (const std::string name : {"armadillo", "bunny00"}) {
+        const ProgressiveMesh pm(load_mesh(test::mesh_path(name)));
+        const Bounds3 box = bounds_of(pm.input());
+        for (const bool orbit : {false, true}) {
+            ViewOptions options;
+            options.surface.suggestive = true;
+            PmViewOptions o;
+            o.target_px = 3.0;
+            o.geomorphs.enabled = true;
+            o.input_self_intersects = false;
+            PmSession session(pm, options, o);
+            session.settle(dolly_or_orbit(box, orbit, 0));
+            std::size_t segments = 0, layers = 0, kept = 0, refitted = 0, rebuilt = 0;
+            for (int k = 1; k <= 6; ++k) {
+                const Camera cam = dolly_or_orbit(box, orbit, k);
+                session.render(cam, 1.0 / 25.0);
+                const MeshTopology& t = session.adapted().topology();
+                const std::vector<int> kept_counts = ray_counts(session.adapted().rays(), t, cam);
+                const std::vector<int> new_counts = ray_counts(RayCaster(t), t, cam);
+                EXPECT_EQ(kept_counts, new_counts) << name << (orbit ? " orbit " : " dolly ") << k;
+                segments += new_counts.size();
+                for (const int c : new_counts) layers += std::size_t(c);
+                const RayCaster::ReindexStats& s = session.ray_index();
+                EXPECT_EQ(s.kept + s.refitted + s.rebuilt, s.blocks) << k;
+                kept += s.kept;
+                refitted += s.refitted;
+                rebuilt += s.rebuilt;
+            }
+            std::printf("%s %s: %zu segments, %zu layers; blocks kept %zu, refitted %zu, rebuilt %zu\n", name.c_str(),
+                        orbit ? "orbit" : "dolly", segments, layers, kept, refitted, rebuilt);
+            EXPECT_GT(segments, 30000u);
+            EXPECT_GT(layers, segments / 2);  // (the segments cross the model, many of them several times)
+            EXPECT_GT(refitted + rebuilt, 0u);
+            if (orbit) EXPECT_GT(kept, 0u);  // (most of the mesh still on an orbit)
+            else EXPECT_GT(refitted, 0u);    // (geomorphs move faces without changing them)
+        }
+    }
+}
+
+// Frames drawn with the ray-test index kept across frames draw what frames drawn with a new index
+// a frame draw (the same pieces, kinds, QI and points, the same ray tests), along an orbit and a
+// dolly out with geomorphs and smoothing, on armadillo and bunny00.
+TEST(PmSession, RayIndexKeptAcrossFramesDrawsAsANewIndex) {
+    for (const std::string name : {"armadillo", "bunny00"}) {
+        const ProgressiveMesh pm(load_mesh(test::mesh_path(name)));
+        const Bounds3 box = bounds_of(pm.input());
+        for (const bool orbit : {false, true}) {
+            ViewOptions options;
+            options.exact_hidden = false;
+            options.features.kinds[int(LineKind::Crease)] = false;
+            options.surface.suggestive = true;
+            PmViewOptions o;
+            o.target_px = 3.0;
+            o.geomorphs.enabled = true;
+            o.input_self_intersects = false;
+            PmViewOptions fresh = o;
+            fresh.ray_index_across_frames = false;
+            PmSession kept(pm, options, o), each(pm, options, fresh);
+            kept.settle(dolly_or_orbit(box, orbit, 0));
+            each.settle(dolly_or_orbit(box, orbit, 0));
+            std::size_t pieces = 0, ray_tests = 0;
+            for (int k = 1; k <= 8; ++k) {
+                const Camera cam = dolly_or_orbit(box, orbit, k);
+                const Drawing& a = kept.render(cam, 1.0 / 25.0).drawing;
+                const Drawing& b = each.render(cam, 1.0 / 25.0).drawing;
+                EXPECT_GT(kept.ray_index().blocks, 0u) << k;
+                EXPECT_EQ(each.ray_index().blocks, 0u) << k;
+                EXPECT_EQ(a.stats.ray_tests, b.stats.ray_tests) << k;
+                ASSERT_EQ(a.pieces.size(), b.pieces.size()) << name << " " << k;
+                for (std::size_t i = 0; i < a.pieces.size(); ++i) {
+                    EXPECT_EQ(a.pieces[i].kind, b.pieces[i].kind) << k << " " << i;
+                    EXPECT_EQ(a.pieces[i].qi, b.pieces[i].qi) << k << " " << i;
+                    EXPECT_EQ(a.pieces[i].points, b.pieces[i].points) << k << " " << i;
+                }
+                pieces += a.pieces.size();
+                ray_tests += a.stats.ray_tests;
+            }
+            std::printf("%s %s: %zu pieces, %zu ray tests in 8 frames\n", name.c_str(), orbit ? "orbit" : "dolly", pieces,
+                        ray_tests);
+            EXPECT_GT(ray_tests, 600u);  // (the frames make ray tests: the comparison covers them)
+        }
+    }
 }

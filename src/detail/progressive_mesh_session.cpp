@@ -46,6 +46,19 @@ void PmSession::adopt_self_intersections() {
     model_->adopt_self_intersections(self_intersections_of_moving(t, moved_, &moving_search_));
 }
 
+void PmSession::lend_ray_index() {
+    ray_index_stats_ = {};
+    seconds_.ray_index = 0.0;
+    if (!pm_options_.ray_index_across_frames) return;
+    if (!rays_) rays_ = std::make_unique<RayCaster>(RayCaster::SubsetOptions{});
+    model_->index_rays_with([this](const MeshTopology& t) -> const RayCaster& {
+        const double t0 = thread_cpu_seconds();
+        ray_index_stats_ = rays_->reindex(t, input_vertex_, input_face_);
+        seconds_.ray_index = thread_cpu_seconds() - t0;
+        return *rays_;
+    });
+}
+
 double PmSession::update_frame(const Camera& camera, double frame_seconds, bool drawn) {
     PmFrameSeconds& t = seconds_;
     const double t0 = thread_cpu_seconds();
@@ -70,11 +83,13 @@ double PmSession::update_frame(const Camera& camera, double frame_seconds, bool 
     if (model_) spare_ = std::move(model_->topology());
     model_ = std::make_unique<Model>(std::move(topology));
     t.topology = lap();
-    // Only the view needs the frame's self-intersections and session; the next frames need the
-    // front, the topology, the curvature and the smoothing, which every frame carries.
-    t.pierced = t.session = 0.0;
+    // Only the view needs the frame's self-intersections, ray index and session; the next frames
+    // need the front, the topology, the curvature and the smoothing, which every frame carries.
+    t.pierced = t.session = t.ray_index = 0.0;
+    ray_index_stats_ = {};
     if (drawn) {
         adopt_self_intersections();
+        lend_ray_index();
         t.pierced = lap();
         session_ = std::make_unique<ViewSession>(*model_, options_);
         t.session = lap();

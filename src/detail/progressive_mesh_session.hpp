@@ -51,6 +51,11 @@ struct PmViewOptions {
     // split's faces cross their neighbours while its vertex slides out). A view that draws
     // intersection lines takes the full search (their chaining follows its order).
     bool input_self_intersects = true;
+    // The ray-test index kept across frames (RayCaster's subset index over the input's faces in
+    // blocks, only the blocks the frame changed rebuilt or refitted) instead of a new tree a
+    // frame; the ray tests' results are the same either way (only the faces Embree proposes
+    // differ, each decided exactly).
+    bool ray_index_across_frames = true;
 
     // A camera path's options for `model` (the window, render sequences, the benches): geomorphs on,
     // the model's crease angle, and whether it intersects itself (its search run if not yet).
@@ -65,6 +70,7 @@ struct PmViewOptions {
 struct PmFrameSeconds {
     double adapt = 0.0, mesh = 0.0, topology = 0.0, pierced = 0.0, session = 0.0, curvature = 0.0, smoothing = 0.0, view = 0.0,
            total = 0.0;
+    double ray_index = 0.0;  // of the view: the index kept across frames brought to the frame's mesh
     double features = 0.0, visibility = 0.0;  // wall
 };
 
@@ -87,7 +93,13 @@ public:
     const IncrementalCurvature& curvature() const { return curvature_; }
     // The last frame's search around moving vertices (zeros when it made none).
     const MovingSearchStats& moving_search() const { return moving_search_; }
+    // The last frame's update of the ray-test index kept across frames (zeros when the frame made
+    // no ray test or the index is not kept).
+    const RayCaster::ReindexStats& ray_index() const { return ray_index_stats_; }
     void set_target(double target_px) { pm_options_.target_px = target_px; }
+    // The adapted mesh's vertices' and faces' indices in the input (both increasing).
+    const std::vector<std::uint32_t>& input_vertices() const { return input_vertex_; }
+    const std::vector<std::uint32_t>& input_faces() const { return input_face_; }
 
 private:
     const ProgressiveMesh& pm_;
@@ -103,6 +115,8 @@ private:
     std::vector<std::uint32_t> input_vertex_, input_face_;  // the adapted mesh's, in the input
     std::vector<std::uint8_t> moved_;  // per adapted vertex: shown off its own position
     MovingSearchStats moving_search_;
+    std::unique_ptr<RayCaster> rays_;  // (PmViewOptions::ray_index_across_frames)
+    RayCaster::ReindexStats ray_index_stats_;
     IncrementalCurvature curvature_;
     ViewCurvature view_curvature_;
     TemporalSmoother smoother_;
@@ -112,6 +126,8 @@ private:
     void adopt_self_intersections();
     // A frame up to its drawing (the session made only when `drawn`); returns its start time.
     double update_frame(const Camera& camera, double frame_seconds, bool drawn);
+    // The frame's Model takes the index kept across frames, brought to its mesh on its first ray test.
+    void lend_ray_index();
 };
 
 }  // namespace inkline

@@ -1,6 +1,8 @@
 #include "visibility/ray_caster.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -23,15 +25,17 @@ constexpr float kPastEnd = 1e-4f;
 struct HitCollector {
     RTCIntersectContext ctx;  // must be first: Embree hands this pointer back to the filter
     std::uint32_t skip0, skip1;
+    const std::uint32_t* geometry_first;  // per geometry: the mesh's face of its primitive 0
     std::vector<std::uint32_t>* hits;
 };
 
 void collect(const RTCFilterFunctionNArguments* args) {
     auto* c = reinterpret_cast<HitCollector*>(args->context);
-    const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, 0);
+    const std::uint32_t face = c->geometry_first[RTCHitN_geomID(args->hit, args->N, 0)] +
+                               RTCHitN_primID(args->hit, args->N, 0);
     args->valid[0] = 0;  // reject, so that traversal goes on and reports every face
-    if (prim == c->skip0 || prim == c->skip1) return;
-    c->hits->push_back(prim);
+    if (face == c->skip0 || face == c->skip1) return;
+    c->hits->push_back(face);
 }
 // The segment as Embree's ray, in coordinates relative to the model's centre. Embree's errors
 // grow with the distance of the ray origin from the model (single precision): from a far eye they
@@ -65,20 +69,44 @@ bool embree_ray(const glm::dvec3& origin, double radius, const glm::dvec3& from,
 }
 }  // namespace
 
+// A subset index's block: the input faces [b * block_faces, (b + 1) * block_faces) that the
+// mesh has, as one Embree geometry (geometry ID b) of their triangles' corners, three a face (so
+// that a block's buffers need no vertex numbering), and per face its input face and corners'
+// input vertices, to tell what changed.
+struct SubsetBlock {
+    RTCGeometry geometry = nullptr;  // null: no face of the block in the mesh
+    std::vector<std::array<std::uint32_t, 4>> key;
+};
+
 struct RayCaster::Impl {
-    const MeshTopology& mesh;
+    const MeshTopology* mesh;
     glm::dvec3 origin;
     double radius;
-    std::vector<std::uint32_t> vertex_face_begin, vertex_faces;  // vertex -> incident faces
-    std::vector<std::uint8_t> degenerate;                        // per face: zero area (never crossed)
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    RTCGeometry geometry = nullptr;  // owned by the scene
+    RTCGeometry geometry = nullptr;  // a mesh's own index: its one geometry (owned by the scene)
     bool refittable = false;         // the geometry's build quality is Embree's refit
-    // Vertices into the Embree buffer (relative to `origin`) and the degenerate faces.
+    std::vector<std::uint32_t> geometry_first{0};  // per geometry ID: the mesh's face of its primitive 0
+    // Per face: 0 not yet known, 1 has an area, 2 zero area (never crossed); found on a face's
+    // first test, so a mesh's index costs nothing per face (a frame with thousands of ray tests
+    // would test each face many times over).
+    mutable std::unique_ptr<std::atomic<std::uint8_t>[]> degenerate;
+    std::size_t degenerate_capacity = 0;
+    void forget_degenerate();
+    // The faces around each vertex: read from the topology's edges when every face's corner is on
+    // its edges' lists (each edge of at most two faces); else (an edge of three faces or more,
+    // whose edge_face holds two) from this table, made for the mesh.
+    std::vector<std::uint32_t> vertex_face_begin, vertex_faces;
+    void list_vertex_faces();
+    // A subset index's blocks and options.
+    std::vector<SubsetBlock> blocks;
+    SubsetOptions subset;
+    // Vertices into the Embree buffer (relative to `origin`).
     void load_vertices(float* v);
-    void find_degenerate();
-    explicit Impl(const MeshTopology& m) : mesh(m), origin(m.bounds.center()), radius(m.bounds.half_diagonal()) {}
+    RTCGeometry new_block(std::size_t faces) const;
+    void fill_block(float* v, std::size_t first, std::size_t faces) const;
+    bool block_moved(const SubsetBlock& b, std::size_t first) const;
+    Impl(const MeshTopology* m, const glm::dvec3& o, double r) : mesh(m), origin(o), radius(r) {}
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
@@ -95,9 +123,9 @@ struct LayerCount {
         int facing;  // orientation of the segment's start against the face; 2 until computed
     };
     const MeshTopology& mesh;
-    const std::vector<std::uint32_t>& vertex_face_begin;
+    const std::vector<std::uint32_t>& vertex_face_begin;  // (Impl's; empty: the edges)
     const std::vector<std::uint32_t>& vertex_faces;
-    const std::vector<std::uint8_t>& degenerate;
+    std::atomic<std::uint8_t>* degenerate;  // (Impl::degenerate)
     std::uint32_t skip0, skip1;
     K::Segment_3 seg;
     K::Point_3 start;
@@ -106,11 +134,17 @@ struct LayerCount {
     std::vector<std::uint32_t>& queue;  // crossed faces whose neighbours are still to be looked at
 
     K::Point_3 corner(std::uint32_t face, int k) const { return cgal(mesh.positions[mesh.faces[face][k]]); }
-    // The index in `seen` of `face`, decided on first sight.
+    // The index in `seen` of `face`, decided on first sight (a face of zero area is never crossed).
     std::size_t decide(std::uint32_t face) {
         for (std::size_t i = 0; i < seen.size(); ++i)
             if (seen[i].face == face) return i;
-        const bool x = !degenerate[face] && CGAL::do_intersect(seg, K::Triangle_3(corner(face, 0), corner(face, 1), corner(face, 2)));
+        const K::Point_3 a = corner(face, 0), b = corner(face, 1), c = corner(face, 2);
+        std::uint8_t zero_area = degenerate[face].load(std::memory_order_relaxed);
+        if (zero_area == 0) {  // (threads that race here store the same value)
+            zero_area = CGAL::collinear(a, b, c) ? 2 : 1;
+            degenerate[face].store(zero_area, std::memory_order_relaxed);
+        }
+        const bool x = zero_area == 1 && CGAL::do_intersect(seg, K::Triangle_3(a, b, c));
         seen.push_back({face, x, 2});
         return seen.size() - 1;
     }
@@ -119,14 +153,20 @@ struct LayerCount {
         if (seen[i].facing == 2) seen[i].facing = facing_of(seen[i].face);
         return seen[i].facing;
     }
-    // Decides the faces around vertex w (but skip0, skip1); those newly found crossed are queued.
+    // Decides the faces around vertex w (but skip0, skip1), the faces of its edges (each face
+    // met twice: decided once); those newly found crossed are queued.
     void look_around(std::uint32_t w) {
-        for (std::uint32_t k = vertex_face_begin[w]; k < vertex_face_begin[w + 1]; ++k) {
-            const std::uint32_t g = vertex_faces[k];
-            if (g == skip0 || g == skip1) continue;
+        auto look = [&](std::uint32_t g) {
+            if (g == kNoFace || g == skip0 || g == skip1) return;
             const std::size_t n = seen.size(), j = decide(g);
             if (j == n && seen[j].crossed) queue.push_back(g);
+        };
+        if (!vertex_face_begin.empty()) {
+            for (std::uint32_t k = vertex_face_begin[w]; k < vertex_face_begin[w + 1]; ++k) look(vertex_faces[k]);
+            return;
         }
+        for (std::uint32_t k = mesh.vertex_edge_begin[w]; k < mesh.vertex_edge_begin[w + 1]; ++k)
+            for (const std::uint32_t g : mesh.edge_face[mesh.vertex_edges[k]]) look(g);
     }
     void look_around_end_edge();
     void follow_queue();
@@ -209,7 +249,8 @@ int LayerCount::merge_layers() {
 }
 }  // namespace
 
-RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(mesh)) {
+RayCaster::RayCaster(const MeshTopology& mesh)
+    : impl_(std::make_unique<Impl>(&mesh, mesh.bounds.center(), mesh.bounds.half_diagonal())) {
     Impl& m = *impl_;
     m.device = rtcNewDevice(nullptr);
     if (!m.device) throw std::runtime_error("Embree: cannot create a device");
@@ -228,32 +269,41 @@ RayCaster::RayCaster(const MeshTopology& mesh) : impl_(std::make_unique<Impl>(me
     rtcReleaseGeometry(geom);
     m.geometry = geom;
     rtcCommitScene(m.scene);
+    m.forget_degenerate();
+    m.list_vertex_faces();
+}
 
-    m.vertex_face_begin.assign(mesh.vertex_count() + 1, 0);
-    for (const auto& f : mesh.faces)
-        for (std::uint32_t w : f) ++m.vertex_face_begin[w + 1];
-    for (std::size_t w = 0; w < mesh.vertex_count(); ++w) m.vertex_face_begin[w + 1] += m.vertex_face_begin[w];
-    m.vertex_faces.resize(m.vertex_face_begin.back());
-    std::vector<std::uint32_t> fill(m.vertex_face_begin.begin(), m.vertex_face_begin.end() - 1);
-    for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
-        for (std::uint32_t w : mesh.faces[f]) m.vertex_faces[fill[w]++] = f;
-    m.find_degenerate();
+void RayCaster::Impl::list_vertex_faces() {
+    vertex_face_begin.clear();
+    vertex_faces.clear();
+    std::size_t listed = 0;  // corners on their edges' lists
+    for (const auto& ef : mesh->edge_face) listed += (ef[0] != kNoFace) + (ef[1] != kNoFace);
+    if (listed == 3 * mesh->face_count()) return;
+    vertex_face_begin.assign(mesh->vertex_count() + 1, 0);
+    for (const auto& f : mesh->faces)
+        for (const std::uint32_t w : f) ++vertex_face_begin[w + 1];
+    for (std::size_t w = 0; w < mesh->vertex_count(); ++w) vertex_face_begin[w + 1] += vertex_face_begin[w];
+    vertex_faces.resize(vertex_face_begin.back());
+    std::vector<std::uint32_t> fill(vertex_face_begin.begin(), vertex_face_begin.end() - 1);
+    for (std::uint32_t f = 0; f < mesh->face_count(); ++f)
+        for (const std::uint32_t w : mesh->faces[f]) vertex_faces[fill[w]++] = f;
+}
+
+void RayCaster::Impl::forget_degenerate() {
+    const std::size_t n = mesh->face_count();
+    if (n > degenerate_capacity) {
+        degenerate = std::make_unique<std::atomic<std::uint8_t>[]>(n);
+        degenerate_capacity = n;
+    }
+    for (std::size_t f = 0; f < n; ++f) degenerate[f].store(0, std::memory_order_relaxed);
 }
 
 void RayCaster::Impl::load_vertices(float* v) {
-    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
-        const glm::dvec3 p = mesh.positions[i] - origin;
+    for (std::size_t i = 0; i < mesh->vertex_count(); ++i) {
+        const glm::dvec3 p = mesh->positions[i] - origin;
         v[3 * i] = float(p.x);
         v[3 * i + 1] = float(p.y);
         v[3 * i + 2] = float(p.z);
-    }
-}
-
-void RayCaster::Impl::find_degenerate() {
-    degenerate.resize(mesh.face_count());
-    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
-        const auto& t = mesh.faces[f];
-        degenerate[f] = CGAL::collinear(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
     }
 }
 
@@ -273,8 +323,123 @@ void RayCaster::refit() {
     rtcCommitScene(m.scene);
     // The origin stays (the buffer is relative to it); the sphere that rays start on must still
     // hold the whole model.
-    m.radius = glm::length(m.mesh.bounds.center() - m.origin) + m.mesh.bounds.half_diagonal();
-    m.find_degenerate();
+    m.radius = glm::length(m.mesh->bounds.center() - m.origin) + m.mesh->bounds.half_diagonal();
+    m.forget_degenerate();
+}
+
+RayCaster::RayCaster(const SubsetOptions& options) : impl_(std::make_unique<Impl>(nullptr, glm::dvec3(0.0), 0.0)) {
+    Impl& m = *impl_;
+    m.subset = options;
+    m.subset.block_faces = std::max<std::size_t>(1, options.block_faces);
+    m.device = rtcNewDevice(nullptr);
+    if (!m.device) throw std::runtime_error("Embree: cannot create a device");
+    m.scene = rtcNewScene(m.device);
+    // Dynamic, low quality: the top level over the blocks is rebuilt at each commit (cheap: one
+    // box a block), a block's own tree only when the block was committed.
+    rtcSetSceneFlags(m.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
+                                            RTC_SCENE_FLAG_DYNAMIC));
+    rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_LOW);
+    rtcCommitScene(m.scene);
+    m.geometry_first.clear();
+}
+
+// A block's geometry for `faces` faces: its corners three a face, in order (index 3f + k).
+RTCGeometry RayCaster::Impl::new_block(std::size_t faces) const {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * faces);
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), faces));
+    for (std::size_t i = 0; i < 3 * faces; ++i) idx[i] = unsigned(i);
+    rtcSetGeometryBuildQuality(g, subset.refit ? RTC_BUILD_QUALITY_REFIT : RTC_BUILD_QUALITY_LOW);
+    return g;
+}
+
+// The corners of the mesh's faces [first, first + faces) into a block's vertex buffer.
+void RayCaster::Impl::fill_block(float* v, std::size_t first, std::size_t faces) const {
+    for (std::size_t f = 0; f < faces; ++f)
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 p = mesh->positions[mesh->faces[first + f][k]] - origin;
+            float* q = v + 9 * f + 3 * k;
+            q[0] = float(p.x), q[1] = float(p.y), q[2] = float(p.z);
+        }
+}
+
+// Whether a block whose faces are the mesh's [first, ...) holds other single-precision corners.
+bool RayCaster::Impl::block_moved(const SubsetBlock& b, std::size_t first) const {
+    const auto* v = static_cast<const float*>(rtcGetGeometryBufferData(b.geometry, RTC_BUFFER_TYPE_VERTEX, 0));
+    for (std::size_t f = 0; f < b.key.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 p = mesh->positions[mesh->faces[first + f][k]] - origin;
+            const float* q = v + 9 * f + 3 * k;
+            if (q[0] != float(p.x) || q[1] != float(p.y) || q[2] != float(p.z)) return true;
+        }
+    return false;
+}
+
+RayCaster::ReindexStats RayCaster::reindex(const MeshTopology& mesh, const std::vector<std::uint32_t>& vertex_id,
+                                           const std::vector<std::uint32_t>& face_id) {
+    Impl& m = *impl_;
+    m.mesh = &mesh;
+    // The mesh's own frame, as its own index takes it: the blocks' corners and the rays are then
+    // the same single-precision numbers as in a new index of the mesh, so Embree proposes the same
+    // faces. (When the mesh's box moves, every block moves with it and is refitted.)
+    m.origin = mesh.bounds.center();
+    m.radius = mesh.bounds.half_diagonal();
+    m.forget_degenerate();
+    m.list_vertex_faces();
+    const std::size_t bf = m.subset.block_faces, nf = mesh.face_count();
+    const std::size_t nblocks = nf ? face_id[nf - 1] / bf + 1 : 0;
+    if (m.blocks.size() < nblocks) m.blocks.resize(nblocks);
+    m.geometry_first.resize(m.blocks.size());
+    ReindexStats stats;
+    bool changed = false;
+    std::vector<std::array<std::uint32_t, 4>> key;
+    std::size_t f = 0;
+    for (std::uint32_t b = 0; b < m.blocks.size(); ++b) {
+        SubsetBlock& block = m.blocks[b];
+        const std::size_t first = f;
+        key.clear();
+        for (; f < nf && face_id[f] / bf == b; ++f) {
+            const auto& t = mesh.faces[f];
+            key.push_back({face_id[f], vertex_id[t[0]], vertex_id[t[1]], vertex_id[t[2]]});
+        }
+        m.geometry_first[b] = std::uint32_t(first);
+        if (key.empty()) {
+            if (block.geometry) {
+                rtcDetachGeometry(m.scene, b);
+                block = SubsetBlock{};
+                ++stats.removed;
+                changed = true;
+            }
+            continue;
+        }
+        ++stats.blocks;
+        if (block.geometry && key == block.key) {
+            if (!m.block_moved(block, first)) {
+                ++stats.kept;
+                continue;
+            }
+            m.fill_block(static_cast<float*>(rtcGetGeometryBufferData(block.geometry, RTC_BUFFER_TYPE_VERTEX, 0)), first,
+                         key.size());
+            rtcUpdateGeometryBuffer(block.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+            rtcCommitGeometry(block.geometry);
+            ++stats.refitted;
+            changed = true;
+            continue;
+        }
+        if (block.geometry) rtcDetachGeometry(m.scene, b);
+        RTCGeometry g = m.new_block(key.size());
+        m.fill_block(static_cast<float*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0)), first, key.size());
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(m.scene, g, b);
+        rtcReleaseGeometry(g);
+        block.geometry = g;
+        block.key.swap(key);
+        ++stats.rebuilt;
+        changed = true;
+    }
+    if (changed) rtcCommitScene(m.scene);
+    return stats;
 }
 
 RayCaster::~RayCaster() = default;
@@ -299,13 +464,14 @@ int RayCaster::count_layers(const glm::dvec3& from, const glm::dvec3& to, std::u
     c.ctx.filter = collect;
     c.skip0 = skip0;
     c.skip1 = skip1;
+    c.geometry_first = m.geometry_first.data();
     c.hits = &cand;
     RTCRayHit rh;
     if (embree_ray(m.origin, m.radius, from, to, rh)) rtcIntersect1(m.scene, &c.ctx, &rh);
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
 
-    LayerCount count{m.mesh, m.vertex_face_begin, m.vertex_faces, m.degenerate, skip0, skip1,
+    LayerCount count{*m.mesh, m.vertex_face_begin, m.vertex_faces, m.degenerate.get(), skip0, skip1,
                      K::Segment_3(cgal(from), cgal(to)), cgal(from), cand, seen, queue};
     count.look_around_end_edge();
     count.follow_queue();
