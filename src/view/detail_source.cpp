@@ -43,8 +43,9 @@ View& DetailSource::render(const Camera& camera) {
     }
     pm_session_->set_target(target_px_.load());
     if (!settled_) pm_session_->settle(camera);
-    const double dt = settled_ ? std::clamp(std::chrono::duration<double>(now - last_view_).count(), 1.0 / 60.0, 0.25)
-                               : 1.0 / 25.0;
+    const double dt = !settled_         ? 1.0 / 25.0
+                      : fixed_step_ > 0.0 ? fixed_step_
+                                          : std::clamp(std::chrono::duration<double>(now - last_view_).count(), 1.0 / 60.0, 0.25);
     settled_ = true;
     last_view_ = now;
     View& v = pm_session_->render(camera, dt);

@@ -36,6 +36,9 @@ public:
     // geomorphs advance by the wall time since the last view (clamped to [1/60, 1/4] s).
     View& render(const Camera& camera);
     const Model& drawn_model() const;  // what the last view was drawn from
+    // pm: geomorphs advance by this step a view instead of the wall time (0: the wall time), so that
+    // a test's views do not depend on the machine's speed.
+    void set_fixed_step(double seconds) { fixed_step_ = seconds; }
     void set_target(double target_px) { target_px_.store(target_px); }
     double target() const { return target_px_.load(); }
     const std::string& method() const { return method_; }
@@ -53,6 +56,7 @@ private:
     std::unique_ptr<MultiscaleLevels> levels_;
     std::unique_ptr<MultiscaleSession> ms_session_;
     bool settled_ = false;
+    double fixed_step_ = 0.0;
     std::chrono::steady_clock::time_point last_view_{};
     std::atomic<bool> morphing_{false};
     mutable std::mutex summary_mutex_;
