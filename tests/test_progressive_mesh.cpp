@@ -23,6 +23,7 @@
 #include "model/mesh_io.hpp"
 #include "model/primitives.hpp"
 #include "pipeline.hpp"
+#include "progressive_mesh_fixtures.hpp"
 #include "test_data.hpp"
 #include "visibility/visibility.hpp"
 
@@ -31,20 +32,33 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using test::armadillo_pm;
 using test::bounds_of;
 using test::euler_characteristic;
-
-const ProgressiveMesh& armadillo_pm() {
-    static const ProgressiveMesh pm(load_mesh(test::mesh_path("armadillo")));
-    return pm;
-}
+using test::target_px;
 
 DetailCriterion target_area(double t) {
     DetailCriterion c;
     c.target_area_px = t;
     return c;
 }
-DetailCriterion target_px(double px) { return target_area(px * px); }
+
+// The lines the pm frames are checked on: suggestive contours and silhouettes, no creases.
+ViewOptions suggestive_lines() {
+    ViewOptions options;
+    options.features.kinds[int(LineKind::Crease)] = false;
+    options.surface.suggestive = true;
+    return options;
+}
+
+// A session at 3 px with geomorphs, for an input known to be embedded.
+PmViewOptions geomorphs_at_3px() {
+    PmViewOptions o;
+    o.target_px = 3.0;
+    o.geomorphs.enabled = true;
+    o.input_self_intersects = false;
+    return o;
+}
 
 }  // namespace
 
@@ -239,9 +253,7 @@ void check_density(const std::string& name, double most) {
     const ProgressiveMesh pm(load_mesh(test::mesh_path(name)));
     const Model model(pm.input());
     const MeshTopology& m = model.topology();
-    ViewOptions options;
-    options.features.kinds[int(LineKind::Crease)] = false;
-    options.surface.suggestive = true;
+    const ViewOptions options = suggestive_lines();
     const test::DollyDensity g = test::dolly_density(
         m.bounds, test::framed_camera(m.bounds),
         [&](const Camera& cam) { return test::visible_length_px(render_view(model, cam, options).drawing); },
@@ -306,12 +318,8 @@ std::size_t expect_frame_as_from_scratch(const Drawing& d, const PmSession& sess
 TEST(PmSession, FrameDrawsWhatAFromScratchModelOfItsMeshDraws) {
     const ProgressiveMesh& pm = armadillo_pm();
     const Model input(pm.input());
-    ViewOptions options;
-    options.features.kinds[int(LineKind::Crease)] = false;
-    options.surface.suggestive = true;
-    PmViewOptions o;
-    o.target_px = 3.0;
-    o.geomorphs.enabled = true;
+    const ViewOptions options = suggestive_lines();
+    PmViewOptions o = geomorphs_at_3px();
     o.smoothing = false;  // (the smoothed fields are the session's own: the mesh's lines are compared)
     o.input_self_intersects = input.self_intersections().flagged > 0;
     EXPECT_FALSE(o.input_self_intersects);
@@ -339,15 +347,10 @@ TEST(PmSession, FrameDrawsWhatAFromScratchModelOfItsMeshDraws) {
 // frame), so the frame's pierced faces and cuts must be the ones a full search of its mesh finds.
 TEST(PmSession, InwardDollyWithGeomorphsDrawsWhatAFromScratchModelDraws) {
     const ProgressiveMesh& pm = armadillo_pm();
-    ViewOptions options;
+    ViewOptions options = suggestive_lines();
     options.exact_hidden = false;
-    options.features.kinds[int(LineKind::Crease)] = false;
-    options.surface.suggestive = true;
-    PmViewOptions o;
-    o.target_px = 3.0;
-    o.geomorphs.enabled = true;
+    PmViewOptions o = geomorphs_at_3px();  // (armadillo has no self-intersections: the previous test checks it)
     o.smoothing = false;
-    o.input_self_intersects = false;  // (armadillo: none; the previous test checks it)
     PmSession session(pm, options, o);
     const Model input(pm.input());
     const MeshTopology& t = input.topology();
@@ -550,11 +553,7 @@ TEST(PmSession, RayIndexKeptAcrossFramesCountsAsANewIndex) {
         for (const bool orbit : {false, true}) {
             ViewOptions options;
             options.surface.suggestive = true;
-            PmViewOptions o;
-            o.target_px = 3.0;
-            o.geomorphs.enabled = true;
-            o.input_self_intersects = false;
-            PmSession session(pm, options, o);
+            PmSession session(pm, options, geomorphs_at_3px());
             session.settle(dolly_or_orbit(box, orbit, 0));
             std::size_t segments = 0, layers = 0, kept = 0, refitted = 0, rebuilt = 0;
             for (int k = 1; k <= 6; ++k) {
@@ -591,14 +590,9 @@ TEST(PmSession, RayIndexKeptAcrossFramesDrawsAsANewIndex) {
         const ProgressiveMesh pm(load_mesh(test::mesh_path(name)));
         const Bounds3 box = bounds_of(pm.input());
         for (const bool orbit : {false, true}) {
-            ViewOptions options;
+            ViewOptions options = suggestive_lines();
             options.exact_hidden = false;
-            options.features.kinds[int(LineKind::Crease)] = false;
-            options.surface.suggestive = true;
-            PmViewOptions o;
-            o.target_px = 3.0;
-            o.geomorphs.enabled = true;
-            o.input_self_intersects = false;
+            const PmViewOptions o = geomorphs_at_3px();
             PmViewOptions fresh = o;
             fresh.ray_index_across_frames = false;
             PmSession kept(pm, options, o), each(pm, options, fresh);

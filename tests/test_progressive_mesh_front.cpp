@@ -10,25 +10,17 @@
 #include "detail/progressive_mesh_session.hpp"
 #include "detail/temporal_smoothing.hpp"
 #include "model/mesh_io.hpp"
+#include "progressive_mesh_fixtures.hpp"
 #include "test_data.hpp"
 
 using namespace inkline;
 
 namespace {
 
+using test::armadillo_pm;
 using test::bounds_of;
 using test::euler_characteristic;
-
-const ProgressiveMesh& armadillo_pm() {
-    static const ProgressiveMesh pm(load_mesh(test::mesh_path("armadillo")));
-    return pm;
-}
-
-DetailCriterion target_px(double px) {
-    DetailCriterion c;
-    c.target_area_px = px * px;
-    return c;
-}
+using test::target_px;
 
 // The framed camera moved `times` the framed distance from the centre and turned `yaw_deg` about
 // the vertical axis through it.

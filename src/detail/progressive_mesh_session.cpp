@@ -47,8 +47,6 @@ void PmSession::adopt_self_intersections() {
 }
 
 void PmSession::lend_ray_index() {
-    ray_index_stats_ = {};
-    seconds_.ray_index = 0.0;
     if (!pm_options_.ray_index_across_frames) return;
     if (!rays_) rays_ = std::make_unique<RayCaster>(RayCaster::SubsetOptions{});
     model_->index_rays_with([this](const MeshTopology& t) -> const RayCaster& {

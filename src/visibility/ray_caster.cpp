@@ -101,6 +101,9 @@ struct RayCaster::Impl {
     // A subset index's blocks and options.
     std::vector<SubsetBlock> blocks;
     SubsetOptions subset;
+    // `reindex`'s list of a block's faces, kept so a frame allocates nothing for it (a rebuilt
+    // block swaps its old list in).
+    std::vector<std::array<std::uint32_t, 4>> scratch_key;
     // Vertices into the Embree buffer (relative to `origin`).
     void load_vertices(float* v);
     RTCGeometry new_block(std::size_t faces) const;
@@ -393,7 +396,7 @@ RayCaster::ReindexStats RayCaster::reindex(const MeshTopology& mesh, const std::
     m.geometry_first.resize(m.blocks.size());
     ReindexStats stats;
     bool changed = false;
-    std::vector<std::array<std::uint32_t, 4>> key;
+    std::vector<std::array<std::uint32_t, 4>>& key = m.scratch_key;
     std::size_t f = 0;
     for (std::uint32_t b = 0; b < m.blocks.size(); ++b) {
         SubsetBlock& block = m.blocks[b];
