@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -15,6 +16,8 @@
 
 #include "detail/multiscale.hpp"
 #include "detail/multiscale_cache.hpp"
+#include "detail/progressive_mesh_cache.hpp"
+#include "model/mesh_io.hpp"
 #include "cli_util.hpp"
 #include "model/primitives.hpp"
 #include "test_data.hpp"
@@ -428,7 +431,7 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         {"--detail=4 --detail-object=a=0", "--detail-object: expected a target size in pixels"},
         {"--detail=4 --detail-object=Head=3", "has no object named 'Head'"},
         {"--detail=4 --cache=", "--cache: expected a folder"},
-        {"--detail=4 --detail-method=pm --cache=c", "are for --detail-method=multiscale"},
+        {"--detail=4 --detail-method=pm --detail-fairing=second-order", "are for --detail-method=multiscale"},
         {"--detail-smoothing=thin-guarded", "--detail-smoothing needs --detail=PX"},
         {"--detail=4 --detail-smoothing=gauss", "--detail-smoothing: unknown smoothing 'gauss' (expected none or thin-guarded)"},
     };
@@ -436,6 +439,14 @@ TEST(MultiscaleCli, FlagsAndWarnings) {
         const auto r = run_inkline("", "render " + bunny + " " + b.args, dir);
         EXPECT_EQ(r.code, 2) << b.args;
         EXPECT_NE(r.err.find(b.words), std::string::npos) << b.args << ": " << r.err;
+    }
+    // The window refuses before it opens what it cannot honour (it used to ignore them).
+    for (const auto& [args, words] : {std::pair<std::string, std::string>{"--detail=4 --detail-object=a=3", "render and bench only"},
+                                      {"--detail=4 --detail-method=pm --detail-smoothing=thin-guarded",
+                                       "are for --detail-method=multiscale"}}) {
+        const auto r = run_inkline("", "view " + test::mesh_path("bunny00") + " " + args, dir);
+        EXPECT_EQ(r.code, 2) << args;
+        EXPECT_NE(r.err.find(words), std::string::npos) << args << ": " << r.err;
     }
     const auto ok = run_inkline("", "render " + bunny + " --detail=5 --levels=3", dir);
     EXPECT_EQ(ok.code, 0) << ok.err;
@@ -473,6 +484,27 @@ void expect_same_levels(const MultiscaleLevels& a, const MultiscaleLevels& b) {
     EXPECT_EQ(a.levels_self_intersect, b.levels_self_intersect);
 }
 
+// Damages a cache file as a crash, a full disk or another version would: a flipped byte in the
+// middle, the last 100 bytes cut, emptied, or (`rewrite_stale`) rewritten whole for another key.
+void damage_cache_file(const std::string& path, const std::string& what, const std::function<void()>& rewrite_stale) {
+    const auto size = std::filesystem::file_size(path);
+    if (what == "flip") {
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(std::streamoff(size / 2));
+        const char c = char(f.get());
+        f.seekp(std::streamoff(size / 2));
+        f.put(char(c ^ 0x10));
+    }
+    if (what == "truncate") std::filesystem::resize_file(path, size - 100);
+    if (what == "empty") std::filesystem::resize_file(path, 0);
+    if (what == "stale") rewrite_stale();
+}
+const char* const kCacheDamage[] = {"flip", "truncate", "empty", "stale"};
+// The words a damaged file's warning must hold.
+std::string cache_problem_words(const std::string& what) {
+    return what == "stale" ? "stale" : what == "empty" ? "truncated" : "checksum";
+}
+
 TEST(MultiscaleCache, WrittenOnceReadBackRebuiltWhenBad) {
     const std::string path = test::mesh_path("elephant");
     const Model model = Model::load(path);
@@ -501,27 +533,12 @@ TEST(MultiscaleCache, WrittenOnceReadBackRebuiltWhenBad) {
     const CachedLevels smoothed_again = cached_multiscale_levels(model, path, "v", smoothed, folder);
     EXPECT_EQ(smoothed_again.outcome, CacheOutcome::Loaded);
     expect_same_levels(smoothed_again.levels, build_multiscale_levels(model, smoothed));
-    const auto size = std::filesystem::file_size(first.path);
-    const auto damage = [&](const std::string& what) {
-        std::fstream f(first.path, std::ios::in | std::ios::out | std::ios::binary);
-        if (what == "flip") {
-            f.seekg(std::streamoff(size / 2));
-            const char c = char(f.get());
-            f.seekp(std::streamoff(size / 2));
-            f.put(char(c ^ 0x10));
-        }
-        f.close();
-        if (what == "truncate") std::filesystem::resize_file(first.path, size - 100);
-        if (what == "empty") std::filesystem::resize_file(first.path, 0);
-        if (what == "stale") write_levels_file(first.path, 12345, first.levels);  // another key, valid checksum
-    };
-    for (const std::string what : {"flip", "truncate", "empty", "stale"}) {
-        damage(what);
+    for (const std::string what : kCacheDamage) {
+        damage_cache_file(first.path, what, [&] { write_levels_file(first.path, 12345, first.levels); });  // another key
         const CachedLevels bad = cached_multiscale_levels(model, path, "v", options, folder);
         EXPECT_EQ(bad.outcome, CacheOutcome::Rebuilt) << what;
         EXPECT_NE(bad.problem.find(first.path), std::string::npos) << what << ": " << bad.problem;
-        EXPECT_NE(bad.problem.find(what == "stale" ? "stale" : what == "empty" ? "truncated" : "checksum"),
-                  std::string::npos) << what << ": " << bad.problem;
+        EXPECT_NE(bad.problem.find(cache_problem_words(what)), std::string::npos) << what << ": " << bad.problem;
         expect_same_levels(bad.levels, first.levels);
         EXPECT_EQ(cached_multiscale_levels(model, path, "v", options, folder).outcome, CacheOutcome::Loaded) << what;
     }
@@ -563,6 +580,85 @@ TEST(MultiscaleCache, Command) {
     };
     EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "b.json"));
     for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 1000);
+    const auto rebuilt = run_inkline("", args + (dir / "c.json").string(), dir);
+    ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
+    EXPECT_EQ(std::count(rebuilt.err.begin(), rebuilt.err.end(), '\n'), 1) << rebuilt.err;
+    EXPECT_NE(rebuilt.err.find("inkline: warning: --cache: " + cache), std::string::npos) << rebuilt.err;
+    EXPECT_NE(rebuilt.err.find("checksum"), std::string::npos) << rebuilt.err;
+    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "c.json"));
+}
+
+// The progressive mesh's hierarchy in the cache: the same collapse sequence read back as built,
+// another loader variant another file, a damaged or stale file rebuilt with its problem named, and
+// a file whose records name vertices the mesh lacks refused (its checksum valid).
+TEST(ProgressiveMeshCache, WrittenOnceReadBackRebuiltWhenBad) {
+    const std::string path = test::mesh_path("elephant");
+    const Model model = Model::load(path);
+    const MeshTopology& t = model.topology();
+    const auto dir = inkline_test::scratch("pm_cache_");
+    const std::string folder = (dir / "pm").string();  // made by the first write
+    const CachedHierarchy first = cached_progressive_mesh(t, path, "v", folder);
+    ASSERT_EQ(first.outcome, CacheOutcome::Built) << first.problem;
+    const ProgressiveMesh built(t);
+    ASSERT_GT(built.collapses(), 2700u);
+    EXPECT_EQ(first.pm->removed_vertex(), built.removed_vertex());
+    EXPECT_EQ(first.pm->kept_vertex(), built.kept_vertex());
+    const CachedHierarchy again = cached_progressive_mesh(t, path, "v", folder);
+    ASSERT_EQ(again.outcome, CacheOutcome::Loaded) << again.problem;
+    EXPECT_EQ(again.path, first.path);
+    EXPECT_EQ(again.pm->removed_vertex(), built.removed_vertex());
+    EXPECT_EQ(again.pm->kept_vertex(), built.kept_vertex());
+    EXPECT_EQ(&again.pm->input().positions, &t.positions);  // (over the model's arrays, no copy)
+    EXPECT_EQ(cached_progressive_mesh(t, path, "w", folder).outcome, CacheOutcome::Built);
+    for (const std::string what : kCacheDamage) {
+        damage_cache_file(first.path, what, [&] { write_hierarchy_file(first.path, 12345, t.vertex_count(), built); });
+        const CachedHierarchy bad = cached_progressive_mesh(t, path, "v", folder);
+        EXPECT_EQ(bad.outcome, CacheOutcome::Rebuilt) << what;
+        EXPECT_NE(bad.problem.find(first.path), std::string::npos) << what << ": " << bad.problem;
+        EXPECT_NE(bad.problem.find(cache_problem_words(what)), std::string::npos) << what << ": " << bad.problem;
+        EXPECT_EQ(bad.pm->removed_vertex(), built.removed_vertex()) << what;
+        EXPECT_EQ(cached_progressive_mesh(t, path, "v", folder).outcome, CacheOutcome::Loaded) << what;
+    }
+    // A valid file of the right key whose records come from a larger mesh: refused as corrupt.
+    const ProgressiveMesh larger(load_mesh(test::mesh_path("fandisk")));  // (6 475 vertices against 2 775)
+    std::vector<std::uint32_t> removed, kept;
+    std::string problem;
+    const std::string odd = (dir / "odd.pm").string();
+    write_hierarchy_file(odd, 7, t.vertex_count(), larger);
+    EXPECT_FALSE(read_hierarchy_file(odd, 7, t.vertex_count(), removed, kept, problem));
+    EXPECT_NE(problem.find("corrupt"), std::string::npos) << problem;
+    EXPECT_THROW(ProgressiveMesh(t, larger.removed_vertex(), larger.kept_vertex(), 0.0), std::invalid_argument);
+    EXPECT_THROW(ProgressiveMesh(t, {1, 2}, {3}, 0.0), std::invalid_argument);
+    // Three files (two variants; the odd one is outside the folder), no temporary ones.
+    std::size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(folder)) {
+        ++files;
+        EXPECT_EQ(e.path().extension(), ".pm") << e.path();
+    }
+    EXPECT_EQ(files, 2u);
+}
+
+// The command with --detail-method=pm: the second run reads the hierarchy and draws the same; a
+// corrupt file gives one warning line and the same drawing.
+TEST(ProgressiveMeshCache, Command) {
+    using inkline_test::run_inkline;
+    const auto dir = inkline_test::scratch("pm_cache_cli_");
+    const std::string cache = (dir / "c").string();
+    const std::string args = "render " + test::mesh_path("elephant") + " --detail=6 --detail-method=pm --cache=" + cache + " -o ";
+    const auto built = run_inkline("", args + (dir / "a.json").string(), dir);
+    ASSERT_EQ(built.code, 0) << built.err;
+    EXPECT_NE(built.out.find("(built, cached as " + cache), std::string::npos) << built.out;
+    const auto read = run_inkline("", args + (dir / "b.json").string(), dir);
+    ASSERT_EQ(read.code, 0) << read.err;
+    EXPECT_NE(read.out.find("(read from " + cache), std::string::npos) << read.out;
+    EXPECT_EQ(read.err, "");
+    const auto polylines = [](const std::filesystem::path& p) {
+        std::ifstream in(p);
+        const std::string j((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        return j.substr(j.find("\"polylines\""));
+    };
+    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "b.json"));
+    for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 100);
     const auto rebuilt = run_inkline("", args + (dir / "c.json").string(), dir);
     ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
     EXPECT_EQ(std::count(rebuilt.err.begin(), rebuilt.err.end(), '\n'), 1) << rebuilt.err;

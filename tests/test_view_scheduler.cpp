@@ -6,7 +6,9 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "pipeline.hpp"
@@ -245,4 +247,40 @@ TEST(ViewSchedulerDetail, DrawsTheAdaptedMeshAndFollowsTheSlider) {
     EXPECT_LT(views, 600);  // the geomorphs ended (483 views: the last collapses run one after another)
     EXPECT_LT(pm.drawn_model().topology().faces.size(), fine / 2);
     EXPECT_NE(pm.summary().find("pm: target 8 px"), std::string::npos) << pm.summary();
+}
+
+// view --detail --cache: the window's pre-process comes from the cache as render's does (either
+// method), the second source reads the file the first wrote and draws the same view, and a damaged
+// file gives the one-line warning the window prints.
+TEST(ViewSchedulerDetail, PreprocessFromTheCache) {
+    const std::string path = std::string(INKLINE_DATA_DIR) + "/meshes/fandisk.off";
+    const Camera cam = Camera::framing(fandisk().topology().bounds, 320, 240);
+    const std::filesystem::path folder =
+        std::filesystem::path(::testing::TempDir()) / ("view_detail_cache_" + std::to_string(::getpid())) / "c";
+    std::filesystem::remove_all(folder);
+    for (const std::string method : {"pm", "multiscale"}) {
+        DetailPreprocess pre;
+        pre.cache_dir = folder.string();
+        pre.model_path = path;
+        pre.variant = "v";
+        DetailSource written(fandisk(), method, 2.0, 0.0, pre);
+        EXPECT_EQ(written.cache_warning(), "") << method;
+        const std::string extension = method == "pm" ? ".pm" : ".levels";
+        std::filesystem::path file;
+        for (const auto& e : std::filesystem::directory_iterator(folder))
+            if (e.path().extension() == extension) file = e.path();
+        ASSERT_FALSE(file.empty()) << method;
+        const auto modified = std::filesystem::last_write_time(file);
+        DetailSource read(fandisk(), method, 2.0, 0.0, pre);
+        EXPECT_EQ(read.cache_warning(), "") << method;
+        EXPECT_EQ(std::filesystem::last_write_time(file), modified) << method;  // read, not rewritten
+        written.reset({});
+        read.reset({});
+        EXPECT_EQ(written.render(cam).drawing.pieces.size(), read.render(cam).drawing.pieces.size()) << method;
+        EXPECT_EQ(written.drawn_model().topology().faces, read.drawn_model().topology().faces) << method;
+        std::filesystem::resize_file(file, 64);
+        const DetailSource damaged(fandisk(), method, 2.0, 0.0, pre);
+        EXPECT_NE(damaged.cache_warning().find(file.string()), std::string::npos) << damaged.cache_warning();
+        EXPECT_NE(damaged.cache_warning().find("checksum"), std::string::npos) << damaged.cache_warning();
+    }
 }

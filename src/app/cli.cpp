@@ -22,6 +22,7 @@
 #include "core/error.hpp"
 #include "detail/multiscale.hpp"
 #include "detail/multiscale_cache.hpp"
+#include "detail/progressive_mesh_cache.hpp"
 #include "detail/progressive_mesh.hpp"
 #include "detail/progressive_mesh_session.hpp"
 #include "output/styled.hpp"
@@ -208,12 +209,10 @@ MultiscaleLevels detail_levels(const RenderArgs& a, const Model& model, const st
     if (a.detail.cache_dir.empty()) {
         levels = build_multiscale_levels(model, options);
     } else {
-        const std::string variant = "subdivide=" + std::to_string(a.subdivide) + " strict=" + std::to_string(int(a.strict));
-        CachedLevels cached = cached_multiscale_levels(model, path, variant, options, a.detail.cache_dir);
+        CachedLevels cached =
+            cached_multiscale_levels(model, path, loader_variant(a.subdivide, a.strict), options, a.detail.cache_dir);
         levels = std::move(cached.levels);
-        source = cached.outcome == CacheOutcome::Loaded ? "read from " + cached.path
-                 : cached.outcome == CacheOutcome::Unwritable ? "built (not cached)"
-                                                               : "built, cached as " + cached.path;
+        source = cache_outcome_text(cached.outcome, cached.path);
         if (!cached.problem.empty()) {
             line->finish();
             std::fprintf(stderr, "inkline: warning: --cache: %s\n", cached.problem.c_str());
@@ -222,6 +221,21 @@ MultiscaleLevels detail_levels(const RenderArgs& a, const Model& model, const st
     line->finish();
     if (!levels.note.empty()) std::fprintf(stderr, "inkline: warning: %s: %s\n", path.c_str(), levels.note.c_str());
     return levels;
+}
+
+// --detail-method=pm's hierarchy of `model` (loaded from `path`): built, or with --cache read from
+// the cache folder or built and written there (at most one warning line); `source` says which.
+std::unique_ptr<ProgressiveMesh> pm_hierarchy(const RenderArgs& a, const Model& model, const std::string& path,
+                                              std::string& source) {
+    if (a.detail.cache_dir.empty()) {
+        source = "built";
+        return std::make_unique<ProgressiveMesh>(model.topology());
+    }
+    CachedHierarchy cached =
+        cached_progressive_mesh(model.topology(), path, loader_variant(a.subdivide, a.strict), a.detail.cache_dir);
+    source = cache_outcome_text(cached.outcome, cached.path);
+    if (!cached.problem.empty()) std::fprintf(stderr, "inkline: warning: --cache: %s\n", cached.problem.c_str());
+    return std::move(cached.pm);
 }
 
 // The view options for `model`: the run's, with intersection lines on for a scene of several
@@ -330,16 +344,16 @@ std::string render_drawing(const RenderArgs& a, const RenderSetup& setup, const 
 
 // --detail=PX by the view-dependent progressive mesh: the model converged to the criterion at
 // `cam` (a single frame: no geomorphs), and a report line on what was kept and what it cost.
-Model detail_model(const Model& model, const Camera& cam, const RenderArgs& a, std::string& report) {
-    const ProgressiveMesh pm(model.topology());
+Model detail_model(const Model& model, const ProgressiveMesh& pm, const std::string& pm_source, const Camera& cam,
+                   const RenderArgs& a, std::string& report) {
     DetailCriterion criterion;
     criterion.target_area_px = a.detail.target_area_px();
     AdaptStats s;
     Model adapted(pm.adapt(cam, criterion, &s), a.crease);
     appendf(report, "detail: pm, target %g px (T = %g px^2): %zu of %zu triangles kept, %zu collapses in %zu passes, "
-            "%.4f s; hierarchy of %zu collapses built in %.4f s\n",
+            "%.4f s; hierarchy of %zu collapses in %.4f s (%s)\n",
             a.detail.target_px, criterion.target_area_px, s.triangles, model.topology().faces.size(), s.collapses,
-            s.passes, s.seconds, pm.collapses(), pm.build_seconds());
+            s.passes, s.seconds, pm.collapses(), pm.build_seconds(), pm_source.c_str());
     return adapted;
 }
 
@@ -470,8 +484,7 @@ void render_items(const RenderArgs& a, const RenderSetup& setup, const RenderPla
 // run renders (--frame-range: the same file), so the frames before the range are made too
 // (their meshes and smoothed curvature), not drawn. Frame 0 is the front converged at the home camera, as when a window opens.
 void render_pm_sequence(const RenderArgs& a, const RenderSetup& setup, const RenderPlan& plan, const Model& model,
-                        const Camera& home, Format format) {
-    const ProgressiveMesh pm(model.topology());
+                        const ProgressiveMesh& pm, const Camera& home, Format format) {
     model.self_intersections(a.threads);  // (searched on the run's threads before for_path asks)
     PmSession session(pm, view_options(a, setup, model), PmViewOptions::for_path(model, a.detail.target_px));
     session.settle(home);
@@ -559,9 +572,6 @@ int run_render(int argc, char** argv) {
         throw BadValue("--detail: one model a run (its smoothed levels are built once for all its frames)");
     if (a.frame_rate_given && !pm_sequence)
         throw BadValue("--frame-rate: paces a --detail-method=pm sequence (--frames=N --orbit); other frames do not depend on time");
-    if (a.detail.method == "pm" && (a.detail.fairing || a.detail.smoothing_given || !a.detail.cache_dir.empty() ||
-                                    !a.detail.object_target_px.empty()))
-        throw BadValue("--detail-fairing, --detail-smoothing, --cache and --detail-object are for --detail-method=multiscale");
     for (const std::string& m : a.models) {
         if (is_freeform_model(m) && a.detail.target_px > 0.0) throw BadValue("--detail: not for surface models");
         if (!is_freeform_model(m) && a.freeform.any())
@@ -603,10 +613,14 @@ int run_render(int argc, char** argv) {
         levels = detail_levels(a, model, path, setup.detail_source);
         setup.detail = &*levels;
     }
+    // --detail-method=pm: the hierarchy (built, or read from --cache) for the frame or the sequence.
+    std::unique_ptr<ProgressiveMesh> pm;
+    std::string pm_source;
+    if (a.detail.target_px > 0.0 && a.detail.method == "pm") pm = pm_hierarchy(a, model, path, pm_source);
     if (plan.count == 1) {
-        if (a.detail.target_px > 0.0 && a.detail.method == "pm") {
+        if (pm) {
             std::string detail_report;
-            const Model adapted = detail_model(model, home, a, detail_report);
+            const Model adapted = detail_model(model, *pm, pm_source, home, a, detail_report);
             const std::string report = render_drawing(a, setup, adapted, nullptr, home, plan.outputs[0], format, t0);
             if (!a.quiet) std::fputs((report + detail_report).c_str(), stdout);
             return 0;
@@ -616,7 +630,7 @@ int run_render(int argc, char** argv) {
         return 0;
     }
     if (pm_sequence) {
-        render_pm_sequence(a, setup, plan, model, home, format);
+        render_pm_sequence(a, setup, plan, model, *pm, home, format);
         print_summary(a, plan, seconds_since(t0), camera_flags(home));
         return 0;
     }

@@ -579,8 +579,9 @@ std::vector<Flag> detail_flags(DetailFlags& d) {
              d.smoothing_given = true;
          }},
         {"--cache", "DIR",
-         "--detail: keep the smoothed levels in DIR, keyed by the model file's content and the options that "
-         "change them; reused when they match, rebuilt (one warning) when a file there is corrupt or stale",
+         "--detail: keep the pre-process in DIR (the smoothed levels, or pm's hierarchy), keyed by the model "
+         "file's content and the options that change it; reused when they match, rebuilt (one warning) when a "
+         "file there is corrupt or stale",
          [&d](const std::string& v) {
              if (v.empty()) throw Error("--cache", "expected a folder");
              d.cache_dir = v;
@@ -619,7 +620,11 @@ MultiscaleOptions DetailFlags::levels_options() const {
 }
 
 void DetailFlags::check(const std::string& command) const {
-    if (target_px > 0.0) return;
+    if (target_px > 0.0) {
+        if (method == "pm" && (fairing || smoothing_given || !object_target_px.empty()))
+            throw BadValue("--detail-fairing, --detail-smoothing and --detail-object are for --detail-method=multiscale");
+        return;
+    }
     if (ratio) throw Usage("--detail-ratio needs --detail=PX", command);
     if (levels) throw Usage("--levels needs --detail=PX", command);
     if (depth_exponent) throw Usage("--detail-depth needs --detail=PX", command);

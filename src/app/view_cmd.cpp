@@ -5,6 +5,7 @@
 #include "app/cli.hpp"
 #include "app/flags.hpp"
 #include "core/error.hpp"
+#include "detail/cache_file.hpp"
 #include "style/style.hpp"
 #include "output/writers.hpp"
 #include "pipeline.hpp"
@@ -104,6 +105,9 @@ int run_view(int argc, char** argv) {
     o.detail_px = detail.target_px;
     o.detail_method = detail.method;
     o.detail_depth = detail.depth_exponent.value_or(0.0);
+    if (!detail.object_target_px.empty()) throw Usage("--detail-object: render and bench only for now", "view");
+    o.detail_preprocess = {.levels = detail.levels_options(), .cache_dir = detail.cache_dir, .model_path = model_path,
+                           .variant = loader_variant(o.subdivide, strict)};
     check_fast_visibility(o.view.visibility, o.hidden, "--hidden");
     bool style_kinds = false;  // the style chose the line kinds
     if (!o.style.empty()) {  // a bad style file fails before the window opens

@@ -2,26 +2,20 @@
 // runs once. Takes a Model, the path of the file it came from and the options that build its
 // levels; gives the levels, read from DIR when a file there matches, else built and written.
 //
-// A file is named by the model file's content hash and a hash of everything that changes the
-// levels (MultiscaleOptions' shape options, the loader's `variant` such as --subdivide, the
-// format's version), and carries both again in its header and a checksum of all its bytes: a
-// truncated, corrupt or stale file is detected, rebuilt and rewritten (and the caller warns once).
-// Files are written to a temporary name in DIR and renamed, so a reader never sees half a file.
+// A file (detail/cache_file.hpp) is named by the model file's content hash and a hash of everything
+// that changes the levels (MultiscaleOptions' shape options, the loader's `variant` such as
+// --subdivide, the format's version), and carries both again in its header and a checksum of all
+// its bytes: a truncated, corrupt or stale file is detected, rebuilt and rewritten (and the caller
+// warns once).
 #pragma once
 
 #include <cstdint>
 #include <string>
 
+#include "detail/cache_file.hpp"
 #include "detail/multiscale.hpp"
 
 namespace inkline {
-
-enum class CacheOutcome {
-    Built,     // no file yet: built and written
-    Loaded,    // read from the file
-    Rebuilt,   // the file was unreadable, corrupt, truncated or stale: built and rewritten
-    Unwritable // built; DIR could not be written (the levels are still returned)
-};
 
 struct CachedLevels {
     MultiscaleLevels levels;
@@ -29,9 +23,6 @@ struct CachedLevels {
     std::string path;     // the cache file
     std::string problem;  // for Rebuilt and Unwritable: what was wrong, one line
 };
-
-// 64-bit FNV-1a of a file's bytes. Throws std::runtime_error naming the file when it cannot be read.
-std::uint64_t file_content_hash(const std::string& path);
 
 // The cache file's name in DIR for this content and these options.
 std::string multiscale_cache_name(std::uint64_t content_hash, const MultiscaleOptions& options, const std::string& variant);

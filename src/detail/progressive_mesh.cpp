@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -193,6 +194,18 @@ ProgressiveMesh::ProgressiveMesh(const MeshTopology& topology)
     : positions_(&topology.positions), triangles_(&topology.faces), face_object_(&topology.face_object),
       object_names_(&topology.object_names) {
     build();
+}
+
+ProgressiveMesh::ProgressiveMesh(const MeshTopology& topology, std::vector<std::uint32_t> removed,
+                                 std::vector<std::uint32_t> kept, double seconds)
+    : positions_(&topology.positions), triangles_(&topology.faces), face_object_(&topology.face_object),
+      object_names_(&topology.object_names), removed_(std::move(removed)), kept_(std::move(kept)),
+      build_seconds_(seconds) {
+    const std::size_t n = topology.vertex_count();
+    const auto outside = [n](std::uint32_t v) { return v >= n; };
+    if (removed_.size() != kept_.size() || std::any_of(removed_.begin(), removed_.end(), outside) ||
+        std::any_of(kept_.begin(), kept_.end(), outside))
+        throw std::invalid_argument("a progressive mesh's collapse records do not fit its mesh");
 }
 
 ProgressiveMesh::ProgressiveMesh(TriangleMesh mesh) : owned_(std::make_unique<const TriangleMesh>(std::move(mesh))) {

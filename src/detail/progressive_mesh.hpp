@@ -72,6 +72,11 @@ public:
     explicit ProgressiveMesh(const MeshTopology& topology);
     // The same over a mesh of its own (kept: tests and tools without a Model).
     explicit ProgressiveMesh(TriangleMesh mesh);
+    // A collapse sequence recorded before for this topology (read from --cache: see
+    // detail/progressive_mesh_cache.hpp), `seconds` what getting it cost. Throws
+    // std::invalid_argument when the lists differ in length or name a vertex the topology lacks.
+    ProgressiveMesh(const MeshTopology& topology, std::vector<std::uint32_t> removed, std::vector<std::uint32_t> kept,
+                    double seconds);
 
     // The input's arrays (the model's, or the mesh given above).
     PmInput input() const { return {*positions_, *triangles_, *face_object_, *object_names_}; }

@@ -4,16 +4,29 @@
 #include <cstdio>
 
 #include "detail/multiscale.hpp"
+#include "detail/multiscale_cache.hpp"
+#include "detail/progressive_mesh_cache.hpp"
 #include "detail/progressive_mesh_session.hpp"
 
 namespace inkline {
 
-DetailSource::DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent)
+DetailSource::DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent,
+                           const DetailPreprocess& pre)
     : model_(model), method_(method), target_px_(target_px), depth_exponent_(depth_exponent) {
-    if (method_ == "pm")
+    const bool cached = !pre.cache_dir.empty();
+    if (method_ == "pm" && !cached) {
         pm_ = std::make_unique<ProgressiveMesh>(model.topology());
-    else
-        levels_ = std::make_unique<MultiscaleLevels>(build_multiscale_levels(model));
+    } else if (method_ == "pm") {
+        CachedHierarchy c = cached_progressive_mesh(model.topology(), pre.model_path, pre.variant, pre.cache_dir);
+        pm_ = std::move(c.pm);
+        cache_warning_ = c.problem;
+    } else if (!cached) {
+        levels_ = std::make_unique<MultiscaleLevels>(build_multiscale_levels(model, pre.levels));
+    } else {
+        CachedLevels c = cached_multiscale_levels(model, pre.model_path, pre.variant, pre.levels, pre.cache_dir);
+        levels_ = std::make_unique<MultiscaleLevels>(std::move(c.levels));
+        cache_warning_ = c.problem;
+    }
 }
 
 DetailSource::~DetailSource() = default;

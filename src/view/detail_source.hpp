@@ -13,19 +13,30 @@
 #include <mutex>
 #include <string>
 
+#include "detail/multiscale.hpp"
 #include "pipeline.hpp"
 
 namespace inkline {
 
 class ProgressiveMesh;
 class PmSession;
-struct MultiscaleLevels;
 class MultiscaleSession;
+
+// How the method's pre-process is made: the multi-scale levels' options (--detail-fairing,
+// --detail-smoothing), and with --cache the folder, the model's file and the loader's variant that
+// key its files (detail/multiscale_cache.hpp, detail/progressive_mesh_cache.hpp).
+struct DetailPreprocess {
+    MultiscaleOptions levels;
+    std::string cache_dir;  // empty: built every time
+    std::string model_path, variant;
+};
 
 class DetailSource {
 public:
-    // Builds the method's pre-process (the hierarchy, or the smoothed levels) now.
-    DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent = 0.0);
+    // Builds the method's pre-process (the hierarchy, or the smoothed levels) now, or reads it from
+    // the cache.
+    DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent = 0.0,
+                 const DetailPreprocess& preprocess = {});
     ~DetailSource();
     DetailSource(const DetailSource&) = delete;
     DetailSource& operator=(const DetailSource&) = delete;
@@ -45,6 +56,9 @@ public:
     // Geomorphs still running after the last view: the window asks for views until they end.
     bool morphing() const { return morphing_.load(); }
     std::string summary() const;
+    // One line when the cache could not serve or keep the pre-process (a corrupt or stale file,
+    // rebuilt; a folder not writable), else empty.
+    const std::string& cache_warning() const { return cache_warning_; }
 
 private:
     const Model& model_;
@@ -55,6 +69,7 @@ private:
     std::unique_ptr<PmSession> pm_session_;
     std::unique_ptr<MultiscaleLevels> levels_;
     std::unique_ptr<MultiscaleSession> ms_session_;
+    std::string cache_warning_;
     bool settled_ = false;
     double fixed_step_ = 0.0;
     std::chrono::steady_clock::time_point last_view_{};

@@ -109,7 +109,10 @@ public:
           imgui_(with_callbacks(window_.get())), scene_(model.topology()),
           scheduler_(model, o.detail_px > 0.0 ? 1 : o.in_flight, [] { glfwPostEmptyEvent(); }) {
         if (o.detail_px > 0.0)  // (a stateful session: its views one at a time, in order)
-            detail_ = std::make_unique<DetailSource>(model, o.detail_method, o.detail_px, o.detail_depth);
+            detail_ = std::make_unique<DetailSource>(model, o.detail_method, o.detail_px, o.detail_depth,
+                                                     o.detail_preprocess);
+        if (detail_ && !detail_->cache_warning().empty())
+            std::fprintf(stderr, "inkline: warning: --cache: %s\n", detail_->cache_warning().c_str());
         crease_ = float(model.topology().crease_degrees);
         fraction_ = float(o.view.finder.fraction);
         hidden_ = o.hidden;

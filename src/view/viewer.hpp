@@ -11,6 +11,7 @@
 #include "core/camera.hpp"
 #include "pipeline.hpp"
 #include "tone/tone.hpp"
+#include "view/detail_source.hpp"
 #include "view/tone_pass.hpp"
 
 namespace inkline {
@@ -44,6 +45,7 @@ struct ViewerOptions {
     double detail_px = 0.0;
     std::string detail_method = "multiscale";
     double detail_depth = 0.0;
+    DetailPreprocess detail_preprocess;  // the levels' options and --cache
     // The tone pass in GLSL (tone_pass.hpp), on when any of its layers is asked: render's
     // --lines=...,tone-dark,tone-highlight and --base=toon, with render's parameters. One light,
     // turning with the camera (the panel's two angles; empty: render's default headlight).
