@@ -227,12 +227,16 @@ MultiscaleLevels detail_levels(const RenderArgs& a, const Model& model, const st
 // the cache folder or built and written there (at most one warning line); `source` says which.
 std::unique_ptr<ProgressiveMesh> pm_hierarchy(const RenderArgs& a, const Model& model, const std::string& path,
                                               std::string& source) {
+    const std::size_t most = model.topology().vertex_count() ? model.topology().vertex_count() - 1 : 0;
+    const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr("detail: pm hierarchy", most, "collapses", !a.quiet);
+    const ProgressiveMesh::BuildProgress progress = [&line](std::size_t done, std::size_t) { line->set_done(done); };
     if (a.detail.cache_dir.empty()) {
         source = "built";
-        return std::make_unique<ProgressiveMesh>(model.topology());
+        return std::make_unique<ProgressiveMesh>(model.topology(), progress);
     }
-    CachedHierarchy cached =
-        cached_progressive_mesh(model.topology(), path, loader_variant(a.subdivide, a.strict), a.detail.cache_dir);
+    CachedHierarchy cached = cached_progressive_mesh(model.topology(), path, loader_variant(a.subdivide, a.strict),
+                                                     a.detail.cache_dir, progress);
+    line->finish();
     source = cache_outcome_text(cached.outcome, cached.path);
     if (!cached.problem.empty()) std::fprintf(stderr, "inkline: warning: --cache: %s\n", cached.problem.c_str());
     return std::move(cached.pm);

@@ -9,6 +9,7 @@
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModProgMeshT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <OpenMesh/Tools/Decimater/Observer.hh>
 #include <glm/geometric.hpp>
 
 namespace inkline {
@@ -190,10 +191,10 @@ double DetailCriterion::target_at(const Camera& camera, const glm::dvec3& p) con
     return target_area_px * map(camera.project(p), camera.depth(p));
 }
 
-ProgressiveMesh::ProgressiveMesh(const MeshTopology& topology)
+ProgressiveMesh::ProgressiveMesh(const MeshTopology& topology, const BuildProgress& progress)
     : positions_(&topology.positions), triangles_(&topology.faces), face_object_(&topology.face_object),
       object_names_(&topology.object_names) {
-    build();
+    build(progress);
 }
 
 ProgressiveMesh::ProgressiveMesh(const MeshTopology& topology, std::vector<std::uint32_t> removed,
@@ -225,7 +226,21 @@ PmInput::operator TriangleMesh() const {
     return m;
 }
 
-void ProgressiveMesh::build() {
+namespace {
+// Passes the decimater's count of collapses on to a BuildProgress.
+class ProgressObserver : public OpenMesh::Decimater::Observer {
+public:
+    ProgressObserver(const ProgressiveMesh::BuildProgress& progress, std::size_t most)
+        : Observer(std::max<std::size_t>(most / 100, 1)), progress_(progress), most_(most) {}
+    void notify(std::size_t step) override { progress_(step, most_); }
+
+private:
+    const ProgressiveMesh::BuildProgress& progress_;
+    std::size_t most_;
+};
+}  // namespace
+
+void ProgressiveMesh::build(const BuildProgress& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     OMesh m;
     if (to_openmesh(*this, m)) {
@@ -240,6 +255,9 @@ void ProgressiveMesh::build() {
         decimater.add(no_flip);
         decimater.add(record);
         decimater.module(quadric).unset_max_err();
+        const std::size_t most = positions_->empty() ? 0 : positions_->size() - 1;
+        ProgressObserver observer(progress, most);
+        if (progress) decimater.set_observer(&observer);
         if (decimater.initialize()) {
             decimater.decimate();  // to the coarsest mesh the legality rules allow
             for (const auto& c : decimater.module(record).pmi()) {
@@ -251,6 +269,7 @@ void ProgressiveMesh::build() {
     removed_.shrink_to_fit();
     kept_.shrink_to_fit();
     build_seconds_ = seconds_since(t0);
+    if (progress) progress(removed_.size(), removed_.size());  // (done: the decimater stops short of `most`)
 }
 
 TriangleMesh ProgressiveMesh::adapt(const Camera& camera, const DetailCriterion& criterion, AdaptStats* stats,

@@ -69,7 +69,10 @@ public:
     // Records the collapse sequence of a model's mesh and reads the model's arrays from then on
     // (no copy: `topology` must outlive the hierarchy and its fronts). A mesh OpenMesh cannot hold
     // as a manifold (complex vertices) gets an empty hierarchy: it is then drawn at full detail.
-    explicit ProgressiveMesh(const MeshTopology& topology);
+    // `progress` (optional) hears the collapses recorded so far and their most (vertices - 1) about
+    // a hundred times during the build (armadillo@2: about 20 s).
+    using BuildProgress = std::function<void(std::size_t collapses, std::size_t most)>;
+    explicit ProgressiveMesh(const MeshTopology& topology, const BuildProgress& progress = {});
     // The same over a mesh of its own (kept: tests and tools without a Model).
     explicit ProgressiveMesh(TriangleMesh mesh);
     // A collapse sequence recorded before for this topology (read from --cache: see
@@ -107,7 +110,7 @@ private:
     const std::vector<std::string>* object_names_ = nullptr;
     std::vector<std::uint32_t> removed_, kept_;  // collapse i moves removed_[i] onto kept_[i]
     double build_seconds_ = 0.0;
-    void build();
+    void build(const BuildProgress& progress = {});
 };
 
 // A model's vertices and faces (and objects) as a TriangleMesh (a copy).

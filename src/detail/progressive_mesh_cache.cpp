@@ -62,7 +62,8 @@ bool read_hierarchy_file(const std::string& path, std::uint64_t key, std::size_t
 }
 
 CachedHierarchy cached_progressive_mesh(const MeshTopology& topology, const std::string& model_path,
-                                        const std::string& variant, const std::string& dir) {
+                                        const std::string& variant, const std::string& dir,
+                                        const ProgressiveMesh::BuildProgress& progress) {
     CachedHierarchy out;
     const std::uint64_t content = file_content_hash(model_path);
     const std::uint64_t key = hierarchy_key(content, variant);
@@ -75,7 +76,7 @@ CachedHierarchy cached_progressive_mesh(const MeshTopology& topology, const std:
         return true;
     };
     out.outcome = read_or_build(
-        out.path, read, [&] { out.pm = std::make_unique<ProgressiveMesh>(topology); },
+        out.path, read, [&] { out.pm = std::make_unique<ProgressiveMesh>(topology, progress); },
         [&] { write_hierarchy_file(out.path, key, topology.vertex_count(), *out.pm); }, out.problem);
     return out;
 }

@@ -31,7 +31,8 @@ struct CachedHierarchy {
 std::string pm_cache_name(std::uint64_t content_hash, const std::string& variant);
 
 CachedHierarchy cached_progressive_mesh(const MeshTopology& topology, const std::string& model_path,
-                                        const std::string& variant, const std::string& dir);
+                                        const std::string& variant, const std::string& dir,
+                                        const ProgressiveMesh::BuildProgress& progress = {});
 
 // Reading and writing one file (the tests corrupt them): false and `problem` when it is not a
 // valid file for `key` and a mesh of `vertices` vertices.
