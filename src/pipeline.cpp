@@ -42,7 +42,8 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     std::unique_ptr<EarlySelfIntersections> search;
     if (options.threads > 1 && ordered.triangles.size() >= kEarlySearchFaces)
         search = std::make_unique<EarlySelfIntersections>(
-            SearchInput{ordered.positions.data(), ordered.triangles.data(), ordered.triangles.size()}, options.threads);
+            SearchInput{ordered.positions.data(), ordered.triangles.data(), ordered.triangles.size(), ordered.positions.size()},
+            options.threads);
     Model m(std::move(ordered), crease_degrees);
     if (search) {
         std::call_once(m.lazy_->pierced_once, [] {});

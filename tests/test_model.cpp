@@ -26,6 +26,7 @@
 #include "model/self_intersections.hpp"
 #include "model/subdivide.hpp"
 #include "model/topology.hpp"
+#include "model/topology_steps.hpp"
 #include "pipeline.hpp"
 #include "test_data.hpp"
 
@@ -1309,4 +1310,24 @@ TEST(RepairedOnLoad, QiAtCutEdgesAgreesWithTheRayReference) {
             EXPECT_GT(la[0], 0.0) << path;
         }
     }
+}
+
+// The topology's angles between face normals come from a faster acos (glibc's vector one where
+// there is one) that must give std::acos's floats exactly. The hard cases are cosines whose angle
+// lies at a midpoint between two floats, where a result a few ulp off rounds the other way: each
+// such midpoint's cosine is tried, with cosines spread over [-1, 1] and the ends.
+TEST(TopologyAngles, SameFloatsAsStdAcos) {
+    std::vector<double> cosines = {-1.0, 1.0, 0.0, -0.0, std::nextafter(1.0, 0.0), std::nextafter(-1.0, 0.0)};
+    for (int i = 0; i <= 200000; ++i) cosines.push_back(-1.0 + 2.0 * i / 200000.0);
+    std::size_t midpoints = 0;
+    for (float f = 1e-4f; f < 3.14f; f = std::nextafter(f * 1.0001f, 4.0f)) {
+        const double mid = (double(f) + double(std::nextafter(f, 4.0f))) / 2.0;
+        for (const double c : {std::cos(mid), std::nextafter(std::cos(mid), 2.0), std::nextafter(std::cos(mid), -2.0)})
+            cosines.push_back(c), ++midpoints;
+    }
+    std::vector<float> angle(cosines.size());
+    inkline::angles_of_cosines(cosines.data(), cosines.size(), angle.data());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < cosines.size(); ++i) differ += angle[i] != float(std::acos(cosines[i]));
+    EXPECT_EQ(differ, 0u) << "of " << cosines.size() << " cosines, " << midpoints << " at float midpoints";
 }

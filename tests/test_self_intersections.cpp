@@ -173,7 +173,8 @@ TEST(SelfIntersections, ThreadsGiveTheSameResult) {
                                                      std::to_string(threads) + " threads");
         EXPECT_EQ(inkline::self_intersecting_faces(t, threads), one.faces) << threads;
         // Started before the topology was built, from the mesh's arrays (as Model::load does).
-        inkline::EarlySelfIntersections early({s.positions.data(), s.triangles.data(), s.triangles.size()}, threads);
+        inkline::EarlySelfIntersections early({s.positions.data(), s.triangles.data(), s.triangles.size(), s.positions.size()},
+                                             threads);
         inkline::test::expect_same_self_intersections(early.finish(t), one, std::to_string(threads) + " threads, started early");
     }
 }

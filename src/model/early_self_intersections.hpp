@@ -14,12 +14,13 @@
 
 namespace inkline {
 
-// The arrays the search reads: face_count triangles of corner indices into positions (read by the
-// constructor only: it copies what the search needs).
+// The arrays the search reads: face_count triangles of corner indices into vertex_count positions
+// (read by the constructor only: it copies them).
 struct SearchInput {
     const glm::dvec3* positions = nullptr;
     const std::array<std::uint32_t, 3>* faces = nullptr;
     std::size_t face_count = 0;
+    std::size_t vertex_count = 0;
 };
 
 class EarlySelfIntersections {

@@ -1167,8 +1167,9 @@ std::uint32_t search_orientation(TriangleMesh& mesh, const CornerMates& mates, c
 // components are then turned outward (positive signed volume), so that front-facing silhouette
 // edges are the convex ones, as the Markosian et al. parity rule assumes. Each face is flipped at
 // most once; faces_reoriented counts the faces whose final orientation differs from the input,
-// repairs.components_reoriented the components whose faces disagreed.
-void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
+// repairs.components_reoriented the components whose faces disagreed. Returns per face 1 if this
+// call flipped it, or nothing when it flipped none (most files).
+std::vector<std::uint8_t> orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
     const std::size_t nf = mesh.triangles.size();
     std::vector<std::int8_t> state;
     std::vector<std::uint32_t> component;
@@ -1193,29 +1194,35 @@ void orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& whe
                          a.z * (b.x * d.y - b.y * d.x);
         volume[component[f]] += state[f] < 0 ? -v : v;
     }
+    std::vector<std::uint8_t> flipped;
     for (std::uint32_t f = 0; f < nf; ++f) {
         const bool outward_flip = closed[component[f]] && !nonorientable[component[f]] && volume[component[f]] < 0.0;
         if ((state[f] < 0) != outward_flip) {
             std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
             ++mesh.faces_reoriented;
+            if (flipped.empty()) flipped.assign(nf, 0);
+            flipped[f] = 1;
         }
     }
+    return flipped;
 }
 
-// Keeps the corner pairing of `before` for the mesh's triangles, which are `before` with some faces
-// flipped (corners 1 and 2 swapped: the edges of corners 0 and 2 change places, corner 1 keeps
-// its own).
-void keep_corner_mates(TriangleMesh& mesh, const std::vector<std::array<std::uint32_t, 3>>& before, std::vector<std::uint32_t> mate) {
+// Keeps the corner pairing `mate` of the triangles before orient for the mesh's triangles, which
+// are those with the faces `flipped` flipped (corners 1 and 2 swapped: the edges of corners 0 and
+// 2 change places, corner 1 keeps its own); no flips, no change.
+void keep_corner_mates(TriangleMesh& mesh, const std::vector<std::uint8_t>& flipped, std::vector<std::uint32_t> mate) {
+    mesh.corner_mates_of = triangles_key(mesh.triangles);
+    if (flipped.empty()) {
+        mesh.corner_mates = std::move(mate);
+        return;
+    }
     const std::size_t nf = mesh.triangles.size();
-    std::vector<std::uint8_t> flipped(nf);
-    for (std::size_t f = 0; f < nf; ++f) flipped[f] = mesh.triangles[f][1] != before[f][1];
     const auto moved = [&](std::uint32_t c) {  // a corner's index after the flips
         return c == kNoCorner || !flipped[c / 3] ? c : c - c % 3 + (2 - c % 3);
     };
     std::vector<std::uint32_t> after(3 * nf);
     for (std::uint32_t c = 0; c < 3 * nf; ++c) after[moved(c)] = moved(mate[c]);
     mesh.corner_mates = std::move(after);
-    mesh.corner_mates_of = triangles_key(mesh.triangles);
 }
 
 // Checks and repairs a mesh whose vertices are already welded (see repair_mesh).
@@ -1233,9 +1240,8 @@ void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
         mates = corner_mates(mesh.triangles, mesh.positions.size());
     }
     progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
-    const std::vector<std::array<std::uint32_t, 3>> before = mates.extra == 0 ? mesh.triangles : decltype(mesh.triangles){};
-    orient(mesh, mates, where, !strict);
-    if (mates.extra == 0) keep_corner_mates(mesh, before, std::move(mates.mate));
+    const std::vector<std::uint8_t> flipped = orient(mesh, mates, where, !strict);
+    if (mates.extra == 0) keep_corner_mates(mesh, flipped, std::move(mates.mate));
 }
 
 // Triangulates a polygon (corner indices, welded) by ear clipping in the plane of its Newell normal,

@@ -779,7 +779,7 @@ std::vector<FaceData> faces_of(const SearchInput& in) {
 }
 
 std::vector<FaceData> faces_of(const MeshTopology& mesh) {
-    return faces_of(SearchInput{mesh.positions.data(), mesh.faces.data(), mesh.face_count()});
+    return faces_of(SearchInput{mesh.positions.data(), mesh.faces.data(), mesh.face_count(), mesh.vertex_count()});
 }
 
 // Where edge e meets triangle f (not one of e's faces): the parameter of the point, or of the
@@ -850,7 +850,10 @@ SelfIntersections self_intersections(const MeshTopology& mesh, int threads, Patc
 }
 
 struct EarlySelfIntersections::Impl {
-    std::vector<FaceData> faces;
+    // The input's arrays, copied (a plain copy: the per-face records the search reads, 136 bytes a
+    // face, are made on the helper, off the calling thread's path).
+    std::vector<glm::dvec3> positions;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
     std::size_t workers;
     std::unique_ptr<PairSearch> search;
     std::exception_ptr failed;
@@ -862,13 +865,19 @@ struct EarlySelfIntersections::Impl {
 
 EarlySelfIntersections::EarlySelfIntersections(const SearchInput& input, int threads) : impl_(std::make_unique<Impl>()) {
     Impl& im = *impl_;
-    im.faces = faces_of(input);  // (a copy: the input may change once this returns)
+    // (a copy: the input may change once this returns)
+    im.positions.assign(input.positions, input.positions + input.vertex_count);
+    im.triangles.assign(input.faces, input.faces + input.face_count);
     im.workers = std::max<std::size_t>(search_workers(input.face_count, threads), 2);
     // The helper prepares the search, starts any further helpers, and takes tasks as worker 1;
     // finish() takes them as worker 0 once its caller has done its own work.
     im.helper = std::thread([&im] {
         try {
-            im.search = std::make_unique<PairSearch>(std::move(im.faces), im.workers, PatchTest::kEmbeddedPatchesSkipped);
+            std::vector<FaceData> faces =
+                faces_of(SearchInput{im.positions.data(), im.triangles.data(), im.triangles.size(), im.positions.size()});
+            std::vector<glm::dvec3>().swap(im.positions);
+            std::vector<std::array<std::uint32_t, 3>>().swap(im.triangles);
+            im.search = std::make_unique<PairSearch>(std::move(faces), im.workers, PatchTest::kEmbeddedPatchesSkipped);
         } catch (...) {
             im.failed = std::current_exception();
         }
