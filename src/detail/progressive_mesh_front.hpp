@@ -172,7 +172,9 @@ private:
         // morph next to it clears the stamp; the stamp's length is only a backstop.
         std::uint32_t retry_at;
         std::uint16_t locked;            // geomorphs holding it
-        std::uint8_t queued;
+        // The frame it was queued in (frame16(); 0: not queued), so that a budgeted frame's
+        // candidates left untried need no pass to unmark them.
+        std::uint16_t queued;
     };
     std::vector<Vertex> vert_;
     // Per input vertex: its record's index when active, else tag | the collapse that removed it
@@ -214,7 +216,7 @@ private:
     std::vector<std::uint32_t> work_;  // input vertices
     std::size_t backlog_ = 0;          // the last frame's FrontStats::backlog
     // A budgeted frame's candidates from the scan with their discrepancy from the band (the
-    // factor by which the vertex's image area lies outside it), ranked before the worklist.
+    // factor by which the vertex's image area lies outside it), ranked and taken before the worklist.
     std::vector<std::pair<float, std::uint32_t>> ranked_;
     // Per front entry, beside vert_: the vertex's position and ring area, so that a frame's
     // evaluation streams through memory instead of missing the cache twice a vertex.
@@ -279,11 +281,11 @@ private:
     bool try_split(std::uint32_t k);
     void lock_ring(std::uint32_t r, int delta);
     void advance_morphs(double frame_seconds);
-    std::size_t drain(std::size_t max_operations);  // returns the worklist entries it took
+    void drain(std::size_t max_operations);
     // The scan's test of front entry j: its image area, and T there.
     std::pair<double, double> area_and_target(std::size_t j) const;
     bool ready_to_change(std::uint32_t v) const;  // a deferred vertex counted in the backlog
-    void enqueue_ranked(std::size_t budget);
+    void rank(std::size_t budget);
 };
 
 }  // namespace inkline
