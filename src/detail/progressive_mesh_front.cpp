@@ -620,14 +620,17 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
 }
 
 // A budgeted frame takes the most visible errors first: the scan's candidates by their
-// discrepancy, largest first (ties by vertex, so the order is the same on every run). Only the
-// head that the budget can reach is sorted (twice the budget: some are refused); a backlog of
-// deferred vertices then costs a linear selection a frame, not a sort.
-void AdaptiveFront::rank(std::size_t budget) {
+// discrepancy, largest first (ties by vertex, so the order is the same on every run). Sorted a
+// chunk at a time as the drain reaches it (from `from`, twice the operations left: some are
+// refused), so a backlog of deferred candidates costs a linear selection a frame, not a sort.
+// Returns the chunk's end.
+std::size_t AdaptiveFront::rank_next(std::size_t from, std::size_t operations_left) {
     const auto before = [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
-    const auto head = ranked_.begin() + std::ptrdiff_t(std::min(ranked_.size(), 2 * std::min(budget, ranked_.size())));
-    std::nth_element(ranked_.begin(), head, ranked_.end(), before);
-    std::sort(ranked_.begin(), head, before);
+    const std::size_t end = from + std::min(ranked_.size() - from, 2 * std::max<std::size_t>(operations_left, 1));
+    const auto first = ranked_.begin() + std::ptrdiff_t(from), last = ranked_.begin() + std::ptrdiff_t(end);
+    if (end < ranked_.size()) std::nth_element(first, last, ranked_.end(), before);
+    std::sort(first, last, before);
+    return end;
 }
 
 std::pair<double, double> AdaptiveFront::area_and_target(std::size_t j) const {
@@ -653,15 +656,17 @@ bool AdaptiveFront::ready_to_change(std::uint32_t v) const {
 void AdaptiveFront::drain(std::size_t max_operations) {
     // (each collapse record changes at most once a frame, so a frame ends; the cap is a backstop)
     max_operations = std::min(max_operations, 2 * changed_in_frame_.size() + 16);
-    std::size_t operations = 0, next = 0, at = 0;
+    std::size_t operations = 0, next = 0, sorted = 0, at = 0;
     while (operations < max_operations) {
         std::uint32_t v;
-        if (next < ranked_.size())
+        if (next < ranked_.size()) {
+            if (next == sorted) sorted = rank_next(next, max_operations - operations);
             v = ranked_[next++].second;
-        else if (at < work_.size())
+        } else if (at < work_.size()) {
             v = work_[at++];
-        else
+        } else {
             break;
+        }
         if (!dequeue(v)) continue;
         ++stats_->tried;
         if (try_split(v) || try_collapse(v)) ++operations;
@@ -700,17 +705,16 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         if (v.locked || v.retry_at > frame_) continue;
         const bool split = a > criterion.split * t && v.last_collapse != none;
         if (!split && !(a < criterion.collapse * t && v.collapse_of != none)) continue;
-        if (budgeted) {  // (queued: it is in the ranking, a change of its ring need not queue it again)
-            v.queued = frame16();
-            ranked_.push_back({float(split ? a / (criterion.split * t) : criterion.collapse * t / a), v.id});
-        } else {
+        if (!budgeted) {
             enqueue(v.id);
+            continue;
         }
+        v.queued = frame16();  // (in the ranking: a change of its ring need not queue it again)
+        ranked_.push_back({float(split ? a / (criterion.split * t) : criterion.collapse * t / a), v.id});
     }
     s.evaluated = vert_.size();
     // (morphs that ended this frame made their collapses: they count against the budget)
     const std::size_t budget = budgeted ? max_operations - std::min(max_operations, s.morphs_ended) : max_operations;
-    if (budgeted) rank(budget);
     drain(budget);
     s.budget = max_operations;
     backlog_ = s.backlog;

@@ -285,7 +285,7 @@ private:
     // The scan's test of front entry j: its image area, and T there.
     std::pair<double, double> area_and_target(std::size_t j) const;
     bool ready_to_change(std::uint32_t v) const;  // a deferred vertex counted in the backlog
-    void rank(std::size_t budget);
+    std::size_t rank_next(std::size_t from, std::size_t operations_left);
 };
 
 }  // namespace inkline
