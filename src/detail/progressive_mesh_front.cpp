@@ -671,11 +671,16 @@ void AdaptiveFront::drain(std::size_t max_operations) {
         ++stats_->tried;
         if (try_split(v) || try_collapse(v)) ++operations;
     }
-    stats_->deferred = ranked_.size() - next;  // the budget ran out: next frame
-    for (; next < ranked_.size(); ++next)
-        if (dequeue(ranked_[next].second) && ready_to_change(ranked_[next].second)) ++stats_->backlog;
+    // The budget ran out: the rest waits for the next frames. The ranked candidates not reached
+    // were ready to change when the scan ranked them (it stamped those waiting on their children),
+    // so they are the backlog as the scan found them; the worklist's rest is tested again.
+    stats_->ranked = ranked_.size();
+    stats_->deferred = stats_->backlog = ranked_.size() - next;
     for (; at < work_.size(); ++at)
-        if (dequeue(work_[at]) && ready_to_change(work_[at])) ++stats_->backlog;
+        if (dequeue(work_[at])) {
+            ++stats_->deferred;
+            stats_->backlog += ready_to_change(work_[at]);
+        }
     work_.clear();
     ranked_.clear();
 }
@@ -707,6 +712,13 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         if (!split && !(a < criterion.collapse * t && v.collapse_of != none)) continue;
         if (!budgeted) {
             enqueue(v.id);
+            continue;
+        }
+        // A collapse waiting on its children (Hoppe's tree order) is refused and stamped here as
+        // try_collapse would (a child's collapse clears the stamp), not ranked and left waiting
+        // every frame.
+        if (!split && v.pending_children != 0) {
+            v.retry_at = frame_ + retry_frames;
             continue;
         }
         v.queued = frame16();  // (in the ranking: a change of its ring need not queue it again)

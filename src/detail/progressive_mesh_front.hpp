@@ -94,9 +94,13 @@ struct FrontStats {
     std::size_t evaluated = 0;               // vertices tested against the criterion
     std::size_t tried = 0;                   // vertices taken off the worklist and tried
     std::size_t morphs_ended = 0;            // geomorphs finished this frame (a collapse's made then)
-    std::size_t deferred = 0;                // out of the band, left for the next frames by the budget
-    // Of the deferred, those ready to change (a split, or a collapse whose children are all made:
-    // Hoppe's tree order), the lag a FrontBudget follows; and this frame's budget (SIZE_MAX: none).
+    // A budgeted frame's candidates from the scan: out of the band and ready to change (a split,
+    // or a collapse whose children are all made: Hoppe's tree order; the scan stamps the others).
+    std::size_t ranked = 0;
+    std::size_t deferred = 0;                // left untried for the next frames by the budget
+    // Of the deferred, those ready to change (the ranked ones as the scan found them, the vertices
+    // queued by this frame's changes tested again), the lag a FrontBudget follows; and this
+    // frame's budget (SIZE_MAX: none).
     std::size_t backlog = 0, budget = SIZE_MAX;
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
