@@ -9,9 +9,9 @@
 //   (defaults armadillo 3, both paths, both with and without geomorphs)
 //
 // --budget: a front for each of the front's budgets a frame, their frames interleaved: N a fixed
-// one (AdaptiveFront::update's max_operations; 0, the default: none), lag the sessions'
-// lag-following one (FrontBudget::following_lag), lag:BASE:FRAMES:MOST another such rule; with the
-// frames that deferred work and, at the last view held still, the frames until nothing is
+// one (FrontBudget::fixed(N); 0, the default: none), lag the lag-following rule
+// (FrontBudget::following_lag), lag:BASE:FRAMES:MOST another such rule; with the frames that
+// deferred work and, at the last view held still, the frames until nothing is
 // deferred; --per-frame: one line a frame on stderr ("run B frame K": the B-th budget's ms,
 // operations, deferred, backlog, budget, triangles, RSS; with --whole: each session's frame ms,
 // adaptation ms, triangles).

@@ -310,7 +310,7 @@ std::vector<std::uint32_t> children_waiting(const ProgressiveMesh& pm, const Ada
     return waiting;
 }
 
-// The operation budget (AdaptiveFront::update's max_operations, VDPM's regulation): a frame
+// The operation budget (FrontBudget::fixed, VDPM's regulation): a frame
 // makes at most that many operations, taking the vertices furthest out of the band first.
 // A fresh front at 4 px (every vertex at the hierarchy's bottom, none stamped): the scan's
 // candidates are the vertices below t_c T with a parent and no child collapse left to make; one
@@ -332,7 +332,7 @@ TEST(AdaptiveFront, BudgetTakesTheLargestDiscrepancyFirst) {
     }
     std::sort(candidates.rbegin(), candidates.rend());
     const std::size_t budget = 300;
-    const FrontStats s = front.update(cam, c, 0.0, budget);
+    const FrontStats s = front.update(cam, c, 0.0, FrontBudget::fixed(budget));
     std::vector<double> made;  // the discrepancies of the vertices collapsed
     for (const auto& [d, v] : candidates)
         if (!front.is_active(v)) made.push_back(d);
@@ -349,7 +349,7 @@ TEST(AdaptiveFront, BudgetTakesTheLargestDiscrepancyFirst) {
     EXPECT_GE(made.back(), last_tried * (1 - 1e-5));  // every collapse among the first tried
     // (in scan order they would have been spread over all the candidates)
     EXPECT_GT(made.back(), candidates[candidates.size() / 2].first);
-    const FrontStats again = front.update(cam, c, 0.0, budget);  // the deferred ones come next
+    const FrontStats again = front.update(cam, c, 0.0, FrontBudget::fixed(budget));  // the deferred ones come next
     EXPECT_EQ(again.collapses, budget);
 }
 
@@ -372,7 +372,7 @@ TEST(AdaptiveFront, BudgetedFrameSkipsCollapsesWaitingOnTheirChildren) {
         for (std::uint32_t v : ids)
             if (!front.at_top(v) && front.image_area_of(v, cam) < c.collapse * c.target_area_px)
                 ++(waiting[v] == 0 ? ready : waits);
-        const FrontStats s = front.update(cam, c, 0.0, 300);
+        const FrontStats s = front.update(cam, c, 0.0, FrontBudget::fixed(300));
         std::printf("frame %d: %zu ready, %zu waiting on their children; %zu ranked, %zu tried, %zu deferred, backlog %zu\n",
                     frame, ready, waits, s.ranked, s.tried, s.deferred, s.backlog);
         ASSERT_GT(waits, 1000u) << frame;  // (the count below would tell them apart)
@@ -397,7 +397,7 @@ TEST(AdaptiveFront, BudgetedFrontConvergesIntoTheBandAndStops) {
     AdaptiveFront front(pm);
     int frames = 1;
     for (; frames <= 200; ++frames) {
-        const FrontStats s = front.update(cam, c, 0.0, budget);
+        const FrontStats s = front.update(cam, c, 0.0, FrontBudget::fixed(budget));
         ASSERT_LE(s.splits + s.collapses, budget) << frames;
         if (s.splits + s.collapses == 0 && s.deferred == 0) break;
     }
@@ -407,7 +407,7 @@ TEST(AdaptiveFront, BudgetedFrontConvergesIntoTheBandAndStops) {
     EXPECT_GE(frames, 30);
     EXPECT_LE(frames, 40);
     for (int k = 0; k < 5; ++k) {
-        const FrontStats s = front.update(cam, c, 0.0, budget);
+        const FrontStats s = front.update(cam, c, 0.0, FrontBudget::fixed(budget));
         EXPECT_EQ(s.splits + s.collapses + s.deferred, 0u) << k;
     }
     std::vector<std::uint32_t> from;
@@ -439,7 +439,7 @@ TEST(AdaptiveFront, BudgetedDollyWithGeomorphsCatchesUpAndIsPinned) {
     AdaptiveFront front(pm, GeomorphOptions{.enabled = true, .seconds = 0.5, .max_speedup = 8.0});
     std::size_t deferring = 0;
     for (int k = 0; k <= 140; ++k) {
-        const FrontStats s = front.update(dolly_orbit(box, std::pow(1.01, k), 0.0), c, 1.0 / 25.0, budget);
+        const FrontStats s = front.update(dolly_orbit(box, std::pow(1.01, k), 0.0), c, 1.0 / 25.0, FrontBudget::fixed(budget));
         if (k > 0) {  // (frame 0 starts at the input: morphs only start there)
             ASSERT_LE(s.morphs_started + std::min(s.morphs_ended, budget), budget) << k;
         }
@@ -455,7 +455,7 @@ TEST(AdaptiveFront, BudgetedDollyWithGeomorphsCatchesUpAndIsPinned) {
     const Camera last = dolly_orbit(box, std::pow(1.01, 140), 0.0);
     int frame = 1;
     for (; frame < 300; ++frame) {
-        const FrontStats s = front.update(last, c, 1.0 / 25.0, budget);
+        const FrontStats s = front.update(last, c, 1.0 / 25.0, FrontBudget::fixed(budget));
         if (s.deferred + s.morphs_running + s.splits + s.collapses + s.morphs_started == 0) break;
     }
     const BandCount b = band(front, last, c);
@@ -489,6 +489,11 @@ TEST(AdaptiveFront, FrontBudgetRule) {
     EXPECT_EQ(FrontBudget::fixed(300).for_backlog(100000), 300u);
     EXPECT_EQ(FrontBudget::none().for_backlog(100000), SIZE_MAX);
     EXPECT_EQ((FrontBudget{200, 0, 400}.for_backlog(50)), 250u);  // (no catch-up frames taken as 1)
+    // A cap on top of a rule: the rule within it; on none, a fixed budget.
+    EXPECT_EQ(lag.capped(300).for_backlog(0), 200u);
+    EXPECT_EQ(lag.capped(300).for_backlog(800), 300u);
+    EXPECT_EQ(lag.capped(100).for_backlog(0), 100u);
+    EXPECT_EQ(FrontBudget::none().capped(300).for_backlog(100000), 300u);
 }
 
 // The slow dolly of AdaptedMeshAlongADollyIsPinned with geomorphs and a budget that follows the
@@ -555,7 +560,7 @@ TEST(AdaptiveFront, LagFollowingBudgetHoldsAndCatchesUp) {
 }
 
 // PmSession: settle (a window's first view) converges with no budget; a frame after it takes
-// the session's budget (PmViewOptions::max_operations, here 50).
+// the session's budget (PmViewOptions::budget, here a fixed 50).
 TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
     const ProgressiveMesh& pm = armadillo_pm();
     const Bounds3 box = bounds_of(pm.input());
@@ -565,8 +570,7 @@ TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
     o.target_px = 3.0;
     o.geomorphs.enabled = true;
     o.input_self_intersects = false;  // (armadillo: none)
-    EXPECT_EQ(o.max_operations, PmViewOptions::default_max_operations);
-    o.max_operations = 50;
+    o.budget = FrontBudget::fixed(50);
     PmSession session(pm, options, o);
     session.settle(dolly_orbit(box, 1.5, 0.0));
     // Settled as an unbudgeted front converges: measured 995 of 18 407 vertices below t_c T (a
@@ -606,7 +610,7 @@ TEST(AdaptiveFront, SessionFramesTakeTheLagFollowingBudget) {
     o.target_px = 3.0;
     o.geomorphs.enabled = true;
     o.input_self_intersects = false;  // (armadillo: none)
-    EXPECT_FALSE(o.frame_budget().budgeted());  // (the default: none)
+    EXPECT_FALSE(o.budget.budgeted());  // (the default: none)
     const FrontBudget rule = FrontBudget::following_lag();
     o.budget = rule;
     PmSession session(pm, options, o);

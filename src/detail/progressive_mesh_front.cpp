@@ -686,7 +686,8 @@ void AdaptiveFront::drain(std::size_t max_operations) {
 }
 
 FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
-                                 std::size_t max_operations) {
+                                 const FrontBudget& frame_budget) {
+    const std::size_t max_operations = frame_budget.for_backlog(backlog_);
     const auto t0 = std::chrono::steady_clock::now();
     FrontStats s;
     camera_ = &camera;

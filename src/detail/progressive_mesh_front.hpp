@@ -62,14 +62,16 @@ struct GeomorphOptions {
     double max_speedup = 8.0;
 };
 
-// A frame's operation budget that follows the lag (VDPM's regulation): `base` operations a frame,
-// raised by the backlog the last frame left (the vertices out of the band that could have changed
-// and were deferred) over `catch_up_frames` frames, never above `most`. So a sustained demand above
-// `base` is taken as it comes up to `most` (the bound on a frame's work), and what a frame defers
-// is made up within a few frames once the demand falls, instead of lagging the view for the rest
-// of the path as a fixed budget below the path's mean demand does. Operations counted as
-// AdaptiveFront::update's max_operations: splits, collapses, geomorph starts and ends (an end makes
-// its collapse: measured as costly as a start).
+// A frame's operation budget (VDPM's regulation), the front's one knob: `base` operations a
+// frame, raised by the backlog the last frame left (the vertices out of the band that could have
+// changed and were deferred) over `catch_up_frames` frames, never above `most`. A fixed budget is
+// base = most (`fixed(N)`: N a frame whatever the backlog); none is no budget (`none()`: every
+// vertex that can change does, in scan order). The rule that follows the lag (`following_lag()`)
+// takes a sustained demand above `base` as it comes, up to `most` (the bound on a frame's work),
+// and makes up what a frame defers within a few frames once the demand falls, instead of lagging
+// the view for the rest of the path as a fixed budget below the path's mean demand does.
+// Operations counted: splits, collapses, geomorph starts and ends (an end makes its collapse:
+// measured as costly as a start).
 struct FrontBudget {
     std::size_t base = SIZE_MAX;      // SIZE_MAX: no budget
     std::size_t catch_up_frames = 1;  // (at least 1)
@@ -81,10 +83,14 @@ struct FrontBudget {
     // (starts and ends alike), and the lag is made up well before the path's end.
     static FrontBudget following_lag() { return {500, 4, 800}; }
     bool budgeted() const { return base != SIZE_MAX; }
-    // The frame's budget after a frame that left `backlog` ready vertices deferred.
+    // The frame's budget after a frame that left `backlog` ready vertices deferred (SIZE_MAX: none).
     std::size_t for_backlog(std::size_t backlog) const {
         if (!budgeted()) return SIZE_MAX;
         return std::min(most, base + backlog / std::max<std::size_t>(1, catch_up_frames));
+    }
+    // At most `operations` a frame on top of this rule (a cap on base and most).
+    FrontBudget capped(std::size_t operations) const {
+        return {std::min(base, operations), catch_up_frames, std::min(most, operations)};
     }
 };
 
@@ -114,18 +120,13 @@ public:
 
     // One frame: evaluates the active vertices at `camera` and splits/collapses until no vertex
     // that can change is out of the band; with geomorphs, running morphs advance by
-    // `frame_seconds` first and collapses only start. `max_operations` is the frame's budget
-    // (VDPM's regulation, so the work a frame is bounded when many vertices leave the band at
-    // once): geomorphs ending and operations made count against it, the vertices are taken
-    // largest discrepancy from the band first, and the rest wait for the next frames' scans. With
-    // no budget (SIZE_MAX) they are taken in scan order.
+    // `frame_seconds` first and collapses only start. `budget` gives the frame's operations from
+    // the last frame's backlog (VDPM's regulation, so the work a frame is bounded when many
+    // vertices leave the band at once): geomorphs ending and operations made count against it,
+    // the vertices are taken largest discrepancy from the band first, and the rest wait for the
+    // next frames' scans. With none they are taken in scan order.
     FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds = 0.0,
-                      std::size_t max_operations = SIZE_MAX);
-    // The same with the frame's budget from `budget` and the last frame's backlog.
-    FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
-                      const FrontBudget& budget) {
-        return update(camera, criterion, frame_seconds, budget.for_backlog(backlog_));
-    }
+                      const FrontBudget& budget = FrontBudget::none());
     std::size_t backlog() const { return backlog_; }  // the last frame's (FrontStats::backlog)
 
     // The active front as a mesh: vertices in input order at their shown positions, faces in
