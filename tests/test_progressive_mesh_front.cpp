@@ -597,10 +597,9 @@ TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
     EXPECT_GT(s.deferred, 1000u);
 }
 
-// A session's frames take its budget rule (PmViewOptions::budget; none by default): with the
-// lag-following rule the first frame after settle has no backlog, so its budget is the base; a
-// jump that leaves thousands of collapses raises the next frame's by a quarter of the backlog, up
-// to the cap.
+// A session's frames take its budget rule (PmViewOptions::budget; by default the one that follows
+// the lag): the first frame after settle has no backlog, so its budget is the base; a jump that
+// leaves thousands of collapses raises the next frame's by a quarter of the backlog, up to the cap.
 TEST(AdaptiveFront, SessionFramesTakeTheLagFollowingBudget) {
     const ProgressiveMesh& pm = armadillo_pm();
     const Bounds3 box = bounds_of(pm.input());
@@ -610,9 +609,10 @@ TEST(AdaptiveFront, SessionFramesTakeTheLagFollowingBudget) {
     o.target_px = 3.0;
     o.geomorphs.enabled = true;
     o.input_self_intersects = false;  // (armadillo: none)
-    EXPECT_FALSE(o.budget.budgeted());  // (the default: none)
     const FrontBudget rule = FrontBudget::following_lag();
-    o.budget = rule;
+    EXPECT_EQ(o.budget.base, rule.base);  // (the default)
+    EXPECT_EQ(o.budget.catch_up_frames, rule.catch_up_frames);
+    EXPECT_EQ(o.budget.most, rule.most);
     PmSession session(pm, options, o);
     session.settle(dolly_orbit(box, 1.5, 0.0));
     session.render(dolly_orbit(box, 2.5, 0.0), 1.0 / 25.0);
