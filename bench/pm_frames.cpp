@@ -8,12 +8,13 @@
 //             [--whole[=FRAMES]] [--budget=N|lag|lag:BASE:FRAMES:MOST[,...]] [--per-frame]
 //   (defaults armadillo 3, both paths, both with and without geomorphs)
 //
-// --budget: a run for each of the front's budgets a frame: N a fixed one (AdaptiveFront::update's
-// max_operations; 0, the default: none), lag the sessions' lag-following one
+// --budget: a front for each of the front's budgets a frame, their frames interleaved: N a fixed
+// one (FrontBudget::fixed(N); 0, the default: none), lag the lag-following rule
 // (FrontBudget::following_lag), lag:BASE:FRAMES:MOST another such rule; with the frames that
-// deferred work and, at the last view held still, the frames until nothing is deferred;
-// --per-frame: one line a frame on stderr (ms, operations, deferred, backlog, budget, triangles,
-// RSS; with --whole: each session's frame ms, adaptation ms, triangles).
+// deferred work and, at the last view held still, the frames until nothing is
+// deferred; --per-frame: one line a frame on stderr ("run B frame K": the B-th budget's ms,
+// operations, deferred, backlog, budget, triangles, RSS; with --whole: each session's frame ms,
+// adaptation ms, triangles).
 //
 // --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
@@ -104,54 +105,67 @@ std::string budget_name(const FrontBudget& b) {
            std::to_string(b.most);
 }
 
-PathResult run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
-                    bool geomorphs, const FrontBudget& budget, bool per_frame) {
+// The front along a path, a front per budget, their frames interleaved (frame k of each, then
+// frame k + 1) so that a shared machine's load changes weigh on each alike.
+std::vector<PathResult> run_path(const ProgressiveMesh& pm, const MeshTopology& t, const DetailCriterion& c, bool dolly,
+                                 bool geomorphs, const std::vector<FrontBudget>& budgets, bool per_frame) {
     const int frames = dolly ? 140 : 120;
     const auto camera_at = [&](int k) {
         return dolly ? path_camera(t, std::pow(1.01, k), 0.0) : path_camera(t, 1.0, double(k));
     };
-    AdaptiveFront front(pm, GeomorphOptions{.enabled = geomorphs});
-    PathResult r;
-    const double c0 = thread_cpu_seconds();
-    for (int k = 0; k < 50; ++k) {  // converge at the first view (operations made at once there)
-        const FrontStats s = front.update(camera_at(0), c, 10.0);
-        if (s.splits + s.collapses + s.morphs_running == 0) break;
+    std::vector<std::unique_ptr<AdaptiveFront>> fronts;
+    std::vector<PathResult> results(budgets.size());
+    for (PathResult& r : results) {
+        fronts.push_back(std::make_unique<AdaptiveFront>(pm, GeomorphOptions{.enabled = geomorphs}));
+        AdaptiveFront& front = *fronts.back();
+        const double c0 = thread_cpu_seconds();
+        for (int k = 0; k < 50; ++k) {  // converge at the first view (operations made at once there)
+            const FrontStats s = front.update(camera_at(0), c, 10.0);
+            if (s.splits + s.collapses + s.morphs_running == 0) break;
+        }
+        r.converge_ms = (thread_cpu_seconds() - c0) * 1e3;
+        r.tri_first = front.active_faces();
+        r.bytes_first = r.bytes_most = front.bytes();
     }
-    r.converge_ms = (thread_cpu_seconds() - c0) * 1e3;
-    r.tri_first = front.active_faces();
-    r.bytes_first = r.bytes_most = front.bytes();
-    std::size_t deferring_run = 0;
-    for (int k = 1; k <= frames; ++k) {
-        const Camera cam = camera_at(k);
-        const double t0 = thread_cpu_seconds();
-        const FrontStats s = front.update(cam, c, 1.0 / 25.0, budget);
-        const double ms = (thread_cpu_seconds() - t0) * 1e3;
-        if (per_frame)
-            std::fprintf(stderr, "frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried %zu deferred "
-                         "%zu triangles %.0f MiB RSS %zu backlog %lld budget\n",
-                         k, ms, s.splits, s.collapses, s.morphs_started, s.morphs_ended, s.morphs_running, s.tried,
-                         s.deferred, s.triangles, status_mib("VmRSS"), s.backlog,
-                         s.budget == SIZE_MAX ? -1ll : (long long)s.budget);
-        deferring_run = s.deferred ? deferring_run + 1 : 0;
-        r.deferring_frames += s.deferred > 0;
-        r.longest_deferring = std::max(r.longest_deferring, deferring_run);
-        r.most_deferred = std::max(r.most_deferred, s.deferred);
-        r.ms.push_back(ms);
-        r.most_ms = std::max(r.most_ms, ms);
-        r.splits += s.splits;
-        r.collapses += s.collapses;
-        r.most_ops = std::max(r.most_ops, s.splits + s.collapses);
-        r.largest_move_px = std::max(r.largest_move_px, s.largest_move_px);
-        r.bytes_most = std::max(r.bytes_most, front.bytes());
+    std::vector<std::size_t> deferring_run(budgets.size(), 0);
+    for (int k = 1; k <= frames; ++k)
+        for (std::size_t b = 0; b < budgets.size(); ++b) {
+            AdaptiveFront& front = *fronts[b];
+            PathResult& r = results[b];
+            const Camera cam = camera_at(k);
+            const double t0 = thread_cpu_seconds();
+            const FrontStats s = front.update(cam, c, 1.0 / 25.0, budgets[b]);
+            const double ms = (thread_cpu_seconds() - t0) * 1e3;
+            if (per_frame)
+                std::fprintf(stderr, "run %zu frame %d %.3f ms: %zu splits %zu collapses %zu started %zu ended %zu running %zu tried "
+                             "%zu deferred %zu triangles %.0f MiB RSS %zu backlog %lld budget\n",
+                             b, k, ms, s.splits, s.collapses, s.morphs_started, s.morphs_ended, s.morphs_running, s.tried,
+                             s.deferred, s.triangles, status_mib("VmRSS"), s.backlog,
+                             s.budget == SIZE_MAX ? -1ll : (long long)s.budget);
+            deferring_run[b] = s.deferred ? deferring_run[b] + 1 : 0;
+            r.deferring_frames += s.deferred > 0;
+            r.longest_deferring = std::max(r.longest_deferring, deferring_run[b]);
+            r.most_deferred = std::max(r.most_deferred, s.deferred);
+            r.ms.push_back(ms);
+            r.most_ms = std::max(r.most_ms, ms);
+            r.splits += s.splits;
+            r.collapses += s.collapses;
+            r.most_ops = std::max(r.most_ops, s.splits + s.collapses);
+            r.largest_move_px = std::max(r.largest_move_px, s.largest_move_px);
+            r.bytes_most = std::max(r.bytes_most, front.bytes());
+        }
+    for (std::size_t b = 0; b < budgets.size(); ++b) {
+        AdaptiveFront& front = *fronts[b];
+        PathResult& r = results[b];
+        r.bytes_last = front.bytes();
+        r.frames = std::size_t(frames);
+        r.tri_last = front.active_faces();
+        r.last_mesh_hash = triangles_hash(front.mesh());
+        // (the last view held still: the frames until the budget leaves nothing for later)
+        for (std::size_t deferred = r.most_deferred ? 1 : 0; deferred && r.catch_up_frames < 200; ++r.catch_up_frames)
+            deferred = front.update(camera_at(frames), c, 1.0 / 25.0, budgets[b]).deferred;
     }
-    r.bytes_last = front.bytes();
-    r.frames = std::size_t(frames);
-    r.tri_last = front.active_faces();
-    r.last_mesh_hash = triangles_hash(front.mesh());
-    // (the last view held still: the frames until the budget leaves nothing for later)
-    for (std::size_t deferred = r.most_deferred ? 1 : 0; deferred && r.catch_up_frames < 200; ++r.catch_up_frames)
-        deferred = front.update(camera_at(frames), c, 1.0 / 25.0, budget).deferred;
-    return r;
+    return results;
 }
 
 double median(std::vector<double> v) {
@@ -355,12 +369,13 @@ int main(int argc, char** argv) {
                 "front B/vertex first -> last (most) |\n"
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const bool dolly : {true, false})
-        for (const bool geomorphs : {false, true})
-            for (const FrontBudget& budget : budgets) {
-                if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
-                if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
-                const PathResult r = run_path(pm, t, c, dolly, geomorphs, budget, per_frame);
-                const std::string budget_text = budget_name(budget);
+        for (const bool geomorphs : {false, true}) {
+            if (!only_path.empty() && only_path != (dolly ? "dolly" : "orbit")) continue;
+            if (!only_geomorphs.empty() && only_geomorphs != (geomorphs ? "on" : "off")) continue;
+            const std::vector<PathResult> results = run_path(pm, t, c, dolly, geomorphs, budgets, per_frame);
+            for (std::size_t b = 0; b < budgets.size(); ++b) {
+                const PathResult& r = results[b];
+                const std::string budget_text = budget_name(budgets[b]);
                 const double n = double(t.positions.size());
                 std::printf("| %s | %s | %s | %.0f | %zu -> %zu | %.0f, %zu | %.2f | %.2f | %.2f | %zu (%zu) | %zu | %016llx | "
                             "%.1f -> %.1f (%.1f) |\n",
@@ -370,8 +385,9 @@ int main(int argc, char** argv) {
                             r.largest_move_px, r.deferring_frames, r.longest_deferring, r.catch_up_frames,
                             static_cast<unsigned long long>(r.last_mesh_hash), double(r.bytes_first) / n,
                             double(r.bytes_last) / n, double(r.bytes_most) / n);
-                std::fflush(stdout);
             }
+            std::fflush(stdout);
+        }
     std::printf("\nRSS after the paths %.0f MiB, peak %.0f MiB\n", status_mib("VmRSS"), status_mib("VmHWM"));
     return 0;
 }

@@ -4,7 +4,8 @@
 # stored memory, triangles, splits and collapses, ms a frame, line density, coherence), then the
 # progressive mesh's incremental front on the 1 M-triangle models (bench/pm_frames: hierarchy and
 # multi-scale build and memory, adaptation ms a frame on one core along a slow dolly and an orbit,
-# without a budget a frame and with PmViewOptions' default of 500),
+# without a budget a frame, with a fixed 500 and with the sessions' default, the rule that follows
+# the lag),
 # then the whole pm frame by stage beside multi-scale's on the same cameras (pm_frames --whole).
 # Usage: bench/run_detail.sh [BUILD_DIR] [DATA_DIR]   (build the inkline and pm_frames targets first;
 # the 1 M-triangle runs take several minutes: the hierarchy build is OpenMesh's decimater)

@@ -212,8 +212,8 @@ double AdaptiveFront::image_area_of(std::uint32_t v, const Camera& camera) const
 }
 
 void AdaptiveFront::enqueue(std::uint32_t v) {
-    if (rec(v).queued) return;
-    rec(v).queued = 1;
+    if (rec(v).queued == frame16()) return;
+    rec(v).queued = frame16();
     work_.push_back(v);
 }
 
@@ -620,16 +620,17 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
 }
 
 // A budgeted frame takes the most visible errors first: the scan's candidates by their
-// discrepancy, largest first (ties by vertex, so the order is the same on every run). Only the
-// head that the budget can reach is sorted (twice the budget: some are refused); a backlog of
-// deferred vertices then costs a linear selection a frame, not a sort.
-void AdaptiveFront::enqueue_ranked(std::size_t budget) {
+// discrepancy, largest first (ties by vertex, so the order is the same on every run). Sorted a
+// chunk at a time as the drain reaches it (from `from`, twice the operations left: some are
+// refused), so a backlog of deferred candidates costs a linear selection a frame, not a sort.
+// Returns the chunk's end.
+std::size_t AdaptiveFront::rank_next(std::size_t from, std::size_t operations_left) {
     const auto before = [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
-    const auto head = ranked_.begin() + std::ptrdiff_t(std::min(ranked_.size(), 2 * std::min(budget, ranked_.size())));
-    std::nth_element(ranked_.begin(), head, ranked_.end(), before);
-    std::sort(ranked_.begin(), head, before);
-    for (const auto& [discrepancy, v] : ranked_) enqueue(v);
-    ranked_.clear();
+    const std::size_t end = from + std::min(ranked_.size() - from, 2 * std::max<std::size_t>(operations_left, 1));
+    const auto first = ranked_.begin() + std::ptrdiff_t(from), last = ranked_.begin() + std::ptrdiff_t(end);
+    if (end < ranked_.size()) std::nth_element(first, last, ranked_.end(), before);
+    std::sort(first, last, before);
+    return end;
 }
 
 std::pair<double, double> AdaptiveFront::area_and_target(std::size_t j) const {
@@ -650,25 +651,43 @@ bool AdaptiveFront::ready_to_change(std::uint32_t v) const {
     return a < criterion_->collapse * t && x.collapse_of != none && x.pending_children == 0;
 }
 
-std::size_t AdaptiveFront::drain(std::size_t max_operations) {
+// The ranked candidates in their order, then the worklist (the vertices whose rings changed and
+// that were not ranked: a ranked one is marked queued by the scan), until the budget runs out.
+void AdaptiveFront::drain(std::size_t max_operations) {
     // (each collapse record changes at most once a frame, so a frame ends; the cap is a backstop)
     max_operations = std::min(max_operations, 2 * changed_in_frame_.size() + 16);
-    std::size_t operations = 0, at = 0;
-    for (; at < work_.size() && operations < max_operations; ++at) {
-        const std::uint32_t v = work_[at];
+    std::size_t operations = 0, next = 0, sorted = 0, at = 0;
+    while (operations < max_operations) {
+        std::uint32_t v;
+        if (next < ranked_.size()) {
+            if (next == sorted) sorted = rank_next(next, max_operations - operations);
+            v = ranked_[next++].second;
+        } else if (at < work_.size()) {
+            v = work_[at++];
+        } else {
+            break;
+        }
         if (!dequeue(v)) continue;
         ++stats_->tried;
         if (try_split(v) || try_collapse(v)) ++operations;
     }
-    const std::size_t taken = at;
-    for (; at < work_.size(); ++at)  // the budget ran out: next frame
-        if (dequeue(work_[at]) && ready_to_change(work_[at])) ++stats_->backlog;
+    // The budget ran out: the rest waits for the next frames. The ranked candidates not reached
+    // were ready to change when the scan ranked them (it stamped those waiting on their children),
+    // so they are the backlog as the scan found them; the worklist's rest is tested again.
+    stats_->ranked = ranked_.size();
+    stats_->deferred = stats_->backlog = ranked_.size() - next;
+    for (; at < work_.size(); ++at)
+        if (dequeue(work_[at])) {
+            ++stats_->deferred;
+            stats_->backlog += ready_to_change(work_[at]);
+        }
     work_.clear();
-    return taken;
+    ranked_.clear();
 }
 
 FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
-                                 std::size_t max_operations) {
+                                 const FrontBudget& frame_budget) {
+    const std::size_t max_operations = frame_budget.for_backlog(backlog_);
     const auto t0 = std::chrono::steady_clock::now();
     FrontStats s;
     camera_ = &camera;
@@ -688,21 +707,28 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         // (ready_to_change repeats this test through area_and_target: keep the two the same)
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
-        const Vertex& v = vert_[j];  // out of the band: can it change? (the rest is cold memory)
+        Vertex& v = vert_[j];  // out of the band: can it change? (the rest is cold memory)
         if (v.locked || v.retry_at > frame_) continue;
         const bool split = a > criterion.split * t && v.last_collapse != none;
         if (!split && !(a < criterion.collapse * t && v.collapse_of != none)) continue;
-        if (budgeted)
-            ranked_.push_back({float(split ? a / (criterion.split * t) : criterion.collapse * t / a), v.id});
-        else
+        if (!budgeted) {
             enqueue(v.id);
+            continue;
+        }
+        // A collapse waiting on its children (Hoppe's tree order) is refused and stamped here as
+        // try_collapse would (a child's collapse clears the stamp), not ranked and left waiting
+        // every frame.
+        if (!split && v.pending_children != 0) {
+            v.retry_at = frame_ + retry_frames;
+            continue;
+        }
+        v.queued = frame16();  // (in the ranking: a change of its ring need not queue it again)
+        ranked_.push_back({float(split ? a / (criterion.split * t) : criterion.collapse * t / a), v.id});
     }
     s.evaluated = vert_.size();
     // (morphs that ended this frame made their collapses: they count against the budget)
     const std::size_t budget = budgeted ? max_operations - std::min(max_operations, s.morphs_ended) : max_operations;
-    if (budgeted) enqueue_ranked(budget);
-    const std::size_t candidates = work_.size(), taken = drain(budget);
-    s.deferred = budgeted && taken < candidates ? candidates - taken : 0;
+    drain(budget);
     s.budget = max_operations;
     backlog_ = s.backlog;
     trim_storage();

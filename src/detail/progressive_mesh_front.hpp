@@ -62,14 +62,16 @@ struct GeomorphOptions {
     double max_speedup = 8.0;
 };
 
-// A frame's operation budget that follows the lag (VDPM's regulation): `base` operations a frame,
-// raised by the backlog the last frame left (the vertices out of the band that could have changed
-// and were deferred) over `catch_up_frames` frames, never above `most`. So a sustained demand above
-// `base` is taken as it comes up to `most` (the bound on a frame's work), and what a frame defers
-// is made up within a few frames once the demand falls, instead of lagging the view for the rest
-// of the path as a fixed budget below the path's mean demand does. Operations counted as
-// AdaptiveFront::update's max_operations: splits, collapses, geomorph starts and ends (an end makes
-// its collapse: measured as costly as a start).
+// A frame's operation budget (VDPM's regulation), the front's one knob: `base` operations a
+// frame, raised by the backlog the last frame left (the vertices out of the band that could have
+// changed and were deferred) over `catch_up_frames` frames, never above `most`. A fixed budget is
+// base = most (`fixed(N)`: N a frame whatever the backlog); none is no budget (`none()`: every
+// vertex that can change does, in scan order). The rule that follows the lag (`following_lag()`)
+// takes a sustained demand above `base` as it comes, up to `most` (the bound on a frame's work),
+// and makes up what a frame defers within a few frames once the demand falls, instead of lagging
+// the view for the rest of the path as a fixed budget below the path's mean demand does.
+// Operations counted: splits, collapses, geomorph starts and ends (an end makes its collapse:
+// measured as costly as a start).
 struct FrontBudget {
     std::size_t base = SIZE_MAX;      // SIZE_MAX: no budget
     std::size_t catch_up_frames = 1;  // (at least 1)
@@ -81,10 +83,14 @@ struct FrontBudget {
     // (starts and ends alike), and the lag is made up well before the path's end.
     static FrontBudget following_lag() { return {500, 4, 800}; }
     bool budgeted() const { return base != SIZE_MAX; }
-    // The frame's budget after a frame that left `backlog` ready vertices deferred.
+    // The frame's budget after a frame that left `backlog` ready vertices deferred (SIZE_MAX: none).
     std::size_t for_backlog(std::size_t backlog) const {
         if (!budgeted()) return SIZE_MAX;
         return std::min(most, base + backlog / std::max<std::size_t>(1, catch_up_frames));
+    }
+    // At most `operations` a frame on top of this rule (a cap on base and most).
+    FrontBudget capped(std::size_t operations) const {
+        return {std::min(base, operations), catch_up_frames, std::min(most, operations)};
     }
 };
 
@@ -94,9 +100,13 @@ struct FrontStats {
     std::size_t evaluated = 0;               // vertices tested against the criterion
     std::size_t tried = 0;                   // vertices taken off the worklist and tried
     std::size_t morphs_ended = 0;            // geomorphs finished this frame (a collapse's made then)
-    std::size_t deferred = 0;                // out of the band, left for the next frames by the budget
-    // Of the deferred, those ready to change (a split, or a collapse whose children are all made:
-    // Hoppe's tree order), the lag a FrontBudget follows; and this frame's budget (SIZE_MAX: none).
+    // A budgeted frame's candidates from the scan: out of the band and ready to change (a split,
+    // or a collapse whose children are all made: Hoppe's tree order; the scan stamps the others).
+    std::size_t ranked = 0;
+    std::size_t deferred = 0;                // left untried for the next frames by the budget
+    // Of the deferred, those ready to change (the ranked ones as the scan found them, the vertices
+    // queued by this frame's changes tested again), the lag a FrontBudget follows; and this
+    // frame's budget (SIZE_MAX: none).
     std::size_t backlog = 0, budget = SIZE_MAX;
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
@@ -110,18 +120,13 @@ public:
 
     // One frame: evaluates the active vertices at `camera` and splits/collapses until no vertex
     // that can change is out of the band; with geomorphs, running morphs advance by
-    // `frame_seconds` first and collapses only start. `max_operations` is the frame's budget
-    // (VDPM's regulation, so the work a frame is bounded when many vertices leave the band at
-    // once): geomorphs ending and operations made count against it, the vertices are taken
-    // largest discrepancy from the band first, and the rest wait for the next frames' scans. With
-    // no budget (SIZE_MAX) they are taken in scan order.
+    // `frame_seconds` first and collapses only start. `budget` gives the frame's operations from
+    // the last frame's backlog (VDPM's regulation, so the work a frame is bounded when many
+    // vertices leave the band at once): geomorphs ending and operations made count against it,
+    // the vertices are taken largest discrepancy from the band first, and the rest wait for the
+    // next frames' scans. With none they are taken in scan order.
     FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds = 0.0,
-                      std::size_t max_operations = SIZE_MAX);
-    // The same with the frame's budget from `budget` and the last frame's backlog.
-    FrontStats update(const Camera& camera, const DetailCriterion& criterion, double frame_seconds,
-                      const FrontBudget& budget) {
-        return update(camera, criterion, frame_seconds, budget.for_backlog(backlog_));
-    }
+                      const FrontBudget& budget = FrontBudget::none());
     std::size_t backlog() const { return backlog_; }  // the last frame's (FrontStats::backlog)
 
     // The active front as a mesh: vertices in input order at their shown positions, faces in
@@ -172,7 +177,9 @@ private:
         // morph next to it clears the stamp; the stamp's length is only a backstop.
         std::uint32_t retry_at;
         std::uint16_t locked;            // geomorphs holding it
-        std::uint8_t queued;
+        // The frame it was queued in (frame16(); 0: not queued), so that a budgeted frame's
+        // candidates left untried need no pass to unmark them.
+        std::uint16_t queued;
     };
     std::vector<Vertex> vert_;
     // Per input vertex: its record's index when active, else tag | the collapse that removed it
@@ -214,7 +221,7 @@ private:
     std::vector<std::uint32_t> work_;  // input vertices
     std::size_t backlog_ = 0;          // the last frame's FrontStats::backlog
     // A budgeted frame's candidates from the scan with their discrepancy from the band (the
-    // factor by which the vertex's image area lies outside it), ranked before the worklist.
+    // factor by which the vertex's image area lies outside it), ranked and taken before the worklist.
     std::vector<std::pair<float, std::uint32_t>> ranked_;
     // Per front entry, beside vert_: the vertex's position and ring area, so that a frame's
     // evaluation streams through memory instead of missing the cache twice a vertex.
@@ -279,11 +286,11 @@ private:
     bool try_split(std::uint32_t k);
     void lock_ring(std::uint32_t r, int delta);
     void advance_morphs(double frame_seconds);
-    std::size_t drain(std::size_t max_operations);  // returns the worklist entries it took
+    void drain(std::size_t max_operations);
     // The scan's test of front entry j: its image area, and T there.
     std::pair<double, double> area_and_target(std::size_t j) const;
     bool ready_to_change(std::uint32_t v) const;  // a deferred vertex counted in the backlog
-    void enqueue_ranked(std::size_t budget);
+    std::size_t rank_next(std::size_t from, std::size_t operations_left);
 };
 
 }  // namespace inkline

@@ -15,15 +15,6 @@ PmViewOptions PmViewOptions::for_path(const Model& model, double target_px) {
     return o;
 }
 
-FrontBudget PmViewOptions::frame_budget() const {
-    FrontBudget b = budget;
-    if (max_operations != SIZE_MAX) {
-        b.base = std::min(b.base, max_operations);
-        b.most = std::min(b.most, max_operations);
-    }
-    return b;
-}
-
 PmSession::PmSession(const ProgressiveMesh& pm, const ViewOptions& options, const PmViewOptions& pm_options)
     : pm_(pm), options_(options), pm_options_(pm_options), front_(pm, pm_options.geomorphs) {}
 
@@ -68,7 +59,7 @@ double PmSession::update_frame(const Camera& camera, double frame_seconds, bool 
     };
     DetailCriterion criterion;
     criterion.target_area_px = pm_options_.target_px * pm_options_.target_px;
-    stats_ = front_.update(camera, criterion, frame_seconds, pm_options_.frame_budget());
+    stats_ = front_.update(camera, criterion, frame_seconds, pm_options_.budget);
     t.adapt = lap();
     TriangleMesh mesh = front_.mesh(&input_vertex_, &input_face_);
     t.mesh = lap();

@@ -25,21 +25,17 @@ struct PmViewOptions {
     double target_px = 0.0;      // --detail=PX: T = PX^2 square pixels
     double crease_degrees = 40.0;
     GeomorphOptions geomorphs;   // a path's frames: on; one converged drawing: off
-    // The front's budget a frame (FrontBudget: splits, collapses and geomorph starts and ends), so
-    // that when many vertices leave the band at once the work is spread over the next frames, most
-    // visible first, instead of stalling one frame; what is deferred is made up as the demand
-    // falls. settle() takes no budget (it converges).
+    // The front's budget a frame (FrontBudget: splits, collapses and geomorph starts and ends;
+    // FrontBudget::fixed(N) for a hard N a frame), so that when many vertices leave the band at
+    // once the work is spread over the next frames, most visible first, instead of stalling one
+    // frame; what is deferred is made up as the demand falls. settle() takes no budget (it
+    // converges).
     FrontBudget budget = default_budget();
-    // A fixed cap on top of `budget` (SIZE_MAX: none), e.g. a program that wants a hard bound.
-    std::size_t max_operations = default_max_operations;
-    static constexpr std::size_t default_max_operations = SIZE_MAX;
-    // None: FrontBudget::following_lag() bounds the front's operations a frame (800) and follows
-    // the view, but its bookkeeping of the deferred candidates (10 000-24 000 a frame on the
-    // 1 M-triangle dolly) cost as much front time as it saved, and the whole frame is the
-    // unbudgeted one's (docs/progressive_mesh.md, "A budget that follows the lag").
-    static FrontBudget default_budget() { return FrontBudget::none(); }
-    // The frame budget the session gives the front.
-    FrontBudget frame_budget() const;
+    // The rule that follows the lag: on the 1 M-triangle slow dolly it bounds the front's worst
+    // frame (800 operations) where an unbudgeted front's peak frames take twice that, costs less
+    // over the path, and the mesh follows the view (docs/progressive_mesh.md, "A budget that
+    // follows the lag").
+    static FrontBudget default_budget() { return FrontBudget::following_lag(); }
     bool smoothing = true;       // section 3.3, over smoothing_seconds to smoothing_alpha of the way
     double smoothing_seconds = 0.8, smoothing_alpha = 0.9;
     // Whether the input intersects itself (Model::self_intersections().flagged > 0). When it does
