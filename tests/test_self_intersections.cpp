@@ -1,6 +1,7 @@
 // self_intersecting_faces (src/model/self_intersections.cpp: float boxes and our own pair test)
 // against CGAL's Polygon_mesh_processing::self_intersections on a Surface_mesh copy, the
-// reference: the same faces, exactly, on constructed cases with touching and overlapping faces
+// reference: the same faces, exactly (and the same cuts as CGAL's intersection makes on every edge
+// and face, against the cuts the filters settle first), on constructed cases with touching and overlapping faces
 // (shared edge folded flat, shared vertex, coincident faces, crossing boxes), on crumpled
 // spheres that intersect themselves in many ways, and on real meshes.
 #include <gtest/gtest.h>
@@ -59,7 +60,12 @@ std::size_t expect_same(const TriangleMesh& m, const std::string& what) {
         if (ours[f] != ref[f] && ++differ <= 5) ADD_FAILURE() << what << ": face " << f << " ours " << int(ours[f]) << " CGAL " << int(ref[f]);
     }
     EXPECT_EQ(differ, 0u) << what;
-    EXPECT_EQ(inkline::self_intersections(t).flagged, flagged) << what;  // (Model::pierced_faces reads it)
+    const inkline::SelfIntersections got = inkline::self_intersections(t);
+    EXPECT_EQ(got.flagged, flagged) << what;  // (Model::pierced_faces reads it)
+    // The cuts the filters settle first are CGAL's own (every edge and face given to it).
+    const inkline::SelfIntersections cgal_cuts =
+        inkline::self_intersections(t, 1, inkline::PatchTest::kEmbeddedPatchesSkipped, inkline::CutConstruction::kCgalOnly);
+    inkline::test::expect_same_self_intersections(got, cgal_cuts, what + ", cuts by CGAL alone");
     return flagged;
 }
 

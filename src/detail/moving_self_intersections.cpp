@@ -1,6 +1,7 @@
 #include "detail/moving_self_intersections.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace inkline {
@@ -33,6 +34,12 @@ public:
         }
         size /= double(boxes_.size());
         const glm::dvec3 extent = all_.hi - all_.lo;
+        // At most about two cells a box: moving faces scattered over the whole model would
+        // otherwise ask for a million cells, whose zeroing and prefix sum cost more than the pairs.
+        const double most_cells = 2.0 * double(boxes_.size());
+        double cells = 1.0;
+        for (int k = 0; k < 3; ++k) cells *= size > 0.0 ? std::clamp(std::ceil(extent[k] / size), 1.0, 128.0) : 1.0;
+        if (cells > most_cells) size *= std::cbrt(cells / most_cells);
         for (int k = 0; k < 3; ++k) {
             dims_[k] = size > 0.0 ? int(std::clamp(std::ceil(extent[k] / size), 1.0, 128.0)) : 1;
             scale_[k] = extent[k] > 0.0 ? dims_[k] / extent[k] : 0.0;
@@ -45,17 +52,24 @@ public:
         for_cells(boxes_, [&](std::uint32_t i, std::size_t c) { items_[fill[c]++] = i; });
     }
 
-    bool meets_any(const Box& b) const {
-        if (!b.meets(all_)) return false;
+    // fn(i) for each box i that meets b, once each: in the one cell that holds the lower corner of
+    // the two boxes' overlap (it lies in both boxes, so both are listed there).
+    template <class Fn>
+    void for_each_meeting(const Box& b, Fn&& fn) const {
+        if (!b.meets(all_)) return;
         const auto [lo, hi] = cell_range(b);
         for (int z = lo[2]; z <= hi[2]; ++z)
             for (int y = lo[1]; y <= hi[1]; ++y)
                 for (int x = lo[0]; x <= hi[0]; ++x) {
                     const std::size_t c = cell(x, y, z);
-                    for (std::uint32_t k = begin_[c]; k < begin_[c + 1]; ++k)
-                        if (b.meets(boxes_[items_[k]])) return true;
+                    for (std::uint32_t k = begin_[c]; k < begin_[c + 1]; ++k) {
+                        const Box& o = boxes_[items_[k]];
+                        if (!b.meets(o)) continue;
+                        const glm::dvec3 corner = glm::max(b.lo, o.lo);
+                        if (clamp_cell(corner.x, 0) == x && clamp_cell(corner.y, 1) == y && clamp_cell(corner.z, 2) == z)
+                            fn(items_[k]);
+                    }
                 }
-        return false;
     }
 
 private:
@@ -85,111 +99,44 @@ private:
     }
 };
 
-// Per face: 1 for a face whose box meets a moving face's box (2 for a moving face).
-std::vector<std::uint8_t> candidates(const MeshTopology& mesh, const std::vector<std::uint8_t>& moved_vertex,
-                                     MovingSearchStats& stats) {
+// The moving faces (with a moved corner), and each pair of a moving face and a face whose box
+// meets its own, once (two moving faces: listed when the lower one is streamed).
+void candidate_pairs(const MeshTopology& mesh, const std::vector<std::uint8_t>& moved_vertex, std::vector<std::uint32_t>& moving,
+                     std::vector<std::array<std::uint32_t, 2>>& pairs) {
     const std::size_t nf = mesh.face_count();
-    std::vector<std::uint8_t> out(nf, 0);
-    std::vector<Box> moving;
+    std::vector<std::uint8_t> is_moving(nf, 0);
+    std::vector<Box> boxes;
     for (std::uint32_t f = 0; f < nf; ++f) {
         const auto& t = mesh.faces[f];
         if (moved_vertex[t[0]] || moved_vertex[t[1]] || moved_vertex[t[2]]) {
-            out[f] = 2;
-            moving.push_back(face_box(mesh, f));
+            is_moving[f] = 1;
+            moving.push_back(f);
+            boxes.push_back(face_box(mesh, f));
         }
     }
-    stats.moving_faces = moving.size();
-    if (moving.empty()) return out;
-    const MovingGrid grid(std::move(moving));
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (!out[f] && grid.meets_any(face_box(mesh, f))) out[f] = 1;
-    return out;
-}
-
-// The faces marked in `take`, as a mesh of its own (faces in the mesh's order, corners in theirs),
-// with each of its faces' and vertices' numbers in the mesh; with `across`, also the faces across
-// their edges, so that each marked face's edges keep the orientation and faces they have in the
-// mesh (the cuts depend on them).
-struct SubMesh {
-    MeshTopology topology;
-    std::vector<std::uint32_t> face, vertex;
-};
-
-SubMesh sub_mesh(const MeshTopology& mesh, std::vector<std::uint8_t>& take, bool across) {
-    const std::size_t nf = mesh.face_count();
-    if (across)
-        for (std::uint32_t f = 0; f < nf; ++f)
-            if (take[f] == 1)
-                for (const std::uint32_t g : mesh.face_edges[f].face)
-                    if (g != kNoFace && !take[g]) take[g] = 2;
-    SubMesh s;
-    TriangleMesh m;
-    std::vector<std::uint32_t> index(mesh.vertex_count(), UINT32_MAX);
-    for (std::uint32_t f = 0; f < nf; ++f)
-        if (take[f]) {
-            s.face.push_back(f);
-            for (const std::uint32_t v : mesh.faces[f]) index[v] = 0;
-        }
-    for (std::uint32_t v = 0; v < index.size(); ++v)
-        if (index[v] == 0) {
-            index[v] = std::uint32_t(s.vertex.size());
-            s.vertex.push_back(v);
-            m.positions.push_back(mesh.positions[v]);
-        }
-    m.triangles.reserve(s.face.size());
-    for (const std::uint32_t f : s.face) {
-        const auto& t = mesh.faces[f];
-        m.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
-    }
-    s.topology = build_topology(std::move(m), mesh.crease_degrees);
-    return s;
+    if (moving.empty()) return;
+    const MovingGrid grid(std::move(boxes));
+    for (std::uint32_t g = 0; g < nf; ++g)
+        grid.for_each_meeting(face_box(mesh, g), [&](std::uint32_t i) {
+            const std::uint32_t f = moving[i];
+            if (f != g && (!is_moving[g] || g < f)) pairs.push_back({f, g});
+        });
 }
 
 }  // namespace
 
 SelfIntersections self_intersections_of_moving(const MeshTopology& mesh, const std::vector<std::uint8_t>& moved_vertex,
                                                MovingSearchStats* stats) {
-    MovingSearchStats local;
-    MovingSearchStats& st = stats ? *stats : local;
-    st = {};
-    SelfIntersections out;
-    out.faces.assign(mesh.face_count(), 0);
-    std::vector<std::uint8_t> take = candidates(mesh, moved_vertex, st);
-    if (st.moving_faces == 0) return out;
-    for (std::uint8_t& c : take) c = c != 0;
-    st.candidate_faces = std::size_t(std::count(take.begin(), take.end(), std::uint8_t(1)));
-    // Two passes: the candidates' flags first (no pair list, no cuts: the cheap part of the search),
-    // then the pairs and cuts among the flagged faces only (both faces of a pair are flagged).
-    {
-        const SubMesh s = sub_mesh(mesh, take, false);
-        const std::vector<std::uint8_t> flags = self_intersecting_faces(s.topology);
-        std::fill(take.begin(), take.end(), 0);
-        for (std::uint32_t f = 0; f < flags.size(); ++f) take[s.face[f]] = flags[f];
+    std::vector<std::uint32_t> moving;
+    std::vector<std::array<std::uint32_t, 2>> pairs;
+    candidate_pairs(mesh, moved_vertex, moving, pairs);
+    if (stats) {
+        std::vector<std::uint8_t> met(mesh.face_count(), 0);
+        for (const auto& [f, g] : pairs) met[f] = met[g] = 1;
+        for (const std::uint32_t f : moving) met[f] = 1;
+        *stats = {moving.size(), std::size_t(std::count(met.begin(), met.end(), std::uint8_t(1))), pairs.size()};
     }
-    if (std::find(take.begin(), take.end(), std::uint8_t(1)) == take.end()) return out;
-    const SubMesh s = sub_mesh(mesh, take, true);
-    st.searched_faces = s.face.size();
-    const MeshTopology& sub = s.topology;
-    const SelfIntersections found = self_intersections(sub);
-    for (std::uint32_t f = 0; f < found.faces.size(); ++f)
-        if (found.faces[f]) out.faces[s.face[f]] = 1;
-    out.flagged = found.flagged;
-    out.pairs.reserve(found.pairs.size());
-    for (const auto& [f, g] : found.pairs) out.pairs.push_back({s.face[f], s.face[g]});
-    out.cuts.reserve(found.cuts.size());
-    for (const EdgeCut& c : found.cuts) {
-        // The edge as the corner of its first face, in both meshes (corners are kept in order).
-        const std::uint32_t fs = sub.edge_face[c.edge][0];
-        int j = 0;
-        while (sub.face_edges[fs].edge[j] != c.edge) ++j;
-        const std::uint32_t e = mesh.face_edges[s.face[fs]].edge[j];
-        // A candidate's edges run as in the mesh (both faces kept); only an edge of a face across
-        // one, met by a pair the embedded assumption excludes, can run the other way.
-        const bool same = s.vertex[sub.edge_vertex[c.edge][0]] == mesh.edge_vertex[e][0];
-        out.cuts.push_back({e, same ? c.s : 1.0 - c.s});
-    }
-    std::sort(out.cuts.begin(), out.cuts.end());
-    return out;
+    return self_intersections_among(mesh, moving, pairs);
 }
 
 }  // namespace inkline

@@ -12,15 +12,17 @@
 // (intersection lines chain them in the full search's order: a view that draws them takes the
 // full search).
 //
-// How: the moving faces' boxes in a uniform grid, every face's box streamed through it
-// (O(faces + candidate pairs)); the candidates copied into a small mesh (same order, same
-// corners) and searched by the model's own exact search (model/self_intersections.hpp) for their
-// flags only; then the flagged faces (both faces of a pair are flagged), with the faces across
-// their edges so that each keeps its edges' orientation and neighbours (the cuts depend on them),
-// searched again for the pairs and cuts; the results mapped back. Most of the cost is the exact
-// predicates and cut constructions on the moving faces (slivers early in a split's morph), so it
-// follows the number of moving faces, which a steady inward dolly makes a large share of the mesh
-// (docs/progressive_mesh.md, Benchmarks).
+// How: the moving faces' boxes in a uniform grid, every face's box streamed through it, each pair
+// of a moving face and a face whose box meets its own listed once (O(faces + candidate pairs));
+// those pairs tested exactly and the cuts of the intersecting ones constructed on the mesh itself,
+// by the model's own search (model/self_intersections.hpp: self_intersections_among), so that they
+// are the full search's bit for bit. Pairs of two unmoved faces are never tested: where the mesh
+// at its own positions is not embedded after all (a coarse front's faces can cut into each other),
+// such a pair is missed, as the earlier search of the candidates' submesh missed those away from
+// moving faces (docs/progressive_mesh.md: measured, and what would find them). The cost follows
+// the number of moving faces (about 13 candidate pairs each, mostly the faces around their
+// corners), which a steady inward dolly makes a large share of the mesh (docs/progressive_mesh.md,
+// Benchmarks).
 #pragma once
 
 #include <cstddef>
@@ -34,7 +36,7 @@ namespace inkline {
 struct MovingSearchStats {
     std::size_t moving_faces = 0;     // faces with a moved corner
     std::size_t candidate_faces = 0;  // faces whose box meets a moving face's box (moving ones included)
-    std::size_t searched_faces = 0;   // the faces flagged among them and the faces across their edges
+    std::size_t candidate_pairs = 0;  // pairs of a moving face and a face whose box meets its own, tested exactly
 };
 
 SelfIntersections self_intersections_of_moving(const MeshTopology& mesh, const std::vector<std::uint8_t>& moved_vertex,

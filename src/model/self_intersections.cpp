@@ -782,57 +782,142 @@ std::vector<FaceData> faces_of(const MeshTopology& mesh) {
     return faces_of(SearchInput{mesh.positions.data(), mesh.faces.data(), mesh.face_count(), mesh.vertex_count()});
 }
 
-// Where edge e meets triangle f (not one of e's faces): the parameter of the point, or of the
-// ends of the shared stretch, except at an end vertex that f shares (no event there).
-void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, std::vector<EdgeCut>& cuts) {
+// Where segment E0E1 meets the triangle `face`, as far as filters can tell without a construction.
+// kNothing: both ends strictly on one side of its plane (the float filter). kEnd0 (kEnd1): that end
+// at one of its corners (the same vertex, or another one at the same position: a geomorph's vertex
+// on its parent) and the other end strictly off its plane (the filter, else one exact orientation,
+// which also proves the triangle proper): the segment meets the triangle there and only there, and
+// CGAL's intersection is that end itself (s exactly 0 or 1). kOpen: anything else, left to CGAL.
+// CGAL's predicates in the settled cases are degenerate (an end at a corner lies on every plane
+// through it), so its filtered kernel takes exact arithmetic on each: the dear case of cut_edge.
+enum class Meet { kNothing, kEnd0, kEnd1, kOpen };
+
+Meet meet_by_filters(const FaceData& face, const glm::dvec3& E0, const glm::dvec3& E1) {
+    const bool at0 = E0 == face.p[0] || E0 == face.p[1] || E0 == face.p[2];
+    const bool at1 = E1 == face.p[0] || E1 == face.p[1] || E1 == face.p[2];
+    if (at0 != at1) {
+        const glm::dvec3& other = at0 ? E1 : E0;
+        const bool off = side_if_certain(face, other) != 0 ||
+                         CGAL::orientation(cgal(face.p[0]), cgal(face.p[1]), cgal(face.p[2]), cgal(other)) != CGAL::COPLANAR;
+        return !off ? Meet::kOpen : at0 ? Meet::kEnd0 : Meet::kEnd1;
+    }
+    if (at0) return Meet::kOpen;
+    const int side = side_if_certain(face, E0);
+    return side != 0 && side_if_certain(face, E1) == side ? Meet::kNothing : Meet::kOpen;
+}
+
+// Where edge e meets triangle f (not one of e's faces; `face` its FaceData): the parameter of the
+// point, or of the ends of the shared stretch, except at an end vertex that f shares (no event
+// there). kFilteredFirst settles the cases meet_by_filters can; kCgalOnly leaves all to CGAL.
+void cut_edge(const MeshTopology& mesh, std::uint32_t e, std::uint32_t f, const FaceData& face, CutConstruction how,
+              std::vector<EdgeCut>& cuts) {
     const auto [v0, v1] = mesh.edge_vertex[e];
     const auto& t = mesh.faces[f];
     const glm::dvec3 E0 = mesh.positions[v0], E1 = mesh.positions[v1];
-    const K::Segment_3 seg(cgal(E0), cgal(E1));
-    const K::Triangle_3 tri(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
-    if (seg.is_degenerate() || tri.is_degenerate() || !CGAL::do_intersect(seg, tri)) return;
-    const auto x = CGAL::intersection(seg, tri);
-    if (!x) return;
+    const bool shares0 = std::find(t.begin(), t.end(), v0) != t.end(), shares1 = std::find(t.begin(), t.end(), v1) != t.end();
     const glm::dvec3 d = E1 - E0;
     const double dd = glm::dot(d, d);
-    const bool shares0 = std::find(t.begin(), t.end(), v0) != t.end(), shares1 = std::find(t.begin(), t.end(), v1) != t.end();
-    auto add = [&](const K::Point_3& p) {
-        const double s = std::clamp(glm::dot(glm::dvec3(p.x(), p.y(), p.z()) - E0, d) / dd, 0.0, 1.0);
+    auto add = [&](const glm::dvec3& p) {
+        const double s = std::clamp(glm::dot(p - E0, d) / dd, 0.0, 1.0);
         // A rounded construction can come out NaN on nearly degenerate pairs (4 cuts of
         // AC14-FZK-Haus.ifc); a NaN cut hung the visibility's curve cutting (no order, no progress).
         if (std::isnan(s)) return;
         if ((s == 0.0 && shares0) || (s == 1.0 && shares1)) return;
         cuts.push_back({e, s});
     };
-    if (const K::Point_3* p = boost::get<K::Point_3>(&*x)) add(*p);
-    else if (const K::Segment_3* q = boost::get<K::Segment_3>(&*x)) add(q->source()), add(q->target());
+    if (how == CutConstruction::kFilteredFirst) switch (meet_by_filters(face, E0, E1)) {
+        case Meet::kNothing: return;
+        case Meet::kEnd0: add(E0); return;
+        case Meet::kEnd1: add(E1); return;
+        case Meet::kOpen: break;
+    }
+    const K::Segment_3 seg(cgal(E0), cgal(E1));
+    const K::Triangle_3 tri(cgal(mesh.positions[t[0]]), cgal(mesh.positions[t[1]]), cgal(mesh.positions[t[2]]));
+    if (seg.is_degenerate() || tri.is_degenerate() || !CGAL::do_intersect(seg, tri)) return;
+    const auto x = CGAL::intersection(seg, tri);
+    if (!x) return;
+    const auto at = [](const K::Point_3& p) { return glm::dvec3(p.x(), p.y(), p.z()); };
+    if (const K::Point_3* p = boost::get<K::Point_3>(&*x)) add(at(*p));
+    else if (const K::Segment_3* q = boost::get<K::Segment_3>(&*x)) add(at(q->source())), add(at(q->target()));
 }
 
 }  // namespace
 
 namespace {
+// Where the edges of each face of the intersecting pair meet the other face (then sort_cuts: the
+// cuts sorted, repeats dropped, whatever order the pairs came in).
+void add_cuts(const MeshTopology& mesh, const std::array<std::uint32_t, 2>& pair, CutConstruction how,
+              std::vector<EdgeCut>& cuts) {
+    const SearchInput in{mesh.positions.data(), mesh.faces.data(), mesh.face_count()};
+    for (int k = 0; k < 2; ++k) {
+        const std::uint32_t f = pair[k], g = pair[1 - k];
+        const auto& fe = mesh.face_edges[f];
+        const FaceData face = face_data(in, g);
+        for (int j = 0; j < 3; ++j)
+            if (fe.face[j] != g) cut_edge(mesh, fe.edge[j], g, face, how, cuts);  // (not an edge of both)
+    }
+}
+
+void sort_cuts(std::vector<EdgeCut>& cuts) {
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end(), [](const EdgeCut& a, const EdgeCut& b) { return a.edge == b.edge && a.s == b.s; }),
+               cuts.end());
+}
+
 // The result on `mesh` (the faces the search read) from the search's flags and pairs.
-SelfIntersections assemble(const MeshTopology& mesh, PairSearch& search, const std::vector<std::uint64_t>& found) {
+SelfIntersections assemble(const MeshTopology& mesh, PairSearch& search, const std::vector<std::uint64_t>& found,
+                           CutConstruction how = CutConstruction::kFilteredFirst) {
     SelfIntersections si;
     si.faces = std::move(search.flags());
     for (const std::uint64_t k : found) si.faces[k >> 32] = si.faces[std::uint32_t(k)] = 1;
     list_pairs_in_cgal_order(search.columns(), found, [&](std::uint32_t fa, std::uint32_t fb) {
         si.pairs.push_back({fa, fb});
-        for (int k = 0; k < 2; ++k) {
-            const std::uint32_t f = k ? fb : fa, g = k ? fa : fb;
-            const auto& fe = mesh.face_edges[f];
-            for (int j = 0; j < 3; ++j)
-                if (fe.face[j] != g) cut_edge(mesh, fe.edge[j], g, si.cuts);  // (not an edge of both)
-        }
+        add_cuts(mesh, {fa, fb}, how, si.cuts);
     });
-    std::sort(si.cuts.begin(), si.cuts.end());
-    si.cuts.erase(std::unique(si.cuts.begin(), si.cuts.end(),
-                              [](const EdgeCut& a, const EdgeCut& b) { return a.edge == b.edge && a.s == b.s; }),
-                  si.cuts.end());
+    sort_cuts(si.cuts);
     si.flagged = std::size_t(std::count(si.faces.begin(), si.faces.end(), std::uint8_t(1)));
     return si;
 }
 }  // namespace
+
+SelfIntersections self_intersections_among(const MeshTopology& mesh, const std::vector<std::uint32_t>& suspects,
+                                           const std::vector<std::array<std::uint32_t, 2>>& candidates) {
+    const SearchInput in{mesh.positions.data(), mesh.faces.data(), mesh.face_count()};
+    SelfIntersections si;
+    si.faces.assign(mesh.face_count(), 0);
+    // Per face met: its FaceData's slot in `data` (read once, then by every pair), and whether it
+    // is degenerate (flagged and tested against nothing, as face_boxes leaves it out of the search).
+    std::vector<std::uint32_t> slot(mesh.face_count(), UINT32_MAX);
+    std::vector<FaceData> data;
+    std::vector<std::uint8_t> degenerate;
+    const auto at = [&](std::uint32_t f) -> std::uint32_t {
+        if (slot[f] == UINT32_MAX) {
+            slot[f] = std::uint32_t(data.size());
+            const FaceData& d = data.emplace_back(face_data(in, f));
+            const bool flat = !certainly_proper(d) && CGAL::collinear(cgal(d.p[0]), cgal(d.p[1]), cgal(d.p[2]));
+            degenerate.push_back(flat);
+            if (flat) si.faces[f] = 1;
+        }
+        return slot[f];
+    };
+    for (const std::uint32_t f : suspects) at(f);
+    std::vector<std::uint64_t> found;
+    for (const auto& [f, g] : candidates) {
+        const std::uint32_t a = at(f), b = at(g);
+        if (!degenerate[a] && !degenerate[b] && faces_intersect(data[a], data[b])) found.push_back(pair_key(f, g));
+    }
+    std::sort(found.begin(), found.end());
+    si.pairs.reserve(found.size());
+    for (const std::uint64_t k : found) {
+        const std::array<std::uint32_t, 2> pair{std::uint32_t(k >> 32), std::uint32_t(k)};
+        si.faces[pair[0]] = si.faces[pair[1]] = 1;
+        si.pairs.push_back(pair);
+        add_cuts(mesh, pair, CutConstruction::kFilteredFirst, si.cuts);
+    }
+    sort_cuts(si.cuts);
+    si.flagged = std::size_t(std::count(si.faces.begin(), si.faces.end(), std::uint8_t(1)));
+    return si;
+}
 
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
     PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads), PatchTest::kEmbeddedPatchesSkipped);
@@ -843,10 +928,10 @@ std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int 
     return out;
 }
 
-SelfIntersections self_intersections(const MeshTopology& mesh, int threads, PatchTest patch_test) {
+SelfIntersections self_intersections(const MeshTopology& mesh, int threads, PatchTest patch_test, CutConstruction cuts) {
     PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads), patch_test);
     run_workers(search);
-    return assemble(mesh, search, search.collect());
+    return assemble(mesh, search, search.collect(), cuts);
 }
 
 struct EarlySelfIntersections::Impl {

@@ -46,9 +46,28 @@ std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int 
 // tests' reference).
 enum class PatchTest { kEmbeddedPatchesSkipped, kEveryBoxPair };
 
+// How the cuts are made. By default the cases that filters settle without a construction go first
+// (an edge whose ends are strictly on one side of the face; an edge with one end at a corner of the
+// face, or at its position, and the other strictly off its plane: the cut is that end or none);
+// kCgalOnly gives every edge and face to CGAL's intersection (the same cuts, slower: the tests'
+// reference).
+enum class CutConstruction { kFilteredFirst, kCgalOnly };
+
 // The same faces, and where their edges meet the other faces of each intersecting pair (exact
 // predicates decide which edges meet which faces; the points are constructions, rounded).
 SelfIntersections self_intersections(const MeshTopology& mesh, int threads = 1,
-                                     PatchTest patch_test = PatchTest::kEmbeddedPatchesSkipped);
+                                     PatchTest patch_test = PatchTest::kEmbeddedPatchesSkipped,
+                                     CutConstruction cuts = CutConstruction::kFilteredFirst);
+
+// The same from candidate pairs of faces, for a mesh known to intersect itself only in some of
+// them (e.g. a mesh embedded but for a few moved vertices: the pairs of each face with a moved
+// corner and the faces whose boxes meet its own; detail/moving_self_intersections.hpp). Each
+// candidate pair (f != g, each pair once, in either order) is tested exactly as the search above
+// tests it, and the faces of `suspects` and of the pairs are checked for degeneracy. Gives what
+// self_intersections gives when the mesh's intersecting pairs are all among the candidates and
+// its degenerate faces all among those faces: flags and cuts bit for bit (the same cut
+// constructions on the same mesh), the pairs the same set, sorted, (f, g) with f < g.
+SelfIntersections self_intersections_among(const MeshTopology& mesh, const std::vector<std::uint32_t>& suspects,
+                                           const std::vector<std::array<std::uint32_t, 2>>& candidates);
 
 }  // namespace inkline
