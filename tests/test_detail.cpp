@@ -552,6 +552,33 @@ TEST(MultiscaleCache, WrittenOnceReadBackRebuiltWhenBad) {
     EXPECT_EQ(files, 7u);
 }
 
+// A --cache command's round (`args` without -o): the first run builds and writes the file (its
+// report says so), the second reads it (no warning) and draws the same lines; with every file in
+// the cache cut to 100 bytes, a run warns once (a checksum) and draws the same again.
+void check_cache_round(const std::string& args, const std::filesystem::path& dir, const std::string& cache) {
+    using inkline_test::run_inkline;
+    const auto built = run_inkline("", args + " -o " + (dir / "a.json").string(), dir);
+    ASSERT_EQ(built.code, 0) << built.err;
+    EXPECT_NE(built.out.find("(built, cached as " + cache), std::string::npos) << built.out;
+    const auto read = run_inkline("", args + " -o " + (dir / "b.json").string(), dir);
+    ASSERT_EQ(read.code, 0) << read.err;
+    EXPECT_NE(read.out.find("(read from " + cache), std::string::npos) << read.out;
+    EXPECT_EQ(read.err, "");
+    const auto polylines = [](const std::filesystem::path& p) {
+        std::ifstream in(p);
+        const std::string j((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        return j.substr(j.find("\"polylines\""));
+    };
+    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "b.json"));
+    for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 100);
+    const auto rebuilt = run_inkline("", args + " -o " + (dir / "c.json").string(), dir);
+    ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
+    EXPECT_EQ(std::count(rebuilt.err.begin(), rebuilt.err.end(), '\n'), 1) << rebuilt.err;
+    EXPECT_NE(rebuilt.err.find("inkline: warning: --cache: " + cache), std::string::npos) << rebuilt.err;
+    EXPECT_NE(rebuilt.err.find("checksum"), std::string::npos) << rebuilt.err;
+    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "c.json"));
+}
+
 // The command: --cache needs --detail; the second run reads the levels; a corrupt file gives one
 // warning line and the same drawing.
 TEST(MultiscaleCache, Command) {
@@ -562,30 +589,7 @@ TEST(MultiscaleCache, Command) {
     const auto bad = run_inkline("", "render " + elephant + " --cache=" + cache + " -o " + (dir / "x.json").string(), dir);
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--cache needs --detail=PX"), std::string::npos) << bad.err;
-    const std::string args = "render " + elephant + " --detail=8 --cache=" + cache + " -o ";
-    const auto built = run_inkline("", args + (dir / "a.json").string(), dir);
-    ASSERT_EQ(built.code, 0) << built.err;
-    EXPECT_NE(built.out.find("(built, cached as " + cache), std::string::npos) << built.out;
-    const auto read = run_inkline("", args + (dir / "b.json").string(), dir);
-    ASSERT_EQ(read.code, 0) << read.err;
-    EXPECT_NE(read.out.find("(read from " + cache), std::string::npos) << read.out;
-    EXPECT_EQ(read.err, "");
-    const auto slurp = [](const std::filesystem::path& p) {
-        std::ifstream in(p);
-        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    };
-    const auto polylines = [&](const std::filesystem::path& p) {
-        const std::string j = slurp(p);
-        return j.substr(j.find("\"polylines\""));
-    };
-    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "b.json"));
-    for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 1000);
-    const auto rebuilt = run_inkline("", args + (dir / "c.json").string(), dir);
-    ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
-    EXPECT_EQ(std::count(rebuilt.err.begin(), rebuilt.err.end(), '\n'), 1) << rebuilt.err;
-    EXPECT_NE(rebuilt.err.find("inkline: warning: --cache: " + cache), std::string::npos) << rebuilt.err;
-    EXPECT_NE(rebuilt.err.find("checksum"), std::string::npos) << rebuilt.err;
-    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "c.json"));
+    check_cache_round("render " + elephant + " --detail=8 --cache=" + cache, dir, cache);
 }
 
 // The progressive mesh's hierarchy in the cache: the same collapse sequence read back as built,
@@ -641,30 +645,10 @@ TEST(ProgressiveMeshCache, WrittenOnceReadBackRebuiltWhenBad) {
 // The command with --detail-method=pm: the second run reads the hierarchy and draws the same; a
 // corrupt file gives one warning line and the same drawing.
 TEST(ProgressiveMeshCache, Command) {
-    using inkline_test::run_inkline;
     const auto dir = inkline_test::scratch("pm_cache_cli_");
     const std::string cache = (dir / "c").string();
-    const std::string args = "render " + test::mesh_path("elephant") + " --detail=6 --detail-method=pm --cache=" + cache + " -o ";
-    const auto built = run_inkline("", args + (dir / "a.json").string(), dir);
-    ASSERT_EQ(built.code, 0) << built.err;
-    EXPECT_NE(built.out.find("(built, cached as " + cache), std::string::npos) << built.out;
-    const auto read = run_inkline("", args + (dir / "b.json").string(), dir);
-    ASSERT_EQ(read.code, 0) << read.err;
-    EXPECT_NE(read.out.find("(read from " + cache), std::string::npos) << read.out;
-    EXPECT_EQ(read.err, "");
-    const auto polylines = [](const std::filesystem::path& p) {
-        std::ifstream in(p);
-        const std::string j((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        return j.substr(j.find("\"polylines\""));
-    };
-    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "b.json"));
-    for (const auto& e : std::filesystem::directory_iterator(cache)) std::filesystem::resize_file(e.path(), 100);
-    const auto rebuilt = run_inkline("", args + (dir / "c.json").string(), dir);
-    ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
-    EXPECT_EQ(std::count(rebuilt.err.begin(), rebuilt.err.end(), '\n'), 1) << rebuilt.err;
-    EXPECT_NE(rebuilt.err.find("inkline: warning: --cache: " + cache), std::string::npos) << rebuilt.err;
-    EXPECT_NE(rebuilt.err.find("checksum"), std::string::npos) << rebuilt.err;
-    EXPECT_EQ(polylines(dir / "a.json"), polylines(dir / "c.json"));
+    check_cache_round("render " + test::mesh_path("elephant") + " --detail=6 --detail-method=pm --cache=" + cache, dir,
+                      cache);
 }
 
 // Issue 43's temporal coherence: along a slow dolly (1 % of the distance a frame) no line pops in

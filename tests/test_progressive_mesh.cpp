@@ -35,6 +35,7 @@ namespace {
 using test::armadillo_pm;
 using test::bounds_of;
 using test::euler_characteristic;
+using test::geomorphs_at_3px;
 using test::target_px;
 
 DetailCriterion target_area(double t) {
@@ -51,14 +52,6 @@ ViewOptions suggestive_lines() {
     return options;
 }
 
-// A session at 3 px with geomorphs, for an input known to be embedded.
-PmViewOptions geomorphs_at_3px() {
-    PmViewOptions o;
-    o.target_px = 3.0;
-    o.geomorphs.enabled = true;
-    o.input_self_intersects = false;
-    return o;
-}
 
 }  // namespace
 

@@ -20,6 +20,7 @@ namespace {
 using test::armadillo_pm;
 using test::bounds_of;
 using test::euler_characteristic;
+using test::geomorphs_at_3px;
 using test::target_px;
 
 // The framed camera moved `times` the framed distance from the centre and turned `yaw_deg` about
@@ -566,10 +567,7 @@ TEST(AdaptiveFront, SessionSettlesWholeAndBudgetsItsFrames) {
     const Bounds3 box = bounds_of(pm.input());
     ViewOptions options;
     options.features.kinds[int(LineKind::Crease)] = false;
-    PmViewOptions o;
-    o.target_px = 3.0;
-    o.geomorphs.enabled = true;
-    o.input_self_intersects = false;  // (armadillo: none)
+    PmViewOptions o = geomorphs_at_3px();
     o.budget = FrontBudget::fixed(50);
     PmSession session(pm, options, o);
     session.settle(dolly_orbit(box, 1.5, 0.0));
@@ -605,10 +603,7 @@ TEST(AdaptiveFront, SessionFramesTakeTheLagFollowingBudget) {
     const Bounds3 box = bounds_of(pm.input());
     ViewOptions options;
     options.features.kinds[int(LineKind::Crease)] = false;
-    PmViewOptions o;
-    o.target_px = 3.0;
-    o.geomorphs.enabled = true;
-    o.input_self_intersects = false;  // (armadillo: none)
+    PmViewOptions o = geomorphs_at_3px();
     const FrontBudget rule = FrontBudget::following_lag();
     EXPECT_EQ(o.budget.base, rule.base);  // (the default)
     EXPECT_EQ(o.budget.catch_up_frames, rule.catch_up_frames);
