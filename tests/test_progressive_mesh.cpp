@@ -64,6 +64,22 @@ TEST(ProgressiveMesh, HierarchyReachesFarDown) {
     EXPECT_LT(pm.collapses(), 26002u - 3u);
 }
 
+// What the build's progress throws stops the build and reaches the caller (the window stops a
+// hierarchy it no longer needs): the decimater asked to abort, not unwound through.
+TEST(ProgressiveMesh, ProgressThatThrowsStopsTheBuild) {
+    const Model model = Model::load(test::mesh_path("fandisk"));
+    struct Stop {};
+    int calls = 0;
+    std::size_t last_done = 0;
+    const ProgressiveMesh::BuildProgress stop_at_the_third = [&](std::size_t done, std::size_t) {
+        last_done = done;
+        if (++calls == 3) throw Stop{};
+    };
+    EXPECT_THROW(ProgressiveMesh(model.topology(), stop_at_the_third), Stop);
+    EXPECT_EQ(calls, 3);  // (a whole build reports about a hundred times)
+    EXPECT_LT(last_done, model.topology().vertex_count() / 10);
+}
+
 TEST(ProgressiveMesh, TinyTargetGivesTheInputExactly) {
     const ProgressiveMesh& pm = armadillo_pm();
     const Camera cam = test::framed_camera(bounds_of(pm.input()));

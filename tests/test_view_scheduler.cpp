@@ -4,9 +4,15 @@
 // camera, with one view at a time and with two at once. And the frame statistics the panel shows.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <thread>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -247,6 +253,54 @@ TEST(ViewSchedulerDetail, DrawsTheAdaptedMeshAndFollowsTheSlider) {
     EXPECT_LT(views, 600);  // the geomorphs ended (483 views: the last collapses run one after another)
     EXPECT_LT(pm.drawn_model().topology().faces.size(), fine / 2);
     EXPECT_NE(pm.summary().find("pm: target 8 px"), std::string::npos) << pm.summary();
+}
+
+// view --detail: the pre-process runs on its own thread (the window draws the model without detail
+// control meanwhile) and reports its progress up to 1; what needs it waits for it.
+TEST(ViewSchedulerDetail, PreprocessOnItsOwnThreadWithProgress) {
+    for (const std::string method : {"pm", "multiscale"}) {
+        std::mutex mutex;
+        std::vector<double> heard;  // the fraction at each report (once the source is known)
+        std::atomic<DetailSource*> known{nullptr};
+        auto source = std::make_unique<DetailSource>(fandisk(), method, 2.0, 0.0, DetailPreprocess{}, [&] {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (const DetailSource* s = known.load()) heard.push_back(s->preparation_fraction());
+        });
+        known.store(source.get());
+        source->wait_ready();
+        EXPECT_TRUE(source->ready());
+        EXPECT_EQ(source->preparation_fraction(), 1.0);
+        std::lock_guard<std::mutex> lock(mutex);
+        ASSERT_GE(heard.size(), 1u) << method;  // at least the end (fandisk's steps may come first)
+        EXPECT_EQ(heard.back(), 1.0) << method;
+        EXPECT_TRUE(std::is_sorted(heard.begin(), heard.end())) << method;
+        EXPECT_NE(source->preparation_text().find(method == "pm" ? "progressive mesh" : "multi-scale"),
+                  std::string::npos);
+        source->reset({});
+        const Camera cam = Camera::framing(fandisk().topology().bounds, 320, 240);
+        EXPECT_GT(source->render(cam).drawing.pieces.size(), 0u) << method;
+    }
+}
+
+// A source destroyed while its hierarchy is built stops the build (the window closed before it
+// was needed): the decimater hears no more than a step or two after the destructor began, where a
+// whole build reports about a hundred times.
+TEST(ViewSchedulerDetail, DestroyedWhileBuildingStopsTheBuild) {
+    static const Model armadillo = Model::load(std::string(INKLINE_DATA_DIR) + "/meshes/armadillo.off");
+    std::atomic<int> calls{0};
+    std::atomic<bool> destroying{false};
+    std::promise<void> first;
+    auto source = std::make_unique<DetailSource>(armadillo, "pm", 2.0, 0.0, DetailPreprocess{}, [&] {
+        if (calls.fetch_add(1) == 0) {
+            first.set_value();
+            while (!destroying.load()) std::this_thread::yield();
+        }
+    });
+    first.get_future().wait();  // the build is under way
+    destroying.store(true);
+    source.reset();
+    std::printf("[detail] %d progress reports before the build stopped\n", calls.load());
+    EXPECT_LE(calls.load(), 3);
 }
 
 // view --detail --cache: the window's pre-process comes from the cache as render's does (either

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <stdexcept>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -227,16 +228,30 @@ PmInput::operator TriangleMesh() const {
 }
 
 namespace {
-// Passes the decimater's count of collapses on to a BuildProgress.
+// Passes the decimater's count of collapses on to a BuildProgress. What the callback throws (to
+// stop the build) is kept and the decimater asked to abort, so that it never unwinds through
+// OpenMesh; build() throws it again once the decimater has returned.
 class ProgressObserver : public OpenMesh::Decimater::Observer {
 public:
     ProgressObserver(const ProgressiveMesh::BuildProgress& progress, std::size_t most)
         : Observer(std::max<std::size_t>(most / 100, 1)), progress_(progress), most_(most) {}
-    void notify(std::size_t step) override { progress_(step, most_); }
+    void notify(std::size_t step) override {
+        if (stopped_) return;
+        try {
+            progress_(step, most_);
+        } catch (...) {
+            stopped_ = std::current_exception();
+        }
+    }
+    bool abort() const override { return bool(stopped_); }
+    void rethrow() const {
+        if (stopped_) std::rethrow_exception(stopped_);
+    }
 
 private:
     const ProgressiveMesh::BuildProgress& progress_;
     std::size_t most_;
+    std::exception_ptr stopped_;
 };
 }  // namespace
 
@@ -260,6 +275,7 @@ void ProgressiveMesh::build(const BuildProgress& progress) {
         if (progress) decimater.set_observer(&observer);
         if (decimater.initialize()) {
             decimater.decimate();  // to the coarsest mesh the legality rules allow
+            observer.rethrow();
             for (const auto& c : decimater.module(record).pmi()) {
                 removed_.push_back(std::uint32_t(c.v0.idx()));
                 kept_.push_back(std::uint32_t(c.v1.idx()));

@@ -70,7 +70,8 @@ public:
     // (no copy: `topology` must outlive the hierarchy and its fronts). A mesh OpenMesh cannot hold
     // as a manifold (complex vertices) gets an empty hierarchy: it is then drawn at full detail.
     // `progress` (optional) hears the collapses recorded so far and their most (vertices - 1) about
-    // a hundred times during the build (armadillo@2: about 20 s).
+    // a hundred times during the build (armadillo@2: about 20 s); what it throws stops the build
+    // within a hundredth of it and reaches the caller (the window stops a build it no longer needs).
     using BuildProgress = std::function<void(std::size_t collapses, std::size_t most)>;
     explicit ProgressiveMesh(const MeshTopology& topology, const BuildProgress& progress = {});
     // The same over a mesh of its own (kept: tests and tools without a Model).

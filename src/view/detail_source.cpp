@@ -10,28 +10,69 @@
 
 namespace inkline {
 
+namespace {
+// Thrown by the pre-process's progress when the source is destroyed: it stops the build.
+struct PreprocessStopped {};
+}  // namespace
+
 DetailSource::DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent,
-                           const DetailPreprocess& pre)
-    : model_(model), method_(method), target_px_(target_px), depth_exponent_(depth_exponent) {
-    const bool cached = !pre.cache_dir.empty();
-    if (method_ == "pm" && !cached) {
-        pm_ = std::make_unique<ProgressiveMesh>(model.topology());
-    } else if (method_ == "pm") {
-        CachedHierarchy c = cached_progressive_mesh(model.topology(), pre.model_path, pre.variant, pre.cache_dir);
-        pm_ = std::move(c.pm);
-        cache_warning_ = c.problem;
-    } else if (!cached) {
-        levels_ = std::make_unique<MultiscaleLevels>(build_multiscale_levels(model, pre.levels));
-    } else {
-        CachedLevels c = cached_multiscale_levels(model, pre.model_path, pre.variant, pre.levels, pre.cache_dir);
-        levels_ = std::make_unique<MultiscaleLevels>(std::move(c.levels));
-        cache_warning_ = c.problem;
-    }
+                           const DetailPreprocess& pre, std::function<void()> progress_changed)
+    : model_(model), method_(method), target_px_(target_px), depth_exponent_(depth_exponent),
+      progress_changed_(std::move(progress_changed)) {
+    prepared_ = std::async(std::launch::async, [this, pre] { prepare(pre); }).share();
 }
 
-DetailSource::~DetailSource() = default;
+void DetailSource::prepare(const DetailPreprocess& pre) {
+    const auto step = [this](double fraction) {
+        if (stop_.load()) throw PreprocessStopped{};
+        fraction_.store(std::clamp(fraction, 0.0, 1.0));
+        if (progress_changed_) progress_changed_();
+    };
+    const ProgressiveMesh::BuildProgress pm_step = [&](std::size_t done, std::size_t most) {
+        step(most > 0 ? double(done) / double(most) : 1.0);
+    };
+    MultiscaleOptions levels = pre.levels;
+    levels.progress = [&](int done, int total) { step(total > 0 ? double(done) / total : 1.0); };
+    try {
+        const bool cached = !pre.cache_dir.empty();
+        if (method_ == "pm" && !cached) {
+            pm_ = std::make_unique<ProgressiveMesh>(model_.topology(), pm_step);
+        } else if (method_ == "pm") {
+            CachedHierarchy c =
+                cached_progressive_mesh(model_.topology(), pre.model_path, pre.variant, pre.cache_dir, pm_step);
+            pm_ = std::move(c.pm);
+            cache_warning_ = c.problem;
+        } else if (!cached) {
+            levels_ = std::make_unique<MultiscaleLevels>(build_multiscale_levels(model_, levels));
+        } else {
+            CachedLevels c = cached_multiscale_levels(model_, pre.model_path, pre.variant, levels, pre.cache_dir);
+            levels_ = std::make_unique<MultiscaleLevels>(std::move(c.levels));
+            cache_warning_ = c.problem;
+        }
+    } catch (const PreprocessStopped&) {
+        return;  // (the source is being destroyed: nothing will ask for it)
+    }
+    fraction_.store(1.0);
+    if (progress_changed_) progress_changed_();
+}
+
+DetailSource::~DetailSource() {
+    stop_.store(true);
+    if (prepared_.valid()) prepared_.wait();
+}
+
+bool DetailSource::ready() const {
+    return prepared_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+void DetailSource::wait_ready() const { prepared_.get(); }
+
+std::string DetailSource::preparation_text() const {
+    return method_ == "pm" ? "building the progressive mesh hierarchy" : "smoothing the multi-scale levels";
+}
 
 void DetailSource::reset(const ViewOptions& options) {
+    wait_ready();
     if (pm_) {
         pm_session_ = std::make_unique<PmSession>(*pm_, options, PmViewOptions::for_path(model_, target_px_.load()));
         settled_ = false;
@@ -43,6 +84,7 @@ void DetailSource::reset(const ViewOptions& options) {
 }
 
 View& DetailSource::render(const Camera& camera) {
+    wait_ready();
     const auto now = std::chrono::steady_clock::now();
     char line[160];
     if (ms_session_) {
@@ -73,6 +115,7 @@ View& DetailSource::render(const Camera& camera) {
 }
 
 const Model& DetailSource::drawn_model() const {
+    wait_ready();
     return pm_session_ ? pm_session_->adapted() : ms_session_->blended();
 }
 

@@ -5,10 +5,16 @@
 // Takes: the model, the method and the target size (the panel's slider may change it while a view
 // is computed: it applies from the next view). Gives: each view, the model it was drawn from
 // (the base coat's triangles) and a one-line summary for the panel.
+//
+// The method's pre-process (armadillo@2's hierarchy: about 20 s) is made on a thread of its own,
+// so that the window can open, draw the model without detail control and show the progress
+// meanwhile; what needs it waits for it.
 #pragma once
 
 #include <atomic>
 #include <chrono>
+#include <functional>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -33,14 +39,26 @@ struct DetailPreprocess {
 
 class DetailSource {
 public:
-    // Builds the method's pre-process (the hierarchy, or the smoothed levels) now, or reads it from
-    // the cache.
+    // Starts the method's pre-process (the hierarchy, or the smoothed levels: built, or read from
+    // the cache) on a thread of its own. `progress_changed` (optional; on that thread) hears each
+    // step of it and its end: the window wakes its loop to show them.
     DetailSource(const Model& model, const std::string& method, double target_px, double depth_exponent = 0.0,
-                 const DetailPreprocess& preprocess = {});
+                 const DetailPreprocess& preprocess = {}, std::function<void()> progress_changed = {});
+    // Stops a pre-process still running (within about a hundredth of it) and waits for its thread.
     ~DetailSource();
     DetailSource(const DetailSource&) = delete;
     DetailSource& operator=(const DetailSource&) = delete;
 
+    // Whether the pre-process is done (never waits).
+    bool ready() const;
+    // Waits for the pre-process; throws what it threw.
+    void wait_ready() const;
+    // The pre-process's fraction done in [0, 1] and a line saying what it is ("building the
+    // progressive mesh hierarchy", "smoothing the multi-scale levels", or reading either).
+    double preparation_fraction() const { return fraction_.load(); }
+    std::string preparation_text() const;
+
+    // (All below wait for the pre-process.)
     // New sessions for `options` (the panel changed the lines); no view may be in flight.
     void reset(const ViewOptions& options);
     // One view, on the lane's thread. pm: the front settles at the first view after a reset, then
@@ -58,9 +76,13 @@ public:
     std::string summary() const;
     // One line when the cache could not serve or keep the pre-process (a corrupt or stale file,
     // rebuilt; a folder not writable), else empty.
-    const std::string& cache_warning() const { return cache_warning_; }
+    const std::string& cache_warning() const {
+        wait_ready();
+        return cache_warning_;
+    }
 
 private:
+    void prepare(const DetailPreprocess& pre);
     const Model& model_;
     std::string method_;
     std::atomic<double> target_px_;
@@ -70,6 +92,10 @@ private:
     std::unique_ptr<MultiscaleLevels> levels_;
     std::unique_ptr<MultiscaleSession> ms_session_;
     std::string cache_warning_;
+    std::atomic<double> fraction_{0.0};
+    std::atomic<bool> stop_{false};  // the destructor's: the pre-process's progress throws
+    std::function<void()> progress_changed_;
+    std::shared_future<void> prepared_;  // the pre-process's thread (std::async)
     bool settled_ = false;
     double fixed_step_ = 0.0;
     std::chrono::steady_clock::time_point last_view_{};

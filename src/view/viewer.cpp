@@ -110,9 +110,7 @@ public:
           scheduler_(model, o.detail_px > 0.0 ? 1 : o.in_flight, [] { glfwPostEmptyEvent(); }) {
         if (o.detail_px > 0.0)  // (a stateful session: its views one at a time, in order)
             detail_ = std::make_unique<DetailSource>(model, o.detail_method, o.detail_px, o.detail_depth,
-                                                     o.detail_preprocess);
-        if (detail_ && !detail_->cache_warning().empty())
-            std::fprintf(stderr, "inkline: warning: --cache: %s\n", detail_->cache_warning().c_str());
+                                                     o.detail_preprocess, [] { glfwPostEmptyEvent(); });
         crease_ = float(model.topology().crease_degrees);
         fraction_ = float(o.view.finder.fraction);
         hidden_ = o.hidden;
@@ -131,6 +129,7 @@ public:
             style_ = std::make_shared<const Style>(load_style(o.style));
         }
         rebuild_session();
+        if (detail_ && o.frames > 0) start_detail();  // headless: every view with the detail control
     }
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
@@ -150,6 +149,7 @@ public:
             const bool fresh = take_finished_views(finishing, st);
             if (finishing) frame_stats_.stop_clock();
             apply_option_changes();
+            if (detail_ && !detail_live_ && detail_->ready()) start_detail();
             if (opt_.frames > 0 && opt_.orbit && frame > 0 && !finishing) rig_.orbit(opt_.arc / opt_.frames, 0.0);
             int w = 0, h = 0;
             if (!begin_frame(w, h)) continue;  // minimised
@@ -240,7 +240,7 @@ private:
         }
         if (surface_dirty_) {  // the same sessions: only the lines' extraction changes
             scheduler_.set_surface_lines(vopt_.surface);
-            if (detail_) detail_->reset(vopt_);
+            if (detail_live_) detail_->reset(vopt_);
             surface_dirty_ = false;
             force_ = true;
         }
@@ -267,7 +267,7 @@ private:
     void schedule_view(const Camera& cam, bool fresh, bool finishing, StageTimes& st) {
         const bool busy = scheduler_.in_flight() > 0;
         const Camera& newest = busy ? scheduler_.newest_camera() : shown_.camera;
-        const bool morphing = detail_ && detail_->morphing();  // geomorphs run on at a still camera
+        const bool morphing = detail_live_ && detail_->morphing();  // geomorphs run on at a still camera
         const bool again = opt_.frames == 0 && !force_ && !morphing && shown_.view && same_camera(cam, newest);
         unchanged_ = again && !fresh && !busy ? unchanged_ + 1 : 0;
         if (!again && !finishing && scheduler_.in_flight() < scheduler_.views_at_once()) {
@@ -279,7 +279,7 @@ private:
             request.hidden = hidden_;
             request.recall = recall_on_;
             request.kinds = vopt_.features;
-            request.detail = detail_.get();
+            request.detail = detail_live_ ? detail_.get() : nullptr;
             scheduler_.start(request);
             force_ = false;
         }
@@ -333,8 +333,20 @@ private:
         StageTimes st;
         take_all(st);  // never while the old sessions are in use
         scheduler_.reset(vopt_);
-        if (detail_) detail_->reset(vopt_);
+        if (detail_live_) detail_->reset(vopt_);
         shown_.view = nullptr;  // it belonged to an old session
+    }
+
+    // The detail control's pre-process is done (or waited for): its sessions made, views from now
+    // on drawn by it. Until then the window draws the model as it is (the same lines as without
+    // --detail) and the panel shows the pre-process's progress.
+    void start_detail() {
+        detail_->wait_ready();  // (throws what the pre-process threw)
+        if (!detail_->cache_warning().empty())
+            std::fprintf(stderr, "inkline: warning: --cache: %s\n", detail_->cache_warning().c_str());
+        detail_->reset(vopt_);  // (no view of it can be in flight: none was started)
+        detail_live_ = true;
+        force_ = true;
     }
 
     // Waits for the oldest view in flight, if any, and makes it the one drawn. Returns whether
@@ -424,6 +436,7 @@ private:
     ImGuiContextScope imgui_;
     GlScene scene_;
     std::unique_ptr<DetailSource> detail_;  // --detail
+    bool detail_live_ = false;              // its pre-process done and its sessions made
     ToonCoat coat_;
     UiLayer ui_layer_;  // the panel, rasterized again only when it changes
     std::unique_ptr<TonePass> tone_pass_;  // the tone pass's GL objects, made on first use
@@ -548,7 +561,13 @@ void Viewer::panel_detail() {
         detail_->set_target(px);
         force_ = true;
     }
-    ImGui::TextUnformatted(detail_->summary().c_str());
+    if (detail_live_) {
+        ImGui::TextUnformatted(detail_->summary().c_str());
+        return;
+    }
+    ImGui::TextUnformatted(detail_->preparation_text().c_str());
+    ImGui::ProgressBar(float(detail_->preparation_fraction()));
+    ImGui::TextUnformatted("(drawn at full detail until then)");
 }
 
 void Viewer::panel_lines() {
