@@ -46,43 +46,23 @@ tmp=$(mktemp)
   cat <<'TEXT'
 ## Reading
 
-- **Adaptation a frame** (the front's update, one core) on the 1 M-triangle models along the slow
-  dolly, this run (load average 6-8 on 2 cores): median 2.4 ms (armadillo@2) and 3.2 ms
-  (bunny00@2) without geomorphs, 5.7 and 6.4 ms with them; along the orbit 2.3-2.6 ms. The
-  target (< 5 ms) holds without geomorphs and is missed with them on the dolly. Alternated runs
-  of main and the retry stamps in one window (armadillo@2, load 10, an earlier session): with
-  geomorphs on the dolly 7.5 ms (16.2 worst) on main, 6.0 (18.3) with the retry stamps, 5.3 (13.4)
-  with the band guard measured without a trial collapse; on the orbit 5.5-5.6 ms on main, 1.0-1.8
-  ms with the stamps. What remains on the dolly is the operations themselves (~280 a frame, each
-  O(degree^2) in the link test and the rings' areas). The worst frames, 10-16 ms, are those where
-  a band of vertices crosses a threshold together.
-- **Size follows the image**: 89 k -> 10 k triangles over the 4x dolly on armadillo@2 with
-  geomorphs (108 k -> 11 k on bunny00@2), the same order as the 52 k armadillo at the same image
-  size.
-- **Memory kept**: pm keeps the hierarchy (8 B a vertex) and the front (115 B a vertex on
-  armadillo@2, 125 on bunny00@2, geomorphs or not): 123-133 B a vertex against multi-scale's 147
-  for its levels, 16 % below on armadillo@2 -- not "well below". pm also keeps its own copy of the
-  input (48 B a vertex) where multi-scale uses the model's. The builds' peak RSS: 283 against
-  698 MiB (armadillo@2), 403 against 990 MiB (bunny00@2).
-- **Whole frame** (`inkline bench`, first tables): pm 71 and 53 ms CPU on the dolly (armadillo,
-  bunny00), 34 ms on the orbit, against multi-scale's 11-18 ms (the last run, load 10-11: 80, 55,
-  57, 52 ms). The carried curvature and topology (docs/progressive_mesh.md) take the orbit from
-  48 to 32 ms (alternated A/B, armadillo, load 6-7): **2x multi-scale's there**, and do little on
-  the dolly. The stage tables (`pm_frames --whole`, last section) say why: on the bench's inward
-  dolly pm makes 1 600-6 600 ray tests a frame against multi-scale's 90-400, with 350-380 clusters
-  a frame whose propagation contradicts itself: the geomorphs' shown mesh intersects itself
-  there (a split's vertex sliding out of its parent), which the session does not search for. On
-  the slow outward dolly, 65-76 % of the vertices are within reach of a moving geomorph vertex,
-  so the curvature is recomputed nearly everywhere. (The stage columns split the view by the
-  drawing's wall-clock features and visibility, inflated at this load; "ray index + rest" is
-  what is left of the view's CPU time, and Embree builds the index mostly on its own threads.)
-- **Density and coherence**: both methods draw about the same line density along both paths
-  (armadillo dolly 0.0217 -> 0.0086 pm, 0.0228 -> 0.0088 multi-scale) and change the same share
-  of their lines between frames (0.48 / 0.47 on the dolly, 0.21 / 0.21 on the orbit: mostly the
-  camera's motion, which this measure does not tell from popping). Largest geomorph move a frame:
-  0.5-2.5 px.
-- **Build**: pm's hierarchy is OpenMesh's decimater, about twice multi-scale's pre-process (18 s
-  against 9 s CPU on armadillo@2).
+(What each table shows; the figures are the tables' own, of the run named at the top. Why they
+are what they are, and what was tried: docs/progressive_mesh.md, "Benchmarks" and "Not done yet".)
+
+- **Side by side** (`inkline bench`): build s is the method's pre-process (pm: OpenMesh's
+  decimater; multi-scale: the smoothed levels), stored MiB what the method keeps beside the model.
+  Line density first -> last over the dolly is the issue's density check (growth with detail
+  control against growth without); changed lines a frame is the share of visible line samples
+  more than 1 px from the other frame's lines (camera motion included, so it does not tell
+  popping from motion); the largest geomorph move is the bound the geomorphs check asks for.
+- **The incremental front** (`pm_frames`): the adaptation's thread CPU ms a frame on one core
+  along the slow dolly and the orbit, median and worst, for each budget (none, a fixed 500, the
+  sessions' default that follows the lag); the issue's target is under 5 ms a frame on the
+  1 M-triangle models. Triangles at the path's end say whether a budget keeps the mesh with the
+  view. The build rows give both methods' pre-process time and memory on the same model.
+- **The whole pm frame by stage** (`pm_frames --whole`): where a pm frame's time goes (front,
+  curvature, self-intersection search around moving vertices, features, visibility) beside the
+  multi-scale frame on the same cameras.
 TEXT
 } > "$tmp"
 chmod 644 "$tmp"
