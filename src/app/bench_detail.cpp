@@ -11,6 +11,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "app/progress.hpp"
 #include "detail/multiscale.hpp"
 #include "detail/progressive_mesh_session.hpp"
 #include "output/writers.hpp"
@@ -97,9 +98,15 @@ void record(MethodRow& row, const Drawing& d, const MeshTopology& mesh, const Ca
 MethodRow run_multiscale(const Model& model, const ViewOptions& base, const DetailBenchArgs& a) {
     MethodRow row;
     row.method = "multiscale";
+    MultiscaleOptions options = a.detail->levels_options();
+    // (the model's curvature, the simplification, then each smoothed level: as build_multiscale_levels counts)
+    const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr(
+        "bench: smoothed levels", std::size_t(2 + std::max(options.levels - 1, 0)), "steps");
+    options.progress = [&line](int done, int) { line->set_done(std::size_t(done)); };
     const double t0 = thread_cpu_seconds();
-    const MultiscaleLevels levels = build_multiscale_levels(model, a.detail->levels_options());
+    const MultiscaleLevels levels = build_multiscale_levels(model, options);
     row.build_s = thread_cpu_seconds() - t0;
+    line->finish();
     row.stored_mib = levels.bytes() / 1048576.0;
     MultiscaleSession session(model, levels, base,
                               MultiscaleViewOptions{.target_px = a.detail->target_px,
@@ -121,9 +128,12 @@ MethodRow run_multiscale(const Model& model, const ViewOptions& base, const Deta
 MethodRow run_pm(const Model& model, const ViewOptions& base, const DetailBenchArgs& a) {
     MethodRow row;
     row.method = "pm";
+    const std::size_t most = model.topology().vertex_count() ? model.topology().vertex_count() - 1 : 0;
+    const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr("bench: pm hierarchy", most, "collapses");
     const double t0 = thread_cpu_seconds();
-    const ProgressiveMesh pm(model.topology());
+    const ProgressiveMesh pm(model.topology(), [&line](std::size_t done, std::size_t) { line->set_done(done); });
     row.build_s = thread_cpu_seconds() - t0;
+    line->finish();
     PmSession session(pm, base, PmViewOptions::for_path(model, a.detail->target_px));
     session.settle(a.camera(0));  // converged at the first view before the path, as a window opens
     std::vector<glm::dvec2> last;
