@@ -9,14 +9,16 @@
 //   (defaults armadillo 3, both paths, both with and without geomorphs)
 //
 // --budget: a front for each of the front's budgets a frame, their frames interleaved: N a fixed
-// one (FrontBudget::fixed(N); 0, the default: none), lag the lag-following rule
+// one (FrontBudget::fixed(N); 0: none, the front's default), lag the lag-following rule
 // (FrontBudget::following_lag), lag:BASE:FRAMES:MOST another such rule; with the frames that
 // deferred work and, at the last view held still, the frames until nothing is
 // deferred; --per-frame: one line a frame on stderr ("run B frame K": the B-th budget's ms,
 // operations, deferred, backlog, budget, triangles, RSS; with --whole: each session's frame ms,
 // adaptation ms, triangles).
 //
-// --whole: the whole frame instead (PmSession: adaptation with geomorphs, the adapted Model,
+// --whole: the whole frame instead (PmSession, by default with the sessions' own budget, the
+// lag-following rule (PmViewOptions::default_budget), as the window and `inkline bench` run it:
+// adaptation with geomorphs, the adapted Model,
 // curvature, smoothing, silhouettes and suggestive contours with exact visibility, as
 // `inkline bench --detail`), FRAMES frames of each path (default 40), each stage's median share,
 // a session per --budget, their frames interleaved, beside the multi-scale method's whole frame on
@@ -279,6 +281,17 @@ void run_whole(const Model& model, const ProgressiveMesh& pm, const MultiscaleLe
 
 }  // namespace
 
+const char* const usage =
+    "usage: pm_frames [MESH[@N]] [PX] [--no-multiscale] [--path=dolly|orbit|dolly-in] [--geomorphs=on|off]\n"
+    "                 [--whole[=FRAMES]] [--budget=N|lag|lag:BASE:FRAMES:MOST[,...]] [--per-frame]\n"
+    "  (defaults armadillo 3, both paths, both with and without geomorphs)\n"
+    "  --budget     a front (or with --whole a session) per budget, their frames interleaved: N a fixed\n"
+    "               budget a frame (0: none), lag the lag-following rule, lag:BASE:FRAMES:MOST another\n"
+    "               such rule. Default: none for the front alone; with --whole the sessions' default,\n"
+    "               the lag-following rule (as the window and inkline bench run it)\n"
+    "  --whole      the whole pm frame (PmSession) by stage, FRAMES frames a path (default 40)\n"
+    "  --per-frame  one line a frame on stderr\n";
+
 int main(int argc, char** argv) {
     std::string name = "armadillo";
     double px = 3.0;
@@ -286,12 +299,15 @@ int main(int argc, char** argv) {
     std::string only_path;  // "dolly" or "orbit": that path alone (--whole: a list, e.g. dolly,orbit)
     int whole = 0;          // --whole[=FRAMES]: the whole frame, FRAMES frames a path
     std::string only_geomorphs;  // "on" or "off": those runs alone
-    std::vector<FrontBudget> budgets{FrontBudget::none()};  // --budget=N[,N...]: a run each (0: none)
+    std::vector<FrontBudget> budgets;  // --budget=N[,N...]: a run each (0: none); default below
     bool per_frame = false;
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--no-multiscale")
+        if (a == "--help" || a == "-h") {
+            std::fputs(usage, stdout);
+            return 0;
+        } else if (a == "--no-multiscale")
             multiscale = false;
         else if (a == "--whole")
             whole = 40;
@@ -313,6 +329,8 @@ int main(int argc, char** argv) {
         else
             px = std::atof(a.c_str());
     }
+    // (the front alone: unbudgeted, its pinned reference; the whole frame: as the sessions run it)
+    if (budgets.empty()) budgets.push_back(whole > 0 ? PmViewOptions::default_budget() : FrontBudget::none());
     const Model* model = bench_model_for(name, "pm_frames");
     if (!model) return 1;
     const MeshTopology& t = model->topology();

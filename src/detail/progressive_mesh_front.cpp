@@ -1,7 +1,10 @@
 #include "detail/progressive_mesh_front.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <type_traits>
 
@@ -24,6 +27,7 @@ AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorph
     vertex_slot_.assign(n, tag | index_mask);
     vert_.reserve(n);
     front_data_.reserve(n);
+    front_id_.reserve(n);
     for (const auto& t : in.triangles)
         for (const std::uint32_t v : t) vertex_slot_[v] = 0;
     for (std::uint32_t v = 0; v < n; ++v)
@@ -67,12 +71,33 @@ void AdaptiveFront::unlink(std::uint32_t c) {
     *at = next_corner(c);
 }
 
-// A slot for input face f (a free one when there is one), its corners the current representatives
-// of the input's, linked into their vertices' lists in corner order.
-std::uint32_t AdaptiveFront::add_face(std::uint32_t f) {
-    std::uint32_t s = free_face_ & index_mask;
-    if (s != index_mask) {
-        free_face_ = face_id_[s];
+// A hole of the pool near `slot` (a few pages either side; in its own 64 slots the nearest), or
+// none: a record placed there shares cache lines and pages with its ring neighbours' records.
+std::uint32_t AdaptiveFront::Holes::near(std::uint32_t slot) const {
+    constexpr std::size_t reach = 4;  // words each side: about 300 slots, 10 KiB of 32-byte records
+    const std::size_t w0 = slot / 64;
+    if (count == 0 || w0 >= bits.size()) return none;
+    const std::uint32_t b = slot % 64;
+    if (const std::uint64_t here = bits[w0]) {
+        const std::uint64_t below = here & (b == 63 ? ~std::uint64_t(0) : (std::uint64_t(2) << b) - 1), above = here & ~below;
+        const int lo = below ? 63 - std::countl_zero(below) : -1, hi = above ? std::countr_zero(above) : -1;
+        const int at = lo < 0 ? hi : hi < 0 ? lo : (int(b) - lo <= hi - int(b) ? lo : hi);
+        return std::uint32_t(64 * w0 + std::size_t(at));
+    }
+    for (std::size_t d = 1; d <= reach; ++d) {
+        if (w0 >= d && bits[w0 - d]) return std::uint32_t(64 * (w0 - d) + std::size_t(63 - std::countl_zero(bits[w0 - d])));
+        if (w0 + d < bits.size() && bits[w0 + d]) return std::uint32_t(64 * (w0 + d) + std::size_t(std::countr_zero(bits[w0 + d])));
+    }
+    return none;
+}
+
+// A slot for input face f (a hole near `near_slot` when there is one, else a new slot at the
+// pool's end), its corners the current representatives of the input's, linked into their
+// vertices' lists in corner order.
+std::uint32_t AdaptiveFront::add_face(std::uint32_t f, std::uint32_t near_slot) {
+    std::uint32_t s = near_slot == none ? none : face_holes_.near(near_slot);
+    if (s != none) {
+        face_holes_.take(s);
         face_id_[s] = f;
     } else {
         s = std::uint32_t(faces_.size());
@@ -83,6 +108,8 @@ std::uint32_t AdaptiveFront::add_face(std::uint32_t f) {
         }
         faces_.push_back(Face{{none, none, none}, {none, none, none}, 0.0});
         face_id_.push_back(f);
+        face_holes_.grow(faces_.size());
+        face_holes_.misplaced += near_slot != none;
     }
     face_slot_[f] = s;
     const auto& tri = pm_.input().triangles[f];
@@ -96,33 +123,79 @@ std::uint32_t AdaptiveFront::add_face(std::uint32_t f) {
 void AdaptiveFront::remove_face(std::uint32_t s) {
     for (std::uint32_t c = 4 * s; c < 4 * s + 3; ++c) unlink(c);
     face_slot_[face_id_[s]] = none;
-    face_id_[s] = free_face_;
-    free_face_ = tag | s;
+    face_id_[s] = none;
+    face_holes_.free(s);
     --active_face_count_;
 }
 
-// The live face records moved down over the free slots (in slot order) and the pool's storage
-// released; the corner links, the vertices' heads and the input faces' slots renumbered.
-void AdaptiveFront::compact_faces() {
-    std::vector<std::uint32_t> to(faces_.size(), none);
-    std::uint32_t live = 0;
-    for (std::uint32_t s = 0; s < faces_.size(); ++s)
-        if (!(face_id_[s] & tag)) {
-            to[s] = live;
-            faces_[live] = faces_[s];
-            face_id_[live] = face_id_[s];
-            face_slot_[face_id_[live]] = live;
-            ++live;
+// The pools laid out again, the live records in the pool's order (a compaction over the holes)
+// or in the input's (spatially coherent: once many records had no hole near their neighbours'
+// and went to the pool's end), with a hole after every `gap_every` records so that a split's
+// records find one near their neighbours'. The face pool's corner links and the vertices' heads
+// are renumbered, the input's slots set; the front's order is kept (front_id_ holds input ids).
+void AdaptiveFront::relay_faces(bool input_order) {
+    std::vector<std::uint32_t> order;  // the live records' slots in their new order (rare: not kept)
+    if (input_order) {
+        for (const std::uint32_t s : face_slot_)
+            if (s != none) order.push_back(s);
+    } else {
+        for (std::uint32_t s = 0; s < faces_.size(); ++s)
+            if (face_id_[s] != none) order.push_back(s);
+    }
+    const std::size_t live = order.size(), size = live + live / gap_every, capacity = size + size / 4 + 64;
+    std::vector<Face> faces;
+    std::vector<std::uint32_t> ids, to(faces_.size(), none);
+    faces.reserve(capacity);
+    ids.reserve(capacity);
+    face_holes_ = Holes{};
+    face_holes_.grow(size);
+    for (std::size_t j = 0; j < live; ++j) {
+        if (j > 0 && j % gap_every == 0) {
+            face_holes_.free(std::uint32_t(faces.size()));
+            faces.push_back(Face{{none, none, none}, {none, none, none}, 0.0});
+            ids.push_back(none);
         }
+        to[order[j]] = std::uint32_t(faces.size());
+        face_slot_[face_id_[order[j]]] = std::uint32_t(faces.size());
+        faces.push_back(faces_[order[j]]);
+        ids.push_back(face_id_[order[j]]);
+    }
     const auto moved = [&](std::uint32_t c) { return c == none ? none : 4 * to[face_of(c)] + slot_of(c); };
-    faces_.resize(live);
-    face_id_.resize(live);
-    faces_.shrink_to_fit();
-    face_id_.shrink_to_fit();
-    for (Face& f : faces_)
+    for (Face& f : faces)
         for (std::uint32_t& c : f.next) c = moved(c);
-    for (Vertex& v : vert_) v.head = moved(v.head);
-    free_face_ = tag | index_mask;
+    for (Vertex& v : vert_) v.head = moved(v.head);  // (a hole's head is none)
+    faces_.swap(faces);
+    face_id_.swap(ids);
+}
+
+void AdaptiveFront::relay_vertices(bool input_order) {
+    std::vector<std::uint32_t> order;  // the live records' slots in their new order (rare: not kept)
+    if (input_order) {
+        for (std::uint32_t v = 0; v < vertex_slot_.size(); ++v)
+            if (active(v)) order.push_back(vertex_slot_[v]);
+    } else {
+        for (std::uint32_t s = 0; s < vert_.size(); ++s)
+            if (!vert_holes_.is_free(s)) order.push_back(s);
+    }
+    const std::size_t live = order.size(), size = live + live / gap_every, capacity = size + size / 4 + 64;
+    std::vector<Vertex> records;
+    std::vector<glm::vec4> data;
+    records.reserve(capacity);
+    data.reserve(capacity);
+    vert_holes_ = Holes{};
+    vert_holes_.grow(size);
+    for (std::size_t j = 0; j < live; ++j) {
+        if (j > 0 && j % gap_every == 0) {
+            vert_holes_.free(std::uint32_t(records.size()));
+            records.push_back(Vertex{none, none, none, none, 0, 0, none, 0, 0});
+            data.push_back(glm::vec4(0.0f, 0.0f, 0.0f, std::numeric_limits<float>::quiet_NaN()));
+        }
+        vertex_slot_[vert_[order[j]].id] = std::uint32_t(records.size());
+        records.push_back(vert_[order[j]]);
+        data.push_back(front_data_[order[j]]);
+    }
+    vert_.swap(records);
+    front_data_.swap(data);
 }
 
 // Storage follows the front: a face pool a fifth free, or vertex and worklist storage far beyond
@@ -130,8 +203,15 @@ void AdaptiveFront::compact_faces() {
 // Amortized: a pool is compacted only after it lost a fifth of its records, and the pools grow
 // and are refitted by a quarter, so a growing or shrinking front reallocates geometrically.
 void AdaptiveFront::trim_storage() {
-    const std::size_t slack = 1024;
-    if (faces_.size() > active_face_count_ + active_face_count_ / 4 + slack) compact_faces();
+    const std::size_t slack = 1024, front = front_id_.size();
+    if (face_holes_.misplaced > active_face_count_ / 8 + slack)
+        relay_faces(true);
+    else if (face_holes_.count > active_face_count_ / 4 + slack)
+        relay_faces(false);
+    if (vert_holes_.misplaced > front / 8 + slack)
+        relay_vertices(true);
+    else if (vert_holes_.count > front / 4 + slack)
+        relay_vertices(false);
     const auto refit = [](auto& v, std::size_t capacity) {
         std::remove_reference_t<decltype(v)> kept;
         kept.reserve(capacity);
@@ -143,34 +223,53 @@ void AdaptiveFront::trim_storage() {
         refit(vert_, n + n / 4);
         refit(front_data_, n + n / 4);
     }
+    if (front_id_.capacity() > front + front / 2 + slack) refit(front_id_, front + front / 4);
     if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
+    if (found_.capacity() > 2 * n + slack) refit(found_, n);  // (empty between frames too)
     if (ranked_.capacity() > 2 * n + slack) refit(ranked_, n);  // (empty between frames too)
     // (the first frame from the input with geomorphs starts a collapse at most vertices)
     if (morphs_.capacity() > 2 * morphs_.size() + 4 * slack) refit(morphs_, 2 * morphs_.size() + slack);
 }
 
+// v joins the front (at its end) with a record in a hole near `near_slot` (its parent's record)
+// when there is one, else in a new slot at the pool's end.
 void AdaptiveFront::front_add(std::uint32_t v, std::uint32_t collapse, std::uint32_t last_collapse,
-                              std::uint32_t pending) {
-    vertex_slot_[v] = std::uint32_t(vert_.size());
-    if (vert_.size() == vert_.capacity()) {  // (by a quarter, never past the input's vertices)
-        const std::size_t capacity = std::min(vert_.size() + vert_.size() / 4 + 64, vertex_slot_.size());
-        vert_.reserve(capacity);
-        front_data_.reserve(capacity);
+                              std::uint32_t pending, std::uint32_t near_slot) {
+    const Vertex x{v, none, collapse, last_collapse, pending, 0, std::uint32_t(front_id_.size()), 0, 0};
+    const glm::vec4 data(glm::vec3(pm_.input().positions[v]), 0.0f);  // (area: refresh_ring_area)
+    std::uint32_t s = near_slot == none ? none : vert_holes_.near(near_slot);
+    if (s != none) {
+        vert_holes_.take(s);
+        vert_[s] = x;
+        front_data_[s] = data;
+    } else {
+        s = std::uint32_t(vert_.size());
+        if (vert_.size() == vert_.capacity()) {  // (by a quarter, never past the input's vertices)
+            const std::size_t capacity = std::min(vert_.size() + vert_.size() / 4 + 64, vertex_slot_.size());
+            vert_.reserve(capacity);
+            front_data_.reserve(capacity);
+        }
+        vert_.push_back(x);
+        front_data_.push_back(data);
+        vert_holes_.grow(vert_.size());
+        vert_holes_.misplaced += near_slot != none;
     }
-    vert_.push_back(Vertex{v, none, collapse, last_collapse, pending, 0, 0, 0});
-    front_data_.push_back(glm::vec4(glm::vec3(pm_.input().positions[v]), 0.0f));  // (area: refresh_ring_area)
+    vertex_slot_[v] = s;
+    front_id_.push_back(v);
 }
 
-// v leaves the front, removed by collapse i: its record goes (the last moves into its place), its
-// stack waits in made_[i].
+// v leaves the front, removed by collapse i: its record becomes a hole (its area NaN, which no
+// band test passes) and the front's last vertex takes its place in the front's order; its stack
+// waits in made_[i].
 void AdaptiveFront::front_remove(std::uint32_t v, std::uint32_t i) {
-    const std::uint32_t at = vertex_slot_[v];
-    made_[i].removed_stack = vert_[at].last_collapse;
-    vert_[at] = vert_.back();
-    front_data_[at] = front_data_.back();
-    vertex_slot_[vert_[at].id] = at;
-    vert_.pop_back();
-    front_data_.pop_back();
+    const std::uint32_t s = vertex_slot_[v], at = vert_[s].front_at, last = front_id_.back();
+    made_[i].removed_stack = vert_[s].last_collapse;
+    front_id_[at] = last;
+    rec(last).front_at = at;
+    front_id_.pop_back();
+    vert_[s].id = vert_[s].head = none;
+    front_data_[s].w = std::numeric_limits<float>::quiet_NaN();
+    vert_holes_.free(s);
     vertex_slot_[v] = tag | i;
 }
 
@@ -470,7 +569,9 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
     rec(k).last_collapse = made_[i].prev;
     made_[i].prev = none;
     ++rec(k).pending_children;
-    front_add(r, i, made_[i].removed_stack, 0);  // (every collapse onto r was made: tree order)
+    const std::uint32_t near_face = rec(k).head == none ? none : face_of(rec(k).head);
+    // (every collapse onto r was made: tree order; r's record goes near k's)
+    front_add(r, i, made_[i].removed_stack, 0, vertex_slot_[k]);
     made_[i].removed_stack = none;
     for (std::uint32_t c = rec(k).head, next = none; c != none; c = next) {
         next = next_corner(c);
@@ -481,7 +582,7 @@ std::uint32_t AdaptiveFront::raw_split(std::uint32_t k) {
         }
     }
     for (std::uint32_t f : made_[i].dead)
-        if (f != none) add_face(f);
+        if (f != none) add_face(f, near_face);
     made_[i].dead = {none, none};
     return r;
 }
@@ -701,7 +802,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         for (const std::uint32_t v : work_) dequeue(v);
         work_.clear();
     }
-    for (std::size_t j = 0; j < vert_.size(); ++j) {
+    for (std::size_t j = 0; j < vert_.size(); ++j) {  // (the pool's order; a hole's NaN area passes no test)
         const glm::dvec3 p(front_data_[j]);
         const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
@@ -712,7 +813,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         const bool split = a > criterion.split * t && v.last_collapse != none;
         if (!split && !(a < criterion.collapse * t && v.collapse_of != none)) continue;
         if (!budgeted) {
-            enqueue(v.id);
+            found_.push_back({v.front_at, v.id});
             continue;
         }
         // A collapse waiting on its children (Hoppe's tree order) is refused and stamped here as
@@ -725,7 +826,12 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         v.queued = frame16();  // (in the ranking: a change of its ring need not queue it again)
         ranked_.push_back({float(split ? a / (criterion.split * t) : criterion.collapse * t / a), v.id});
     }
-    s.evaluated = vert_.size();
+    if (!budgeted) {  // (queued in the front's order: the pool's order must not change the operations)
+        std::sort(found_.begin(), found_.end());
+        for (const auto& [at, v] : found_) enqueue(v);
+        found_.clear();
+    }
+    s.evaluated = front_id_.size();
     // (morphs that ended this frame made their collapses: they count against the budget)
     const std::size_t budget = budgeted ? max_operations - std::min(max_operations, s.morphs_ended) : max_operations;
     drain(budget);
@@ -733,7 +839,7 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
     backlog_ = s.backlog;
     trim_storage();
     s.morphs_running = morphs_.size();
-    s.vertices = vert_.size();
+    s.vertices = front_id_.size();
     s.triangles = active_face_count_;
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     camera_ = nullptr;
@@ -773,8 +879,9 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(vert_) + b(front_data_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) + b(face_id_) +
-           b(face_slot_) + b(work_) + b(morphs_) + b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_) + b(ranked_);
+    return b(vert_) + b(front_data_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
+           b(face_id_) + b(face_slot_) + b(vert_holes_.bits) + b(face_holes_.bits) + b(work_) + b(found_) + b(morphs_) +
+           b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_) + b(ranked_);
 }
 
 }  // namespace inkline

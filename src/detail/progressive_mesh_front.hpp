@@ -135,7 +135,7 @@ public:
     TriangleMesh mesh(std::vector<std::uint32_t>* input_vertex = nullptr,
                       std::vector<std::uint32_t>* input_face = nullptr) const;
 
-    std::size_t active_vertices() const { return vert_.size(); }
+    std::size_t active_vertices() const { return front_id_.size(); }
     std::size_t active_faces() const { return active_face_count_; }
     // In the front (input vertex v; a vertex in no face never is).
     bool is_active(std::uint32_t v) const { return active(v); }
@@ -149,6 +149,10 @@ public:
     double image_area_of(std::uint32_t v, const Camera& camera) const;
     // Bytes of the front's arrays (the hierarchy and the input apart).
     std::size_t bytes() const;
+    // Where an active vertex's record and an active input face's record sit in their pools (the
+    // slot, in records): ring neighbours' records near each other share cache lines and pages.
+    std::uint32_t vertex_record(std::uint32_t v) const { return vertex_slot_[v]; }
+    std::uint32_t face_record(std::uint32_t input_face) const { return face_slot_[input_face]; }
 
 private:
     static constexpr std::uint32_t none = UINT32_MAX;
@@ -164,8 +168,12 @@ private:
     // A slot word with this bit set holds no record's index (below); index_mask keeps the rest.
     static constexpr std::uint32_t tag = 0x80000000u, index_mask = 0x7fffffffu;
     // Per active vertex, in one 32-byte record: an operation reads a vertex's fields together, so
-    // one cache line a vertex instead of one a field. The records are the front, in its order (a
-    // vertex's record is its place in the front; a removal moves the last record into the gap).
+    // one cache line a vertex instead of one a field. The records sit in a pool in the input's
+    // (spatially coherent) order: a removal leaves a hole, a split's vertex takes a hole near its
+    // parent's record; the pool is compacted in its order once a fifth is holes, and laid out in
+    // the input's order again once an eighth of its records went to its end for want of a hole
+    // near (a refining front). So a ring's records stay near each other, where moving the last
+    // record into each gap scattered them over the pool within a few thousand operations.
     struct alignas(32) Vertex {
         std::uint32_t id;                // its input index
         std::uint32_t head;              // first corner of its corner list
@@ -176,12 +184,31 @@ private:
         // can lift, so blocked vertices cost nothing a frame: a change of its ring or the end of a
         // morph next to it clears the stamp; the stamp's length is only a backstop.
         std::uint32_t retry_at;
+        std::uint32_t front_at;          // its place in front_id_
         std::uint16_t locked;            // geomorphs holding it
         // The frame it was queued in (frame16(); 0: not queued), so that a budgeted frame's
         // candidates left untried need no pass to unmark them.
         std::uint16_t queued;
     };
+    static_assert(sizeof(Vertex) == 32);
     std::vector<Vertex> vert_;
+    // The front's order (input vertices; a removal moves the last into the gap): the unbudgeted
+    // frame queues the scan's vertices in this order, as when it was the records' own order, so
+    // its operations do not depend on where the records sit.
+    std::vector<std::uint32_t> front_id_;
+    // A pool's holes, a bit a slot (set: free), how many, and the records placed at the pool's end
+    // since it was laid out in the input's order (no hole was near their neighbours').
+    struct Holes {
+        std::vector<std::uint64_t> bits;
+        std::size_t count = 0, misplaced = 0;
+        void grow(std::size_t slots) { bits.resize((slots + 63) / 64, 0); }
+        void free(std::uint32_t s) { bits[s / 64] |= std::uint64_t(1) << (s % 64); ++count; }
+        void take(std::uint32_t s) { bits[s / 64] &= ~(std::uint64_t(1) << (s % 64)); --count; }
+        bool is_free(std::uint32_t s) const { return bits[s / 64] >> (s % 64) & 1; }
+        std::uint32_t near(std::uint32_t slot) const;  // a hole within a few KiB of `slot` (none: none)
+    };
+    Holes vert_holes_, face_holes_;
+    static constexpr std::size_t gap_every = 8;  // a pool laid out again keeps a hole after every 8 records
     // Per input vertex: its record's index when active, else tag | the collapse that removed it
     // (tag | index_mask: a vertex in no face, never in the front). An inactive vertex needs nothing
     // more: all collapses onto it were made (tree order), it is unlocked and unqueued, and its
@@ -214,18 +241,22 @@ private:
         double area;  // (double: the ring's sum is then the one the criterion always measured)
     };
     std::vector<Face> faces_;
-    std::vector<std::uint32_t> face_id_;    // per slot: its input face; a free slot: tag | the next free one
+    // per slot: its input face (a hole: none). A face's slot is a hole near the slot of a face
+    // next to it (as the vertices' records: ring neighbours share cache lines).
+    std::vector<std::uint32_t> face_id_;
     std::vector<std::uint32_t> face_slot_;  // per input face: its slot (none: not in the front)
-    std::uint32_t free_face_ = tag | index_mask;  // the free slots' list
     std::size_t active_face_count_ = 0;
     std::vector<std::uint32_t> work_;  // input vertices
     std::size_t backlog_ = 0;          // the last frame's FrontStats::backlog
     // A budgeted frame's candidates from the scan with their discrepancy from the band (the
     // factor by which the vertex's image area lies outside it), ranked and taken before the worklist.
     std::vector<std::pair<float, std::uint32_t>> ranked_;
-    // Per front entry, beside vert_: the vertex's position and ring area, so that a frame's
-    // evaluation streams through memory instead of missing the cache twice a vertex.
+    // Per vertex record, beside vert_: the vertex's position and ring area (NaN in a hole, so the
+    // scan passes over it), so that a frame's evaluation streams through memory instead of missing
+    // the cache twice a vertex.
     std::vector<glm::vec4> front_data_;
+    // The unbudgeted scan's vertices with their place in the front, to queue them in its order.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> found_;
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
     std::vector<std::uint32_t> ring_r_, ring_k_, touched_;
@@ -251,11 +282,14 @@ private:
     std::uint32_t representative(std::uint32_t input_vertex) const;
     void link(std::uint32_t c, std::uint32_t v);
     void unlink(std::uint32_t c);
-    std::uint32_t add_face(std::uint32_t input_face);  // a slot holding its input corners' representatives
+    // A slot holding its input corners' representatives, a hole near `near_slot` when there is one.
+    std::uint32_t add_face(std::uint32_t input_face, std::uint32_t near_slot = none);
     void remove_face(std::uint32_t slot);
-    void compact_faces();
+    void relay_faces(bool input_order);
+    void relay_vertices(bool input_order);
     void trim_storage();
-    void front_add(std::uint32_t v, std::uint32_t collapse_of, std::uint32_t last_collapse, std::uint32_t pending);
+    void front_add(std::uint32_t v, std::uint32_t collapse_of, std::uint32_t last_collapse, std::uint32_t pending,
+                   std::uint32_t near_slot = none);
     void front_remove(std::uint32_t v, std::uint32_t removed_by);
     void refresh_face_area(std::uint32_t f);
     void refresh_ring_area(std::uint32_t v);
