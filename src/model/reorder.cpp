@@ -1,6 +1,8 @@
 #include "model/reorder.hpp"
 
 #include <algorithm>
+#include <condition_variable>
+#include <mutex>
 #include <exception>
 #include <functional>
 #include <numeric>
@@ -224,6 +226,82 @@ TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads) {
     else sort_vertices();
     if (vertex_failure) std::rethrow_exception(vertex_failure);
     return renumbered(std::move(mesh), vertex_at, face_at);
+}
+
+TriangleMesh hilbert_ordered(TriangleMesh mesh, const HilbertOrders& known) {
+    return renumbered(std::move(mesh), known.vertex_at, known.face_at);
+}
+
+struct HilbertOrderAhead::Impl {
+    std::thread thread;
+    std::mutex mutex;
+    std::condition_variable read_cv;
+    bool read = false;     // the thread is done reading the mesh
+    bool changed = false;  // the owner announced a change: the orders are of another mesh
+    HilbertOrders orders;
+    std::exception_ptr failure;
+
+    void run(const glm::dvec3* positions, std::size_t nv, const std::array<std::uint32_t, 3>* triangles,
+             std::size_t nf) {
+        std::vector<Keyed> vertex_keys, face_keys;
+        try {
+            // The same keys as hilbert_ordered's (its grid, its centroids).
+            const HilbertGrid grid(positions, nv);
+            vertex_keys = hilbert_keys(nv, grid, [&](std::size_t i) { return positions[i]; });
+            face_keys = hilbert_keys(nf, grid, [&](std::size_t f) {
+                const auto& t = triangles[f];
+                return (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0;
+            });
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            read = true;
+            if (changed || failure) {
+                read_cv.notify_all();
+                return;
+            }
+        }
+        read_cv.notify_all();
+        try {
+            orders.vertex_at = key_order(std::move(vertex_keys));
+            orders.face_at = key_order(std::move(face_keys));
+        } catch (...) {
+            failure = std::current_exception();
+        }
+    }
+};
+
+HilbertOrderAhead::HilbertOrderAhead() : impl_(std::make_unique<Impl>()) {}
+
+HilbertOrderAhead::~HilbertOrderAhead() {
+    if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+void HilbertOrderAhead::start(const TriangleMesh& mesh) {
+    // Below this many faces the keys take about what a thread's start costs.
+    constexpr std::size_t kFacesForThread = 16384;
+    if (impl_->thread.joinable() || impl_->read || mesh.triangles.size() < kFacesForThread) return;
+    try {
+        impl_->thread = std::thread(&Impl::run, impl_.get(), mesh.positions.data(), mesh.positions.size(),
+                                    mesh.triangles.data(), mesh.triangles.size());
+    } catch (const std::system_error&) {
+        impl_->read = impl_->changed = true;  // no thread: nothing made, nothing to wait for
+    }
+}
+
+void HilbertOrderAhead::before_change() {
+    std::unique_lock<std::mutex> lock(impl_->mutex);
+    impl_->changed = true;
+    if (impl_->thread.joinable()) impl_->read_cv.wait(lock, [this] { return impl_->read; });
+}
+
+std::optional<HilbertOrders> HilbertOrderAhead::take() {
+    if (!impl_->thread.joinable()) return std::nullopt;
+    impl_->thread.join();
+    if (impl_->changed || impl_->failure) return std::nullopt;  // (a failure: hilbert_ordered meets it again)
+    return std::move(impl_->orders);
 }
 
 TriangleMesh hilbert_ordered_median(TriangleMesh mesh) {
