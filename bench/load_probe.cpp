@@ -172,7 +172,7 @@ int stages(const std::string& path, int repeat, int threads) {
         triangles = m.triangles.size();
         const std::optional<inkline::HilbertOrders> known = ahead.take();
         inkline::TriangleMesh ordered =
-            known ? inkline::hilbert_ordered(std::move(m), *known) : inkline::hilbert_ordered(std::move(m), threads);
+            known ? inkline::hilbert_ordered(std::move(m), *known, threads) : inkline::hilbert_ordered(std::move(m), threads);
         lap(t[1]);
         const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
         lap(t[2]);

@@ -3,7 +3,7 @@
 // chaining, walks) then touch a few cache lines instead of the whole mesh.
 // Takes a TriangleMesh; gives the same mesh (same orientation, same corners order per face)
 // with renumbered vertices and faces. With threads > 1 the vertices' and faces' sorts run on two
-// threads (the same orders).
+// threads, and the corners' pairing is renumbered beside the rest (the same orders and arrays).
 #pragma once
 
 #include <cstdint>
@@ -26,7 +26,7 @@ struct HilbertOrders {
     std::vector<std::uint32_t> vertex_at, face_at;
 };
 // hilbert_ordered with the orders known (HilbertOrderAhead: those of this very mesh).
-TriangleMesh hilbert_ordered(TriangleMesh mesh, const HilbertOrders& known);
+TriangleMesh hilbert_ordered(TriangleMesh mesh, const HilbertOrders& known, int threads = 1);
 
 // hilbert_ordered's orders of a mesh made on a thread of its own while the mesh's owner goes on
 // reading it (Model::load: beside the repairs, which leave most files as they are). The thread
