@@ -14,7 +14,8 @@
 //                                    machine): parse and repair (load_mesh), Hilbert order, topology,
 //                                    and the lazy parts a render may build (self-intersections,
 //                                    ray-test index); with T threads (default 1) the stages that
-//                                    use them do, and the figures are wall seconds
+//                                    use them do (the Hilbert orders beside the repairs, as
+//                                    Model::load), and the figures are wall seconds
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
@@ -23,6 +24,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -164,10 +166,13 @@ int stages(const std::string& path, int repeat, int threads) {
             least = std::min(least, now - t0);
             t0 = now;
         };
-        inkline::TriangleMesh m = inkline::load_mesh(path);
+        inkline::HilbertOrderAhead ahead;  // (as Model::load: with threads, the orders beside the repairs)
+        inkline::TriangleMesh m = inkline::load_mesh(path, {}, threads > 1 ? &ahead : nullptr);
         lap(t[0]);
         triangles = m.triangles.size();
-        inkline::TriangleMesh ordered = inkline::hilbert_ordered(std::move(m), threads);
+        const std::optional<inkline::HilbertOrders> known = ahead.take();
+        inkline::TriangleMesh ordered =
+            known ? inkline::hilbert_ordered(std::move(m), *known, threads) : inkline::hilbert_ordered(std::move(m), threads);
         lap(t[1]);
         const inkline::MeshTopology topo = inkline::build_topology(std::move(ordered));
         lap(t[2]);

@@ -23,18 +23,23 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
                   const SubdivideProgress& on_subdivide) {
     const auto t0 = std::chrono::steady_clock::now();
     TriangleMesh mesh;
+    // With a thread to spare, the Hilbert orders are made beside the repairs, and used when the
+    // repairs changed nothing (most files). (After `mesh`: destroyed first, it waits for its thread.)
+    HilbertOrderAhead ahead;
     std::vector<SceneCamera> cameras;
     if (is_scene_file(path)) {
         Scene scene = load_scene(path, options);
         mesh = std::move(scene.mesh);
         cameras = std::move(scene.cameras);
     } else {
-        mesh = load_mesh(path, options);
+        mesh = load_mesh(path, options, options.threads > 1 && subdivide <= 0 ? &ahead : nullptr);
     }
     const LoadReport repairs = mesh.repairs;
     LoadProgressReporter progress(&options.progress, 0);
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    TriangleMesh ordered = hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide), options.threads);
+    const std::optional<HilbertOrders> known = ahead.take();
+    TriangleMesh ordered = known ? hilbert_ordered(std::move(mesh), *known, options.threads)
+                                 : hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide), options.threads);
     progress.at(kProgressOrdered);
     // Every view needs the self-intersections: with threads to spare, their search runs beside
     // the topology's construction (it needs only the faces and positions, which the topology

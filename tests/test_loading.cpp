@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -417,6 +418,51 @@ TEST(LoadingOrder, DrawingDifferenceSeesAMovedVertex) {
         moved = d.missing_px + d.extra_px;
     }
     EXPECT_GT(moved, 0.0);
+}
+
+// With threads, Model::load makes the Hilbert orders beside the repairs (HilbertOrderAhead) and
+// uses them only when the repairs left the mesh as it was: on armadillo as it is they are made and
+// are hilbert_ordered's own; on copies that the repairs change (a face flipped, a face listed twice,
+// a fin on an edge) they are dropped, and two threads load the same arrays as one.
+TEST(LoadingOrder, OrdersMadeBesideTheRepairsOnlyForAnUnchangedMesh) {
+    const std::string dir = ::testing::TempDir() + "/test_loading_ahead";
+    std::filesystem::create_directories(dir);
+    const Polygons sample = read_sample(test::mesh_path("armadillo"));
+    ASSERT_GE(sample.faces.size(), 16384u);  // (HilbertOrderAhead's least: below it, no thread)
+    const auto write = [&](const Polygons& p, const std::string& name) {
+        const std::string path = dir + "/" + name + ".off";
+        std::ofstream(path, std::ios::binary) << write_as(p, "off");
+        return path;
+    };
+    const auto ahead_orders = [](const std::string& path) {
+        HilbertOrderAhead ahead;
+        TriangleMesh m = load_mesh(path, {}, &ahead);
+        std::optional<HilbertOrders> known = ahead.take();
+        return std::make_pair(std::move(m), std::move(known));
+    };
+    {
+        const std::string path = write(sample, "as_is");
+        auto [mesh, known] = ahead_orders(path);
+        ASSERT_TRUE(known.has_value()) << "no orders made beside the repairs of a mesh they leave as it is";
+        const TriangleMesh by_ahead = hilbert_ordered(mesh, *known);
+        const TriangleMesh by_keys = hilbert_ordered(load_mesh(path), 1);
+        EXPECT_EQ(by_ahead.positions, by_keys.positions);
+        EXPECT_EQ(by_ahead.triangles, by_keys.triangles);
+        EXPECT_EQ(by_ahead.corner_mates, by_keys.corner_mates);
+        EXPECT_EQ(summary(path, 2), summary(path, 1));
+    }
+    Polygons flipped = sample, twice = sample, fin = sample;
+    std::swap(flipped.faces[1000][1], flipped.faces[1000][2]);
+    twice.faces.push_back(twice.faces[2000]);
+    fin.positions.push_back(fin.positions[fin.faces[3000][0]] + glm::dvec3(0.5, 0.25, 0.125));
+    fin.faces.push_back({fin.faces[3000][0], fin.faces[3000][1], std::uint32_t(fin.positions.size() - 1)});
+    for (const auto& [p, name] : {std::pair{&flipped, "flipped"}, std::pair{&twice, "twice"}, std::pair{&fin, "fin"}}) {
+        const std::string path = write(*p, name);
+        const auto [mesh, known] = ahead_orders(path);
+        EXPECT_TRUE(mesh.repairs.any() || mesh.faces_reoriented > 0) << name << ": the repairs changed nothing";
+        EXPECT_FALSE(known.has_value()) << name << ": orders kept for a mesh the repairs changed";
+        EXPECT_EQ(summary(path, 2), summary(path, 1)) << name;
+    }
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {

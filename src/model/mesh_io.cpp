@@ -1,4 +1,5 @@
 #include "model/mesh_io.hpp"
+#include "model/reorder.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -936,7 +937,8 @@ bool may_have_duplicate_faces(const CornerMates& mates) {
 
 // Returns true when it left the faces as they were and made `mates`, their corner pairing (tolerant
 // mode, one object, no face with a repeated corner); `mates` is not to be used otherwise.
-bool drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool strict, CornerMates& mates) {
+bool drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool strict, CornerMates& mates,
+                           HilbertOrderAhead* ahead) {
     const std::size_t nf = mesh.triangles.size();
     std::vector<char> keep(nf, 1);
     std::size_t dropped = 0;
@@ -979,6 +981,7 @@ bool drop_degenerate_faces(TriangleMesh& mesh, const std::string& where, bool st
     }
     if (dropped == 0) return mates_made;
     mesh.repairs.faces_dropped += dropped;
+    if (ahead) ahead->before_change();
     keep_faces(mesh, keep);
     if (mesh.triangles.empty())
         throw Error(where, "no faces left: all " + std::to_string(dropped) + " faces are degenerate (repeated corners)");
@@ -1169,7 +1172,8 @@ std::uint32_t search_orientation(TriangleMesh& mesh, const CornerMates& mates, c
 // most once; faces_reoriented counts the faces whose final orientation differs from the input,
 // repairs.components_reoriented the components whose faces disagreed. Returns per face 1 if this
 // call flipped it, or nothing when it flipped none (most files).
-std::vector<std::uint8_t> orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams) {
+std::vector<std::uint8_t> orient(TriangleMesh& mesh, const CornerMates& mates, const std::string& where, bool seams,
+                                 HilbertOrderAhead* ahead) {
     const std::size_t nf = mesh.triangles.size();
     std::vector<std::int8_t> state;
     std::vector<std::uint32_t> component;
@@ -1198,6 +1202,7 @@ std::vector<std::uint8_t> orient(TriangleMesh& mesh, const CornerMates& mates, c
     for (std::uint32_t f = 0; f < nf; ++f) {
         const bool outward_flip = closed[component[f]] && !nonorientable[component[f]] && volume[component[f]] < 0.0;
         if ((state[f] < 0) != outward_flip) {
+            if (ahead && flipped.empty()) ahead->before_change();
             std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
             ++mesh.faces_reoriented;
             if (flipped.empty()) flipped.assign(nf, 0);
@@ -1226,22 +1231,30 @@ void keep_corner_mates(TriangleMesh& mesh, const std::vector<std::uint8_t>& flip
 }
 
 // Checks and repairs a mesh whose vertices are already welded (see repair_mesh).
+// With `ahead`, starts it once the indices are checked and announces each change to the mesh.
 void repair_welded(TriangleMesh& mesh, const std::string& where, bool strict,
-                   const LoadProgressCallback* progress_callback = nullptr) {
+                   const LoadProgressCallback* progress_callback = nullptr, HilbertOrderAhead* ahead = nullptr) {
     LoadProgressReporter progress(progress_callback, 0);
     check_coordinates_and_indices(mesh, where);
-    CornerMates mates;
-    const bool mates_made = drop_degenerate_faces(mesh, where, strict, mates);
-    progress.at(kProgressParsed + 0.4 * (kProgressRepaired - kProgressParsed));
-    if (!mates_made) mates = corner_mates(mesh.triangles, mesh.positions.size());
-    if (mates.extra > 0) {
-        if (strict) throw Error(where, nonmanifold_message(mates));
-        cut_nonmanifold_edges(mesh, mates);
-        mates = corner_mates(mesh.triangles, mesh.positions.size());
+    if (ahead) ahead->start(mesh);
+    try {
+        CornerMates mates;
+        const bool mates_made = drop_degenerate_faces(mesh, where, strict, mates, ahead);
+        progress.at(kProgressParsed + 0.4 * (kProgressRepaired - kProgressParsed));
+        if (!mates_made) mates = corner_mates(mesh.triangles, mesh.positions.size());
+        if (mates.extra > 0) {
+            if (strict) throw Error(where, nonmanifold_message(mates));
+            if (ahead) ahead->before_change();
+            cut_nonmanifold_edges(mesh, mates);
+            mates = corner_mates(mesh.triangles, mesh.positions.size());
+        }
+        progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
+        const std::vector<std::uint8_t> flipped = orient(mesh, mates, where, !strict, ahead);
+        if (mates.extra == 0) keep_corner_mates(mesh, flipped, std::move(mates.mate));
+    } catch (...) {
+        if (ahead) ahead->before_change();  // (the mesh is about to be freed: the thread must be done reading it)
+        throw;
     }
-    progress.at(kProgressParsed + 0.7 * (kProgressRepaired - kProgressParsed));
-    const std::vector<std::uint8_t> flipped = orient(mesh, mates, where, !strict);
-    if (mates.extra == 0) keep_corner_mates(mesh, flipped, std::move(mates.mate));
 }
 
 // Triangulates a polygon (corner indices, welded) by ear clipping in the plane of its Newell normal,
@@ -1305,7 +1318,7 @@ bool ear_clip(const std::vector<glm::dvec3>& positions, std::vector<std::int64_t
 // cleaned (tolerant: corners repeated in a row merged, polygons that still repeat one dropped;
 // strict: nothing welded, as before the repairs, so strict loading is the old loading exactly)
 // and fan-triangulated, as OpenMesh's own triangulate() does for convex polygons.
-TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& options) {
+TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& options, HilbertOrderAhead* ahead) {
     const std::int64_t nv = std::int64_t(soup.positions.size());
     const auto polygon = [&soup](std::size_t fi) {  // the corners of polygon fi
         const std::size_t begin = fi == 0 ? 0 : soup.polygon_end[fi - 1];
@@ -1374,13 +1387,15 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
         throw Error(path, "no faces left: all " + std::to_string(mesh.repairs.faces_dropped) +
                               " faces are degenerate (repeated corners)");
     LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
-    repair_welded(mesh, path, options.strict, &options.progress);
+    repair_welded(mesh, path, options.strict, &options.progress, ahead);
     return mesh;
 }
 
 }  // namespace
 
-TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
+TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) { return load_mesh(path, options, nullptr); }
+
+TriangleMesh load_mesh(const std::string& path, const LoadOptions& options, HilbertOrderAhead* ahead) {
     const std::string ext = lower_extension(path);
     if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
         throw Error(path, "unsupported mesh format '" + ext + "' (expected .obj, .off, .ply or .stl)");
@@ -1444,8 +1459,13 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options) {
     }
 
     progress.stage(kProgressParsed);
-    TriangleMesh mesh = triangulate(std::move(soup), path, options);
-    progress.stage(kProgressRepaired);
+    TriangleMesh mesh = triangulate(std::move(soup), path, options, ahead);
+    try {
+        progress.stage(kProgressRepaired);
+    } catch (...) {
+        if (ahead) ahead->before_change();  // (as in repair_welded)
+        throw;
+    }
     return mesh;
 }
 

@@ -78,6 +78,12 @@ std::uint64_t triangles_key(const std::vector<std::array<std::uint32_t, 3>>& tri
 // a non-orientable part except across an orientation seam (model/orientation.hpp).
 TriangleMesh load_mesh(const std::string& path, const LoadOptions& options = {});
 
+// load_mesh that starts `ahead` (model/reorder.hpp: the Hilbert orders made on a thread of their
+// own) once the vertices are welded and the indices checked, and announces to it any change the
+// repairs then make (Model::load: the order beside the repairs).
+class HilbertOrderAhead;
+TriangleMesh load_mesh(const std::string& path, const LoadOptions& options, HilbertOrderAhead* ahead);
+
 // What load_mesh does after parsing, for triangles built elsewhere (the scene loader): welds
 // vertices at the same position (tolerant mode; a scene's objects each on their own), then drops
 // degenerate faces (a repeated corner; zero area on edges closed without it; the same three points

@@ -1,6 +1,8 @@
 #include "model/reorder.hpp"
 
 #include <algorithm>
+#include <condition_variable>
+#include <mutex>
 #include <exception>
 #include <functional>
 #include <numeric>
@@ -112,9 +114,48 @@ glm::dvec3 centroid(const TriangleMesh& mesh, std::size_t f) {
 }
 
 // The mesh renumbered: vertex i of the result is vertex_at[i] of the input, face i face_at[i].
+// With threads > 1 (and faces enough) the corners' pairing is renumbered on a thread of its own,
+// beside the positions and triangles.
 TriangleMesh renumbered(TriangleMesh mesh, const std::vector<std::uint32_t>& vertex_at,
-                        const std::vector<std::uint32_t>& face_at) {
+                        const std::vector<std::uint32_t>& face_at, int threads = 1) {
     const std::size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
+    // The corners' pairing, renumbered with the faces (corner k of a face stays corner k); empty
+    // when it is not that of the triangles.
+    std::vector<std::uint32_t> mates;
+    bool mates_made = false;
+    const auto renumber_mates = [&] {
+        if (mesh.corner_mates.size() != 3 * nf || mesh.corner_mates_of != triangles_key(mesh.triangles)) return;
+        mates_made = true;
+        std::vector<std::uint32_t> new_face(nf);
+        for (std::uint32_t i = 0; i < nf; ++i) new_face[face_at[i]] = i;
+        mates.resize(3 * nf);
+        for (std::uint32_t i = 0; i < nf; ++i)
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const std::uint32_t m = mesh.corner_mates[3 * face_at[i] + k];
+                mates[3 * i + k] = m == kNoCorner ? m : 3 * new_face[m / 3] + m % 3;
+            }
+    };
+    std::thread mates_thread;
+    struct Joined {  // (waited for however this function ends)
+        std::thread& t;
+        ~Joined() {
+            if (t.joinable()) t.join();
+        }
+    } joined{mates_thread};
+    std::exception_ptr mates_failure;
+    if (threads > 1 && nf >= 16384) {
+        try {
+            mates_thread = std::thread([&] {
+                try {
+                    renumber_mates();
+                } catch (...) {
+                    mates_failure = std::current_exception();
+                }
+            });
+        } catch (const std::system_error&) {
+            // No thread: this one does it below.
+        }
+    }
     std::vector<std::uint32_t> new_index(nv);
     std::vector<glm::dvec3> positions(nv);
     for (std::uint32_t i = 0; i < nv; ++i) {
@@ -128,16 +169,10 @@ TriangleMesh renumbered(TriangleMesh mesh, const std::vector<std::uint32_t>& ver
         triangles[i] = {new_index[t[0]], new_index[t[1]], new_index[t[2]]};
         if (!face_object.empty()) face_object[i] = mesh.face_object[face_at[i]];
     }
-    // The corners' pairing, renumbered with the faces (corner k of a face stays corner k).
-    if (mesh.corner_mates.size() == 3 * nf && mesh.corner_mates_of == triangles_key(mesh.triangles)) {
-        std::vector<std::uint32_t> new_face(nf);
-        for (std::uint32_t i = 0; i < nf; ++i) new_face[face_at[i]] = i;
-        std::vector<std::uint32_t> mates(3 * nf);
-        for (std::uint32_t i = 0; i < nf; ++i)
-            for (std::uint32_t k = 0; k < 3; ++k) {
-                const std::uint32_t m = mesh.corner_mates[3 * face_at[i] + k];
-                mates[3 * i + k] = m == kNoCorner ? m : 3 * new_face[m / 3] + m % 3;
-            }
+    if (mates_thread.joinable()) mates_thread.join();
+    else renumber_mates();
+    if (mates_failure) std::rethrow_exception(mates_failure);
+    if (mates_made) {
         mesh.corner_mates = std::move(mates);
         mesh.corner_mates_of = triangles_key(triangles);
     } else {
@@ -223,7 +258,83 @@ TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads) {
     if (vertex_thread.joinable()) vertex_thread.join();
     else sort_vertices();
     if (vertex_failure) std::rethrow_exception(vertex_failure);
-    return renumbered(std::move(mesh), vertex_at, face_at);
+    return renumbered(std::move(mesh), vertex_at, face_at, threads);
+}
+
+TriangleMesh hilbert_ordered(TriangleMesh mesh, const HilbertOrders& known, int threads) {
+    return renumbered(std::move(mesh), known.vertex_at, known.face_at, threads);
+}
+
+struct HilbertOrderAhead::Impl {
+    std::thread thread;
+    std::mutex mutex;
+    std::condition_variable read_cv;
+    bool read = false;     // the thread is done reading the mesh
+    bool changed = false;  // the owner announced a change: the orders are of another mesh
+    HilbertOrders orders;
+    std::exception_ptr failure;
+
+    void run(const glm::dvec3* positions, std::size_t nv, const std::array<std::uint32_t, 3>* triangles,
+             std::size_t nf) {
+        std::vector<Keyed> vertex_keys, face_keys;
+        try {
+            // The same keys as hilbert_ordered's (its grid, its centroids).
+            const HilbertGrid grid(positions, nv);
+            vertex_keys = hilbert_keys(nv, grid, [&](std::size_t i) { return positions[i]; });
+            face_keys = hilbert_keys(nf, grid, [&](std::size_t f) {
+                const auto& t = triangles[f];
+                return (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0;
+            });
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            read = true;
+            if (changed || failure) {
+                read_cv.notify_all();
+                return;
+            }
+        }
+        read_cv.notify_all();
+        try {
+            orders.vertex_at = key_order(std::move(vertex_keys));
+            orders.face_at = key_order(std::move(face_keys));
+        } catch (...) {
+            failure = std::current_exception();
+        }
+    }
+};
+
+HilbertOrderAhead::HilbertOrderAhead() : impl_(std::make_unique<Impl>()) {}
+
+HilbertOrderAhead::~HilbertOrderAhead() {
+    if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+void HilbertOrderAhead::start(const TriangleMesh& mesh) {
+    // Below this many faces the keys take about what a thread's start costs.
+    constexpr std::size_t kFacesForThread = 16384;
+    if (impl_->thread.joinable() || impl_->read || mesh.triangles.size() < kFacesForThread) return;
+    try {
+        impl_->thread = std::thread(&Impl::run, impl_.get(), mesh.positions.data(), mesh.positions.size(),
+                                    mesh.triangles.data(), mesh.triangles.size());
+    } catch (const std::system_error&) {
+        impl_->read = impl_->changed = true;  // no thread: nothing made, nothing to wait for
+    }
+}
+
+void HilbertOrderAhead::before_change() {
+    std::unique_lock<std::mutex> lock(impl_->mutex);
+    impl_->changed = true;
+    if (impl_->thread.joinable()) impl_->read_cv.wait(lock, [this] { return impl_->read; });
+}
+
+std::optional<HilbertOrders> HilbertOrderAhead::take() {
+    if (!impl_->thread.joinable()) return std::nullopt;
+    impl_->thread.join();
+    if (impl_->changed || impl_->failure) return std::nullopt;  // (a failure: hilbert_ordered meets it again)
+    return std::move(impl_->orders);
 }
 
 TriangleMesh hilbert_ordered_median(TriangleMesh mesh) {

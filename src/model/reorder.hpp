@@ -3,10 +3,13 @@
 // chaining, walks) then touch a few cache lines instead of the whole mesh.
 // Takes a TriangleMesh; gives the same mesh (same orientation, same corners order per face)
 // with renumbered vertices and faces. With threads > 1 the vertices' and faces' sorts run on two
-// threads (the same orders).
+// threads, and the corners' pairing is renumbered beside the rest (the same orders and arrays).
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include "model/mesh_io.hpp"
 
@@ -16,6 +19,36 @@ namespace inkline {
 // axis in the box of the mesh's positions; a face's point is its centroid), ties kept in the input
 // order, sorted by radix: linear time. Deterministic: the same mesh gives the same numbering.
 TriangleMesh hilbert_ordered(TriangleMesh mesh, int threads = 1);
+
+// The two orders hilbert_ordered renumbers by: vertex i of the result is vertex_at[i], face i
+// face_at[i].
+struct HilbertOrders {
+    std::vector<std::uint32_t> vertex_at, face_at;
+};
+// hilbert_ordered with the orders known (HilbertOrderAhead: those of this very mesh).
+TriangleMesh hilbert_ordered(TriangleMesh mesh, const HilbertOrders& known, int threads = 1);
+
+// hilbert_ordered's orders of a mesh made on a thread of its own while the mesh's owner goes on
+// reading it (Model::load: beside the repairs, which leave most files as they are). The thread
+// reads the positions and triangles given to start() until it has their keys; the owner must not
+// change or free them before calling before_change(), which waits for that and drops the orders
+// (the mesh then is no longer the one they are of). take() gives the orders if no change was
+// announced, else nothing (hilbert_ordered makes them again).
+class HilbertOrderAhead {
+public:
+    HilbertOrderAhead();
+    ~HilbertOrderAhead();  // waits for the thread
+    HilbertOrderAhead(const HilbertOrderAhead&) = delete;
+    HilbertOrderAhead& operator=(const HilbertOrderAhead&) = delete;
+    // Starts the thread (once; nothing if no thread can be had).
+    void start(const TriangleMesh& mesh);
+    void before_change();
+    std::optional<HilbertOrders> take();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 // The order before the keys (CGAL's hilbert_sort, median policy: O(n log n)), kept to compare
 // drawings of the two orders (vis_check --geometry=median).
