@@ -43,17 +43,15 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     progress.at(kProgressOrdered);
     // Every view needs the self-intersections: with threads to spare, their search runs beside
     // the topology's construction (it needs only the faces and positions, which the topology
-    // keeps as they are), and this thread joins it once the topology is built.
+    // keeps as they are), and the first caller of self_intersections() joins it: a render's
+    // features (and the window's opening) come first, while the search ends on the other thread.
     std::unique_ptr<EarlySelfIntersections> search;
     if (options.threads > 1 && ordered.triangles.size() >= kEarlySearchFaces)
         search = std::make_unique<EarlySelfIntersections>(
             SearchInput{ordered.positions.data(), ordered.triangles.data(), ordered.triangles.size(), ordered.positions.size()},
             options.threads);
     Model m(std::move(ordered), crease_degrees);
-    if (search) {
-        std::call_once(m.lazy_->pierced_once, [] {});
-        m.lazy_->pierced = std::make_unique<SelfIntersections>(search->finish(m.topo_));
-    }
+    m.lazy_->early_search = std::move(search);  // (joined by the first self_intersections())
     m.repairs_ = repairs;
     m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);
@@ -73,6 +71,7 @@ void Model::move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersec
     if (positions.size() != topo_.positions.size())
         throw Error("model", "move_vertices: " + std::to_string(positions.size()) + " positions for " +
                                  std::to_string(topo_.positions.size()) + " vertices");
+    lazy_->early_search.reset();  // (a search of the old positions; waits for its threads)
     topo_.positions.swap(positions);
     topo_.refresh_geometry();
     if (lazy_->rays) lazy_->rays->refit();
@@ -85,6 +84,7 @@ void Model::move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersec
 }
 
 void Model::adopt_self_intersections(SelfIntersections known) {
+    lazy_->early_search.reset();
     std::call_once(lazy_->pierced_once, [] {});
     lazy_->pierced = std::make_unique<SelfIntersections>(std::move(known));
 }
@@ -114,7 +114,14 @@ const std::vector<std::uint8_t>* Model::pierced_faces() const {
 
 const SelfIntersections& Model::self_intersections(int threads) const {
     std::call_once(lazy_->pierced_once, [this, threads] {
-        lazy_->pierced = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_, threads));
+        if (lazy_->early_search) {
+            const auto t0 = std::chrono::steady_clock::now();
+            lazy_->pierced = std::make_unique<SelfIntersections>(lazy_->early_search->finish(topo_));
+            lazy_->early_search.reset();
+            lazy_->early_search_wait.store(seconds_since(t0));
+        } else {
+            lazy_->pierced = std::make_unique<SelfIntersections>(inkline::self_intersections(topo_, threads));
+        }
     });
     return *lazy_->pierced;
 }

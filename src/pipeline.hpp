@@ -1,6 +1,7 @@
 // The library's front door: a model loaded once, drawn from any number of cameras.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -10,6 +11,7 @@
 #include "core/drawing.hpp"
 #include "curvature/curvature.hpp"
 #include "features/features.hpp"
+#include "model/early_self_intersections.hpp"
 #include "model/intersection_curves.hpp"
 #include "model/self_intersections.hpp"
 #include "model/subdivide.hpp"
@@ -74,7 +76,9 @@ public:
     // Takes `known` as the self-intersections instead of searching for them (a caller that knows
     // them already, e.g. none); only before any view asked for them.
     void adopt_self_intersections(SelfIntersections known);
-    double load_seconds() const { return load_seconds_; }
+    // Model::load's time, and the wait when the first caller of self_intersections() joined the
+    // search that load started (the model ready to draw, as a render reports it).
+    double load_seconds() const { return load_seconds_ + lazy_->early_search_wait.load(); }
     const LoadReport& repairs() const { return repairs_; }
     // The file's cameras (scenes only; empty for mesh files), in file order.
     const std::vector<SceneCamera>& cameras() const { return cameras_; }
@@ -89,6 +93,11 @@ private:
         std::function<const RayCaster&(const MeshTopology&)> rays_from;  // (index_rays_with)
         const RayCaster* rays_used = nullptr;
         std::unique_ptr<SelfIntersections> pierced;
+        // Model::load's search, started beside the topology's construction and joined by the
+        // first caller of self_intersections(), so that what comes before (a render's features,
+        // the window's opening) runs while it ends on the other thread.
+        std::unique_ptr<EarlySelfIntersections> early_search;
+        std::atomic<double> early_search_wait{0.0};  // seconds in its finish()
         std::unique_ptr<CurvatureField> curvature;
         std::unique_ptr<IntersectionCurves> intersections;
     };
