@@ -474,5 +474,25 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 
 INSTANTIATE_TEST_SUITE_P(EveryFormat, LoadingPins, ::testing::ValuesIn(kCases), case_name);
 
+
+// Model::load starts the self-intersection search and returns without waiting for it; the first
+// caller of self_intersections() joins it. Vertices moved before that make the search stale: it
+// is dropped, and the moved model's self-intersections are its own (a vertex pulled through the
+// body pierces many faces; the search of the loaded positions found none).
+TEST(LoadingSelfIntersections, SearchStartedByTheLoadIsDroppedWhenVerticesMove) {
+    const std::string path = test::mesh_path("armadillo");
+    const Model loaded = Model::load(path, LoadOptions{.threads = 2});
+    EXPECT_EQ(loaded.self_intersections().flagged, 0u);  // (joined from the load's search)
+    Model moved = Model::load(path, LoadOptions{.threads = 2});
+    std::vector<glm::dvec3> positions = moved.topology().positions;
+    const Bounds3& b = moved.topology().bounds;
+    positions[0] = 2.0 * b.center() - positions[0];  // through the body to the other side
+    moved.move_vertices(positions);
+    const SelfIntersections fresh = self_intersections(moved.topology(), 1);
+    ASSERT_GT(fresh.flagged, 0u);
+    EXPECT_EQ(moved.self_intersections().flagged, fresh.flagged);
+    EXPECT_EQ(moved.self_intersections().faces, fresh.faces);
+}
+
 }  // namespace
 }  // namespace inkline
