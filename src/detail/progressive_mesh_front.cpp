@@ -352,14 +352,20 @@ bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
 std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
     std::size_t faces = 0;
+    // (insertion, skipping duplicates: a ring is a dozen entries, where std::sort and unique cost
+    // several times as much)
+    const auto insert = [&out](std::uint32_t u) {
+        std::size_t at = out.size();
+        while (at > 0 && out[at - 1] > u) --at;
+        if (at > 0 && out[at - 1] == u) return;
+        out.insert(out.begin() + std::ptrdiff_t(at), u);
+    };
     for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c), ++faces) {
         const Face& f = faces_[face_of(c)];
         const std::uint32_t j = slot_of(c);
-        out.push_back(f.vertex[(j + 1) % 3]);
-        out.push_back(f.vertex[(j + 2) % 3]);
+        insert(f.vertex[(j + 1) % 3]);
+        insert(f.vertex[(j + 2) % 3]);
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
     return faces;
 }
 
@@ -413,36 +419,46 @@ double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uin
     return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
+// r's ring faces (pool slots, in r's list order) with their world areas once r is collapsed onto
+// k: NaN on edge rk (removed), else measured with r moved (the value refresh_face_area gives).
+// Listed once a collapse's band guard, which reads each of them from two or three rings.
+void AdaptiveFront::list_faces_after_collapse(std::uint32_t r, std::uint32_t k) {
+    r_faces_.clear();
+    r_areas_.clear();
+    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
+        const bool has_k = face_vertex(f, 0) == k || face_vertex(f, 1) == k || face_vertex(f, 2) == k;
+        r_faces_.push_back(f);
+        r_areas_.push_back(has_k ? std::numeric_limits<double>::quiet_NaN() : face_area_moved(f, r, k));
+    }
+}
+
 // What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
 // in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
 // one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
-float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k) {
-    // A face's area after the collapse: none when it is on edge rk (removed), its stored area when
-    // r is not a corner (unchanged), else measured with r moved (the value refresh_face_area gives).
-    const auto area_after = [&](std::uint32_t f) -> std::optional<double> {
-        bool has_r = false, has_k = false;
-        for (int j = 0; j < 3; ++j) {
-            has_r |= face_vertex(f, j) == r;
-            has_k |= face_vertex(f, j) == k;
-        }
-        if (!has_r) return faces_[f].area;
-        if (has_k) return std::nullopt;
-        return face_area_moved(f, r, k);
-    };
+// r's faces after the collapse: list_faces_after_collapse's.
+float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const {
     double sum = 0.0;
     std::size_t count = 0;
-    if (u == k) {
-        areas_.clear();
-        for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c))
-            if (const auto a = area_after(face_of(c))) areas_.push_back(*a);
-        for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
-        count = areas_.size();
+    if (u == parent(r)) {
+        for (std::size_t j = r_areas_.size(); j-- > 0;)
+            if (!std::isnan(r_areas_[j])) {
+                sum += r_areas_[j];
+                ++count;
+            }
     }
-    for (std::uint32_t c = rec(u).head; c != none; c = next_corner(c))
-        if (const auto a = area_after(face_of(c))) {
-            sum += *a;
-            ++count;
+    for (std::uint32_t c = rec(u).head; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
+        double a = faces_[f].area;  // (unchanged unless r is a corner)
+        if (face_vertex(f, 0) == r || face_vertex(f, 1) == r || face_vertex(f, 2) == r) {
+            std::size_t j = 0;
+            while (r_faces_[j] != f) ++j;
+            a = r_areas_[j];
+            if (std::isnan(a)) continue;  // (on edge rk: removed)
         }
+        sum += a;
+        ++count;
+    }
     return float(count ? sum / double(count) : 0.0);
 }
 
@@ -615,12 +631,15 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
     // t_s T unless it was there and does not grow; measured without making the collapse. (Not
     // stamped: the band moves with the camera, so it is tried again next frame.)
+    list_faces_after_collapse(r, k);
     for (const std::uint32_t u : ring_r_) {
-        const double after = scale(u) * ring_area_after_collapse(u, r, k);
+        const double after = scale(u) * ring_area_after_collapse(u, r);
         if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;
     }
     if (geomorphs_.enabled) {
-        lock_ring(r, +1);
+        // (ring_r_ holds r's neighbours from collapse_ok: lock_ring's, in another order)
+        ++rec(r).locked;
+        for (const std::uint32_t u : ring_r_) ++rec(u).locked;
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
         morphs_.push_back({r, k, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
         ++stats_->morphs_started;
@@ -881,7 +900,7 @@ std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(vert_) + b(front_data_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
            b(face_id_) + b(face_slot_) + b(vert_holes_.bits) + b(face_holes_.bits) + b(work_) + b(found_) + b(morphs_) +
-           b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_) + b(ranked_);
+           b(ring_r_) + b(ring_k_) + b(touched_) + b(r_faces_) + b(r_areas_) + b(ranked_);
 }
 
 }  // namespace inkline

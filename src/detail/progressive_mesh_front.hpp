@@ -260,7 +260,8 @@ private:
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
     std::vector<std::uint32_t> ring_r_, ring_k_, touched_;
-    std::vector<double> areas_;
+    std::vector<std::uint32_t> r_faces_;  // a collapse's r: its ring's faces (pool slots)
+    std::vector<double> r_areas_;         // and their areas after it (NaN: removed)
     // This frame's view.
     const Camera* camera_ = nullptr;
     const DetailCriterion* criterion_ = nullptr;
@@ -310,7 +311,8 @@ private:
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
     bool flips(std::uint32_t r, std::uint32_t k) const;
     double face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const;
-    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k);
+    void list_faces_after_collapse(std::uint32_t r, std::uint32_t k);
+    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const;
     void raw_collapse(std::uint32_t r);
     bool split_ok(std::uint32_t k) const;
     bool ring_is_disk(std::uint32_t v) const;
