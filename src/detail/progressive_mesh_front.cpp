@@ -821,9 +821,23 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         for (const std::uint32_t v : work_) dequeue(v);
         work_.clear();
     }
-    for (std::size_t j = 0; j < vert_.size(); ++j) {  // (the pool's order; a hole's NaN area passes no test)
-        const glm::dvec3 p(front_data_[j]);
-        const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
+    // image_area's terms hoisted out of the loop (the same operations, so the same bits): the scan
+    // reads every active vertex a frame.
+    const double focal2 = camera.focal() * camera.focal();
+    const bool ortho = camera.is_ortho();
+    const double nearest = camera.near_distance() > 0.0 ? camera.near_distance() : 1e-12;
+    const std::size_t pool = vert_.size();
+    const glm::vec4* data = front_data_.data();
+    for (std::size_t j = 0; j < pool; ++j) {  // (the pool's order; a hole's NaN area passes no test)
+        const glm::dvec3 p(data[j]);
+        const double area = data[j].w;
+        double a;
+        if (ortho) {
+            a = focal2 * area;
+        } else {
+            const double d = std::max(camera.depth(p), nearest);
+            a = focal2 * area / (d * d);
+        }
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         // (ready_to_change repeats this test through area_and_target: keep the two the same)
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
