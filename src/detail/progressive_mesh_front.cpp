@@ -641,7 +641,8 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
         ++rec(r).locked;
         for (const std::uint32_t u : ring_r_) ++rec(u).locked;
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
-        morphs_.push_back({r, k, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        const auto& p = pm_.input().positions;
+        morphs_.push_back({r, k, true, ring_area(r), 0.0, speed / std::max(geomorphs_.seconds, 1e-9), p[r], p[k]});
         ++stats_->morphs_started;
         return true;
     }
@@ -679,7 +680,8 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
         ++rec(k).locked;
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
                                         : geomorphs_.max_speedup;
-        morphs_.push_back({r, k, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        const auto& p = pm_.input().positions;
+        morphs_.push_back({r, k, false, 0.0f, 0.0, speed / std::max(geomorphs_.seconds, 1e-9), p[k], p[r]});
         ++stats_->morphs_started;
     }
     return true;
@@ -693,27 +695,21 @@ void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
     for (std::uint32_t u : ring_r_) rec(u).locked = std::uint16_t(rec(u).locked + delta);
 }
 
-// A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
-// locked, so it is in no morph of its own).
-glm::dvec3 AdaptiveFront::shown(const Morph& m, const std::vector<glm::dvec3>& p) const {
-    const std::uint32_t r = m.vertex, k = m.parent;
-    return m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
-}
-
 void AdaptiveFront::advance_morphs(double frame_seconds) {
-    const auto& p = pm_.input().positions;
     for (std::size_t j = 0; j < morphs_.size();) {
         Morph& m = morphs_[j];
         const std::uint32_t r = m.vertex, k = m.parent;
         if (m.collapse) {  // faster the further r has fallen below the band meanwhile
-            const double t_r = target(r), a = image_area(r);
+            // (target(r) and image_area(r) from the morph's record: m.from is r's position)
+            const double t_r = criterion_->target_at(*camera_, m.from);
+            const double a = inkline::image_area(*camera_, 1.0, camera_->depth(m.from)) * m.ring_area;
             if (t_r > 0.0 && a > 0.0)
                 m.speed = std::max(m.speed, std::clamp(criterion_->collapse * t_r / a, 1.0, geomorphs_.max_speedup) /
                                                 std::max(geomorphs_.seconds, 1e-9));
         }
-        const glm::dvec3 was = shown(m, p);
+        const glm::dvec3 was = shown(m);
         m.progress = std::min(1.0, m.progress + m.speed * frame_seconds);
-        const glm::dvec3 now = shown(m, p);
+        const glm::dvec3 now = shown(m);
         if (camera_->depth(was) > 0.0 && camera_->depth(now) > 0.0)
             stats_->largest_move_px =
                 std::max(stats_->largest_move_px, glm::length(camera_->project(now) - camera_->project(was)));
@@ -893,7 +889,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
             out.positions.push_back(in.positions[v]);
             if (input_vertex) input_vertex->push_back(v);
         }
-    for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m, in.positions);
+    for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m);
     out.triangles.reserve(active_face_count_);
     for (std::uint32_t f = 0; f < in.triangles.size(); ++f) {
         const std::uint32_t slot = face_slot_[f];
