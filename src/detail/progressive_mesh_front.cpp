@@ -347,24 +347,25 @@ bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
     return false;
 }
 
+// u put in its place in a sorted ring unless there already. (Insertion: a ring is a dozen
+// entries, where std::sort and unique cost several times as much.)
+static void insert_sorted(std::vector<std::uint32_t>& ring, std::uint32_t u) {
+    std::size_t at = ring.size();
+    while (at > 0 && ring[at - 1] > u) --at;
+    if (at > 0 && ring[at - 1] == u) return;
+    ring.insert(ring.begin() + std::ptrdiff_t(at), u);
+}
+
 // v's neighbours, sorted and each once; returns v's face count. (In a manifold a vertex is on the
 // border exactly when it has more neighbours than faces: an open fan.)
 std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
     out.clear();
     std::size_t faces = 0;
-    // (insertion, skipping duplicates: a ring is a dozen entries, where std::sort and unique cost
-    // several times as much)
-    const auto insert = [&out](std::uint32_t u) {
-        std::size_t at = out.size();
-        while (at > 0 && out[at - 1] > u) --at;
-        if (at > 0 && out[at - 1] == u) return;
-        out.insert(out.begin() + std::ptrdiff_t(at), u);
-    };
     for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c), ++faces) {
         const Face& f = faces_[face_of(c)];
         const std::uint32_t j = slot_of(c);
-        insert(f.vertex[(j + 1) % 3]);
-        insert(f.vertex[(j + 2) % 3]);
+        insert_sorted(out, f.vertex[(j + 1) % 3]);
+        insert_sorted(out, f.vertex[(j + 2) % 3]);
     }
     return faces;
 }
@@ -373,23 +374,22 @@ std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_
 // on edge rk), no interior edge between two border vertices, and k keeps at least 3 neighbours.
 // The rings are small sorted arrays, so their common part is one merge.
 bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
+    // (r's ring listed sorted in the same walk that finds the faces on edge rk and their third corners)
     std::uint32_t wings[2] = {none, none};
     int shared = 0;
-    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
-        const std::uint32_t f = face_of(c);
-        std::uint32_t third = none;
-        bool has_k = false;
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(f, j);
-            has_k |= u == k;
-            if (u != r && u != k) third = u;
-        }
-        if (!has_k) continue;
+    std::size_t faces_r = 0;
+    ring_r_.clear();
+    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c), ++faces_r) {
+        const Face& f = faces_[face_of(c)];
+        const std::uint32_t j = slot_of(c), a = f.vertex[(j + 1) % 3], b = f.vertex[(j + 2) % 3];
+        insert_sorted(ring_r_, a);
+        insert_sorted(ring_r_, b);
+        if (a != k && b != k) continue;
         if (shared == 2) return false;
-        wings[shared++] = third;
+        wings[shared++] = a == k ? b : a;
     }
     if (shared == 0 || (shared == 2 && wings[0] == wings[1])) return false;
-    const std::size_t faces_r = sorted_ring(r, ring_r_), faces_k = sorted_ring(k, ring_k_);
+    const std::size_t faces_k = sorted_ring(k, ring_k_);
     std::size_t common = 0;
     for (std::size_t a = 0, b = 0; a < ring_r_.size() && b < ring_k_.size();) {
         if (ring_r_[a] < ring_k_[b]) {
@@ -407,36 +407,42 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     return !(shared == 2 && ring_r_.size() > faces_r && ring_k_.size() > faces_k);
 }
 
-// The world area of face f once r is collapsed onto k (r's corner moved to k), as face_area would
-// give it then.
-double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const {
+// Whether a face of r's ring would turn over (or become degenerate) when r moves onto k; if none
+// does, r's ring faces are listed (pool slots, in r's list order) with their world areas after
+// the collapse: NaN on edge rk (removed), else the moved face's (the value refresh_face_area would
+// give: half its normal's length, the normal the flip test computed). Listed once a collapse's
+// band guard, which reads each of them from two or three rings.
+bool AdaptiveFront::flips_else_list_faces(std::uint32_t r, std::uint32_t k) {
     const auto& p = pm_.input().positions;
-    const auto at = [&](int j) -> const glm::dvec3& {
-        const std::uint32_t u = face_vertex(f, j);
-        return p[u == r ? k : u];
-    };
-    const glm::dvec3 a = at(0), b = at(1), c = at(2);
-    return 0.5 * glm::length(glm::cross(b - a, c - a));
-}
-
-// r's ring faces (pool slots, in r's list order) with their world areas once r is collapsed onto
-// k: NaN on edge rk (removed), else measured with r moved (the value refresh_face_area gives).
-// Listed once a collapse's band guard, which reads each of them from two or three rings.
-void AdaptiveFront::list_faces_after_collapse(std::uint32_t r, std::uint32_t k) {
     r_faces_.clear();
     r_areas_.clear();
     for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
         const std::uint32_t f = face_of(c);
-        const bool has_k = face_vertex(f, 0) == k || face_vertex(f, 1) == k || face_vertex(f, 2) == k;
+        glm::dvec3 before[3], after[3];
+        bool has_k = false;
+        for (int j = 0; j < 3; ++j) {
+            const std::uint32_t u = face_vertex(f, j);
+            has_k |= u == k;
+            before[j] = p[u];
+            after[j] = p[u == r ? k : u];
+        }
         r_faces_.push_back(f);
-        r_areas_.push_back(has_k ? std::numeric_limits<double>::quiet_NaN() : face_area_moved(f, r, k));
+        if (has_k) {
+            r_areas_.push_back(std::numeric_limits<double>::quiet_NaN());
+            continue;
+        }
+        const glm::dvec3 n0 = glm::cross(before[1] - before[0], before[2] - before[0]);
+        const glm::dvec3 n1 = glm::cross(after[1] - after[0], after[2] - after[0]);
+        if (!(glm::dot(n0, n1) > 0.0)) return true;
+        r_areas_.push_back(0.5 * glm::length(n1));
     }
+    return false;
 }
 
 // What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
 // in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
 // one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
-// r's faces after the collapse: list_faces_after_collapse's.
+// r's faces after the collapse: flips_else_list_faces's.
 float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const {
     double sum = 0.0;
     std::size_t count = 0;
@@ -460,27 +466,6 @@ float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r) 
         ++count;
     }
     return float(count ? sum / double(count) : 0.0);
-}
-
-// A face of r's ring that would turn over (or become degenerate) when r moves onto k.
-bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
-    const auto& p = pm_.input().positions;
-    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
-        const std::uint32_t f = face_of(c);
-        glm::dvec3 before[3], after[3];
-        bool has_k = false;
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(f, j);
-            has_k |= u == k;
-            before[j] = p[u];
-            after[j] = p[u == r ? k : u];
-        }
-        if (has_k) continue;
-        const glm::dvec3 n0 = glm::cross(before[1] - before[0], before[2] - before[0]);
-        const glm::dvec3 n1 = glm::cross(after[1] - after[0], after[2] - after[0]);
-        if (!(glm::dot(n0, n1) > 0.0)) return true;
-    }
-    return false;
 }
 
 void AdaptiveFront::raw_collapse(std::uint32_t r) {
@@ -627,11 +612,10 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     if (active(k) && rec(k).locked) return refuse(r, lock_backstop_frames);
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
     if (!active(k) || rec(r).pending_children != 0) return refuse(r, retry_frames);
-    if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
+    if (!collapse_ok(r, k) || flips_else_list_faces(r, k)) return refuse(r, retry_frames);
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
     // t_s T unless it was there and does not grow; measured without making the collapse. (Not
     // stamped: the band moves with the camera, so it is tried again next frame.)
-    list_faces_after_collapse(r, k);
     for (const std::uint32_t u : ring_r_) {
         const double after = scale(u) * ring_area_after_collapse(u, r);
         if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;

@@ -317,9 +317,7 @@ private:
     bool refuse(std::uint32_t v, std::uint32_t frames);  // stamps v; returns false
 
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
-    bool flips(std::uint32_t r, std::uint32_t k) const;
-    double face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const;
-    void list_faces_after_collapse(std::uint32_t r, std::uint32_t k);
+    bool flips_else_list_faces(std::uint32_t r, std::uint32_t k);
     float ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const;
     void raw_collapse(std::uint32_t r);
     bool split_ok(std::uint32_t k) const;
