@@ -180,13 +180,6 @@ TriangleMesh compact(const OMesh& mesh, const ProgressiveMesh& input, std::vecto
 
 }  // namespace
 
-double image_area(const Camera& camera, double area, double depth) {
-    const double k = camera.focal() * camera.focal();
-    if (camera.is_ortho()) return k * area;
-    const double d = std::max(depth, camera.near_distance() > 0.0 ? camera.near_distance() : 1e-12);
-    return k * area / (d * d);
-}
-
 double DetailCriterion::target_at(const Camera& camera, const glm::dvec3& p) const {
     if (!map) return target_area_px;
     return target_area_px * map(camera.project(p), camera.depth(p));

@@ -12,6 +12,7 @@
 // by Debian) and needs its own balanced .pm file format.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -44,7 +45,13 @@ struct DetailCriterion {
 };
 
 // A_img of one triangle's world area `area` seen at depth `depth` (the criterion's k A / d^2).
-double image_area(const Camera& camera, double area, double depth);
+// (inline: the front's scan calls it per active vertex a frame)
+inline double image_area(const Camera& camera, double area, double depth) {
+    const double k = camera.focal() * camera.focal();
+    if (camera.is_ortho()) return k * area;
+    const double d = std::max(depth, camera.near_distance() > 0.0 ? camera.near_distance() : 1e-12);
+    return k * area / (d * d);
+}
 
 struct AdaptStats {
     std::size_t collapses = 0;  // collapses applied (from the input)

@@ -347,6 +347,15 @@ bool AdaptiveFront::refuse(std::uint32_t v, std::uint32_t frames) {
     return false;
 }
 
+// u put in its place in a sorted ring unless there already. (Insertion: a ring is a dozen
+// entries, where std::sort and unique cost several times as much.)
+static void insert_sorted(std::vector<std::uint32_t>& ring, std::uint32_t u) {
+    std::size_t at = ring.size();
+    while (at > 0 && ring[at - 1] > u) --at;
+    if (at > 0 && ring[at - 1] == u) return;
+    ring.insert(ring.begin() + std::ptrdiff_t(at), u);
+}
+
 // v's neighbours, sorted and each once; returns v's face count. (In a manifold a vertex is on the
 // border exactly when it has more neighbours than faces: an open fan.)
 std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
@@ -355,11 +364,9 @@ std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_
     for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c), ++faces) {
         const Face& f = faces_[face_of(c)];
         const std::uint32_t j = slot_of(c);
-        out.push_back(f.vertex[(j + 1) % 3]);
-        out.push_back(f.vertex[(j + 2) % 3]);
+        insert_sorted(out, f.vertex[(j + 1) % 3]);
+        insert_sorted(out, f.vertex[(j + 2) % 3]);
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
     return faces;
 }
 
@@ -367,23 +374,22 @@ std::size_t AdaptiveFront::sorted_ring(std::uint32_t v, std::vector<std::uint32_
 // on edge rk), no interior edge between two border vertices, and k keeps at least 3 neighbours.
 // The rings are small sorted arrays, so their common part is one merge.
 bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
+    // (r's ring listed sorted in the same walk that finds the faces on edge rk and their third corners)
     std::uint32_t wings[2] = {none, none};
     int shared = 0;
-    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
-        const std::uint32_t f = face_of(c);
-        std::uint32_t third = none;
-        bool has_k = false;
-        for (int j = 0; j < 3; ++j) {
-            const std::uint32_t u = face_vertex(f, j);
-            has_k |= u == k;
-            if (u != r && u != k) third = u;
-        }
-        if (!has_k) continue;
+    std::size_t faces_r = 0;
+    ring_r_.clear();
+    for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c), ++faces_r) {
+        const Face& f = faces_[face_of(c)];
+        const std::uint32_t j = slot_of(c), a = f.vertex[(j + 1) % 3], b = f.vertex[(j + 2) % 3];
+        insert_sorted(ring_r_, a);
+        insert_sorted(ring_r_, b);
+        if (a != k && b != k) continue;
         if (shared == 2) return false;
-        wings[shared++] = third;
+        wings[shared++] = a == k ? b : a;
     }
     if (shared == 0 || (shared == 2 && wings[0] == wings[1])) return false;
-    const std::size_t faces_r = sorted_ring(r, ring_r_), faces_k = sorted_ring(k, ring_k_);
+    const std::size_t faces_k = sorted_ring(k, ring_k_);
     std::size_t common = 0;
     for (std::size_t a = 0, b = 0; a < ring_r_.size() && b < ring_k_.size();) {
         if (ring_r_[a] < ring_k_[b]) {
@@ -401,54 +407,15 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
     return !(shared == 2 && ring_r_.size() > faces_r && ring_k_.size() > faces_k);
 }
 
-// The world area of face f once r is collapsed onto k (r's corner moved to k), as face_area would
-// give it then.
-double AdaptiveFront::face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const {
+// Whether a face of r's ring would turn over (or become degenerate) when r moves onto k; if none
+// does, r's ring faces are listed (pool slots, in r's list order) with their world areas after
+// the collapse: NaN on edge rk (removed), else the moved face's (the value refresh_face_area would
+// give: half its normal's length, the normal the flip test computed). Listed once a collapse's
+// band guard, which reads each of them from two or three rings.
+bool AdaptiveFront::flips_else_list_faces(std::uint32_t r, std::uint32_t k) {
     const auto& p = pm_.input().positions;
-    const auto at = [&](int j) -> const glm::dvec3& {
-        const std::uint32_t u = face_vertex(f, j);
-        return p[u == r ? k : u];
-    };
-    const glm::dvec3 a = at(0), b = at(1), c = at(2);
-    return 0.5 * glm::length(glm::cross(b - a, c - a));
-}
-
-// What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
-// in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
-// one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
-float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k) {
-    // A face's area after the collapse: none when it is on edge rk (removed), its stored area when
-    // r is not a corner (unchanged), else measured with r moved (the value refresh_face_area gives).
-    const auto area_after = [&](std::uint32_t f) -> std::optional<double> {
-        bool has_r = false, has_k = false;
-        for (int j = 0; j < 3; ++j) {
-            has_r |= face_vertex(f, j) == r;
-            has_k |= face_vertex(f, j) == k;
-        }
-        if (!has_r) return faces_[f].area;
-        if (has_k) return std::nullopt;
-        return face_area_moved(f, r, k);
-    };
-    double sum = 0.0;
-    std::size_t count = 0;
-    if (u == k) {
-        areas_.clear();
-        for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c))
-            if (const auto a = area_after(face_of(c))) areas_.push_back(*a);
-        for (auto a = areas_.rbegin(); a != areas_.rend(); ++a) sum += *a;
-        count = areas_.size();
-    }
-    for (std::uint32_t c = rec(u).head; c != none; c = next_corner(c))
-        if (const auto a = area_after(face_of(c))) {
-            sum += *a;
-            ++count;
-        }
-    return float(count ? sum / double(count) : 0.0);
-}
-
-// A face of r's ring that would turn over (or become degenerate) when r moves onto k.
-bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
-    const auto& p = pm_.input().positions;
+    r_faces_.clear();
+    r_areas_.clear();
     for (std::uint32_t c = rec(r).head; c != none; c = next_corner(c)) {
         const std::uint32_t f = face_of(c);
         glm::dvec3 before[3], after[3];
@@ -459,12 +426,46 @@ bool AdaptiveFront::flips(std::uint32_t r, std::uint32_t k) const {
             before[j] = p[u];
             after[j] = p[u == r ? k : u];
         }
-        if (has_k) continue;
+        r_faces_.push_back(f);
+        if (has_k) {
+            r_areas_.push_back(std::numeric_limits<double>::quiet_NaN());
+            continue;
+        }
         const glm::dvec3 n0 = glm::cross(before[1] - before[0], before[2] - before[0]);
         const glm::dvec3 n1 = glm::cross(after[1] - after[0], after[2] - after[0]);
         if (!(glm::dot(n0, n1) > 0.0)) return true;
+        r_areas_.push_back(0.5 * glm::length(n1));
     }
     return false;
+}
+
+// What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
+// in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
+// one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
+// r's faces after the collapse: flips_else_list_faces's.
+float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const {
+    double sum = 0.0;
+    std::size_t count = 0;
+    if (u == parent(r)) {
+        for (std::size_t j = r_areas_.size(); j-- > 0;)
+            if (!std::isnan(r_areas_[j])) {
+                sum += r_areas_[j];
+                ++count;
+            }
+    }
+    for (std::uint32_t c = rec(u).head; c != none; c = next_corner(c)) {
+        const std::uint32_t f = face_of(c);
+        double a = faces_[f].area;  // (unchanged unless r is a corner)
+        if (face_vertex(f, 0) == r || face_vertex(f, 1) == r || face_vertex(f, 2) == r) {
+            std::size_t j = 0;
+            while (r_faces_[j] != f) ++j;
+            a = r_areas_[j];
+            if (std::isnan(a)) continue;  // (on edge rk: removed)
+        }
+        sum += a;
+        ++count;
+    }
+    return float(count ? sum / double(count) : 0.0);
 }
 
 void AdaptiveFront::raw_collapse(std::uint32_t r) {
@@ -611,18 +612,21 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     if (active(k) && rec(k).locked) return refuse(r, lock_backstop_frames);
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
     if (!active(k) || rec(r).pending_children != 0) return refuse(r, retry_frames);
-    if (!collapse_ok(r, k) || flips(r, k)) return refuse(r, retry_frames);
+    if (!collapse_ok(r, k) || flips_else_list_faces(r, k)) return refuse(r, retry_frames);
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
     // t_s T unless it was there and does not grow; measured without making the collapse. (Not
     // stamped: the band moves with the camera, so it is tried again next frame.)
     for (const std::uint32_t u : ring_r_) {
-        const double after = scale(u) * ring_area_after_collapse(u, r, k);
+        const double after = scale(u) * ring_area_after_collapse(u, r);
         if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;
     }
     if (geomorphs_.enabled) {
-        lock_ring(r, +1);
+        // (ring_r_ holds r's neighbours from collapse_ok: lock_ring's, in another order)
+        ++rec(r).locked;
+        for (const std::uint32_t u : ring_r_) ++rec(u).locked;
         const double speed = std::clamp(criterion_->collapse * t_r / image_area(r), 1.0, geomorphs_.max_speedup);
-        morphs_.push_back({r, k, true, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        const auto& p = pm_.input().positions;
+        morphs_.push_back({r, k, true, ring_area(r), 0.0, speed / std::max(geomorphs_.seconds, 1e-9), p[r], p[k]});
         ++stats_->morphs_started;
         return true;
     }
@@ -660,7 +664,8 @@ bool AdaptiveFront::try_split(std::uint32_t k) {
         ++rec(k).locked;
         const double speed = t_k > 0.0 ? std::clamp(a / (criterion_->split * t_k), 1.0, geomorphs_.max_speedup)
                                         : geomorphs_.max_speedup;
-        morphs_.push_back({r, k, false, 0.0, speed / std::max(geomorphs_.seconds, 1e-9)});
+        const auto& p = pm_.input().positions;
+        morphs_.push_back({r, k, false, 0.0f, 0.0, speed / std::max(geomorphs_.seconds, 1e-9), p[k], p[r]});
         ++stats_->morphs_started;
     }
     return true;
@@ -674,27 +679,21 @@ void AdaptiveFront::lock_ring(std::uint32_t r, int delta) {
     for (std::uint32_t u : ring_r_) rec(u).locked = std::uint16_t(rec(u).locked + delta);
 }
 
-// A vertex in a morph is shown between its position and its parent's; the parent stays put (it is
-// locked, so it is in no morph of its own).
-glm::dvec3 AdaptiveFront::shown(const Morph& m, const std::vector<glm::dvec3>& p) const {
-    const std::uint32_t r = m.vertex, k = m.parent;
-    return m.collapse ? glm::mix(p[r], p[k], m.progress) : glm::mix(p[k], p[r], m.progress);
-}
-
 void AdaptiveFront::advance_morphs(double frame_seconds) {
-    const auto& p = pm_.input().positions;
     for (std::size_t j = 0; j < morphs_.size();) {
         Morph& m = morphs_[j];
         const std::uint32_t r = m.vertex, k = m.parent;
         if (m.collapse) {  // faster the further r has fallen below the band meanwhile
-            const double t_r = target(r), a = image_area(r);
+            // (target(r) and image_area(r) from the morph's record: m.from is r's position)
+            const double t_r = criterion_->target_at(*camera_, m.from);
+            const double a = inkline::image_area(*camera_, 1.0, camera_->depth(m.from)) * m.ring_area;
             if (t_r > 0.0 && a > 0.0)
                 m.speed = std::max(m.speed, std::clamp(criterion_->collapse * t_r / a, 1.0, geomorphs_.max_speedup) /
                                                 std::max(geomorphs_.seconds, 1e-9));
         }
-        const glm::dvec3 was = shown(m, p);
+        const glm::dvec3 was = shown(m);
         m.progress = std::min(1.0, m.progress + m.speed * frame_seconds);
-        const glm::dvec3 now = shown(m, p);
+        const glm::dvec3 now = shown(m);
         if (camera_->depth(was) > 0.0 && camera_->depth(now) > 0.0)
             stats_->largest_move_px =
                 std::max(stats_->largest_move_px, glm::length(camera_->project(now) - camera_->project(was)));
@@ -802,9 +801,23 @@ FrontStats AdaptiveFront::update(const Camera& camera, const DetailCriterion& cr
         for (const std::uint32_t v : work_) dequeue(v);
         work_.clear();
     }
-    for (std::size_t j = 0; j < vert_.size(); ++j) {  // (the pool's order; a hole's NaN area passes no test)
-        const glm::dvec3 p(front_data_[j]);
-        const double a = inkline::image_area(camera, front_data_[j].w, camera.depth(p));
+    // image_area's terms hoisted out of the loop (the same operations, so the same bits): the scan
+    // reads every active vertex a frame.
+    const double focal2 = camera.focal() * camera.focal();
+    const bool ortho = camera.is_ortho();
+    const double nearest = camera.near_distance() > 0.0 ? camera.near_distance() : 1e-12;
+    const std::size_t pool = vert_.size();
+    const glm::vec4* data = front_data_.data();
+    for (std::size_t j = 0; j < pool; ++j) {  // (the pool's order; a hole's NaN area passes no test)
+        const glm::dvec3 p(data[j]);
+        const double area = data[j].w;
+        double a;
+        if (ortho) {
+            a = focal2 * area;
+        } else {
+            const double d = std::max(camera.depth(p), nearest);
+            a = focal2 * area / (d * d);
+        }
         const double t = constant_target ? criterion.target_area_px : criterion.target_at(camera, p);
         // (ready_to_change repeats this test through area_and_target: keep the two the same)
         if (!(a > criterion.split * t || a < criterion.collapse * t)) continue;
@@ -860,7 +873,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
             out.positions.push_back(in.positions[v]);
             if (input_vertex) input_vertex->push_back(v);
         }
-    for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m, in.positions);
+    for (const Morph& m : morphs_) out.positions[index[m.vertex]] = shown(m);
     out.triangles.reserve(active_face_count_);
     for (std::uint32_t f = 0; f < in.triangles.size(); ++f) {
         const std::uint32_t slot = face_slot_[f];
@@ -881,7 +894,7 @@ std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return b(vert_) + b(front_data_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
            b(face_id_) + b(face_slot_) + b(vert_holes_.bits) + b(face_holes_.bits) + b(work_) + b(found_) + b(morphs_) +
-           b(ring_r_) + b(ring_k_) + b(touched_) + b(areas_) + b(ranked_);
+           b(ring_r_) + b(ring_k_) + b(touched_) + b(r_faces_) + b(r_areas_) + b(ranked_);
 }
 
 }  // namespace inkline

@@ -44,6 +44,7 @@
 #include <utility>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -156,11 +157,16 @@ public:
 
 private:
     static constexpr std::uint32_t none = UINT32_MAX;
+    // What a frame reads of a running morph is in its record (the morphs are streamed, where the
+    // input's positions and r's area sit far apart: a few cache misses a morph a frame).
     struct Morph {
         std::uint32_t vertex;  // r: moving onto its parent (collapse) or out of it (split)
         std::uint32_t parent;  // k (read each frame: kept here, not looked up through the hierarchy)
         bool collapse;
+        // r's ring area (a collapse's: its ring is locked, so it holds until the collapse is made)
+        float ring_area;
         double progress, speed;  // progress in [0, 1]; speed in transitions per second
+        glm::dvec3 from, to;     // the input positions it moves between (r to k, or k to r)
     };
 
     const ProgressiveMesh& pm_;
@@ -260,7 +266,8 @@ private:
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
     std::vector<std::uint32_t> ring_r_, ring_k_, touched_;
-    std::vector<double> areas_;
+    std::vector<std::uint32_t> r_faces_;  // a collapse's r: its ring's faces (pool slots)
+    std::vector<double> r_areas_;         // and their areas after it (NaN: removed)
     // This frame's view.
     const Camera* camera_ = nullptr;
     const DetailCriterion* criterion_ = nullptr;
@@ -278,7 +285,9 @@ private:
     std::uint32_t next_corner(std::uint32_t c) const { return faces_[face_of(c)].next[slot_of(c)]; }
     std::uint32_t parent(std::uint32_t v) const;
     std::uint16_t frame16() const { return std::uint16_t(frame_); }
-    glm::dvec3 shown(const Morph& m, const std::vector<glm::dvec3>& p) const;
+    // A vertex in a morph is shown between its position and its parent's; the parent stays put (it
+    // is locked, so it is in no morph of its own).
+    static glm::dvec3 shown(const Morph& m) { return glm::mix(m.from, m.to, m.progress); }
     std::uint32_t representative(std::uint32_t input_vertex) const;
     void link(std::uint32_t c, std::uint32_t v);
     void unlink(std::uint32_t c);
@@ -308,9 +317,8 @@ private:
     bool refuse(std::uint32_t v, std::uint32_t frames);  // stamps v; returns false
 
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
-    bool flips(std::uint32_t r, std::uint32_t k) const;
-    double face_area_moved(std::uint32_t f, std::uint32_t r, std::uint32_t k) const;
-    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r, std::uint32_t k);
+    bool flips_else_list_faces(std::uint32_t r, std::uint32_t k);
+    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const;
     void raw_collapse(std::uint32_t r);
     bool split_ok(std::uint32_t k) const;
     bool ring_is_disk(std::uint32_t v) const;
