@@ -99,9 +99,8 @@ MethodRow run_multiscale(const Model& model, const ViewOptions& base, const Deta
     MethodRow row;
     row.method = "multiscale";
     MultiscaleOptions options = a.detail->levels_options();
-    // (the model's curvature, the simplification, then each smoothed level: as build_multiscale_levels counts)
-    const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr(
-        "bench: smoothed levels", std::size_t(2 + std::max(options.levels - 1, 0)), "steps");
+    const std::unique_ptr<ProgressLine> line =
+        ProgressLine::on_stderr("bench: smoothed levels", std::size_t(options.build_steps()), "steps");
     options.progress = [&line](int done, int) { line->set_done(std::size_t(done)); };
     const double t0 = thread_cpu_seconds();
     const MultiscaleLevels levels = build_multiscale_levels(model, options);
@@ -128,7 +127,7 @@ MethodRow run_multiscale(const Model& model, const ViewOptions& base, const Deta
 MethodRow run_pm(const Model& model, const ViewOptions& base, const DetailBenchArgs& a) {
     MethodRow row;
     row.method = "pm";
-    const std::size_t most = model.topology().vertex_count() ? model.topology().vertex_count() - 1 : 0;
+    const std::size_t most = ProgressiveMesh::most_collapses(model.topology().vertex_count());
     const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr("bench: pm hierarchy", most, "collapses");
     const double t0 = thread_cpu_seconds();
     const ProgressiveMesh pm(model.topology(), [&line](std::size_t done, std::size_t) { line->set_done(done); });

@@ -200,9 +200,8 @@ struct RenderSetup {
 // cache folder or built and written there, with a progress line and at most one warning line.
 MultiscaleLevels detail_levels(const RenderArgs& a, const Model& model, const std::string& path, std::string& source) {
     MultiscaleOptions options = a.detail.levels_options();
-    // (the model's curvature, the simplification, then each smoothed level: as build_multiscale_levels counts)
     const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr(
-        "detail: smoothed levels", std::size_t(2 + std::max(options.levels - 1, 0)), "steps", !a.quiet);
+        "detail: smoothed levels", std::size_t(options.build_steps()), "steps", !a.quiet);
     options.progress = [&line](int done, int) { line->set_done(std::size_t(done)); };
     MultiscaleLevels levels;
     source = "built";
@@ -227,7 +226,7 @@ MultiscaleLevels detail_levels(const RenderArgs& a, const Model& model, const st
 // the cache folder or built and written there (at most one warning line); `source` says which.
 std::unique_ptr<ProgressiveMesh> pm_hierarchy(const RenderArgs& a, const Model& model, const std::string& path,
                                               std::string& source) {
-    const std::size_t most = model.topology().vertex_count() ? model.topology().vertex_count() - 1 : 0;
+    const std::size_t most = ProgressiveMesh::most_collapses(model.topology().vertex_count());
     const std::unique_ptr<ProgressLine> line = ProgressLine::on_stderr("detail: pm hierarchy", most, "collapses", !a.quiet);
     const ProgressiveMesh::BuildProgress progress = [&line](std::size_t done, std::size_t) { line->set_done(done); };
     if (a.detail.cache_dir.empty()) {

@@ -56,6 +56,8 @@ struct MultiscaleOptions {
     // Called after each step of the pre-process (the model's curvature, the simplification, each
     // smoothed level): steps done and steps in all, for a progress line on long builds.
     std::function<void(int done, int total)> progress = {};
+    // The steps `progress` counts in all: the model's curvature, the simplification, each level.
+    int build_steps() const { return 2 + (levels > 1 ? levels - 1 : 0); }
 };
 
 // The smoothed levels. M0 is the model itself (its positions and Model::curvature(), exactly);

@@ -122,7 +122,7 @@ CachedLevels cached_multiscale_levels(const Model& model, const std::string& mod
         if (!read_levels_file(out.path, key, model.topology().vertex_count(), out.levels, problem)) return false;
         out.levels.seconds = seconds_since(t0);  // (what this run spent on the levels)
         out.levels.seconds_model = 0.0;
-        const int total = 2 + std::max(options.levels - 1, 0);  // (as build_multiscale_levels counts)
+        const int total = options.build_steps();
         if (options.progress) options.progress(total, total);
         return true;
     };

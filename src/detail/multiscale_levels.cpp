@@ -515,7 +515,7 @@ MultiscaleLevels build_multiscale_levels(const Model& model, const MultiscaleOpt
     out.feature_size = mean_edge_length(mesh);
     // (the model's own curvature and self-intersections, which a plain render computes too)
     int steps = 0;
-    const int total_steps = 2 + std::max(options.levels - 1, 0);
+    const int total_steps = options.build_steps();
     const auto step_done = [&] {
         if (options.progress) options.progress(++steps, total_steps);
     };

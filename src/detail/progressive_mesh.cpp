@@ -263,7 +263,7 @@ void ProgressiveMesh::build(const BuildProgress& progress) {
         decimater.add(no_flip);
         decimater.add(record);
         decimater.module(quadric).unset_max_err();
-        const std::size_t most = positions_->empty() ? 0 : positions_->size() - 1;
+        const std::size_t most = most_collapses(positions_->size());
         ProgressObserver observer(progress, most);
         if (progress) decimater.set_observer(&observer);
         if (decimater.initialize()) {

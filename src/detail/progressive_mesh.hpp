@@ -80,6 +80,8 @@ public:
     // a hundred times during the build (armadillo@2: about 20 s); what it throws stops the build
     // within a hundredth of it and reaches the caller (the window stops a build it no longer needs).
     using BuildProgress = std::function<void(std::size_t collapses, std::size_t most)>;
+    // The most collapses a hierarchy of `vertices` vertices can record (BuildProgress's `most`).
+    static std::size_t most_collapses(std::size_t vertices) { return vertices > 0 ? vertices - 1 : 0; }
     explicit ProgressiveMesh(const MeshTopology& topology, const BuildProgress& progress = {});
     // The same over a mesh of its own (kept: tests and tools without a Model).
     explicit ProgressiveMesh(TriangleMesh mesh);
