@@ -218,6 +218,41 @@ TEST(FrameStats, PanelShowsAMovingAverageOfTheViewsTimes) {
     EXPECT_EQ(stats.panel_numbers(drawing, 0.5).stats.triangles, 12u);
 }
 
+// The panel's rates at a still camera: the window sleeps until input, so the time across the sleep
+// is not a period (it read as a rate near zero, or 0.0 views/s with a single view); the panel says
+// the window is still instead, and the rates after waking are those of the frames and views since.
+TEST(FrameStats, RatesDoNotCountTheSleepsOfAStillWindow) {
+    using namespace std::chrono_literals;
+    FrameStats stats;
+    DrawingStats drawing;
+    drawing.triangles = 12;
+    StageTimes frame;
+    auto t = FrameStats::Clock::now();
+    for (int i = 0; i < 3; ++i, t += 10ms) {  // a view every frame, 100 a second
+        stats.slept(false);
+        stats.view_arrived(t);
+        stats.frame_drawn(frame, true, i, false, t);
+    }
+    PanelNumbers moving = stats.panel_numbers(drawing, -1.0, t);
+    EXPECT_FALSE(moving.still);
+    EXPECT_NEAR(moving.views_per_s, 100.0, 1e-6);
+    EXPECT_NEAR(moving.fps, 100.0, 1e-6);
+    t += 2s;  // still: the loop sleeps, the panel is drawn after the sleep
+    stats.slept(true);
+    stats.frame_drawn(frame, false, 3, false, t);
+    EXPECT_TRUE(stats.panel_numbers(drawing, -1.0, t).still);
+    t += 10ms;  // input: the camera moves, the views come every 10 ms again
+    for (int i = 4; i < 6; ++i, t += 10ms) {
+        stats.slept(false);
+        stats.view_arrived(t);
+        stats.frame_drawn(frame, true, i, false, t);
+    }
+    const PanelNumbers woken = stats.panel_numbers(drawing, -1.0, t);
+    EXPECT_FALSE(woken.still);
+    EXPECT_NEAR(woken.views_per_s, 100.0, 1e-6);  // the 2 s sleep counted would read 5.2
+    EXPECT_NEAR(woken.fps, 100.0, 1e-6);
+}
+
 // view --detail: the scheduler draws the detail source's view (its lines are render_view's on the
 // mesh it adapted) with that mesh as the base coat; the slider's target applies from the next
 // view; at a still camera the pm geomorphs end and the source stops asking for views.

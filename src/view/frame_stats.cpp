@@ -23,29 +23,35 @@ void FrameStats::view_taken(const StageTimes& view, int views_at_once, double cp
     last_silhouettes_ = silhouette_edges;
 }
 
-void FrameStats::view_arrived() {
-    const auto now = Clock::now();
-    if (last_fresh_ != Clock::time_point{}) {
+void FrameStats::slept(bool asleep) {
+    asleep_ = asleep;
+    if (asleep) slept_since_view_ = slept_since_frame_ = true;
+}
+
+void FrameStats::view_arrived(Clock::time_point now) {
+    if (last_fresh_ != Clock::time_point{} && !slept_since_view_) {
         const double period = std::chrono::duration<double>(now - last_fresh_).count();
         view_period_ = view_period_ > 0.0 ? 0.9 * view_period_ + 0.1 * period : period;
     }
     last_fresh_ = now;
+    slept_since_view_ = false;
 }
 
-void FrameStats::frame_drawn(const StageTimes& frame, bool fresh, int index, bool last) {
+void FrameStats::frame_drawn(const StageTimes& frame, bool fresh, int index, bool last, Clock::time_point now) {
     if (fresh) {
         shown_.add(shown_, -0.1);  // what the panel shows: a moving average
         shown_.add(frame, 0.1);
     } else {  // the window's own frame: no new view
         shown_.draw = 0.9 * shown_.draw + 0.1 * frame.draw;
     }
-    // The window's frame rate: between frames drawn (the first waits for the lazy indexes).
-    const auto now = Clock::now();
-    if (index > 0 && last_drawn_ != Clock::time_point{}) {
+    // The window's frame rate: between frames drawn (the first waits for the lazy indexes; a
+    // frame after a sleep until input waited for the user).
+    if (index > 0 && last_drawn_ != Clock::time_point{} && !slept_since_frame_) {
         const double period = std::chrono::duration<double>(now - last_drawn_).count();
         window_period_ = window_period_ > 0.0 ? 0.9 * window_period_ + 0.1 * period : period;
     }
     last_drawn_ = now;
+    slept_since_frame_ = false;
     if (last) return;
     if (index == 0) {
         shown_ = frame;
@@ -61,13 +67,13 @@ void FrameStats::frame_drawn(const StageTimes& frame, bool fresh, int index, boo
 
 void FrameStats::stop_clock() { wall_ = seconds_since(t_measure_); }
 
-const PanelNumbers& FrameStats::panel_numbers(const DrawingStats& stats, double recall) {
-    const auto now = Clock::now();
+const PanelNumbers& FrameStats::panel_numbers(const DrawingStats& stats, double recall, Clock::time_point now) {
     // (and sooner while the snapshot has no view's numbers yet: a short run's panel showed zeros)
     const bool empty = panel_numbers_.stats.triangles == 0 || panel_numbers_.views_per_s == 0.0;
-    if (empty || now - panel_numbers_at_ >= std::chrono::milliseconds(250)) {
+    // (at once when the window falls asleep or wakes: the line then says which)
+    if (empty || panel_numbers_.still != asleep_ || now - panel_numbers_at_ >= std::chrono::milliseconds(250)) {
         panel_numbers_ = {shown_, stats, view_period_ > 0 ? 1.0 / view_period_ : 0.0,
-                          window_period_ > 0 ? 1.0 / window_period_ : 0.0, recall};
+                          window_period_ > 0 ? 1.0 / window_period_ : 0.0, recall, asleep_};
         panel_numbers_at_ = now;
     }
     return panel_numbers_;

@@ -25,6 +25,7 @@ struct PanelNumbers {
     StageTimes times;
     DrawingStats stats;
     double views_per_s = 0.0, fps = 0.0, recall = -1.0;
+    bool still = false;  // the window sleeps until input: no view asked, no frame rate to show
 };
 
 // The facts the `--fps` report adds to the measured times.
@@ -42,17 +43,21 @@ public:
     // A view was taken from the pipeline: `view` its own stage times, `views_at_once` when it was
     // started (1 or 2), `cpu` its lane thread's CPU seconds, `silhouette_edges` its count.
     void view_taken(const StageTimes& view, int views_at_once, double cpu, std::size_t silhouette_edges);
-    // The newest view arrived this frame (the time between views, smoothed).
-    void view_arrived();
+    // The newest view arrived this frame (the time between views, smoothed; the time since the
+    // last view is not a period when the window slept in between).
+    void view_arrived(Clock::time_point now = Clock::now());
+    // The loop slept until input (a still camera, nothing in flight): the next frame's and the
+    // next view's time since the last are not rates, and the panel says the window is still.
+    void slept(bool asleep);
     // A frame was drawn: `frame` its times (draw, frame, wait, and those of the views it took),
     // `fresh` whether it shows a new view, `index` the loop's frame number, `last` the headless
     // run's last frame (not measured: it only draws). Frame 0 starts the measurement (it builds
     // the lazy indexes: not measured).
-    void frame_drawn(const StageTimes& frame, bool fresh, int index, bool last);
+    void frame_drawn(const StageTimes& frame, bool fresh, int index, bool last, Clock::time_point now = Clock::now());
     // Ends the measured wall time (headless, at the last frame; interactive, print_report does).
     void stop_clock();
     // The panel's numbers, refreshed every 250 ms (sooner while they have no view's numbers yet).
-    const PanelNumbers& panel_numbers(const DrawingStats& stats, double recall);
+    const PanelNumbers& panel_numbers(const DrawingStats& stats, double recall, Clock::time_point now = Clock::now());
     // Prints the `fps:` and `cpu:` lines (nothing when no frame was measured).
     void print_report(const FpsContext& context);
 
@@ -72,6 +77,9 @@ private:
     double view_period_ = 0.0;        // moving average of the time between views
     double window_period_ = 0.0;      // moving average of the window's frame time
     Clock::time_point last_drawn_{};
+    bool asleep_ = false;               // the loop is sleeping until input
+    bool slept_since_view_ = false;     // ... or slept since the last view arrived
+    bool slept_since_frame_ = false;    // ... or since the last frame was drawn
     PanelNumbers panel_numbers_;
     Clock::time_point panel_numbers_at_{};
 };

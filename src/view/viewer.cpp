@@ -201,7 +201,9 @@ private:
     void wait_for_input() {
         const bool interactive = opt_.frames == 0;
         const bool busy = scheduler_.in_flight() > 0;
-        if (interactive && unchanged_ > 3 && !busy) glfwWaitEventsTimeout(0.5);
+        const bool asleep = interactive && unchanged_ > 3 && !busy;
+        frame_stats_.slept(asleep);
+        if (asleep) glfwWaitEventsTimeout(0.5);
         else if (interactive && busy && !scheduler_.oldest_done()) glfwWaitEventsTimeout(0.05);
         else glfwPollEvents();
     }
@@ -720,7 +722,10 @@ void Viewer::panel_statistics() {
     const PanelNumbers& numbers = frame_stats_.panel_numbers(shown_.stats, shown_.recall);
     const DrawingStats& s = numbers.stats;
     const StageTimes& t = numbers.times;
-    ImGui::Text("%.1f views/s (pipeline), window %.1f fps", numbers.views_per_s, numbers.fps);
+    if (numbers.still)  // (no view asked and the window sleeps: a rate would be stale or zero)
+        ImGui::TextUnformatted("still: no view asked, window drawn on input");
+    else
+        ImGui::Text("%.1f views/s (pipeline), window %.1f fps", numbers.views_per_s, numbers.fps);
     ImGui::Text("views at once: %d (%s)", scheduler_.views_at_once_now(),
                 scheduler_.fixed() ? "fixed" : "by the camera's step");
     ImGui::Text("features %.2f ms (search %.2f, chain %.2f)", 1e3 * t.features, 1e3 * t.search, 1e3 * t.chain);
