@@ -37,6 +37,20 @@ tmp=$(mktemp)
     "$build/bench/pm_frames" "$m" 3 --budget=0,500,lag
     echo
   done
+  # The issue's target as a session runs it: one front a process (interleaved fronts evict each
+  # other's records), three processes a model, since a single frame's time varies between runs.
+  echo "## The sessions' budget alone, three processes a model (bench/pm_frames --budget=lag)"
+  echo
+  for m in armadillo@2 bunny00@2; do
+    echo "### $m, PX = 3, slow dolly with geomorphs"
+    echo
+    for run in 1 2 3; do
+      "$build/bench/pm_frames" "$m" 3 --no-multiscale --path=dolly --geomorphs=on --budget=lag 2>/dev/null |
+        awk -v run="$run" '/^\| path/ && run == 1 { print "| run " $0 } /^\|---/ && run == 1 { print "|---" $0 }
+                           /^\| dolly/ { print "| " run " " $0 }'
+    done
+    echo
+  done
   echo "## The whole pm frame by stage (bench/pm_frames --whole)"
   echo
   for m in armadillo bunny00; do
@@ -60,6 +74,8 @@ are what they are, and what was tried: docs/progressive_mesh.md, "Benchmarks" an
   sessions' default that follows the lag); the issue's target is under 5 ms a frame on the
   1 M-triangle models. Triangles at the path's end say whether a budget keeps the mesh with the
   view. The build rows give both methods' pre-process time and memory on the same model.
+- **The sessions' budget alone**: the same rule's rows, one front a process as a session runs it,
+  three runs a model: how much a frame's time varies between runs on this machine.
 - **The whole pm frame by stage** (`pm_frames --whole`): where a pm frame's time goes (front,
   curvature, self-intersection search around moving vertices, features, visibility) beside the
   multi-scale frame on the same cameras.
