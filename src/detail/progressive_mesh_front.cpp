@@ -669,9 +669,10 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
     const std::uint32_t k = parent(r);
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
-    // Refusals that only a change of r's ring (or the end of k's lock) can lift stamp r: the scan
-    // then skips it until touch_ring or wake_around clears the stamp (or, a backstop, a few frames
-    // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
+    // Refusals that only a change of r's ring (or k's lock ending, or k's ring changing) can lift
+    // stamp r: the scan then skips it until enqueue_changed or wake_around clears the stamp (or, a
+    // backstop, a few frames pass). The criterion's refusals (the band guard) are not stamped: the
+    // camera moves them.
     if (active(k) && rec(k).locked) {  // (k's unlock wakes r)
         rec(k).waited_on = 1;
         return refuse(r, lock_backstop_frames);
@@ -957,7 +958,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(vert_) + b(front_data_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
+    return b(vert_) + b(front_data_) + b(ring_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
            b(face_id_) + b(face_slot_) + b(vert_holes_.bits) + b(face_holes_.bits) + b(work_) + b(found_) + b(morphs_) +
            b(ring_r_) + b(ring_k_) + b(touched_) + b(r_faces_) + b(r_areas_) + b(ranked_);
 }
