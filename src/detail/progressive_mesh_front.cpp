@@ -12,7 +12,22 @@
 
 namespace inkline {
 
-AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs) : pm_(pm), geomorphs_(geomorphs) {
+AreaUnits AreaUnits::for_input(const PmInput& in) {
+    AreaUnits u;
+    if (in.positions.empty()) return u;
+    glm::dvec3 lo = in.positions[0], hi = lo;
+    for (const glm::dvec3& p : in.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const double d2 = glm::dot(hi - lo, hi - lo);
+    const double unit = double(std::max<std::size_t>(in.triangles.size(), 1)) * d2 * 0x1p-63;
+    if (unit > 0.0 && std::isfinite(unit)) u = {unit, 1.0 / unit};
+    return u;
+}
+
+AdaptiveFront::AdaptiveFront(const ProgressiveMesh& pm, GeomorphOptions geomorphs)
+    : pm_(pm), geomorphs_(geomorphs), units_(AreaUnits::for_input(pm.input())) {
     const PmInput in = pm.input();
     const std::size_t n = in.positions.size(), faces = in.triangles.size(), m = pm.collapses();
     // (the slot words give up one bit, so indices must stay below 2^31: 2 billion vertices)
@@ -58,17 +73,24 @@ std::uint32_t AdaptiveFront::representative(std::uint32_t u) const {
     return u;
 }
 
+// (a corner linked to v adds its face's area to v's ring sum; unlinked, takes it away)
 void AdaptiveFront::link(std::uint32_t c, std::uint32_t v) {
-    Vertex& x = rec(v);
+    const std::uint32_t s = vertex_slot_[v];
+    Vertex& x = vert_[s];
     corner_vertex(c) = v;
     next_corner(c) = x.head;
     x.head = c;
+    ring_[s].sum += faces_[face_of(c)].area;
+    ++ring_[s].faces;
 }
 
 void AdaptiveFront::unlink(std::uint32_t c) {
-    std::uint32_t* at = &rec(corner_vertex(c)).head;
+    const std::uint32_t s = vertex_slot_[corner_vertex(c)];
+    std::uint32_t* at = &vert_[s].head;
     while (*at != c) at = &next_corner(*at);
     *at = next_corner(c);
+    ring_[s].sum -= faces_[face_of(c)].area;
+    --ring_[s].faces;
 }
 
 // A hole of the pool near `slot` (a few pages either side; in its own 64 slots the nearest), or
@@ -106,7 +128,7 @@ std::uint32_t AdaptiveFront::add_face(std::uint32_t f, std::uint32_t near_slot) 
             faces_.reserve(capacity);
             face_id_.reserve(capacity);
         }
-        faces_.push_back(Face{{none, none, none}, {none, none, none}, 0.0});
+        faces_.push_back(Face{{none, none, none}, {none, none, none}, 0});
         face_id_.push_back(f);
         face_holes_.grow(faces_.size());
         face_holes_.misplaced += near_slot != none;
@@ -114,7 +136,7 @@ std::uint32_t AdaptiveFront::add_face(std::uint32_t f, std::uint32_t near_slot) 
     face_slot_[f] = s;
     const auto& tri = pm_.input().triangles[f];
     for (int j = 0; j < 3; ++j) faces_[s].vertex[j] = representative(tri[j]);
-    refresh_face_area(s);
+    faces_[s].area = face_area(s);  // (before its corners are linked: linking adds it to their sums)
     for (std::uint32_t c = 4 * s; c < 4 * s + 3; ++c) link(c, corner_vertex(c));
     ++active_face_count_;
     return s;
@@ -152,7 +174,7 @@ void AdaptiveFront::relay_faces(bool input_order) {
     for (std::size_t j = 0; j < live; ++j) {
         if (j > 0 && j % gap_every == 0) {
             face_holes_.free(std::uint32_t(faces.size()));
-            faces.push_back(Face{{none, none, none}, {none, none, none}, 0.0});
+            faces.push_back(Face{{none, none, none}, {none, none, none}, 0});
             ids.push_back(none);
         }
         to[order[j]] = std::uint32_t(faces.size());
@@ -180,22 +202,27 @@ void AdaptiveFront::relay_vertices(bool input_order) {
     const std::size_t live = order.size(), size = live + live / gap_every, capacity = size + size / 4 + 64;
     std::vector<Vertex> records;
     std::vector<glm::vec4> data;
+    std::vector<RingSum> rings;
     records.reserve(capacity);
     data.reserve(capacity);
+    rings.reserve(capacity);
     vert_holes_ = Holes{};
     vert_holes_.grow(size);
     for (std::size_t j = 0; j < live; ++j) {
         if (j > 0 && j % gap_every == 0) {
             vert_holes_.free(std::uint32_t(records.size()));
-            records.push_back(Vertex{none, none, none, none, 0, 0, none, 0, 0});
+            records.push_back(Vertex{none, none, none, none, 0, 0, none, 0, 0, 0});
             data.push_back(glm::vec4(0.0f, 0.0f, 0.0f, std::numeric_limits<float>::quiet_NaN()));
+            rings.push_back(RingSum{0, 0, 0});
         }
         vertex_slot_[vert_[order[j]].id] = std::uint32_t(records.size());
         records.push_back(vert_[order[j]]);
         data.push_back(front_data_[order[j]]);
+        rings.push_back(ring_[order[j]]);
     }
     vert_.swap(records);
     front_data_.swap(data);
+    ring_.swap(rings);
 }
 
 // Storage follows the front: a face pool a fifth free, or vertex and worklist storage far beyond
@@ -222,6 +249,7 @@ void AdaptiveFront::trim_storage() {
     if (vert_.capacity() > n + n / 2 + slack) {
         refit(vert_, n + n / 4);
         refit(front_data_, n + n / 4);
+        refit(ring_, n + n / 4);
     }
     if (front_id_.capacity() > front + front / 2 + slack) refit(front_id_, front + front / 4);
     if (work_.capacity() > 2 * n + slack) refit(work_, n);  // (empty between frames)
@@ -235,22 +263,25 @@ void AdaptiveFront::trim_storage() {
 // when there is one, else in a new slot at the pool's end.
 void AdaptiveFront::front_add(std::uint32_t v, std::uint32_t collapse, std::uint32_t last_collapse,
                               std::uint32_t pending, std::uint32_t near_slot) {
-    const Vertex x{v, none, collapse, last_collapse, pending, 0, std::uint32_t(front_id_.size()), 0, 0};
+    const Vertex x{v, none, collapse, last_collapse, pending, 0, std::uint32_t(front_id_.size()), 0, 0, 0};
     const glm::vec4 data(glm::vec3(pm_.input().positions[v]), 0.0f);  // (area: refresh_ring_area)
     std::uint32_t s = near_slot == none ? none : vert_holes_.near(near_slot);
     if (s != none) {
         vert_holes_.take(s);
         vert_[s] = x;
         front_data_[s] = data;
+        ring_[s] = RingSum{0, 0, 0};
     } else {
         s = std::uint32_t(vert_.size());
         if (vert_.size() == vert_.capacity()) {  // (by a quarter, never past the input's vertices)
             const std::size_t capacity = std::min(vert_.size() + vert_.size() / 4 + 64, vertex_slot_.size());
             vert_.reserve(capacity);
             front_data_.reserve(capacity);
+            ring_.reserve(capacity);
         }
         vert_.push_back(x);
         front_data_.push_back(data);
+        ring_.push_back(RingSum{0, 0, 0});
         vert_holes_.grow(vert_.size());
         vert_holes_.misplaced += near_slot != none;
     }
@@ -273,21 +304,37 @@ void AdaptiveFront::front_remove(std::uint32_t v, std::uint32_t i) {
     vertex_slot_[v] = tag | i;
 }
 
-void AdaptiveFront::refresh_face_area(std::uint32_t f) {
+std::int64_t AdaptiveFront::face_area(std::uint32_t f) const {
     const auto& p = pm_.input().positions;
     const glm::dvec3 a = p[face_vertex(f, 0)], b = p[face_vertex(f, 1)], c = p[face_vertex(f, 2)];
-    faces_[f].area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    return units_.of(0.5 * glm::length(glm::cross(b - a, c - a)));
+}
+
+// A face whose corner moved: its area again, the change added to its corners' ring sums (the
+// face is linked into each corner's list).
+void AdaptiveFront::refresh_face_area(std::uint32_t f) {
+    const std::int64_t area = face_area(f), change = area - faces_[f].area;
+    faces_[f].area = area;
+    if (change != 0)
+        for (int j = 0; j < 3; ++j) ring_[vertex_slot_[face_vertex(f, j)]].sum += change;
 }
 
 void AdaptiveFront::refresh_ring_area(std::uint32_t v) {
     if (!active(v)) return;
-    double sum = 0.0;
-    std::size_t count = 0;
-    for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c)) {
-        sum += faces_[face_of(c)].area;
-        ++count;
+    const RingSum& x = ring_[vertex_slot_[v]];
+    front_data_[vertex_slot_[v]].w = units_.mean(x.sum, x.faces);
+}
+
+std::size_t AdaptiveFront::ring_sums_differing() const {
+    std::size_t differing = 0;
+    for (const std::uint32_t v : front_id_) {
+        std::int64_t sum = 0;
+        std::uint32_t faces = 0;
+        for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c), ++faces) sum += face_area(face_of(c));
+        const RingSum& x = ring_[vertex_slot_[v]];
+        differing += x.sum != sum || x.faces != faces || front_data_[vertex_slot_[v]].w != units_.mean(sum, faces);
     }
-    front_data_[vertex_slot_[v]].w = float(count ? sum / double(count) : 0.0);
+    return differing;
 }
 
 void AdaptiveFront::neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const {
@@ -323,15 +370,27 @@ bool AdaptiveFront::dequeue(std::uint32_t v) {
     return x.head != none;
 }
 
-// A change of v's ring may lift what refused it: it is tried again from now on.
+// A change of v's ring may lift what refused it: it is tried again from now on, and so are the
+// neighbours whose collapse onto v its ring (the link condition) refused, unless v is locked.
 void AdaptiveFront::enqueue_changed(std::uint32_t v) {
-    rec(v).retry_at = 0;
-    if (!rec(v).locked) enqueue(v);  // (a locked vertex is found by the scan once its morph ends)
+    Vertex& x = rec(v);
+    x.retry_at = 0;
+    if (x.locked) return;  // (a locked vertex is found by the scan once its morph ends)
+    enqueue(v);
+    if (x.waited_on) wake_around(v);
 }
 
-// A lock around `v` ended: its refused neighbours (those that waited on it among them) are tried
-// again.
+// A geomorph's lock on v ends; if it was the last, the neighbours waiting on it are tried again.
+void AdaptiveFront::unlock(std::uint32_t v) {
+    Vertex& x = rec(v);
+    --x.locked;
+    if (!x.locked && x.waited_on) wake_around(v);
+}
+
+// v is free and its neighbours waited on it (Vertex::waited_on): its refused neighbours (those that
+// waited on it among them) are tried again.
 void AdaptiveFront::wake_around(std::uint32_t v) {
+    rec(v).waited_on = 0;
     for (std::uint32_t c = rec(v).head; c != none; c = next_corner(c))
         for (int j = 0; j < 3; ++j) {
             const std::uint32_t u = face_vertex(face_of(c), j);
@@ -408,8 +467,8 @@ bool AdaptiveFront::collapse_ok(std::uint32_t r, std::uint32_t k) {
 }
 
 // Whether a face of r's ring would turn over (or become degenerate) when r moves onto k; if none
-// does, r's ring faces are listed (pool slots, in r's list order) with their world areas after
-// the collapse: NaN on edge rk (removed), else the moved face's (the value refresh_face_area would
+// does, r's ring faces are listed (pool slots, in r's list order) with their areas after the
+// collapse: -1 on edge rk (removed), else the moved face's (the value refresh_face_area would
 // give: half its normal's length, the normal the flip test computed). Listed once a collapse's
 // band guard, which reads each of them from two or three rings.
 bool AdaptiveFront::flips_else_list_faces(std::uint32_t r, std::uint32_t k) {
@@ -428,44 +487,37 @@ bool AdaptiveFront::flips_else_list_faces(std::uint32_t r, std::uint32_t k) {
         }
         r_faces_.push_back(f);
         if (has_k) {
-            r_areas_.push_back(std::numeric_limits<double>::quiet_NaN());
+            r_areas_.push_back(-1);
             continue;
         }
         const glm::dvec3 n0 = glm::cross(before[1] - before[0], before[2] - before[0]);
         const glm::dvec3 n1 = glm::cross(after[1] - after[0], after[2] - after[0]);
         if (!(glm::dot(n0, n1) > 0.0)) return true;
-        r_areas_.push_back(0.5 * glm::length(n1));
+        r_areas_.push_back(units_.of(0.5 * glm::length(n1)));
     }
     return false;
 }
 
-// What refresh_ring_area would store for u (r's neighbour or k) after raw_collapse(r) onto k, summed
-// in the order it would then sum (raw_collapse prepends r's surviving corners to k's list one by
-// one, so they come first and reversed), so the guard decides bit for bit as if it had collapsed.
-// r's faces after the collapse: flips_else_list_faces's.
-float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const {
-    double sum = 0.0;
-    std::size_t count = 0;
-    if (u == parent(r)) {
-        for (std::size_t j = r_areas_.size(); j-- > 0;)
-            if (!std::isnan(r_areas_[j])) {
-                sum += r_areas_[j];
-                ++count;
-            }
-    }
-    for (std::uint32_t c = rec(u).head; c != none; c = next_corner(c)) {
-        const std::uint32_t f = face_of(c);
-        double a = faces_[f].area;  // (unchanged unless r is a corner)
-        if (face_vertex(f, 0) == r || face_vertex(f, 1) == r || face_vertex(f, 2) == r) {
-            std::size_t j = 0;
-            while (r_faces_[j] != f) ++j;
-            a = r_areas_[j];
-            if (std::isnan(a)) continue;  // (on edge rk: removed)
+// What refresh_ring_area would store for u (r's neighbour, k among them) after raw_collapse(r) onto
+// k: u's kept sum with the changes of r's faces that hold u (the faces on edge rk removed, the
+// others moved: flips_else_list_faces's areas), and for k r's moved faces added. Integer sums, so
+// the guard decides exactly as if it had collapsed and measured, without walking u's ring.
+float AdaptiveFront::ring_area_after_collapse(std::uint32_t u, std::uint32_t k) const {
+    const RingSum& x = ring_[vertex_slot_[u]];
+    std::int64_t sum = x.sum;
+    std::uint32_t faces = x.faces;
+    for (std::size_t j = 0; j < r_faces_.size(); ++j) {
+        const Face& f = faces_[r_faces_[j]];
+        const bool holds_u = f.vertex[0] == u || f.vertex[1] == u || f.vertex[2] == u;
+        if (r_areas_[j] < 0) {  // (on edge rk: removed; k holds it too)
+            if (holds_u) sum -= f.area, --faces;
+        } else if (holds_u) {
+            sum += r_areas_[j] - f.area;
+        } else if (u == k) {
+            sum += r_areas_[j], ++faces;
         }
-        sum += a;
-        ++count;
     }
-    return float(count ? sum / double(count) : 0.0);
+    return units_.mean(sum, faces);
 }
 
 void AdaptiveFront::raw_collapse(std::uint32_t r) {
@@ -482,7 +534,7 @@ void AdaptiveFront::raw_collapse(std::uint32_t r) {
             f = face_id_[slot];
             remove_face(slot);
         }
-    while (rec(r).head != none) {
+    while (rec(r).head != none) {  // (its area moves to k's sum, then changes in its corners' sums)
         const std::uint32_t c = rec(r).head;
         unlink(c);
         link(c, k);
@@ -600,24 +652,43 @@ void AdaptiveFront::touch_ring(std::uint32_t v) {
     }
 }
 
+// r collapses onto k. The rings that change are r's neighbours' (k among them: r's faces move to
+// k or go), so only their sums changed; k's other neighbours keep their rings and areas (a
+// refusal of theirs that k's ring decided is woken through k's waited_on).
+void AdaptiveFront::collapse_made(std::uint32_t r) {
+    raw_collapse(r);
+    for (const std::uint32_t u : ring_r_) {
+        refresh_ring_area(u);
+        enqueue_changed(u);
+    }
+}
+
 bool AdaptiveFront::try_collapse(std::uint32_t r) {
     const std::uint32_t i = rec(r).collapse_of;
     if (i == none || rec(r).locked || changed_in_frame_[i] == frame16()) return false;
     const std::uint32_t k = parent(r);
     const double t_r = target(r);
     if (!(t_r > 0.0) || !(image_area(r) < criterion_->collapse * t_r)) return false;
-    // Refusals that only a change of r's ring (or the end of k's lock) can lift stamp r: the scan
-    // then skips it until touch_ring or wake_around clears the stamp (or, a backstop, a few frames
-    // pass). The criterion's refusals (the band guard) are not stamped: the camera moves them.
-    if (active(k) && rec(k).locked) return refuse(r, lock_backstop_frames);
+    // Refusals that only a change of r's ring (or k's lock ending, or k's ring changing) can lift
+    // stamp r: the scan then skips it until enqueue_changed or wake_around clears the stamp (or, a
+    // backstop, a few frames pass). The criterion's refusals (the band guard) are not stamped: the
+    // camera moves them.
+    if (active(k) && rec(k).locked) {  // (k's unlock wakes r)
+        rec(k).waited_on = 1;
+        return refuse(r, lock_backstop_frames);
+    }
     // Hoppe's tree order: r goes only with its whole subtree (every collapse onto it made first).
     if (!active(k) || rec(r).pending_children != 0) return refuse(r, retry_frames);
-    if (!collapse_ok(r, k) || flips_else_list_faces(r, k)) return refuse(r, retry_frames);
+    if (!collapse_ok(r, k)) {  // (the link condition reads k's ring too: a change of it wakes r)
+        rec(k).waited_on = 1;
+        return refuse(r, retry_frames);
+    }
+    if (flips_else_list_faces(r, k)) return refuse(r, retry_frames);
     // The band guard: no vertex of the changed rings (r's neighbours, k among them) may end above
     // t_s T unless it was there and does not grow; measured without making the collapse. (Not
     // stamped: the band moves with the camera, so it is tried again next frame.)
     for (const std::uint32_t u : ring_r_) {
-        const double after = scale(u) * ring_area_after_collapse(u, r);
+        const double after = scale(u) * ring_area_after_collapse(u, k);
         if (!(after <= std::max(criterion_->split * target(u), image_area(u)))) return false;
     }
     if (geomorphs_.enabled) {
@@ -630,9 +701,8 @@ bool AdaptiveFront::try_collapse(std::uint32_t r) {
         ++stats_->morphs_started;
         return true;
     }
-    raw_collapse(r);
     changed_in_frame_[i] = frame16();
-    touch_ring(k);
+    collapse_made(r);  // (ring_r_: r's ring, from collapse_ok)
     ++stats_->collapses;
     return true;
 }
@@ -704,15 +774,11 @@ void AdaptiveFront::advance_morphs(double frame_seconds) {
         ++stats_->morphs_ended;
         if (m.collapse) {
             lock_ring(r, -1);
-            for (std::uint32_t u : ring_r_) wake_around(u);  // (ring_r_: r's ring, from lock_ring)
-            raw_collapse(r);
-            touch_ring(k);
+            collapse_made(r);  // (ring_r_: r's ring, from lock_ring)
             ++stats_->collapses;
         } else {
-            --rec(r).locked;
-            --rec(k).locked;
-            wake_around(r);
-            wake_around(k);
+            unlock(r);
+            unlock(k);
         }
         m = morphs_.back();
         morphs_.pop_back();
@@ -892,7 +958,7 @@ TriangleMesh AdaptiveFront::mesh(std::vector<std::uint32_t>* input_vertex, std::
 
 std::size_t AdaptiveFront::bytes() const {
     const auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-    return b(vert_) + b(front_data_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
+    return b(vert_) + b(front_data_) + b(ring_) + b(front_id_) + b(vertex_slot_) + b(made_) + b(changed_in_frame_) + b(faces_) +
            b(face_id_) + b(face_slot_) + b(vert_holes_.bits) + b(face_holes_.bits) + b(work_) + b(found_) + b(morphs_) +
            b(ring_r_) + b(ring_k_) + b(touched_) + b(r_faces_) + b(r_areas_) + b(ranked_);
 }

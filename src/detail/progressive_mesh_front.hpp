@@ -6,9 +6,10 @@
 // criterion and the frame's duration. Gives: the adapted mesh (its triangles, and per vertex the
 // shown position: a vertex in a geomorph sits between its own position and its parent's).
 //
-// Each frame evaluates every active vertex (its ring's world area is cached, so the test is one
-// depth and one multiply) and splits or collapses only where the criterion says so; the work
-// follows the vertices leaving [t_c T, t_s T], not the model's size. Records are kept for the
+// Each frame evaluates every active vertex (its ring's world area is cached, kept as an exact
+// integer sum that the faces an operation changes update, so the test is one depth and one
+// multiply) and splits or collapses only where the criterion says so; the work follows the
+// vertices leaving [t_c T, t_s T], not the model's size. Records are kept for the
 // active front only (the paper's point: one adaptive mesh is kept): per input vertex and face a
 // 4-byte slot into pools of 32-byte vertex and face records that grow and shrink with the front
 // (per face: its corners' current vertices, their links in the vertices' corner lists and its
@@ -95,6 +96,25 @@ struct FrontBudget {
     }
 };
 
+// World areas as exact fixed-point integers: a face's area rounded to a whole number of `unit`s,
+// a vertex's ring area a running sum of its faces' (what a change of a face adds and takes away).
+// Integer sums are exact and order-free, so a sum kept over a session of operations is the one a
+// fresh sum of the ring would give, bit for bit, whatever the history; a double running sum would
+// drift by its roundings and make decisions depend on the path. The unit is the largest for which
+// no ring can overflow: a face in the input's bounding box (diagonal D) has area at most D^2 / 2,
+// a ring at most the input's F faces, so unit = F D^2 / 2^63 keeps every sum below 2^62. A face's
+// rounding, half a unit, is 2^-24 of the mean face on the 1 M-triangle models (armadillo@2,
+// bunny00@2; 2^-32 at 52 k): about the float ring mean's own rounding.
+struct AreaUnits {
+    double unit = 1.0, per_unit = 1.0;
+    static AreaUnits for_input(const PmInput& input);
+    std::int64_t of(double world_area) const { return std::int64_t(world_area * per_unit + 0.5); }
+    // A ring's mean area in the world (what the criterion reads) from its sum and face count.
+    float mean(std::int64_t sum, std::uint32_t faces) const {
+        return faces ? float(double(sum) * unit / double(faces)) : 0.0f;
+    }
+};
+
 struct FrontStats {
     std::size_t splits = 0, collapses = 0;  // logical operations made this frame
     std::size_t morphs_started = 0, morphs_running = 0;
@@ -148,6 +168,13 @@ public:
     std::size_t morphs_running() const { return morphs_.size(); }
     // The criterion's A_img of an active vertex (its logical ring at its input position).
     double image_area_of(std::uint32_t v, const Camera& camera) const;
+    // Its ring's mean world area as the criterion reads it (AreaUnits::mean of the kept sum; 0 for a
+    // vertex not in the front), and the units the sums are kept in.
+    float ring_area_of(std::uint32_t v) const { return ring_area(v); }
+    const AreaUnits& area_units() const { return units_; }
+    // The active vertices whose kept ring sum or face count differs from a fresh sum of their ring's
+    // faces, each face's area measured again from its corners (a check: always 0).
+    std::size_t ring_sums_differing() const;
     // Bytes of the front's arrays (the hierarchy and the input apart).
     std::size_t bytes() const;
     // Where an active vertex's record and an active input face's record sit in their pools (the
@@ -191,7 +218,10 @@ private:
         // morph next to it clears the stamp; the stamp's length is only a backstop.
         std::uint32_t retry_at;
         std::uint32_t front_at;          // its place in front_id_
-        std::uint16_t locked;            // geomorphs holding it
+        std::uint16_t locked : 15;       // geomorphs holding it
+        // A neighbour's collapse onto it was refused for its lock or its ring (the link condition)
+        // and stamped: the end of its lock or a change of its ring wakes its stamped neighbours.
+        std::uint16_t waited_on : 1;
         // The frame it was queued in (frame16(); 0: not queued), so that a budgeted frame's
         // candidates left untried need no pass to unmark them.
         std::uint16_t queued;
@@ -244,7 +274,7 @@ private:
     struct alignas(32) Face {
         std::uint32_t vertex[3];
         std::uint32_t next[3];
-        double area;  // (double: the ring's sum is then the one the criterion always measured)
+        std::int64_t area;  // in units_ (AreaUnits: exact sums)
     };
     std::vector<Face> faces_;
     // per slot: its input face (a hole: none). A face's slot is a hole near the slot of a face
@@ -261,13 +291,22 @@ private:
     // scan passes over it), so that a frame's evaluation streams through memory instead of missing
     // the cache twice a vertex.
     std::vector<glm::vec4> front_data_;
+    // Per vertex record, beside vert_: its ring's area sum (units_) and face count, kept by the
+    // faces that change (linked, unlinked, their area changed), so an operation updates the rings
+    // it changes instead of summing them again; front_data_'s area is AreaUnits::mean of it.
+    struct RingSum {
+        std::int64_t sum;
+        std::uint32_t faces, unused;
+    };
+    std::vector<RingSum> ring_;
+    AreaUnits units_;
     // The unbudgeted scan's vertices with their place in the front, to queue them in its order.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> found_;
     std::vector<Morph> morphs_;
     // Scratch (kept to avoid allocation per operation).
     std::vector<std::uint32_t> ring_r_, ring_k_, touched_;
     std::vector<std::uint32_t> r_faces_;  // a collapse's r: its ring's faces (pool slots)
-    std::vector<double> r_areas_;         // and their areas after it (NaN: removed)
+    std::vector<std::int64_t> r_areas_;   // and their areas after it (units_; -1: removed)
     // This frame's view.
     const Camera* camera_ = nullptr;
     const DetailCriterion* criterion_ = nullptr;
@@ -300,8 +339,9 @@ private:
     void front_add(std::uint32_t v, std::uint32_t collapse_of, std::uint32_t last_collapse, std::uint32_t pending,
                    std::uint32_t near_slot = none);
     void front_remove(std::uint32_t v, std::uint32_t removed_by);
-    void refresh_face_area(std::uint32_t f);
-    void refresh_ring_area(std::uint32_t v);
+    std::int64_t face_area(std::uint32_t f) const;  // measured from its corners' positions
+    void refresh_face_area(std::uint32_t f);        // measured again, its corners' sums kept
+    void refresh_ring_area(std::uint32_t v);        // front_data_'s area from the kept sum
     void neighbours(std::uint32_t v, std::vector<std::uint32_t>& out) const;  // in ring order
     std::size_t sorted_ring(std::uint32_t v, std::vector<std::uint32_t>& out) const;
     double scale(std::uint32_t v) const;
@@ -314,16 +354,18 @@ private:
     bool dequeue(std::uint32_t v);  // clears v's mark; whether v (active, in a face) can change
     void enqueue_changed(std::uint32_t v);
     void wake_around(std::uint32_t v);
+    void unlock(std::uint32_t v);
     bool refuse(std::uint32_t v, std::uint32_t frames);  // stamps v; returns false
 
     bool collapse_ok(std::uint32_t r, std::uint32_t k);
     bool flips_else_list_faces(std::uint32_t r, std::uint32_t k);
-    float ring_area_after_collapse(std::uint32_t u, std::uint32_t r) const;
+    float ring_area_after_collapse(std::uint32_t u, std::uint32_t k) const;
     void raw_collapse(std::uint32_t r);
     bool split_ok(std::uint32_t k) const;
     bool ring_is_disk(std::uint32_t v) const;
     std::uint32_t raw_split(std::uint32_t k);  // returns the vertex split off
     void touch_ring(std::uint32_t v);          // refresh areas of v and its neighbours, queue them
+    void collapse_made(std::uint32_t r);       // raw_collapse, then r's ring (ring_r_) refreshed and queued
     bool try_collapse(std::uint32_t r);
     bool try_split(std::uint32_t k);
     void lock_ring(std::uint32_t r, int delta);
