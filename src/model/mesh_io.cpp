@@ -1386,6 +1386,9 @@ TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& 
     if (mesh.triangles.empty() && mesh.repairs.faces_dropped > 0)
         throw Error(path, "no faces left: all " + std::to_string(mesh.repairs.faces_dropped) +
                               " faces are degenerate (repeated corners)");
+    // (freed before the repairs, as the file's bytes)
+    soup = Soup();
+    clean = poly = {};
     LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
     repair_welded(mesh, path, options.strict, &options.progress, ahead);
     return mesh;
@@ -1458,6 +1461,9 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options, Hilb
                                   " facets): truncated or malformed");
     }
 
+    // The file's bytes freed before the repairs, whose arrays then take their pages (the programs'
+    // allocator keeps freed large blocks: src/app/huge_pages.cpp) instead of fresh ones.
+    std::string().swap(data);
     progress.stage(kProgressParsed);
     TriangleMesh mesh = triangulate(std::move(soup), path, options, ahead);
     try {

@@ -2,12 +2,12 @@
 #include "model/topology_steps.hpp"
 
 #include "model/orientation.hpp"
+#include "core/predicates.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -19,12 +19,6 @@ extern "C" __m128d _ZGVbN2v_acos(__m128d);
 #endif
 
 namespace inkline {
-namespace {
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-K::Point_3 cgal(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
-
-}  // namespace
-
 // The vector acos takes a third to half of std::acos's time; its result a is kept when every
 // double within 2^-40 |a| of it (some 4 000 ulp: the two functions differ by at most 5) rounds to
 // the same float, so std::acos's rounds to it too; otherwise (about once in 2^16 angles) std::acos
@@ -95,9 +89,9 @@ std::uint8_t edge_convexity(const MeshTopology& t, std::uint32_t e) {
     for (auto v : t.faces[f1])
         if (v != t.edge_vertex[e][0] && v != t.edge_vertex[e][1]) opp = v;
     const auto& v0 = t.faces[f0];
-    const auto o = CGAL::orientation(cgal(t.positions[v0[0]]), cgal(t.positions[v0[1]]), cgal(t.positions[v0[2]]),
-                                     cgal(t.positions[opp]));
-    return o == CGAL::NEGATIVE ? kEdgeConvex : o == CGAL::POSITIVE ? kEdgeConcave : 0;
+    // (a float filter first: it settles nearly every edge, at a fraction of CGAL's orientation's cost)
+    const int o = orient3_fast(t.positions[v0[0]], t.positions[v0[1]], t.positions[v0[2]], t.positions[opp]);
+    return o < 0 ? kEdgeConvex : o > 0 ? kEdgeConcave : 0;
 }
 
 void MeshTopology::set_crease_angle(double degrees) {

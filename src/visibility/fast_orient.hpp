@@ -47,21 +47,7 @@ inline int path_side_fast(glm::dvec2 q0, glm::dvec2 q1, glm::dvec2 u) {
     return q0.y > q1.y ? -s : s;
 }
 
-// orient3 (core/predicates.hpp): sign of det[b - a, c - a, d - a].
-inline int orient3_fast(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
-    const glm::dvec3 e = b - a, f = c - a, g = d - a;
-    const double m0 = f.y * g.z, m1 = f.z * g.y, m2 = f.x * g.z, m3 = f.z * g.x, m4 = f.x * g.y, m5 = f.y * g.x;
-    const double det = e.x * (m0 - m1) - e.y * (m2 - m3) + e.z * (m4 - m5);
-    const double perm = std::abs(e.x) * (std::abs(m0) + std::abs(m1)) + std::abs(e.y) * (std::abs(m2) + std::abs(m3)) +
-                        std::abs(e.z) * (std::abs(m4) + std::abs(m5));
-    // Shewchuk's o3derrboundA is (7 + 56 eps) eps; 16 eps leaves a margin. A product m that falls
-    // into the subnormal range errs by up to 2^-1075, then scaled by e.
-    const double bound = 16.0 * 1.1102230246251565e-16 * perm +
-                         0x1p-1022 * (1.0 + std::abs(e.x) + std::abs(e.y) + std::abs(e.z));
-    if (det > bound) return 1;
-    if (det < -bound) return -1;
-    return orient3(a, b, c, d);
-}
+// orient3_fast: core/predicates.hpp (the loading's topology uses it too).
 
 // orient_eye (core/predicates.hpp).
 inline int orient_eye_fast(const Camera& camera, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
