@@ -16,7 +16,7 @@
 // area; a restored face's corners come from the input's triangles). Per collapse: the faces it
 // removed and the stacks of collapses made onto its vertices, so a split undoes the latest in
 // O(degree x the hierarchy's depth there). No allocation per frame once the worklists and pools
-// have grown; a pool left mostly empty by a coarsening is compacted at the frame's end.
+// have grown; a pool left mostly empty by a coarsening is compacted at a frame's start, on its budget.
 //
 // A collapse is made (the rules of ProgressiveMesh::adapt, plus Hoppe's tree order: r goes only
 // with its whole subtree) when its removed vertex r is below t_c T, its kept vertex k is active
@@ -129,6 +129,9 @@ struct FrontStats {
     // queued by this frame's changes tested again), the lag a FrontBudget follows; and this
     // frame's budget (SIZE_MAX: none).
     std::size_t backlog = 0, budget = SIZE_MAX;
+    // A pool laid out again this frame: its cost in operations, taken from a budgeted frame's
+    // budget (the records moved, at about 256 a operation's time).
+    std::size_t layout_operations = 0;
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
     double seconds = 0.0;
@@ -335,6 +338,10 @@ private:
     void remove_face(std::uint32_t slot);
     void relay_faces(bool input_order);
     void relay_vertices(bool input_order);
+    // Lays the pools out again when due (holes, records out of place) and returns its cost in
+    // operations, which a budgeted frame's budget pays; trim_storage gives back what the front
+    // no longer needs.
+    std::size_t lay_out_pools();
     void trim_storage();
     void front_add(std::uint32_t v, std::uint32_t collapse_of, std::uint32_t last_collapse, std::uint32_t pending,
                    std::uint32_t near_slot = none);
