@@ -1461,8 +1461,8 @@ TriangleMesh load_mesh(const std::string& path, const LoadOptions& options, Hilb
                                   " facets): truncated or malformed");
     }
 
-    // The file's bytes freed before the repairs, whose arrays then take their pages (the programs'
-    // allocator keeps freed large blocks: src/app/huge_pages.cpp) instead of fresh ones.
+    // The file's bytes freed before the repairs: not held through them (blocks under 4 MB go back to
+    // the programs' arena for the repairs' arrays; larger ones are unmapped: src/app/huge_pages.cpp).
     std::string().swap(data);
     progress.stage(kProgressParsed);
     TriangleMesh mesh = triangulate(std::move(soup), path, options, ahead);
