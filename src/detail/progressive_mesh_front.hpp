@@ -130,7 +130,7 @@ struct FrontStats {
     // frame's budget (SIZE_MAX: none).
     std::size_t backlog = 0, budget = SIZE_MAX;
     // A pool laid out again this frame: its cost in operations, taken from a budgeted frame's
-    // budget (the records moved, at about 256 a operation's time).
+    // budget (the records moved, about 256 to an operation's time).
     std::size_t layout_operations = 0;
     std::size_t vertices = 0, triangles = 0; // of the active front after the frame
     double largest_move_px = 0.0;            // largest shown-vertex move by a geomorph this frame
