@@ -1,7 +1,6 @@
 #include "model/topology.hpp"
 #include "model/topology_steps.hpp"
 
-#include "model/orientation.hpp"
 #include "core/predicates.hpp"
 
 #include <algorithm>
@@ -38,8 +37,10 @@ void angles_of_cosines(const double* cosine, std::size_t n, float* angle) {
     for (; i < n; ++i) angle[i] = float(std::acos(cosine[i]));
 }
 
-// Bounds, the facing origin and radius, and the float facing planes, from the positions.
-void compute_bounds_and_facing(MeshTopology& t) {
+// Bounds, the facing origin and radius, and the float facing planes, from the positions; with
+// `normal`, also each face's unit normal (MeshTopology::face_normal's doubles: the same arithmetic,
+// made in the same pass rather than in one of its own).
+void compute_bounds_and_facing(MeshTopology& t, glm::dvec3* normal) {
     const std::size_t nf = t.faces.size();
     t.bounds.lo = t.bounds.hi = t.positions.empty() ? glm::dvec3(0.0) : t.positions[0];
     for (const auto& p : t.positions) {
@@ -68,6 +69,7 @@ void compute_bounds_and_facing(MeshTopology& t) {
                                       std::abs(e.z * g.x) + std::abs(e.x * g.z),
                                       std::abs(e.x * g.y) + std::abs(e.y * g.x)});
         const double len = glm::length(n);
+        if (normal) normal[f] = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
         constexpr double kEps = 1.1102230246251565e-16;
         const bool trusted = len > 0.0 && std::isfinite(len) && 16.0 * 1.7320508075688772 * kEps * pmax / len +
                                                                         0x1p-24 + 8.0 * kEps <= 0x1p-21;
@@ -114,6 +116,8 @@ glm::dvec3 MeshTopology::face_normal(std::uint32_t f) const {
     return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
 }
 
+void compute_bounds_and_facing(MeshTopology& t) { compute_bounds_and_facing(t, nullptr); }
+
 void MeshTopology::refresh_geometry() {
     compute_bounds_and_facing(*this);
     for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
@@ -133,7 +137,8 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     t.object_names = std::move(mesh.object_names);
     const std::size_t nv = t.positions.size(), nf = t.faces.size();
 
-    compute_bounds_and_facing(t);
+    std::vector<glm::dvec3> normal(nf);  // each face's once, not once per edge
+    compute_bounds_and_facing(t, normal.data());
 
     // Edges, numbered in the order of their first traversal (face by face, corner by corner); the
     // first traversal a->b gives face 0, the last other one face 1 (the only other one in a
@@ -146,28 +151,36 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
         for (std::uint32_t c = 0; c < nc; ++c) ne += corner_edge[c] == kNoCorner || corner_edge[c] > c;
     }
     t.face_edges.resize(nf);
-    for (std::uint32_t c = 0; c < nc; ++c)  // the face across each corner's edge: its mate's
-        t.face_edges[c / 3].face[c % 3] = corner_edge[c] == kNoCorner ? kNoFace : corner_edge[c] / 3;
     t.edge_vertex.reserve(ne);
     t.edge_face.reserve(ne);
+    t.edge_flags.assign(ne, 0);
+    bool seams = false;
     for (std::uint32_t c = 0; c < nc; ++c) {
-        const std::uint32_t f = c / 3, mate = corner_edge[c];
+        const std::uint32_t f = c / 3, k = c % 3, mate = corner_edge[c];
+        t.face_edges[f].face[k] = mate == kNoCorner ? kNoFace : mate / 3;  // the face across: its mate's
+        const std::uint32_t a = t.faces[f][k], b = t.faces[f][(k + 1) % 3];
         if (mate == kNoCorner || mate > c) {  // the first corner of its edge
             corner_edge[c] = std::uint32_t(t.edge_vertex.size());
-            t.edge_vertex.push_back({t.faces[f][c % 3], t.faces[f][(c % 3 + 1) % 3]});
+            t.edge_vertex.push_back({a, b});
             t.edge_face.push_back({f, kNoFace});
         } else {  // its edge's first corner (mate < c) already holds the edge
-            corner_edge[c] = corner_edge[mate];
-            t.edge_face[corner_edge[c]][1] = f;
+            const std::uint32_t e = corner_edge[c] = corner_edge[mate];
+            t.edge_face[e][1] = f;
+            // An orientation seam: this face traverses the edge the same way as its first face
+            // (here rather than in a pass of its own, which read every second face again).
+            const bool seam = a == t.edge_vertex[e][0];
+            t.edge_flags[e] = seam ? kEdgeSeam : 0;  // (the last face decides, as edge_face[e][1])
+            seams |= seam;
         }
-        t.face_edges[f].edge[c % 3] = corner_edge[c];
+        t.face_edges[f].edge[k] = corner_edge[c];
     }
+    std::vector<std::uint32_t>().swap(corner_edge);  // (freed before the arrays still to come)
+    t.seam_list.clear();
+    if (seams)
+        for (std::uint32_t e = 0; e < ne; ++e)
+            if (t.edge_flags[e] & kEdgeSeam) t.seam_list.push_back(e);
     t.edge_normal_angle.assign(ne, 0.0f);
-    t.edge_flags.assign(ne, 0);
     t.closed = true;
-    std::vector<glm::dvec3> normal(nf);  // each face's once, not once per edge
-    for (std::uint32_t f = 0; f < nf; ++f) normal[f] = t.face_normal(f);
-    mark_orientation_seams(t);
     constexpr std::size_t kBlock = 256;  // edges whose cosines go to angles_of_cosines at once
     double cosine[kBlock];
     for (std::size_t block = 0; block < ne; block += kBlock) {
@@ -189,6 +202,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
         }
         angles_of_cosines(cosine, m, &t.edge_normal_angle[block]);
     }
+    std::vector<glm::dvec3>().swap(normal);
     t.set_crease_angle(crease_degrees);
 
     std::vector<std::uint32_t> cursor;
