@@ -18,8 +18,9 @@
 namespace inkline {
 
 // Flags the seam edges (kEdgeSeam; both faces traverse the edge from edge_vertex[0] to [1]) and
-// lists them in edge order in seam_list. Called by build_topology before the angles between face
-// normals, which it then takes with the second normal negated on a seam edge.
+// lists them in edge order in seam_list, before the angles between face normals, which are then
+// taken with the second normal negated on a seam edge. (build_topology marks the same edges while
+// it makes them; the adapted topology, which keeps its edges, calls this.)
 void mark_orientation_seams(MeshTopology& t);
 
 // Whether the two faces of interior edge e lie on opposite sides of the eye's view (a silhouette),
