@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
@@ -342,6 +344,124 @@ TEST(LoadingRepairs, DuplicatesAroundAVertexOfManyFaces) {
 // exact propagation and by rays. What let the Hilbert order change (it renumbers every vertex
 // and face) without changing a drawing. (Not every mesh: where QI is a tie, e.g. boeing's borders
 // lying on other faces, the tie's outcome depends on the numbering; bench/vis_check --geometry.)
+// Binary PLY in the layout nearly every file has (one vertex element of scalars, one face element
+// whose only list holds three indices a face) is read straight into triangles; any other layout,
+// a polygon, or an index out of range goes the general way. Every layout gives what the ASCII file
+// of the same faces gives: the same positions, triangles and repairs, or the same error.
+struct PlyLayout {
+    const char* name;
+    bool doubles = false;                       // coordinates as double (else float)
+    bool vertex_extras = false;                 // a uchar before x and three floats after z
+    bool face_extras = false;                   // an int before the list and a uchar after it
+    const char* count = "uchar";                // the list's count type
+    const char* index = "int";                  // its index type
+    bool big_endian = false;
+};
+
+void put_ply(std::string& s, const std::string& type, double v, bool be) {
+    char b[8];
+    std::size_t n = 4;
+    if (type == "uchar") b[0] = char(std::uint8_t(v)), n = 1;
+    else if (type == "ushort") { const auto x = std::uint16_t(v); std::memcpy(b, &x, n = 2); }
+    else if (type == "int") { const auto x = std::int32_t(v); std::memcpy(b, &x, 4); }
+    else if (type == "uint") { const auto x = std::uint32_t(v); std::memcpy(b, &x, 4); }
+    else if (type == "float") { const auto x = float(v); std::memcpy(b, &x, 4); }
+    else { std::memcpy(b, &v, n = 8); }
+    if (be) std::reverse(b, b + n);
+    s.append(b, n);
+}
+
+std::string write_ply_binary(const Polygons& p, const PlyLayout& l) {
+    const std::string coord = l.doubles ? "double" : "float";
+    std::string s = std::string("ply\nformat ") + (l.big_endian ? "binary_big_endian" : "binary_little_endian") +
+                    " 1.0\nelement vertex " + std::to_string(p.positions.size()) + "\n";
+    if (l.vertex_extras) s += "property uchar flags\n";
+    s += "property " + coord + " x\nproperty " + coord + " y\nproperty " + coord + " z\n";
+    if (l.vertex_extras) s += "property float nx\nproperty float ny\nproperty float nz\n";
+    s += "element face " + std::to_string(p.faces.size()) + "\n";
+    if (l.face_extras) s += "property int material\n";
+    s += std::string("property list ") + l.count + " " + l.index + " vertex_indices\n";
+    if (l.face_extras) s += "property uchar red\n";
+    s += "end_header\n";
+    for (const auto& v : p.positions) {
+        if (l.vertex_extras) put_ply(s, "uchar", 7, l.big_endian);
+        for (int k = 0; k < 3; ++k) put_ply(s, coord, v[k], l.big_endian);
+        if (l.vertex_extras)
+            for (int k = 0; k < 3; ++k) put_ply(s, "float", 0.5, l.big_endian);
+    }
+    for (const auto& f : p.faces) {
+        if (l.face_extras) put_ply(s, "int", 3, l.big_endian);
+        put_ply(s, l.count, double(f.size()), l.big_endian);
+        for (const auto i : f) put_ply(s, l.index, i, l.big_endian);
+        if (l.face_extras) put_ply(s, "uchar", 200, l.big_endian);
+    }
+    return s;
+}
+
+// "V.. F.. <hashes> <repairs>" of a tolerant load_mesh, or the error without the file's name.
+std::string mesh_summary(const std::string& path, bool strict) {
+    try {
+        LoadOptions options;
+        options.strict = strict;
+        const TriangleMesh m = load_mesh(path, options);
+        const LoadReport& r = m.repairs;
+        char b[160];
+        std::snprintf(b, sizeof b, "V%zu F%zu %016llx %016llx welded %zu dropped %zu cut %zu reoriented %zu",
+                      m.positions.size(), m.triangles.size(), static_cast<unsigned long long>(hash_of(m.positions)),
+                      static_cast<unsigned long long>(hash_of(m.triangles)), r.vertices_welded, r.faces_dropped,
+                      r.nonmanifold_edges_cut, r.components_reoriented);
+        return b;
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        return "error: " + what.substr(what.find(": ") + 2);
+    }
+}
+
+TEST(LoadingPly, BinaryLayoutsLoadAsTheAsciiFile) {
+    // Triangles only, with what tolerant loading repairs: a fin, a face listed twice, a repeated
+    // corner, a vertex at the position of another (coordinates exact in float).
+    Polygons triangles;
+    triangles.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {0, 0, 0}, {0.5, -1, 0.25}};
+    triangles.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {5, 1, 6}, {1, 2, 3}, {1, 1, 4}};
+    Polygons with_quad = triangles;  // (the general way: a polygon)
+    with_quad.faces.insert(with_quad.faces.begin() + 3, std::vector<std::uint32_t>{1, 4, 2, 0});
+    Polygons out_of_range = triangles;
+    out_of_range.faces[4][2] = 9;
+    Polygons clean;  // (strict loading takes it: no repeated corner)
+    clean.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    clean.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    const PlyLayout layouts[] = {
+        {"float"},
+        {"double extras", true, true, true},
+        {"int count, uint index", false, false, false, "int", "uint"},
+        {"ushort count and index", false, true, false, "ushort", "ushort"},
+        {"uint count, double", true, false, true, "uint", "int"},
+        {"big-endian", false, true, true, "uchar", "int", true},
+    };
+    const auto dir = std::filesystem::temp_directory_path() / ("inkline_ply_layouts_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    for (const auto& [what, mesh] : {std::pair<const char*, const Polygons*>{"triangles", &triangles},
+                                    {"with a quad", &with_quad}, {"out of range", &out_of_range}, {"clean", &clean}}) {
+        const std::string ascii = (dir / "ascii.ply").string();
+        std::ofstream(ascii, std::ios::binary) << write_as(*mesh, "ply");
+        for (const bool strict : {false, true}) {
+            const std::string expected = mesh_summary(ascii, strict);
+            for (const PlyLayout& layout : layouts) {
+                const std::string binary = (dir / "binary.ply").string();
+                std::ofstream(binary, std::ios::binary) << write_ply_binary(*mesh, layout);
+                EXPECT_EQ(mesh_summary(binary, strict), expected) << what << ", " << layout.name << (strict ? ", strict" : "");
+            }
+        }
+    }
+    std::filesystem::remove_all(dir);
+    // (what the loads compared above do: tolerant ones repair, strict ones refuse the repeated corner)
+    std::ofstream(dir.string() + ".ply", std::ios::binary) << write_ply_binary(triangles, layouts[0]);
+    EXPECT_NE(mesh_summary(dir.string() + ".ply", false).find("welded 1 dropped 2"), std::string::npos)
+        << mesh_summary(dir.string() + ".ply", false);
+    EXPECT_EQ(mesh_summary(dir.string() + ".ply", true), "error: face 6 repeats vertex index 1");
+    std::filesystem::remove(dir.string() + ".ply");
+}
+
 TEST(LoadingOrder, DrawingsDoNotDependOnNumbering) {
     for (const char* name : {"elephant", "knot1", "fandisk"}) {
         const TriangleMesh mesh = load_mesh(test::mesh_path(name));

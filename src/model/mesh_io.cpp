@@ -45,6 +45,9 @@ struct Soup {
     std::vector<glm::dvec3> positions;
     std::vector<std::int64_t> corners;
     std::vector<std::size_t> polygon_end;  // per polygon, where its corners end in `corners`
+    // Instead of the polygons, when a reader knows every one is a triangle whose corners are
+    // vertices of the file (checked): the triangles as they are, 12 bytes a face rather than 32.
+    std::vector<std::array<std::uint32_t, 3>> triangles;
     LoadProgressReporter* progress = nullptr;  // the text readers report how far they are
     std::size_t polygon_count() const { return polygon_end.size(); }
     void end_polygon() { polygon_end.push_back(corners.size()); }
@@ -600,6 +603,82 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
 // it reserves storage for the header's counts and resizes face lists to their stated lengths
 // before reading them (a 300-byte file with one list claiming 2e9 entries took 17 GB). Here every
 // count is checked against the bytes that remain before anything is allocated for it.
+// A binary PLY value of type t at b (little-endian), as a double.
+inline double ply_value(PlyType t, const char* b) {
+    switch (t) {
+        case PlyType::I8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
+        case PlyType::U8: { std::uint8_t v; std::memcpy(&v, b, 1); return v; }
+        case PlyType::I16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
+        case PlyType::U16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
+        case PlyType::I32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
+        case PlyType::U32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
+        case PlyType::F32: { float v; std::memcpy(&v, b, 4); return v; }
+        default: { double v; std::memcpy(&v, b, 8); return v; }
+    }
+}
+
+// The layout nearly every binary PLY mesh has, read straight into positions and triangles: a
+// little-endian body of one vertex element (scalar properties only) followed by one face element
+// whose only list is its integer corner indices, three for every face, each a vertex of the file.
+// Returns false, leaving `soup` empty, on anything else (other elements, another list, a polygon,
+// an index out of range, a short body): read_ply_binary's general reading then reads the file or
+// gives its error, so the result is the same either way.
+bool read_ply_binary_triangles(const std::string& data, std::size_t at, const std::vector<PlyElement>& elements,
+                               const std::string& path, Soup& soup) {
+    if (elements.size() != 2) return false;
+    const PlyElement &ve = elements[0], &fe = elements[1];
+    const PlyRoles vr = ply_roles(ve, path), fr = ply_roles(fe, path);
+    if (!vr.is_vertex || !fr.is_face) return false;
+    std::size_t vertex_bytes = 0, xyz_offset[3] = {0, 0, 0};
+    PlyType xyz_type[3] = {PlyType::F32, PlyType::F32, PlyType::F32};
+    for (int j = 0; j < int(ve.props.size()); ++j) {
+        if (ve.props[j].list) return false;
+        for (int c = 0; c < 3; ++c)
+            if (j == vr.xyz[c]) xyz_offset[c] = vertex_bytes, xyz_type[c] = ve.props[j].value;
+        vertex_bytes += ply_size(ve.props[j].value);
+    }
+    // The face record: scalars before the list, the list's count and three indices, scalars after.
+    std::size_t before = 0, after = 0;
+    for (int j = 0; j < int(fe.props.size()); ++j) {
+        const PlyProperty& pr = fe.props[j];
+        if (pr.list != (j == fr.indices)) return false;
+        if (pr.list) {
+            if (pr.count == PlyType::F32 || pr.count == PlyType::F64 || pr.value == PlyType::F32 || pr.value == PlyType::F64)
+                return false;  // (float counts and indices: the general reading checks them)
+        } else {
+            (j < fr.indices ? before : after) += ply_size(pr.value);
+        }
+    }
+    const PlyType count_type = fe.props[std::size_t(fr.indices)].count, index_type = fe.props[std::size_t(fr.indices)].value;
+    const std::size_t count_bytes = ply_size(count_type), index_bytes = ply_size(index_type);
+    const std::size_t face_bytes = before + count_bytes + 3 * index_bytes + after;
+    const auto nv = std::uint64_t(ve.count), nf = std::uint64_t(fe.count);
+    if (vertex_bytes == 0 || (data.size() - at) / vertex_bytes < nv) return false;
+    const std::size_t face_at = at + nv * vertex_bytes;
+    if ((data.size() - face_at) / face_bytes < nf) return false;
+    soup.positions.resize(nv);
+    const char* v = data.data() + at;
+    for (std::uint64_t i = 0; i < nv; ++i, v += vertex_bytes)
+        soup.positions[i] = {ply_value(xyz_type[0], v + xyz_offset[0]), ply_value(xyz_type[1], v + xyz_offset[1]),
+                             ply_value(xyz_type[2], v + xyz_offset[2])};
+    soup.triangles.resize(nf);
+    const char* f = data.data() + face_at;
+    bool ok = true;
+    for (std::uint64_t i = 0; i < nf && ok; ++i, f += face_bytes) {
+        ok = ply_value(count_type, f + before) == 3.0;
+        for (int k = 0; k < 3; ++k) {
+            const double index = ply_value(index_type, f + before + count_bytes + std::size_t(k) * index_bytes);
+            ok &= index >= 0.0 && index < double(nv);
+            soup.triangles[i][std::size_t(k)] = std::uint32_t(index);
+        }
+    }
+    if (!ok) {
+        soup.positions = {};
+        soup.triangles = {};
+    }
+    return ok;
+}
+
 void read_ply_binary(const std::string& data, const std::string& path, bool big_endian, Soup& soup) {
     const auto end = data.find("end_header");
     if (end == std::string::npos) throw Error(path, "file ends inside the PLY header (no end_header)");
@@ -622,6 +701,7 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
                                       " bytes after the header can hold (truncated or malformed)");
         }
     }
+    if (!big_endian && read_ply_binary_triangles(data, at, elements, path, soup)) return;
     auto read = [&](PlyType t) -> double {
         const std::size_t n = ply_size(t);
         if (data.size() - at < n) throw Error(path, "file ends inside the PLY body (truncated)");
@@ -1318,7 +1398,44 @@ bool ear_clip(const std::vector<glm::dvec3>& positions, std::vector<std::int64_t
 // cleaned (tolerant: corners repeated in a row merged, polygons that still repeat one dropped;
 // strict: nothing welded, as before the repairs, so strict loading is the old loading exactly)
 // and fan-triangulated, as OpenMesh's own triangulate() does for convex polygons.
+// Soup::triangles to a mesh, as triangulate() would make it from the same faces as polygons: the
+// same errors, welding and dropped faces.
+TriangleMesh triangulate_triangles(Soup soup, const std::string& path, const LoadOptions& options, HilbertOrderAhead* ahead) {
+    TriangleMesh mesh;
+    if (options.strict)
+        for (std::size_t fi = 0; fi < soup.triangles.size(); ++fi) {
+            const auto& t = soup.triangles[fi];
+            if (t[0] == t[1] || t[0] == t[2] || t[1] == t[2])
+                throw Error(path, "face " + std::to_string(fi) + " repeats vertex index " +
+                                      std::to_string(t[1] == t[0] ? t[1] : t[2]));
+        }
+    const std::vector<std::uint32_t> weld =
+        options.strict ? std::vector<std::uint32_t>{} : weld_positions(soup.positions, mesh.repairs.vertices_welded);
+    mesh.positions = std::move(soup.positions);
+    mesh.triangles = std::move(soup.triangles);
+    if (!options.strict) {  // (a repeated corner, in the file or by welding: the face has no area)
+        std::size_t kept = 0;
+        for (auto t : mesh.triangles) {
+            if (!weld.empty()) t = {weld[t[0]], weld[t[1]], weld[t[2]]};
+            if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+                ++mesh.repairs.faces_dropped;
+                continue;
+            }
+            mesh.triangles[kept++] = t;
+        }
+        mesh.triangles.resize(kept);
+    }
+    if (mesh.triangles.empty() && mesh.repairs.faces_dropped > 0)
+        throw Error(path, "no faces left: all " + std::to_string(mesh.repairs.faces_dropped) +
+                              " faces are degenerate (repeated corners)");
+    soup = Soup();
+    LoadProgressReporter(&options.progress, 0).at(kProgressParsed + 0.2 * (kProgressRepaired - kProgressParsed));
+    repair_welded(mesh, path, options.strict, &options.progress, ahead);
+    return mesh;
+}
+
 TriangleMesh triangulate(Soup soup, const std::string& path, const LoadOptions& options, HilbertOrderAhead* ahead) {
+    if (!soup.triangles.empty()) return triangulate_triangles(std::move(soup), path, options, ahead);
     const std::int64_t nv = std::int64_t(soup.positions.size());
     const auto polygon = [&soup](std::size_t fi) {  // the corners of polygon fi
         const std::size_t begin = fi == 0 ? 0 : soup.polygon_end[fi - 1];
