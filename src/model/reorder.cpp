@@ -1,6 +1,7 @@
 #include "model/reorder.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <mutex>
 #include <exception>
@@ -273,10 +274,14 @@ struct HilbertOrderAhead::Impl {
     bool changed = false;  // the owner announced a change: the orders are of another mesh
     HilbertOrders orders;
     std::exception_ptr failure;
+    // The faces' keys, sorted by whichever thread claims them first: the owner, when take() finds
+    // them unsorted, sorts them itself rather than waiting (the thread sorts the vertices' first).
+    std::vector<Keyed> face_keys;
+    std::atomic<bool> face_sort_claimed{false};
 
     void run(const glm::dvec3* positions, std::size_t nv, const std::array<std::uint32_t, 3>* triangles,
              std::size_t nf) {
-        std::vector<Keyed> vertex_keys, face_keys;
+        std::vector<Keyed> vertex_keys;
         try {
             // The same keys as hilbert_ordered's (its grid, its centroids).
             const HilbertGrid grid(positions, nv);
@@ -299,7 +304,7 @@ struct HilbertOrderAhead::Impl {
         read_cv.notify_all();
         try {
             orders.vertex_at = key_order(std::move(vertex_keys));
-            orders.face_at = key_order(std::move(face_keys));
+            if (!face_sort_claimed.exchange(true)) orders.face_at = key_order(std::move(face_keys));
         } catch (...) {
             failure = std::current_exception();
         }
@@ -331,10 +336,27 @@ void HilbertOrderAhead::before_change() {
 }
 
 std::optional<HilbertOrders> HilbertOrderAhead::take() {
-    if (!impl_->thread.joinable()) return std::nullopt;
-    impl_->thread.join();
-    if (impl_->changed || impl_->failure) return std::nullopt;  // (a failure: hilbert_ordered meets it again)
-    return std::move(impl_->orders);
+    Impl& im = *impl_;
+    if (!im.thread.joinable()) return std::nullopt;
+    bool keys_made = false;
+    {
+        std::unique_lock<std::mutex> lock(im.mutex);
+        im.read_cv.wait(lock, [&im] { return im.read; });
+        keys_made = !im.changed && !im.failure;
+    }
+    std::exception_ptr own_failure;
+    if (keys_made && !im.face_sort_claimed.exchange(true)) {
+        try {
+            std::vector<std::uint32_t> face_at = key_order(std::move(im.face_keys));
+            im.thread.join();  // (the thread writes orders.vertex_at only)
+            im.orders.face_at = std::move(face_at);
+        } catch (...) {
+            own_failure = std::current_exception();
+        }
+    }
+    if (im.thread.joinable()) im.thread.join();
+    if (im.changed || im.failure || own_failure) return std::nullopt;  // (a failure: hilbert_ordered meets it again)
+    return std::move(im.orders);
 }
 
 TriangleMesh hilbert_ordered_median(TriangleMesh mesh) {
