@@ -11,21 +11,28 @@
 # Hilbert sorts side by side, the search beside the topology). Per render also the CPU time and
 # the minor page faults (perf stat: task-clock, minor-faults) and the peak memory (/usr/bin/time,
 # one run each). Then start-up alone (`--version`): times, the dynamic loader's cycles and
-# relocations, the libraries an SVG render loads. Writes bench/results/load_speed.md, keeping what
-# follows its line `<!-- kept below -->` (the notes written by hand).
-# Usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]
+# relocations, the libraries an SVG render loads. Then issue 46's million triangles: Model::load of
+# bunny00 subdivided twice (1.2 M triangles, binary PLY and ASCII OFF) on two threads, before
+# (BEFORE_PROBE, default the load_probe beside BEFORE_INKLINE) and after, in alternated pairs twice:
+# back to back, and after 6 s idle each (on a virtual machine whose host takes back freed memory,
+# pages not touched for a few seconds cost 2-4 ms a MB to touch again: the case of a user's first
+# render), with the peak resident memory. Writes bench/results/load_speed.md.
+# Usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs] [BEFORE_PROBE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BEFORE="${1:?usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs]}"
+BEFORE="${1:?usage: bench/run_load_speed.sh BEFORE_INKLINE [build-dir] [pairs] [BEFORE_PROBE]}"
 BUILD="${2:-build}"
 PAIRS="${3:-7}"
 AFTER="$BUILD/src/inkline"
 PROBE="$BUILD/bench/load_probe"
+BEFORE_PROBE="${4:-$(dirname "$BEFORE")/load_probe}"
+[ -x "$BEFORE_PROBE" ] || BEFORE_PROBE="$(dirname "$BEFORE")/../bench/load_probe"
 DATA=$(sed -n 's/^INKLINE_DATA_DIR:[A-Z]*=//p' "$BUILD/CMakeCache.txt")
 OUT=bench/results/load_speed.md
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$PROBE" write armadillo@2 "$tmp" >/dev/null
+"$PROBE" write bunny00@2 "$tmp" >/dev/null
 files=("$DATA/meshes/armadillo.off" "$DATA/meshes/fandisk.off" "$DATA/meshes/bunny00.off"
        "$tmp/armadillo@2.off" "$tmp/armadillo@2.ply" "$tmp/armadillo@2.stl")
 
@@ -124,7 +131,42 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
     echo
     echo "CPU ratio after/before (median of the pairs): $cpu_ratio."
     echo
-    [ -f "$OUT" ] && sed -n '/^<!-- kept below -->/,$p' "$OUT"
+    echo "#### A million triangles: Model::load"
+    echo
+    echo "bunny00 subdivided twice, \`load_probe load FILE 1 2\` (Model::load first in its process, as in a render;"
+    echo "two threads), $PAIRS alternated pairs (before, after) back to back, then $PAIRS with 6 s idle before each run"
+    echo "(a virtual machine's host takes back memory freed seconds ago: touching it again costs 2-4 ms a MB, the"
+    echo "case of a user's first render). Medians of the seconds the probe prints, of the per-pair ratios"
+    echo "after/before and of the peak resident memory (MiB); 'ready' is Model::load and the self-intersections"
+    echo "that every view needs. Before: $BEFORE_PROBE."
+    echo
+    echo "| file | triangles | case | Model::load s before | after | s a million after | after/before | ready s before | after | peak MiB before | after |"
+    echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+    # "model_s ready_s peak_mib" of one load.
+    probe_once() {
+        /usr/bin/time -f %M -o "$tmp/rss" "$1" load "$2" 1 2 >"$tmp/probe" 2>/dev/null
+        sed -n 's/.*Model::load \([0-9.]*\) s, load and self-intersections \([0-9.]*\) s.*/\1 \2/p' "$tmp/probe" |
+            awk -v k="$(cat "$tmp/rss")" '{ printf "%s %s %.1f\n", $1, $2, k / 1024 }'
+    }
+    for f in "$tmp/bunny00@2.ply" "$tmp/bunny00@2.off"; do
+        tris=$("$PROBE" load "$f" 1 2 | sed -n 's/.*: \([0-9]*\) triangles.*/\1/p')
+        for case in "back to back" "6 s idle"; do
+            : >"$tmp/million"
+            for _ in $(seq "$PAIRS"); do
+                [ "$case" = "6 s idle" ] && sleep 6
+                read -r bm br bp < <(probe_once "$BEFORE_PROBE" "$f")
+                [ "$case" = "6 s idle" ] && sleep 6
+                read -r am ar ap < <(probe_once "$PROBE" "$f")
+                echo "$bm $br $bp $am $ar $ap" >>"$tmp/million"
+            done
+            col_median() { awk -v c="$1" '{ print $c }' "$tmp/million" | median; }
+            am=$(col_median 4)
+            per_million=$(awk -v s="$am" -v n="$tris" 'BEGIN { printf "%.3f", s * 1e6 / n }')
+            ratio=$(awk '{ printf "%.3f\n", $4 / $1 }' "$tmp/million" | median)
+            echo "| $(basename "$f") | $tris | $case | $(col_median 1) | $am | $per_million | $ratio | $(col_median 2) | $(col_median 5) | $(col_median 3) | $(col_median 6) |"
+        done
+    done
+    echo
 } >"$OUT.tmp"
 mv "$OUT.tmp" "$OUT"
 cat "$OUT"

@@ -37,50 +37,56 @@ void angles_of_cosines(const double* cosine, std::size_t n, float* angle) {
     for (; i < n; ++i) angle[i] = float(std::acos(cosine[i]));
 }
 
-// Bounds, the facing origin and radius, and the float facing planes, from the positions; with
-// `normal`, also each face's unit normal (MeshTopology::face_normal's doubles: the same arithmetic,
-// made in the same pass rather than in one of its own).
-void compute_bounds_and_facing(MeshTopology& t, glm::dvec3* normal) {
-    const std::size_t nf = t.faces.size();
+namespace {
+// The bounds, the facing origin and radius, from the positions.
+void compute_bounds_and_origin(MeshTopology& t) {
     t.bounds.lo = t.bounds.hi = t.positions.empty() ? glm::dvec3(0.0) : t.positions[0];
     for (const auto& p : t.positions) {
         t.bounds.lo = glm::min(t.bounds.lo, p);
         t.bounds.hi = glm::max(t.bounds.hi, p);
     }
-
-    // Float facing planes, from the double normal n = cross(b - a, c - a), which errs by at most
-    // 8 eps |p| per component (p its permanent: per component the sum of the absolute products), so
-    // the unit normal's direction by at most 16 sqrt(3) eps |p|_inf / |n|; with the rounding to float
-    // (2^-24) that must stay below 2^-21 per component, else the face is NaN and always goes to the
-    // exact predicate. facing.cpp derives the per-view bound from this.
     t.facing_origin = t.bounds.center();
     t.facing_radius = 0.0;
     for (const auto& p : t.positions) {
         const glm::dvec3 q = glm::abs(p - t.facing_origin);
         t.facing_radius = std::max(t.facing_radius, q.x + q.y + q.z);
     }
-    t.facing.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) {
-        const auto& v = t.faces[f];
-        const glm::dvec3 a = t.positions[v[0]];
-        const glm::dvec3 e = t.positions[v[1]] - a, g = t.positions[v[2]] - a;
-        const glm::dvec3 n = glm::cross(e, g);
-        const double pmax = std::max({std::abs(e.y * g.z) + std::abs(e.z * g.y),
-                                      std::abs(e.z * g.x) + std::abs(e.x * g.z),
-                                      std::abs(e.x * g.y) + std::abs(e.y * g.x)});
-        const double len = glm::length(n);
-        if (normal) normal[f] = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
-        constexpr double kEps = 1.1102230246251565e-16;
-        const bool trusted = len > 0.0 && std::isfinite(len) && 16.0 * 1.7320508075688772 * kEps * pmax / len +
-                                                                        0x1p-24 + 8.0 * kEps <= 0x1p-21;
-        if (!trusted) {
-            const float nan = std::nanf("");
-            t.facing[f] = {nan, nan, nan, nan};
-            continue;
-        }
-        const glm::dvec3 u = n / len;
-        t.facing[f] = {float(u.x), float(u.y), float(u.z), float(glm::dot(u, a - t.facing_origin))};
+}
+
+// Face f's float facing plane (t.facing_origin set), and its unit normal: MeshTopology::face_normal's
+// doubles (the same arithmetic), made here rather than in a pass of their own.
+//
+// The plane comes from the double normal n = cross(b - a, c - a), which errs by at most 8 eps |p|
+// per component (p its permanent: per component the sum of the absolute products), so the unit
+// normal's direction by at most 16 sqrt(3) eps |p|_inf / |n|; with the rounding to float (2^-24)
+// that must stay below 2^-21 per component, else the face is NaN and always goes to the exact
+// predicate. facing.cpp derives the per-view bound from this.
+MeshTopology::FacingPlane facing_plane(const MeshTopology& t, std::size_t f, glm::dvec3& normal) {
+    const auto& v = t.faces[f];
+    const glm::dvec3 a = t.positions[v[0]];
+    const glm::dvec3 e = t.positions[v[1]] - a, g = t.positions[v[2]] - a;
+    const glm::dvec3 n = glm::cross(e, g);
+    const double pmax = std::max({std::abs(e.y * g.z) + std::abs(e.z * g.y), std::abs(e.z * g.x) + std::abs(e.x * g.z),
+                                  std::abs(e.x * g.y) + std::abs(e.y * g.x)});
+    const double len = glm::length(n);
+    normal = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+    constexpr double kEps = 1.1102230246251565e-16;
+    const bool trusted =
+        len > 0.0 && std::isfinite(len) && 16.0 * 1.7320508075688772 * kEps * pmax / len + 0x1p-24 + 8.0 * kEps <= 0x1p-21;
+    if (!trusted) {
+        const float nan = std::nanf("");
+        return {nan, nan, nan, nan};
     }
+    const glm::dvec3 u = n / len;
+    return {float(u.x), float(u.y), float(u.z), float(glm::dot(u, a - t.facing_origin))};
+}
+}  // namespace
+
+void compute_bounds_and_facing(MeshTopology& t) {
+    compute_bounds_and_origin(t);
+    t.facing.resize(t.faces.size());
+    glm::dvec3 normal;
+    for (std::size_t f = 0; f < t.faces.size(); ++f) t.facing[f] = facing_plane(t, f, normal);
 }
 
 // kEdgeConvex, kEdgeConcave or neither for interior edge e: the far corner of face 1 below the
@@ -116,8 +122,6 @@ glm::dvec3 MeshTopology::face_normal(std::uint32_t f) const {
     return len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
 }
 
-void compute_bounds_and_facing(MeshTopology& t) { compute_bounds_and_facing(t, nullptr); }
-
 void MeshTopology::refresh_geometry() {
     compute_bounds_and_facing(*this);
     for (std::uint32_t e = 0; e < edge_flags.size(); ++e) {
@@ -137,8 +141,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     t.object_names = std::move(mesh.object_names);
     const std::size_t nv = t.positions.size(), nf = t.faces.size();
 
-    std::vector<glm::dvec3> normal(nf);  // each face's once, not once per edge
-    compute_bounds_and_facing(t, normal.data());
+    compute_bounds_and_origin(t);  // (the facing planes are made below, beside the angles)
 
     // Edges, numbered in the order of their first traversal (face by face, corner by corner); the
     // first traversal a->b gives face 0, the last other one face 1 (the only other one in a
@@ -181,6 +184,18 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
             if (t.edge_flags[e] & kEdgeSeam) t.seam_list.push_back(e);
     t.edge_normal_angle.assign(ne, 0.0f);
     t.closed = true;
+    // The angles need both faces' unit normals. The edges come in the order of their first faces,
+    // and the Hilbert order puts most second faces a little further on: the facing planes and
+    // normals are made face by face as the edges reach them, the normals kept in a window of the
+    // last kWindow faces (in cache, where an array of them all was 24 bytes a face read at
+    // scattered places); a second face beyond the window has its normal made again.
+    constexpr std::size_t kWindow = std::size_t(1) << 14;
+    std::vector<glm::dvec3> window(std::min(kWindow, nf));
+    t.facing.resize(nf);
+    std::size_t made = 0;  // faces [0, made) have their planes; [made - kWindow, made) their normals in `window`
+    const auto make_until = [&](std::size_t end) {
+        for (; made < end; ++made) t.facing[made] = facing_plane(t, made, window[made % kWindow]);
+    };
     constexpr std::size_t kBlock = 256;  // edges whose cosines go to angles_of_cosines at once
     double cosine[kBlock];
     for (std::size_t block = 0; block < ne; block += kBlock) {
@@ -188,6 +203,7 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t e = block + j;
             const auto [f0, f1] = t.edge_face[e];
+            make_until(std::size_t(f0) + 1);
             if (f1 == kNoFace) {
                 t.edge_flags[e] = kEdgeBorder;
                 t.border_list.push_back(std::uint32_t(e));
@@ -197,12 +213,20 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
             }
             // (On a seam the continuous surface's normal there is the second face's negated.)
             const double sign = t.is_seam(std::uint32_t(e)) ? -1.0 : 1.0;
-            cosine[j] = std::clamp(sign * glm::dot(normal[f0], normal[f1]), -1.0, 1.0);
+            glm::dvec3 n1;
+            if (f1 < f0 + kWindow) {  // (f1 > f0: the window still holds f0's normal after f1's is made)
+                make_until(std::size_t(f1) + 1);
+                n1 = window[f1 % kWindow];
+            } else {
+                n1 = t.face_normal(f1);
+            }
+            cosine[j] = std::clamp(sign * glm::dot(window[f0 % kWindow], n1), -1.0, 1.0);
             t.edge_flags[e] |= edge_convexity(t, std::uint32_t(e));
         }
         angles_of_cosines(cosine, m, &t.edge_normal_angle[block]);
     }
-    std::vector<glm::dvec3>().swap(normal);
+    make_until(nf);  // (faces after the last edge's first face)
+    std::vector<glm::dvec3>().swap(window);
     t.set_crease_angle(crease_degrees);
 
     std::vector<std::uint32_t> cursor;
