@@ -37,9 +37,10 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     const LoadReport repairs = mesh.repairs;
     LoadProgressReporter progress(&options.progress, 0);
     // Hilbert order: per-view passes that follow the surface stay in cache.
-    const std::optional<HilbertOrders> known = ahead.take();
+    std::optional<HilbertOrders> known = ahead.take();
     TriangleMesh ordered = known ? hilbert_ordered(std::move(mesh), *known, options.threads)
                                  : hilbert_ordered(subdivide_loop(std::move(mesh), subdivide, on_subdivide), options.threads);
+    known.reset();  // (not held through the topology's construction, the load's peak)
     progress.at(kProgressOrdered);
     // Every view needs the self-intersections: with threads to spare, their search runs beside
     // the topology's construction (it needs only the faces and positions, which the topology
