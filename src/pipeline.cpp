@@ -46,13 +46,16 @@ Model Model::load(const std::string& path, const LoadOptions& options, double cr
     // the topology's construction (it needs only the faces and positions, which the topology
     // keeps as they are), and the first caller of self_intersections() joins it: a render's
     // features (and the window's opening) come first, while the search ends on the other thread.
-    std::unique_ptr<EarlySelfIntersections> search;
-    if (options.threads > 1 && ordered.triangles.size() >= kEarlySearchFaces)
-        search = std::make_unique<EarlySelfIntersections>(
-            SearchInput{ordered.positions.data(), ordered.triangles.data(), ordered.triangles.size(), ordered.positions.size()},
+    // It reads the model's own arrays: they are the model's before it starts, so that whatever
+    // ends the model (an exception in the topology's construction included) stops it first.
+    Model m{MeshTopology()};
+    m.topo_.positions = std::move(ordered.positions);
+    m.topo_.faces = std::move(ordered.triangles);
+    if (options.threads > 1 && m.topo_.faces.size() >= kEarlySearchFaces)
+        m.lazy_->early_search = std::make_unique<EarlySelfIntersections>(
+            SearchInput{m.topo_.positions.data(), m.topo_.faces.data(), m.topo_.faces.size(), m.topo_.positions.size()},
             options.threads);
-    Model m(std::move(ordered), crease_degrees);
-    m.lazy_->early_search = std::move(search);  // (joined by the first self_intersections())
+    build_topology_on(m.topo_, std::move(ordered), crease_degrees);
     m.repairs_ = repairs;
     m.cameras_ = std::move(cameras);
     m.load_seconds_ = seconds_since(t0);
@@ -68,11 +71,33 @@ Model::Model(TriangleMesh mesh, double crease_degrees) : topo_(build_topology(st
 
 Model::Model(MeshTopology topology) : topo_(std::move(topology)) {}
 
+Model& Model::operator=(Model&& other) noexcept {
+    if (this == &other) return *this;
+    stop_early_search();  // (it reads the arrays the assignment frees)
+    topo_ = std::move(other.topo_);
+    lazy_ = std::move(other.lazy_);  // (its search, if any, reads the arrays just taken)
+    load_seconds_ = other.load_seconds_;
+    repairs_ = std::move(other.repairs_);
+    cameras_ = std::move(other.cameras_);
+    return *this;
+}
+
+void Model::stop_early_search() {
+    if (lazy_) lazy_->early_search.reset();
+}
+
+MeshTopology& Model::topology() {
+    // A caller may change the arrays the search reads: it ends first (its result is kept, as if a
+    // view had asked for it).
+    if (lazy_ && lazy_->early_search) self_intersections();
+    return topo_;
+}
+
 void Model::move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersections* known) {
     if (positions.size() != topo_.positions.size())
         throw Error("model", "move_vertices: " + std::to_string(positions.size()) + " positions for " +
                                  std::to_string(topo_.positions.size()) + " vertices");
-    lazy_->early_search.reset();  // (a search of the old positions; waits for its threads)
+    stop_early_search();  // (a search of the old positions: stopped before they change)
     topo_.positions.swap(positions);
     topo_.refresh_geometry();
     if (lazy_->rays) lazy_->rays->refit();
@@ -85,7 +110,7 @@ void Model::move_vertices(std::vector<glm::dvec3>& positions, const SelfIntersec
 }
 
 void Model::adopt_self_intersections(SelfIntersections known) {
-    lazy_->early_search.reset();
+    stop_early_search();
     std::call_once(lazy_->pierced_once, [] {});
     lazy_->pierced = std::make_unique<SelfIntersections>(std::move(known));
 }

@@ -39,8 +39,15 @@ public:
     explicit Model(TriangleMesh mesh, double crease_degrees = 40.0);  // moved into the topology
     explicit Model(MeshTopology topology);  // e.g. a copy whose vertices then move (detail/)
 
+    Model(Model&&) noexcept = default;
+    // (the search Model::load started, if running, is stopped before this model's arrays go)
+    Model& operator=(Model&& other) noexcept;
+
     const MeshTopology& topology() const { return topo_; }
-    MeshTopology& topology() { return topo_; }
+    // Open to change: first ends the self-intersection search Model::load started, if it runs
+    // (it reads the positions and faces), as self_intersections() does. Reading goes through the
+    // const overload, which waits for nothing.
+    MeshTopology& topology();
     // The ray-test index, built on first use only (views that need no ray test never pay for it);
     // once, also when several threads ask at the same time (so are the self-intersections).
     const RayCaster& rays() const;
@@ -84,6 +91,8 @@ public:
     const std::vector<SceneCamera>& cameras() const { return cameras_; }
 
 private:
+    void stop_early_search();  // drops Model::load's search, if running (its threads stopped)
+    // (lazy_ after topo_: destroyed first, so that the search stops before the arrays it reads go)
     MeshTopology topo_;
     // Built on first use, once, also when several threads ask at the same time (the preview
     // window's two sessions); behind a pointer so that the model stays movable.

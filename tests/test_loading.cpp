@@ -19,6 +19,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -27,6 +28,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/error.hpp"
+#include "expect_self_intersections.hpp"
 #include "model/mesh_io.hpp"
 #include "model/reorder.hpp"
 #include "pipeline.hpp"
@@ -604,14 +606,38 @@ TEST(LoadingSelfIntersections, SearchStartedByTheLoadIsDroppedWhenVerticesMove) 
     const Model loaded = Model::load(path, LoadOptions{.threads = 2});
     EXPECT_EQ(loaded.self_intersections().flagged, 0u);  // (joined from the load's search)
     Model moved = Model::load(path, LoadOptions{.threads = 2});
-    std::vector<glm::dvec3> positions = moved.topology().positions;
-    const Bounds3& b = moved.topology().bounds;
+    // (read through the const topology(): the other one would end the search first)
+    std::vector<glm::dvec3> positions = std::as_const(moved).topology().positions;
+    const Bounds3& b = std::as_const(moved).topology().bounds;
     positions[0] = 2.0 * b.center() - positions[0];  // through the body to the other side
     moved.move_vertices(positions);
     const SelfIntersections fresh = self_intersections(moved.topology(), 1);
     ASSERT_GT(fresh.flagged, 0u);
     EXPECT_EQ(moved.self_intersections().flagged, fresh.flagged);
     EXPECT_EQ(moved.self_intersections().faces, fresh.faces);
+}
+
+// The load's search reads the model's own positions and faces (no copy), so whatever frees or
+// changes them stops it first or ends it: a model assigned over while its search runs, a model
+// moved, the writable topology(). Each model's self-intersections are still those of a fresh
+// search of its arrays. (mannequin-devil intersects itself; 25 888 faces, over the early search's
+// threshold.)
+TEST(LoadingSelfIntersections, SearchReadsTheModelsArraysSafely) {
+    const std::string devil = test::mesh_path("mannequin-devil"), armadillo = test::mesh_path("armadillo");
+    const auto fresh = [](const Model& m) { return self_intersections(m.topology(), 1); };
+    const LoadOptions two{.threads = 2};
+    Model a = Model::load(armadillo, two);
+    a = Model::load(devil, two);  // (armadillo's search stopped before its arrays are freed)
+    Model b(std::move(a));        // (the search goes on, reading the same buffers, now b's)
+    const SelfIntersections devil_fresh = fresh(b);
+    ASSERT_GT(devil_fresh.flagged, 0u);
+    test::expect_same_self_intersections(b.self_intersections(), devil_fresh, "assigned, then moved");
+    Model c = Model::load(armadillo, two);
+    c.topology().positions[0] += glm::dvec3(0.0);  // (the writable topology: the search ended first)
+    test::expect_same_self_intersections(c.self_intersections(), fresh(c), "its writable topology asked for");
+    for (int k = 0; k < 3; ++k) {
+        Model gone = Model::load(devil, two);  // destroyed while its search runs
+    }
 }
 
 }  // namespace

@@ -6,8 +6,13 @@
 // spheres that intersect themselves in many ways, and on real meshes.
 #include <gtest/gtest.h>
 
+#include <malloc.h>
+
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <iterator>
 #include <random>
 #include <string>
@@ -298,4 +303,59 @@ TEST(SelfIntersections, PatchTestRefusesNestedPieces) {
     EXPECT_EQ(got.faces, reference(t));
     EXPECT_GT(got.flagged, 0u);
     expect_same_as_every_pair(t, "a tilted square through a flat grid", 1);
+}
+
+// Heap bytes in use, and their peak, as this test program's operator new sees them (the
+// aligned and array forms end in these two); for the search's memory a face below.
+namespace heap {
+std::atomic<std::size_t> live{0}, peak{0};
+void count(std::size_t bytes) {
+    const std::size_t now = live.fetch_add(bytes, std::memory_order_relaxed) + bytes;
+    std::size_t old = peak.load(std::memory_order_relaxed);
+    while (now > old && !peak.compare_exchange_weak(old, now, std::memory_order_relaxed)) {
+    }
+}
+}  // namespace heap
+
+void* operator new(std::size_t size) {
+    void* p = std::malloc(size == 0 ? 1 : size);
+    if (!p) throw std::bad_alloc();
+    heap::count(malloc_usable_size(p));
+    return p;
+}
+void operator delete(void* p) noexcept {
+    if (p) heap::live.fetch_sub(malloc_usable_size(p), std::memory_order_relaxed);
+    std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+
+// What the search keeps a face at its peak, started early (as Model::load does) and on the
+// topology, for a surface that does not intersect itself (the usual case; one that does pays
+// besides for CGAL's listing of the pairs): no record of the face (its plane is made from the
+// mesh's arrays where a test needs it) and no copy of the mesh's arrays. Per box 28 bytes (six
+// float bounds and the face's number), per face its flag (1), while the tree is built each box's
+// Hilbert key (8), and the nodes: 40 bytes each, at most two a box (a leaf holds one box or
+// more). So at most 28 + 1 + 8 + 80 = 117 bytes a face, and about 70 for a smooth surface (about
+// 0.7 nodes a box); a per-face record (136 bytes before, plus 36 of copies) cannot fit. (On two
+// threads, as Model::load runs it: on one, the root's task tests the biggest patches itself,
+// whose edge table, up to 24 bytes a face of the patch, the thread keeps for its next search.)
+TEST(SelfIntersections, MemoryAFace) {
+    const TriangleMesh s = inkline::hilbert_ordered(inkline::make_sphere({0, 0, 0}, 1, 256, 128));  // 65 024 faces
+    const inkline::MeshTopology t = inkline::build_topology(s);
+    const double faces = double(t.face_count());
+    const auto peak_a_face = [&](const auto& search) {
+        const std::size_t before = heap::live.load();
+        heap::peak.store(before);
+        const inkline::SelfIntersections si = search();
+        EXPECT_EQ(si.flagged, 0u);
+        return double(heap::peak.load() - before) / faces;
+    };
+    const double early = peak_a_face([&] {
+        inkline::EarlySelfIntersections search({s.positions.data(), s.triangles.data(), s.triangles.size(), s.positions.size()}, 2);
+        return search.finish(t);
+    });
+    const double plain = peak_a_face([&] { return inkline::self_intersections(t, 2); });
+    std::printf("[self-intersections] peak heap a face: started early %.1f bytes, on the topology %.1f\n", early, plain);
+    EXPECT_LT(early, 117.0);
+    EXPECT_LT(plain, 117.0);
 }

@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
 #include "output/styled.hpp"
@@ -99,16 +100,16 @@ Model Model::load(const std::string& path, const LoadOptions& options) {
     });
 }
 
-std::size_t Model::triangles() const { return impl_->model.topology().face_count(); }
-Vec3 Model::bounds_min() const { return from_glm(impl_->model.topology().bounds.lo); }
-Vec3 Model::bounds_max() const { return from_glm(impl_->model.topology().bounds.hi); }
+std::size_t Model::triangles() const { return std::as_const(impl_->model).topology().face_count(); }
+Vec3 Model::bounds_min() const { return from_glm(std::as_const(impl_->model).topology().bounds.lo); }
+Vec3 Model::bounds_max() const { return from_glm(std::as_const(impl_->model).topology().bounds.hi); }
 
 Camera Camera::framing(const Model& model, int width, int height) {
     Camera c;
     c.width = width;
     c.height = height;
     const inkline::Camera framed =
-        inkline::Camera::framing(model.impl_->model.topology().bounds, width < 1 ? 1 : width, height < 1 ? 1 : height);
+        inkline::Camera::framing(std::as_const(model.impl_->model).topology().bounds, width < 1 ? 1 : width, height < 1 ? 1 : height);
     c.eye = from_glm(framed.eye());
     c.target = from_glm(framed.target());
     c.up = from_glm(framed.up());

@@ -50,26 +50,42 @@ float up(double x) {
     return double(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
-// A face as the pair test reads it, in one place (the candidate pairs of a face are read many
-// times each, and the corners of its vertices would be three scattered reads): its vertices, its
-// corners, and its plane for the float filter below, n = (b - a) x (c - a) as Shewchuk's orient3d
-// computes it with a as the origin, and per component the permanent of that product (the sum of
-// the absolute values of its two terms).
+// A face as the pair test reads it: its vertices, its corners, and its plane for the float filter
+// below, n = (b - a) x (c - a) as Shewchuk's orient3d computes it with a as the origin, and per
+// component the permanent of that product (the sum of the absolute values of its two terms).
+// Made from the mesh's arrays where it is needed (face_data), never stored for every face: such
+// an array, 136 bytes a face, was half of a big model's peak memory while it loaded.
 struct FaceData {
     std::array<std::uint32_t, 3> v;
     glm::dvec3 p[3];
     glm::dvec3 n, permanent;
 };
 
+// A face's plane alone (the patch test and the normals read no more). The one place its
+// arithmetic is written: every filter reads these same doubles.
+struct Plane {
+    glm::dvec3 n, permanent;
+};
+[[gnu::always_inline]] inline Plane plane_of(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 u = b - a, v = c - a;
+    return {{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x},
+            {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
+             std::abs(u.x * v.y) + std::abs(u.y * v.x)}};
+}
+
+Plane face_plane(const SearchInput& in, std::uint32_t f) {
+    const auto& t = in.faces[f];
+    return plane_of(in.positions[t[0]], in.positions[t[1]], in.positions[t[2]]);
+}
+
 FaceData face_data(const SearchInput& in, std::uint32_t f) {
     const auto& t = in.faces[f];
     FaceData d;
     d.v = {t[0], t[1], t[2]};
     for (int k = 0; k < 3; ++k) d.p[k] = in.positions[t[k]];
-    const glm::dvec3 u = d.p[1] - d.p[0], v = d.p[2] - d.p[0];
-    d.n = {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
-    d.permanent = {std::abs(u.y * v.z) + std::abs(u.z * v.y), std::abs(u.z * v.x) + std::abs(u.x * v.z),
-                   std::abs(u.x * v.y) + std::abs(u.y * v.x)};
+    const Plane plane = plane_of(d.p[0], d.p[1], d.p[2]);
+    d.n = plane.n;
+    d.permanent = plane.permanent;
     return d;
 }
 
@@ -217,6 +233,7 @@ struct BoxColumns {
     static constexpr std::size_t kPad = 4;
     std::vector<float> lo[3], hi[3];
     std::vector<std::uint32_t> face;
+    glm::dvec3 corners_lo{0.0}, corners_hi{0.0};  // the box of every face's corners (degenerate faces' too)
     std::size_t size() const { return face.size(); }
     void add(const float box_lo[3], const float box_hi[3], std::uint32_t f) {
         for (int d = 0; d < 3; ++d) lo[d].push_back(box_lo[d]), hi[d].push_back(box_hi[d]);
@@ -244,14 +261,16 @@ struct BoxColumns {
 // `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
 // PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
 // pipeline).
-BoxColumns face_boxes(const std::vector<FaceData>& faces, std::vector<std::uint8_t>& out) {
-    const std::size_t nf = faces.size();
+BoxColumns face_boxes(const SearchInput& in, std::vector<std::uint8_t>& out) {
+    const std::size_t nf = in.face_count;
     out.assign(nf, 0);
     BoxColumns boxes;
     for (int d = 0; d < 3; ++d) boxes.lo[d].reserve(nf + BoxColumns::kPad), boxes.hi[d].reserve(nf + BoxColumns::kPad);
     boxes.face.reserve(nf);
+    if (nf > 0) boxes.corners_lo = boxes.corners_hi = in.positions[in.faces[0][0]];
     for (std::uint32_t f = 0; f < nf; ++f) {
-        const FaceData& face = faces[f];
+        const FaceData face = face_data(in, f);
+        for (const glm::dvec3& p : face.p) boxes.corners_lo = glm::min(boxes.corners_lo, p), boxes.corners_hi = glm::max(boxes.corners_hi, p);
         if (!certainly_proper(face) && CGAL::collinear(cgal(face.p[0]), cgal(face.p[1]), cgal(face.p[2]))) {
             out[f] = 1;
             continue;
@@ -280,11 +299,11 @@ BoxColumns face_boxes(const std::vector<FaceData>& faces, std::vector<std::uint8
 // a sufficient condition, never an approximation.
 class EmbeddedPatches {
 public:
-    explicit EmbeddedPatches(const std::vector<FaceData>& faces) : faces_(faces) {}
+    explicit EmbeddedPatches(const SearchInput& in) : in_(in) {}
     // Is the patch of faces face_ids[0, count) certainly embedded, projected along d?
     bool embedded(const std::uint32_t* face_ids, std::size_t count, const glm::dvec3& d) const {
         for (std::size_t i = 0; i < count; ++i)
-            if (!certainly_front(faces_[face_ids[i]], d)) return false;
+            if (!certainly_front(face_plane(in_, face_ids[i]), d)) return false;
         thread_local Scratch scratch;
         if (!boundary_cycles(face_ids, count, scratch)) return false;
         if (!simple_projection(d, scratch)) return false;
@@ -312,7 +331,7 @@ private:
     static std::size_t slot(std::uint64_t k, std::size_t mask) { return std::size_t((k * 0x9E3779B97F4A7C15ull) >> 40) & mask; }
     // dot(n, d) > 0 certainly: the filter of side_if_certain, with d in the place of x - a (exact
     // here, so fewer roundings than the bound covers).
-    static bool certainly_front(const FaceData& f, const glm::dvec3& d) {
+    static bool certainly_front(const Plane& f, const glm::dvec3& d) {
         const double det = f.n.x * d.x + f.n.y * d.y + f.n.z * d.z;
         const double permanent = f.permanent.x * std::abs(d.x) + f.permanent.y * std::abs(d.y) + f.permanent.z * std::abs(d.z);
         return permanent > 1e-250 && permanent < 1e250 && det > 7.7715611723761027e-16 * permanent;
@@ -350,7 +369,7 @@ private:
             return i;
         };
         for (std::size_t i = 0; i < count; ++i) {
-            const auto& v = faces_[face_ids[i]].v;
+            const auto& v = in_.faces[face_ids[i]];
             for (int k = 0; k < 3; ++k) {
                 const std::uint64_t e = key(v[k], v[(k + 1) % 3]);
                 const std::size_t at = find(e);
@@ -463,26 +482,27 @@ private:
         return a_side != 0 && a_side == projected_orientation(c, e, b, d);
     }
     // A corner's position (face << 2 | corner).
-    const glm::dvec3& position(std::uint32_t owner) const { return faces_[owner >> 2].p[owner & 3]; }
+    const glm::dvec3& position(std::uint32_t owner) const { return in_.positions[in_.faces[owner >> 2][owner & 3]]; }
 
-    const std::vector<FaceData>& faces_;
+    SearchInput in_;
 };
 
 // Every pair of boxes that meet (closed), each once, in no particular order: a bounding-volume
 // hierarchy over the boxes in the faces' order (consecutive runs of at most kLeaf boxes, halved
-// recursively), searched against itself. Its nodes take a few hundred kilobytes and are
+// recursively), searched against itself. Its nodes (40 bytes, about one for every two boxes) are
 // read in order, where CGAL's segment tree spent most of a model's loading in long scans.
 class BoxPairs {
 public:
     // With `patches`, a node whose faces make an embedded patch (EmbeddedPatches) reports none of
-    // the pairs within it; without, every pair whose boxes meet is reported.
-    BoxPairs(const BoxColumns& boxes, const std::vector<FaceData>& faces, const EmbeddedPatches* patches)
-        : face_(boxes.face.data()), faces_(faces), patches_(patches) {
+    // the pairs within it; without, every pair whose boxes meet is reported. `in`: the boxes' faces.
+    BoxPairs(const BoxColumns& boxes, const SearchInput& in, const EmbeddedPatches* patches)
+        : face_(boxes.face.data()), in_(in), patches_(patches) {
         for (int d = 0; d < 3; ++d) lo_[d] = boxes.lo[d].data(), hi_[d] = boxes.hi[d].data();
         if (boxes.size() == 0) return;
-        if (patches_) normal_sums_.reserve(2 * boxes.size() / kLeaf + 1);
-        keys_ = centroid_keys(faces, boxes.size());
-        build(0, std::uint32_t(boxes.size()), 0);
+        // (the keys only shape the tree: freed once it is built)
+        const std::vector<std::uint64_t> keys = centroid_keys(boxes);
+        nodes_.reserve(count_nodes(keys, 0, std::uint32_t(boxes.size()), 0));
+        build(keys, 0, std::uint32_t(boxes.size()), 0);
     }
     // A share of the search: the pairs within node a (self), or between nodes a and b.
     struct Task {
@@ -538,16 +558,18 @@ private:
     };
     // Below this many faces the patch test costs about what testing the node's pairs does.
     static constexpr std::uint32_t kMinPatch = 48;
-    // A node's unit normals summed: their mean direction is where EmbeddedPatches looks from.
+    // A face's unit normal; a node's summed are the mean direction EmbeddedPatches looks from.
     glm::dvec3 unit_normal(std::uint32_t box) const {
-        const glm::dvec3& n = faces_[face_[box]].n;
+        const glm::dvec3 n = face_plane(in_, face_[box]).n;
         const double length = glm::length(n);
         return length > 0 ? n / length : glm::dvec3(0.0);
     }
     bool embedded(std::uint32_t node) const {
         const Node& n = nodes_[node];
         if (n.end - n.begin < kMinPatch) return false;
-        return patches_->embedded(face_ + n.begin, n.end - n.begin, normal_sums_[node]);
+        const auto sum = std::lower_bound(normal_sums_.begin(), normal_sums_.end(), node,
+                                          [](const NormalSum& x, std::uint32_t at) { return x.node < at; });
+        return patches_->embedded(face_ + n.begin, n.end - n.begin, sum->sum);
     }
     // Without a branch per comparison: at the leaves about half the box pairs meet, so branches
     // mispredict (most of the search's time).
@@ -557,19 +579,22 @@ private:
                !(x.lo[2] > y.hi[2]) & !(y.lo[2] > x.hi[2]);
     }
     // The boxes' faces' Hilbert keys (model/reorder.hpp; in the box of the faces' corners, which is
-    // a loaded model's box but for unused vertices): for a loaded model, sorted.
-    std::vector<std::uint64_t> centroid_keys(const std::vector<FaceData>& faces, std::size_t box_count) const {
-        if (faces.empty()) return {};
-        glm::dvec3 lo = faces[0].p[0], hi = lo;
-        for (const FaceData& f : faces)
-            for (const glm::dvec3& p : f.p) lo = glm::min(lo, p), hi = glm::max(hi, p);
-        std::vector<glm::dvec3> centroids(box_count);
-        for (std::size_t i = 0; i < box_count; ++i) {
-            const FaceData& f = faces[face_[i]];
-            centroids[i] = (f.p[0] + f.p[1] + f.p[2]) / 3.0;
-        }
+    // a loaded model's box but for unused vertices): for a loaded model, sorted. The centroids
+    // go to the keys a block at a time (no array of them).
+    std::vector<std::uint64_t> centroid_keys(const BoxColumns& boxes) const {
+        const std::size_t box_count = boxes.size();
+        const HilbertGrid grid(boxes.corners_lo, boxes.corners_hi);
         std::vector<std::uint64_t> keys(box_count);
-        HilbertGrid(lo, hi).keys(centroids.data(), box_count, keys.data());
+        constexpr std::size_t kBlock = 256;
+        glm::dvec3 centroids[kBlock];
+        for (std::size_t first = 0; first < box_count; first += kBlock) {
+            const std::size_t m = std::min(kBlock, box_count - first);
+            for (std::size_t j = 0; j < m; ++j) {
+                const auto& t = in_.faces[face_[first + j]];
+                centroids[j] = (in_.positions[t[0]] + in_.positions[t[1]] + in_.positions[t[2]]) / 3.0;
+            }
+            grid.keys(centroids, m, keys.data() + first);
+        }
         return keys;
     }
     // Where a node splits: between two cells of the Hilbert curve (the boxes before the first
@@ -578,37 +603,50 @@ private:
     // cut a cell and give nodes of two far-apart parts, whose boxes meet more and whose faces
     // make embedded patches less often. The middle when the keys do not tell (equal keys; a
     // tree already deep enough for 63-bit keys: an order not sorted by them).
-    std::uint32_t split(std::uint32_t begin, std::uint32_t end, int depth) const {
+    static std::uint32_t split(const std::vector<std::uint64_t>& keys, std::uint32_t begin, std::uint32_t end, int depth) {
         const std::uint32_t middle = begin + (end - begin) / 2;
-        const std::uint64_t differ = keys_[begin] ^ keys_[end - 1];
+        const std::uint64_t differ = keys[begin] ^ keys[end - 1];
         if (differ == 0 || depth > 80) return middle;
         const std::uint64_t bit = std::uint64_t(1) << (63 - std::countl_zero(differ));
-        const bool first_has = keys_[begin] & bit;
+        const bool first_has = keys[begin] & bit;
         std::uint32_t lo = begin + 1, hi = end - 1;  // the first box on the last box's side, in [lo, hi]
         while (lo < hi) {
             const std::uint32_t m = lo + (hi - lo) / 2;
-            if (bool(keys_[m] & bit) != first_has) hi = m;
+            if (bool(keys[m] & bit) != first_has) hi = m;
             else lo = m + 1;
         }
         return lo;
     }
-    // A node's box: its boxes' hull at a leaf, its children's above (each box read once).
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end, int depth) {
+    // The nodes build() makes (so that their array is allocated once, at its size).
+    static std::size_t count_nodes(const std::vector<std::uint64_t>& keys, std::uint32_t begin, std::uint32_t end, int depth) {
+        if (end - begin <= kLeaf) return 1;
+        const std::uint32_t mid = split(keys, begin, end, depth);
+        return 1 + count_nodes(keys, begin, mid, depth + 1) + count_nodes(keys, mid, end, depth + 1);
+    }
+    // A node's box: its boxes' hull at a leaf, its children's above (each box read once). Returns
+    // the node's unit normals summed (when patches_), kept for the nodes the patch test may see.
+    glm::dvec3 build(const std::vector<std::uint64_t>& keys, std::uint32_t begin, std::uint32_t end, int depth) {
         const auto at = std::uint32_t(nodes_.size());
         nodes_.push_back({});
-        if (patches_) normal_sums_.emplace_back(0.0);
+        // (its place taken now, so that normal_sums_ is in the order of the nodes)
+        const bool keep_sum = patches_ && end - begin >= kMinPatch;
+        const std::size_t sum_at = normal_sums_.size();
+        if (keep_sum) normal_sums_.push_back({at, glm::dvec3(0.0)});
+        glm::dvec3 sum(0.0);
         Node node{};
         node.begin = begin, node.end = end;
         if (end - begin > kLeaf) {
-            const std::uint32_t mid = split(begin, end, depth);
-            node.left = build(begin, mid, depth + 1);
-            node.right = build(mid, end, depth + 1);
+            const std::uint32_t mid = split(keys, begin, end, depth);
+            node.left = std::uint32_t(nodes_.size());
+            const glm::dvec3 left_sum = build(keys, begin, mid, depth + 1);
+            node.right = std::uint32_t(nodes_.size());
+            const glm::dvec3 right_sum = build(keys, mid, end, depth + 1);
             const Node &l = nodes_[node.left], &r = nodes_[node.right];
             for (int d = 0; d < 3; ++d) node.lo[d] = std::min(l.lo[d], r.lo[d]), node.hi[d] = std::max(l.hi[d], r.hi[d]);
-            if (patches_) normal_sums_[at] = normal_sums_[node.left] + normal_sums_[node.right];
+            if (patches_) sum = left_sum + right_sum;
         } else {
             if (patches_)
-                for (std::uint32_t i = begin; i < end; ++i) normal_sums_[at] += unit_normal(i);
+                for (std::uint32_t i = begin; i < end; ++i) sum += unit_normal(i);
             for (int d = 0; d < 3; ++d) {
                 float lo = lo_[d][begin], hi = hi_[d][begin];
                 for (std::uint32_t i = begin + 1; i < end; ++i) lo = std::min(lo, lo_[d][i]), hi = std::max(hi, hi_[d][i]);
@@ -616,7 +654,8 @@ private:
             }
         }
         nodes_[at] = node;
-        return at;
+        if (keep_sum) normal_sums_[sum_at].sum = sum;
+        return sum;
     }
     template <class Fn>
     void self(std::uint32_t a, Fn& fn) const {
@@ -674,11 +713,16 @@ private:
     const float* lo_[3];
     const float* hi_[3];
     const std::uint32_t* face_;
-    const std::vector<FaceData>& faces_;
+    SearchInput in_;
     const EmbeddedPatches* patches_;
     std::vector<Node> nodes_;
-    std::vector<glm::dvec3> normal_sums_;  // per node, when patches_: its faces' unit normals summed
-    std::vector<std::uint64_t> keys_;      // per box, its face's Hilbert key
+    // When patches_, for each node of kMinPatch boxes or more (the only ones the patch test sees;
+    // a small share of the nodes), by node: its faces' unit normals summed.
+    struct NormalSum {
+        std::uint32_t node;
+        glm::dvec3 sum;
+    };
+    std::vector<NormalSum> normal_sums_;
 };
 
 std::uint64_t pair_key(std::uint32_t f, std::uint32_t g) { return (std::uint64_t(std::min(f, g)) << 32) | std::max(f, g); }
@@ -691,12 +735,17 @@ class PairSearch {
 public:
     // Below this many boxes (a few milliseconds of search) a thread's start costs more than it saves.
     static constexpr std::size_t kBoxesPerThread = 4096;
-    PairSearch(std::vector<FaceData> faces, std::size_t workers, PatchTest patch_test)
-        : faces_(std::move(faces)), patches_(faces_), found_(std::max<std::size_t>(workers, 1)), failed_(found_.size()) {
-        columns_ = face_boxes(faces_, flags_);
+    // Reads `in`'s arrays until the last work() returns; once `stop` is set (if given), the
+    // construction and work() return at their next step, leaving a search that collects nothing
+    // meaningful (for a search whose result is no longer wanted).
+    PairSearch(const SearchInput& in, std::size_t workers, PatchTest patch_test, const std::atomic<bool>* stop = nullptr)
+        : in_(in), patches_(in), stop_(stop), found_(std::max<std::size_t>(workers, 1)), failed_(found_.size()) {
+        columns_ = face_boxes(in_, flags_);
+        if (stopped()) return;
         // (EmbeddedPatches packs a face and a corner in 32 bits)
-        const bool patches = patch_test == PatchTest::kEmbeddedPatchesSkipped && faces_.size() < (std::size_t(1) << 30);
-        tree_.emplace(columns_, faces_, patches ? &patches_ : nullptr);
+        const bool patches = patch_test == PatchTest::kEmbeddedPatchesSkipped && in_.face_count < (std::size_t(1) << 30);
+        tree_.emplace(columns_, in_, patches ? &patches_ : nullptr);
+        if (stopped()) return;
         // Many more tasks than threads, so that uneven tasks even out.
         tasks_ = tree_->tasks(found_.size() > 1 ? found_.size() * 64 : 1);
     }
@@ -704,9 +753,24 @@ public:
     std::size_t workers() const { return found_.size(); }
     void work(std::size_t k) {
         try {
-            for (std::size_t t = next_++; t < tasks_.size(); t = next_++)
+            // Two leaves' pairs come one after another (up to four boxes against four): each face's
+            // data made once for them, kept in a slot by its number (a leaf's faces are
+            // consecutive numbers, so they take different slots).
+            struct Slot {
+                std::uint32_t face = UINT32_MAX;
+                FaceData data;
+            };
+            std::array<Slot, 16> slots;
+            const auto data = [&](std::uint32_t f) -> const FaceData& {
+                Slot& s = slots[f & 15];
+                if (s.face != f) s.data = face_data(in_, f), s.face = f;
+                return s.data;
+            };
+            for (std::size_t t = next_++; t < tasks_.size() && !stopped(); t = next_++)
                 tree_->run(tasks_[t], [&](std::uint32_t f, std::uint32_t g) {
-                    if (faces_intersect(faces_[f], faces_[g])) found_[k].push_back(pair_key(f, g));
+                    const bool meet = ((f ^ g) & 15) != 0 ? faces_intersect(data(f), data(g))
+                                                          : faces_intersect(face_data(in_, f), face_data(in_, g));
+                    if (meet) found_[k].push_back(pair_key(f, g));
                 });
         } catch (...) {
             failed_[k] = std::current_exception();
@@ -726,8 +790,10 @@ public:
     const BoxColumns& columns() const { return columns_; }
 
 private:
-    std::vector<FaceData> faces_;
+    bool stopped() const { return stop_ && stop_->load(std::memory_order_relaxed); }
+    SearchInput in_;
     EmbeddedPatches patches_;
+    const std::atomic<bool>* stop_;
     std::vector<std::uint8_t> flags_;
     BoxColumns columns_;
     std::optional<BoxPairs> tree_;
@@ -772,14 +838,8 @@ void list_pairs_in_cgal_order(const BoxColumns& columns, const std::vector<std::
     }, kCutoff);
 }
 
-std::vector<FaceData> faces_of(const SearchInput& in) {
-    std::vector<FaceData> faces(in.face_count);
-    for (std::uint32_t f = 0; f < faces.size(); ++f) faces[f] = face_data(in, f);
-    return faces;
-}
-
-std::vector<FaceData> faces_of(const MeshTopology& mesh) {
-    return faces_of(SearchInput{mesh.positions.data(), mesh.faces.data(), mesh.face_count(), mesh.vertex_count()});
+SearchInput search_input(const MeshTopology& mesh) {
+    return {mesh.positions.data(), mesh.faces.data(), mesh.face_count(), mesh.vertex_count()};
 }
 
 // Where segment E0E1 meets the triangle `face`, as far as filters can tell without a construction.
@@ -848,7 +908,7 @@ namespace {
 // cuts sorted, repeats dropped, whatever order the pairs came in).
 void add_cuts(const MeshTopology& mesh, const std::array<std::uint32_t, 2>& pair, CutConstruction how,
               std::vector<EdgeCut>& cuts) {
-    const SearchInput in{mesh.positions.data(), mesh.faces.data(), mesh.face_count()};
+    const SearchInput in = search_input(mesh);
     for (int k = 0; k < 2; ++k) {
         const std::uint32_t f = pair[k], g = pair[1 - k];
         const auto& fe = mesh.face_edges[f];
@@ -882,7 +942,7 @@ SelfIntersections assemble(const MeshTopology& mesh, PairSearch& search, const s
 
 SelfIntersections self_intersections_among(const MeshTopology& mesh, const std::vector<std::uint32_t>& suspects,
                                            const std::vector<std::array<std::uint32_t, 2>>& candidates) {
-    const SearchInput in{mesh.positions.data(), mesh.faces.data(), mesh.face_count()};
+    const SearchInput in = search_input(mesh);
     SelfIntersections si;
     si.faces.assign(mesh.face_count(), 0);
     // Per face met: its FaceData's slot in `data` (read once, then by every pair), and whether it
@@ -920,7 +980,7 @@ SelfIntersections self_intersections_among(const MeshTopology& mesh, const std::
 }
 
 std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int threads) {
-    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads), PatchTest::kEmbeddedPatchesSkipped);
+    PairSearch search(search_input(mesh), search_workers(mesh.face_count(), threads), PatchTest::kEmbeddedPatchesSkipped);
     run_workers(search);
     const std::vector<std::uint64_t> found = search.collect();
     std::vector<std::uint8_t> out = std::move(search.flags());
@@ -929,17 +989,15 @@ std::vector<std::uint8_t> self_intersecting_faces(const MeshTopology& mesh, int 
 }
 
 SelfIntersections self_intersections(const MeshTopology& mesh, int threads, PatchTest patch_test, CutConstruction cuts) {
-    PairSearch search(faces_of(mesh), search_workers(mesh.face_count(), threads), patch_test);
+    PairSearch search(search_input(mesh), search_workers(mesh.face_count(), threads), patch_test);
     run_workers(search);
     return assemble(mesh, search, search.collect(), cuts);
 }
 
 struct EarlySelfIntersections::Impl {
-    // The input's arrays, copied (a plain copy: the per-face records the search reads, 136 bytes a
-    // face, are made on the helper, off the calling thread's path).
-    std::vector<glm::dvec3> positions;
-    std::vector<std::array<std::uint32_t, 3>> triangles;
+    SearchInput input;  // (the caller's arrays, read in place)
     std::size_t workers;
+    std::atomic<bool> stop{false};  // set by the destructor: the search's threads return at once
     std::unique_ptr<PairSearch> search;
     std::exception_ptr failed;
     std::mutex mutex;
@@ -950,19 +1008,13 @@ struct EarlySelfIntersections::Impl {
 
 EarlySelfIntersections::EarlySelfIntersections(const SearchInput& input, int threads) : impl_(std::make_unique<Impl>()) {
     Impl& im = *impl_;
-    // (a copy: the input may change once this returns)
-    im.positions.assign(input.positions, input.positions + input.vertex_count);
-    im.triangles.assign(input.faces, input.faces + input.face_count);
+    im.input = input;
     im.workers = std::max<std::size_t>(search_workers(input.face_count, threads), 2);
     // The helper prepares the search, starts any further helpers, and takes tasks as worker 1;
     // finish() takes them as worker 0 once its caller has done its own work.
     im.helper = std::thread([&im] {
         try {
-            std::vector<FaceData> faces =
-                faces_of(SearchInput{im.positions.data(), im.triangles.data(), im.triangles.size(), im.positions.size()});
-            std::vector<glm::dvec3>().swap(im.positions);
-            std::vector<std::array<std::uint32_t, 3>>().swap(im.triangles);
-            im.search = std::make_unique<PairSearch>(std::move(faces), im.workers, PatchTest::kEmbeddedPatchesSkipped);
+            im.search = std::make_unique<PairSearch>(im.input, im.workers, PatchTest::kEmbeddedPatchesSkipped, &im.stop);
         } catch (...) {
             im.failed = std::current_exception();
         }
@@ -984,7 +1036,9 @@ EarlySelfIntersections::EarlySelfIntersections(const SearchInput& input, int thr
 }
 
 EarlySelfIntersections::~EarlySelfIntersections() {
-    if (impl_ && impl_->helper.joinable()) impl_->helper.join();
+    if (!impl_ || !impl_->helper.joinable()) return;
+    impl_->stop.store(true, std::memory_order_relaxed);
+    impl_->helper.join();
 }
 
 SelfIntersections EarlySelfIntersections::finish(const MeshTopology& mesh) {

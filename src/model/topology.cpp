@@ -132,11 +132,16 @@ void MeshTopology::refresh_geometry() {
 
 MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
     MeshTopology t;
-    std::vector<std::uint32_t> known_mates;  // the loader's pairing, while it still fits the triangles
-    if (mesh.corner_mates.size() == 3 * mesh.triangles.size() && mesh.corner_mates_of == triangles_key(mesh.triangles))
-        known_mates = std::move(mesh.corner_mates);
     t.positions = std::move(mesh.positions);
     t.faces = std::move(mesh.triangles);
+    build_topology_on(t, std::move(mesh), crease_degrees);
+    return t;
+}
+
+void build_topology_on(MeshTopology& t, TriangleMesh mesh, double crease_degrees) {
+    std::vector<std::uint32_t> known_mates;  // the loader's pairing, while it still fits the triangles
+    if (mesh.corner_mates.size() == 3 * t.faces.size() && mesh.corner_mates_of == triangles_key(t.faces))
+        known_mates = std::move(mesh.corner_mates);
     t.face_object = std::move(mesh.face_object);
     t.object_names = std::move(mesh.object_names);
     const std::size_t nv = t.positions.size(), nf = t.faces.size();
@@ -231,7 +236,6 @@ MeshTopology build_topology(TriangleMesh mesh, double crease_degrees) {
 
     std::vector<std::uint32_t> cursor;
     fill_vertex_edges(t, cursor);
-    return t;
 }
 
 void fill_vertex_edges(MeshTopology& t, std::vector<std::uint32_t>& cursor) {

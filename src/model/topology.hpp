@@ -100,5 +100,10 @@ struct MeshTopology {
 };
 
 MeshTopology build_topology(TriangleMesh mesh, double crease_degrees = 40.0);
+// The same in place, for a caller that has other threads read the positions and faces while the
+// rest is built (Model::load's self-intersection search): `t` holds the mesh's positions and
+// faces already (moved out of `mesh`, whose other fields are used as build_topology uses them),
+// and keeps them as they are, in the same buffers; the rest of `t` is made.
+void build_topology_on(MeshTopology& t, TriangleMesh mesh, double crease_degrees = 40.0);
 
 }  // namespace inkline

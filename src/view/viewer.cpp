@@ -16,6 +16,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/clock.hpp"
@@ -105,13 +106,13 @@ bool same_camera(const Camera& a, const Camera& b) {
 class Viewer {
 public:
     Viewer(Model& model, const Camera& home, const ViewerOptions& o)
-        : model_(model), opt_(o), rig_(home, model.topology().bounds), window_(home, o),
-          imgui_(with_callbacks(window_.get())), scene_(model.topology()),
+        : model_(model), opt_(o), rig_(home, std::as_const(model).topology().bounds), window_(home, o),
+          imgui_(with_callbacks(window_.get())), scene_(std::as_const(model).topology()),
           scheduler_(model, o.detail_px > 0.0 ? 1 : o.in_flight, [] { glfwPostEmptyEvent(); }) {
         if (o.detail_px > 0.0)  // (a stateful session: its views one at a time, in order)
             detail_ = std::make_unique<DetailSource>(model, o.detail_method, o.detail_px, o.detail_depth,
                                                      o.detail_preprocess, [] { glfwPostEmptyEvent(); });
-        crease_ = float(model.topology().crease_degrees);
+        crease_ = float(std::as_const(model).topology().crease_degrees);
         fraction_ = float(o.view.finder.fraction);
         hidden_ = o.hidden;
         shading_ = o.shading;
@@ -162,7 +163,7 @@ public:
         StageTimes st;
         take_all(st);  // views still in flight (window closed)
         if (opt_.fps)
-            frame_stats_.print_report({model_.topology().face_count(), scheduler_.threads(), shown_.lines.size(),
+            frame_stats_.print_report({std::as_const(model_).topology().face_count(), scheduler_.threads(), shown_.lines.size(),
                                        opt_.frames == 0});
         if (opt_.fps && tone_pass_ && tone_pass_->runs() > 0) {
             const TonePass::Times& t = tone_pass_->summed_times();
@@ -411,7 +412,7 @@ private:
         return o;
     }
     void draw_tone(const Camera& cam) {
-        if (!tone_pass_) tone_pass_ = std::make_unique<TonePass>(model_.topology(), opt_.tone_pass, vopt_.threads);
+        if (!tone_pass_) tone_pass_ = std::make_unique<TonePass>(std::as_const(model_).topology(), opt_.tone_pass, vopt_.threads);
         tone_pass_->draw(cam, tone_options(cam), tone_layers_);
     }
     void add_tone_lines(const Camera& cam, Drawing& d) const;
@@ -676,7 +677,7 @@ void Viewer::add_tone_lines(const Camera& cam, Drawing& d) const {
     tone::ToneResult result;
     tone::ToneOptions o = tone_options(cam);
     o.threads = std::max(1, vopt_.threads);
-    tone::render_tone(model_.topology(), tone::prepare_tone_mesh(model_.topology()), cam, o, tone_layers_.dark,
+    tone::render_tone(std::as_const(model_).topology(), tone::prepare_tone_mesh(std::as_const(model_).topology()), cam, o, tone_layers_.dark,
                       tone_layers_.highlight, result);
     std::uint32_t curves = 0;  // numbered after the drawing's curves
     for (const Piece& p : d.pieces) curves = std::max(curves, p.curve + 1);
