@@ -13,7 +13,7 @@
 // Mid-size blocks (kMid up to kLarge) come from one HugeArena (app/huge_arena.hpp): in huge pages
 // too, and kept when freed for the next block, where malloc would map each on its own and unmap it
 // when freed (or trim its heap), so that every stage of a load faulted its arrays' 4 KB pages in
-// again (7 600 faults in a render of armadillo, 690 with the arena; bench/results/load_speed.md).
+// again (7 600 faults in a render of armadillo, 690 with the arena; docs/loading.md, "Memory").
 // A request the arena cannot meet goes to malloc. Everything smaller comes from malloc.
 // glibc does much the same for every block under GLIBC_TUNABLES=glibc.malloc.hugetlb=1 with
 // higher mmap and trim thresholds; this makes it the programs' default without setting malloc's
