@@ -599,10 +599,6 @@ void read_ply_ascii(const std::string& text, const std::string& path, Soup& soup
     }
 }
 
-// Binary PLY (little- or big-endian). Read here, not by OpenMesh, whose reader trusts the file:
-// it reserves storage for the header's counts and resizes face lists to their stated lengths
-// before reading them (a 300-byte file with one list claiming 2e9 entries took 17 GB). Here every
-// count is checked against the bytes that remain before anything is allocated for it.
 // A binary PLY value of type t at b (little-endian), as a double.
 inline double ply_value(PlyType t, const char* b) {
     switch (t) {
@@ -679,6 +675,10 @@ bool read_ply_binary_triangles(const std::string& data, std::size_t at, const st
     return ok;
 }
 
+// Binary PLY (little- or big-endian). Read here, not by OpenMesh, whose reader trusts the file:
+// it reserves storage for the header's counts and resizes face lists to their stated lengths
+// before reading them (a 300-byte file with one list claiming 2e9 entries took 17 GB). Here every
+// count is checked against the bytes that remain before anything is allocated for it.
 void read_ply_binary(const std::string& data, const std::string& path, bool big_endian, Soup& soup) {
     const auto end = data.find("end_header");
     if (end == std::string::npos) throw Error(path, "file ends inside the PLY header (no end_header)");
@@ -709,16 +709,7 @@ void read_ply_binary(const std::string& data, const std::string& path, bool big_
         std::memcpy(b, data.data() + at, n);
         at += n;
         if (big_endian) std::reverse(b, b + n);  // to the little-endian order of this machine
-        switch (t) {
-            case PlyType::I8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-            case PlyType::U8: return b[0];
-            case PlyType::I16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-            case PlyType::U16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-            case PlyType::I32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::U32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::F32: { float v; std::memcpy(&v, b, 4); return v; }
-            default: { double v; std::memcpy(&v, b, 8); return v; }
-        }
+        return ply_value(t, reinterpret_cast<const char*>(b));
     };
     for (const auto& e : elements) {
         const PlyRoles roles = ply_roles(e, path);
