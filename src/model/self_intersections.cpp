@@ -226,39 +226,46 @@ bool certainly_proper(const FaceData& face) {
 }
 
 // Face boxes, one array per bound (a leaf of the search below then loads as one vector), padded
-// with kPad boxes that meet nothing. In the faces' order: a loaded model's faces follow a Hilbert
-// curve (model/reorder.hpp), so halving the order halves space well enough for the search; any
-// other order gives the same pairs, only slower.
+// with kPad boxes that meet nothing. Box i is face i's (so no face numbers are stored): in the
+// faces' order, as a loaded model's faces follow a Hilbert curve (model/reorder.hpp), so halving
+// the order halves space well enough for the search; any other order gives the same pairs, only
+// slower. A degenerate face's box is empty (lo above hi): it meets nothing.
 struct BoxColumns {
-    static constexpr std::size_t kPad = 4;
+    static constexpr std::size_t kPad = 8;
     std::vector<float> lo[3], hi[3];
-    std::vector<std::uint32_t> face;
+    std::size_t count = 0;
     glm::dvec3 corners_lo{0.0}, corners_hi{0.0};  // the box of every face's corners (degenerate faces' too)
-    std::size_t size() const { return face.size(); }
-    void add(const float box_lo[3], const float box_hi[3], std::uint32_t f) {
+    std::size_t size() const { return count; }
+    void add(const float box_lo[3], const float box_hi[3]) {
         for (int d = 0; d < 3; ++d) lo[d].push_back(box_lo[d]), hi[d].push_back(box_hi[d]);
-        face.push_back(f);
+        ++count;
     }
+    void add_empty() {
+        const float inf = std::numeric_limits<float>::infinity(), box_lo[3] = {inf, inf, inf}, box_hi[3] = {-inf, -inf, -inf};
+        add(box_lo, box_hi);
+    }
+    bool empty_box(std::size_t i) const { return lo[0][i] > hi[0][i]; }
     void pad() {
         for (int d = 0; d < 3; ++d) {
-            lo[d].resize(face.size() + kPad, std::numeric_limits<float>::infinity());
-            hi[d].resize(face.size() + kPad, -std::numeric_limits<float>::infinity());
+            lo[d].resize(count + kPad, std::numeric_limits<float>::infinity());
+            hi[d].resize(count + kPad, -std::numeric_limits<float>::infinity());
         }
     }
-    // CGAL's boxes, in the same order.
+    // CGAL's boxes of the faces that have one (not the degenerate faces'), in the same order.
     std::vector<Box> cgal_boxes() const {
         std::vector<Box> boxes;
         boxes.reserve(size());
         for (std::size_t i = 0; i < size(); ++i) {
+            if (empty_box(i)) continue;
             float box_lo[3] = {lo[0][i], lo[1][i], lo[2][i]}, box_hi[3] = {hi[0][i], hi[1][i], hi[2][i]};
-            boxes.emplace_back(box_lo, box_hi, face[i]);
+            boxes.emplace_back(box_lo, box_hi, std::uint32_t(i));
         }
         return boxes;
     }
 };
 
 // The boxes of the faces that have an area; degenerate faces (collinear corners) are flagged in
-// `out` instead: they count as self-intersecting and are tested against nothing, as in CGAL's
+// `out` and get an empty box: they count as self-intersecting and are tested against nothing, as in CGAL's
 // PMP::self_intersections (CGAL's triangle tests require a proper triangle: found by fuzz/run.sh
 // pipeline).
 BoxColumns face_boxes(const SearchInput& in, std::vector<std::uint8_t>& out) {
@@ -266,13 +273,13 @@ BoxColumns face_boxes(const SearchInput& in, std::vector<std::uint8_t>& out) {
     out.assign(nf, 0);
     BoxColumns boxes;
     for (int d = 0; d < 3; ++d) boxes.lo[d].reserve(nf + BoxColumns::kPad), boxes.hi[d].reserve(nf + BoxColumns::kPad);
-    boxes.face.reserve(nf);
     if (nf > 0) boxes.corners_lo = boxes.corners_hi = in.positions[in.faces[0][0]];
     for (std::uint32_t f = 0; f < nf; ++f) {
         const FaceData face = face_data(in, f);
         for (const glm::dvec3& p : face.p) boxes.corners_lo = glm::min(boxes.corners_lo, p), boxes.corners_hi = glm::max(boxes.corners_hi, p);
         if (!certainly_proper(face) && CGAL::collinear(cgal(face.p[0]), cgal(face.p[1]), cgal(face.p[2]))) {
             out[f] = 1;
+            boxes.add_empty();
             continue;
         }
         float lo[3], hi[3];
@@ -281,7 +288,7 @@ BoxColumns face_boxes(const SearchInput& in, std::vector<std::uint8_t>& out) {
             lo[d] = down(std::min({x0, x1, x2}));
             hi[d] = up(std::max({x0, x1, x2}));
         }
-        boxes.add(lo, hi, f);
+        boxes.add(lo, hi);
     }
     boxes.pad();
     return boxes;
@@ -300,12 +307,13 @@ BoxColumns face_boxes(const SearchInput& in, std::vector<std::uint8_t>& out) {
 class EmbeddedPatches {
 public:
     explicit EmbeddedPatches(const SearchInput& in) : in_(in) {}
-    // Is the patch of faces face_ids[0, count) certainly embedded, projected along d?
-    bool embedded(const std::uint32_t* face_ids, std::size_t count, const glm::dvec3& d) const {
+    // Is the patch of faces [first, first + count) certainly embedded, projected along d? (A
+    // degenerate face in it is not certainly in front: no.)
+    bool embedded(std::uint32_t first, std::size_t count, const glm::dvec3& d) const {
         for (std::size_t i = 0; i < count; ++i)
-            if (!certainly_front(face_plane(in_, face_ids[i]), d)) return false;
+            if (!certainly_front(face_plane(in_, first + std::uint32_t(i)), d)) return false;
         thread_local Scratch scratch;
-        if (!boundary_cycles(face_ids, count, scratch)) return false;
+        if (!boundary_cycles(first, count, scratch)) return false;
         if (!simple_projection(d, scratch)) return false;
         return true;
     }
@@ -352,7 +360,7 @@ private:
     // The patch's boundary as cycles of corners (scratch.cycle, each cycle from scratch.starts[c]
     // to starts[c + 1]), or false: an edge twice in one direction (two faces wound alike, or
     // three on an edge), or a pinched boundary vertex (two boundary edges leave it).
-    bool boundary_cycles(const std::uint32_t* face_ids, std::size_t count, Scratch& s) const {
+    bool boundary_cycles(std::uint32_t first, std::size_t count, Scratch& s) const {
         std::size_t size = 16;
         while (size < 6 * count) size *= 2;
         const std::size_t mask = size - 1;
@@ -369,14 +377,15 @@ private:
             return i;
         };
         for (std::size_t i = 0; i < count; ++i) {
-            const auto& v = in_.faces[face_ids[i]];
+            const std::uint32_t f = first + std::uint32_t(i);
+            const auto& v = in_.faces[f];
             for (int k = 0; k < 3; ++k) {
                 const std::uint64_t e = key(v[k], v[(k + 1) % 3]);
                 const std::size_t at = find(e);
                 if (s.table[at] == e) return false;
                 s.table[at] = e;
                 s.used.push_back(at);
-                s.owner[at] = (face_ids[i] << 2) | std::uint32_t(k);
+                s.owner[at] = (f << 2) | std::uint32_t(k);
             }
         }
         s.boundary.clear();
@@ -496,7 +505,7 @@ public:
     // With `patches`, a node whose faces make an embedded patch (EmbeddedPatches) reports none of
     // the pairs within it; without, every pair whose boxes meet is reported. `in`: the boxes' faces.
     BoxPairs(const BoxColumns& boxes, const SearchInput& in, const EmbeddedPatches* patches)
-        : face_(boxes.face.data()), in_(in), patches_(patches) {
+        : in_(in), patches_(patches) {
         for (int d = 0; d < 3; ++d) lo_[d] = boxes.lo[d].data(), hi_[d] = boxes.hi[d].data();
         if (boxes.size() == 0) return;
         // (the keys only shape the tree: freed once it is built)
@@ -548,8 +557,10 @@ public:
     }
 
 private:
-    static constexpr std::uint32_t kLeaf = 4;
-    static_assert(kLeaf <= 4 && kLeaf <= BoxColumns::kPad, "meet_leaf tests a leaf as one vector of four boxes");
+    // (Eight boxes a leaf rather than four: half the nodes, 40 bytes each, for the same pairs; the
+    // leaf's box tests are two vectors of four.)
+    static constexpr std::uint32_t kLeaf = 8;
+    static_assert(kLeaf <= 8 && kLeaf <= BoxColumns::kPad, "meet_leaf tests a leaf as two vectors of four boxes");
     struct Node {
         float lo[3], hi[3];
         std::uint32_t begin, end;  // boxes [begin, end)
@@ -560,7 +571,7 @@ private:
     static constexpr std::uint32_t kMinPatch = 48;
     // A face's unit normal; a node's summed are the mean direction EmbeddedPatches looks from.
     glm::dvec3 unit_normal(std::uint32_t box) const {
-        const glm::dvec3 n = face_plane(in_, face_[box]).n;
+        const glm::dvec3 n = face_plane(in_, box).n;
         const double length = glm::length(n);
         return length > 0 ? n / length : glm::dvec3(0.0);
     }
@@ -569,7 +580,7 @@ private:
         if (n.end - n.begin < kMinPatch) return false;
         const auto sum = std::lower_bound(normal_sums_.begin(), normal_sums_.end(), node,
                                           [](const NormalSum& x, std::uint32_t at) { return x.node < at; });
-        return patches_->embedded(face_ + n.begin, n.end - n.begin, sum->sum);
+        return patches_->embedded(n.begin, n.end - n.begin, sum->sum);
     }
     // Without a branch per comparison: at the leaves about half the box pairs meet, so branches
     // mispredict (most of the search's time).
@@ -590,7 +601,7 @@ private:
         for (std::size_t first = 0; first < box_count; first += kBlock) {
             const std::size_t m = std::min(kBlock, box_count - first);
             for (std::size_t j = 0; j < m; ++j) {
-                const auto& t = in_.faces[face_[first + j]];
+                const auto& t = in_.faces[first + j];
                 centroids[j] = (in_.positions[t[0]] + in_.positions[t[1]] + in_.positions[t[2]]) / 3.0;
             }
             grid.keys(centroids, m, keys.data() + first);
@@ -686,12 +697,15 @@ private:
     // Bit k set: box i meets box j + k (k < kLeaf), as meet() decides.
     unsigned meet_leaf(std::uint32_t i, std::uint32_t j) const {
 #if defined(__SSE__)
-        __m128 ok = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        __m128 ok0 = _mm_castsi128_ps(_mm_set1_epi32(-1)), ok1 = ok0;
         for (int d = 0; d < 3; ++d) {
-            ok = _mm_and_ps(ok, _mm_cmpngt_ps(_mm_set1_ps(lo_[d][i]), _mm_loadu_ps(&hi_[d][j])));
-            ok = _mm_and_ps(ok, _mm_cmpngt_ps(_mm_loadu_ps(&lo_[d][j]), _mm_set1_ps(hi_[d][i])));
+            const __m128 lo = _mm_set1_ps(lo_[d][i]), hi = _mm_set1_ps(hi_[d][i]);
+            ok0 = _mm_and_ps(ok0, _mm_cmpngt_ps(lo, _mm_loadu_ps(&hi_[d][j])));
+            ok0 = _mm_and_ps(ok0, _mm_cmpngt_ps(_mm_loadu_ps(&lo_[d][j]), hi));
+            ok1 = _mm_and_ps(ok1, _mm_cmpngt_ps(lo, _mm_loadu_ps(&hi_[d][j + 4])));
+            ok1 = _mm_and_ps(ok1, _mm_cmpngt_ps(_mm_loadu_ps(&lo_[d][j + 4]), hi));
         }
-        return unsigned(_mm_movemask_ps(ok));
+        return unsigned(_mm_movemask_ps(ok0)) | unsigned(_mm_movemask_ps(ok1)) << 4;
 #else
         unsigned bits = 0;
         for (std::uint32_t k = 0; k < kLeaf; ++k) {
@@ -707,12 +721,11 @@ private:
     template <class Fn>
     void report(std::uint32_t i, std::uint32_t begin, std::uint32_t end, std::uint32_t skip, Fn& fn) const {
         unsigned bits = meet_leaf(i, begin) & ((1u << (end - begin)) - 1) & ~((1u << skip) - 1);
-        for (; bits; bits &= bits - 1) fn(face_[i], face_[begin + std::uint32_t(__builtin_ctz(bits))]);
+        for (; bits; bits &= bits - 1) fn(i, begin + std::uint32_t(__builtin_ctz(bits)));
     }
     // The columns' arrays (read through plain pointers: the hot loops need not reload them).
     const float* lo_[3];
     const float* hi_[3];
-    const std::uint32_t* face_;
     SearchInput in_;
     const EmbeddedPatches* patches_;
     std::vector<Node> nodes_;
@@ -753,22 +766,23 @@ public:
     std::size_t workers() const { return found_.size(); }
     void work(std::size_t k) {
         try {
-            // Two leaves' pairs come one after another (up to four boxes against four): each face's
-            // data made once for them, kept in a slot by its number (a leaf's faces are
+            // Two leaves' pairs come one after another (up to eight boxes against eight): each
+            // face's data made once for them, kept in a slot by its number (a leaf's faces are
             // consecutive numbers, so they take different slots).
             struct Slot {
                 std::uint32_t face = UINT32_MAX;
                 FaceData data;
             };
-            std::array<Slot, 16> slots;
+            constexpr std::uint32_t kSlots = 32;
+            std::array<Slot, kSlots> slots;
             const auto data = [&](std::uint32_t f) -> const FaceData& {
-                Slot& s = slots[f & 15];
+                Slot& s = slots[f % kSlots];
                 if (s.face != f) s.data = face_data(in_, f), s.face = f;
                 return s.data;
             };
             for (std::size_t t = next_++; t < tasks_.size() && !stopped(); t = next_++)
                 tree_->run(tasks_[t], [&](std::uint32_t f, std::uint32_t g) {
-                    const bool meet = ((f ^ g) & 15) != 0 ? faces_intersect(data(f), data(g))
+                    const bool meet = (f - g) % kSlots != 0 ? faces_intersect(data(f), data(g))
                                                           : faces_intersect(face_data(in_, f), face_data(in_, g));
                     if (meet) found_[k].push_back(pair_key(f, g));
                 });
